@@ -1,0 +1,429 @@
+//! The one numeric trait every module is generic over.
+//!
+//! `f64` always uses libm. `f32` uses libm too, or micromath's fast approximations
+//! with the `micromath` feature. Constants enter generic code through
+//! [`Real::from_f64`], which is `#[inline(always)]` so that `T::from_f64(0.5)`
+//! folds to an `f32` literal on the firmware: no double-precision arithmetic is
+//! ever executed for an `f32` instantiation.
+
+use core::fmt::{Debug, Display};
+use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// A real scalar (`f32` or `f64`) with the elementary functions camsim needs.
+pub trait Real:
+    Copy
+    + Default
+    + Debug
+    + Display
+    + PartialEq
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+    + DivAssign
+    + Send
+    + Sync
+    + 'static
+{
+    /// 0
+    const ZERO: Self;
+    /// 1
+    const ONE: Self;
+    /// 2
+    const TWO: Self;
+    /// 1/2
+    const HALF: Self;
+    /// π
+    const PI: Self;
+    /// Machine epsilon.
+    const EPSILON: Self;
+    /// Largest finite value.
+    const MAX: Self;
+    /// Smallest positive normal value.
+    const MIN_POSITIVE: Self;
+    /// Infinity.
+    const INFINITY: Self;
+
+    /// Converts an `f64` constant (rounds for `f32`).
+    fn from_f64(x: f64) -> Self;
+    /// Converts a small integer exactly.
+    fn from_i32(i: i32) -> Self;
+    /// Converts a count (exact below 2^24 for `f32`).
+    fn from_usize(n: usize) -> Self;
+    /// Widens to `f64` (for reports and errors only, never in hot paths).
+    fn to_f64(self) -> f64;
+
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// Cube root.
+    fn cbrt(self) -> Self;
+    /// Sine.
+    fn sin(self) -> Self;
+    /// Cosine.
+    fn cos(self) -> Self;
+    /// Sine and cosine together.
+    fn sin_cos(self) -> (Self, Self) {
+        (self.sin(), self.cos())
+    }
+    /// Tangent.
+    fn tan(self) -> Self;
+    /// Arc sine.
+    fn asin(self) -> Self;
+    /// Arc cosine.
+    fn acos(self) -> Self;
+    /// Arc tangent.
+    fn atan(self) -> Self;
+    /// Four-quadrant arc tangent of `self / x`.
+    fn atan2(self, x: Self) -> Self;
+    /// e^self.
+    fn exp(self) -> Self;
+    /// Natural logarithm.
+    fn ln(self) -> Self;
+    /// self^n for an integer exponent.
+    fn powi(self, n: i32) -> Self;
+    /// self^p.
+    fn powf(self, p: Self) -> Self;
+    /// Absolute value.
+    fn abs(self) -> Self;
+    /// Largest integer not above self.
+    fn floor(self) -> Self;
+    /// sqrt(self² + y²) without undue overflow.
+    fn hypot(self, y: Self) -> Self;
+    /// True unless NaN or infinite.
+    fn is_finite(self) -> bool;
+    /// True if NaN.
+    fn is_nan(self) -> bool;
+
+    /// The larger of two values (NaN-ignoring, like `f64::max`).
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        if self >= o || o.is_nan() {
+            self
+        } else {
+            o
+        }
+    }
+    /// The smaller of two values (NaN-ignoring, like `f64::min`).
+    #[inline(always)]
+    fn min(self, o: Self) -> Self {
+        if self <= o || o.is_nan() {
+            self
+        } else {
+            o
+        }
+    }
+    /// self clamped to `[lo, hi]`.
+    #[inline(always)]
+    fn clamp(self, lo: Self, hi: Self) -> Self {
+        self.max(lo).min(hi)
+    }
+    /// Square.
+    #[inline(always)]
+    fn sq(self) -> Self {
+        self * self
+    }
+    /// Degrees to radians.
+    #[inline(always)]
+    fn to_radians(self) -> Self {
+        self * (Self::PI / Self::from_f64(180.0))
+    }
+    /// Radians to degrees.
+    #[inline(always)]
+    fn to_degrees(self) -> Self {
+        self * (Self::from_f64(180.0) / Self::PI)
+    }
+}
+
+macro_rules! real_common {
+    ($t:ty, $m:ident) => {
+        const ZERO: Self = 0.0;
+        const ONE: Self = 1.0;
+        const TWO: Self = 2.0;
+        const HALF: Self = 0.5;
+        const PI: Self = core::$m::consts::PI;
+        const EPSILON: Self = <$t>::EPSILON;
+        const MAX: Self = <$t>::MAX;
+        const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
+        const INFINITY: Self = <$t>::INFINITY;
+
+        #[inline(always)]
+        fn from_f64(x: f64) -> Self {
+            x as $t
+        }
+        #[inline(always)]
+        fn from_i32(i: i32) -> Self {
+            i as $t
+        }
+        #[inline(always)]
+        fn from_usize(n: usize) -> Self {
+            n as $t
+        }
+        #[inline(always)]
+        fn to_f64(self) -> f64 {
+            self as f64
+        }
+        #[inline(always)]
+        fn abs(self) -> Self {
+            if self < 0.0 {
+                -self
+            } else if self == 0.0 {
+                0.0
+            } else {
+                self
+            }
+        }
+        #[inline(always)]
+        fn is_finite(self) -> bool {
+            <$t>::is_finite(self)
+        }
+        #[inline(always)]
+        fn is_nan(self) -> bool {
+            <$t>::is_nan(self)
+        }
+        #[inline(always)]
+        fn powi(self, n: i32) -> Self {
+            let mut base = if n < 0 { 1.0 / self } else { self };
+            let mut e = n.unsigned_abs();
+            let mut acc: $t = 1.0;
+            while e > 0 {
+                if e & 1 == 1 {
+                    acc *= base;
+                }
+                base *= base;
+                e >>= 1;
+            }
+            acc
+        }
+    };
+}
+
+impl Real for f64 {
+    real_common!(f64, f64);
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        libm::sqrt(self)
+    }
+    #[inline(always)]
+    fn cbrt(self) -> Self {
+        libm::cbrt(self)
+    }
+    #[inline(always)]
+    fn sin(self) -> Self {
+        libm::sin(self)
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        libm::cos(self)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        libm::sincos(self)
+    }
+    #[inline(always)]
+    fn tan(self) -> Self {
+        libm::tan(self)
+    }
+    #[inline(always)]
+    fn asin(self) -> Self {
+        libm::asin(self)
+    }
+    #[inline(always)]
+    fn acos(self) -> Self {
+        libm::acos(self)
+    }
+    #[inline(always)]
+    fn atan(self) -> Self {
+        libm::atan(self)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        libm::atan2(self, x)
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        libm::exp(self)
+    }
+    #[inline(always)]
+    fn ln(self) -> Self {
+        libm::log(self)
+    }
+    #[inline(always)]
+    fn powf(self, p: Self) -> Self {
+        libm::pow(self, p)
+    }
+    #[inline(always)]
+    fn floor(self) -> Self {
+        libm::floor(self)
+    }
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        libm::hypot(self, y)
+    }
+}
+
+#[cfg(not(feature = "micromath"))]
+impl Real for f32 {
+    real_common!(f32, f32);
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        libm::sqrtf(self)
+    }
+    #[inline(always)]
+    fn cbrt(self) -> Self {
+        libm::cbrtf(self)
+    }
+    #[inline(always)]
+    fn sin(self) -> Self {
+        libm::sinf(self)
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        libm::cosf(self)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        libm::sincosf(self)
+    }
+    #[inline(always)]
+    fn tan(self) -> Self {
+        libm::tanf(self)
+    }
+    #[inline(always)]
+    fn asin(self) -> Self {
+        libm::asinf(self)
+    }
+    #[inline(always)]
+    fn acos(self) -> Self {
+        libm::acosf(self)
+    }
+    #[inline(always)]
+    fn atan(self) -> Self {
+        libm::atanf(self)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        libm::atan2f(self, x)
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        libm::expf(self)
+    }
+    #[inline(always)]
+    fn ln(self) -> Self {
+        libm::logf(self)
+    }
+    #[inline(always)]
+    fn powf(self, p: Self) -> Self {
+        libm::powf(self, p)
+    }
+    #[inline(always)]
+    fn floor(self) -> Self {
+        libm::floorf(self)
+    }
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        libm::hypotf(self, y)
+    }
+}
+
+#[cfg(feature = "micromath")]
+impl Real for f32 {
+    real_common!(f32, f32);
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // The M4F has a hardware square root; micromath's is an approximation.
+        libm::sqrtf(self)
+    }
+    #[inline(always)]
+    fn cbrt(self) -> Self {
+        micromath::F32Ext::cbrt(self)
+    }
+    #[inline(always)]
+    fn sin(self) -> Self {
+        micromath::F32Ext::sin(self)
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        micromath::F32Ext::cos(self)
+    }
+    #[inline(always)]
+    fn tan(self) -> Self {
+        micromath::F32Ext::tan(self)
+    }
+    #[inline(always)]
+    fn asin(self) -> Self {
+        micromath::F32Ext::asin(self)
+    }
+    #[inline(always)]
+    fn acos(self) -> Self {
+        micromath::F32Ext::acos(self)
+    }
+    #[inline(always)]
+    fn atan(self) -> Self {
+        micromath::F32Ext::atan(self)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        micromath::F32Ext::atan2(self, x)
+    }
+    #[inline(always)]
+    fn exp(self) -> Self {
+        micromath::F32Ext::exp(self)
+    }
+    #[inline(always)]
+    fn ln(self) -> Self {
+        micromath::F32Ext::ln(self)
+    }
+    #[inline(always)]
+    fn powf(self, p: Self) -> Self {
+        micromath::F32Ext::powf(self, p)
+    }
+    #[inline(always)]
+    fn floor(self) -> Self {
+        micromath::F32Ext::floor(self)
+    }
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        micromath::F32Ext::hypot(self, y)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn generic_identity<T: Real>(x: T) -> T {
+        let (s, c) = x.sin_cos();
+        s.sq() + c.sq()
+    }
+
+    #[test]
+    fn pythagoras_both_precisions() {
+        assert!((generic_identity(0.7f64) - 1.0).abs() < 1e-15);
+        assert!((generic_identity(0.7f32) - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn powi_matches_repeated_multiplication() {
+        assert_eq!(2.0f64.powi(10), 1024.0);
+        assert_eq!(2.0f64.powi(-2), 0.25);
+        assert_eq!(3.0f32.powi(0), 1.0);
+    }
+
+    #[test]
+    fn degrees_round_trip() {
+        let d = 123.0f64;
+        assert!((d.to_radians().to_degrees() - d).abs() < 1e-12);
+    }
+
+    #[test]
+    fn max_min_ignore_nan() {
+        assert_eq!(1.0f64.max(f64::NAN), 1.0);
+        assert_eq!(f64::NAN.min(2.0), 2.0);
+    }
+}

@@ -1,0 +1,5 @@
+//! One module per `camsim` subcommand.
+
+pub mod contact;
+pub mod laws;
+pub mod modal;

@@ -1,0 +1,4 @@
+//! The camsim harness as a library: every command is a module of [`cmd`], so the
+//! integration tests can call the same code the binary runs.
+
+pub mod cmd;

@@ -1,0 +1,50 @@
+//! `camsim`: the command line of the camsim harness.
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+use camsim::cmd;
+
+/// Simulation of real cam-follower mechanisms (Kim 1982, eleven degrees of freedom).
+#[derive(Parser)]
+#[command(name = "camsim", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Peak dimensionless coefficients of every motion law (Table VI.9's quantities).
+    Laws(cmd::laws::Args),
+    /// Natural frequencies, modes and modal stiffness (Eqs. VI.6 and VI.7).
+    Modal(cmd::modal::Args),
+    /// Hertz contact stiffness, width and stress of the reference roller and cam at a force.
+    Contact(cmd::contact::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            // --help and --version are not errors.
+            let code = if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+            let _ = e.print();
+            return code;
+        }
+    };
+    let result = match cli.command {
+        Command::Laws(a) => cmd::laws::run(a),
+        Command::Modal(a) => cmd::modal::run(a),
+        Command::Contact(a) => cmd::contact::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line, no backtrace.
+            eprintln!("camsim: error: {}", format!("{e:#}").replace('\n', " "));
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Runs every camsim test on a fresh machine: installs what it lacks (idempotent),
+# builds the no_std core for the Cortex-M4F, runs the workspace tests, then builds
+# the firmware, runs it under QEMU and checks its budget line and host parity.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+step() { printf '\n==> %s\n' "$*"; }
+
+step "install what is missing"
+if ! rustup target list --installed | grep -qx thumbv7em-none-eabihf; then
+    rustup target add thumbv7em-none-eabihf
+fi
+if ! command -v qemu-system-arm >/dev/null 2>&1; then
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq qemu-system-arm >/dev/null
+fi
+if ! command -v defmt-print >/dev/null 2>&1; then
+    cargo install defmt-print --locked
+fi
+if ! command -v llvm-size >/dev/null 2>&1 && ! command -v llvm-size-14 >/dev/null 2>&1; then
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq llvm-14 >/dev/null
+fi
+
+step "core builds no_std for thumbv7em-none-eabihf (libm, and micromath)"
+cargo build -p camsim-core --release --target thumbv7em-none-eabihf
+cargo build -p camsim-core --release --target thumbv7em-none-eabihf --features micromath
+
+step "workspace tests"
+cargo test --workspace
+
+if [ -x scripts/firmware-ci.sh ]; then
+    step "firmware under QEMU"
+    scripts/firmware-ci.sh
+fi

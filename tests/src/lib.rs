@@ -1,0 +1,1 @@
+//! Integration tests across camsim's parts live in `tests/tests/`.
