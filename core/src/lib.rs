@@ -28,3 +28,18 @@ mod solver;
 pub use solver::*;
 mod modal;
 pub use modal::*;
+
+// The eleven-degree-of-freedom model (Eqs. IV.1-IV.3): the reference design of VI.1,
+// the motor law, the model itself and its streaming per-period responses.
+mod design;
+pub use design::*;
+mod drive;
+pub use drive::*;
+mod dynamics;
+pub use dynamics::*;
+mod response;
+pub use response::*;
+
+// What a machine feeds the predictor (implemented by the firmware's board modules).
+mod machine;
+pub use machine::*;
