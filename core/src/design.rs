@@ -1,1 +1,292 @@
-//! Placeholder: filled in by its issue.
+//! The reference design of the thesis (VI.1) and every value it leaves out.
+//!
+//! This is the one place where the model's parameters live. Values from VI.1 are
+//! quoted with their symbol; values the thesis does not give are chosen once here,
+//! each with its reason (see `../shared/spec/NOTES.md`). Nothing here is tuned to
+//! reproduce a published figure.
+
+use crate::{
+    finite, non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real, Result,
+};
+
+/// Pounds-mass per cubic inch of steel (0.2836 lb/in³) over g (386.09 in/s²): lb·s²/in⁴.
+pub const STEEL_DENSITY: f64 = 0.2836 / 386.09;
+/// Young's modulus of steel (VI.1), psi.
+pub const STEEL_YOUNGS: f64 = 30.0e6;
+/// Shear modulus of steel (VI.1), psi.
+pub const STEEL_SHEAR: f64 = 11.4e6;
+/// Poisson's ratio of steel (VI.1).
+pub const STEEL_POISSON: f64 = 0.295;
+/// Nominal cam speed of VI.1: 800 rpm.
+pub const REFERENCE_RPM: f64 = 800.0;
+/// Structural damping ratio for the follower rod C_f1 (Eq. V.13 with ξ = 0.03, V.14).
+pub const STRUCTURAL_DAMPING_RATIO: f64 = 0.03;
+
+/// Every parameter of the eleven-degree-of-freedom model (Eqs. IV.1-IV.3).
+///
+/// Units: inch, pound-force, second, radian. Rotational inertia lb·in·s²,
+/// torsional stiffness lb·in/rad, torsional damping lb·in·s/rad, mass lb·s²/in,
+/// stiffness lb/in, damping lb·s/in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Design<T> {
+    // --- rotational system (Eq. IV.1) ---
+    /// I_m: motor armature polar moment of inertia (VI.1: 0.0291).
+    pub i_m: T,
+    /// I_cp: coupling polar moment of inertia (VI.1: 0.25).
+    pub i_cp: T,
+    /// I_c: cam polar moment of inertia (VI.1: 0.0102).
+    pub i_c: T,
+    /// C_mb: motor bearing viscous damping (VI.1: 0.8).
+    pub c_mb: T,
+    /// C_s1: shaft damping motor-coupling (VI.1: 0.11982).
+    pub c_s1: T,
+    /// C_s2: shaft damping coupling-cam (VI.1 lists "C_b2" = 0.12; NOTES: read C_s2).
+    pub c_s2: T,
+    /// C_cc: cam-shaft bearing and air damping (VI.1: 1.0).
+    pub c_cc: T,
+    /// K_s1: shaft stiffness motor-coupling (VI.1: 2e5).
+    pub k_s1: T,
+    /// K_s2: shaft stiffness coupling-cam (VI.1: 2e5).
+    pub k_s2: T,
+    /// The motor law T_i(θ̇_m) (not in the thesis; see [`DriveLaw`]).
+    pub drive: DriveLaw<T>,
+    /// Initial and reference cam speed, rad/s (VI.1: 800 rpm = 83.776 rad/s).
+    pub omega0: T,
+
+    // --- cam and its shaft (Eqs. IV.2-IV.3, cam equations) ---
+    /// M_c (VI.1's M_cs): mass of cam and shaft (0.0291).
+    pub m_c: T,
+    /// K_vs: vertical stiffness of the cam shaft and its bearings (VI.1: 1.48e6).
+    pub k_vs: T,
+    /// C_vs: vertical damping of the cam shaft (VI.1: 4.30474).
+    pub c_vs: T,
+    /// K_hs: horizontal cam-shaft stiffness (not listed: NOTES, K_hs = K_vs).
+    pub k_hs: T,
+    /// C_hs: horizontal cam-shaft damping (not listed: NOTES, C_hs = C_vs).
+    pub c_hs: T,
+
+    // --- roller ---
+    /// M_r (VI.1's "M_T"): roller mass (0.00013).
+    pub m_r: T,
+    /// K_rb: roller bearing and its shaft (VI.1: 1.5e6).
+    pub k_rb: T,
+
+    // --- follower rod ---
+    /// ρ: follower material density (steel, lb·s²/in⁴).
+    pub rho: T,
+    /// E of the follower rod (VI.1: 30e6 psi).
+    pub youngs: T,
+    /// A: follower cross-section, in². Not given: from M_f = ρ A e1 = 0.007764 (VI.1)
+    /// and K_f = E A / e1 = 1.265e6 (NOTES, from the modal data): A = sqrt(M_f K_f / (ρ E)),
+    /// a round rod of about 0.92 in.
+    pub area: T,
+    /// Second moment of the rod section, in⁴ (round rod of area A: A²/(4π)), for K_hc = 3EI/(e2 - y3)³.
+    pub inertia_moment: T,
+    /// e1: follower length from load to slide bearing at rest, in (E A / K_f, about 15.9 in).
+    pub e1: T,
+    /// e2: cantilever length from slide bearing to roller at rest, in. Not given; 2 in (NOTES):
+    /// it must exceed the lift, and 2 in leaves 0.5 in at full lift.
+    pub e2: T,
+    /// A of Eq. V.16: bearing-to-roller lever, in. Not given; taken equal to e2 (2 in).
+    pub bearing_a: T,
+    /// B of Eq. V.16: distance between the two slide-bearing reactions, in. Not given; 3 in (NOTES).
+    pub bearing_b: T,
+    /// μ: kinetic friction coefficient of the slide bearing (VI.1: 0.08).
+    pub mu: T,
+    /// Velocity (in/s) below which Coulomb friction is ramped linearly to zero, so that the
+    /// right-hand side stays continuous. Not in the thesis: 0.01 in/s, a thousandth of the
+    /// follower's peak speed at 800 rpm, small against every velocity the statistics see.
+    pub friction_smoothing: T,
+    /// ξ of C_f1 = 2 ξ sqrt(K_f M_l) (Eq. V.13; NOTES: 0.03 structural damping).
+    pub damping_ratio_f1: T,
+    /// M_l: load mass. Not in VI.1; 3.428e-3 from the modal analysis (NOTES).
+    pub m_l: T,
+    /// Mass of the return spring, lb·s²/in; one third joins M_fc (Appendix F.1). Not given:
+    /// a steel helical spring of 60 lb/in (wire 0.14 in, mean diameter 1.0 in, 9 active and
+    /// 11 total coils: G d⁴ / (8 D³ n) = 60.8 lb/in) weighs 0.151 lb = 3.91e-4 lb·s²/in.
+    pub m_spring: T,
+
+    // --- return spring and preload (V.4) ---
+    /// K_rs: return spring rate (VI.1: 60 lb/in).
+    pub k_rs: T,
+    /// δ_rs: spring length compressed during assembly (VI.1: 0.5 in).
+    pub delta_rs: T,
+    /// K_rs used by the thesis's modal analysis (Eq. VI.6): 100 lb/in (NOTES).
+    pub k_rs_modal: T,
+
+    // --- geometry, contact, program ---
+    /// Base circle, roller and thickness (NOTES: R_b 1.5, r_r 0.375, t 0.25 in).
+    pub geometry: CamGeometry<T>,
+    /// Hertz contact between roller and cam (both steel, VI.1).
+    pub hertz: HertzContact<T>,
+    /// The motion program (VI.1: D-R-D-R, modified trapezoidal rise, 4-5-6-7 return, 1.5 in).
+    pub program: CamProgram<T>,
+}
+
+impl<T: Real> Design<T> {
+    /// The reference design of VI.1 with the documented choices for what it leaves out.
+    pub fn reference() -> Self {
+        let f = T::from_f64;
+        let rho = f(STEEL_DENSITY);
+        let youngs = f(STEEL_YOUNGS);
+        // From M_f = ρ A e1 and K_f = E A / e1 (NOTES): A² = M_f K_f / (ρ E).
+        let m_f0 = f(0.007764);
+        let k_f0 = f(1.265e6);
+        let area = (m_f0 * k_f0 / (rho * youngs)).sqrt();
+        let e1 = youngs * area / k_f0;
+        let inertia_moment = area * area / (f(4.0) * T::PI);
+        let omega0 = f(REFERENCE_RPM * core::f64::consts::PI / 30.0);
+        Design {
+            i_m: f(0.0291),
+            i_cp: f(0.25),
+            i_c: f(0.0102),
+            c_mb: f(0.8),
+            c_s1: f(0.11982),
+            c_s2: f(0.12),
+            c_cc: f(1.0),
+            k_s1: f(2.0e5),
+            k_s2: f(2.0e5),
+            drive: DriveLaw::reference(omega0, f(0.8), f(1.0)),
+            omega0,
+            m_c: f(0.0291),
+            k_vs: f(1.48e6),
+            c_vs: f(4.30474),
+            k_hs: f(1.48e6),
+            c_hs: f(4.30474),
+            m_r: f(0.00013),
+            k_rb: f(1.5e6),
+            rho,
+            youngs,
+            area,
+            inertia_moment,
+            e1,
+            e2: f(2.0),
+            bearing_a: f(2.0),
+            bearing_b: f(3.0),
+            mu: f(0.08),
+            friction_smoothing: f(0.01),
+            damping_ratio_f1: f(STRUCTURAL_DAMPING_RATIO),
+            m_l: f(3.428e-3),
+            m_spring: f(0.151 / 386.09),
+            k_rs: f(60.0),
+            delta_rs: f(0.5),
+            k_rs_modal: f(100.0),
+            geometry: CamGeometry::reference(),
+            hertz: HertzContact::steel(f(0.25)),
+            program: CamProgram::reference(),
+        }
+    }
+
+    /// M_f = ρ A (e1 + y3): follower mass between load and slide bearing (Eq. IV.2).
+    #[inline(always)]
+    pub fn m_f(&self, y3: T) -> T {
+        self.rho * self.area * (self.e1 + y3)
+    }
+    /// M_fc = ρ A (e2 - y3) + m_spring/3: cantilever mass with a third of the spring (Eq. IV.2, F.1).
+    #[inline(always)]
+    pub fn m_fc(&self, y3: T) -> T {
+        self.rho * self.area * (self.e2 - y3) + self.m_spring / T::from_f64(3.0)
+    }
+    /// K_f = E A / (e1 + y3): axial stiffness of the follower between slide bearing and load (NOTES).
+    #[inline(always)]
+    pub fn k_f(&self, y3: T) -> T {
+        self.youngs * self.area / (self.e1 + y3)
+    }
+    /// K_vc = E A / (e2 - y3): axial stiffness of the cantilever portion (NOTES).
+    #[inline(always)]
+    pub fn k_vc(&self, y3: T) -> T {
+        self.youngs * self.area / (self.e2 - y3)
+    }
+    /// K_hc = 3 E I / (e2 - y3)³: lateral stiffness of the cantilever portion (Eq. V.8, NOTES).
+    #[inline(always)]
+    pub fn k_hc(&self, y3: T) -> T {
+        let l = self.e2 - y3;
+        T::from_f64(3.0) * self.youngs * self.inertia_moment / (l * l * l)
+    }
+    /// C_f1 = 2 ξ sqrt(K_f M_l): structural damping of the follower rod (Eq. V.13).
+    #[inline(always)]
+    pub fn c_f1(&self, y3: T) -> T {
+        T::TWO * self.damping_ratio_f1 * (self.k_f(y3) * self.m_l).sqrt()
+    }
+
+    /// K_h on the base circle at unit force (Eq. V.11), the value the preload uses.
+    pub fn k_h_base(&self) -> Result<T> {
+        self.hertz.stiffness(self.geometry.roller_radius, self.geometry.base_radius)
+    }
+
+    /// F_p of Eq. V.18: the preload after assembly, with K_t the series of K_rb, K_h (base circle) and K_vs.
+    pub fn preload(&self) -> Result<T> {
+        let k_h = self.k_h_base()?;
+        let k_t = crate::series_stiffness(&[self.k_rb, k_h, self.k_vs]);
+        Ok(crate::return_spring_preload(k_t, self.k_rs, self.delta_rs)?.force)
+    }
+
+    /// Checks every parameter; the error names the field and its rule.
+    pub fn validate(&self) -> Result<()> {
+        for (field, v) in [
+            ("i_m", self.i_m),
+            ("i_cp", self.i_cp),
+            ("i_c", self.i_c),
+            ("k_s1", self.k_s1),
+            ("k_s2", self.k_s2),
+            ("omega0", self.omega0),
+            ("m_c", self.m_c),
+            ("k_vs", self.k_vs),
+            ("k_hs", self.k_hs),
+            ("m_r", self.m_r),
+            ("k_rb", self.k_rb),
+            ("rho", self.rho),
+            ("youngs", self.youngs),
+            ("area", self.area),
+            ("inertia_moment", self.inertia_moment),
+            ("e1", self.e1),
+            ("e2", self.e2),
+            ("bearing_b", self.bearing_b),
+            ("friction_smoothing", self.friction_smoothing),
+            ("m_l", self.m_l),
+            ("k_rs", self.k_rs),
+            ("k_rs_modal", self.k_rs_modal),
+        ] {
+            positive(field, v)?;
+        }
+        for (field, v) in [
+            ("c_mb", self.c_mb),
+            ("c_s1", self.c_s1),
+            ("c_s2", self.c_s2),
+            ("c_cc", self.c_cc),
+            ("c_vs", self.c_vs),
+            ("c_hs", self.c_hs),
+            ("bearing_a", self.bearing_a),
+            ("mu", self.mu),
+            ("damping_ratio_f1", self.damping_ratio_f1),
+            ("m_spring", self.m_spring),
+            ("delta_rs", self.delta_rs),
+        ] {
+            non_negative(field, v)?;
+        }
+        finite("omega0", self.omega0)?;
+        let lift = self.program.max_lift();
+        if self.e2 <= lift {
+            return Err(Error::InvalidParameter {
+                field: "e2",
+                rule: "cantilever length must exceed the program's maximum lift",
+                value: self.e2.to_f64(),
+            });
+        }
+        self.drive.validate()?;
+        self.k_h_base()?;
+        self.preload()?;
+        Ok(())
+    }
+}
+
+impl<T: Real> Design<T> {
+    /// Moves the design to a new cam speed (rpm): ω0 and the drive's reference speed.
+    pub fn set_speed_rpm(&mut self, rpm: T) -> Result<()> {
+        positive("rpm", rpm)?;
+        let w = rpm * T::PI / T::from_f64(30.0);
+        self.omega0 = w;
+        self.drive = self.drive.at_speed(w);
+        Ok(())
+    }
+}

@@ -1,1 +1,140 @@
-//! Placeholder: filled in by its issue.
+//! The drive: what turns the motor (the thesis's T_i, not given in VI.1).
+//!
+//! The thesis gives a 1.75 hp motor and initial speeds of 800 rpm, but not the
+//! torque-speed law T_i(θ̇_m). The listed viscous drags (C_mb + C_cc) alone absorb
+//! about 150 lb·in at 800 rpm, so an unregulated torque would let the machine slow
+//! down. The default is therefore a speed-regulated motor ([`DriveLaw::Regulated`]):
+//! the steady drag torque at the reference speed plus a proportional term on the
+//! speed error, limited to the motor's breakdown torque. Two ideal drives drop
+//! rotational degrees of freedom for simpler scenes.
+
+use crate::{positive, Error, Real, Result};
+
+/// One horsepower in lb·in/s.
+pub const HORSEPOWER_IN_LB_PER_S: f64 = 6600.0;
+/// Rated power of the thesis's motor (VI.1): 1.75 hp.
+pub const MOTOR_RATED_HP: f64 = 1.75;
+/// Rated slip of the regulated drive's torque-speed line: 4 %, a typical 4-pole
+/// NEMA design B induction motor (3-5 %); the proportional gain follows from it.
+pub const MOTOR_RATED_SLIP: f64 = 0.04;
+/// Breakdown torque over rated torque: 2.5, typical of NEMA design B motors (2-3).
+pub const MOTOR_BREAKDOWN_RATIO: f64 = 2.5;
+
+/// The motor law T_i(θ̇_m) and which rotational degrees of freedom it leaves free.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DriveLaw<T> {
+    /// Ideal constant cam speed ω0: the rotational system is rigid (motor, coupling
+    /// and cam DOFs dropped). The cam angle is ω0 t; this is the "theoretical" speed.
+    ConstantCamSpeed,
+    /// Motor held at ω0 by an ideal source; coupling and cam rotations stay free.
+    ConstantMotorSpeed,
+    /// Speed-regulated motor: T_i = t_steady + k_p (ω_ref - θ̇_m), clamped to ±t_max.
+    Regulated {
+        /// Reference speed ω_ref, rad/s.
+        omega_ref: T,
+        /// Feed-forward torque: the steady drag (C_mb + C_cc) ω_ref, lb·in.
+        t_steady: T,
+        /// Proportional gain, lb·in·s/rad: rated torque over rated slip speed.
+        k_p: T,
+        /// Torque limit (breakdown torque), lb·in.
+        t_max: T,
+    },
+}
+
+impl<T: Real> DriveLaw<T> {
+    /// The default regulated drive at `omega0` for the given motor and cam bearing drags.
+    ///
+    /// Rated torque T_r = P / ω0 (1.75 hp); k_p = T_r / (s_r ω0) with s_r = 4 % rated
+    /// slip (41 lb·in·s/rad at 800 rpm); t_max = 2.5 T_r; t_steady = (C_mb + C_cc) ω0.
+    pub fn reference(omega0: T, c_mb: T, c_cc: T) -> Self {
+        let t_rated = T::from_f64(MOTOR_RATED_HP * HORSEPOWER_IN_LB_PER_S) / omega0;
+        DriveLaw::Regulated {
+            omega_ref: omega0,
+            t_steady: (c_mb + c_cc) * omega0,
+            k_p: t_rated / (T::from_f64(MOTOR_RATED_SLIP) * omega0),
+            t_max: T::from_f64(MOTOR_BREAKDOWN_RATIO) * t_rated,
+        }
+    }
+
+    /// The same law moved to a new reference speed (regulated: feed-forward scaled with speed).
+    pub fn at_speed(self, omega_new: T) -> Self {
+        match self {
+            DriveLaw::Regulated { omega_ref, t_steady, k_p, t_max } => DriveLaw::Regulated {
+                omega_ref: omega_new,
+                t_steady: if omega_ref > T::ZERO { t_steady * omega_new / omega_ref } else { t_steady },
+                k_p,
+                t_max,
+            },
+            other => other,
+        }
+    }
+
+    /// Number of rotational degrees of freedom this law leaves free (0, 2 or 3).
+    pub fn rotational_dofs(&self) -> usize {
+        match self {
+            DriveLaw::ConstantCamSpeed => 0,
+            DriveLaw::ConstantMotorSpeed => 2,
+            DriveLaw::Regulated { .. } => 3,
+        }
+    }
+
+    /// Motor torque T_i at motor speed `omega_m` (0 for the ideal drives, which impose speed).
+    #[inline(always)]
+    pub fn torque(&self, omega_m: T) -> T {
+        match *self {
+            DriveLaw::Regulated { omega_ref, t_steady, k_p, t_max } => {
+                (t_steady + k_p * (omega_ref - omega_m)).clamp(-t_max, t_max)
+            }
+            _ => T::ZERO,
+        }
+    }
+
+    /// Checks the law's parameters.
+    pub fn validate(&self) -> Result<()> {
+        if let DriveLaw::Regulated { omega_ref, t_steady, k_p, t_max } = *self {
+            positive("drive.omega_ref", omega_ref)?;
+            positive("drive.t_max", t_max)?;
+            if !(k_p.is_finite() && k_p >= T::ZERO) {
+                return Err(Error::InvalidParameter {
+                    field: "drive.k_p",
+                    rule: "must be zero or positive and finite",
+                    value: k_p.to_f64(),
+                });
+            }
+            if !t_steady.is_finite() {
+                return Err(Error::InvalidParameter {
+                    field: "drive.t_steady",
+                    rule: "must be finite",
+                    value: t_steady.to_f64(),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reference_gain_from_rated_slip() {
+        let w = 800.0f64 * core::f64::consts::PI / 30.0;
+        let d = DriveLaw::reference(w, 0.8, 1.0);
+        // At the reference speed the motor delivers exactly the steady drag.
+        assert!((d.torque(w) - 1.8 * w).abs() < 1e-12);
+        // 4 % slow: rated torque above the drag (1.75 hp at 800 rpm = 137.9 lb in).
+        let t_rated = 1.75 * 6600.0 / w;
+        assert!((t_rated - 137.87).abs() < 0.01);
+        assert!((d.torque(0.96 * w) - 1.8 * w - t_rated).abs() < 1e-9);
+        // Limited to the breakdown torque.
+        assert!((d.torque(0.0) - 2.5 * t_rated).abs() < 1e-9);
+    }
+
+    #[test]
+    fn ideal_drives_drop_rotational_dofs() {
+        assert_eq!(DriveLaw::<f32>::ConstantCamSpeed.rotational_dofs(), 0);
+        assert_eq!(DriveLaw::<f32>::ConstantMotorSpeed.rotational_dofs(), 2);
+        assert_eq!(DriveLaw::reference(83.776f32, 0.8, 1.0).rotational_dofs(), 3);
+    }
+}

@@ -1,1 +1,463 @@
-//! Placeholder: filled in by its issue.
+//! Streaming outputs of a simulation: samples, per-period statistics, jumps, timing.
+//!
+//! Nothing is stored per sample: an [`Observer`] receives each [`Sample`] as the
+//! solver produces it (the midpoint and end point of every accepted double step)
+//! and accumulates what it needs. [`ResponseStats`] accumulates the thesis's
+//! per-period metrics (VI.4 and NOTES.md): RMS deviation of the follower output from
+//! the theoretical response, average and extreme torque, contact force and stress,
+//! AORD of each angular velocity, and jump intervals. Time averages are
+//! time-weighted (trapezoidal), so they do not depend on where the solver stepped.
+
+use core::ops::ControlFlow;
+
+use crate::{
+    CamModel, England, EnglandConfig, Error, ModelPoint, Real, Result, SegmentKind, SolverStats, Tolerance,
+};
+
+/// The theoretical response at a cam angle (NOTES: perfect profile, rigid system,
+/// constant cam speed ω0): y = s(θ), v = s' ω0, a = s'' ω0².
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Theoretical<T> {
+    /// Displacement, in.
+    pub y: T,
+    /// Velocity, in/s.
+    pub v: T,
+    /// Acceleration, in/s².
+    pub a: T,
+}
+
+/// One output sample of a running simulation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sample<T> {
+    /// Every model quantity at this instant.
+    pub point: ModelPoint<T>,
+    /// Revolution, counted from 1.
+    pub revolution: u32,
+    /// Cam angle within the revolution, degrees in [0, 360).
+    pub angle_deg: T,
+    /// Index of the program segment (period) the cam angle is in.
+    pub segment: usize,
+    /// The theoretical response at this cam angle.
+    pub theory: Theoretical<T>,
+    /// Maximum Hertz contact stress, psi (0 when the observer does not need it or off contact).
+    pub contact_stress: T,
+}
+
+/// Receives each sample of a simulation.
+pub trait Observer<T> {
+    /// Whether this observer needs the Hertz contact stress (it costs a square root or two).
+    fn needs_stress(&self) -> bool {
+        true
+    }
+    /// Takes one sample; `Break` stops the simulation early.
+    fn observe(&mut self, sample: &Sample<T>) -> ControlFlow<()>;
+}
+
+impl<T, F: FnMut(&Sample<T>) -> ControlFlow<()>> Observer<T> for F {
+    fn observe(&mut self, sample: &Sample<T>) -> ControlFlow<()> {
+        self(sample)
+    }
+}
+
+/// Two observers fed from one simulation.
+pub struct Both<'a, A, B>(pub &'a mut A, pub &'a mut B);
+
+impl<T, A: Observer<T>, B: Observer<T>> Observer<T> for Both<'_, A, B> {
+    fn needs_stress(&self) -> bool {
+        self.0.needs_stress() || self.1.needs_stress()
+    }
+    fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
+        let a = self.0.observe(s);
+        let b = self.1.observe(s);
+        if a.is_break() || b.is_break() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+}
+
+/// Solver settings of a run: relative tolerance and an absolute tolerance in inches
+/// that is scaled to every state component (see [`solver_config`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverSettings<T> {
+    /// Relative tolerance.
+    pub rtol: T,
+    /// Absolute tolerance for displacements, in.
+    pub atol: T,
+    /// Largest double step as a fraction of one revolution at ω0 (keeps samples dense for
+    /// statistics and plots).
+    pub max_step_fraction: T,
+    /// Step budget per revolution.
+    pub max_steps_per_rev: u32,
+}
+
+impl<T: Real> SolverSettings<T> {
+    /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step.
+    pub fn reference() -> Self {
+        Self {
+            rtol: T::from_f64(1e-6),
+            atol: T::from_f64(1e-8),
+            max_step_fraction: T::from_f64(1.0 / 2000.0),
+            max_steps_per_rev: 2_000_000,
+        }
+    }
+}
+
+/// England solver configuration for a model. The scalar `atol` (inches) is mapped to
+/// each component by its natural scale: angles and twists are compared as arc length at
+/// the prime radius R_a (atol / R_a rad), velocities as displacement per radian of cam at
+/// ω0 (atol ω0 / R_a rad/s, atol ω0 in/s).
+pub fn solver_config<T: Real, const N: usize>(
+    model: &CamModel<T, N>,
+    s: &SolverSettings<T>,
+    revolutions: u32,
+) -> Result<EnglandConfig<T, N>> {
+    crate::positive("rtol", s.rtol)?;
+    crate::positive("atol", s.atol)?;
+    crate::positive("max_step_fraction", s.max_step_fraction)?;
+    let d = model.design();
+    let w0 = d.omega0;
+    let ra = d.geometry.prime_radius();
+    let rot = model.rotational_states();
+    let n_trans = (N - rot) / 2;
+    let mut atol = [s.atol; N];
+    for (i, a) in atol.iter_mut().enumerate() {
+        *a = if i < 3 && i < rot {
+            s.atol / ra
+        } else if i < rot {
+            s.atol * w0 / ra
+        } else if i < rot + n_trans {
+            s.atol
+        } else {
+            s.atol * w0
+        };
+    }
+    let period = T::TWO * T::PI / w0;
+    let h_max = period * s.max_step_fraction;
+    Ok(EnglandConfig {
+        tol: Tolerance::per_component(s.rtol, atol),
+        h_init: h_max * T::from_f64(1e-3),
+        h_min: period * T::from_f64(1e-13),
+        h_max,
+        max_steps: s.max_steps_per_rev.saturating_mul(revolutions.max(1)),
+    })
+}
+
+/// Simulates `revolutions` cam revolutions from the initial state of VI.1, feeding every
+/// sample to `observer`. Returns the solver's statistics.
+pub fn simulate<T: Real, const N: usize, O: Observer<T>>(
+    model: &CamModel<T, N>,
+    settings: &SolverSettings<T>,
+    revolutions: u32,
+    observer: &mut O,
+) -> Result<SolverStats> {
+    if revolutions == 0 {
+        return Err(Error::InvalidParameter { field: "revolutions", rule: "must be at least 1", value: 0.0 });
+    }
+    let config = solver_config(model, settings, revolutions)?;
+    let mut solver = England::new(config)?;
+    let d = model.design();
+    let two_pi = T::TWO * T::PI;
+    let target = two_pi * T::from_usize(revolutions as usize);
+    // Generous end time: the drive may run slower than ω0; a stalled drive is an error.
+    let t_end = T::from_f64(4.0) * target / d.omega0;
+    let mut y = model.initial_state();
+    let stress = observer.needs_stress();
+    let mut done = false;
+    let mut stopped = false;
+    let stats = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
+        let sample = model.sample(t, y, stress);
+        if sample.point.theta_c >= target {
+            done = true;
+            return ControlFlow::Break(());
+        }
+        let flow = observer.observe(&sample);
+        stopped = flow.is_break();
+        flow
+    })?;
+    if !done && !stopped {
+        return Err(Error::NoConvergence {
+            what: "cam revolutions (the drive stalled: the cam did not turn far enough in 4x the nominal time)",
+            iterations: stats.accepted,
+        });
+    }
+    Ok(stats)
+}
+
+impl<T: Real, const N: usize> CamModel<T, N> {
+    /// Number of rotational state components (6, 5 or 0).
+    pub fn rotational_states(&self) -> usize {
+        match self.design().drive {
+            crate::DriveLaw::ConstantCamSpeed => 0,
+            crate::DriveLaw::ConstantMotorSpeed => 5,
+            crate::DriveLaw::Regulated { .. } => 6,
+        }
+    }
+
+    /// The theoretical response at cam angle `theta` (rad) at the design's ω0.
+    pub fn theoretical(&self, theta: T) -> Theoretical<T> {
+        let w = self.design().omega0;
+        let l = self.design().program.follower(theta);
+        Theoretical { y: l.y, v: l.dy * w, a: l.d2y * w * w }
+    }
+
+    /// A full output sample at (t, y); `stress` computes the Hertz contact stress.
+    pub fn sample(&self, t: T, y: &[T; N], stress: bool) -> Sample<T> {
+        let p = self.evaluate(t, y);
+        let d = self.design();
+        let two_pi = T::TWO * T::PI;
+        let turns = (p.theta_c / two_pi).floor();
+        let within = p.theta_c - turns * two_pi;
+        let revolution = if turns >= T::ZERO { turns.to_f64() as u32 + 1 } else { 0 };
+        let w = d.omega0;
+        let theory = Theoretical { y: p.lift.y, v: p.lift.dy * w, a: p.lift.d2y * w * w };
+        let contact_stress = if stress && p.in_contact {
+            // Roller diameter and the signed diameter of the cam surface at the contact.
+            d.hertz.max_stress(p.contact_force, T::TWO * d.geometry.roller_radius, T::TWO * p.surface_radius)
+        } else {
+            T::ZERO
+        };
+        Sample {
+            revolution,
+            angle_deg: within.to_degrees(),
+            segment: d.program.segment_at(p.theta_c),
+            theory,
+            contact_stress,
+            point: p,
+        }
+    }
+}
+
+/// Per-period accumulators of one revolution's period (VI.4, NOTES "Definitions").
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PeriodStats<T> {
+    /// Time spent in the period, s.
+    pub duration: T,
+    /// Samples seen.
+    pub samples: u32,
+    sum_dy2: T,
+    sum_dv2: T,
+    sum_da2: T,
+    sum_torque: T,
+    sum_force: T,
+    sum_rel_m: T,
+    sum_rel_cp: T,
+    sum_rel_c: T,
+    /// Largest output torque on the cam, lb·in.
+    pub torque_max: T,
+    /// Smallest output torque on the cam, lb·in.
+    pub torque_min: T,
+    /// Largest contact force, lb.
+    pub force_max: T,
+    /// Smallest contact force, lb.
+    pub force_min: T,
+    /// Largest Hertz contact stress, psi.
+    pub stress_max: T,
+    /// Whether the follower left the cam in this period.
+    pub jump: bool,
+}
+
+impl<T: Real> PeriodStats<T> {
+    fn first(&mut self, s: &Sample<T>) {
+        let p = &s.point;
+        self.torque_max = p.torque_out;
+        self.torque_min = p.torque_out;
+        self.force_max = p.contact_force;
+        self.force_min = p.contact_force;
+        self.stress_max = s.contact_stress;
+    }
+    fn extremes(&mut self, s: &Sample<T>) {
+        let p = &s.point;
+        self.torque_max = self.torque_max.max(p.torque_out);
+        self.torque_min = self.torque_min.min(p.torque_out);
+        self.force_max = self.force_max.max(p.contact_force);
+        self.force_min = self.force_min.min(p.contact_force);
+        self.stress_max = self.stress_max.max(s.contact_stress);
+        self.jump |= !p.in_contact;
+    }
+    #[inline]
+    fn mean(&self, sum: T) -> T {
+        if self.duration > T::ZERO {
+            sum / self.duration
+        } else {
+            T::ZERO
+        }
+    }
+    /// RMS deviation of the load displacement from the theoretical, in.
+    pub fn rms_displacement(&self) -> T {
+        self.mean(self.sum_dy2).sqrt()
+    }
+    /// RMS deviation of the load velocity from the theoretical, in/s.
+    pub fn rms_velocity(&self) -> T {
+        self.mean(self.sum_dv2).sqrt()
+    }
+    /// RMS deviation of the load acceleration from the theoretical, in/s².
+    pub fn rms_acceleration(&self) -> T {
+        self.mean(self.sum_da2).sqrt()
+    }
+    /// Time-averaged output torque on the cam, lb·in.
+    pub fn torque_avg(&self) -> T {
+        self.mean(self.sum_torque)
+    }
+    /// Time-averaged contact force, lb.
+    pub fn force_avg(&self) -> T {
+        self.mean(self.sum_force)
+    }
+    /// AORD of the motor speed: time average of (θ̇_m - ω_ref) / ω_ref.
+    pub fn aord_motor(&self) -> T {
+        self.mean(self.sum_rel_m)
+    }
+    /// AORD of the coupling speed.
+    pub fn aord_coupling(&self) -> T {
+        self.mean(self.sum_rel_cp)
+    }
+    /// AORD of the cam speed.
+    pub fn aord_cam(&self) -> T {
+        self.mean(self.sum_rel_c)
+    }
+}
+
+/// A separation interval of the follower from the cam (Eq. V.20).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JumpInterval<T> {
+    /// Revolution (from 1) of the onset.
+    pub revolution: u32,
+    /// Cam angle of the onset within that revolution, degrees.
+    pub start_deg: T,
+    /// Cam angle where contact resumed, degrees (may exceed 360 if it carries over).
+    pub end_deg: T,
+}
+
+/// The per-period statistics of up to `R` revolutions of a program of up to `P`
+/// periods, and up to `J` jump intervals.
+#[derive(Clone, Debug)]
+pub struct ResponseStats<T, const R: usize = 8, const P: usize = 8, const J: usize = 32> {
+    periods: [[PeriodStats<T>; P]; R],
+    jumps: heapless::Vec<JumpInterval<T>, J>,
+    /// Jump intervals that did not fit in `J`.
+    pub jumps_dropped: u32,
+    omega_ref: T,
+    prev: Option<Sample<T>>,
+    open_jump: Option<(u32, T, T)>,
+    revolutions_seen: u32,
+}
+
+impl<T: Real, const R: usize, const P: usize, const J: usize> ResponseStats<T, R, P, J> {
+    /// Empty statistics; AORD is taken relative to `omega_ref` (rad/s).
+    pub fn new(omega_ref: T) -> Self {
+        Self {
+            periods: [[PeriodStats::default(); P]; R],
+            jumps: heapless::Vec::new(),
+            jumps_dropped: 0,
+            omega_ref,
+            prev: None,
+            open_jump: None,
+            revolutions_seen: 0,
+        }
+    }
+
+    /// Statistics of `revolution` (from 1) and `period` (segment index), if recorded.
+    pub fn period(&self, revolution: u32, period: usize) -> Option<&PeriodStats<T>> {
+        self.periods.get((revolution as usize).checked_sub(1)?)?.get(period)
+    }
+
+    /// Number of revolutions with samples (at most `R`).
+    pub fn revolutions(&self) -> u32 {
+        self.revolutions_seen
+    }
+
+    /// The recorded jump intervals (a jump still open at the end is closed at the last sample).
+    pub fn jumps(&self) -> heapless::Vec<JumpInterval<T>, J> {
+        let mut v = self.jumps.clone();
+        if let (Some((rev, start, abs0)), Some(p)) = (self.open_jump, self.prev.as_ref()) {
+            let end = start + (p.point.theta_c - abs0).to_degrees();
+            if v.push(JumpInterval { revolution: rev, start_deg: start, end_deg: end }).is_err() {
+                // Full: the caller sees jumps_dropped.
+            }
+        }
+        v
+    }
+
+    /// Sum over the periods of one revolution of the RMS acceleration deviation
+    /// (the thesis's sensitivity index, VI.4.2).
+    pub fn acceleration_rms_sum(&self, revolution: u32) -> T {
+        let mut s = T::ZERO;
+        if let Some(row) = self.periods.get((revolution as usize).saturating_sub(1)) {
+            for p in row.iter().filter(|p| p.samples > 0) {
+                s += p.rms_acceleration();
+            }
+        }
+        s
+    }
+}
+
+impl<T: Real, const R: usize, const P: usize, const J: usize> Observer<T> for ResponseStats<T, R, P, J> {
+    fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
+        let p = &s.point;
+        // Jump bookkeeping.
+        match (self.open_jump, p.in_contact) {
+            (None, false) => self.open_jump = Some((s.revolution, s.angle_deg, p.theta_c)),
+            (Some((rev, start, abs0)), true) => {
+                let end = start + (p.theta_c - abs0).to_degrees();
+                if self.jumps.push(JumpInterval { revolution: rev, start_deg: start, end_deg: end }).is_err() {
+                    self.jumps_dropped = self.jumps_dropped.saturating_add(1);
+                }
+                self.open_jump = None;
+            }
+            _ => {}
+        }
+        self.revolutions_seen = self.revolutions_seen.max(s.revolution.min(R as u32));
+        let cell = (s.revolution as usize)
+            .checked_sub(1)
+            .and_then(|r| self.periods.get_mut(r))
+            .and_then(|row| row.get_mut(s.segment));
+        if let Some(cell) = cell {
+            if cell.samples == 0 {
+                cell.first(s);
+            }
+            cell.extremes(s);
+            cell.samples = cell.samples.saturating_add(1);
+            // Trapezoidal time integrals from the previous sample when it is in the same cell.
+            if let Some(q) = self.prev.as_ref().filter(|q| q.revolution == s.revolution && q.segment == s.segment) {
+                let dt = p.t - q.point.t;
+                if dt > T::ZERO {
+                    let h = dt * T::HALF;
+                    let w = self.omega_ref;
+                    let e = |a: &Sample<T>| {
+                        let pt = &a.point;
+                        (
+                            (pt.load_displacement() - a.theory.y).sq(),
+                            (pt.load_velocity() - a.theory.v).sq(),
+                            (pt.load_acceleration() - a.theory.a).sq(),
+                        )
+                    };
+                    let (y0, v0, a0) = e(q);
+                    let (y1, v1, a1) = e(s);
+                    cell.duration += dt;
+                    cell.sum_dy2 += h * (y0 + y1);
+                    cell.sum_dv2 += h * (v0 + v1);
+                    cell.sum_da2 += h * (a0 + a1);
+                    cell.sum_torque += h * (q.point.torque_out + p.torque_out);
+                    cell.sum_force += h * (q.point.contact_force + p.contact_force);
+                    cell.sum_rel_m += h * ((q.point.omega_m + p.omega_m) / w - T::TWO);
+                    cell.sum_rel_cp += h * ((q.point.omega_cp + p.omega_cp) / w - T::TWO);
+                    cell.sum_rel_c += h * ((q.point.omega_c + p.omega_c) / w - T::TWO);
+                }
+            }
+        }
+        self.prev = Some(*s);
+        ControlFlow::Continue(())
+    }
+}
+
+/// Names a program segment for reports: `dwell_low`, `rise`, `dwell_high`, `return`
+/// for the four periods of a D-R-D-R program, else by kind.
+pub fn period_name(kind: SegmentKind, level_before: bool) -> &'static str {
+    match kind {
+        SegmentKind::Dwell if level_before => "dwell_high",
+        SegmentKind::Dwell => "dwell_low",
+        SegmentKind::Rise(_) => "rise",
+        SegmentKind::Return(_) => "return",
+    }
+}

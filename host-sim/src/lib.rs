@@ -2,3 +2,7 @@
 //! integration tests can call the same code the binary runs.
 
 pub mod cmd;
+pub mod csv;
+pub mod plot;
+pub mod scene;
+pub mod sim;

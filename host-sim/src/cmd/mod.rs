@@ -1,5 +1,8 @@
 //! One module per `camsim` subcommand.
 
 pub mod contact;
+pub mod jump_speed;
 pub mod laws;
 pub mod modal;
+pub mod run;
+pub mod scene;

@@ -1,0 +1,214 @@
+//! Running the core's model from the host: dispatch on the scene's state size,
+//! collect statistics, samples for CSV and plots, and time the run.
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use camsim_core::{
+    period_name, simulate, Both, CamModel, DofSet, Design, DriveLaw, Observer, ResponseStats, Sample,
+    SegmentKind, SolverSettings, SolverStats,
+};
+use serde::Serialize;
+
+/// Which parts of the model a run keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Dofs {
+    /// Keep the horizontal motion (x1, x2, x3).
+    pub horizontal: bool,
+}
+
+/// Everything a simulation needs.
+#[derive(Clone, Debug)]
+pub struct RunSpec {
+    /// The model's parameters.
+    pub design: Design<f64>,
+    /// Which DOFs to keep.
+    pub dofs: Dofs,
+    /// Solver settings.
+    pub solver: SolverSettings<f64>,
+    /// Revolutions to simulate.
+    pub revolutions: u32,
+}
+
+impl RunSpec {
+    /// The reference design, all DOFs, default solver settings, 3 revolutions.
+    pub fn reference() -> Self {
+        Self {
+            design: Design::reference(),
+            dofs: Dofs { horizontal: true },
+            solver: SolverSettings::reference(),
+            revolutions: 3,
+        }
+    }
+}
+
+/// Runs `f` with a model of the right state size for `spec`.
+macro_rules! with_model {
+    ($spec:expr, |$m:ident| $body:expr) => {{
+        let spec: &RunSpec = $spec;
+        let rot = spec.design.drive.rotational_dofs();
+        let set = if spec.dofs.horizontal { DofSet::ALL } else { DofSet::VERTICAL };
+        let d = spec.design.clone();
+        match (rot, spec.dofs.horizontal) {
+            (3, true) => { let $m = CamModel::<f64, 22>::new(d, set)?; $body }
+            (3, false) => { let $m = CamModel::<f64, 16>::new(d, set)?; $body }
+            (2, true) => { let $m = CamModel::<f64, 21>::new(d, set)?; $body }
+            (2, false) => { let $m = CamModel::<f64, 15>::new(d, set)?; $body }
+            (_, true) => { let $m = CamModel::<f64, 16>::new(d, set)?; $body }
+            (_, false) => { let $m = CamModel::<f64, 10>::new(d, set)?; $body }
+        }
+    }};
+}
+pub(crate) use with_model;
+
+/// Statistics of a run (up to 16 revolutions of up to 8 periods, 64 jump intervals).
+pub type Stats = ResponseStats<f64, 16, 8, 64>;
+
+/// The outcome of one simulation.
+pub struct RunResult {
+    /// Per-period statistics.
+    pub stats: Stats,
+    /// Solver counters.
+    pub solver: SolverStats,
+    /// Wall-clock time of the simulation, ms.
+    pub wall_ms: f64,
+    /// The preload F_p, lb.
+    pub preload: f64,
+}
+
+/// Runs a simulation, feeding `extra` every sample too.
+pub fn run<O: Observer<f64>>(spec: &RunSpec, extra: &mut O) -> Result<RunResult> {
+    anyhow::ensure!(
+        (1..=16).contains(&spec.revolutions),
+        "revolutions = {}: must be between 1 and 16",
+        spec.revolutions
+    );
+    let mut stats = Stats::new(spec.design.omega0);
+    let t0 = Instant::now();
+    let (solver, preload) = with_model!(spec, |m| {
+        let s = simulate(&m, &spec.solver, spec.revolutions, &mut Both(&mut stats, extra))
+            .context("simulation failed")?;
+        (s, m.preload())
+    });
+    let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    Ok(RunResult { stats, solver, wall_ms, preload })
+}
+
+/// An observer that does nothing.
+pub struct Nothing;
+impl Observer<f64> for Nothing {
+    fn needs_stress(&self) -> bool {
+        false
+    }
+    fn observe(&mut self, _: &Sample<f64>) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// The name of each period of the design's program (dwell_low, rise, dwell_high, return).
+pub fn period_names(design: &Design<f64>) -> Vec<&'static str> {
+    let mut level = 0.0;
+    design
+        .program
+        .segments()
+        .iter()
+        .map(|s| {
+            let n = period_name(s.kind, level > 0.0);
+            match s.kind {
+                SegmentKind::Rise(_) => level += s.lift,
+                SegmentKind::Return(_) => level -= s.lift,
+                SegmentKind::Dwell => {}
+            }
+            n
+        })
+        .collect()
+}
+
+/// One row of the per-period table (the JSON `per_period` entries).
+#[derive(Clone, Debug, Serialize)]
+pub struct PeriodRow {
+    /// Revolution from 1.
+    pub revolution: u32,
+    /// Period name.
+    pub period: &'static str,
+    /// RMS displacement deviation, in.
+    pub rms_displacement: f64,
+    /// RMS velocity deviation, in/s.
+    pub rms_velocity: f64,
+    /// RMS acceleration deviation, in/s².
+    pub rms_acceleration: f64,
+    /// Average output torque, lb·in.
+    pub torque_avg: f64,
+    /// Largest output torque, lb·in.
+    pub torque_max: f64,
+    /// Smallest output torque, lb·in.
+    pub torque_min: f64,
+    /// Smallest contact force, lb.
+    pub contact_force_min: f64,
+    /// Largest contact force, lb.
+    pub contact_force_max: f64,
+    /// Average contact force, lb.
+    pub contact_force_avg: f64,
+    /// Largest Hertz stress, psi.
+    pub contact_stress_max: f64,
+    /// AORD of the motor speed.
+    pub aord_motor: f64,
+    /// AORD of the coupling speed.
+    pub aord_coupling: f64,
+    /// AORD of the cam speed.
+    pub aord_cam: f64,
+    /// Whether the follower jumped in this period.
+    pub jump: bool,
+}
+
+/// The per-period rows of every revolution.
+pub fn period_rows(design: &Design<f64>, stats: &Stats) -> Vec<PeriodRow> {
+    let names = period_names(design);
+    let mut rows = Vec::new();
+    for rev in 1..=stats.revolutions() {
+        for (i, name) in names.iter().enumerate() {
+            if let Some(p) = stats.period(rev, i).filter(|p| p.samples > 0) {
+                rows.push(PeriodRow {
+                    revolution: rev,
+                    period: name,
+                    rms_displacement: p.rms_displacement(),
+                    rms_velocity: p.rms_velocity(),
+                    rms_acceleration: p.rms_acceleration(),
+                    torque_avg: p.torque_avg(),
+                    torque_max: p.torque_max,
+                    torque_min: p.torque_min,
+                    contact_force_min: p.force_min,
+                    contact_force_max: p.force_max,
+                    contact_force_avg: p.force_avg(),
+                    contact_stress_max: p.stress_max,
+                    aord_motor: p.aord_motor(),
+                    aord_coupling: p.aord_coupling(),
+                    aord_cam: p.aord_cam(),
+                    jump: p.jump,
+                });
+            }
+        }
+    }
+    rows
+}
+
+/// Whether the follower separates from the cam in steady state (revolution >= 2) at `rpm`.
+pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
+    let mut s = spec.clone();
+    s.design.set_speed_rpm(rpm)?;
+    let mut found = false;
+    let mut obs = |smp: &Sample<f64>| {
+        if smp.revolution >= 2 && !smp.point.in_contact {
+            found = true;
+            return ControlFlow::Break(());
+        }
+        ControlFlow::Continue(())
+    };
+    let mut stats = Stats::new(s.design.omega0);
+    with_model!(&s, |m| {
+        simulate(&m, &s.solver, s.revolutions.max(2), &mut Both(&mut stats, &mut obs))
+            .with_context(|| format!("simulation at {rpm:.1} rpm failed"))?;
+    });
+    Ok(found)
+}
