@@ -1,1 +1,640 @@
-//! Placeholder: filled in by its issue.
+//! Hertz line contact between roller and cam (Eqs. V.9-V.11), the contact force and
+//! jump criterion (Eqs. V.19-V.20), and the slide-bearing friction (Eqs. V.15-V.16).
+//!
+//! Everything here sits inside the ODE right-hand side, so the hot-path functions are
+//! branch-light, never panic and never allocate. The checked variants (`new`,
+//! [`HertzContact::stiffness`], [`HertzContact::stiffness_at`]) return typed errors
+//! that name the offending field; [`HertzContact::stiffness_fast`] is the unchecked
+//! fast path with a finite fallback.
+//!
+//! Depressed depths are computed as `h = b^2 / (r + sqrt(r^2 - b^2))`, algebraically
+//! identical to the thesis's `h = r - sqrt(r^2 - b^2)` (Eq. V.10) but free of the
+//! cancellation that would leave no correct digit in `f32` (h is about 1e-7 in against
+//! r of 0.375 in), and it takes a flat surface (`r = inf`, `h = 0`) without `inf - inf`.
+
+use crate::{Error, Real, Result};
+
+/// Material and thickness of a roller-on-cam Hertz line contact (Eq. V.9's data).
+///
+/// Build it with [`HertzContact::new`] (validated) or [`HertzContact::steel`]; the
+/// fields are public for reading, and a value assembled by hand skips the checks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HertzContact<T> {
+    /// Young's modulus of body 1, the roller (psi).
+    pub youngs_1: T,
+    /// Poisson's ratio of body 1, the roller.
+    pub poisson_1: T,
+    /// Young's modulus of body 2, the cam (psi).
+    pub youngs_2: T,
+    /// Poisson's ratio of body 2, the cam.
+    pub poisson_2: T,
+    /// Axial length of the line contact, the cam thickness t (in).
+    pub thickness: T,
+}
+
+/// Why a stiffness evaluation failed (internal: no values, so the fast path never
+/// widens to `f64`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StiffnessFault {
+    /// r1 not positive and finite.
+    RollerRadius,
+    /// r2 zero or NaN.
+    SurfaceRadius,
+    /// Concave with |r2| <= r1: the roller does not fit.
+    RollerDoesNotFit,
+    /// w/2 > r1.
+    HalfWidthRoller,
+    /// w/2 > |r2|.
+    HalfWidthSurface,
+    /// Force not positive and finite.
+    Force,
+}
+
+impl<T: Real> HertzContact<T> {
+    /// Validated contact data: `E > 0`, `0 <= nu < 0.5`, `t > 0`, all finite (Eq. V.9).
+    pub fn new(youngs_1: T, poisson_1: T, youngs_2: T, poisson_2: T, thickness: T) -> Result<Self> {
+        crate::positive("youngs_1", youngs_1)?;
+        poisson_ratio("poisson_1", poisson_1)?;
+        crate::positive("youngs_2", youngs_2)?;
+        poisson_ratio("poisson_2", poisson_2)?;
+        crate::positive("thickness", thickness)?;
+        Ok(Self {
+            youngs_1,
+            poisson_1,
+            youngs_2,
+            poisson_2,
+            thickness,
+        })
+    }
+
+    /// Steel roller on a steel cam: E = 30e6 psi, nu = 0.295 for both (VI.1 data).
+    ///
+    /// `thickness` is not checked here; pass untrusted values through [`HertzContact::new`].
+    pub fn steel(thickness: T) -> Self {
+        let e = T::from_f64(30.0e6);
+        let nu = T::from_f64(0.295);
+        Self {
+            youngs_1: e,
+            poisson_1: nu,
+            youngs_2: e,
+            poisson_2: nu,
+            thickness,
+        }
+    }
+
+    /// Combined compliance `(1 - nu1^2)/E1 + (1 - nu2^2)/E2` (1/psi), the bracketed
+    /// numerator of Eq. V.9 (the reciprocal of the contact modulus E*).
+    #[inline]
+    pub fn compliance(&self) -> T {
+        (T::ONE - self.poisson_1.sq()) / self.youngs_1
+            + (T::ONE - self.poisson_2.sq()) / self.youngs_2
+    }
+
+    /// Width w of the rectangular contact band under `force` (Eq. V.9).
+    ///
+    /// `d1`, `d2` are the diameters (twice the radii of curvature); `d2 < 0` for a
+    /// concave cam surface, entering `1/d1 + 1/d2` with its sign; `d2 = inf` is a flat
+    /// surface. `force <= 0` gives 0 (no load, no band). When `1/d1 + 1/d2 <= 0`
+    /// (a concave radius the roller does not fit, or conformal surfaces) the band is
+    /// unbounded and the result is `+inf`. NaN inputs give NaN.
+    #[inline]
+    pub fn width(&self, force: T, d1: T, d2: T) -> T {
+        if force <= T::ZERO {
+            return T::ZERO;
+        }
+        let curvature = T::ONE / d1 + T::ONE / d2;
+        if curvature <= T::ZERO {
+            return T::INFINITY;
+        }
+        let two = T::TWO;
+        two * (two * force / (T::PI * self.thickness) * (self.compliance() / curvature)).sqrt()
+    }
+
+    /// Hertz contact stiffness at unit force, Eqs. V.10-V.11, exactly as the thesis
+    /// states: `w` from Eq. V.9 at F = 1 lb, `h_i = r_i - sqrt(r_i^2 - (w/2)^2)`,
+    /// convex (`r2 > 0`): `K_h = 1/(h1 + h2)`; concave (`r2 < 0`):
+    /// `K_h = 1/(2 (h1 - h2))` with `h2` from `|r2|` (lb/in).
+    ///
+    /// `r1` is the roller radius, `r2` the signed radius of curvature of the cam surface
+    /// (Eq. V.12); `r2 = +inf` or `-inf` is a flat surface and takes the convex formula
+    /// with `h2 = 0`.
+    ///
+    /// Discontinuity: to leading order in the small band width, V.11 gives
+    /// `K_h = pi t / (2 C)` for every convex radius (C = [`HertzContact::compliance`])
+    /// but half of it for every concave one, because of the printed factor 2. K_h
+    /// therefore jumps by about 2x where the cam surface curvature changes sign (at an
+    /// inflection of the profile, or flat-to-concave). The model follows the thesis.
+    ///
+    /// Errors: `r1` not positive and finite; `r2` zero or NaN; concave `|r2| <= r1`
+    /// (the roller does not fit); half band `w/2` larger than `r1` or `|r2|`.
+    pub fn stiffness(&self, r1: T, r2: T) -> Result<T> {
+        self.stiffness_core(T::ONE, r1, r2)
+            .map_err(|f| fault_error(f, T::ONE, r1, r2))
+    }
+
+    /// Secant Hertz stiffness `K = F / H` with the band `w` of Eq. V.9 evaluated at
+    /// `force` instead of 1 lb (Eqs. V.9-V.11); shows that [`HertzContact::stiffness`]
+    /// is nearly independent of the force (lb/in).
+    ///
+    /// Errors: as [`HertzContact::stiffness`], plus `force` not positive and finite.
+    pub fn stiffness_at(&self, force: T, r1: T, r2: T) -> Result<T> {
+        self.stiffness_core(force, r1, r2)
+            .map_err(|f| fault_error(f, force, r1, r2))
+    }
+
+    /// Unit-force Hertz stiffness of Eqs. V.10-V.11 for the ODE right-hand side: the
+    /// same value as [`HertzContact::stiffness`], never an error.
+    ///
+    /// Precondition (the caller's): `r1 > 0` and the geometry admissible (which the
+    /// profile check guarantees, no undercut and concave radii larger than the roller).
+    /// When it is not, returns the finite fallback `pi t / (2 C)`, the radius-independent
+    /// small-band limit of the convex formula, so the integration continues.
+    #[inline]
+    pub fn stiffness_fast(&self, r1: T, r2: T) -> T {
+        match self.stiffness_core(T::ONE, r1, r2) {
+            Ok(k) => k,
+            Err(_) => T::PI * self.thickness / (T::TWO * self.compliance()),
+        }
+    }
+
+    /// Maximum Hertz contact pressure `p_max = 2 F / (pi b t)` with `b = w/2` from
+    /// Eq. V.9 (psi). Equals the textbook `sqrt(F E* / (pi t R*))`.
+    ///
+    /// `force <= 0` gives 0; an unbounded band (`1/d1 + 1/d2 <= 0`, see
+    /// [`HertzContact::width`]) gives 0, the conformal limit.
+    #[inline]
+    pub fn max_stress(&self, force: T, d1: T, d2: T) -> T {
+        let b = T::HALF * self.width(force, d1, d2);
+        if b > T::ZERO {
+            T::TWO * force / (T::PI * b * self.thickness)
+        } else if b.is_nan() {
+            b
+        } else {
+            T::ZERO
+        }
+    }
+
+    /// Shared body of the stiffness functions: `F / H` at the band of `force`.
+    #[inline]
+    fn stiffness_core(&self, force: T, r1: T, r2: T) -> core::result::Result<T, StiffnessFault> {
+        if !(force > T::ZERO && force.is_finite()) {
+            return Err(StiffnessFault::Force);
+        }
+        if !(r1 > T::ZERO && r1.is_finite()) {
+            return Err(StiffnessFault::RollerRadius);
+        }
+        if r2.is_nan() || r2 == T::ZERO {
+            return Err(StiffnessFault::SurfaceRadius);
+        }
+        let concave = r2 < T::ZERO && r2.is_finite();
+        let r2_abs = r2.abs();
+        if concave && r2_abs <= r1 {
+            return Err(StiffnessFault::RollerDoesNotFit);
+        }
+        // Eq. V.9 with diameters; signed d2 for the concave case, 1/inf = 0 for flat.
+        let d2 = if concave {
+            -(T::TWO * r2_abs)
+        } else {
+            T::TWO * r2_abs
+        };
+        let w = self.width(force, T::TWO * r1, d2);
+        let b = T::HALF * w;
+        if b > r1 || b.is_nan() {
+            return Err(StiffnessFault::HalfWidthRoller);
+        }
+        if b > r2_abs {
+            return Err(StiffnessFault::HalfWidthSurface);
+        }
+        // Eq. V.10, cancellation-free.
+        let h1 = depressed_depth(r1, b);
+        let h2 = depressed_depth(r2_abs, b);
+        // Eq. V.11 (K = F / H).
+        let depth = if concave { T::TWO * (h1 - h2) } else { h1 + h2 };
+        if depth > T::ZERO {
+            Ok(force / depth)
+        } else {
+            // Only reachable for a band that underflowed to zero.
+            Err(StiffnessFault::Force)
+        }
+    }
+}
+
+/// Depressed depth `r - sqrt(r^2 - b^2)` of a circle of radius r under a chord of
+/// half-length b (Eq. V.10), as `b^2 / (r + sqrt(r^2 - b^2))`; 0 for `r = inf`.
+#[inline]
+fn depressed_depth<T: Real>(r: T, b: T) -> T {
+    if !r.is_finite() {
+        return T::ZERO;
+    }
+    let b2 = b.sq();
+    b2 / (r + (r.sq() - b2).max(T::ZERO).sqrt())
+}
+
+/// Checks a Poisson's ratio: finite and in `[0, 0.5)`.
+fn poisson_ratio<T: Real>(field: &'static str, nu: T) -> Result<T> {
+    if nu.is_finite() && nu >= T::ZERO && nu < T::HALF {
+        Ok(nu)
+    } else {
+        Err(Error::InvalidParameter {
+            field,
+            rule: "must be in [0, 0.5)",
+            value: nu.to_f64(),
+        })
+    }
+}
+
+/// Turns a stiffness fault into the public error naming its field.
+fn fault_error<T: Real>(fault: StiffnessFault, force: T, r1: T, r2: T) -> Error {
+    let (field, rule, value) = match fault {
+        StiffnessFault::Force => ("force", "must be positive and finite", force),
+        StiffnessFault::RollerRadius => ("r1", "roller radius must be positive and finite", r1),
+        StiffnessFault::SurfaceRadius => {
+            ("r2", "cam surface radius must be nonzero (infinite for a flat surface)", r2)
+        }
+        StiffnessFault::RollerDoesNotFit => (
+            "r2",
+            "concave surface radius |r2| must exceed the roller radius r1 (the roller does not fit)",
+            r2,
+        ),
+        StiffnessFault::HalfWidthRoller => {
+            ("r1", "half contact width w/2 must not exceed the roller radius", r1)
+        }
+        StiffnessFault::HalfWidthSurface => {
+            ("r2", "half contact width w/2 must not exceed the cam surface radius |r2|", r2)
+        }
+    };
+    Error::InvalidParameter {
+        field,
+        rule,
+        value: value.to_f64(),
+    }
+}
+
+/// Contact force between cam and roller and whether they touch (Eqs. V.19-V.20).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactForce<T> {
+    /// Contact force F_c (lb), never negative (0 during a jump).
+    pub force: T,
+    /// False during separation (jump, Eq. V.20).
+    pub in_contact: bool,
+}
+
+/// Contact force and jump criterion, Eqs. V.19-V.20:
+/// `F_c = K_h (y + y1 + F_p/K_h - y2) cos(phi)` while positive, else 0 (jump).
+///
+/// `y` is the cam's commanded lift at the current cam angle (NOTES.md's fix of the
+/// printed "y_dot"), `y1` the roller displacement, `y2` the follower displacement,
+/// `preload` the return-spring preload F_p (Eq. V.18), `phi` the pressure angle.
+/// Computed as `(K_h (y + y1 - y2) + F_p) cos(phi)`, which needs no division by K_h.
+/// Exactly at the boundary `y2 = y + y1 + F_p/K_h` the force is 0 and `in_contact` is
+/// false (V.20 counts equality as separation). With `|phi| < 90 deg`, as any pressure
+/// angle is, the sign of the force is that of the overlap. NaN inputs give a NaN force
+/// (not in contact) so the solver's non-finite check reports them.
+#[inline]
+pub fn contact_force<T: Real>(k_h: T, y: T, y1: T, y2: T, preload: T, phi: T) -> ContactForce<T> {
+    let f = (k_h * (y + y1 - y2) + preload) * phi.cos();
+    if f > T::ZERO {
+        ContactForce {
+            force: f,
+            in_contact: true,
+        }
+    } else if f.is_nan() {
+        ContactForce {
+            force: f,
+            in_contact: false,
+        }
+    } else {
+        ContactForce {
+            force: T::ZERO,
+            in_contact: false,
+        }
+    }
+}
+
+/// Normal forces (N1, N2) in the follower's slide bearings, Eq. V.16:
+/// `N1 = (A+B)/B |F_c sin(phi)|`, `N2 = A/B |F_c sin(phi)|` (magnitudes, lb).
+///
+/// `a` is the distance A from the roller to the near bearing, `b` the bearing span B
+/// (Fig. V.2). Precondition: `b > 0` (validated where the model is built); otherwise
+/// both are NaN so the solver's non-finite check reports the bad geometry.
+#[inline]
+pub fn bearing_normal_forces<T: Real>(f_c: T, phi: T, a: T, b: T) -> (T, T) {
+    if b > T::ZERO {
+        let lateral = (f_c * phi.sin()).abs() / b;
+        ((a + b) * lateral, a * lateral)
+    } else {
+        let nan = T::from_f64(f64::NAN);
+        (nan, nan)
+    }
+}
+
+/// Slide-bearing Coulomb friction on a mass, Eq. V.15: `F = -mu |N| tanh(v / v_smooth)`,
+/// the force acting on the mass, opposing its velocity (lb).
+///
+/// The exact Coulomb law `-mu |N| sign(v)` jumps at `v = 0`, which an adaptive
+/// Runge-Kutta step controller cannot resolve (its error estimate assumes a smooth
+/// right-hand side). `tanh` keeps the right-hand side smooth: the force is within 0.5 %
+/// of `mu |N|` once `|v| > 3 v_smooth` and passes through 0 with slope
+/// `mu |N| / v_smooth`. Choose `v_smooth` far below the follower's working velocities
+/// (for example 1e-3 in/s). `v_smooth <= 0` (or NaN) selects the exact, discontinuous
+/// law with `sign(0) = 0`. `mu` is the kinetic coefficient, expected `>= 0`.
+#[inline]
+pub fn coulomb_friction<T: Real>(mu: T, normal: T, velocity: T, v_smooth: T) -> T {
+    let magnitude = mu * normal.abs();
+    let shape = if v_smooth > T::ZERO {
+        smooth_sign(velocity / v_smooth)
+    } else if velocity > T::ZERO {
+        T::ONE
+    } else if velocity < T::ZERO {
+        -T::ONE
+    } else {
+        // 0 stays 0, NaN stays NaN.
+        velocity
+    };
+    -(magnitude * shape)
+}
+
+/// `tanh(x)` as `sign(x) (1 - 2 / (exp(2|x|) + 1))`, overflow-safe (exp(inf) = inf
+/// gives exactly 1) and odd by construction.
+#[inline]
+fn smooth_sign<T: Real>(x: T) -> T {
+    let ax = x.abs();
+    let t = T::ONE - T::TWO / ((T::TWO * ax).exp() + T::ONE);
+    if x < T::ZERO {
+        -t
+    } else {
+        t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const R1: f64 = 0.375;
+    const R2: f64 = 1.5;
+
+    fn steel() -> HertzContact<f64> {
+        HertzContact::steel(0.25)
+    }
+
+    fn rel(a: f64, b: f64) -> f64 {
+        ((a - b) / b).abs()
+    }
+
+    /// Eqs. V.9-V.11 by hand for the reference pair, with the thesis's own
+    /// `r - sqrt(r^2 - b^2)` (f64 keeps ~10 digits of it here).
+    #[test]
+    fn unit_force_stiffness_hand_calculation() {
+        // C = 2 (1 - 0.295^2) / 30e6 = 2 * 0.912975 / 30e6 = 6.0865e-8 1/psi.
+        let c = 2.0 * (1.0 - 0.295 * 0.295) / 30.0e6;
+        assert!(rel(c, 6.0865e-8) < 1e-12);
+        // 1/d1 + 1/d2 = 1/0.75 + 1/3 = 5/3 1/in.
+        let curv = 1.0 / 0.75 + 1.0 / 3.0;
+        // w = 2 sqrt(2 * 1 / (pi 0.25) * C / (5/3)) = 6.0990120e-4 in.
+        let w = 2.0 * (2.0 / (core::f64::consts::PI * 0.25) * c / curv).sqrt();
+        assert!(rel(w, 6.099_012_046_827_48e-4) < 1e-12);
+        let b = w / 2.0;
+        let h1 = R1 - (R1 * R1 - b * b).sqrt();
+        let h2 = R2 - (R2 * R2 - b * b).sqrt();
+        let k = 1.0 / (h1 + h2);
+        // Same value from 40-digit arithmetic: 6451967.9446 lb/in.
+        assert!(rel(k, 6_451_967.944_615_91) < 1e-8);
+        let got = steel().stiffness(R1, R2).unwrap();
+        assert!(rel(got, 6_451_967.944_615_91) < 1e-12, "{got}");
+        assert!(rel(steel().stiffness_fast(R1, R2), got) < 1e-15);
+        assert!(rel(steel().width(1.0, 0.75, 3.0), 6.099_012_046_827_48e-4) < 1e-13);
+    }
+
+    /// Leading order h = b^2/(2r): H = (w^2/8)(1/r1 + 1/r2) = 2 F C / (pi t), so
+    /// K_h -> pi t / (2C) for any convex pair and half of it for a concave one.
+    #[test]
+    fn leading_order_is_radius_independent_and_concave_halves_it() {
+        let h = steel();
+        let k0 = core::f64::consts::PI * 0.25 / (2.0 * 6.0865e-8);
+        for r2 in [0.5, 1.5, 10.0, f64::INFINITY] {
+            let k = h.stiffness(R1, r2).unwrap();
+            assert!(rel(k, k0) < 1e-6, "r2 = {r2}: {k} vs {k0}");
+            assert!(k < k0, "higher-order terms only soften");
+        }
+        for r2 in [-0.5, -1.5, -10.0] {
+            let k = h.stiffness(R1, r2).unwrap();
+            assert!(rel(k, 0.5 * k0) < 1e-5, "r2 = {r2}: {k}");
+        }
+        // The documented 2x jump across the change of sign of the curvature.
+        let ratio = h.stiffness(R1, 1.0e6).unwrap() / h.stiffness(R1, -1.0e6).unwrap();
+        assert!((ratio - 2.0).abs() < 1e-6, "{ratio}");
+    }
+
+    #[test]
+    fn flat_surface_works_both_signs_of_infinity() {
+        let h = steel();
+        let kp = h.stiffness(R1, f64::INFINITY).unwrap();
+        let kn = h.stiffness(R1, f64::NEG_INFINITY).unwrap();
+        assert_eq!(kp, kn);
+        // 40-digit value of 1/h1 with 1/d2 = 0: 6451967.4779 lb/in.
+        assert!(rel(kp, 6_451_967.477_949_13) < 1e-12, "{kp}");
+    }
+
+    #[test]
+    fn concave_reference_value() {
+        // Concave radius 3 in (40-digit value of 1/(2 (h1 - h2))).
+        let k = steel().stiffness(R1, -3.0).unwrap();
+        assert!(rel(k, 3_225_983.536_593_575) < 1e-11, "{k}");
+    }
+
+    /// Series h = (w^2/(8r))(1 + w^2/(16 r^2) + ...): relative softening of K from
+    /// F = 1 to F lb is delta(F) - delta(1) with delta = (w^2/16) sum r^-3 / sum r^-1.
+    #[test]
+    fn stiffness_nearly_constant_in_force() {
+        let h = steel();
+        let k1 = h.stiffness_at(1.0, R1, R2).unwrap();
+        assert_eq!(k1, h.stiffness(R1, R2).unwrap());
+        let k1000 = h.stiffness_at(1000.0, R1, R2).unwrap();
+        let w2 = h.width(1000.0, 0.75, 3.0).powi(2);
+        let delta = w2 / 16.0 * (R1.powi(-3) + R2.powi(-3)) / (1.0 / R1 + 1.0 / R2);
+        let change = (k1 - k1000) / k1;
+        assert!(change > 0.0);
+        assert!((change - delta).abs() < 0.01 * delta, "{change} vs {delta}");
+        assert!(change < 1.5e-4);
+    }
+
+    #[test]
+    fn width_scales_as_sqrt_force() {
+        let h = steel();
+        let w1 = h.width(1.0, 0.75, 3.0);
+        for f in [4.0, 100.0, 2500.0] {
+            assert!(rel(h.width(f, 0.75, 3.0), w1 * f.sqrt()) < 1e-14);
+        }
+        assert_eq!(h.width(0.0, 0.75, 3.0), 0.0);
+        assert_eq!(h.width(-5.0, 0.75, 3.0), 0.0);
+        assert_eq!(h.width(1.0, 0.75, -0.75), f64::INFINITY);
+        assert!(h.width(f64::NAN, 0.75, 3.0).is_nan());
+    }
+
+    #[test]
+    fn max_stress_matches_textbook_form() {
+        let h = steel();
+        let e_star = 1.0 / (2.0 * (1.0 - 0.295f64.powi(2)) / 30.0e6);
+        let r_star = 1.0 / (1.0 / R1 + 1.0 / R2);
+        for f in [1.0, 100.0, 1000.0] {
+            let textbook = (f * e_star / (core::f64::consts::PI * 0.25 * r_star)).sqrt();
+            assert!(rel(h.max_stress(f, 0.75, 3.0), textbook) < 1e-13);
+        }
+        // 40-digit value at 100 lb.
+        assert!(rel(h.max_stress(100.0, 0.75, 3.0), 83_504.642_060_673_6) < 1e-13);
+        assert_eq!(h.max_stress(0.0, 0.75, 3.0), 0.0);
+        assert_eq!(h.max_stress(1.0, 0.75, -0.5), 0.0);
+    }
+
+    #[test]
+    fn geometry_errors_name_the_field() {
+        let h = steel();
+        let field = |r: Result<f64>| match r {
+            Err(Error::InvalidParameter { field, .. }) => field,
+            other => panic!("expected an error, got {other:?}"),
+        };
+        assert_eq!(field(h.stiffness(0.0, 1.0)), "r1");
+        assert_eq!(field(h.stiffness(f64::NAN, 1.0)), "r1");
+        assert_eq!(field(h.stiffness(R1, 0.0)), "r2");
+        assert_eq!(field(h.stiffness(R1, f64::NAN)), "r2");
+        assert_eq!(field(h.stiffness(R1, -R1)), "r2");
+        assert_eq!(field(h.stiffness(R1, -0.2)), "r2");
+        assert_eq!(field(h.stiffness_at(0.0, R1, R2)), "force");
+        assert_eq!(field(h.stiffness_at(f64::INFINITY, R1, R2)), "force");
+        // w/2 > r1: w = 2 sqrt(4 F C R*/(pi t)) grows without bound with F.
+        assert_eq!(field(h.stiffness_at(1.0e7, 1.0e-3, R2)), "r1");
+        assert_eq!(field(h.stiffness_at(1.0e7, R2, 1.0e-3)), "r2");
+        // Concave but barely fitting: band explodes past the roller.
+        assert_eq!(field(h.stiffness(R1, -(R1 + 1e-12))), "r1");
+        let k0 = core::f64::consts::PI * 0.25 / (2.0 * h.compliance());
+        assert_eq!(h.stiffness_fast(R1, -0.2), k0);
+        assert_eq!(h.stiffness_fast(-1.0, 1.0), k0);
+        assert!(h.stiffness_fast(f64::NAN, f64::NAN).is_finite());
+    }
+
+    #[test]
+    fn new_checks_each_field() {
+        let field = |r: Result<HertzContact<f64>>| match r {
+            Err(Error::InvalidParameter { field, .. }) => field,
+            other => panic!("expected an error, got {other:?}"),
+        };
+        assert!(HertzContact::new(30e6, 0.295, 30e6, 0.295, 0.25).is_ok());
+        assert_eq!(
+            HertzContact::new(30e6, 0.0, 10e6, 0.49, 0.25)
+                .unwrap()
+                .youngs_2,
+            10e6
+        );
+        assert_eq!(
+            field(HertzContact::new(0.0, 0.3, 30e6, 0.3, 0.25)),
+            "youngs_1"
+        );
+        assert_eq!(
+            field(HertzContact::new(30e6, 0.5, 30e6, 0.3, 0.25)),
+            "poisson_1"
+        );
+        assert_eq!(
+            field(HertzContact::new(30e6, -0.1, 30e6, 0.3, 0.25)),
+            "poisson_1"
+        );
+        assert_eq!(
+            field(HertzContact::new(30e6, 0.3, f64::INFINITY, 0.3, 0.25)),
+            "youngs_2"
+        );
+        assert_eq!(
+            field(HertzContact::new(30e6, 0.3, 30e6, f64::NAN, 0.25)),
+            "poisson_2"
+        );
+        assert_eq!(
+            field(HertzContact::new(30e6, 0.3, 30e6, 0.3, -0.25)),
+            "thickness"
+        );
+    }
+
+    #[test]
+    fn f32_agrees_with_f64() {
+        let h32 = HertzContact::<f32>::steel(0.25);
+        let k32 = h32.stiffness(0.375, 1.5).unwrap();
+        assert!(rel(k32 as f64, 6_451_967.944_615_91) < 1e-5, "{k32}");
+        let k32c = h32.stiffness(0.375, -3.0).unwrap();
+        assert!(rel(k32c as f64, 3_225_983.536_593_575) < 1e-4, "{k32c}");
+    }
+
+    #[test]
+    fn contact_force_overlap_boundary_and_jump() {
+        let phi = 0.3f64;
+        // Overlap 1e-5 in with 10 lb preload.
+        let c = contact_force(6.0e6, 0.5, 1.0e-5, 0.5, 10.0, phi);
+        assert!(c.in_contact);
+        assert!(rel(c.force, (60.0 + 10.0) * phi.cos()) < 1e-9);
+        // Zero preload: K_h * overlap * cos(phi).
+        let c = contact_force(6.0e6, 0.5, 0.0, 0.5 - 2.0e-6, 0.0, phi);
+        assert!(rel(c.force, 6.0e6 * 2.0e-6 * phi.cos()) < 1e-8);
+        // Exactly at the boundary (binary-exact numbers): 2 * (0 + 0 - 0.5) + 1 = 0.
+        let c = contact_force(2.0, 0.0, 0.0, 0.5, 1.0, phi);
+        assert_eq!(
+            c,
+            ContactForce {
+                force: 0.0,
+                in_contact: false
+            }
+        );
+        // Separated.
+        let c = contact_force(6.0e6, 0.5, 0.0, 0.6, 10.0, phi);
+        assert_eq!(
+            c,
+            ContactForce {
+                force: 0.0,
+                in_contact: false
+            }
+        );
+        assert!(contact_force(6.0e6, f64::NAN, 0.0, 0.0, 10.0, phi)
+            .force
+            .is_nan());
+    }
+
+    #[test]
+    fn bearing_forces() {
+        let (n1, n2) = bearing_normal_forces(100.0, -0.5f64, 2.0, 3.0);
+        let s = 0.5f64.sin() * 100.0;
+        assert!(rel(n1, 5.0 / 3.0 * s) < 1e-14);
+        assert!(rel(n2, 2.0 / 3.0 * s) < 1e-14);
+        // Moment balance about the far bearing and force balance (Fig. V.2).
+        assert!(((n1 - n2) - s).abs() < 1e-12);
+        let (a, b) = bearing_normal_forces(100.0, 0.3f64, 2.0, 0.0);
+        assert!(a.is_nan() && b.is_nan());
+    }
+
+    #[test]
+    fn friction_opposes_velocity_and_is_continuous() {
+        let (mu, n, vs) = (0.08, 50.0, 1.0e-3);
+        assert!(rel(coulomb_friction(mu, n, 1.0, vs), -4.0) < 1e-12);
+        assert!(rel(coulomb_friction(mu, -n, -1.0, vs), 4.0) < 1e-12);
+        assert_eq!(coulomb_friction(mu, n, 0.0, vs), 0.0);
+        // tanh(1) = 0.7615941559557649.
+        assert!(
+            rel(
+                coulomb_friction(mu, n, vs, vs),
+                -4.0 * 0.761_594_155_955_764_9
+            ) < 1e-14
+        );
+        // Continuity through 0: slope mu N / v_smooth.
+        let dv = 1.0e-9;
+        let slope =
+            (coulomb_friction(mu, n, dv, vs) - coulomb_friction(mu, n, -dv, vs)) / (2.0 * dv);
+        assert!(rel(slope, -mu * n / vs) < 1e-6, "{slope}");
+        // Monotone non-increasing in v over a sweep.
+        let mut last = f64::INFINITY;
+        for i in -200..=200 {
+            let f = coulomb_friction(mu, n, f64::from(i) * 2.5e-5, vs);
+            assert!(f <= last);
+            last = f;
+        }
+        // Exact law when v_smooth <= 0; huge argument saturates without NaN.
+        assert_eq!(coulomb_friction(mu, n, 1.0e-12, 0.0), -4.0);
+        assert_eq!(coulomb_friction(mu, n, 0.0, 0.0), 0.0);
+        assert_eq!(coulomb_friction(mu, n, 1.0e300, 1.0e-300), -4.0);
+        assert_eq!(coulomb_friction(mu, n, -1.0e300, 1.0e-300), 4.0);
+    }
+}

@@ -102,7 +102,11 @@ pub fn positive<T: crate::Real>(field: &'static str, value: T) -> Result<T> {
     if value.is_finite() && value > T::ZERO {
         Ok(value)
     } else {
-        Err(Error::InvalidParameter { field, rule: "must be positive and finite", value: value.to_f64() })
+        Err(Error::InvalidParameter {
+            field,
+            rule: "must be positive and finite",
+            value: value.to_f64(),
+        })
     }
 }
 
@@ -112,7 +116,11 @@ pub fn non_negative<T: crate::Real>(field: &'static str, value: T) -> Result<T> 
     if value.is_finite() && value >= T::ZERO {
         Ok(value)
     } else {
-        Err(Error::InvalidParameter { field, rule: "must be zero or positive and finite", value: value.to_f64() })
+        Err(Error::InvalidParameter {
+            field,
+            rule: "must be zero or positive and finite",
+            value: value.to_f64(),
+        })
     }
 }
 
@@ -122,6 +130,10 @@ pub fn finite<T: crate::Real>(field: &'static str, value: T) -> Result<T> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(Error::InvalidParameter { field, rule: "must be finite", value: value.to_f64() })
+        Err(Error::InvalidParameter {
+            field,
+            rule: "must be finite",
+            value: value.to_f64(),
+        })
     }
 }

@@ -35,7 +35,11 @@ impl<T: Real> JumpAlarm<T> {
                 value: off_margin_rpm.to_f64(),
             });
         }
-        Ok(Self { on_margin_rpm, off_margin_rpm, active: false })
+        Ok(Self {
+            on_margin_rpm,
+            off_margin_rpm,
+            active: false,
+        })
     }
 
     /// Whether the alarm is on.

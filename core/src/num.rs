@@ -341,7 +341,7 @@ impl Real for f32 {
     }
     #[inline(always)]
     fn cbrt(self) -> Self {
-        micromath::F32Ext::cbrt(self)
+        libm::cbrtf(self)
     }
     #[inline(always)]
     fn sin(self) -> Self {

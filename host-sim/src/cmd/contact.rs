@@ -1,14 +1,102 @@
-//! TODO: filled in by its issue.
+//! `camsim contact --force F`: Hertz stiffness (Eqs. V.9-V.11), contact width and
+//! maximum Hertz stress of the reference roller on the reference cam's base circle.
+
+use anyhow::{bail, Context};
+use camsim_core::HertzContact;
+use serde::Serialize;
+
+/// Reference roller diameter d1 (in, VI.1).
+pub const ROLLER_DIAMETER_IN: f64 = 0.75;
+/// Reference base-circle diameter d2 (in, VI.1).
+pub const BASE_CIRCLE_DIAMETER_IN: f64 = 3.0;
+/// Reference cam thickness t (in, NOTES.md).
+pub const CAM_THICKNESS_IN: f64 = 0.25;
 
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Contact force in pounds (positive, finite).
+    #[arg(long, value_name = "LB", allow_hyphen_values = true)]
+    pub force: Option<String>,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
 }
 
+/// Contact quantities of the reference pair at one force.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ContactReport {
+    /// The force F (lb).
+    pub force_lb: f64,
+    /// K_h of Eq. V.11 (band width at 1 lb), lb/in.
+    pub k_h_lb_per_in: f64,
+    /// Secant stiffness F / H with the band at F, lb/in.
+    pub k_h_at_force_lb_per_in: f64,
+    /// Contact width w at F (Eq. V.9), in.
+    pub contact_width_in: f64,
+    /// Maximum Hertz pressure 2F/(pi b t) at F, psi.
+    pub max_stress_psi: f64,
+}
+
+/// The rule a force must satisfy, as printed in the error.
+const FORCE_RULE: &str = "--force must be a positive, finite number of pounds";
+
+/// Computes the report for the reference steel roller (d1 = 0.75 in) on the base
+/// circle (d2 = 3.0 in), t = 0.25 in, E = 30e6 psi, nu = 0.295.
+pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
+    if !(force.is_finite() && force > 0.0) {
+        bail!("{FORCE_RULE} (got {force})");
+    }
+    let hertz = HertzContact::<f64>::steel(CAM_THICKNESS_IN);
+    let (r1, r2) = (ROLLER_DIAMETER_IN / 2.0, BASE_CIRCLE_DIAMETER_IN / 2.0);
+    let k_h = hertz
+        .stiffness(r1, r2)
+        .context("unit-force Hertz stiffness")?;
+    let k_at = hertz
+        .stiffness_at(force, r1, r2)
+        .with_context(|| format!("Hertz stiffness at --force {force}"))?;
+    Ok(ContactReport {
+        force_lb: force,
+        k_h_lb_per_in: k_h,
+        k_h_at_force_lb_per_in: k_at,
+        contact_width_in: hertz.width(force, ROLLER_DIAMETER_IN, BASE_CIRCLE_DIAMETER_IN),
+        max_stress_psi: hertz.max_stress(force, ROLLER_DIAMETER_IN, BASE_CIRCLE_DIAMETER_IN),
+    })
+}
+
+/// Parses the `--force` text; refuses missing, non-numeric, NaN, infinite or
+/// non-positive values with one line naming `--force`.
+pub fn parse_force(text: Option<&str>) -> anyhow::Result<f64> {
+    let Some(text) = text else {
+        bail!("{FORCE_RULE} (missing)");
+    };
+    match text.trim().parse::<f64>() {
+        Ok(f) if f.is_finite() && f > 0.0 => Ok(f),
+        _ => bail!("{FORCE_RULE} (got '{text}')"),
+    }
+}
+
+/// Renders the report as the human-readable table.
+pub fn render_table(r: &ContactReport) -> String {
+    format!(
+        "Hertz contact, steel roller d1 = {ROLLER_DIAMETER_IN} in on base circle d2 = {BASE_CIRCLE_DIAMETER_IN} in, t = {CAM_THICKNESS_IN} in\n\
+         force                      {:>14.6} lb\n\
+         K_h (V.11, unit force)     {:>14.6e} lb/in\n\
+         K_h at force (F/H)         {:>14.6e} lb/in\n\
+         contact width w (V.9)      {:>14.6e} in\n\
+         max Hertz stress 2F/(pi b t) {:>12.6e} psi",
+        r.force_lb, r.k_h_lb_per_in, r.k_h_at_force_lb_per_in, r.contact_width_in, r.max_stress_psi
+    )
+}
+
 /// Runs the command.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let force = parse_force(args.force.as_deref())?;
+    let report = compute(force)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        println!("{}", render_table(&report));
+    }
+    Ok(())
 }
