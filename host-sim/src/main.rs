@@ -22,6 +22,12 @@ enum Command {
     Modal(cmd::modal::Args),
     /// Hertz contact stiffness, width and stress of the reference roller and cam at a force.
     Contact(cmd::contact::Args),
+    /// Simulate a scene (the reference design by default): per-period table, jumps, solver statistics.
+    Run(cmd::run::Args),
+    /// Lowest cam speed at which the follower separates in steady state (bisection on the model).
+    JumpSpeed(cmd::jump_speed::Args),
+    /// Print the reference design as a scene file, or check one.
+    Scene(cmd::scene::Args),
 }
 
 fn main() -> ExitCode {
@@ -38,6 +44,9 @@ fn main() -> ExitCode {
         Command::Laws(a) => cmd::laws::run(a),
         Command::Modal(a) => cmd::modal::run(a),
         Command::Contact(a) => cmd::contact::run(a),
+        Command::Run(a) => cmd::run::run(a),
+        Command::JumpSpeed(a) => cmd::jump_speed::run(a),
+        Command::Scene(a) => cmd::scene::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,30 @@
+//! `camsim scene`: print the reference design as a scene file, or check a scene file.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+
+/// Command-line options of `camsim scene`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Print the reference design as a complete scene file.
+    #[arg(long, conflicts_with = "check")]
+    pub default: bool,
+    /// Validate a scene file and print it back complete (every key, defaults filled in).
+    #[arg(long, value_name = "FILE")]
+    pub check: Option<PathBuf>,
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    if let Some(p) = args.check {
+        let spec = crate::scene::load(&p)?;
+        print!("{}", toml::to_string_pretty(&crate::scene::SceneFile::from_spec(&spec))?);
+        return Ok(());
+    }
+    if !args.default {
+        anyhow::bail!("camsim scene: give --default (print the reference scene) or --check FILE");
+    }
+    print!("{}", crate::scene::default_text()?);
+    Ok(())
+}
