@@ -81,3 +81,325 @@ mod tests {
         assert!(JumpAlarm::new(100.0f64, 100.0).is_err());
     }
 }
+
+use core::ops::ControlFlow;
+
+use crate::{simulate, CamModel, Design, DofSet, Observer, Result, Sample, SegmentKind, SolverSettings};
+
+/// Fractions of a rise or return at which the follower's timing is measured.
+pub const TIMING_FRACTIONS: [f64; 3] = [0.1, 0.5, 0.9];
+/// Timing points: the fractions of the first rise, then of the first return.
+pub const TIMING_POINTS: usize = 6;
+
+/// Where the theoretical lift crosses a level: the cam angle (degrees) and the level.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TimingPoint<T> {
+    /// Lift level, in.
+    pub level: T,
+    /// Theoretical crossing angle, degrees within the revolution.
+    pub theory_deg: T,
+    /// +1 for a rise (upward crossing), -1 for a return.
+    pub direction: i8,
+    /// Search window start (segment start), degrees.
+    pub from_deg: T,
+    /// Search window end, degrees (segment end plus a margin).
+    pub to_deg: T,
+}
+
+/// The timing points of a program: 10, 50 and 90 % of its first rise and first return.
+pub fn timing_points<T: Real, const N: usize>(program: &crate::CamProgram<T, N>) -> [TimingPoint<T>; TIMING_POINTS] {
+    let mut out = [TimingPoint::default(); TIMING_POINTS];
+    let mut level = T::ZERO;
+    let mut rise_done = false;
+    let mut ret_done = false;
+    for s in program.segments() {
+        let (slot, dir, base) = match s.kind {
+            SegmentKind::Rise(_) if !rise_done => (0, 1i8, level),
+            SegmentKind::Return(_) if !ret_done => (3, -1i8, level),
+            _ => (usize::MAX, 0, level),
+        };
+        match s.kind {
+            SegmentKind::Rise(_) => level += s.lift,
+            SegmentKind::Return(_) => level -= s.lift,
+            SegmentKind::Dwell => {}
+        }
+        if slot == usize::MAX {
+            continue;
+        }
+        if dir > 0 {
+            rise_done = true;
+        } else {
+            ret_done = true;
+        }
+        for (k, frac) in TIMING_FRACTIONS.iter().enumerate() {
+            let f = T::from_f64(*frac);
+            let target = if dir > 0 { base + f * s.lift } else { base - f * s.lift };
+            // Bisection on the monotone segment for the theoretical crossing angle.
+            let (mut a, mut b) = (s.start_deg, s.end_deg);
+            for _ in 0..60 {
+                let m = (a + b) * T::HALF;
+                let y = program.follower(m.to_radians()).y;
+                let below = if dir > 0 { y < target } else { y > target };
+                if below {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            if let Some(p) = out.get_mut(slot + k) {
+                *p = TimingPoint {
+                    level: target,
+                    theory_deg: (a + b) * T::HALF,
+                    direction: dir,
+                    from_deg: s.start_deg,
+                    to_deg: s.end_deg + T::from_f64(30.0),
+                };
+            }
+        }
+    }
+    out
+}
+
+/// Steady-state figures of one revolution: contact-force margin, jump, timing errors.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SteadyState<T> {
+    /// Smallest contact force over the revolution, lb (the margin to separation).
+    pub min_contact_force: T,
+    /// Cam angle of the smallest contact force, degrees.
+    pub min_force_deg: T,
+    /// Whether the follower separated.
+    pub jumped: bool,
+    /// Load timing error at each timing point, degrees of cam angle (positive: the load lags
+    /// the theoretical law). NaN where the load never crossed the level in its window.
+    pub timing_deg: [T; TIMING_POINTS],
+}
+
+/// Observer that measures [`SteadyState`] in one revolution.
+pub struct SteadyStateObserver<T> {
+    revolution: u32,
+    points: [TimingPoint<T>; TIMING_POINTS],
+    prev: Option<(T, T)>,
+    /// The result so far.
+    pub result: SteadyState<T>,
+    seen: bool,
+}
+
+impl<T: Real> SteadyStateObserver<T> {
+    /// Measures `revolution` (from 1) against the program's timing points.
+    pub fn new(revolution: u32, points: [TimingPoint<T>; TIMING_POINTS]) -> Self {
+        let nan = T::ZERO / T::ZERO;
+        Self {
+            revolution,
+            points,
+            prev: None,
+            result: SteadyState {
+                min_contact_force: T::INFINITY,
+                min_force_deg: T::ZERO,
+                jumped: false,
+                timing_deg: [nan; TIMING_POINTS],
+            },
+            seen: false,
+        }
+    }
+}
+
+impl<T: Real> Observer<T> for SteadyStateObserver<T> {
+    fn needs_stress(&self) -> bool {
+        false
+    }
+    fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
+        if s.revolution < self.revolution {
+            return ControlFlow::Continue(());
+        }
+        if s.revolution > self.revolution {
+            return ControlFlow::Break(());
+        }
+        self.seen = true;
+        let p = &s.point;
+        if p.contact_force < self.result.min_contact_force {
+            self.result.min_contact_force = p.contact_force;
+            self.result.min_force_deg = s.angle_deg;
+        }
+        self.result.jumped |= !p.in_contact;
+        let y = p.load_displacement();
+        let a = s.angle_deg;
+        if let Some((a0, y0)) = self.prev {
+            for (tp, out) in self.points.iter().zip(self.result.timing_deg.iter_mut()) {
+                if !out.is_nan() || a < tp.from_deg || a0 > tp.to_deg || tp.direction == 0 {
+                    continue;
+                }
+                let crossed = if tp.direction > 0 { y0 < tp.level && y >= tp.level } else { y0 > tp.level && y <= tp.level };
+                if crossed && y != y0 {
+                    let ang = a0 + (a - a0) * (tp.level - y0) / (y - y0);
+                    *out = ang - tp.theory_deg;
+                }
+            }
+        }
+        self.prev = Some((a, y));
+        ControlFlow::Continue(())
+    }
+}
+
+/// Simulates the design at `rpm` for two revolutions and measures the steady state
+/// (the second revolution) with the model of state size `N` and translational `dofs`.
+pub fn steady_state_at<T: Real, const N: usize>(
+    design: &Design<T>,
+    dofs: DofSet,
+    rpm: T,
+    settings: &SolverSettings<T>,
+) -> Result<SteadyState<T>> {
+    let mut d = design.clone();
+    d.set_speed_rpm(rpm)?;
+    let points = timing_points(&d.program);
+    let model = CamModel::<T, N>::new(d, dofs)?;
+    let mut obs = SteadyStateObserver::new(2, points);
+    simulate(&model, settings, 2, &mut obs)?;
+    Ok(obs.result)
+}
+
+/// Jump-onset speed by bisection between `lo_rpm` (contact holds) and `hi_rpm`, to
+/// `resolution_rpm`. Returns `None` if the follower does not separate even at `hi_rpm`.
+pub fn jump_onset_rpm<T: Real, const N: usize>(
+    design: &Design<T>,
+    dofs: DofSet,
+    lo_rpm: T,
+    hi_rpm: T,
+    resolution_rpm: T,
+    settings: &SolverSettings<T>,
+) -> Result<Option<T>> {
+    crate::positive("resolution_rpm", resolution_rpm)?;
+    let (mut lo, mut hi) = (lo_rpm, hi_rpm);
+    if !steady_state_at::<T, N>(design, dofs, hi, settings)?.jumped {
+        return Ok(None);
+    }
+    if steady_state_at::<T, N>(design, dofs, lo, settings)?.jumped {
+        return Ok(Some(lo));
+    }
+    while hi - lo > resolution_rpm {
+        let mid = (lo + hi) * T::HALF;
+        if steady_state_at::<T, N>(design, dofs, mid, settings)?.jumped {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok(Some(hi))
+}
+
+/// A table of steady-state predictions over a grid of `G` speeds, computed once at boot,
+/// interpolated linearly in the loop.
+#[derive(Clone, Debug)]
+pub struct PredictionTable<T, const G: usize> {
+    /// Grid speeds, rpm, ascending.
+    pub rpm: [T; G],
+    /// Steady state at each grid speed.
+    pub at: [SteadyState<T>; G],
+    /// Jump-onset speed, rpm (None: no jump up to the search limit).
+    pub jump_rpm: Option<T>,
+}
+
+/// What the predictor says for one measured speed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedPrediction<T> {
+    /// The measured speed, rpm.
+    pub rpm: T,
+    /// Interpolated smallest contact force, lb (the force margin to separation).
+    pub force_margin_lb: T,
+    /// Jump-onset speed minus the measured speed, rpm (infinite if no jump was found).
+    pub speed_margin_rpm: T,
+    /// Interpolated timing errors, degrees.
+    pub timing_deg: [T; TIMING_POINTS],
+    /// False when the speed lies outside the grid (values clamped to the nearest end).
+    pub in_grid: bool,
+}
+
+impl<T: Real, const G: usize> PredictionTable<T, G> {
+    /// Computes the table: the steady state at every grid speed and the jump-onset speed
+    /// (bisection to `resolution_rpm` between the grid's fastest speed without a jump and
+    /// the first speed with one, or up to `max_rpm`).
+    pub fn build<const N: usize>(
+        design: &Design<T>,
+        dofs: DofSet,
+        rpm: [T; G],
+        max_rpm: T,
+        resolution_rpm: T,
+        settings: &SolverSettings<T>,
+    ) -> Result<Self> {
+        let mut at = [SteadyState::default(); G];
+        let mut prev = T::ZERO;
+        for (r, a) in rpm.iter().zip(at.iter_mut()) {
+            if !(*r > prev) {
+                return Err(crate::Error::InvalidParameter {
+                    field: "grid rpm",
+                    rule: "must be positive and strictly ascending",
+                    value: r.to_f64(),
+                });
+            }
+            prev = *r;
+            *a = steady_state_at::<T, N>(design, dofs, *r, settings)?;
+        }
+        // Bracket the onset from the grid where possible.
+        let mut lo = T::ZERO;
+        let mut hi = max_rpm;
+        for (r, a) in rpm.iter().zip(at.iter()) {
+            if a.jumped {
+                hi = *r;
+                break;
+            }
+            lo = *r;
+        }
+        let jump_rpm = if lo <= T::ZERO {
+            Some(hi)
+        } else {
+            jump_onset_rpm::<T, N>(design, dofs, lo, hi, resolution_rpm, settings)?
+        };
+        Ok(Self { rpm, at, jump_rpm })
+    }
+
+    /// Interpolates the prediction at a measured speed.
+    pub fn predict(&self, rpm: T) -> SpeedPrediction<T> {
+        let nan = T::ZERO / T::ZERO;
+        let speed_margin_rpm = match self.jump_rpm {
+            Some(j) => j - rpm,
+            None => T::INFINITY,
+        };
+        let mut out = SpeedPrediction {
+            rpm,
+            force_margin_lb: nan,
+            speed_margin_rpm,
+            timing_deg: [nan; TIMING_POINTS],
+            in_grid: false,
+        };
+        let (Some(first), Some(last)) = (self.rpm.first(), self.rpm.last()) else { return out };
+        let pick = |i: usize, j: usize, w: T, out: &mut SpeedPrediction<T>| {
+            if let (Some(a), Some(b)) = (self.at.get(i), self.at.get(j)) {
+                out.force_margin_lb = a.min_contact_force + w * (b.min_contact_force - a.min_contact_force);
+                for k in 0..TIMING_POINTS {
+                    if let (Some(x), Some(y), Some(o)) = (a.timing_deg.get(k), b.timing_deg.get(k), out.timing_deg.get_mut(k)) {
+                        *o = *x + w * (*y - *x);
+                    }
+                }
+            }
+        };
+        if !(rpm >= *first) {
+            pick(0, 0, T::ZERO, &mut out);
+            return out;
+        }
+        if rpm >= *last {
+            out.in_grid = rpm == *last;
+            pick(G - 1, G - 1, T::ZERO, &mut out);
+            return out;
+        }
+        for i in 0..G.saturating_sub(1) {
+            if let (Some(a), Some(b)) = (self.rpm.get(i), self.rpm.get(i + 1)) {
+                if rpm >= *a && rpm < *b {
+                    let w = (rpm - *a) / (*b - *a);
+                    out.in_grid = true;
+                    pick(i, i + 1, w, &mut out);
+                    break;
+                }
+            }
+        }
+        out
+    }
+}
