@@ -133,12 +133,6 @@ impl MotionLaw {
                 a: T::ZERO,
                 j: T::ZERO,
             },
-            MotionLaw::Cubic2 => LawValue {
-                s: u * u * (T::from_i32(3) - T::TWO * u),
-                v: T::from_i32(6) * u * (T::ONE - u),
-                a: T::from_i32(6) * (T::ONE - T::TWO * u),
-                j: T::from_i32(-12),
-            },
             MotionLaw::SimpleHarmonic => {
                 let (sn, cs) = (pi * u).sin_cos();
                 let half = T::HALF;
@@ -170,6 +164,43 @@ impl MotionLaw {
                     j: two_pi * two_pi * cs,
                 }
             }
+            // Point-symmetric laws: the first half, mirrored (this also keeps s(u) near
+            // u = 1 free of the polynomials' cancellation in single precision).
+            MotionLaw::Parabolic
+            | MotionLaw::Cubic1
+            | MotionLaw::Cubic2
+            | MotionLaw::Poly345
+            | MotionLaw::Poly4567
+            | MotionLaw::Trapezoidal
+            | MotionLaw::ModifiedTrapezoidal
+            | MotionLaw::ModifiedSine => {
+                if u < T::HALF {
+                    self.first_half(u)
+                } else {
+                    // Point symmetry: s(u) = 1 - s(1-u), v even, a odd, j even.
+                    let m = self.first_half(T::ONE - u);
+                    LawValue {
+                        s: T::ONE - m.s,
+                        v: m.v,
+                        a: -m.a,
+                        j: m.j,
+                    }
+                }
+            }
+        }
+    }
+
+    /// First half (`u` in `[0, 1/2]`) of the point-symmetric laws evaluated by mirroring.
+    #[inline]
+    fn first_half<T: Real>(self, u: T) -> LawValue<T> {
+        let pi = T::PI;
+        match self {
+            MotionLaw::Cubic2 => LawValue {
+                s: u * u * (T::from_i32(3) - T::TWO * u),
+                v: T::from_i32(6) * u * (T::ONE - u),
+                a: T::from_i32(6) * (T::ONE - T::TWO * u),
+                j: T::from_i32(-12),
+            },
             MotionLaw::Poly345 => {
                 let w = T::ONE - u;
                 LawValue {
@@ -193,32 +224,6 @@ impl MotionLaw {
                     j: T::from_i32(840) * p * (T::ONE - T::from_i32(5) * p),
                 }
             }
-            MotionLaw::Parabolic
-            | MotionLaw::Cubic1
-            | MotionLaw::Trapezoidal
-            | MotionLaw::ModifiedTrapezoidal
-            | MotionLaw::ModifiedSine => {
-                if u < T::HALF {
-                    self.first_half(u)
-                } else {
-                    // Point symmetry: s(u) = 1 - s(1-u), v even, a odd, j even.
-                    let m = self.first_half(T::ONE - u);
-                    LawValue {
-                        s: T::ONE - m.s,
-                        v: m.v,
-                        a: -m.a,
-                        j: m.j,
-                    }
-                }
-            }
-        }
-    }
-
-    /// First half (`u` in `[0, 1/2]`) of the symmetric piecewise laws.
-    #[inline]
-    fn first_half<T: Real>(self, u: T) -> LawValue<T> {
-        let pi = T::PI;
-        match self {
             MotionLaw::Parabolic => LawValue {
                 s: T::TWO * u * u,
                 v: T::from_i32(4) * u,
@@ -330,7 +335,7 @@ impl MotionLaw {
                     }
                 }
             }
-            // Not piecewise: never reached from `eval`, but well-defined anyway.
+            // Evaluated directly by `eval`, never reached from there; well-defined anyway.
             _ => self.eval(u),
         }
     }
