@@ -597,7 +597,7 @@ mod tests {
         assert!((phi - want).abs() < 1e-9, "{phi} vs {want}");
         let deg = at.to_degrees();
         assert!(
-            (deg - 30.0).abs() < 0.2 || deg > 359.8 || deg < 0.2,
+            (deg - 30.0).abs() < 0.2 || !(0.2..=359.8).contains(&deg),
             "at {deg}"
         );
         // f32 agrees.

@@ -171,7 +171,8 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
                     s.start_deg,
                 ));
             }
-            if !(s.end_deg - s.start_deg > tol_deg) {
+            // Both ends are finite here, so `<=` is the negation of `>`.
+            if s.end_deg - s.start_deg <= tol_deg {
                 return Err(invalid(
                     field_name(&END_NAMES, i),
                     "must exceed the segment's start_deg",
