@@ -329,7 +329,8 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
 
     /// The commanded lift and its derivatives at cam angle `theta` (rad, any real,
     /// wrapped into `[0, 2π)`): `y = h s(u)` on a rise, `y = h s(1-u)` above the lower
-    /// level on a return (Appendix A.5), constant on a dwell.
+    /// level on a return (Appendix A.5), constant on a dwell. At a bound the segment it
+    /// starts is used (matters only where a law's slope or acceleration jumps).
     #[inline]
     pub fn follower(&self, theta: T) -> FollowerLift<T> {
         let th = wrap_angle(theta);
@@ -364,7 +365,8 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
         }
     }
 
-    /// Index of the segment containing `theta` (rad, wrapped into `[0, 2π)`).
+    /// Index of the segment containing `theta` (rad, wrapped into `[0, 2π)`); a bound
+    /// between two segments belongs to the one it starts.
     pub fn segment_at(&self, theta: T) -> usize {
         let th = wrap_angle(theta);
         self.pre
