@@ -45,7 +45,7 @@ pub struct FollowerLift<T> {
 }
 
 /// A segment prepared for fast evaluation.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Prepared<T> {
     kind: SegmentKind,
     /// Bounds in radians; consecutive segments share their bound exactly.
@@ -63,7 +63,7 @@ struct Prepared<T> {
 }
 
 /// A cam program over 360 degrees with at most `N` segments (VI.1's is D-R-D-R).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct CamProgram<T, const N: usize = 8> {
     segs: heapless::Vec<Segment<T>, N>,
     pre: heapless::Vec<Prepared<T>, N>,
