@@ -1,1 +1,689 @@
-//! Placeholder: filled in by its issue.
+//! A cam program: dwells, rises and returns over one revolution (VI.1, Appendix A.5).
+//!
+//! The return is the rise law mirrored in time (Appendix A.5: θ in the rise equation
+//! replaced by `-(θ - β₂ - c)`): over a return of lift `h` from angle `c` to `c + β₂`,
+//! `y = y_low + h s(1 - u)` with `u = (θ - c)/β₂`. It is not point-symmetric in force;
+//! for the point-symmetric laws the two readings coincide.
+
+use crate::{Error, MotionLaw, Real, Result};
+
+/// What a program segment does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SegmentKind {
+    /// The follower rests (lift 0).
+    Dwell,
+    /// The follower rises by the segment's lift with this law (Appendix A.1-A.4).
+    Rise(MotionLaw),
+    /// The follower returns by the segment's lift with this law mirrored in time (A.5).
+    Return(MotionLaw),
+}
+
+/// One segment of a cam program, in degrees of cam angle and inches of lift.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment<T> {
+    /// Dwell, rise or return.
+    pub kind: SegmentKind,
+    /// Cam angle where the segment starts (deg).
+    pub start_deg: T,
+    /// Cam angle where the segment ends (deg).
+    pub end_deg: T,
+    /// Follower travel over the segment (in), positive; 0 for a dwell.
+    pub lift: T,
+}
+
+/// The follower's commanded lift and its cam-angle derivatives at one cam angle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FollowerLift<T> {
+    /// Lift above the base circle (in).
+    pub y: T,
+    /// dy/dθ (in/rad).
+    pub dy: T,
+    /// d²y/dθ² (in/rad²).
+    pub d2y: T,
+    /// d³y/dθ³ (in/rad³).
+    pub d3y: T,
+}
+
+/// A segment prepared for fast evaluation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Prepared<T> {
+    kind: SegmentKind,
+    /// Bounds in radians; consecutive segments share their bound exactly.
+    start: T,
+    end: T,
+    /// 1/β (1/rad).
+    inv_beta: T,
+    /// Lift at the segment's lower end (the level before a rise, after a return).
+    base: T,
+    /// The lift h (in) and h/β, h/β², h/β³.
+    h: T,
+    h1: T,
+    h2: T,
+    h3: T,
+}
+
+/// A cam program over 360 degrees with at most `N` segments (VI.1's is D-R-D-R).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CamProgram<T, const N: usize = 8> {
+    segs: heapless::Vec<Segment<T>, N>,
+    pre: heapless::Vec<Prepared<T>, N>,
+    max_lift: T,
+}
+
+/// Field names `segments[i].<field>` for error messages (`&'static str`, no allocation).
+macro_rules! seg_names {
+    ($f:literal) => {
+        [
+            concat!("segments[0].", $f),
+            concat!("segments[1].", $f),
+            concat!("segments[2].", $f),
+            concat!("segments[3].", $f),
+            concat!("segments[4].", $f),
+            concat!("segments[5].", $f),
+            concat!("segments[6].", $f),
+            concat!("segments[7].", $f),
+            concat!("segments[8].", $f),
+            concat!("segments[9].", $f),
+            concat!("segments[10].", $f),
+            concat!("segments[11].", $f),
+            concat!("segments[12].", $f),
+            concat!("segments[13].", $f),
+            concat!("segments[14].", $f),
+            concat!("segments[15].", $f),
+            concat!("segments[..].", $f),
+        ]
+    };
+}
+const START_NAMES: [&str; 17] = seg_names!("start_deg");
+const END_NAMES: [&str; 17] = seg_names!("end_deg");
+const LIFT_NAMES: [&str; 17] = seg_names!("lift");
+
+/// The name of `field` of segment `i` (indices above 15 read `segments[..]`).
+fn field_name(names: &[&'static str; 17], i: usize) -> &'static str {
+    names.get(i).or(names.last()).copied().unwrap_or("segments")
+}
+
+fn invalid<T: Real>(field: &'static str, rule: &'static str, value: T) -> Error {
+    Error::InvalidParameter {
+        field,
+        rule,
+        value: value.to_f64(),
+    }
+}
+
+impl<T: Real, const N: usize> CamProgram<T, N> {
+    /// Compile-time check that the reference program fits in `N`.
+    const FITS_REFERENCE: () = assert!(
+        N >= 4,
+        "CamProgram::reference needs a capacity of at least 4"
+    );
+
+    /// A validated program: contiguous from 0 to 360 deg, positive lengths, positive
+    /// finite lifts (0 for dwells), the follower never below the base circle and back
+    /// at 0 after the revolution.
+    ///
+    /// Angles must meet within `max(1e-6, 2880 ε)` deg (ε the precision's epsilon, so
+    /// 1e-6 deg in `f64`, 3.4e-4 deg in `f32`); the levels must close within
+    /// `64 ε` times the sum of the lifts.
+    pub fn new(segments: &[Segment<T>]) -> Result<Self> {
+        if segments.is_empty() {
+            return Err(invalid(
+                "segments",
+                "must hold at least one segment",
+                T::ZERO,
+            ));
+        }
+        if segments.len() > N {
+            return Err(Error::Capacity {
+                what: "cam program segments",
+                capacity: N,
+            });
+        }
+        let full = T::from_i32(360);
+        let tol_deg = T::from_f64(1e-6).max(full * T::from_i32(8) * T::EPSILON);
+        let two_pi = T::TWO * T::PI;
+
+        for (i, s) in segments.iter().enumerate() {
+            if !s.start_deg.is_finite() {
+                return Err(invalid(
+                    field_name(&START_NAMES, i),
+                    "must be finite",
+                    s.start_deg,
+                ));
+            }
+            if !s.end_deg.is_finite() {
+                return Err(invalid(
+                    field_name(&END_NAMES, i),
+                    "must be finite",
+                    s.end_deg,
+                ));
+            }
+        }
+
+        // Angles and lifts, one segment at a time.
+        let mut lift_sum = T::ZERO;
+        let last = segments.len() - 1;
+        for (i, s) in segments.iter().enumerate() {
+            if i == 0 && s.start_deg.abs() > tol_deg {
+                return Err(invalid(
+                    field_name(&START_NAMES, 0),
+                    "must be 0 (the program starts at 0 deg)",
+                    s.start_deg,
+                ));
+            }
+            // Both ends are finite here, so `<=` is the negation of `>`.
+            if s.end_deg - s.start_deg <= tol_deg {
+                return Err(invalid(
+                    field_name(&END_NAMES, i),
+                    "must exceed the segment's start_deg",
+                    s.end_deg,
+                ));
+            }
+            if let Some(next) = segments.get(i + 1) {
+                if (s.end_deg - next.start_deg).abs() > tol_deg {
+                    return Err(invalid(
+                        field_name(&END_NAMES, i),
+                        "must equal the next segment's start_deg",
+                        s.end_deg,
+                    ));
+                }
+            } else if (s.end_deg - full).abs() > tol_deg {
+                return Err(invalid(
+                    field_name(&END_NAMES, i),
+                    "must be 360 (the program covers one revolution)",
+                    s.end_deg,
+                ));
+            }
+            match s.kind {
+                SegmentKind::Dwell => {
+                    if s.lift != T::ZERO {
+                        return Err(invalid(
+                            field_name(&LIFT_NAMES, i),
+                            "must be 0 for a dwell",
+                            s.lift,
+                        ));
+                    }
+                }
+                SegmentKind::Rise(_) | SegmentKind::Return(_) => {
+                    if !(s.lift.is_finite() && s.lift > T::ZERO) {
+                        return Err(invalid(
+                            field_name(&LIFT_NAMES, i),
+                            "must be positive and finite for a rise or return",
+                            s.lift,
+                        ));
+                    }
+                    lift_sum += s.lift;
+                }
+            }
+        }
+        let tol_lift = T::from_i32(64) * T::EPSILON * lift_sum;
+
+        // Levels and the prepared segments.
+        let mut segs = heapless::Vec::new();
+        let mut pre = heapless::Vec::new();
+        let mut level = T::ZERO;
+        let mut max_lift = T::ZERO;
+        let mut start = T::ZERO;
+        for (i, s) in segments.iter().enumerate() {
+            let end = if i == last {
+                two_pi
+            } else {
+                s.end_deg.to_radians()
+            };
+            let beta = end - start;
+            let inv_beta = T::ONE / beta;
+            if !(beta > T::ZERO && inv_beta.is_finite()) {
+                return Err(invalid(
+                    field_name(&END_NAMES, i),
+                    "must exceed the segment's start_deg by a representable angle",
+                    s.end_deg,
+                ));
+            }
+            let (base, after) = match s.kind {
+                SegmentKind::Dwell => (level, level),
+                SegmentKind::Rise(_) => (level, level + s.lift),
+                SegmentKind::Return(_) => {
+                    let mut low = level - s.lift;
+                    if low < -tol_lift {
+                        return Err(invalid(
+                            field_name(&LIFT_NAMES, i),
+                            "must not exceed the follower level before the return (the follower would go below the base circle)",
+                            s.lift,
+                        ));
+                    }
+                    if low.abs() <= tol_lift {
+                        low = T::ZERO;
+                    }
+                    (low, level)
+                }
+            };
+            let h = s.lift;
+            let p = Prepared {
+                kind: s.kind,
+                start,
+                end,
+                inv_beta,
+                base,
+                h,
+                h1: h * inv_beta,
+                h2: h * inv_beta * inv_beta,
+                h3: h * inv_beta * inv_beta * inv_beta,
+            };
+            level = match s.kind {
+                SegmentKind::Return(_) => base,
+                _ => after,
+            };
+            max_lift = max_lift.max(level);
+            if segs.push(*s).is_err() || pre.push(p).is_err() {
+                return Err(Error::Capacity {
+                    what: "cam program segments",
+                    capacity: N,
+                });
+            }
+            start = end;
+        }
+        if level.abs() > tol_lift {
+            return Err(invalid(
+                "segments",
+                "net displacement over the revolution must be 0 (the returns must undo the rises)",
+                level,
+            ));
+        }
+        Ok(CamProgram {
+            segs,
+            pre,
+            max_lift,
+        })
+    }
+
+    /// The reference program of VI.1: dwell 0-30 deg, modified-trapezoidal rise 30-180,
+    /// dwell 180-210, 4-5-6-7 return 210-360, lift 1.5 in.
+    pub fn reference() -> Self {
+        Self::with_laws(MotionLaw::ModifiedTrapezoidal, MotionLaw::Poly4567)
+    }
+
+    /// The reference timing of VI.1 (lift 1.5 in) with other rise and return laws.
+    pub fn with_laws(rise: MotionLaw, ret: MotionLaw) -> Self {
+        #[allow(clippy::let_unit_value)]
+        let () = Self::FITS_REFERENCE;
+        let d = |k: SegmentKind, a: i32, b: i32, lift: f64| Segment {
+            kind: k,
+            start_deg: T::from_i32(a),
+            end_deg: T::from_i32(b),
+            lift: T::from_f64(lift),
+        };
+        let segs = [
+            d(SegmentKind::Dwell, 0, 30, 0.0),
+            d(SegmentKind::Rise(rise), 30, 180, 1.5),
+            d(SegmentKind::Dwell, 180, 210, 0.0),
+            d(SegmentKind::Return(ret), 210, 360, 1.5),
+        ];
+        // Always valid and within capacity (checked at compile time above); the empty
+        // fallback (follower at rest on the base circle) is never taken.
+        Self::new(&segs).unwrap_or_else(|_| CamProgram {
+            segs: heapless::Vec::new(),
+            pre: heapless::Vec::new(),
+            max_lift: T::ZERO,
+        })
+    }
+
+    /// The commanded lift and its derivatives at cam angle `theta` (rad, any real,
+    /// wrapped into `[0, 2π)`): `y = h s(u)` on a rise, `y = h s(1-u)` above the lower
+    /// level on a return (Appendix A.5), constant on a dwell. At a bound the segment it
+    /// starts is used (matters only where a law's slope or acceleration jumps).
+    #[inline]
+    pub fn follower(&self, theta: T) -> FollowerLift<T> {
+        let th = wrap_angle(theta);
+        let Some(p) = self.pre.iter().find(|p| th < p.end).or(self.pre.last()) else {
+            return FollowerLift::default();
+        };
+        match p.kind {
+            SegmentKind::Dwell => FollowerLift {
+                y: p.base,
+                dy: T::ZERO,
+                d2y: T::ZERO,
+                d3y: T::ZERO,
+            },
+            SegmentKind::Rise(law) => {
+                let v = law.eval((th - p.start) * p.inv_beta);
+                FollowerLift {
+                    y: p.base + p.h * v.s,
+                    dy: p.h1 * v.v,
+                    d2y: p.h2 * v.a,
+                    d3y: p.h3 * v.j,
+                }
+            }
+            SegmentKind::Return(law) => {
+                let v = law.eval((p.end - th) * p.inv_beta);
+                FollowerLift {
+                    y: p.base + p.h * v.s,
+                    dy: -p.h1 * v.v,
+                    d2y: p.h2 * v.a,
+                    d3y: -p.h3 * v.j,
+                }
+            }
+        }
+    }
+
+    /// Index of the segment containing `theta` (rad, wrapped into `[0, 2π)`); a bound
+    /// between two segments belongs to the one it starts.
+    pub fn segment_at(&self, theta: T) -> usize {
+        let th = wrap_angle(theta);
+        self.pre
+            .iter()
+            .position(|p| th < p.end)
+            .unwrap_or(self.pre.len().saturating_sub(1))
+    }
+
+    /// The validated segments, in order.
+    pub fn segments(&self) -> &[Segment<T>] {
+        &self.segs
+    }
+
+    /// The highest follower level the program reaches (in).
+    pub fn max_lift(&self) -> T {
+        self.max_lift
+    }
+}
+
+/// `theta` wrapped into `[0, 2π)` (2π itself maps to 0; NaN stays NaN).
+#[inline]
+fn wrap_angle<T: Real>(theta: T) -> T {
+    let two_pi = T::TWO * T::PI;
+    if theta >= T::ZERO && theta < two_pi {
+        return theta;
+    }
+    let th = theta - two_pi * (theta / two_pi).floor();
+    if th >= two_pi {
+        th - two_pi
+    } else if th < T::ZERO {
+        T::ZERO
+    } else {
+        th
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core::f64::consts::PI;
+
+    fn seg(kind: SegmentKind, a: f64, b: f64, lift: f64) -> Segment<f64> {
+        Segment {
+            kind,
+            start_deg: a,
+            end_deg: b,
+            lift,
+        }
+    }
+
+    fn field_of(e: Error) -> &'static str {
+        match e {
+            Error::InvalidParameter { field, .. } => field,
+            _ => "",
+        }
+    }
+
+    #[test]
+    fn reference_program_levels() {
+        let p = CamProgram::<f64>::reference();
+        assert_eq!(p.segments().len(), 4);
+        assert_eq!(p.max_lift(), 1.5);
+        let at = |deg: f64| p.follower(deg.to_radians());
+        assert_eq!(at(0.0).y, 0.0);
+        assert_eq!(
+            at(15.0),
+            FollowerLift {
+                y: 0.0,
+                dy: 0.0,
+                d2y: 0.0,
+                d3y: 0.0
+            }
+        );
+        assert!((at(180.0).y - 1.5).abs() < 1e-12);
+        assert!((at(195.0).y - 1.5).abs() < 1e-15);
+        // Midpoint of the modified-trapezoidal rise: s = 1/2, v = cv = 2.
+        let mid = at(105.0);
+        let beta = 150f64.to_radians();
+        assert!((mid.y - 0.75).abs() < 1e-12);
+        assert!((mid.dy - 1.5 * 2.0 / beta).abs() < 1e-9);
+        // Midpoint of the 4-5-6-7 return: s = 1/2, v = -140/64 h/β.
+        let r = at(285.0);
+        assert!((r.y - 0.75).abs() < 1e-12);
+        assert!((r.dy + 1.5 * 140.0 / 64.0 / beta).abs() < 1e-9);
+        assert_eq!(p.segment_at(0.0), 0);
+        assert_eq!(p.segment_at(100f64.to_radians()), 1);
+        assert_eq!(p.segment_at(200f64.to_radians()), 2);
+        assert_eq!(p.segment_at(359f64.to_radians()), 3);
+        assert_eq!(p.segment_at(2.0 * PI), 0);
+    }
+
+    #[test]
+    fn wrap_around_is_exact() {
+        let p = CamProgram::<f64>::with_laws(MotionLaw::Cycloidal, MotionLaw::DoubleHarmonic);
+        assert_eq!(p.follower(2.0 * PI), p.follower(0.0));
+        assert_eq!(p.follower(-2.0 * PI), p.follower(0.0));
+        for k in -5..5 {
+            let th = 1.234 + 2.0 * PI * k as f64;
+            let (a, b) = (p.follower(th), p.follower(1.234));
+            assert!(
+                (a.y - b.y).abs() < 1e-12 && (a.dy - b.dy).abs() < 1e-12,
+                "k = {k}"
+            );
+        }
+        // Just below a full turn the follower is (continuously) back on the base circle.
+        assert!(p.follower(2.0 * PI - 1e-12).y.abs() < 1e-12);
+        let q = CamProgram::<f32>::reference();
+        assert_eq!(q.follower(2.0 * core::f32::consts::PI), q.follower(0.0));
+        // Bad angles give a value, not a panic.
+        let _ = p.follower(f64::NAN);
+        let _ = p.follower(f64::INFINITY);
+        let _ = p.segment_at(f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn return_is_the_rise_mirrored_in_time() {
+        for law in MotionLaw::ALL {
+            let p = CamProgram::<f64>::with_laws(law, law);
+            for k in 0..150 {
+                let x = k as f64 + 0.5;
+                let ret = p.follower((210.0 + x).to_radians());
+                let rise = p.follower((180.0 - x).to_radians());
+                assert!((ret.y - rise.y).abs() < 1e-12, "{law:?} y at {x}");
+                assert!((ret.dy + rise.dy).abs() < 1e-9, "{law:?} dy at {x}");
+                // Away from the jumps of the parabolic and cubic-1 laws at mid-stroke.
+                if (x - 75.0).abs() > 1e-9 {
+                    assert!(
+                        (ret.d2y - rise.d2y).abs() < 1e-8 * (1.0 + rise.d2y.abs()),
+                        "{law:?} d2y at {x}"
+                    );
+                    assert!(
+                        (ret.d3y + rise.d3y).abs() < 1e-7 * (1.0 + rise.d3y.abs()),
+                        "{law:?} d3y at {x}"
+                    );
+                }
+            }
+        }
+        // For the asymmetric double harmonic, mirroring in time is not point symmetry:
+        // the return starts gently (as the rise starts) and ends hard.
+        let p = CamProgram::<f64>::with_laws(MotionLaw::DoubleHarmonic, MotionLaw::DoubleHarmonic);
+        let beta = 150f64.to_radians();
+        let r_start = p.follower(210.0f64.to_radians() + 1e-12);
+        let r_end = p.follower(360.0f64.to_radians() - 1e-12);
+        assert!(
+            (r_start.d2y - 1.5 * (-PI * PI) / (beta * beta)).abs() < 1e-6,
+            "{}",
+            r_start.d2y
+        );
+        assert!(r_end.d2y.abs() < 1e-6, "{}", r_end.d2y);
+    }
+
+    #[test]
+    fn derivatives_match_differences_of_the_lift() {
+        let p = CamProgram::<f64>::reference();
+        let h = 1e-5;
+        for k in 0..720 {
+            let th = (k as f64 + 0.3) * PI / 360.0;
+            let (m, c, q) = (p.follower(th - h), p.follower(th), p.follower(th + h));
+            if p.segment_at(th - h) != p.segment_at(th + h) {
+                continue;
+            }
+            assert!(((q.y - m.y) / (2.0 * h) - c.dy).abs() < 1e-6, "dy at {th}");
+            assert!(
+                ((q.dy - m.dy) / (2.0 * h) - c.d2y).abs() < 1e-5,
+                "d2y at {th}"
+            );
+            assert!(
+                ((q.d2y - m.d2y) / (2.0 * h) - c.d3y).abs() < 1e-4,
+                "d3y at {th}"
+            );
+        }
+    }
+
+    #[test]
+    fn continuity_across_segments() {
+        // Level and slope are continuous at every segment bound for every law pair.
+        for rise in MotionLaw::ALL {
+            for ret in MotionLaw::ALL {
+                let p = CamProgram::<f64>::with_laws(rise, ret);
+                for deg in [30.0f64, 180.0, 210.0, 360.0] {
+                    let th = deg.to_radians();
+                    let (a, b) = (p.follower(th - 1e-10), p.follower(th + 1e-10));
+                    assert!((a.y - b.y).abs() < 1e-9, "{rise:?}/{ret:?} y at {deg}");
+                    if rise != MotionLaw::StraightLine && ret != MotionLaw::StraightLine {
+                        assert!((a.dy - b.dy).abs() < 1e-8, "{rise:?}/{ret:?} dy at {deg}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let ok = [
+            seg(SegmentKind::Rise(MotionLaw::Cycloidal), 0.0, 90.0, 1.0),
+            seg(SegmentKind::Dwell, 90.0, 180.0, 0.0),
+            seg(SegmentKind::Return(MotionLaw::Cycloidal), 180.0, 360.0, 1.0),
+        ];
+        assert!(CamProgram::<f64, 3>::new(&ok).is_ok());
+        assert_eq!(
+            CamProgram::<f64, 2>::new(&ok).err(),
+            Some(Error::Capacity {
+                what: "cam program segments",
+                capacity: 2
+            })
+        );
+        let mut gap = ok;
+        gap[1].end_deg = 170.0;
+        let e = CamProgram::<f64>::new(&gap).unwrap_err();
+        assert_eq!(field_of(e), "segments[1].end_deg");
+        assert!(matches!(
+            e,
+            Error::InvalidParameter {
+                rule: "must equal the next segment's start_deg",
+                ..
+            }
+        ));
+
+        let mut late = ok;
+        late[0].start_deg = 1.0;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&late).unwrap_err()),
+            "segments[0].start_deg"
+        );
+        let mut short = ok;
+        short[2].end_deg = 359.0;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&short).unwrap_err()),
+            "segments[2].end_deg"
+        );
+        let mut back = ok;
+        back[1].end_deg = 90.0;
+        back[2].start_deg = 90.0;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&back).unwrap_err()),
+            "segments[1].end_deg"
+        );
+        let mut dwell_lift = ok;
+        dwell_lift[1].lift = 0.1;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&dwell_lift).unwrap_err()),
+            "segments[1].lift"
+        );
+        let mut neg = ok;
+        neg[0].lift = -1.0;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&neg).unwrap_err()),
+            "segments[0].lift"
+        );
+        let mut nan = ok;
+        nan[2].lift = f64::NAN;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&nan).unwrap_err()),
+            "segments[2].lift"
+        );
+        let mut open = ok;
+        open[2].lift = 0.5;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&open).unwrap_err()),
+            "segments"
+        );
+        let below = [
+            seg(SegmentKind::Return(MotionLaw::Cycloidal), 0.0, 90.0, 1.0),
+            seg(SegmentKind::Rise(MotionLaw::Cycloidal), 90.0, 360.0, 1.0),
+        ];
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&below).unwrap_err()),
+            "segments[0].lift"
+        );
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&[]).unwrap_err()),
+            "segments"
+        );
+        let mut inf = ok;
+        inf[1].start_deg = f64::INFINITY;
+        assert_eq!(
+            field_of(CamProgram::<f64>::new(&inf).unwrap_err()),
+            "segments[1].start_deg"
+        );
+    }
+
+    #[test]
+    fn levels_close_within_rounding() {
+        // 0.1 + 0.2 - 0.3 is not 0 in binary; it closes within the tolerance.
+        let s = [
+            seg(SegmentKind::Rise(MotionLaw::Poly345), 0.0, 60.0, 0.1),
+            seg(SegmentKind::Rise(MotionLaw::Poly345), 60.0, 120.0, 0.2),
+            seg(SegmentKind::Return(MotionLaw::Poly345), 120.0, 360.0, 0.3),
+        ];
+        let p = CamProgram::<f64>::new(&s).unwrap();
+        assert!((p.max_lift() - 0.3).abs() < 1e-15);
+        assert_eq!(p.follower(0.0).y, 0.0);
+        assert!(p.follower(2.0 * PI - 1e-9).y >= 0.0);
+        // A dwell-only program is a plain base circle.
+        let c = CamProgram::<f64, 1>::new(&[seg(SegmentKind::Dwell, 0.0, 360.0, 0.0)]).unwrap();
+        assert_eq!(c.follower(1.0), FollowerLift::default());
+    }
+
+    /// f32 against f64 (micromath's approximate f32 functions are not held to this).
+    #[cfg(not(feature = "micromath"))]
+    #[test]
+    fn single_precision_reference() {
+        let (p, q) = (
+            CamProgram::<f64>::reference(),
+            CamProgram::<f32>::reference(),
+        );
+        for k in 0..360 {
+            let th = (k as f64 + 0.5).to_radians();
+            let (a, b) = (p.follower(th), q.follower(th as f32));
+            assert!(
+                (a.y - b.y as f64).abs() < 2e-6,
+                "y at {k}: {} vs {}",
+                a.y,
+                b.y
+            );
+            assert!((a.dy - b.dy as f64).abs() < 1e-5, "dy at {k}");
+            assert!((a.d2y - b.d2y as f64).abs() < 1e-4, "d2y at {k}");
+        }
+    }
+}

@@ -1,4 +1,9 @@
-//! TODO: filled in by its issue.
+//! `camsim laws`: peak dimensionless coefficients of every Appendix A motion law for a
+//! unit rise over a unit angle, and the largest pressure angle each gives on the
+//! reference cam (VI.1 geometry and timing, the law used for both rise and return).
+
+use camsim_core::{CamGeometry, CamProgram, LawValue, MotionLaw};
+use serde::Serialize;
 
 /// Command-line options.
 #[derive(clap::Args, Debug)]
@@ -8,7 +13,148 @@ pub struct Args {
     pub json: bool,
 }
 
+/// One law's peak coefficients (unit rise over a unit angle) and reference-cam pressure angle.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct LawRow {
+    /// The law's name ([`MotionLaw::name`]).
+    pub name: &'static str,
+    /// Largest velocity coefficient, max ds/du.
+    pub cv: f64,
+    /// Largest acceleration coefficient, max d²s/du².
+    pub ca_max: f64,
+    /// Smallest acceleration coefficient, min d²s/du².
+    pub ca_min: f64,
+    /// Largest jerk coefficient, max d³s/du³ (impulses at jumps excluded).
+    pub cj_max: f64,
+    /// Smallest jerk coefficient, min d³s/du³ (impulses at jumps excluded).
+    pub cj_min: f64,
+    /// Largest pressure angle on the reference cam with this law for rise and return (deg).
+    pub pressure_angle_max_deg: f64,
+}
+
+/// Grid points per unit of `u` (a multiple of 8, so every junction is a grid point).
+const GRID: usize = 8 * 4096;
+/// Cam-angle samples for the pressure-angle scan (before refinement).
+const PHI_SAMPLES: usize = 36_000;
+
+/// Supremum of `f(law(u))` over `[0, 1]`: dense grid, then golden section between the
+/// best point's neighbours, keeping the best value seen (so a one-sided limit at an
+/// acceleration jump is approached, and a maximum at a junction is kept).
+fn sup(law: MotionLaw, f: impl Fn(LawValue<f64>) -> f64) -> f64 {
+    let g = |u: f64| f(law.eval(u));
+    let (mut best_k, mut best) = (0, f64::NEG_INFINITY);
+    for k in 0..=GRID {
+        let y = g(k as f64 / GRID as f64);
+        if y > best {
+            best = y;
+            best_k = k;
+        }
+    }
+    let (mut a, mut b) = (
+        best_k.saturating_sub(1) as f64 / GRID as f64,
+        (best_k + 1).min(GRID) as f64 / GRID as f64,
+    );
+    let r = (5f64.sqrt() - 1.0) / 2.0;
+    for _ in 0..100 {
+        let (c, d) = (b - r * (b - a), a + r * (b - a));
+        let (fc, fd) = (g(c), g(d));
+        best = best.max(fc).max(fd);
+        if fc > fd {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    best
+}
+
+/// The table `camsim laws` prints, one row per law in the order of [`MotionLaw::ALL`].
+pub fn table() -> Vec<LawRow> {
+    let geometry = CamGeometry::<f64>::reference();
+    MotionLaw::ALL
+        .iter()
+        .map(|&law| {
+            let program = CamProgram::<f64>::with_laws(law, law);
+            let (phi, _) = geometry.max_pressure_angle(&program, PHI_SAMPLES);
+            // `+ 0.0` turns a -0 (a maximum of -sin at u = 0) into 0.
+            LawRow {
+                name: law.name(),
+                cv: sup(law, |x| x.v) + 0.0,
+                ca_max: sup(law, |x| x.a) + 0.0,
+                ca_min: -sup(law, |x| -x.a) + 0.0,
+                cj_max: sup(law, |x| x.j) + 0.0,
+                cj_min: -sup(law, |x| -x.j) + 0.0,
+                pressure_angle_max_deg: phi.to_degrees(),
+            }
+        })
+        .collect()
+}
+
+/// The JSON `camsim laws --json` prints: `{"laws":[{"name":..,"cv":..,..}, ..]}`.
+pub fn to_json(rows: &[LawRow]) -> anyhow::Result<String> {
+    #[derive(Serialize)]
+    struct Out<'a> {
+        laws: &'a [LawRow],
+    }
+    Ok(serde_json::to_string(&Out { laws: rows })?)
+}
+
+/// The human-readable table.
+pub fn to_text(rows: &[LawRow]) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "Motion laws (Appendix A): peak coefficients for a unit rise over a unit angle,"
+    );
+    let _ = writeln!(
+        s,
+        "y = h s(theta/beta): dy/dtheta = cv h/beta, d2y/dtheta2 = ca h/beta^2, d3y/dtheta3 = cj h/beta^3."
+    );
+    let _ = writeln!(
+        s,
+        "phi_max: largest pressure angle on the reference cam (R_b 1.5 in, r_r 0.375 in, lift 1.5 in,"
+    );
+    let _ = writeln!(
+        s,
+        "rise 30-180 deg and return 210-360 deg both with the law)."
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "{:<22}{:>9}{:>10}{:>10}{:>11}{:>11}{:>13}",
+        "law", "cv", "ca_max", "ca_min", "cj_max", "cj_min", "phi_max_deg"
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{:<22}{:>9.4}{:>10.4}{:>10.4}{:>11.4}{:>11.4}{:>13.3}",
+            r.name, r.cv, r.ca_max, r.ca_min, r.cj_max, r.cj_min, r.pressure_angle_max_deg
+        );
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "Only finite values inside the stroke are listed: the impulses at a velocity or acceleration"
+    );
+    let _ = writeln!(
+        s,
+        "jump (straight-line at its ends, parabolic and cubic-1 at mid-stroke, and any law whose"
+    );
+    let _ = writeln!(
+        s,
+        "end acceleration is not 0 against a dwell) are not representable and are excluded."
+    );
+    s
+}
+
 /// Runs the command.
-pub fn run(_args: Args) -> anyhow::Result<()> {
-    anyhow::bail!("not implemented yet")
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let rows = table();
+    if args.json {
+        println!("{}", to_json(&rows)?);
+    } else {
+        print!("{}", to_text(&rows));
+    }
+    Ok(())
 }
