@@ -50,7 +50,10 @@ pub struct Tolerance<T, const N: usize> {
 impl<T: Real, const N: usize> Tolerance<T, N> {
     /// The same absolute tolerance for every component.
     pub fn scalar(rtol: T, atol: T) -> Self {
-        Self { rtol, atol: [atol; N] }
+        Self {
+            rtol,
+            atol: [atol; N],
+        }
     }
 
     /// One absolute tolerance per component (for states of different units).
@@ -181,7 +184,10 @@ fn stage<T: Real, const N: usize, S: OdeSystem<T, N>>(
     for (i, o) in out.iter_mut().enumerate() {
         *o *= scale;
         if !o.is_finite() {
-            return Err(Error::NonFinite { t: t.to_f64(), component: i });
+            return Err(Error::NonFinite {
+                t: t.to_f64(),
+                component: i,
+            });
         }
     }
     Ok(())
@@ -307,7 +313,11 @@ impl<T: Real, const N: usize> England<T, N> {
     ) -> Result<T> {
         let t0 = *t;
         if !t0.is_finite() {
-            return Err(Error::InvalidParameter { field: "t", rule: "must be finite", value: t0.to_f64() });
+            return Err(Error::InvalidParameter {
+                field: "t",
+                rule: "must be finite",
+                value: t0.to_f64(),
+            });
         }
         if !(t_end.is_finite() && t_end > t0) {
             return Err(Error::InvalidParameter {
@@ -317,7 +327,10 @@ impl<T: Real, const N: usize> England<T, N> {
             });
         }
         if let Some(i) = first_non_finite(y) {
-            return Err(Error::NonFinite { t: t0.to_f64(), component: i });
+            return Err(Error::NonFinite {
+                t: t0.to_f64(),
+                component: i,
+            });
         }
         // f(t0, y0), shared by every attempt from this point.
         stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
@@ -336,7 +349,10 @@ impl<T: Real, const N: usize> England<T, N> {
         loop {
             let steps = self.stats.accepted.saturating_add(self.stats.rejected);
             if steps >= cfg.max_steps {
-                return Err(Error::StepBudgetExceeded { t: t0.to_f64(), steps });
+                return Err(Error::StepBudgetExceeded {
+                    t: t0.to_f64(),
+                    steps,
+                });
             }
 
             // Choose this attempt's double step h, shortened near t_end.
@@ -359,29 +375,72 @@ impl<T: Real, const N: usize> England<T, N> {
             for (i, (k, f)) in self.k1.iter_mut().zip(self.f0.iter()).enumerate() {
                 *k = s * *f;
                 if !k.is_finite() {
-                    return Err(Error::NonFinite { t: t0.to_f64(), component: i });
+                    return Err(Error::NonFinite {
+                        t: t0.to_f64(),
+                        component: i,
+                    });
                 }
             }
             for ((a, y0), k1) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()) {
                 *a = *y0 + T::HALF * *k1;
             }
-            stage(sys, t0 + s2, &self.arg, s, &mut self.k2, &mut self.stats.rhs_evals)?;
-            for (((a, y0), k1), k2) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()).zip(self.k2.iter()) {
+            stage(
+                sys,
+                t0 + s2,
+                &self.arg,
+                s,
+                &mut self.k2,
+                &mut self.stats.rhs_evals,
+            )?;
+            for (((a, y0), k1), k2) in self
+                .arg
+                .iter_mut()
+                .zip(y.iter())
+                .zip(self.k1.iter())
+                .zip(self.k2.iter())
+            {
                 *a = *y0 + quarter * (*k1 + *k2);
             }
-            stage(sys, t0 + s2, &self.arg, s, &mut self.k3, &mut self.stats.rhs_evals)?;
-            for (((a, y0), k2), k3) in self.arg.iter_mut().zip(y.iter()).zip(self.k2.iter()).zip(self.k3.iter()) {
+            stage(
+                sys,
+                t0 + s2,
+                &self.arg,
+                s,
+                &mut self.k3,
+                &mut self.stats.rhs_evals,
+            )?;
+            for (((a, y0), k2), k3) in self
+                .arg
+                .iter_mut()
+                .zip(y.iter())
+                .zip(self.k2.iter())
+                .zip(self.k3.iter())
+            {
                 *a = *y0 - *k2 + T::TWO * *k3;
             }
-            stage(sys, t_mid, &self.arg, s, &mut self.k4, &mut self.stats.rhs_evals)?;
+            stage(
+                sys,
+                t_mid,
+                &self.arg,
+                s,
+                &mut self.k4,
+                &mut self.stats.rhs_evals,
+            )?;
             let y1 = &mut mid.1;
-            for ((((m, y0), k1), k3), k4) in
-                y1.iter_mut().zip(y.iter()).zip(self.k1.iter()).zip(self.k3.iter()).zip(self.k4.iter())
+            for ((((m, y0), k1), k3), k4) in y1
+                .iter_mut()
+                .zip(y.iter())
+                .zip(self.k1.iter())
+                .zip(self.k3.iter())
+                .zip(self.k4.iter())
             {
                 *m = *y0 + sixth * (*k1 + T::from_f64(4.0) * *k3 + *k4);
             }
             if let Some(i) = first_non_finite(y1) {
-                return Err(Error::NonFinite { t: t_mid.to_f64(), component: i });
+                return Err(Error::NonFinite {
+                    t: t_mid.to_f64(),
+                    component: i,
+                });
             }
 
             // Second half step up to k7, then England's k9.
@@ -389,34 +448,69 @@ impl<T: Real, const N: usize> England<T, N> {
             for ((a, m), k5) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()) {
                 *a = *m + T::HALF * *k5;
             }
-            stage(sys, t_mid + s2, &self.arg, s, &mut self.k6, &mut self.stats.rhs_evals)?;
-            for (((a, m), k5), k6) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()).zip(self.k6.iter()) {
+            stage(
+                sys,
+                t_mid + s2,
+                &self.arg,
+                s,
+                &mut self.k6,
+                &mut self.stats.rhs_evals,
+            )?;
+            for (((a, m), k5), k6) in self
+                .arg
+                .iter_mut()
+                .zip(y1.iter())
+                .zip(self.k5.iter())
+                .zip(self.k6.iter())
+            {
                 *a = *m + quarter * (*k5 + *k6);
             }
-            stage(sys, t_mid + s2, &self.arg, s, &mut self.k7, &mut self.stats.rhs_evals)?;
+            stage(
+                sys,
+                t_mid + s2,
+                &self.arg,
+                s,
+                &mut self.k7,
+                &mut self.stats.rhs_evals,
+            )?;
             for (i, a) in self.arg.iter_mut().enumerate() {
                 // Loops bounded by N index arrays of length N: no out-of-bounds path.
                 *a = y[i]
                     + sixth
-                        * (-self.k1[i] - T::from_f64(96.0) * self.k2[i] + T::from_f64(92.0) * self.k3[i]
+                        * (-self.k1[i] - T::from_f64(96.0) * self.k2[i]
+                            + T::from_f64(92.0) * self.k3[i]
                             - T::from_f64(121.0) * self.k4[i]
                             + T::from_f64(144.0) * self.k5[i]
                             + T::from_f64(6.0) * self.k6[i]
                             - T::from_f64(12.0) * self.k7[i]);
             }
-            stage(sys, t_end_step, &self.arg, s, &mut self.k9, &mut self.stats.rhs_evals)?;
+            stage(
+                sys,
+                t_end_step,
+                &self.arg,
+                s,
+                &mut self.k9,
+                &mut self.stats.rhs_evals,
+            )?;
 
             // Error ratio from E = (-k1 + 4k3 + 17k4 - 23k5 + 4k7 - k9)/90.
             let mut err = T::ZERO;
+            // Nine arrays in step: indices read better than a nine-way zip (i < N always).
+            #[allow(clippy::needless_range_loop)]
             for i in 0..N {
                 let e = c90
-                    * (-self.k1[i] + T::from_f64(4.0) * self.k3[i] + T::from_f64(17.0) * self.k4[i]
+                    * (-self.k1[i]
+                        + T::from_f64(4.0) * self.k3[i]
+                        + T::from_f64(17.0) * self.k4[i]
                         - T::from_f64(23.0) * self.k5[i]
                         + T::from_f64(4.0) * self.k7[i]
                         - self.k9[i]);
                 let scale = cfg.tol.atol[i] + cfg.tol.rtol * y[i].abs().max(self.arg[i].abs());
                 if !e.is_finite() {
-                    return Err(Error::NonFinite { t: t_end_step.to_f64(), component: i });
+                    return Err(Error::NonFinite {
+                        t: t_end_step.to_f64(),
+                        component: i,
+                    });
                 }
                 let e = e.abs();
                 let r = if scale > T::ZERO {
@@ -429,14 +523,31 @@ impl<T: Real, const N: usize> England<T, N> {
                 err = err.max(r);
             }
             // err^(-1/5) step factor (k's are finite, so err is not NaN; it may be +inf).
-            let fac_raw = if err > T::ZERO { safety * err.powf(neg_fifth) } else { T::MAX };
+            let fac_raw = if err > T::ZERO {
+                safety * err.powf(neg_fifth)
+            } else {
+                T::MAX
+            };
 
             if err <= T::ONE {
                 // Accepted: k8 (into the k9 buffer) and y2 (in place of y0).
-                for (((a, m), k6), k7) in self.arg.iter_mut().zip(mid.1.iter()).zip(self.k6.iter()).zip(self.k7.iter()) {
+                for (((a, m), k6), k7) in self
+                    .arg
+                    .iter_mut()
+                    .zip(mid.1.iter())
+                    .zip(self.k6.iter())
+                    .zip(self.k7.iter())
+                {
                     *a = *m - *k6 + T::TWO * *k7;
                 }
-                stage(sys, t_end_step, &self.arg, s, &mut self.k9, &mut self.stats.rhs_evals)?;
+                stage(
+                    sys,
+                    t_end_step,
+                    &self.arg,
+                    s,
+                    &mut self.k9,
+                    &mut self.stats.rhs_evals,
+                )?;
                 for ((((y2, m), k5), k7), k8) in y
                     .iter_mut()
                     .zip(mid.1.iter())
@@ -448,18 +559,29 @@ impl<T: Real, const N: usize> England<T, N> {
                 }
                 if let Some(i) = first_non_finite(y) {
                     // Restoring y0 would need a copy on every step; report instead.
-                    return Err(Error::NonFinite { t: t_end_step.to_f64(), component: i });
+                    return Err(Error::NonFinite {
+                        t: t_end_step.to_f64(),
+                        component: i,
+                    });
                 }
                 self.stats.accepted = self.stats.accepted.saturating_add(1);
                 mid.0 = t_mid;
                 *t = t_end_step;
 
                 let fac_cap = if rejected_here { T::ONE } else { fac_max };
-                let fac_unbounded = if rejected_here { fac_raw.min(T::ONE) } else { fac_raw };
+                let fac_unbounded = if rejected_here {
+                    fac_raw.min(T::ONE)
+                } else {
+                    fac_raw
+                };
                 let mut h_next = h * fac_raw.clamp(fac_min, fac_cap);
                 if clipped {
                     // A step shortened to meet t_end says nothing against the planned size.
-                    let h_ok = if fac_unbounded >= h_plan / h { h_plan } else { h * fac_unbounded };
+                    let h_ok = if fac_unbounded >= h_plan / h {
+                        h_plan
+                    } else {
+                        h * fac_unbounded
+                    };
                     h_next = h_next.max(h_ok);
                 }
                 self.h = h_next.clamp(cfg.h_min, cfg.h_max);
@@ -469,7 +591,10 @@ impl<T: Real, const N: usize> England<T, N> {
             // Rejected: shrink and retry from the same point.
             self.stats.rejected = self.stats.rejected.saturating_add(1);
             if h <= cfg.h_min {
-                return Err(Error::StepSizeUnderflow { t: t0.to_f64(), h: h.to_f64() });
+                return Err(Error::StepSizeUnderflow {
+                    t: t0.to_f64(),
+                    h: h.to_f64(),
+                });
             }
             rejected_here = true;
             self.h = (h * fac_raw.clamp(fac_min, T::ONE)).max(cfg.h_min);
@@ -491,7 +616,11 @@ impl<T: Real, const N: usize> England<T, N> {
     ) -> Result<SolverStats> {
         self.stats = SolverStats::default();
         if !t0.is_finite() {
-            return Err(Error::InvalidParameter { field: "t0", rule: "must be finite", value: t0.to_f64() });
+            return Err(Error::InvalidParameter {
+                field: "t0",
+                rule: "must be finite",
+                value: t0.to_f64(),
+            });
         }
         if !(t_end.is_finite() && t_end >= t0) {
             return Err(Error::InvalidParameter {
@@ -501,7 +630,10 @@ impl<T: Real, const N: usize> England<T, N> {
             });
         }
         if let Some(i) = first_non_finite(y) {
-            return Err(Error::NonFinite { t: t0.to_f64(), component: i });
+            return Err(Error::NonFinite {
+                t: t0.to_f64(),
+                component: i,
+            });
         }
         if observer(t0, y).is_break() {
             return Ok(self.stats);
@@ -531,17 +663,32 @@ pub fn rk4_step<T: Real, const N: usize, S: OdeSystem<T, N>>(sys: &S, t: T, y: &
     let mut acc = [T::ZERO; N];
     let mut arg = [T::ZERO; N];
     sys.rhs(t, y, &mut k);
-    for (((a, s), yi), ki) in arg.iter_mut().zip(acc.iter_mut()).zip(y.iter()).zip(k.iter()) {
+    for (((a, s), yi), ki) in arg
+        .iter_mut()
+        .zip(acc.iter_mut())
+        .zip(y.iter())
+        .zip(k.iter())
+    {
         *s = *ki;
         *a = *yi + half * *ki;
     }
     sys.rhs(t + half, &arg, &mut k);
-    for (((a, s), yi), ki) in arg.iter_mut().zip(acc.iter_mut()).zip(y.iter()).zip(k.iter()) {
+    for (((a, s), yi), ki) in arg
+        .iter_mut()
+        .zip(acc.iter_mut())
+        .zip(y.iter())
+        .zip(k.iter())
+    {
         *s += T::TWO * *ki;
         *a = *yi + half * *ki;
     }
     sys.rhs(t + half, &arg, &mut k);
-    for (((a, s), yi), ki) in arg.iter_mut().zip(acc.iter_mut()).zip(y.iter()).zip(k.iter()) {
+    for (((a, s), yi), ki) in arg
+        .iter_mut()
+        .zip(acc.iter_mut())
+        .zip(y.iter())
+        .zip(k.iter())
+    {
         *s += T::TWO * *ki;
         *a = *yi + h * *ki;
     }
@@ -555,7 +702,12 @@ pub fn rk4_step<T: Real, const N: usize, S: OdeSystem<T, N>>(sys: &S, t: T, y: &
 /// Integrates from `t0` to `t_end` in `steps` equal classic Runge-Kutta steps, calling
 /// `observer(t, &y)` at the start and after every step ([`ControlFlow::Break`] stops
 /// early, still `Ok`); for comparison with [`England`].
-pub fn rk4_integrate<T: Real, const N: usize, S: OdeSystem<T, N>, F: FnMut(T, &[T; N]) -> ControlFlow<()>>(
+pub fn rk4_integrate<
+    T: Real,
+    const N: usize,
+    S: OdeSystem<T, N>,
+    F: FnMut(T, &[T; N]) -> ControlFlow<()>,
+>(
     sys: &S,
     t0: T,
     y: &mut [T; N],
@@ -564,7 +716,11 @@ pub fn rk4_integrate<T: Real, const N: usize, S: OdeSystem<T, N>, F: FnMut(T, &[
     mut observer: F,
 ) -> Result<SolverStats> {
     if !t0.is_finite() {
-        return Err(Error::InvalidParameter { field: "t0", rule: "must be finite", value: t0.to_f64() });
+        return Err(Error::InvalidParameter {
+            field: "t0",
+            rule: "must be finite",
+            value: t0.to_f64(),
+        });
     }
     if !(t_end.is_finite() && t_end >= t0) {
         return Err(Error::InvalidParameter {
@@ -574,10 +730,17 @@ pub fn rk4_integrate<T: Real, const N: usize, S: OdeSystem<T, N>, F: FnMut(T, &[
         });
     }
     if steps == 0 {
-        return Err(Error::InvalidParameter { field: "steps", rule: "must be positive", value: 0.0 });
+        return Err(Error::InvalidParameter {
+            field: "steps",
+            rule: "must be positive",
+            value: 0.0,
+        });
     }
     if let Some(i) = first_non_finite(y) {
-        return Err(Error::NonFinite { t: t0.to_f64(), component: i });
+        return Err(Error::NonFinite {
+            t: t0.to_f64(),
+            component: i,
+        });
     }
     let mut stats = SolverStats::default();
     if observer(t0, y).is_break() {
@@ -592,9 +755,16 @@ pub fn rk4_integrate<T: Real, const N: usize, S: OdeSystem<T, N>, F: FnMut(T, &[
         rk4_step(sys, t, y, h);
         stats.accepted += 1;
         stats.rhs_evals = stats.rhs_evals.saturating_add(4);
-        let t_next = if i + 1 == steps { t_end } else { t0 + span * (T::from_usize(i as usize + 1) / n) };
+        let t_next = if i + 1 == steps {
+            t_end
+        } else {
+            t0 + span * (T::from_usize(i as usize + 1) / n)
+        };
         if let Some(c) = first_non_finite(y) {
-            return Err(Error::NonFinite { t: t_next.to_f64(), component: c });
+            return Err(Error::NonFinite {
+                t: t_next.to_f64(),
+                component: c,
+            });
         }
         if observer(t_next, y).is_break() {
             break;

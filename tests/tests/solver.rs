@@ -4,7 +4,9 @@
 
 use core::ops::ControlFlow;
 
-use camsim_core::{rk4_integrate, England, EnglandConfig, Error, OdeSystem, Real, SolverStats, Tolerance};
+use camsim_core::{
+    rk4_integrate, England, EnglandConfig, Error, OdeSystem, Real, SolverStats, Tolerance,
+};
 
 /// y' = -y + sin t; exact y(t) = C e^{-t} + (sin t - cos t)/2.
 struct Forced;
@@ -47,8 +49,21 @@ impl<S: OdeSystem<f64, 1>> OdeSystem<f64, 1> for Counting<'_, S> {
     }
 }
 
-fn cfg<const N: usize>(rtol: f64, atol: f64, h_init: f64, h_min: f64, h_max: f64, max_steps: u32) -> EnglandConfig<f64, N> {
-    EnglandConfig { tol: Tolerance::scalar(rtol, atol), h_init, h_min, h_max, max_steps }
+fn cfg<const N: usize>(
+    rtol: f64,
+    atol: f64,
+    h_init: f64,
+    h_min: f64,
+    h_max: f64,
+    max_steps: u32,
+) -> EnglandConfig<f64, N> {
+    EnglandConfig {
+        tol: Tolerance::scalar(rtol, atol),
+        h_init,
+        h_min,
+        h_max,
+        max_steps,
+    }
 }
 
 /// England with every step accepted at exactly h (h_min = h_max, a tolerance it always meets).
@@ -80,21 +95,43 @@ fn fixed_step_global_error_is_fourth_order_for_england_and_rk4() {
     for &h in &hs {
         let mut solver = fixed_england(h);
         let mut y = [y0];
-        let stats = solver.integrate(&Forced, t0, &mut y, t_end, |_, _| ControlFlow::Continue(())).unwrap();
+        let stats = solver
+            .integrate(&Forced, t0, &mut y, t_end, |_, _| ControlFlow::Continue(()))
+            .unwrap();
         assert_eq!(stats.rejected, 0);
-        assert_eq!(stats.accepted, (t_end / h).round() as u32, "fixed step h = {h}");
+        assert_eq!(
+            stats.accepted,
+            (t_end / h).round() as u32,
+            "fixed step h = {h}"
+        );
         e_eng.push((y[0] - exact).abs());
 
         let mut y = [y0];
         let steps = (t_end / h).round() as u32;
-        let st = rk4_integrate(&Forced, t0, &mut y, t_end, steps, |_, _| ControlFlow::Continue(())).unwrap();
-        assert_eq!(st, SolverStats { accepted: steps, rejected: 0, rhs_evals: 4 * steps });
+        let st = rk4_integrate(&Forced, t0, &mut y, t_end, steps, |_, _| {
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+        assert_eq!(
+            st,
+            SolverStats {
+                accepted: steps,
+                rejected: 0,
+                rhs_evals: 4 * steps
+            }
+        );
         e_rk4.push((y[0] - exact).abs());
     }
     let p_eng = loglog_slope(&hs, &e_eng);
     let p_rk4 = loglog_slope(&hs, &e_rk4);
-    assert!((3.7..=4.3).contains(&p_eng), "England order {p_eng}, errors {e_eng:?}");
-    assert!((3.7..=4.3).contains(&p_rk4), "RK4 order {p_rk4}, errors {e_rk4:?}");
+    assert!(
+        (3.7..=4.3).contains(&p_eng),
+        "England order {p_eng}, errors {e_eng:?}"
+    );
+    assert!(
+        (3.7..=4.3).contains(&p_rk4),
+        "RK4 order {p_rk4}, errors {e_rk4:?}"
+    );
     // Each halving divides the error by about 16.
     for w in e_eng.windows(2).chain(e_rk4.windows(2)) {
         let r = w[0] / w[1];
@@ -112,7 +149,9 @@ fn fixed_step_oscillator_is_fourth_order() {
     for &h in &hs {
         let mut solver = England::<f64, 2>::new(cfg(0.0, 1e6, h, h, h, 1_000_000)).unwrap();
         let mut y = [1.0, 0.0];
-        solver.integrate(&sys, 0.0, &mut y, t_end, |_, _| ControlFlow::Continue(())).unwrap();
+        solver
+            .integrate(&sys, 0.0, &mut y, t_end, |_, _| ControlFlow::Continue(()))
+            .unwrap();
         let ex = [(2.0 * t_end).cos(), -2.0 * (2.0 * t_end).sin()];
         errs.push((y[0] - ex[0]).abs().max((y[1] - ex[1]).abs()));
     }
@@ -130,19 +169,27 @@ fn error_estimate_tracks_true_local_error_of_the_double_step() {
         let mut t = t0;
         let mut y = [y0];
         let mut mid = (0.0, [0.0]);
-        let e = solver.step(&Forced, &mut t, &mut y, t0 + 10.0, &mut mid).unwrap();
+        let e = solver
+            .step(&Forced, &mut t, &mut y, t0 + 10.0, &mut mid)
+            .unwrap();
         assert_eq!(t, t0 + h);
         assert!((mid.0 - (t0 + 0.5 * h)).abs() < 1e-15);
         let true_local = (y[0] - forced_exact(t0, y0, t0 + h)).abs();
         let ratio = e / true_local;
-        assert!((0.5..=2.0).contains(&ratio), "h = {h}: |E| = {e:e}, true {true_local:e}, ratio {ratio}");
+        assert!(
+            (0.5..=2.0).contains(&ratio),
+            "h = {h}: |E| = {e:e}, true {true_local:e}, ratio {ratio}"
+        );
         // The midpoint is a plain RK half step: its error is ~32x smaller than the double step's.
         let mid_err = (mid.1[0] - forced_exact(t0, y0, mid.0)).abs();
         assert!(mid_err < true_local, "h = {h}");
         last_ratio = ratio;
     }
     // And the estimate becomes asymptotically exact (ratio -> 1 as h -> 0).
-    assert!((0.95..=1.05).contains(&last_ratio), "ratio at the smallest h: {last_ratio}");
+    assert!(
+        (0.95..=1.05).contains(&last_ratio),
+        "ratio at the smallest h: {last_ratio}"
+    );
 }
 
 #[test]
@@ -153,7 +200,8 @@ fn tolerance_sweep_reduces_global_error_monotonically() {
     let (mut tols, mut worsts) = (Vec::new(), Vec::new());
     for p in 3..=9 {
         let tol = 10f64.powi(-p);
-        let mut solver = England::<f64, 1>::new(cfg(tol, tol, 0.1, 1e-12, 10.0, 1_000_000)).unwrap();
+        let mut solver =
+            England::<f64, 1>::new(cfg(tol, tol, 0.1, 1e-12, 10.0, 1_000_000)).unwrap();
         let mut y = [y0];
         let mut worst: f64 = 0.0;
         let stats = solver
@@ -162,10 +210,16 @@ fn tolerance_sweep_reduces_global_error_monotonically() {
                 ControlFlow::Continue(())
             })
             .unwrap();
-        assert!(worst < prev, "tol {tol:e}: worst error {worst:e} not below {prev:e}");
+        assert!(
+            worst < prev,
+            "tol {tol:e}: worst error {worst:e} not below {prev:e}"
+        );
         // Within a modest factor of the tolerance (measured: 0.8x at 1e-3 .. 10x at 1e-9).
         assert!(worst <= 20.0 * tol, "tol {tol:e}: worst error {worst:e}");
-        assert!(stats.rhs_evals > prev_evals, "tighter tolerance must cost more");
+        assert!(
+            stats.rhs_evals > prev_evals,
+            "tighter tolerance must cost more"
+        );
         prev = worst;
         prev_evals = stats.rhs_evals;
         tols.push(tol);
@@ -174,20 +228,32 @@ fn tolerance_sweep_reduces_global_error_monotonically() {
     // Error-per-step control of a 4th-order result: local error ~ h^5 = tol, so the global
     // error ~ h^4 ~ tol^(4/5). The fitted exponent must be close to 0.8.
     let q = loglog_slope(&tols, &worsts);
-    assert!((0.7..=0.9).contains(&q), "global error ~ tol^{q}, errors {worsts:?}");
+    assert!(
+        (0.7..=0.9).contains(&q),
+        "global error ~ tol^{q}, errors {worsts:?}"
+    );
 }
 
 #[test]
 fn rhs_count_is_nine_per_accepted_and_seven_per_rejected_step() {
     let calls = core::cell::Cell::new(0);
-    let sys = Counting { inner: Forced, calls: &calls };
+    let sys = Counting {
+        inner: Forced,
+        calls: &calls,
+    };
     // A first step far too large forces rejections.
     let mut solver = England::<f64, 1>::new(cfg(1e-8, 1e-8, 5.0, 1e-9, 5.0, 100_000)).unwrap();
     let mut y = [1.0];
-    let stats = solver.integrate(&sys, 0.0, &mut y, 10.0, |_, _| ControlFlow::Continue(())).unwrap();
+    let stats = solver
+        .integrate(&sys, 0.0, &mut y, 10.0, |_, _| ControlFlow::Continue(()))
+        .unwrap();
     assert!(stats.rejected > 0, "{stats:?}");
     assert_eq!(stats.rhs_evals, calls.get());
-    assert_eq!(stats.rhs_evals, 9 * stats.accepted + 7 * stats.rejected, "{stats:?}");
+    assert_eq!(
+        stats.rhs_evals,
+        9 * stats.accepted + 7 * stats.rejected,
+        "{stats:?}"
+    );
     assert_eq!(solver.stats(), stats);
 }
 
@@ -211,7 +277,9 @@ fn observer_sees_midpoints_and_end_points_in_order_and_lands_on_t_end() {
     for w in times.windows(3).step_by(2) {
         assert!((w[1] - 0.5 * (w[0] + w[2])).abs() < 1e-12);
     }
-    assert!(times.windows(2).all(|w| w[1] - w[0] <= 0.5 * 0.7 * 1.01 + 1e-12));
+    assert!(times
+        .windows(2)
+        .all(|w| w[1] - w[0] <= 0.5 * 0.7 * 1.01 + 1e-12));
 
     // Break stops early and leaves y at the point observed.
     let mut solver = England::<f64, 1>::new(cfg(1e-6, 1e-6, 0.3, 1e-9, 0.7, 100_000)).unwrap();
@@ -242,7 +310,9 @@ fn step_never_passes_t_end_and_keeps_its_step_size_after_a_short_last_step() {
     for k in 1..=200 {
         let t_end = k as f64 * 0.05;
         while t < t_end {
-            solver.step(&Forced, &mut t, &mut y, t_end, &mut mid).unwrap();
+            solver
+                .step(&Forced, &mut t, &mut y, t_end, &mut mid)
+                .unwrap();
             assert!(t <= t_end);
         }
         assert_eq!(t, t_end);
@@ -250,7 +320,11 @@ fn step_never_passes_t_end_and_keeps_its_step_size_after_a_short_last_step() {
     assert!((y[0] - forced_exact(0.0, 1.0, 10.0)).abs() < 1e-5);
     // Short steps forced by the sample times must not ratchet the step size down:
     // the solver keeps proposing steps at least as long as the sample interval.
-    assert!(solver.step_size() >= 0.05, "step size {}", solver.step_size());
+    assert!(
+        solver.step_size() >= 0.05,
+        "step size {}",
+        solver.step_size()
+    );
     // step with nothing to do is an error, not a silent no-op.
     assert!(matches!(
         solver.step(&Forced, &mut t.clone(), &mut y, t, &mut mid),
@@ -326,17 +400,78 @@ fn bad_configuration_names_the_field() {
         Err(Error::InvalidParameter { field, .. }) => field,
         other => panic!("expected InvalidParameter, got {other:?}"),
     };
-    assert_eq!(field(EnglandConfig { tol: Tolerance::scalar(-1.0, 1e-6), ..good }), "rtol");
-    assert_eq!(field(EnglandConfig { tol: Tolerance::scalar(f64::NAN, 1e-6), ..good }), "rtol");
-    assert_eq!(field(EnglandConfig { tol: Tolerance::scalar(1e-6, -1e-6), ..good }), "atol");
-    assert_eq!(field(EnglandConfig { tol: Tolerance::scalar(0.0, 0.0), ..good }), "atol");
-    assert_eq!(field(EnglandConfig { h_min: 0.0, h_init: 0.0, ..good }), "h_min");
-    assert_eq!(field(EnglandConfig { h_max: 1e-7, ..good }), "h_max");
-    assert_eq!(field(EnglandConfig { h_init: 2.0, ..good }), "h_init");
-    assert_eq!(field(EnglandConfig { h_init: 1e-7, ..good }), "h_init");
-    assert_eq!(field(EnglandConfig { max_steps: 0, ..good }), "max_steps");
+    assert_eq!(
+        field(EnglandConfig {
+            tol: Tolerance::scalar(-1.0, 1e-6),
+            ..good
+        }),
+        "rtol"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            tol: Tolerance::scalar(f64::NAN, 1e-6),
+            ..good
+        }),
+        "rtol"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            tol: Tolerance::scalar(1e-6, -1e-6),
+            ..good
+        }),
+        "atol"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            tol: Tolerance::scalar(0.0, 0.0),
+            ..good
+        }),
+        "atol"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            h_min: 0.0,
+            h_init: 0.0,
+            ..good
+        }),
+        "h_min"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            h_max: 1e-7,
+            ..good
+        }),
+        "h_max"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            h_init: 2.0,
+            ..good
+        }),
+        "h_init"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            h_init: 1e-7,
+            ..good
+        }),
+        "h_init"
+    );
+    assert_eq!(
+        field(EnglandConfig {
+            max_steps: 0,
+            ..good
+        }),
+        "max_steps"
+    );
     // Per-component tolerances: one zero atol is fine with rtol > 0.
-    let per = EnglandConfig { tol: Tolerance::per_component(1e-6, [0.0, 1e-3]), h_init: 0.1, h_min: 1e-6, h_max: 1.0, max_steps: 10 };
+    let per = EnglandConfig {
+        tol: Tolerance::per_component(1e-6, [0.0, 1e-3]),
+        h_init: 0.1,
+        h_min: 1e-6,
+        h_max: 1.0,
+        max_steps: 10,
+    };
     assert!(England::<f64, 2>::new(per).is_ok());
     // Integration interval.
     let mut s = England::new(good).unwrap();
@@ -346,7 +481,9 @@ fn bad_configuration_names_the_field() {
         Err(Error::InvalidParameter { field: "t_end", .. })
     ));
     assert!(matches!(
-        rk4_integrate(&Forced, 0.0, &mut y, 1.0, 0, |_, _| ControlFlow::Continue(())),
+        rk4_integrate(&Forced, 0.0, &mut y, 1.0, 0, |_, _| ControlFlow::Continue(
+            ()
+        )),
         Err(Error::InvalidParameter { field: "steps", .. })
     ));
 }
@@ -354,17 +491,30 @@ fn bad_configuration_names_the_field() {
 #[test]
 fn single_precision_works_and_agrees_with_double() {
     let sys = Oscillator { w: 3.0 };
-    let c32 = EnglandConfig { tol: Tolerance::scalar(1e-5f32, 1e-5), h_init: 0.05, h_min: 1e-6, h_max: 1.0, max_steps: 100_000 };
+    let c32 = EnglandConfig {
+        tol: Tolerance::scalar(1e-5f32, 1e-5),
+        h_init: 0.05,
+        h_min: 1e-6,
+        h_max: 1.0,
+        max_steps: 100_000,
+    };
     let mut s32 = England::<f32, 2>::new(c32).unwrap();
     let mut y32 = [1.0f32, 0.0];
-    let st32 = s32.integrate(&sys, 0.0, &mut y32, 2.0, |_, _| ControlFlow::Continue(())).unwrap();
+    let st32 = s32
+        .integrate(&sys, 0.0, &mut y32, 2.0, |_, _| ControlFlow::Continue(()))
+        .unwrap();
     let mut s64 = England::<f64, 2>::new(cfg(1e-5, 1e-5, 0.05, 1e-6, 1.0, 100_000)).unwrap();
     let mut y64 = [1.0f64, 0.0];
-    let st64 = s64.integrate(&sys, 0.0, &mut y64, 2.0, |_, _| ControlFlow::Continue(())).unwrap();
+    let st64 = s64
+        .integrate(&sys, 0.0, &mut y64, 2.0, |_, _| ControlFlow::Continue(()))
+        .unwrap();
     let ex = (6.0f64).cos();
     assert!((f64::from(y32[0]) - ex).abs() < 1e-3, "f32 {}", y32[0]);
     assert!((y64[0] - ex).abs() < 1e-3, "f64 {}", y64[0]);
     assert!((f64::from(y32[0]) - y64[0]).abs() < 1e-3);
     // The same controller on the same problem takes (nearly) the same steps.
-    assert!(st32.accepted.abs_diff(st64.accepted) <= 2, "{st32:?} vs {st64:?}");
+    assert!(
+        st32.accepted.abs_diff(st64.accepted) <= 2,
+        "{st32:?} vs {st64:?}"
+    );
 }
