@@ -1,5 +1,8 @@
 //! `camsim modal` (Section VI.2) against hand calculations of the 3-DOF systems.
 
+// Modes are compared index by index across several parallel arrays.
+#![allow(clippy::needless_range_loop)]
+
 use camsim::cmd::modal::{self, analyse};
 
 /// Roots of lambda^3 - a lambda^2 + b lambda - c = 0 with three real roots (trigonometric
