@@ -335,7 +335,12 @@ impl<T: Real, const N: usize> England<T, N> {
         // f(t0, y0), shared by every attempt from this point.
         stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
 
-        let cfg = self.config;
+        let (h_min, h_max, max_steps, rtol) = (
+            self.config.h_min,
+            self.config.h_max,
+            self.config.max_steps,
+            self.config.tol.rtol,
+        );
         let c90 = T::from_f64(1.0 / 90.0);
         let sixth = T::from_f64(1.0 / 6.0);
         let quarter = T::from_f64(0.25);
@@ -348,7 +353,7 @@ impl<T: Real, const N: usize> England<T, N> {
 
         loop {
             let steps = self.stats.accepted.saturating_add(self.stats.rejected);
-            if steps >= cfg.max_steps {
+            if steps >= max_steps {
                 return Err(Error::StepBudgetExceeded {
                     t: t0.to_f64(),
                     steps,
@@ -505,7 +510,7 @@ impl<T: Real, const N: usize> England<T, N> {
                         - T::from_f64(23.0) * self.k5[i]
                         + T::from_f64(4.0) * self.k7[i]
                         - self.k9[i]);
-                let scale = cfg.tol.atol[i] + cfg.tol.rtol * y[i].abs().max(self.arg[i].abs());
+                let scale = self.config.tol.atol[i] + rtol * y[i].abs().max(self.arg[i].abs());
                 if !e.is_finite() {
                     return Err(Error::NonFinite {
                         t: t_end_step.to_f64(),
@@ -584,20 +589,20 @@ impl<T: Real, const N: usize> England<T, N> {
                     };
                     h_next = h_next.max(h_ok);
                 }
-                self.h = h_next.clamp(cfg.h_min, cfg.h_max);
+                self.h = h_next.clamp(h_min, h_max);
                 return Ok(err);
             }
 
             // Rejected: shrink and retry from the same point.
             self.stats.rejected = self.stats.rejected.saturating_add(1);
-            if h <= cfg.h_min {
+            if h <= h_min {
                 return Err(Error::StepSizeUnderflow {
                     t: t0.to_f64(),
                     h: h.to_f64(),
                 });
             }
             rejected_here = true;
-            self.h = (h * fac_raw.clamp(fac_min, T::ONE)).max(cfg.h_min);
+            self.h = (h * fac_raw.clamp(fac_min, T::ONE)).max(h_min);
         }
     }
 
