@@ -120,6 +120,8 @@ fn jacobi<T: Real, const N: usize>(
         }
     }
     let target = (T::from_usize(4 * N) * T::EPSILON).sq() * norm2;
+    // Beyond this |theta|, sqrt(theta^2 + 1) = |theta| to working precision.
+    let big_theta = T::ONE / T::EPSILON;
     let mut sweeps = 0;
     loop {
         let mut off = T::ZERO;
@@ -144,17 +146,21 @@ fn jacobi<T: Real, const N: usize>(
                 if apq == T::ZERO {
                     continue;
                 }
-                // Rotation zeroing a[p][q] (Golub & Van Loan, sym.Schur2); hypot avoids overflow.
+                // Rotation zeroing a[p][q] (Golub & Van Loan, sym.Schur2). Only sqrt is used
+                // (exact on every build; micromath's hypot is an approximation), with the
+                // large-theta limit taken explicitly so theta^2 cannot overflow.
                 let theta = (a[q][q] - a[p][p]) / (T::TWO * apq);
-                let t = {
-                    let r = T::ONE / (theta.abs() + theta.hypot(T::ONE));
+                let t = if theta.abs() > big_theta {
+                    T::HALF / theta
+                } else {
+                    let r = T::ONE / (theta.abs() + (theta.sq() + T::ONE).sqrt());
                     if theta < T::ZERO {
                         -r
                     } else {
                         r
                     }
                 };
-                let c = T::ONE / t.hypot(T::ONE);
+                let c = T::ONE / (t.sq() + T::ONE).sqrt();
                 let s = t * c;
                 for k in 0..N {
                     let akp = a[k][p];
