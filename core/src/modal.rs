@@ -674,4 +674,41 @@ mod tests {
             r.omega[0]
         );
     }
+
+    #[test]
+    fn eleven_mass_chain_matches_the_closed_form() {
+        // Fixed-fixed chain of n = 11 masses m and springs k, with unequal masses scaled out:
+        // M = 2 I, K tridiagonal (2k, -k): omega_j = 2 sqrt(k/m) sin(j pi / (2 (n + 1))).
+        const N: usize = 11;
+        let (m, k) = (2.0, 3.0e4);
+        let mut kk = [[0.0; N]; N];
+        let mut mm = [[0.0; N]; N];
+        for i in 0..N {
+            kk[i][i] = 2.0 * k;
+            mm[i][i] = m;
+            if i + 1 < N {
+                kk[i][i + 1] = -k;
+                kk[i + 1][i] = -k;
+            }
+        }
+        let r = modal_analysis(&kk, &mm).unwrap();
+        for j in 0..N {
+            let want = 2.0
+                * (k / m).sqrt()
+                * ((j as f64 + 1.0) * core::f64::consts::PI / (2.0 * (N as f64 + 1.0))).sin();
+            assert!(
+                (r.omega[j] / want - 1.0).abs() < 1e-12,
+                "mode {j}: {} vs {want}",
+                r.omega[j]
+            );
+            // Mode shape sin(i (j+1) pi / (n+1)), normalised to its first entry.
+            let s1 = ((j as f64 + 1.0) * core::f64::consts::PI / (N as f64 + 1.0)).sin();
+            for i in 0..N {
+                let si = ((i as f64 + 1.0) * (j as f64 + 1.0) * core::f64::consts::PI
+                    / (N as f64 + 1.0))
+                    .sin();
+                assert!((r.modes[i][j] - si / s1).abs() < 1e-9, "mode {j} row {i}");
+            }
+        }
+    }
 }

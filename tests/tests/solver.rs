@@ -518,3 +518,46 @@ fn single_precision_works_and_agrees_with_double() {
         "{st32:?} vs {st64:?}"
     );
 }
+
+/// Fixed-fixed chain of 11 unit masses and springs (22 states, the size of the thesis's
+/// model): x_i'' = x_{i-1} - 2 x_i + x_{i+1}.
+struct Chain11;
+impl OdeSystem<f64, 22> for Chain11 {
+    fn rhs(&self, _t: f64, y: &[f64; 22], dydt: &mut [f64; 22]) {
+        for i in 0..11 {
+            let left = if i == 0 { 0.0 } else { y[i - 1] };
+            let right = if i == 10 { 0.0 } else { y[i + 1] };
+            dydt[i] = y[11 + i];
+            dydt[11 + i] = left - 2.0 * y[i] + right;
+        }
+    }
+}
+
+#[test]
+fn twenty_two_state_chain_follows_its_exact_normal_mode() {
+    // Started in normal mode j, the chain moves as x_i(t) = sin(i j pi / 12) cos(w_j t),
+    // w_j = 2 sin(j pi / 24).
+    let j = 3.0;
+    let shape = |i: usize| ((i as f64 + 1.0) * j * std::f64::consts::PI / 12.0).sin();
+    let w = 2.0 * (j * std::f64::consts::PI / 24.0).sin();
+    let mut y = [0.0; 22];
+    for (i, yi) in y.iter_mut().take(11).enumerate() {
+        *yi = shape(i);
+    }
+    let mut solver = England::<f64, 22>::new(cfg(1e-9, 1e-9, 0.1, 1e-9, 2.0, 1_000_000)).unwrap();
+    let mut worst: f64 = 0.0;
+    let stats = solver
+        .integrate(&Chain11, 0.0, &mut y, 20.0, |t, y| {
+            for i in 0..11 {
+                worst = worst.max((y[i] - shape(i) * (w * t).cos()).abs());
+                worst = worst.max((y[11 + i] + shape(i) * w * (w * t).sin()).abs());
+            }
+            ControlFlow::Continue(())
+        })
+        .unwrap();
+    assert!(
+        worst < 1e-7,
+        "worst deviation from the exact mode {worst:e}"
+    );
+    assert_eq!(stats.rhs_evals, 9 * stats.accepted + 7 * stats.rejected);
+}
