@@ -1,1 +1,779 @@
-//! Placeholder: filled in by its issue.
+//! England's adaptive Runge-Kutta method (Appendix D, as corrected in NOTES.md) and a
+//! classic fixed-step fourth-order Runge-Kutta for comparison.
+//!
+//! England's scheme (R. England, *Computer Journal* 12, 1969) takes a *double step*
+//! `h = 2s` as two fourth-order Runge-Kutta half steps of size `s`, each with stages
+//! chosen so that one extra derivative evaluation (`k9`) yields a fifth-order estimate
+//! of the local error of the double step:
+//!
+//! ```text
+//! k1 = s f(t0,        y0)
+//! k2 = s f(t0 + s/2,  y0 + k1/2)
+//! k3 = s f(t0 + s/2,  y0 + (k1 + k2)/4)
+//! k4 = s f(t0 + s,    y0 - k2 + 2 k3)
+//! y1 = y0 + (k1 + 4 k3 + k4)/6                      (midpoint, t0 + s)
+//! k5..k8: the same from (t0 + s, y1)
+//! y2 = y1 + (k5 + 4 k7 + k8)/6                      (end point, t0 + 2s)
+//! k9 = s f(t0 + 2s, y0 + (-k1 - 96 k2 + 92 k3 - 121 k4 + 144 k5 + 6 k6 - 12 k7)/6)
+//! E  = (-k1 + 4 k3 + 17 k4 - 23 k5 + 4 k7 - k9)/90  (≈ y(t0 + 2s) - y2)
+//! ```
+//!
+//! `k8` does not enter `E`, so a rejected double step stops after `k7` and `k9`, and a
+//! retry from the same point reuses `f(t0, y0)`. The cost is therefore exactly
+//! `9 · accepted + 7 · rejected` right-hand-side evaluations (see [`SolverStats`]).
+//!
+//! All step sizes in [`EnglandConfig`] and [`England::step_size`] are *double*-step
+//! sizes `h`: one accepted step advances time by `h`, with the midpoint at `h/2`.
+
+use core::ops::ControlFlow;
+
+use crate::{Error, Real, Result};
+
+/// A system of first-order ordinary differential equations `dy/dt = f(t, y)` with
+/// `N` components, as integrated by [`England`] and [`rk4_integrate`].
+pub trait OdeSystem<T: Real, const N: usize> {
+    /// dy/dt = f(t, y): writes the derivative of every component into `dydt`.
+    fn rhs(&self, t: T, y: &[T; N], dydt: &mut [T; N]);
+}
+
+/// Error tolerance of [`England`]: component `i` of a double step is accepted when
+/// `|E_i| <= atol_i + rtol · max(|y_i(t0)|, |y_i(t0 + h)|)` (Appendix D's
+/// "absolute error + relative error · y").
+#[derive(Clone, Copy, Debug)]
+pub struct Tolerance<T, const N: usize> {
+    /// Relative tolerance (dimensionless), shared by all components.
+    pub rtol: T,
+    /// Absolute tolerance per component, in that component's units.
+    pub atol: [T; N],
+}
+
+impl<T: Real, const N: usize> Tolerance<T, N> {
+    /// The same absolute tolerance for every component.
+    pub fn scalar(rtol: T, atol: T) -> Self {
+        Self {
+            rtol,
+            atol: [atol; N],
+        }
+    }
+
+    /// One absolute tolerance per component (for states of different units).
+    pub fn per_component(rtol: T, atol: [T; N]) -> Self {
+        Self { rtol, atol }
+    }
+}
+
+/// Settings of [`England`]; every step size is a double-step size (time advanced by one
+/// accepted step).
+#[derive(Clone, Copy, Debug)]
+pub struct EnglandConfig<T, const N: usize> {
+    /// Error tolerance of each double step.
+    pub tol: Tolerance<T, N>,
+    /// First double-step size tried.
+    pub h_init: T,
+    /// Smallest double-step size allowed; a rejection at this size is
+    /// [`Error::StepSizeUnderflow`]. (Only the last step before an end time may be shorter.)
+    pub h_min: T,
+    /// Largest double-step size allowed (the last step before an end time may stretch it
+    /// by at most 1 % to land on the end time instead of leaving a sliver).
+    pub h_max: T,
+    /// Budget of attempted double steps (accepted plus rejected) since the last
+    /// [`England::integrate`] or [`England::reset`]; using it up is
+    /// [`Error::StepBudgetExceeded`].
+    pub max_steps: u32,
+}
+
+/// Work counters of an integration.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolverStats {
+    /// Accepted (double) steps.
+    pub accepted: u32,
+    /// Rejected (double) steps.
+    pub rejected: u32,
+    /// Right-hand-side evaluations. For [`England`] this is exactly
+    /// `9 · accepted + 7 · rejected` after a successful run: an accepted double step costs
+    /// `k1..k9`; a rejected one `k2..k7` and `k9` (it stops before `k8`, and the retry
+    /// from the same point reuses `f(t0, y0)`). For [`rk4_integrate`] it is `4 · steps`.
+    pub rhs_evals: u32,
+}
+
+/// England's adaptive Runge-Kutta integrator (the thesis's "modified Runge-Kutta
+/// algorithm", Appendix D) for a system of `N` first-order equations.
+///
+/// It keeps its stage buffers and its step-size controller between calls, so one
+/// instance can be reused for many integrations (or stepped indefinitely with
+/// [`England::step`]) without allocating.
+///
+/// Error control per double step of size `h` (the scale uses the start value and
+/// England's auxiliary end-point estimate `ŷ2`, the argument of `k9`, because `y2`
+/// itself needs `k8`, which is evaluated only after acceptance):
+///
+/// `err = max_i |E_i| / (atol_i + rtol · max(|y0_i|, |ŷ2_i|))`, accepted if `err <= 1`;
+/// the next size is `h · clamp(0.9 · err^(-1/5), 0.2, 5)` (no growth right after a
+/// rejection), clamped to `[h_min, h_max]`.
+///
+/// # Example: your own ODE
+///
+/// A unit harmonic oscillator `x'' = -x` as the first-order system `(x, v)`; its energy
+/// `(x² + v²)/2` must stay at its initial value 1/2.
+///
+/// ```
+/// use core::ops::ControlFlow;
+/// use camsim_core::{England, EnglandConfig, OdeSystem, Tolerance};
+///
+/// struct Oscillator;
+/// impl OdeSystem<f64, 2> for Oscillator {
+///     fn rhs(&self, _t: f64, y: &[f64; 2], dydt: &mut [f64; 2]) {
+///         dydt[0] = y[1];
+///         dydt[1] = -y[0];
+///     }
+/// }
+///
+/// let mut solver = England::new(EnglandConfig {
+///     tol: Tolerance::scalar(1e-10, 1e-10),
+///     h_init: 0.1,
+///     h_min: 1e-9,
+///     h_max: 1.0,
+///     max_steps: 100_000,
+/// })?;
+/// let mut y = [1.0, 0.0];
+/// let mut worst_energy_error: f64 = 0.0;
+/// let stats = solver.integrate(&Oscillator, 0.0, &mut y, 10.0, |_t, y| {
+///     let energy = 0.5 * (y[0] * y[0] + y[1] * y[1]);
+///     worst_energy_error = worst_energy_error.max((energy - 0.5).abs());
+///     ControlFlow::Continue(())
+/// })?;
+/// assert!(worst_energy_error < 1e-8, "energy drift {worst_energy_error}");
+/// // Global error grows like tol^(4/5) times the interval (error per step is controlled).
+/// assert!((y[0] - 10.0f64.cos()).abs() < 1e-7);
+/// assert_eq!(stats.rhs_evals, 9 * stats.accepted + 7 * stats.rejected);
+/// # Ok::<(), camsim_core::Error>(())
+/// ```
+#[derive(Clone, Debug)]
+pub struct England<T, const N: usize> {
+    config: EnglandConfig<T, N>,
+    /// Next double-step size to try.
+    h: T,
+    stats: SolverStats,
+    // Stage buffers (each already multiplied by the half step s).
+    f0: [T; N],
+    k1: [T; N],
+    k2: [T; N],
+    k3: [T; N],
+    k4: [T; N],
+    k5: [T; N],
+    k6: [T; N],
+    k7: [T; N],
+    /// k9, then reused for k8 after acceptance.
+    k9: [T; N],
+    /// Argument of the stage being evaluated.
+    arg: [T; N],
+}
+
+/// Evaluates `out = scale · f(t, arg)` and checks that it is finite.
+#[inline(always)]
+fn stage<T: Real, const N: usize, S: OdeSystem<T, N>>(
+    sys: &S,
+    t: T,
+    arg: &[T; N],
+    scale: T,
+    out: &mut [T; N],
+    evals: &mut u32,
+) -> Result<()> {
+    sys.rhs(t, arg, out);
+    *evals = evals.saturating_add(1);
+    for (i, o) in out.iter_mut().enumerate() {
+        *o *= scale;
+        if !o.is_finite() {
+            return Err(Error::NonFinite {
+                t: t.to_f64(),
+                component: i,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Index of the first non-finite component, if any.
+#[inline]
+fn first_non_finite<T: Real, const N: usize>(y: &[T; N]) -> Option<usize> {
+    y.iter().position(|v| !v.is_finite())
+}
+
+impl<T: Real, const N: usize> England<T, N> {
+    /// Checks the configuration and builds a solver whose first double step is `h_init`.
+    pub fn new(config: EnglandConfig<T, N>) -> Result<Self> {
+        let tol = config.tol;
+        if !(tol.rtol.is_finite() && tol.rtol >= T::ZERO) {
+            return Err(Error::InvalidParameter {
+                field: "rtol",
+                rule: "must be zero or positive and finite",
+                value: tol.rtol.to_f64(),
+            });
+        }
+        for &a in tol.atol.iter() {
+            if !(a.is_finite() && a >= T::ZERO) {
+                return Err(Error::InvalidParameter {
+                    field: "atol",
+                    rule: "must be zero or positive and finite",
+                    value: a.to_f64(),
+                });
+            }
+            if a == T::ZERO && tol.rtol == T::ZERO {
+                return Err(Error::InvalidParameter {
+                    field: "atol",
+                    rule: "atol and rtol must not both be zero",
+                    value: 0.0,
+                });
+            }
+        }
+        if !(config.h_min.is_finite() && config.h_min > T::ZERO) {
+            return Err(Error::InvalidParameter {
+                field: "h_min",
+                rule: "must be positive and finite",
+                value: config.h_min.to_f64(),
+            });
+        }
+        if !(config.h_max.is_finite() && config.h_max >= config.h_min) {
+            return Err(Error::InvalidParameter {
+                field: "h_max",
+                rule: "must be finite and at least h_min",
+                value: config.h_max.to_f64(),
+            });
+        }
+        if !(config.h_init >= config.h_min && config.h_init <= config.h_max) {
+            return Err(Error::InvalidParameter {
+                field: "h_init",
+                rule: "must lie within [h_min, h_max]",
+                value: config.h_init.to_f64(),
+            });
+        }
+        if config.max_steps == 0 {
+            return Err(Error::InvalidParameter {
+                field: "max_steps",
+                rule: "must be positive",
+                value: 0.0,
+            });
+        }
+        let z = [T::ZERO; N];
+        Ok(Self {
+            config,
+            h: config.h_init,
+            stats: SolverStats::default(),
+            f0: z,
+            k1: z,
+            k2: z,
+            k3: z,
+            k4: z,
+            k5: z,
+            k6: z,
+            k7: z,
+            k9: z,
+            arg: z,
+        })
+    }
+
+    /// The configuration it was built with.
+    pub fn config(&self) -> &EnglandConfig<T, N> {
+        &self.config
+    }
+
+    /// Work counters since the last [`England::integrate`] started (or [`England::reset`]).
+    pub fn stats(&self) -> SolverStats {
+        self.stats
+    }
+
+    /// The next double-step size it will try.
+    pub fn step_size(&self) -> T {
+        self.h
+    }
+
+    /// Forgets the controller's history: the next step tries `h_init` and the counters
+    /// (and so the step budget) restart from zero.
+    pub fn reset(&mut self) {
+        self.h = self.config.h_init;
+        self.stats = SolverStats::default();
+    }
+
+    /// Advances one accepted double step (retrying rejected ones), never past `t_end`;
+    /// returns the midpoint `(t + s, y1)` through `mid` and leaves `(t, y)` at the end point;
+    /// returns the error ratio `err <= 1` of the accepted step.
+    ///
+    /// The step is shortened to land exactly on `t_end` when that is at most 1 % beyond the
+    /// next step; if `t_end` is less than two steps away the remaining interval is halved
+    /// instead of leaving a sliver. Counters accumulate across calls (the budget
+    /// `max_steps` applies to them; see [`England::reset`]). On error, `(t, y)` are left
+    /// at the start of the failed step and `mid` is unspecified.
+    pub fn step<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t: &mut T,
+        y: &mut [T; N],
+        t_end: T,
+        mid: &mut (T, [T; N]),
+    ) -> Result<T> {
+        let t0 = *t;
+        if !t0.is_finite() {
+            return Err(Error::InvalidParameter {
+                field: "t",
+                rule: "must be finite",
+                value: t0.to_f64(),
+            });
+        }
+        if !(t_end.is_finite() && t_end > t0) {
+            return Err(Error::InvalidParameter {
+                field: "t_end",
+                rule: "must be finite and later than the current time",
+                value: t_end.to_f64(),
+            });
+        }
+        if let Some(i) = first_non_finite(y) {
+            return Err(Error::NonFinite {
+                t: t0.to_f64(),
+                component: i,
+            });
+        }
+        // f(t0, y0), shared by every attempt from this point.
+        stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
+
+        let (h_min, h_max, max_steps, rtol) = (
+            self.config.h_min,
+            self.config.h_max,
+            self.config.max_steps,
+            self.config.tol.rtol,
+        );
+        let c90 = T::from_f64(1.0 / 90.0);
+        let sixth = T::from_f64(1.0 / 6.0);
+        let quarter = T::from_f64(0.25);
+        let safety = T::from_f64(0.9);
+        let neg_fifth = T::from_f64(-0.2);
+        let fac_min = T::from_f64(0.2);
+        let fac_max = T::from_f64(5.0);
+        let stretch = T::from_f64(1.01);
+        let mut rejected_here = false;
+
+        loop {
+            let steps = self.stats.accepted.saturating_add(self.stats.rejected);
+            if steps >= max_steps {
+                return Err(Error::StepBudgetExceeded {
+                    t: t0.to_f64(),
+                    steps,
+                });
+            }
+
+            // Choose this attempt's double step h, shortened near t_end.
+            let h_plan = self.h;
+            let remaining = t_end - t0;
+            let (h, last) = if remaining <= h_plan * stretch {
+                (remaining, true)
+            } else if remaining < h_plan + h_plan {
+                (remaining * T::HALF, false)
+            } else {
+                (h_plan, false)
+            };
+            let clipped = h < h_plan;
+            let s = h * T::HALF;
+            let s2 = s * T::HALF;
+            let t_mid = t0 + s;
+            let t_end_step = if last { t_end } else { t0 + h };
+
+            // First half step: k1..k4 and y1 (written straight into `mid`).
+            for (i, (k, f)) in self.k1.iter_mut().zip(self.f0.iter()).enumerate() {
+                *k = s * *f;
+                if !k.is_finite() {
+                    return Err(Error::NonFinite {
+                        t: t0.to_f64(),
+                        component: i,
+                    });
+                }
+            }
+            for ((a, y0), k1) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()) {
+                *a = *y0 + T::HALF * *k1;
+            }
+            stage(
+                sys,
+                t0 + s2,
+                &self.arg,
+                s,
+                &mut self.k2,
+                &mut self.stats.rhs_evals,
+            )?;
+            for (((a, y0), k1), k2) in self
+                .arg
+                .iter_mut()
+                .zip(y.iter())
+                .zip(self.k1.iter())
+                .zip(self.k2.iter())
+            {
+                *a = *y0 + quarter * (*k1 + *k2);
+            }
+            stage(
+                sys,
+                t0 + s2,
+                &self.arg,
+                s,
+                &mut self.k3,
+                &mut self.stats.rhs_evals,
+            )?;
+            for (((a, y0), k2), k3) in self
+                .arg
+                .iter_mut()
+                .zip(y.iter())
+                .zip(self.k2.iter())
+                .zip(self.k3.iter())
+            {
+                *a = *y0 - *k2 + T::TWO * *k3;
+            }
+            stage(
+                sys,
+                t_mid,
+                &self.arg,
+                s,
+                &mut self.k4,
+                &mut self.stats.rhs_evals,
+            )?;
+            let y1 = &mut mid.1;
+            for ((((m, y0), k1), k3), k4) in y1
+                .iter_mut()
+                .zip(y.iter())
+                .zip(self.k1.iter())
+                .zip(self.k3.iter())
+                .zip(self.k4.iter())
+            {
+                *m = *y0 + sixth * (*k1 + T::from_f64(4.0) * *k3 + *k4);
+            }
+            if let Some(i) = first_non_finite(y1) {
+                return Err(Error::NonFinite {
+                    t: t_mid.to_f64(),
+                    component: i,
+                });
+            }
+
+            // Second half step up to k7, then England's k9.
+            stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?;
+            for ((a, m), k5) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()) {
+                *a = *m + T::HALF * *k5;
+            }
+            stage(
+                sys,
+                t_mid + s2,
+                &self.arg,
+                s,
+                &mut self.k6,
+                &mut self.stats.rhs_evals,
+            )?;
+            for (((a, m), k5), k6) in self
+                .arg
+                .iter_mut()
+                .zip(y1.iter())
+                .zip(self.k5.iter())
+                .zip(self.k6.iter())
+            {
+                *a = *m + quarter * (*k5 + *k6);
+            }
+            stage(
+                sys,
+                t_mid + s2,
+                &self.arg,
+                s,
+                &mut self.k7,
+                &mut self.stats.rhs_evals,
+            )?;
+            for (i, a) in self.arg.iter_mut().enumerate() {
+                // Loops bounded by N index arrays of length N: no out-of-bounds path.
+                *a = y[i]
+                    + sixth
+                        * (-self.k1[i] - T::from_f64(96.0) * self.k2[i]
+                            + T::from_f64(92.0) * self.k3[i]
+                            - T::from_f64(121.0) * self.k4[i]
+                            + T::from_f64(144.0) * self.k5[i]
+                            + T::from_f64(6.0) * self.k6[i]
+                            - T::from_f64(12.0) * self.k7[i]);
+            }
+            stage(
+                sys,
+                t_end_step,
+                &self.arg,
+                s,
+                &mut self.k9,
+                &mut self.stats.rhs_evals,
+            )?;
+
+            // Error ratio from E = (-k1 + 4k3 + 17k4 - 23k5 + 4k7 - k9)/90.
+            let mut err = T::ZERO;
+            // Nine arrays in step: indices read better than a nine-way zip (i < N always).
+            #[allow(clippy::needless_range_loop)]
+            for i in 0..N {
+                let e = c90
+                    * (-self.k1[i]
+                        + T::from_f64(4.0) * self.k3[i]
+                        + T::from_f64(17.0) * self.k4[i]
+                        - T::from_f64(23.0) * self.k5[i]
+                        + T::from_f64(4.0) * self.k7[i]
+                        - self.k9[i]);
+                let scale = self.config.tol.atol[i] + rtol * y[i].abs().max(self.arg[i].abs());
+                if !e.is_finite() {
+                    return Err(Error::NonFinite {
+                        t: t_end_step.to_f64(),
+                        component: i,
+                    });
+                }
+                let e = e.abs();
+                let r = if scale > T::ZERO {
+                    e / scale
+                } else if e == T::ZERO {
+                    T::ZERO
+                } else {
+                    T::INFINITY
+                };
+                err = err.max(r);
+            }
+            // err^(-1/5) step factor (k's are finite, so err is not NaN; it may be +inf).
+            let fac_raw = if err > T::ZERO {
+                safety * err.powf(neg_fifth)
+            } else {
+                T::MAX
+            };
+
+            if err <= T::ONE {
+                // Accepted: k8 (into the k9 buffer) and y2 (in place of y0).
+                for (((a, m), k6), k7) in self
+                    .arg
+                    .iter_mut()
+                    .zip(mid.1.iter())
+                    .zip(self.k6.iter())
+                    .zip(self.k7.iter())
+                {
+                    *a = *m - *k6 + T::TWO * *k7;
+                }
+                stage(
+                    sys,
+                    t_end_step,
+                    &self.arg,
+                    s,
+                    &mut self.k9,
+                    &mut self.stats.rhs_evals,
+                )?;
+                for ((((y2, m), k5), k7), k8) in y
+                    .iter_mut()
+                    .zip(mid.1.iter())
+                    .zip(self.k5.iter())
+                    .zip(self.k7.iter())
+                    .zip(self.k9.iter())
+                {
+                    *y2 = *m + sixth * (*k5 + T::from_f64(4.0) * *k7 + *k8);
+                }
+                if let Some(i) = first_non_finite(y) {
+                    // Restoring y0 would need a copy on every step; report instead.
+                    return Err(Error::NonFinite {
+                        t: t_end_step.to_f64(),
+                        component: i,
+                    });
+                }
+                self.stats.accepted = self.stats.accepted.saturating_add(1);
+                mid.0 = t_mid;
+                *t = t_end_step;
+
+                let fac_cap = if rejected_here { T::ONE } else { fac_max };
+                let fac_unbounded = if rejected_here {
+                    fac_raw.min(T::ONE)
+                } else {
+                    fac_raw
+                };
+                let mut h_next = h * fac_raw.clamp(fac_min, fac_cap);
+                if clipped {
+                    // A step shortened to meet t_end says nothing against the planned size.
+                    let h_ok = if fac_unbounded >= h_plan / h {
+                        h_plan
+                    } else {
+                        h * fac_unbounded
+                    };
+                    h_next = h_next.max(h_ok);
+                }
+                self.h = h_next.clamp(h_min, h_max);
+                return Ok(err);
+            }
+
+            // Rejected: shrink and retry from the same point.
+            self.stats.rejected = self.stats.rejected.saturating_add(1);
+            if h <= h_min {
+                return Err(Error::StepSizeUnderflow {
+                    t: t0.to_f64(),
+                    h: h.to_f64(),
+                });
+            }
+            rejected_here = true;
+            self.h = (h * fac_raw.clamp(fac_min, T::ONE)).max(h_min);
+        }
+    }
+
+    /// Integrates from `t0` to `t_end`, calling `observer(t, &y)` at the start, at every
+    /// midpoint and end point of each accepted double step (in time order); the observer
+    /// returns [`ControlFlow::Break`] to stop early (still `Ok`). Starts from the current
+    /// [`England::step_size`] (`h_init` for a new solver), resets the counters and returns
+    /// those of this run; `y` is left at the last point reached.
+    pub fn integrate<S: OdeSystem<T, N>, F: FnMut(T, &[T; N]) -> ControlFlow<()>>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &mut [T; N],
+        t_end: T,
+        mut observer: F,
+    ) -> Result<SolverStats> {
+        self.stats = SolverStats::default();
+        if !t0.is_finite() {
+            return Err(Error::InvalidParameter {
+                field: "t0",
+                rule: "must be finite",
+                value: t0.to_f64(),
+            });
+        }
+        if !(t_end.is_finite() && t_end >= t0) {
+            return Err(Error::InvalidParameter {
+                field: "t_end",
+                rule: "must be finite and not before t0",
+                value: t_end.to_f64(),
+            });
+        }
+        if let Some(i) = first_non_finite(y) {
+            return Err(Error::NonFinite {
+                t: t0.to_f64(),
+                component: i,
+            });
+        }
+        if observer(t0, y).is_break() {
+            return Ok(self.stats);
+        }
+        let mut t = t0;
+        let mut mid = (t0, [T::ZERO; N]);
+        while t < t_end {
+            self.step(sys, &mut t, y, t_end, &mut mid)?;
+            if observer(mid.0, &mid.1).is_break() {
+                // The caller stopped at the midpoint: leave y there.
+                *y = mid.1;
+                break;
+            }
+            if observer(t, y).is_break() {
+                break;
+            }
+        }
+        Ok(self.stats)
+    }
+}
+
+/// One classic fourth-order Runge-Kutta step of size `h` from `(t, y)`, in place (the
+/// left column of Appendix D); 4 right-hand-side evaluations, no error control.
+pub fn rk4_step<T: Real, const N: usize, S: OdeSystem<T, N>>(sys: &S, t: T, y: &mut [T; N], h: T) {
+    let half = h * T::HALF;
+    let mut k = [T::ZERO; N];
+    let mut acc = [T::ZERO; N];
+    let mut arg = [T::ZERO; N];
+    sys.rhs(t, y, &mut k);
+    for (((a, s), yi), ki) in arg
+        .iter_mut()
+        .zip(acc.iter_mut())
+        .zip(y.iter())
+        .zip(k.iter())
+    {
+        *s = *ki;
+        *a = *yi + half * *ki;
+    }
+    sys.rhs(t + half, &arg, &mut k);
+    for (((a, s), yi), ki) in arg
+        .iter_mut()
+        .zip(acc.iter_mut())
+        .zip(y.iter())
+        .zip(k.iter())
+    {
+        *s += T::TWO * *ki;
+        *a = *yi + half * *ki;
+    }
+    sys.rhs(t + half, &arg, &mut k);
+    for (((a, s), yi), ki) in arg
+        .iter_mut()
+        .zip(acc.iter_mut())
+        .zip(y.iter())
+        .zip(k.iter())
+    {
+        *s += T::TWO * *ki;
+        *a = *yi + h * *ki;
+    }
+    sys.rhs(t + h, &arg, &mut k);
+    let h6 = h * T::from_f64(1.0 / 6.0);
+    for ((yi, s), ki) in y.iter_mut().zip(acc.iter()).zip(k.iter()) {
+        *yi += h6 * (*s + *ki);
+    }
+}
+
+/// Integrates from `t0` to `t_end` in `steps` equal classic Runge-Kutta steps, calling
+/// `observer(t, &y)` at the start and after every step ([`ControlFlow::Break`] stops
+/// early, still `Ok`); for comparison with [`England`].
+pub fn rk4_integrate<
+    T: Real,
+    const N: usize,
+    S: OdeSystem<T, N>,
+    F: FnMut(T, &[T; N]) -> ControlFlow<()>,
+>(
+    sys: &S,
+    t0: T,
+    y: &mut [T; N],
+    t_end: T,
+    steps: u32,
+    mut observer: F,
+) -> Result<SolverStats> {
+    if !t0.is_finite() {
+        return Err(Error::InvalidParameter {
+            field: "t0",
+            rule: "must be finite",
+            value: t0.to_f64(),
+        });
+    }
+    if !(t_end.is_finite() && t_end >= t0) {
+        return Err(Error::InvalidParameter {
+            field: "t_end",
+            rule: "must be finite and not before t0",
+            value: t_end.to_f64(),
+        });
+    }
+    if steps == 0 {
+        return Err(Error::InvalidParameter {
+            field: "steps",
+            rule: "must be positive",
+            value: 0.0,
+        });
+    }
+    if let Some(i) = first_non_finite(y) {
+        return Err(Error::NonFinite {
+            t: t0.to_f64(),
+            component: i,
+        });
+    }
+    let mut stats = SolverStats::default();
+    if observer(t0, y).is_break() {
+        return Ok(stats);
+    }
+    let span = t_end - t0;
+    let n = T::from_usize(steps as usize);
+    let h = span / n;
+    for i in 0..steps {
+        // Times from the index, not by accumulation, so the last one is exactly t_end.
+        let t = t0 + span * (T::from_usize(i as usize) / n);
+        rk4_step(sys, t, y, h);
+        stats.accepted += 1;
+        stats.rhs_evals = stats.rhs_evals.saturating_add(4);
+        let t_next = if i + 1 == steps {
+            t_end
+        } else {
+            t0 + span * (T::from_usize(i as usize + 1) / n)
+        };
+        if let Some(c) = first_non_finite(y) {
+            return Err(Error::NonFinite {
+                t: t_next.to_f64(),
+                component: c,
+            });
+        }
+        if observer(t_next, y).is_break() {
+            break;
+        }
+    }
+    Ok(stats)
+}
