@@ -330,7 +330,7 @@ impl<T: Real, const N: usize> CamModel<T, N> {
             }
         }
         let [y1, x1, y2, x2, y3, x3, y4, y5] = p.pos;
-        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
+        let [v1, vx1, _v2, _vx2, v3, vx3, v4, v5] = p.vel;
 
         // --- contact geometry at the current cam angle ---
         let lift = d.program.follower(p.theta_c);

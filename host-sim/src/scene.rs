@@ -7,7 +7,7 @@ use std::path::Path;
 
 use anyhow::{anyhow, bail, Context, Result};
 use camsim_core::{
-    CamGeometry, CamProgram, Design, DriveLaw, HertzContact, MotionLaw, Segment, SegmentKind, SolverSettings,
+    CamGeometry, CamProgram, DriveLaw, HertzContact, MotionLaw, Segment, SegmentKind, SolverSettings,
 };
 use serde::{Deserialize, Serialize};
 

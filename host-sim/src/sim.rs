@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use camsim_core::{
-    period_name, simulate, Both, CamModel, DofSet, Design, DriveLaw, Observer, ResponseStats, Sample,
+    period_name, simulate, Both, CamModel, DofSet, Design, Observer, ResponseStats, Sample,
     SegmentKind, SolverSettings, SolverStats,
 };
 use serde::Serialize;
@@ -60,7 +60,6 @@ macro_rules! with_model {
         }
     }};
 }
-pub(crate) use with_model;
 
 /// Statistics of a run (up to 16 revolutions of up to 8 periods, 64 jump intervals).
 pub type Stats = ResponseStats<f64, 16, 8, 64>;
