@@ -50,7 +50,7 @@ impl DofSet {
     /// All eight translational DOFs.
     pub const ALL: DofSet = DofSet(0xFF);
     /// Vertical motion only: x1, x2, x3 dropped (held at zero).
-    pub const VERTICAL: DofSet = DofSet(0xFF & !(1 << 1) & !(1 << 3) & !(1 << 5));
+    pub const VERTICAL: DofSet = DofSet(!0b0010_1010);
 
     /// Whether `dof` is kept.
     pub const fn contains(self, dof: TransDof) -> bool {

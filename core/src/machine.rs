@@ -187,7 +187,7 @@ pub struct SteadyStateObserver<T> {
 impl<T: Real> SteadyStateObserver<T> {
     /// Measures `revolution` (from 1) against the program's timing points.
     pub fn new(revolution: u32, points: [TimingPoint<T>; TIMING_POINTS]) -> Self {
-        let nan = T::ZERO / T::ZERO;
+        let nan = T::NAN;
         Self {
             revolution,
             points,
@@ -328,7 +328,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
         let mut at = [SteadyState::default(); G];
         let mut prev = T::ZERO;
         for (r, a) in rpm.iter().zip(at.iter_mut()) {
-            if !(*r > prev) {
+            if r.partial_cmp(&prev) != Some(core::cmp::Ordering::Greater) {
                 return Err(crate::Error::InvalidParameter {
                     field: "grid rpm",
                     rule: "must be positive and strictly ascending",
@@ -358,7 +358,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
 
     /// Interpolates the prediction at a measured speed.
     pub fn predict(&self, rpm: T) -> SpeedPrediction<T> {
-        let nan = T::ZERO / T::ZERO;
+        let nan = T::NAN;
         let speed_margin_rpm = match self.jump_rpm {
             Some(j) => j - rpm,
             None => T::INFINITY,
@@ -381,7 +381,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
                 }
             }
         };
-        if !(rpm >= *first) {
+        if rpm.partial_cmp(first).is_none_or(|o| o == core::cmp::Ordering::Less) {
             pick(0, 0, T::ZERO, &mut out);
             return out;
         }

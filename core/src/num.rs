@@ -48,6 +48,8 @@ pub trait Real:
     const MIN_POSITIVE: Self;
     /// Infinity.
     const INFINITY: Self;
+    /// Not a number (marks a value that could not be measured).
+    const NAN: Self;
 
     /// Converts an `f64` constant (rounds for `f32`).
     fn from_f64(x: f64) -> Self;
@@ -150,6 +152,7 @@ macro_rules! real_common {
         const MAX: Self = <$t>::MAX;
         const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
         const INFINITY: Self = <$t>::INFINITY;
+        const NAN: Self = <$t>::NAN;
 
         #[inline(always)]
         fn from_f64(x: f64) -> Self {
