@@ -26,7 +26,7 @@ pub fn on_systick_wrap() {
 }
 
 /// Iterations of the calibration loop (two instructions each).
-pub const CALIBRATION_ITERS: u32 = 1_000_000;
+pub const CALIBRATION_ITERS: u32 = 5_000_000;
 
 /// Runs exactly `2 * n` instructions (`subs` + `bne` per iteration) for `n >= 1`.
 #[inline(never)]
