@@ -1,0 +1,27 @@
+//! Board adapters: everything that touches hardware, kept out of camsim-core.
+//!
+//! A board supplies three things to the predictor loop (`src/bin/predictor.rs`):
+//! - a [`camsim_core::SpeedSource<f32>`]: measured cam speed in rpm, one sample per revolution;
+//! - an `embedded_hal::digital::InputPin` for the once-per-revolution index pulse;
+//! - an `embedded_hal::digital::OutputPin` driving the jump alarm (lamp, relay, PLC input).
+//!
+//! [`qemu`] is the MPS2 AN386 (QEMU `mps2-an386`): a scripted speed profile, a fake
+//! index pulse, and the alarm on the FPGA IO `LED0` register.
+//!
+//! ## Where a real board plugs in
+//! Add `board/<name>.rs` behind a cargo feature, with the chip's HAL as an optional
+//! dependency, and select it in the binary instead of `qemu`:
+//! - index pulse -> rpm: route the index sensor (Hall or optical, one pulse per cam
+//!   revolution) to a timer input-capture channel. In the capture interrupt, take the
+//!   captured count difference `d` between consecutive pulses and push
+//!   `60 * f_timer / d` (rpm) into a `heapless::spsc::Queue<f32, 8>`; `SpeedSource::next_rpm`
+//!   pops it (`None` while empty). Reject `d == 0` and captures that overflowed.
+//! - the index `InputPin` is the same pin read as a GPIO (the loop uses it to stay in step
+//!   with the revolutions; with capture interrupts it can be dropped);
+//! - the alarm `OutputPin` is any HAL GPIO output (`embedded-hal` 1.0 pins work as-is);
+//! - logging: build with `--no-default-features --features rtt` for defmt over RTT
+//!   and run with `probe-rs run --chip <chip>`;
+//! - memory: the chip's own `memory.x` regions (keep the 128K/32K budget, or change the
+//!   root memory.x deliberately).
+
+pub mod qemu;
