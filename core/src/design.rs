@@ -6,7 +6,8 @@
 //! reproduce a published figure.
 
 use crate::{
-    finite, non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real, Result,
+    finite, non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real,
+    Result,
 };
 
 /// Pounds-mass per cubic inch of steel (0.2836 lb/in³) over g (386.09 in/s²): lb·s²/in⁴.
@@ -211,7 +212,8 @@ impl<T: Real> Design<T> {
 
     /// K_h on the base circle at unit force (Eq. V.11), the value the preload uses.
     pub fn k_h_base(&self) -> Result<T> {
-        self.hertz.stiffness(self.geometry.roller_radius, self.geometry.base_radius)
+        self.hertz
+            .stiffness(self.geometry.roller_radius, self.geometry.base_radius)
     }
 
     /// F_p of Eq. V.18: the preload after assembly, with K_t the series of K_rb, K_h (base circle) and K_vs.

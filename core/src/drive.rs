@@ -59,9 +59,18 @@ impl<T: Real> DriveLaw<T> {
     /// The same law moved to a new reference speed (regulated: feed-forward scaled with speed).
     pub fn at_speed(self, omega_new: T) -> Self {
         match self {
-            DriveLaw::Regulated { omega_ref, t_steady, k_p, t_max } => DriveLaw::Regulated {
+            DriveLaw::Regulated {
+                omega_ref,
+                t_steady,
+                k_p,
+                t_max,
+            } => DriveLaw::Regulated {
                 omega_ref: omega_new,
-                t_steady: if omega_ref > T::ZERO { t_steady * omega_new / omega_ref } else { t_steady },
+                t_steady: if omega_ref > T::ZERO {
+                    t_steady * omega_new / omega_ref
+                } else {
+                    t_steady
+                },
                 k_p,
                 t_max,
             },
@@ -82,16 +91,25 @@ impl<T: Real> DriveLaw<T> {
     #[inline(always)]
     pub fn torque(&self, omega_m: T) -> T {
         match *self {
-            DriveLaw::Regulated { omega_ref, t_steady, k_p, t_max } => {
-                (t_steady + k_p * (omega_ref - omega_m)).clamp(-t_max, t_max)
-            }
+            DriveLaw::Regulated {
+                omega_ref,
+                t_steady,
+                k_p,
+                t_max,
+            } => (t_steady + k_p * (omega_ref - omega_m)).clamp(-t_max, t_max),
             _ => T::ZERO,
         }
     }
 
     /// Checks the law's parameters.
     pub fn validate(&self) -> Result<()> {
-        if let DriveLaw::Regulated { omega_ref, t_steady, k_p, t_max } = *self {
+        if let DriveLaw::Regulated {
+            omega_ref,
+            t_steady,
+            k_p,
+            t_max,
+        } = *self
+        {
             positive("drive.omega_ref", omega_ref)?;
             positive("drive.t_max", t_max)?;
             if !(k_p.is_finite() && k_p >= T::ZERO) {
@@ -135,6 +153,9 @@ mod tests {
     fn ideal_drives_drop_rotational_dofs() {
         assert_eq!(DriveLaw::<f32>::ConstantCamSpeed.rotational_dofs(), 0);
         assert_eq!(DriveLaw::<f32>::ConstantMotorSpeed.rotational_dofs(), 2);
-        assert_eq!(DriveLaw::reference(83.776f32, 0.8, 1.0).rotational_dofs(), 3);
+        assert_eq!(
+            DriveLaw::reference(83.776f32, 0.8, 1.0).rotational_dofs(),
+            3
+        );
     }
 }

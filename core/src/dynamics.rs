@@ -252,6 +252,47 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         y
     }
 
+    /// Static equilibrium on the base circle (θ_c = 0, a dwell), every speed at ω0.
+    ///
+    /// With the cam at rest the vertical chain balances (derivation in the tests):
+    /// F_c = F_p / (1 + K_rs K_h (1/K_vs + 1/K_rb) / (K_rs + K_h)), y1 = -F_c/K_vs,
+    /// y3 = y4 = y5 = (F_c - F_p)/K_rs, y2 = y3 + F_c/K_rb; the shafts carry the steady
+    /// drag: K_s2 (θ_cp - θ_c) = C_cc ω0 and K_s1 (θ_m - θ_cp) = C_cc ω0. Starting here
+    /// instead of at the thesis's all-zero state (VI.1) removes the start-up impact the
+    /// unbalanced preload causes.
+    pub fn static_state(&self) -> [T; N] {
+        let d = &self.d;
+        let l = d.program.follower(T::ZERO);
+        let k_h = d.hertz.stiffness_fast(
+            d.geometry.roller_radius,
+            d.geometry.surface_curvature_radius(l.y, l.dy, l.d2y),
+        );
+        let c = T::ONE / d.k_vs + T::ONE / d.k_rb;
+        let f_c = self.preload / (T::ONE + d.k_rs * k_h * c / (d.k_rs + k_h));
+        let y3 = (f_c - self.preload) / d.k_rs;
+        let mut pos = [T::ZERO; TRANS_DOFS];
+        pos[TransDof::CamY as usize] = -f_c / d.k_vs;
+        pos[TransDof::RollerY as usize] = y3 + f_c / d.k_rb;
+        pos[TransDof::CantileverY as usize] = y3;
+        pos[TransDof::Follower as usize] = y3;
+        pos[TransDof::Load as usize] = y3;
+        let mut y = self.state_from(T::ZERO, &pos, &[T::ZERO; TRANS_DOFS]);
+        if self.rot >= 5 {
+            let drag = d.c_cc * d.omega0;
+            if let Some(v) = y.get_mut(1) {
+                *v = drag / d.k_s2;
+            }
+            if let Some(v) = y.get_mut(2) {
+                *v = if self.rot == 6 {
+                    drag / d.k_s1
+                } else {
+                    T::ZERO
+                };
+            }
+        }
+        y
+    }
+
     /// The cam angle θ_c of a state at time `t`, rad.
     #[inline]
     pub fn cam_angle(&self, t: T, y: &[T; N]) -> T {
@@ -289,7 +330,10 @@ impl<T: Real, const N: usize> CamModel<T, N> {
     /// Evaluates every force and acceleration at (t, y) (the right-hand side and the outputs).
     pub fn evaluate(&self, t: T, y: &[T; N]) -> ModelPoint<T> {
         let d = &self.d;
-        let mut p = ModelPoint { t, ..ModelPoint::default() };
+        let mut p = ModelPoint {
+            t,
+            ..ModelPoint::default()
+        };
 
         // --- gather the state ---
         let g = |i: usize| y.get(i).copied().unwrap_or(T::ZERO);
@@ -338,16 +382,28 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         // Pressure angle: tan φ = (dy/dθ) / (R_a + y); cos and sin without the atan.
         let rpy = self.prime_radius + lift.y;
         let hyp = (rpy * rpy + lift.dy * lift.dy).sqrt();
-        let (cos_phi, sin_phi) = if hyp > T::ZERO { (rpy / hyp, lift.dy / hyp) } else { (T::ONE, T::ZERO) };
+        let (cos_phi, sin_phi) = if hyp > T::ZERO {
+            (rpy / hyp, lift.dy / hyp)
+        } else {
+            (T::ONE, T::ZERO)
+        };
         p.pressure_angle = lift.dy.atan2(rpy);
-        p.surface_radius = d.geometry.surface_curvature_radius(lift.y, lift.dy, lift.d2y);
+        p.surface_radius = d
+            .geometry
+            .surface_curvature_radius(lift.y, lift.dy, lift.d2y);
         // Hertz stiffness at the contact point (Eqs. V.9-V.11).
-        let k_h = d.hertz.stiffness_fast(d.geometry.roller_radius, p.surface_radius);
+        let k_h = d
+            .hertz
+            .stiffness_fast(d.geometry.roller_radius, p.surface_radius);
         p.k_h = k_h;
 
         // Contact force and jump criterion (Eqs. V.19-V.20).
         let f_c = (k_h * (lift.y + y1 - y2) + self.preload) * cos_phi;
-        let (f_c, in_contact) = if f_c > T::ZERO { (f_c, true) } else { (T::ZERO, false) };
+        let (f_c, in_contact) = if f_c > T::ZERO {
+            (f_c, true)
+        } else {
+            (T::ZERO, false)
+        };
         p.contact_force = f_c;
         p.in_contact = in_contact;
         let f_v = f_c * cos_phi; // vertical component on the roller
@@ -439,7 +495,10 @@ impl<T: Real, const N: usize> CamModel<T, N> {
             put(3, p.alpha_c);
             put(4, (shaft1 - shaft2) * self.inv_i_cp);
             if self.rot == 6 {
-                put(5, (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m);
+                put(
+                    5,
+                    (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m,
+                );
             }
         }
         for i in 0..TRANS_DOFS {

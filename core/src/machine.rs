@@ -84,7 +84,9 @@ mod tests {
 
 use core::ops::ControlFlow;
 
-use crate::{simulate, CamModel, Design, DofSet, Observer, Result, Sample, SegmentKind, SolverSettings};
+use crate::{
+    simulate, CamModel, Design, DofSet, Observer, Result, Sample, SegmentKind, SolverSettings,
+};
 
 /// Fractions of a rise or return at which the follower's timing is measured.
 pub const TIMING_FRACTIONS: [f64; 3] = [0.1, 0.5, 0.9];
@@ -107,7 +109,9 @@ pub struct TimingPoint<T> {
 }
 
 /// The timing points of a program: 10, 50 and 90 % of its first rise and first return.
-pub fn timing_points<T: Real, const N: usize>(program: &crate::CamProgram<T, N>) -> [TimingPoint<T>; TIMING_POINTS] {
+pub fn timing_points<T: Real, const N: usize>(
+    program: &crate::CamProgram<T, N>,
+) -> [TimingPoint<T>; TIMING_POINTS] {
     let mut out = [TimingPoint::default(); TIMING_POINTS];
     let mut level = T::ZERO;
     let mut rise_done = false;
@@ -133,7 +137,11 @@ pub fn timing_points<T: Real, const N: usize>(program: &crate::CamProgram<T, N>)
         }
         for (k, frac) in TIMING_FRACTIONS.iter().enumerate() {
             let f = T::from_f64(*frac);
-            let target = if dir > 0 { base + f * s.lift } else { base - f * s.lift };
+            let target = if dir > 0 {
+                base + f * s.lift
+            } else {
+                base - f * s.lift
+            };
             // Bisection on the monotone segment for the theoretical crossing angle.
             let (mut a, mut b) = (s.start_deg, s.end_deg);
             for _ in 0..60 {
@@ -228,7 +236,11 @@ impl<T: Real> Observer<T> for SteadyStateObserver<T> {
                 if !out.is_nan() || a < tp.from_deg || a0 > tp.to_deg || tp.direction == 0 {
                     continue;
                 }
-                let crossed = if tp.direction > 0 { y0 < tp.level && y >= tp.level } else { y0 > tp.level && y <= tp.level };
+                let crossed = if tp.direction > 0 {
+                    y0 < tp.level && y >= tp.level
+                } else {
+                    y0 > tp.level && y <= tp.level
+                };
                 if crossed && y != y0 {
                     let ang = a0 + (a - a0) * (tp.level - y0) / (y - y0);
                     *out = ang - tp.theory_deg;
@@ -370,18 +382,28 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
             timing_deg: [nan; TIMING_POINTS],
             in_grid: false,
         };
-        let (Some(first), Some(last)) = (self.rpm.first(), self.rpm.last()) else { return out };
+        let (Some(first), Some(last)) = (self.rpm.first(), self.rpm.last()) else {
+            return out;
+        };
         let pick = |i: usize, j: usize, w: T, out: &mut SpeedPrediction<T>| {
             if let (Some(a), Some(b)) = (self.at.get(i), self.at.get(j)) {
-                out.force_margin_lb = a.min_contact_force + w * (b.min_contact_force - a.min_contact_force);
+                out.force_margin_lb =
+                    a.min_contact_force + w * (b.min_contact_force - a.min_contact_force);
                 for k in 0..TIMING_POINTS {
-                    if let (Some(x), Some(y), Some(o)) = (a.timing_deg.get(k), b.timing_deg.get(k), out.timing_deg.get_mut(k)) {
+                    if let (Some(x), Some(y), Some(o)) = (
+                        a.timing_deg.get(k),
+                        b.timing_deg.get(k),
+                        out.timing_deg.get_mut(k),
+                    ) {
                         *o = *x + w * (*y - *x);
                     }
                 }
             }
         };
-        if rpm.partial_cmp(first).is_none_or(|o| o == core::cmp::Ordering::Less) {
+        if rpm
+            .partial_cmp(first)
+            .is_none_or(|o| o == core::cmp::Ordering::Less)
+        {
             pick(0, 0, T::ZERO, &mut out);
             return out;
         }

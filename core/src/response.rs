@@ -11,7 +11,8 @@
 use core::ops::ControlFlow;
 
 use crate::{
-    CamModel, England, EnglandConfig, Error, ModelPoint, Real, Result, SegmentKind, SolverStats, Tolerance,
+    CamModel, England, EnglandConfig, Error, ModelPoint, Real, Result, SegmentKind, SolverStats,
+    Tolerance,
 };
 
 /// The theoretical response at a cam angle (NOTES: perfect profile, rigid system,
@@ -90,6 +91,20 @@ pub struct SolverSettings<T> {
     pub max_step_fraction: T,
     /// Step budget per revolution.
     pub max_steps_per_rev: u32,
+    /// Where the simulation starts.
+    pub start: Start,
+}
+
+/// The initial state of a simulation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Start {
+    /// The thesis's (VI.1): every speed at ω0, everything else zero. The preload then acts
+    /// on an unloaded chain, and the first revolution carries that start-up transient.
+    #[default]
+    Thesis,
+    /// Static equilibrium on the base circle with the shafts twisted by the steady drag
+    /// ([`CamModel::static_state`]).
+    Static,
 }
 
 impl<T: Real> SolverSettings<T> {
@@ -100,6 +115,7 @@ impl<T: Real> SolverSettings<T> {
             atol: T::from_f64(1e-8),
             max_step_fraction: T::from_f64(1.0 / 2000.0),
             max_steps_per_rev: 2_000_000,
+            start: Start::Thesis,
         }
     }
 }
@@ -153,7 +169,11 @@ pub fn simulate<T: Real, const N: usize, O: Observer<T>>(
     observer: &mut O,
 ) -> Result<SolverStats> {
     if revolutions == 0 {
-        return Err(Error::InvalidParameter { field: "revolutions", rule: "must be at least 1", value: 0.0 });
+        return Err(Error::InvalidParameter {
+            field: "revolutions",
+            rule: "must be at least 1",
+            value: 0.0,
+        });
     }
     let config = solver_config(model, settings, revolutions)?;
     let mut solver = England::new(config)?;
@@ -162,7 +182,10 @@ pub fn simulate<T: Real, const N: usize, O: Observer<T>>(
     let target = two_pi * T::from_usize(revolutions as usize);
     // Generous end time: the drive may run slower than ω0; a stalled drive is an error.
     let t_end = T::from_f64(4.0) * target / d.omega0;
-    let mut y = model.initial_state();
+    let mut y = match settings.start {
+        Start::Thesis => model.initial_state(),
+        Start::Static => model.static_state(),
+    };
     let stress = observer.needs_stress();
     let mut done = false;
     let mut stopped = false;
@@ -199,7 +222,11 @@ impl<T: Real, const N: usize> CamModel<T, N> {
     pub fn theoretical(&self, theta: T) -> Theoretical<T> {
         let w = self.design().omega0;
         let l = self.design().program.follower(theta);
-        Theoretical { y: l.y, v: l.dy * w, a: l.d2y * w * w }
+        Theoretical {
+            y: l.y,
+            v: l.dy * w,
+            a: l.d2y * w * w,
+        }
     }
 
     /// A full output sample at (t, y); `stress` computes the Hertz contact stress.
@@ -209,12 +236,24 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         let two_pi = T::TWO * T::PI;
         let turns = (p.theta_c / two_pi).floor();
         let within = p.theta_c - turns * two_pi;
-        let revolution = if turns >= T::ZERO { turns.to_f64() as u32 + 1 } else { 0 };
+        let revolution = if turns >= T::ZERO {
+            turns.to_f64() as u32 + 1
+        } else {
+            0
+        };
         let w = d.omega0;
-        let theory = Theoretical { y: p.lift.y, v: p.lift.dy * w, a: p.lift.d2y * w * w };
+        let theory = Theoretical {
+            y: p.lift.y,
+            v: p.lift.dy * w,
+            a: p.lift.d2y * w * w,
+        };
         let contact_stress = if stress && p.in_contact {
             // Roller diameter and the signed diameter of the cam surface at the contact.
-            d.hertz.max_stress(p.contact_force, T::TWO * d.geometry.roller_radius, T::TWO * p.surface_radius)
+            d.hertz.max_stress(
+                p.contact_force,
+                T::TWO * d.geometry.roller_radius,
+                T::TWO * p.surface_radius,
+            )
         } else {
             T::ZERO
         };
@@ -359,7 +398,9 @@ impl<T: Real, const R: usize, const P: usize, const J: usize> ResponseStats<T, R
 
     /// Statistics of `revolution` (from 1) and `period` (segment index), if recorded.
     pub fn period(&self, revolution: u32, period: usize) -> Option<&PeriodStats<T>> {
-        self.periods.get((revolution as usize).checked_sub(1)?)?.get(period)
+        self.periods
+            .get((revolution as usize).checked_sub(1)?)?
+            .get(period)
     }
 
     /// Number of revolutions with samples (at most `R`).
@@ -372,7 +413,13 @@ impl<T: Real, const R: usize, const P: usize, const J: usize> ResponseStats<T, R
         let mut v = self.jumps.clone();
         if let (Some((rev, start, abs0)), Some(p)) = (self.open_jump, self.prev.as_ref()) {
             let end = start + (p.point.theta_c - abs0).to_degrees();
-            if v.push(JumpInterval { revolution: rev, start_deg: start, end_deg: end }).is_err() {
+            if v.push(JumpInterval {
+                revolution: rev,
+                start_deg: start,
+                end_deg: end,
+            })
+            .is_err()
+            {
                 // Full: the caller sees jumps_dropped.
             }
         }
@@ -392,7 +439,9 @@ impl<T: Real, const R: usize, const P: usize, const J: usize> ResponseStats<T, R
     }
 }
 
-impl<T: Real, const R: usize, const P: usize, const J: usize> Observer<T> for ResponseStats<T, R, P, J> {
+impl<T: Real, const R: usize, const P: usize, const J: usize> Observer<T>
+    for ResponseStats<T, R, P, J>
+{
     fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
         let p = &s.point;
         // Jump bookkeeping.
@@ -400,7 +449,15 @@ impl<T: Real, const R: usize, const P: usize, const J: usize> Observer<T> for Re
             (None, false) => self.open_jump = Some((s.revolution, s.angle_deg, p.theta_c)),
             (Some((rev, start, abs0)), true) => {
                 let end = start + (p.theta_c - abs0).to_degrees();
-                if self.jumps.push(JumpInterval { revolution: rev, start_deg: start, end_deg: end }).is_err() {
+                if self
+                    .jumps
+                    .push(JumpInterval {
+                        revolution: rev,
+                        start_deg: start,
+                        end_deg: end,
+                    })
+                    .is_err()
+                {
                     self.jumps_dropped = self.jumps_dropped.saturating_add(1);
                 }
                 self.open_jump = None;
@@ -419,7 +476,11 @@ impl<T: Real, const R: usize, const P: usize, const J: usize> Observer<T> for Re
             cell.extremes(s);
             cell.samples = cell.samples.saturating_add(1);
             // Trapezoidal time integrals from the previous sample when it is in the same cell.
-            if let Some(q) = self.prev.as_ref().filter(|q| q.revolution == s.revolution && q.segment == s.segment) {
+            if let Some(q) = self
+                .prev
+                .as_ref()
+                .filter(|q| q.revolution == s.revolution && q.segment == s.segment)
+            {
                 let dt = p.t - q.point.t;
                 if dt > T::ZERO {
                     let h = dt * T::HALF;

@@ -8,7 +8,8 @@ use anyhow::{Context, Result};
 use camsim_core::Sample;
 
 /// The CSV header (units in the column names).
-pub const HEADER: &str = "t_s,revolution,cam_angle_deg,period,theta_c_rad,theta_cp_rad,theta_m_rad,\
+pub const HEADER: &str =
+    "t_s,revolution,cam_angle_deg,period,theta_c_rad,theta_cp_rad,theta_m_rad,\
 omega_c_rad_s,omega_cp_rad_s,omega_m_rad_s,\
 y1_in,x1_in,y2_in,x2_in,y3_in,x3_in,y4_in,y5_in,\
 v_y1_in_s,v_x1_in_s,v_y2_in_s,v_x2_in_s,v_y3_in_s,v_x3_in_s,v_y4_in_s,v_y5_in_s,\
@@ -26,10 +27,15 @@ pub struct CsvWriter {
 impl CsvWriter {
     /// Creates (truncates) the file and writes the header.
     pub fn create(path: &Path) -> Result<Self> {
-        let f = File::create(path).with_context(|| format!("--csv {}: cannot create the file", path.display()))?;
+        let f = File::create(path)
+            .with_context(|| format!("--csv {}: cannot create the file", path.display()))?;
         let mut out = BufWriter::new(f);
         writeln!(out, "{HEADER}")?;
-        Ok(Self { out, path: path.to_owned(), err: None })
+        Ok(Self {
+            out,
+            path: path.to_owned(),
+            err: None,
+        })
     }
 
     /// Writes one sample (the first I/O error is kept and reported by `finish`).
@@ -40,7 +46,16 @@ impl CsvWriter {
         let p = &s.point;
         let mut line = format!(
             "{:e},{},{:.6},{},{:e},{:e},{:e},{:e},{:e},{:e}",
-            p.t, s.revolution, s.angle_deg, s.segment, p.theta_c, p.theta_cp, p.theta_m, p.omega_c, p.omega_cp, p.omega_m
+            p.t,
+            s.revolution,
+            s.angle_deg,
+            s.segment,
+            p.theta_c,
+            p.theta_cp,
+            p.theta_m,
+            p.omega_c,
+            p.omega_cp,
+            p.omega_m
         );
         for v in p.pos.iter().chain(p.vel.iter()).chain(p.acc.iter()) {
             line.push_str(&format!(",{v:e}"));
@@ -70,6 +85,8 @@ impl CsvWriter {
         if let Some(e) = self.err.take() {
             return Err(e).with_context(|| format!("--csv {}: write failed", self.path.display()));
         }
-        self.out.flush().with_context(|| format!("--csv {}: write failed", self.path.display()))
+        self.out
+            .flush()
+            .with_context(|| format!("--csv {}: write failed", self.path.display()))
     }
 }

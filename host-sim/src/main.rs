@@ -35,7 +35,11 @@ fn main() -> ExitCode {
         Ok(c) => c,
         Err(e) => {
             // --help and --version are not errors.
-            let code = if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+            let code = if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
             let _ = e.print();
             return code;
         }

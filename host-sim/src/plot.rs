@@ -13,6 +13,10 @@ impl PlotData {
 }
 
 /// Writes every plot into `dir`.
-pub fn write_all(_dir: &std::path::Path, _data: &PlotData, _jumps: &[JumpInterval<f64>]) -> Result<()> {
+pub fn write_all(
+    _dir: &std::path::Path,
+    _data: &PlotData,
+    _jumps: &[JumpInterval<f64>],
+) -> Result<()> {
     anyhow::bail!("--plot: not available yet")
 }

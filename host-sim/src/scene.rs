@@ -7,7 +7,8 @@ use std::path::Path;
 
 use anyhow::{anyhow, bail, Context, Result};
 use camsim_core::{
-    CamGeometry, CamProgram, DriveLaw, HertzContact, MotionLaw, Segment, SegmentKind, SolverSettings,
+    CamGeometry, CamProgram, DriveLaw, HertzContact, MotionLaw, Segment, SegmentKind,
+    SolverSettings, Start,
 };
 use serde::{Deserialize, Serialize};
 
@@ -23,6 +24,8 @@ pub struct RunSection {
     pub rpm: Option<f64>,
     /// Keep the horizontal motion (x1, x2, x3).
     pub horizontal_motion: Option<bool>,
+    /// Initial state: "thesis" (VI.1) or "static" (static equilibrium).
+    pub start: Option<String>,
 }
 
 /// `[solver]`: England's adaptive Runge-Kutta.
@@ -170,9 +173,19 @@ pub struct SceneFile {
     pub program: ProgramSection,
 }
 
+/// Parses an initial-state name.
+pub fn parse_start(s: &str, key: &str) -> Result<Start> {
+    match s {
+        "thesis" => Ok(Start::Thesis),
+        "static" => Ok(Start::Static),
+        other => bail!("{key} = {other:?}: must be \"thesis\" or \"static\""),
+    }
+}
+
 /// Reads and validates a scene file.
 pub fn load(path: &Path) -> Result<RunSpec> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("{}: cannot read the scene file", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the scene file", path.display()))?;
     parse(&text).map_err(|e| anyhow!("{}: {e:#}", path.display()))
 }
 
@@ -180,7 +193,10 @@ pub fn load(path: &Path) -> Result<RunSpec> {
 pub fn parse(text: &str) -> Result<RunSpec> {
     let file: SceneFile = toml::from_str(text).map_err(|e| {
         let (line, col) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
-        anyhow!("line {line}, column {col}: {}", e.message().trim().replace('\n', " "))
+        anyhow!(
+            "line {line}, column {col}: {}",
+            e.message().trim().replace('\n', " ")
+        )
     })?;
     file.to_spec()
 }
@@ -242,7 +258,10 @@ fn core_err(e: camsim_core::Error) -> anyhow::Error {
             return anyhow!("{key} = {value}: {rule}");
         }
         if field.starts_with("segments[") {
-            return anyhow!("program.{} = {value}: {rule}", field.replace("segments", "segment"));
+            return anyhow!(
+                "program.{} = {value}: {rule}",
+                field.replace("segments", "segment")
+            );
         }
     }
     anyhow!("{e}")
@@ -259,7 +278,12 @@ impl SceneFile {
     pub fn from_spec(spec: &RunSpec) -> Self {
         let d = &spec.design;
         let (law, t_steady, k_p, t_max) = match d.drive {
-            DriveLaw::Regulated { t_steady, k_p, t_max, .. } => ("regulated", Some(t_steady), Some(k_p), Some(t_max)),
+            DriveLaw::Regulated {
+                t_steady,
+                k_p,
+                t_max,
+                ..
+            } => ("regulated", Some(t_steady), Some(k_p), Some(t_max)),
             DriveLaw::ConstantMotorSpeed => ("constant-motor-speed", None, None, None),
             DriveLaw::ConstantCamSpeed => ("constant-cam-speed", None, None, None),
         };
@@ -293,6 +317,13 @@ impl SceneFile {
                 revolutions: Some(spec.revolutions),
                 rpm: Some(d.omega0 * 30.0 / std::f64::consts::PI),
                 horizontal_motion: Some(spec.dofs.horizontal),
+                start: Some(
+                    match spec.solver.start {
+                        Start::Thesis => "thesis",
+                        Start::Static => "static",
+                    }
+                    .into(),
+                ),
             },
             solver: SolverSection {
                 rtol: Some(spec.solver.rtol),
@@ -300,7 +331,12 @@ impl SceneFile {
                 max_step_fraction_rev: Some(spec.solver.max_step_fraction),
                 max_steps_per_rev: Some(spec.solver.max_steps_per_rev),
             },
-            drive: DriveSection { law: Some(law.into()), t_steady_lb_in: t_steady, k_p_lb_in_s_per_rad: k_p, t_max_lb_in: t_max },
+            drive: DriveSection {
+                law: Some(law.into()),
+                t_steady_lb_in: t_steady,
+                k_p_lb_in_s_per_rad: k_p,
+                t_max_lb_in: t_max,
+            },
             rotational: RotationalSection {
                 i_m_lb_in_s2: Some(d.i_m),
                 i_cp_lb_in_s2: Some(d.i_cp),
@@ -375,9 +411,20 @@ impl SceneFile {
             bail!("solver.rtol = {}: must be below 1", solver.rtol);
         }
         solver.atol = num("solver.atol_in", s.solver.atol_in, solver.atol, Positive)?;
-        solver.max_step_fraction = num("solver.max_step_fraction_rev", s.solver.max_step_fraction_rev, solver.max_step_fraction, Positive)?;
+        solver.max_step_fraction = num(
+            "solver.max_step_fraction_rev",
+            s.solver.max_step_fraction_rev,
+            solver.max_step_fraction,
+            Positive,
+        )?;
         if solver.max_step_fraction > 0.25 {
-            bail!("solver.max_step_fraction_rev = {}: must be at most 0.25", solver.max_step_fraction);
+            bail!(
+                "solver.max_step_fraction_rev = {}: must be at most 0.25",
+                solver.max_step_fraction
+            );
+        }
+        if let Some(st) = s.run.start.as_deref() {
+            solver.start = parse_start(st, "run.start")?;
         }
         if let Some(m) = s.solver.max_steps_per_rev {
             if m == 0 {
@@ -388,32 +435,117 @@ impl SceneFile {
 
         let rt = &s.rotational;
         d.i_m = num("rotational.i_m_lb_in_s2", rt.i_m_lb_in_s2, d0.i_m, Positive)?;
-        d.i_cp = num("rotational.i_cp_lb_in_s2", rt.i_cp_lb_in_s2, d0.i_cp, Positive)?;
+        d.i_cp = num(
+            "rotational.i_cp_lb_in_s2",
+            rt.i_cp_lb_in_s2,
+            d0.i_cp,
+            Positive,
+        )?;
         d.i_c = num("rotational.i_c_lb_in_s2", rt.i_c_lb_in_s2, d0.i_c, Positive)?;
-        d.c_mb = num("rotational.c_mb_lb_in_s", rt.c_mb_lb_in_s, d0.c_mb, NonNegative)?;
-        d.c_s1 = num("rotational.c_s1_lb_in_s", rt.c_s1_lb_in_s, d0.c_s1, NonNegative)?;
-        d.c_s2 = num("rotational.c_s2_lb_in_s", rt.c_s2_lb_in_s, d0.c_s2, NonNegative)?;
-        d.c_cc = num("rotational.c_cc_lb_in_s", rt.c_cc_lb_in_s, d0.c_cc, NonNegative)?;
-        d.k_s1 = num("rotational.k_s1_lb_in_per_rad", rt.k_s1_lb_in_per_rad, d0.k_s1, Positive)?;
-        d.k_s2 = num("rotational.k_s2_lb_in_per_rad", rt.k_s2_lb_in_per_rad, d0.k_s2, Positive)?;
+        d.c_mb = num(
+            "rotational.c_mb_lb_in_s",
+            rt.c_mb_lb_in_s,
+            d0.c_mb,
+            NonNegative,
+        )?;
+        d.c_s1 = num(
+            "rotational.c_s1_lb_in_s",
+            rt.c_s1_lb_in_s,
+            d0.c_s1,
+            NonNegative,
+        )?;
+        d.c_s2 = num(
+            "rotational.c_s2_lb_in_s",
+            rt.c_s2_lb_in_s,
+            d0.c_s2,
+            NonNegative,
+        )?;
+        d.c_cc = num(
+            "rotational.c_cc_lb_in_s",
+            rt.c_cc_lb_in_s,
+            d0.c_cc,
+            NonNegative,
+        )?;
+        d.k_s1 = num(
+            "rotational.k_s1_lb_in_per_rad",
+            rt.k_s1_lb_in_per_rad,
+            d0.k_s1,
+            Positive,
+        )?;
+        d.k_s2 = num(
+            "rotational.k_s2_lb_in_per_rad",
+            rt.k_s2_lb_in_per_rad,
+            d0.k_s2,
+            Positive,
+        )?;
 
         let c = &s.cam;
-        let base_radius = num("cam.base_radius_in", c.base_radius_in, d0.geometry.base_radius, Positive)?;
-        let thickness = num("cam.thickness_in", c.thickness_in, d0.geometry.thickness, Positive)?;
-        d.m_c = num("cam.mass_lb_s2_per_in", c.mass_lb_s2_per_in, d0.m_c, Positive)?;
+        let base_radius = num(
+            "cam.base_radius_in",
+            c.base_radius_in,
+            d0.geometry.base_radius,
+            Positive,
+        )?;
+        let thickness = num(
+            "cam.thickness_in",
+            c.thickness_in,
+            d0.geometry.thickness,
+            Positive,
+        )?;
+        d.m_c = num(
+            "cam.mass_lb_s2_per_in",
+            c.mass_lb_s2_per_in,
+            d0.m_c,
+            Positive,
+        )?;
         d.k_vs = num("cam.k_vs_lb_per_in", c.k_vs_lb_per_in, d0.k_vs, Positive)?;
-        d.c_vs = num("cam.c_vs_lb_s_per_in", c.c_vs_lb_s_per_in, d0.c_vs, NonNegative)?;
+        d.c_vs = num(
+            "cam.c_vs_lb_s_per_in",
+            c.c_vs_lb_s_per_in,
+            d0.c_vs,
+            NonNegative,
+        )?;
         d.k_hs = num("cam.k_hs_lb_per_in", c.k_hs_lb_per_in, d0.k_hs, Positive)?;
-        d.c_hs = num("cam.c_hs_lb_s_per_in", c.c_hs_lb_s_per_in, d0.c_hs, NonNegative)?;
+        d.c_hs = num(
+            "cam.c_hs_lb_s_per_in",
+            c.c_hs_lb_s_per_in,
+            d0.c_hs,
+            NonNegative,
+        )?;
         let e_cam = num("cam.youngs_psi", c.youngs_psi, d0.hertz.youngs_2, Positive)?;
         let nu_cam = num("cam.poisson", c.poisson, d0.hertz.poisson_2, NonNegative)?;
 
         let ro = &s.roller;
-        let roller_radius = num("roller.radius_in", ro.radius_in, d0.geometry.roller_radius, Positive)?;
-        d.m_r = num("roller.mass_lb_s2_per_in", ro.mass_lb_s2_per_in, d0.m_r, Positive)?;
-        d.k_rb = num("roller.k_rb_lb_per_in", ro.k_rb_lb_per_in, d0.k_rb, Positive)?;
-        let e_rol = num("roller.youngs_psi", ro.youngs_psi, d0.hertz.youngs_1, Positive)?;
-        let nu_rol = num("roller.poisson", ro.poisson, d0.hertz.poisson_1, NonNegative)?;
+        let roller_radius = num(
+            "roller.radius_in",
+            ro.radius_in,
+            d0.geometry.roller_radius,
+            Positive,
+        )?;
+        d.m_r = num(
+            "roller.mass_lb_s2_per_in",
+            ro.mass_lb_s2_per_in,
+            d0.m_r,
+            Positive,
+        )?;
+        d.k_rb = num(
+            "roller.k_rb_lb_per_in",
+            ro.k_rb_lb_per_in,
+            d0.k_rb,
+            Positive,
+        )?;
+        let e_rol = num(
+            "roller.youngs_psi",
+            ro.youngs_psi,
+            d0.hertz.youngs_1,
+            Positive,
+        )?;
+        let nu_rol = num(
+            "roller.poisson",
+            ro.poisson,
+            d0.hertz.poisson_1,
+            NonNegative,
+        )?;
         for (k, nu) in [("cam.poisson", nu_cam), ("roller.poisson", nu_rol)] {
             if nu >= 0.5 {
                 bail!("{k} = {nu}: must be below 0.5");
@@ -423,38 +555,104 @@ impl SceneFile {
         d.hertz = HertzContact::new(e_rol, nu_rol, e_cam, nu_cam, thickness).map_err(core_err)?;
 
         let f = &s.follower;
-        d.rho = num("follower.density_lb_s2_per_in4", f.density_lb_s2_per_in4, d0.rho, Positive)?;
+        d.rho = num(
+            "follower.density_lb_s2_per_in4",
+            f.density_lb_s2_per_in4,
+            d0.rho,
+            Positive,
+        )?;
         d.youngs = num("follower.youngs_psi", f.youngs_psi, d0.youngs, Positive)?;
         d.area = num("follower.area_in2", f.area_in2, d0.area, Positive)?;
-        d.inertia_moment = num("follower.second_moment_in4", f.second_moment_in4, d0.inertia_moment, Positive)?;
+        d.inertia_moment = num(
+            "follower.second_moment_in4",
+            f.second_moment_in4,
+            d0.inertia_moment,
+            Positive,
+        )?;
         d.e1 = num("follower.e1_in", f.e1_in, d0.e1, Positive)?;
         d.e2 = num("follower.e2_in", f.e2_in, d0.e2, Positive)?;
-        d.bearing_a = num("follower.bearing_a_in", f.bearing_a_in, d0.bearing_a, NonNegative)?;
-        d.bearing_b = num("follower.bearing_b_in", f.bearing_b_in, d0.bearing_b, Positive)?;
-        d.mu = num("follower.friction_coefficient", f.friction_coefficient, d0.mu, NonNegative)?;
-        d.friction_smoothing = num("follower.friction_smoothing_in_per_s", f.friction_smoothing_in_per_s, d0.friction_smoothing, Positive)?;
-        d.damping_ratio_f1 = num("follower.damping_ratio_f1", f.damping_ratio_f1, d0.damping_ratio_f1, NonNegative)?;
-        d.m_l = num("follower.load_mass_lb_s2_per_in", f.load_mass_lb_s2_per_in, d0.m_l, Positive)?;
+        d.bearing_a = num(
+            "follower.bearing_a_in",
+            f.bearing_a_in,
+            d0.bearing_a,
+            NonNegative,
+        )?;
+        d.bearing_b = num(
+            "follower.bearing_b_in",
+            f.bearing_b_in,
+            d0.bearing_b,
+            Positive,
+        )?;
+        d.mu = num(
+            "follower.friction_coefficient",
+            f.friction_coefficient,
+            d0.mu,
+            NonNegative,
+        )?;
+        d.friction_smoothing = num(
+            "follower.friction_smoothing_in_per_s",
+            f.friction_smoothing_in_per_s,
+            d0.friction_smoothing,
+            Positive,
+        )?;
+        d.damping_ratio_f1 = num(
+            "follower.damping_ratio_f1",
+            f.damping_ratio_f1,
+            d0.damping_ratio_f1,
+            NonNegative,
+        )?;
+        d.m_l = num(
+            "follower.load_mass_lb_s2_per_in",
+            f.load_mass_lb_s2_per_in,
+            d0.m_l,
+            Positive,
+        )?;
 
         let sp = &s.spring;
-        d.k_rs = num("spring.rate_lb_per_in", sp.rate_lb_per_in, d0.k_rs, Positive)?;
-        d.delta_rs = num("spring.preload_length_in", sp.preload_length_in, d0.delta_rs, NonNegative)?;
-        d.m_spring = num("spring.mass_lb_s2_per_in", sp.mass_lb_s2_per_in, d0.m_spring, NonNegative)?;
-        d.k_rs_modal = num("spring.modal_rate_lb_per_in", sp.modal_rate_lb_per_in, d0.k_rs_modal, Positive)?;
+        d.k_rs = num(
+            "spring.rate_lb_per_in",
+            sp.rate_lb_per_in,
+            d0.k_rs,
+            Positive,
+        )?;
+        d.delta_rs = num(
+            "spring.preload_length_in",
+            sp.preload_length_in,
+            d0.delta_rs,
+            NonNegative,
+        )?;
+        d.m_spring = num(
+            "spring.mass_lb_s2_per_in",
+            sp.mass_lb_s2_per_in,
+            d0.m_spring,
+            NonNegative,
+        )?;
+        d.k_rs_modal = num(
+            "spring.modal_rate_lb_per_in",
+            sp.modal_rate_lb_per_in,
+            d0.k_rs_modal,
+            Positive,
+        )?;
 
         if !s.program.segment.is_empty() {
             let mut segs = Vec::new();
             for (i, g) in s.program.segment.iter().enumerate() {
                 let key = |k: &str| format!("program.segment[{i}].{k}");
                 let law = |name: &Option<String>| -> Result<MotionLaw> {
-                    let n = name.as_deref().ok_or_else(|| anyhow!("{}: a rise or return needs a motion law", key("law")))?;
-                    MotionLaw::from_name(n).ok_or_else(|| anyhow!("{} = {n:?}: unknown motion law", key("law")))
+                    let n = name.as_deref().ok_or_else(|| {
+                        anyhow!("{}: a rise or return needs a motion law", key("law"))
+                    })?;
+                    MotionLaw::from_name(n)
+                        .ok_or_else(|| anyhow!("{} = {n:?}: unknown motion law", key("law")))
                 };
                 let kind = match g.kind.as_str() {
                     "dwell" => SegmentKind::Dwell,
                     "rise" => SegmentKind::Rise(law(&g.law)?),
                     "return" => SegmentKind::Return(law(&g.law)?),
-                    other => bail!("{} = {other:?}: must be \"dwell\", \"rise\" or \"return\"", key("kind")),
+                    other => bail!(
+                        "{} = {other:?}: must be \"dwell\", \"rise\" or \"return\"",
+                        key("kind")
+                    ),
                 };
                 for (k, v) in [("start_deg", g.start_deg), ("end_deg", g.end_deg)] {
                     if !v.is_finite() {
@@ -463,9 +661,21 @@ impl SceneFile {
                 }
                 let lift = match kind {
                     SegmentKind::Dwell => num(&key("lift_in"), g.lift_in, 0.0, Finite)?,
-                    _ => num(&key("lift_in"), Some(g.lift_in.ok_or_else(|| anyhow!("{}: a rise or return needs a lift", key("lift_in")))?), 0.0, Positive)?,
+                    _ => num(
+                        &key("lift_in"),
+                        Some(g.lift_in.ok_or_else(|| {
+                            anyhow!("{}: a rise or return needs a lift", key("lift_in"))
+                        })?),
+                        0.0,
+                        Positive,
+                    )?,
                 };
-                segs.push(Segment { kind, start_deg: g.start_deg, end_deg: g.end_deg, lift });
+                segs.push(Segment {
+                    kind,
+                    start_deg: g.start_deg,
+                    end_deg: g.end_deg,
+                    lift,
+                });
             }
             if segs.len() > 8 {
                 bail!("program.segment: {} segments, at most 8", segs.len());
@@ -479,13 +689,24 @@ impl SceneFile {
         d.drive = match dr.law.as_deref().unwrap_or("regulated") {
             "regulated" => {
                 let base = DriveLaw::reference(d.omega0, d.c_mb, d.c_cc);
-                let DriveLaw::Regulated { t_steady, k_p, t_max, .. } = base else {
+                let DriveLaw::Regulated {
+                    t_steady,
+                    k_p,
+                    t_max,
+                    ..
+                } = base
+                else {
                     bail!("drive.law: the reference drive is not regulated")
                 };
                 DriveLaw::Regulated {
                     omega_ref: d.omega0,
                     t_steady: num("drive.t_steady_lb_in", dr.t_steady_lb_in, t_steady, Finite)?,
-                    k_p: num("drive.k_p_lb_in_s_per_rad", dr.k_p_lb_in_s_per_rad, k_p, NonNegative)?,
+                    k_p: num(
+                        "drive.k_p_lb_in_s_per_rad",
+                        dr.k_p_lb_in_s_per_rad,
+                        k_p,
+                        NonNegative,
+                    )?,
                     t_max: num("drive.t_max_lb_in", dr.t_max_lb_in, t_max, Positive)?,
                 }
             }
@@ -507,7 +728,12 @@ impl SceneFile {
             }
         };
         d.validate().map_err(core_err)?;
-        Ok(RunSpec { design: d, dofs: Dofs { horizontal }, solver, revolutions })
+        Ok(RunSpec {
+            design: d,
+            dofs: Dofs { horizontal },
+            solver,
+            revolutions,
+        })
     }
 }
 

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use camsim_core::{
-    period_name, simulate, Both, CamModel, DofSet, Design, Observer, ResponseStats, Sample,
+    period_name, simulate, Both, CamModel, Design, DofSet, Observer, ResponseStats, Sample,
     SegmentKind, SolverSettings, SolverStats,
 };
 use serde::Serialize;
@@ -48,15 +48,37 @@ macro_rules! with_model {
     ($spec:expr, |$m:ident| $body:expr) => {{
         let spec: &RunSpec = $spec;
         let rot = spec.design.drive.rotational_dofs();
-        let set = if spec.dofs.horizontal { DofSet::ALL } else { DofSet::VERTICAL };
+        let set = if spec.dofs.horizontal {
+            DofSet::ALL
+        } else {
+            DofSet::VERTICAL
+        };
         let d = spec.design.clone();
         match (rot, spec.dofs.horizontal) {
-            (3, true) => { let $m = CamModel::<f64, 22>::new(d, set)?; $body }
-            (3, false) => { let $m = CamModel::<f64, 16>::new(d, set)?; $body }
-            (2, true) => { let $m = CamModel::<f64, 21>::new(d, set)?; $body }
-            (2, false) => { let $m = CamModel::<f64, 15>::new(d, set)?; $body }
-            (_, true) => { let $m = CamModel::<f64, 16>::new(d, set)?; $body }
-            (_, false) => { let $m = CamModel::<f64, 10>::new(d, set)?; $body }
+            (3, true) => {
+                let $m = CamModel::<f64, 22>::new(d, set)?;
+                $body
+            }
+            (3, false) => {
+                let $m = CamModel::<f64, 16>::new(d, set)?;
+                $body
+            }
+            (2, true) => {
+                let $m = CamModel::<f64, 21>::new(d, set)?;
+                $body
+            }
+            (2, false) => {
+                let $m = CamModel::<f64, 15>::new(d, set)?;
+                $body
+            }
+            (_, true) => {
+                let $m = CamModel::<f64, 16>::new(d, set)?;
+                $body
+            }
+            (_, false) => {
+                let $m = CamModel::<f64, 10>::new(d, set)?;
+                $body
+            }
         }
     }};
 }
@@ -86,12 +108,22 @@ pub fn run<O: Observer<f64>>(spec: &RunSpec, extra: &mut O) -> Result<RunResult>
     let mut stats = Stats::new(spec.design.omega0);
     let t0 = Instant::now();
     let (solver, preload) = with_model!(spec, |m| {
-        let s = simulate(&m, &spec.solver, spec.revolutions, &mut Both(&mut stats, extra))
-            .context("simulation failed")?;
+        let s = simulate(
+            &m,
+            &spec.solver,
+            spec.revolutions,
+            &mut Both(&mut stats, extra),
+        )
+        .context("simulation failed")?;
         (s, m.preload())
     });
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
-    Ok(RunResult { stats, solver, wall_ms, preload })
+    Ok(RunResult {
+        stats,
+        solver,
+        wall_ms,
+        preload,
+    })
 }
 
 /// An observer that does nothing.
@@ -206,8 +238,13 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
     };
     let mut stats = Stats::new(s.design.omega0);
     with_model!(&s, |m| {
-        simulate(&m, &s.solver, s.revolutions.max(2), &mut Both(&mut stats, &mut obs))
-            .with_context(|| format!("simulation at {rpm:.1} rpm failed"))?;
+        simulate(
+            &m,
+            &s.solver,
+            s.revolutions.max(2),
+            &mut Both(&mut stats, &mut obs),
+        )
+        .with_context(|| format!("simulation at {rpm:.1} rpm failed"))?;
     });
     Ok(found)
 }

@@ -77,7 +77,11 @@ pub fn find(spec: &sim::RunSpec, resolution: f64, max_rpm: f64) -> Result<JumpSp
         if hi >= max_rpm {
             hi = max_rpm;
             if !jumps(hi)? {
-                return Ok(JumpSpeed { jump_rpm: None, no_jump_rpm: hi, simulations: sims });
+                return Ok(JumpSpeed {
+                    jump_rpm: None,
+                    no_jump_rpm: hi,
+                    simulations: sims,
+                });
             }
             break;
         }
@@ -95,7 +99,11 @@ pub fn find(spec: &sim::RunSpec, resolution: f64, max_rpm: f64) -> Result<JumpSp
             lo = mid;
         }
     }
-    Ok(JumpSpeed { jump_rpm: Some(hi), no_jump_rpm: lo, simulations: sims })
+    Ok(JumpSpeed {
+        jump_rpm: Some(hi),
+        no_jump_rpm: lo,
+        simulations: sims,
+    })
 }
 
 /// Runs the command.
@@ -131,16 +139,26 @@ pub fn run(args: Args) -> Result<()> {
     }
     match r.jump_rpm {
         Some(j) => {
-            println!("jump speed: {j:.1} rpm (steady-state separation; contact holds at {:.1} rpm)", r.no_jump_rpm);
+            println!(
+                "jump speed: {j:.1} rpm (steady-state separation; contact holds at {:.1} rpm)",
+                r.no_jump_rpm
+            );
             let m = j - op_rpm;
             println!(
                 "operating point {op_rpm:.1} rpm: margin {m:+.1} rpm ({:+.1} %){}",
                 100.0 * m / op_rpm,
-                if m <= 0.0 { "  -- the follower JUMPS at the operating speed" } else { "" }
+                if m <= 0.0 {
+                    "  -- the follower JUMPS at the operating speed"
+                } else {
+                    ""
+                }
             );
         }
         None => println!("no jump up to {:.0} rpm", r.no_jump_rpm),
     }
-    println!("{} simulations of 2 revolutions, {:.0} ms", r.simulations, wall_ms);
+    println!(
+        "{} simulations of 2 revolutions, {:.0} ms",
+        r.simulations, wall_ms
+    );
     Ok(())
 }

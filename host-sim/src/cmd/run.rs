@@ -35,6 +35,10 @@ pub struct Args {
     /// Spring length compressed at assembly δ_rs, in.
     #[arg(long)]
     pub preload_length: Option<f64>,
+    /// Initial state: "thesis" (VI.1: speeds at 800 rpm, all else zero) or "static"
+    /// (static equilibrium under the preload and the steady drag).
+    #[arg(long, value_parser = ["thesis", "static"])]
+    pub start: Option<String>,
     /// Solver relative tolerance.
     #[arg(long)]
     pub rtol: Option<f64>,
@@ -56,7 +60,10 @@ pub struct Args {
 pub fn parse_law(name: &str, flag: &str) -> Result<MotionLaw> {
     MotionLaw::from_name(name).with_context(|| {
         let names: Vec<&str> = MotionLaw::ALL.iter().map(|l| l.name()).collect();
-        format!("{flag} {name:?}: unknown motion law (one of {})", names.join(", "))
+        format!(
+            "{flag} {name:?}: unknown motion law (one of {})",
+            names.join(", ")
+        )
     })
 }
 
@@ -70,12 +77,23 @@ pub fn spec_from(args: &Args) -> Result<RunSpec> {
         spec.revolutions = n;
     }
     if let Some(r) = args.rpm {
-        anyhow::ensure!(r.is_finite() && r > 0.0, "--rpm {r}: must be positive and finite");
+        anyhow::ensure!(
+            r.is_finite() && r > 0.0,
+            "--rpm {r}: must be positive and finite"
+        );
         spec.design.set_speed_rpm(r)?;
     }
     if args.rise.is_some() || args.ret.is_some() {
-        let rise = args.rise.as_deref().map(|n| parse_law(n, "--rise")).transpose()?;
-        let ret = args.ret.as_deref().map(|n| parse_law(n, "--return")).transpose()?;
+        let rise = args
+            .rise
+            .as_deref()
+            .map(|n| parse_law(n, "--rise"))
+            .transpose()?;
+        let ret = args
+            .ret
+            .as_deref()
+            .map(|n| parse_law(n, "--return"))
+            .transpose()?;
         let mut segs: Vec<_> = spec.design.program.segments().to_vec();
         for s in &mut segs {
             match (&mut s.kind, rise, ret) {
@@ -87,19 +105,34 @@ pub fn spec_from(args: &Args) -> Result<RunSpec> {
         spec.design.program = camsim_core::CamProgram::new(&segs)?;
     }
     if let Some(k) = args.spring_rate {
-        anyhow::ensure!(k.is_finite() && k > 0.0, "--spring-rate {k}: must be positive and finite (lb/in)");
+        anyhow::ensure!(
+            k.is_finite() && k > 0.0,
+            "--spring-rate {k}: must be positive and finite (lb/in)"
+        );
         spec.design.k_rs = k;
     }
     if let Some(d) = args.preload_length {
-        anyhow::ensure!(d.is_finite() && d >= 0.0, "--preload-length {d}: must be zero or positive and finite (in)");
+        anyhow::ensure!(
+            d.is_finite() && d >= 0.0,
+            "--preload-length {d}: must be zero or positive and finite (in)"
+        );
         spec.design.delta_rs = d;
     }
+    if let Some(s) = args.start.as_deref() {
+        spec.solver.start = crate::scene::parse_start(s, "--start")?;
+    }
     if let Some(x) = args.rtol {
-        anyhow::ensure!(x.is_finite() && x > 0.0 && x < 1.0, "--rtol {x}: must be in (0, 1)");
+        anyhow::ensure!(
+            x.is_finite() && x > 0.0 && x < 1.0,
+            "--rtol {x}: must be in (0, 1)"
+        );
         spec.solver.rtol = x;
     }
     if let Some(x) = args.atol {
-        anyhow::ensure!(x.is_finite() && x > 0.0, "--atol {x}: must be positive and finite (in)");
+        anyhow::ensure!(
+            x.is_finite() && x > 0.0,
+            "--atol {x}: must be positive and finite (in)"
+        );
         spec.solver.atol = x;
     }
     spec.design.validate()?;
@@ -158,12 +191,24 @@ pub fn run(args: Args) -> Result<()> {
         spec.design.drive.rotational_dofs() + if spec.dofs.horizontal { 8 } else { 5 },
         result.preload
     )?;
-    writeln!(out, "units: in, lb, s; torque lb in; stress psi; AORD = mean (omega - omega0)/omega0")?;
+    writeln!(
+        out,
+        "units: in, lb, s; torque lb in; stress psi; AORD = mean (omega - omega0)/omega0"
+    )?;
     let mut last_rev = 0;
     for r in &rows {
         if r.revolution != last_rev {
             last_rev = r.revolution;
-            writeln!(out, "\nrevolution {}{}", r.revolution, if r.revolution == 1 { " (transient)" } else { "" })?;
+            writeln!(
+                out,
+                "\nrevolution {}{}",
+                r.revolution,
+                if r.revolution == 1 {
+                    " (transient)"
+                } else {
+                    ""
+                }
+            )?;
             writeln!(
                 out,
                 "{:<11} {:>10} {:>10} {:>10} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9} {:>10} {:>10} {:>10} {:>5}",
@@ -185,7 +230,11 @@ pub fn run(args: Args) -> Result<()> {
     } else {
         writeln!(out, "jumps: {}", jumps.len())?;
         for j in &jumps {
-            writeln!(out, "  revolution {}: {:.2} deg to {:.2} deg", j.revolution, j.start_deg, j.end_deg)?;
+            writeln!(
+                out,
+                "  revolution {}: {:.2} deg to {:.2} deg",
+                j.revolution, j.start_deg, j.end_deg
+            )?;
         }
     }
     let s = &result.solver;

@@ -19,7 +19,10 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     if let Some(p) = args.check {
         let spec = crate::scene::load(&p)?;
-        print!("{}", toml::to_string_pretty(&crate::scene::SceneFile::from_spec(&spec))?);
+        print!(
+            "{}",
+            toml::to_string_pretty(&crate::scene::SceneFile::from_spec(&spec))?
+        );
         return Ok(());
     }
     if !args.default {
