@@ -257,7 +257,7 @@ impl<T: Real, const N: usize> CamModel<T, N> {
     /// With the cam at rest the vertical chain balances (derivation in the tests):
     /// F_c = F_p / (1 + K_rs K_h (1/K_vs + 1/K_rb) / (K_rs + K_h)), y1 = -F_c/K_vs,
     /// y3 = y4 = y5 = (F_c - F_p)/K_rs, y2 = y3 + F_c/K_rb; the shafts carry the steady
-    /// drag: K_s2 (θ_cp - θ_c) = C_cc ω0 and K_s1 (θ_m - θ_cp) = C_cc ω0. Starting here
+    /// drag: K_s2 (θ_cp - θ_c) = K_s1 (θ_m - θ_cp) = C_cc ω0 (the coupling passes it on). Starting here
     /// instead of at the thesis's all-zero state (VI.1) removes the start-up impact the
     /// unbalanced preload causes.
     pub fn static_state(&self) -> [T; N] {

@@ -83,8 +83,8 @@ macro_rules! with_model {
     }};
 }
 
-/// Statistics of a run (up to 16 revolutions of up to 8 periods, 64 jump intervals).
-pub type Stats = ResponseStats<f64, 16, 8, 64>;
+/// Statistics of a run (up to 16 revolutions of up to 8 periods, 1024 jump intervals).
+pub type Stats = ResponseStats<f64, 16, 8, 1024>;
 
 /// The outcome of one simulation.
 pub struct RunResult {

@@ -175,6 +175,7 @@ pub fn run(args: Args) -> Result<()> {
             "steps": result.solver.accepted,
             "rejected_steps": result.solver.rejected,
             "rhs_evals": result.solver.rhs_evals,
+            "jumps_dropped": result.stats.jumps_dropped,
             "wall_ms": result.wall_ms,
             "preload_lb": result.preload,
             "rpm": spec.design.omega0 * 30.0 / std::f64::consts::PI,
@@ -228,12 +229,45 @@ pub fn run(args: Args) -> Result<()> {
     if jumps.is_empty() {
         writeln!(out, "jumps: none (the follower stays on the cam)")?;
     } else {
-        writeln!(out, "jumps: {}", jumps.len())?;
+        // Separations come in bursts (the roller bounces after landing): summarise each
+        // revolution and period; --json and --csv keep every interval.
+        writeln!(
+            out,
+            "jumps: {} separation intervals (every one in --json)",
+            jumps.len()
+        )?;
+        let names = sim::period_names(&spec.design);
+        let mut groups: Vec<(u32, usize, usize, f64, f64, f64)> = Vec::new();
         for j in &jumps {
+            let seg = spec.design.program.segment_at(j.start_deg.to_radians());
+            match groups.last_mut() {
+                Some(g) if g.0 == j.revolution && g.1 == seg => {
+                    g.2 += 1;
+                    g.4 = j.end_deg;
+                    g.5 += j.end_deg - j.start_deg;
+                }
+                _ => groups.push((
+                    j.revolution,
+                    seg,
+                    1,
+                    j.start_deg,
+                    j.end_deg,
+                    j.end_deg - j.start_deg,
+                )),
+            }
+        }
+        for (rev, seg, n, first, last, total) in groups {
             writeln!(
                 out,
-                "  revolution {}: {:.2} deg to {:.2} deg",
-                j.revolution, j.start_deg, j.end_deg
+                "  revolution {rev}, {:<10}: {n:>4} intervals from {first:7.2} to {last:7.2} deg, {total:6.2} deg off the cam",
+                names.get(seg).copied().unwrap_or("?")
+            )?;
+        }
+        if result.stats.jumps_dropped > 0 {
+            writeln!(
+                out,
+                "  ({} more intervals not recorded)",
+                result.stats.jumps_dropped
             )?;
         }
     }
