@@ -16,7 +16,7 @@ pub struct Args {
     /// Scene file; the reference design if omitted.
     pub scene: Option<PathBuf>,
     /// Operating speed whose margin is reported, rpm (default: the scene's, 800).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub rpm: Option<f64>,
     /// Motion law of the rise(s).
     #[arg(long = "rise")]
@@ -25,10 +25,10 @@ pub struct Args {
     #[arg(long = "return")]
     pub ret: Option<String>,
     /// Return spring rate K_rs, lb/in.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub spring_rate: Option<f64>,
     /// Spring length compressed at assembly δ_rs, in.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub preload_length: Option<f64>,
     /// Bisection resolution, rpm.
     #[arg(long, default_value_t = 1.0)]

@@ -21,7 +21,7 @@ pub struct Args {
     #[arg(long)]
     pub revolutions: Option<u32>,
     /// Cam speed, rpm (default 800).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub rpm: Option<f64>,
     /// Motion law of the rise(s) (names as in `camsim laws`).
     #[arg(long = "rise")]
@@ -30,20 +30,20 @@ pub struct Args {
     #[arg(long = "return")]
     pub ret: Option<String>,
     /// Return spring rate K_rs, lb/in.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub spring_rate: Option<f64>,
     /// Spring length compressed at assembly δ_rs, in.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub preload_length: Option<f64>,
     /// Initial state: "thesis" (VI.1: speeds at 800 rpm, all else zero) or "static"
     /// (static equilibrium under the preload and the steady drag).
     #[arg(long, value_parser = ["thesis", "static"])]
     pub start: Option<String>,
     /// Solver relative tolerance.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub rtol: Option<f64>,
     /// Solver absolute tolerance for displacements, in.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub atol: Option<f64>,
     /// Write one CSV row per sample to FILE.
     #[arg(long)]
