@@ -669,9 +669,16 @@ fn draw_panel<DB: DrawingBackend>(
         let mut labelled = false;
         for run in runs {
             let ann = match c.stroke {
-                Stroke::Solid(w) => {
+                Stroke::Solid(w) if w <= 1 => {
                     chart.draw_series(LineSeries::new(run, color.stroke_width(w)))?
                 }
+                // A wide polyline is drawn with unlimited miter joins, which shoot far
+                // out of the plot at the sharp reversals of a vibrating (or decimated)
+                // signal: draw wide lines segment by segment instead.
+                Stroke::Solid(w) => chart.draw_series(run.windows(2).filter_map(|s| match s {
+                    [a, b] => Some(PathElement::new(vec![*a, *b], color.stroke_width(w))),
+                    _ => None,
+                }))?,
                 Stroke::Dashed(w) => {
                     chart.draw_series(DashedLineSeries::new(run, 10, 6, color.stroke_width(w)))?
                 }
@@ -1000,6 +1007,58 @@ mod tests {
         }
         let top_changes = (c0..c1).filter(|&x| changed_cols.contains(&x)).count();
         assert!(top_changes as i32 >= (c1 - c0) / 2, "{top_changes}");
+    }
+
+    #[test]
+    fn sharp_spikes_stay_inside_the_plotting_area() {
+        // A fast, large vibration between 80 and 100 degrees (a few samples per period,
+        // like the contact ringing of a real run): drawn as one wide polyline, the miter
+        // joins at its reversals shoot far out of the plot.
+        let mut d = synthetic();
+        for (x, a) in d.angle_deg.iter().zip(d.a.iter_mut()) {
+            if (80.0..100.0).contains(x) {
+                *a += 1e5
+                    * (x * 2.0 * std::f64::consts::PI / 0.17).sin()
+                    * (1.0 - (x - 90.0).abs() / 10.0);
+            }
+        }
+        let (buf, (w, h), areas) = render_to_buffer(2, &d, &[]).unwrap();
+        let (xr, yr) = areas[0].clone();
+        let col =
+            |deg: f64| xr.start + ((deg / 720.0) * f64::from(xr.end - xr.start)).round() as i32;
+        let (c0, c1) = (col(80.0), col(100.0));
+        // Nothing but white above the top panel's plotting area over the vibration.
+        for x in c0..c1 {
+            for y in 0..yr.start - 1 {
+                assert_eq!(
+                    px(&buf, w, x, y),
+                    [255, 255, 255],
+                    "pixel ({x}, {y}) above the plot"
+                );
+            }
+        }
+        // Nor any curve colour below the bottom panel's plotting area.
+        let bottom = areas.last().unwrap().1.end;
+        for x in c0..c1 {
+            for y in bottom + 1..h as i32 {
+                let p = px(&buf, w, x, y);
+                assert!(
+                    !(p[2] > 150 && p[0] < 100),
+                    "curve pixel ({x}, {y}) below the plot: {p:?}"
+                );
+            }
+        }
+        // The vibration itself is drawn up to near the top of the plotting area.
+        let top = (yr.start..yr.end).find(|&y| {
+            (c0..c1).any(|x| {
+                let p = px(&buf, w, x, y);
+                p[2] > 150 && p[0] < 100
+            })
+        });
+        assert!(
+            top.is_some_and(|t| t < yr.start + (yr.end - yr.start) / 4),
+            "{top:?}"
+        );
     }
 
     #[test]
