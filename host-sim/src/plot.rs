@@ -84,6 +84,8 @@ pub struct PlotData {
     pub torque_out: Vec<f64>,
     /// Torque delivered by the drive, lb·in.
     pub torque_drive: Vec<f64>,
+    /// Whether the follower touches the cam (false while it jumps, Eq. V.20).
+    pub in_contact: Vec<bool>,
     /// Continuous cam angles, degrees, where a new program period (segment) begins.
     pub period_starts_deg: Vec<f64>,
     last_period: Option<(u32, usize)>,
@@ -114,6 +116,31 @@ impl PlotData {
         self.contact_stress.push(s.contact_stress);
         self.torque_out.push(p.torque_out);
         self.torque_drive.push(p.torque_drive);
+        self.in_contact.push(p.in_contact);
+    }
+
+    /// The intervals (continuous cam angle, degrees) where the samples show the follower
+    /// off the cam: from the first sample off contact to the first one back on (or the
+    /// last sample).
+    pub fn off_cam_intervals(&self) -> Vec<(f64, f64)> {
+        let mut out = Vec::new();
+        let mut start = None;
+        let mut last = None;
+        for (&x, &on) in self.angle_deg.iter().zip(&self.in_contact) {
+            match (start, on) {
+                (None, false) => start = Some(x),
+                (Some(a), true) => {
+                    out.push((a, x));
+                    start = None;
+                }
+                _ => {}
+            }
+            last = Some(x);
+        }
+        if let (Some(a), Some(b)) = (start, last) {
+            out.push((a, b));
+        }
+        out
     }
 
     /// Number of recorded samples.
@@ -348,15 +375,21 @@ impl AngleAxis {
             .map(|k| start + 360.0 * f64::from(k))
             .take_while(|r| *r < end - 1e-9)
             .collect();
-        let jumps = jumps
-            .iter()
-            .filter_map(|j| {
-                let base = (f64::from(j.revolution) - 1.0) * 360.0;
-                let (a, b) = (base + j.start_deg, base + j.end_deg);
+        // The run's jump list (it may be truncated to its capacity) and the samples'
+        // own contact flags, merged.
+        let listed = jumps.iter().map(|j| {
+            let base = (f64::from(j.revolution) - 1.0) * 360.0;
+            (base + j.start_deg, base + j.end_deg)
+        });
+        let mut all: Vec<(f64, f64)> = listed
+            .chain(d.off_cam_intervals())
+            .filter_map(|(a, b)| {
                 let (a, b) = (a.min(b).max(start), a.max(b).min(end));
                 (a.is_finite() && b.is_finite() && b >= a).then_some((a, b))
             })
             .collect();
+        all.sort_by(|p, q| p.0.total_cmp(&q.0));
+        let jumps = merge_intervals(all, 0.0);
         let periods = d
             .period_starts_deg
             .iter()
@@ -425,6 +458,18 @@ impl ValueFormatter<f64> for DegreeCoord {
     }
 }
 
+/// Merges sorted intervals that overlap or are less than `gap` apart.
+fn merge_intervals(sorted: Vec<(f64, f64)>, gap: f64) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(sorted.len());
+    for (a, b) in sorted {
+        match out.last_mut() {
+            Some(last) if a <= last.1 + gap => last.1 = last.1.max(b),
+            _ => out.push((a, b)),
+        }
+    }
+    out
+}
+
 /// Smallest and largest finite value, if any.
 fn finite_bounds(v: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     v.filter(|x| x.is_finite()).fold(None, |acc, x| match acc {
@@ -433,19 +478,22 @@ fn finite_bounds(v: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     })
 }
 
-/// The y range of a panel: the data with a margin below and room for the legend above.
-fn y_range(curves: &[Curve]) -> Range<f64> {
-    let (lo, hi) =
+/// The y range of a panel: the data with a 5 % margin below and, above, room for the
+/// legend, which covers the top `legend_frac` of the plotting area.
+fn y_range(curves: &[Curve], legend_frac: f64) -> Range<f64> {
+    let (mut lo, mut hi) =
         finite_bounds(curves.iter().flat_map(|c| c.values.iter().copied())).unwrap_or((-1.0, 1.0));
-    let mut span = hi - lo;
     let scale = lo.abs().max(hi.abs());
-    if span.partial_cmp(&(1e-12 * scale.max(1e-300))) != Some(std::cmp::Ordering::Greater) {
+    if (hi - lo).partial_cmp(&(1e-12 * scale.max(1e-300))) != Some(std::cmp::Ordering::Greater) {
         // Flat data: open a window of ±1 % of its value (or ±1 around zero).
-        span = if scale > 0.0 { 0.02 * scale } else { 2.0 };
+        let half = if scale > 0.0 { 0.01 * scale } else { 1.0 };
         let mid = 0.5 * (lo + hi);
-        return (mid - 0.75 * span)..(mid + 0.75 * span + 0.04 * span * curves.len() as f64 * 2.0);
+        (lo, hi) = (mid - half, mid + half);
     }
-    let top = 0.06 + 0.075 * curves.len() as f64;
+    let span = hi - lo;
+    // Data occupy (1 - f) of the height: top margin t span with t = 1.05 f / (1 - f).
+    let f = legend_frac.clamp(0.0, 0.6);
+    let top = (1.05 * f / (1.0 - f)).max(0.05);
     (lo - 0.05 * span)..(hi + top * span)
 }
 
@@ -573,14 +621,24 @@ fn draw_panel<DB: DrawingBackend>(
     xs: &[f64],
     x_labels: bool,
 ) -> Result<PixelArea, DrawingAreaErrorKind<DB::ErrorType>> {
-    let yr = y_range(&panel.curves);
+    let x_label_area = if x_labels { 55 } else { 25 };
+    // Legend: about 20 px per entry plus its margins, from the top of the plotting area.
+    // Room is kept for the jump entry even without jumps, so a jump never rescales the plot.
+    let entries = panel.curves.len() + 1;
+    let plot_h = f64::from(
+        area.dim_in_pixel()
+            .1
+            .saturating_sub(12 + x_label_area)
+            .max(1),
+    );
+    let yr = y_range(&panel.curves, (20.0 * entries as f64 + 30.0) / plot_h);
     let (y0, y1) = (yr.start, yr.end);
     let mut chart = ChartBuilder::on(area)
         .margin_left(10)
         .margin_right(25)
         .margin_top(6)
         .margin_bottom(6)
-        .x_label_area_size(if x_labels { 55 } else { 25 })
+        .x_label_area_size(x_label_area)
         .y_label_area_size(105)
         .build_cartesian_2d(DegreeCoord::new(axis), yr)?;
     let x_fmt = |v: &f64| {
@@ -610,15 +668,24 @@ fn draw_panel<DB: DrawingBackend>(
     let columns = usize::try_from(px.end - px.start).unwrap_or(1).max(1);
     let deg_per_px = (axis.range.end - axis.range.start) / columns as f64;
 
-    // Jump intervals: at least 3 px wide so a short jump still shows.
+    // Jump intervals: at least 3 px wide so a short jump still shows; those that then
+    // touch are drawn as one (overlapping translucent fills would darken).
     let min_w = 3.0 * deg_per_px;
+    let widened = axis
+        .jumps
+        .iter()
+        .map(|&(a, b)| {
+            if b - a < min_w {
+                (0.5 * (a + b) - 0.5 * min_w, 0.5 * (a + b) + 0.5 * min_w)
+            } else {
+                (a, b)
+            }
+        })
+        .collect();
+    let mut widened: Vec<(f64, f64)> = widened;
+    widened.sort_by(|p, q| p.0.total_cmp(&q.0));
     let mut first = true;
-    for &(a, b) in &axis.jumps {
-        let (a, b) = if b - a < min_w {
-            (0.5 * (a + b) - 0.5 * min_w, 0.5 * (a + b) + 0.5 * min_w)
-        } else {
-            (a, b)
-        };
+    for (a, b) in merge_intervals(widened, 0.0) {
         let s = chart.draw_series(std::iter::once(Rectangle::new(
             [(a, y0), (b, y1)],
             JUMP_FILL.mix(JUMP_ALPHA).filled(),
@@ -813,6 +880,7 @@ mod tests {
             d.contact_stress.push(80_000.0 + 20_000.0 * th.cos());
             d.torque_out.push(40.0 * th.sin());
             d.torque_drive.push(40.0 * th.sin() + 5.0 * wob);
+            d.in_contact.push(true);
         }
         d.period_starts_deg = vec![90.0, 180.0, 270.0, 360.0, 450.0, 540.0, 630.0];
         d
@@ -1112,11 +1180,77 @@ mod tests {
         assert_eq!(a.revolutions, vec![360.0]);
         assert_eq!(a.ticks.first(), Some(&0.0));
         assert_eq!(a.ticks.last(), Some(&720.0));
-        // The carried-over jump is clipped at the end of the axis.
-        assert_eq!(a.jumps, vec![(710.0, 720.0), (10.0, 20.0)]);
+        // Sorted; the carried-over jump is clipped at the end of the axis.
+        assert_eq!(a.jumps, vec![(10.0, 20.0), (710.0, 720.0)]);
         // The period start at the revolution boundary is not drawn twice.
         assert!(!a.periods.contains(&360.0));
         assert_eq!(a.periods.len(), 6);
+    }
+
+    #[test]
+    fn off_cam_intervals_come_from_the_contact_flags_and_merge_with_the_list() {
+        let mut d = synthetic();
+        // Off the cam from 100 to 150 degrees and from 700 degrees to the end.
+        for (x, c) in d.angle_deg.iter().zip(d.in_contact.iter_mut()) {
+            *c = !((100.0..150.0).contains(x) || *x >= 700.0);
+        }
+        let iv = d.off_cam_intervals();
+        assert_eq!(iv.len(), 2);
+        assert_eq!(iv[0], (100.0, 150.0));
+        assert_eq!(iv[1].0, 700.0);
+        assert_eq!(iv[1].1, *d.angle_deg.last().unwrap());
+        // A listed jump overlapping the first interval merges with it; a separate one stays.
+        let jumps = [
+            JumpInterval {
+                revolution: 1,
+                start_deg: 140.0,
+                end_deg: 160.0,
+            },
+            JumpInterval {
+                revolution: 2,
+                start_deg: 0.0,
+                end_deg: 5.0,
+            },
+        ];
+        let a = AngleAxis::new(&d, &jumps);
+        assert_eq!(a.jumps.len(), 3);
+        assert_eq!(a.jumps[0], (100.0, 160.0));
+        assert_eq!(a.jumps[1], (360.0, 365.0));
+        assert_eq!(a.jumps[2].0, 700.0);
+    }
+
+    #[test]
+    fn samples_off_the_cam_are_shaded_without_a_jump_list() {
+        let d = synthetic();
+        let mut off = d.clone();
+        for (x, c) in off.angle_deg.iter().zip(off.in_contact.iter_mut()) {
+            *c = !(460.0..490.0).contains(x);
+        }
+        let (plain, (w, _), areas) = render_to_buffer(6, &d, &[]).unwrap();
+        let (shaded, _, _) = render_to_buffer(6, &off, &[]).unwrap();
+        let (xr, yr) = areas[0].clone();
+        let x_mid = xr.start + ((475.0 / 720.0) * f64::from(xr.end - xr.start)).round() as i32;
+        let changed = (yr.start..yr.end)
+            .filter(|&y| px(&plain, w, x_mid, y) != px(&shaded, w, x_mid, y))
+            .count();
+        assert!(changed * 10 > (yr.end - yr.start) as usize * 8, "{changed}");
+    }
+
+    #[test]
+    fn legend_headroom_keeps_the_data_below_the_legend() {
+        let c = [Curve::new("c", &[0.0, 10.0], SIMULATED, Stroke::Solid(1))];
+        let r = y_range(&c, 0.25);
+        // The data top sits at 75 % of the height from the bottom.
+        let frac_top = (10.0 - r.start) / (r.end - r.start);
+        assert!((frac_top - 0.75).abs() < 1e-12, "{frac_top}");
+        assert_eq!(r.start, -0.5);
+        // Flat data still get a window.
+        let flat = [Curve::new("c", &[83.8, 83.8], SIMULATED, Stroke::Solid(1))];
+        let r = y_range(&flat, 0.0);
+        assert!(
+            r.start < 83.8 && r.end > 83.8 && r.end - r.start < 3.0,
+            "{r:?}"
+        );
     }
 
     #[test]
