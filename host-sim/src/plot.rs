@@ -774,7 +774,7 @@ fn draw_panel<DB: DrawingBackend>(
         .position(SeriesLabelPosition::UpperRight)
         .margin(8)
         .label_font((FONT, 16))
-        .background_style(WHITE.mix(0.85))
+        .background_style(WHITE.filled())
         .border_style(RGBColor(160, 160, 160))
         .draw()?;
     Ok((px, py))
