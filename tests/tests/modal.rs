@@ -39,6 +39,11 @@ fn invariants(k: [[f64; 3]; 3], m: [f64; 3]) -> (f64, f64, f64) {
 #[test]
 fn rotational_frequencies_match_the_hand_calculation() {
     let r = analyse().unwrap();
+    let p = modal::reference_parameters().unwrap();
+    assert_eq!(
+        (p.i_m, p.i_cp, p.i_c, p.k_s1, p.k_s2),
+        (0.0291, 0.25, 0.0102, 2.0e5, 2.0e5)
+    );
     let (m1, m2, m3, k1, k2): (f64, f64, f64, f64, f64) = (0.0291, 0.25, 0.0102, 2.0e5, 2.0e5);
     // Free-free chain: lambda (lambda^2 - S lambda + P) = 0 with
     // S = k1/m1 + (k1 + k2)/m2 + k2/m3, P = k1 k2 (m1 + m2 + m3) / (m1 m2 m3).
@@ -83,12 +88,15 @@ fn rotational_frequencies_match_the_hand_calculation() {
 #[test]
 fn translational_frequencies_match_the_characteristic_cubic() {
     let r = analyse().unwrap();
-    let (mr, mf, ml) = (modal::M_R, modal::M_F, modal::M_L);
-    let (krb, kf, krs) = (modal::K_RB, modal::K_F, modal::K_RS_MODAL);
-    assert_eq!(
-        (mr, mf, ml, krb, kf, krs),
-        (0.00013, 0.007764, 3.428e-3, 1.5e6, 1.265e6, 100.0)
-    );
+    // The reference design's values (VI.1 and NOTES.md): M_f and K_f at the nominal
+    // follower position, K_rs = 100 lb/in of the modal analysis.
+    let p = modal::reference_parameters().unwrap();
+    let (mr, mf, ml) = (p.m_r, p.m_f, p.m_l);
+    let (krb, kf, krs) = (p.k_rb, p.k_f, p.k_rs);
+    assert_eq!((mr, ml, krb, krs), (0.00013, 3.428e-3, 1.5e6, 100.0));
+    assert!((mf / 0.007764 - 1.0).abs() < 1e-12, "M_f = {mf}");
+    assert!((kf / 1.265e6 - 1.0).abs() < 1e-12, "K_f = {kf}");
+    assert_eq!(r.parameters, p);
     let k = [
         [krb, -krb, 0.0],
         [-krb, krb + kf + krs, -kf],

@@ -1,40 +1,14 @@
 //! `camsim modal [--json]`: natural frequencies, normalised modes and modal stiffness of
 //! the linearised rotational (Eq. VI.7) and translational (Eq. VI.6) systems of the
 //! reference design (Section VI.2, Eqs. VI.2-VI.5).
+//!
+//! The parameters come from [`Design::reference`]: the follower's M_f and K_f at its
+//! nominal position (y3 = 0) and the modal analysis's return-spring rate `k_rs_modal`
+//! (100 lb/in, not the 60 lb/in of the dynamic runs).
 
 use anyhow::Context;
-use camsim_core::{modal_analysis, rotational_system, translational_system, ModalAnalysis};
+use camsim_core::{modal_analysis, rotational_system, translational_system, Design, ModalAnalysis};
 use serde::Serialize;
-
-// ---------------------------------------------------------------------------------------
-// Reference values for the modal analysis.
-// TEMPORARY: these move to `camsim_core::Design` (core/src/design.rs) when it lands on main;
-// this block is then replaced by the design's fields.
-// ---------------------------------------------------------------------------------------
-/// Motor inertia I_m (lb·in·s², VI.1).
-pub const I_M: f64 = 0.0291;
-/// Coupling inertia I_cp (lb·in·s², VI.1).
-pub const I_CP: f64 = 0.25;
-/// Cam inertia I_c (lb·in·s², VI.1).
-pub const I_C: f64 = 0.0102;
-/// Motor-to-coupling shaft stiffness K_s1 (lb·in/rad, VI.1).
-pub const K_S1: f64 = 2.0e5;
-/// Coupling-to-cam shaft stiffness K_s2 (lb·in/rad, VI.1).
-pub const K_S2: f64 = 2.0e5;
-/// Roller mass M_r (lb·s²/in, VI.1, "M_T" in Eq. VI.6).
-pub const M_R: f64 = 0.00013;
-/// Follower mass M_f (lb·s²/in, VI.1).
-pub const M_F: f64 = 0.007764;
-/// Load mass M_l (lb·s²/in, NOTES.md: consistent with Eq. VI.6).
-pub const M_L: f64 = 3.428e-3;
-/// Roller-bearing stiffness K_rb (lb/in, VI.1).
-pub const K_RB: f64 = 1.5e6;
-/// Follower stiffness K_f at the nominal position (lb/in, NOTES.md).
-pub const K_F: f64 = 1.265e6;
-/// Return-spring stiffness for the modal analysis (lb/in, VI.2 uses 100; the dynamic
-/// runs use 60).
-pub const K_RS_MODAL: f64 = 100.0;
-// ---------------------------------------------------------------------------------------
 
 /// Command-line options.
 #[derive(clap::Args, Debug)]
@@ -139,12 +113,36 @@ fn system_modes(
     }
 }
 
+/// The reference design's values that enter Eqs. VI.6 and VI.7.
+pub fn reference_parameters() -> anyhow::Result<ModalParameters> {
+    let d = Design::<f64>::reference();
+    d.validate().context("reference design")?;
+    Ok(ModalParameters {
+        i_m: d.i_m,
+        i_cp: d.i_cp,
+        i_c: d.i_c,
+        k_s1: d.k_s1,
+        k_s2: d.k_s2,
+        m_r: d.m_r,
+        m_f: d.m_f(0.0),
+        m_l: d.m_l,
+        k_rb: d.k_rb,
+        k_f: d.k_f(0.0),
+        k_rs: d.k_rs_modal,
+    })
+}
+
 /// Runs the modal analysis of both systems of the reference design (Section VI.2).
 pub fn analyse() -> anyhow::Result<ModalReport> {
-    let (k, m) = rotational_system(I_M, I_CP, I_C, K_S1, K_S2);
+    analyse_with(reference_parameters()?)
+}
+
+/// Runs the modal analysis of both systems for the given parameters (Section VI.2).
+pub fn analyse_with(p: ModalParameters) -> anyhow::Result<ModalReport> {
+    let (k, m) = rotational_system(p.i_m, p.i_cp, p.i_c, p.k_s1, p.k_s2);
     let rot =
         modal_analysis(&k, &m).context("modal analysis of the rotational system (Eq. VI.7)")?;
-    let (k, m) = translational_system(M_R, M_F, M_L, K_RB, K_F, K_RS_MODAL);
+    let (k, m) = translational_system(p.m_r, p.m_f, p.m_l, p.k_rb, p.k_f, p.k_rs);
     let tra =
         modal_analysis(&k, &m).context("modal analysis of the translational system (Eq. VI.6)")?;
     let rotational = system_modes(
@@ -166,19 +164,7 @@ pub fn analyse() -> anyhow::Result<ModalReport> {
         translational_hz: translational.hz.clone(),
         rotational,
         translational,
-        parameters: ModalParameters {
-            i_m: I_M,
-            i_cp: I_CP,
-            i_c: I_C,
-            k_s1: K_S1,
-            k_s2: K_S2,
-            m_r: M_R,
-            m_f: M_F,
-            m_l: M_L,
-            k_rb: K_RB,
-            k_f: K_F,
-            k_rs: K_RS_MODAL,
-        },
+        parameters: p,
     })
 }
 
@@ -221,17 +207,22 @@ fn render_system(out: &mut String, title: &str, s: &SystemModes) {
 
 /// Renders the report as the human-readable table.
 pub fn render_table(r: &ModalReport) -> String {
+    let p = &r.parameters;
     let mut out = String::new();
     render_system(
         &mut out,
-        &format!("Rotational system (Eq. VI.7): I_m = {I_M}, I_cp = {I_CP}, I_c = {I_C} lb*in*s^2; K_s1 = {K_S1:e}, K_s2 = {K_S2:e} lb*in/rad"),
+        &format!(
+            "Rotational system (Eq. VI.7): I_m = {}, I_cp = {}, I_c = {} lb*in*s^2; K_s1 = {:e}, K_s2 = {:e} lb*in/rad",
+            p.i_m, p.i_cp, p.i_c, p.k_s1, p.k_s2
+        ),
         &r.rotational,
     );
     out.push('\n');
     render_system(
         &mut out,
         &format!(
-            "Translational system (Eq. VI.6): M_r = {M_R}, M_f = {M_F}, M_l = {M_L} lb*s^2/in; K_rb = {K_RB:e}, K_f = {K_F:e}, K_rs = {K_RS_MODAL} lb/in"
+            "Translational system (Eq. VI.6): M_r = {}, M_f = {:.6}, M_l = {} lb*s^2/in; K_rb = {:e}, K_f = {:.6e}, K_rs = {} lb/in",
+            p.m_r, p.m_f, p.m_l, p.k_rb, p.k_f, p.k_rs
         ),
         &r.translational,
     );
