@@ -31,6 +31,7 @@ cargo build -p camsim-core --release --target thumbv7em-none-eabihf --features m
 
 step "workspace tests"
 cargo test --workspace
+cargo test -p camsim-core --features micromath
 
 if [ -x scripts/firmware-ci.sh ]; then
     step "firmware under QEMU"
