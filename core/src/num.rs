@@ -409,7 +409,11 @@ mod tests {
     fn pythagoras_both_precisions() {
         assert!((generic_identity(0.7f64) - 1.0).abs() < 1e-15);
         // micromath's sin/cos are approximations (about 1e-3 relative).
-        let f32_tol = if cfg!(feature = "micromath") { 1e-2 } else { 1e-6 };
+        let f32_tol = if cfg!(feature = "micromath") {
+            1e-2
+        } else {
+            1e-6
+        };
         assert!((generic_identity(0.7f32) - 1.0).abs() < f32_tol);
     }
 

@@ -737,6 +737,11 @@ impl SceneFile {
     }
 }
 
+/// A complete scene file (TOML text) for `spec`.
+pub fn spec_text(spec: &RunSpec) -> Result<String> {
+    Ok(toml::to_string_pretty(&SceneFile::from_spec(spec))?)
+}
+
 /// The reference design as TOML text.
 pub fn default_text() -> Result<String> {
     let body = toml::to_string_pretty(&SceneFile::reference())?;
