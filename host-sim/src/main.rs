@@ -28,6 +28,8 @@ enum Command {
     JumpSpeed(cmd::jump_speed::Args),
     /// Print the reference design as a scene file, or check one.
     Scene(cmd::scene::Args),
+    /// Run time against error: tolerance ladder and reduced scenes against a tight reference.
+    Bench(cmd::bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -53,6 +55,7 @@ fn main() -> ExitCode {
         Command::Run(a) => cmd::run::run(a),
         Command::JumpSpeed(a) => cmd::jump_speed::run(a),
         Command::Scene(a) => cmd::scene::run(a),
+        Command::Bench(a) => cmd::bench::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,5 +1,6 @@
 //! One module per `camsim` subcommand.
 
+pub mod bench;
 pub mod contact;
 pub mod jump_speed;
 pub mod laws;
