@@ -276,6 +276,15 @@ impl<T: Real> Design<T> {
             });
         }
         self.drive.validate()?;
+        // The roller must fit the profile: no undercut (a convex pitch radius below r_r).
+        let u = self.geometry.undercut(&self.program, 3600)?;
+        if u.undercut {
+            return Err(Error::InvalidParameter {
+                field: "roller_radius",
+                rule: "undercut: larger than the smallest convex pitch-curve radius of the profile (use a smaller roller, a larger base circle or a gentler program)",
+                value: self.geometry.roller_radius.to_f64(),
+            });
+        }
         self.k_h_base()?;
         self.preload()?;
         Ok(())

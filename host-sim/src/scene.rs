@@ -247,6 +247,7 @@ const KEY_OF_FIELD: &[(&str, &str)] = &[
     ("k_rs", "spring.rate_lb_per_in"),
     ("delta_rs", "spring.preload_length_in"),
     ("r1", "roller.radius_in"),
+    ("roller_radius", "roller.radius_in"),
     ("r2", "cam.base_radius_in"),
     ("drive.t_max", "drive.t_max_lb_in"),
     ("drive.k_p", "drive.k_p_lb_in_s_per_rad"),

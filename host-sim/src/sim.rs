@@ -248,3 +248,65 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
     });
     Ok(found)
 }
+
+/// How far the last revolution differs from the one before: the largest relative change
+/// of the per-period statistics (RMS deviations, average torque and contact force).
+#[derive(Clone, Debug, Serialize)]
+pub struct SteadyCheck {
+    /// The two revolutions compared.
+    pub compared: [u32; 2],
+    /// Largest relative change.
+    pub max_rel_change: f64,
+    /// Which statistic (period.name).
+    pub statistic: String,
+}
+
+/// Compares the last two revolutions of a run (None with fewer than two).
+pub fn steady_check(rows: &[PeriodRow]) -> Option<SteadyCheck> {
+    let last = rows.iter().map(|r| r.revolution).max()?;
+    if last < 2 {
+        return None;
+    }
+    let mut worst = SteadyCheck {
+        compared: [last - 1, last],
+        max_rel_change: 0.0,
+        statistic: String::new(),
+    };
+    for b in rows.iter().filter(|r| r.revolution == last) {
+        let Some(a) = rows
+            .iter()
+            .find(|r| r.revolution == last - 1 && r.period == b.period)
+        else {
+            continue;
+        };
+        for (name, x, y, floor) in [
+            (
+                "rms_displacement",
+                a.rms_displacement,
+                b.rms_displacement,
+                1e-6,
+            ),
+            ("rms_velocity", a.rms_velocity, b.rms_velocity, 1e-3),
+            (
+                "rms_acceleration",
+                a.rms_acceleration,
+                b.rms_acceleration,
+                1.0,
+            ),
+            ("torque_avg", a.torque_avg, b.torque_avg, 1e-2),
+            (
+                "contact_force_avg",
+                a.contact_force_avg,
+                b.contact_force_avg,
+                1e-2,
+            ),
+        ] {
+            let rel = (x - y).abs() / x.abs().max(y.abs()).max(floor);
+            if rel > worst.max_rel_change {
+                worst.max_rel_change = rel;
+                worst.statistic = format!("{}.{name}", b.period);
+            }
+        }
+    }
+    Some(worst)
+}

@@ -166,3 +166,22 @@ fn csv_rows_and_period_table_cover_the_run() {
     assert_eq!(rows[0].torque_avg, 0.0);
     assert!(r.solver.rhs_evals == 9 * r.solver.accepted + 7 * r.solver.rejected);
 }
+
+#[test]
+fn an_undercut_cam_is_refused_naming_the_roller() {
+    // 30-degree cycloidal rise and return of 1.5 in on a 0.1 in base circle: the pitch
+    // curve's convex radius falls below a 0.6 in roller.
+    let text = "[roller]\nradius_in = 0.6\n[cam]\nbase_radius_in = 0.1\n\
+        [[program.segment]]\nkind='dwell'\nstart_deg=0\nend_deg=30\n\
+        [[program.segment]]\nkind='rise'\nlaw='cycloidal'\nstart_deg=30\nend_deg=60\nlift_in=1.5\n\
+        [[program.segment]]\nkind='dwell'\nstart_deg=60\nend_deg=210\n\
+        [[program.segment]]\nkind='return'\nlaw='cycloidal'\nstart_deg=210\nend_deg=240\nlift_in=1.5\n\
+        [[program.segment]]\nkind='dwell'\nstart_deg=240\nend_deg=360\n";
+    let e = err(text);
+    assert!(e.starts_with("roller.radius_in = 0.6: undercut"), "{e}");
+    // The same program with a small roller on a big base circle is fine.
+    let ok = text
+        .replace("radius_in = 0.6", "radius_in = 0.1")
+        .replace("base_radius_in = 0.1", "base_radius_in = 3.0");
+    assert!(parse(&ok).is_ok());
+}

@@ -176,6 +176,7 @@ pub fn run(args: Args) -> Result<()> {
             "rejected_steps": result.solver.rejected,
             "rhs_evals": result.solver.rhs_evals,
             "jumps_dropped": result.stats.jumps_dropped,
+            "steady_state": sim::steady_check(&rows),
             "wall_ms": result.wall_ms,
             "preload_lb": result.preload,
             "rpm": spec.design.omega0 * 30.0 / std::f64::consts::PI,
@@ -270,6 +271,17 @@ pub fn run(args: Args) -> Result<()> {
                 result.stats.jumps_dropped
             )?;
         }
+    }
+    if let Some(c) = sim::steady_check(&rows) {
+        writeln!(
+            out,
+            "steady state: revolution {} vs {}: largest relative change of the per-period statistics {:.2e} ({}){}",
+            c.compared[1],
+            c.compared[0],
+            c.max_rel_change,
+            c.statistic,
+            if c.max_rel_change > 0.01 { "  -- NOT steady (jumps make it irregular, or run more revolutions)" } else { "" }
+        )?;
     }
     let s = &result.solver;
     writeln!(
