@@ -13,7 +13,13 @@
 //!    speed: nothing (θ_c = ω0 t). Shaft twists are states, not absolute angles, so the
 //!    small twist is not lost to cancellation (this matters in `f32`).
 //! 2. the active translational displacements in the order y1, x1, y2, x2, y3, x3, y4, y5;
-//! 3. their velocities in the same order.
+//!    the follower chain's vertical ones (y2, y3, y4, y5) are stored relative to the
+//!    cam's commanded lift, `q_i = y_i - s(θ_c)` ([`RELATIVE_TO_LIFT`]), for the same
+//!    reason: in `f32` an absolute y2 near the 1.5 in lift resolves only 1.2e-7 in, i.e.
+//!    0.8 lb of Hertz force (K_h ≈ 6.5e6 lb/in), and θ_c's own rounding moves s(θ_c) by
+//!    microinches; the spring and contact deflections are formed from the q's instead.
+//!    Same physics, different coordinates;
+//! 3. their (absolute) velocities in the same order.
 
 use crate::{coulomb_friction, Design, DriveLaw, Error, FollowerLift, OdeSystem, Real, Result};
 
@@ -67,6 +73,10 @@ impl DofSet {
 }
 
 const NONE: u8 = u8::MAX;
+
+/// Translational DOFs whose displacement state is stored relative to the commanded lift
+/// s(θ_c) (the follower chain y2, y3, y4, y5; see the module docs).
+pub const RELATIVE_TO_LIFT: [bool; TRANS_DOFS] = [false, false, true, false, true, false, true, true];
 
 /// Every quantity of the model at one instant (what an observer receives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -316,8 +326,9 @@ impl<T: Real, const N: usize> CamModel<T, N> {
             let s = self.trans_slot[i];
             if s != NONE {
                 let s = s as usize;
+                let rel = if RELATIVE_TO_LIFT[i] { self.d.program.follower(theta_c).y } else { T::ZERO };
                 if let Some(v) = y.get_mut(self.rot + s) {
-                    *v = pos[i];
+                    *v = pos[i] - rel;
                 }
                 if let Some(v) = y.get_mut(self.rot + self.n_trans + s) {
                     *v = vel[i];
@@ -373,12 +384,19 @@ impl<T: Real, const N: usize> CamModel<T, N> {
                 p.vel[i] = g(self.rot + self.n_trans + s as usize);
             }
         }
-        let [y1, x1, y2, x2, y3, x3, y4, y5] = p.pos;
+        // p.pos holds the stored coordinates here: q_i = y_i - s(θ_c) for the follower chain.
+        let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
         let [v1, vx1, _v2, _vx2, v3, vx3, v4, v5] = p.vel;
 
         // --- contact geometry at the current cam angle ---
         let lift = d.program.follower(p.theta_c);
         p.lift = lift;
+        for (pos, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
+            if rel {
+                *pos += lift.y;
+            }
+        }
+        let y3 = p.pos[TransDof::CantileverY as usize];
         // Pressure angle: tan φ = (dy/dθ) / (R_a + y); cos and sin without the atan.
         let rpy = self.prime_radius + lift.y;
         let hyp = (rpy * rpy + lift.dy * lift.dy).sqrt();
@@ -398,7 +416,7 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         p.k_h = k_h;
 
         // Contact force and jump criterion (Eqs. V.19-V.20).
-        let f_c = (k_h * (lift.y + y1 - y2) + self.preload) * cos_phi;
+        let f_c = (k_h * (y1 - q2) + self.preload) * cos_phi;
         let (f_c, in_contact) = if f_c > T::ZERO {
             (f_c, true)
         } else {
@@ -420,9 +438,9 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         let k_vc = d.k_vc(y3);
         let m_f = d.m_f(y3);
         let m_fc = d.m_fc(y3);
-        let f_load = k_f * (y5 - y4) + c_f1 * (v5 - v4);
-        let f_vc = k_vc * (y4 - y3);
-        let f_rb = d.k_rb * (y3 - y2);
+        let f_load = k_f * (q5 - q4) + c_f1 * (v5 - v4);
+        let f_vc = k_vc * (q4 - q3);
+        let f_rb = d.k_rb * (q3 - q2);
         let mut a = [T::ZERO; TRANS_DOFS];
         // Load.
         a[7] = -f_load * self.inv_m_l;
@@ -504,7 +522,9 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         for i in 0..TRANS_DOFS {
             let s = self.trans_slot[i];
             if s != NONE {
-                put(self.rot + s as usize, p.vel[i]);
+                // dq/dt = ẏ - s'(θ_c) θ̇_c for the displacements stored relative to the lift.
+                let rel = if RELATIVE_TO_LIFT[i] { p.lift.dy * p.omega_c } else { T::ZERO };
+                put(self.rot + s as usize, p.vel[i] - rel);
                 put(self.rot + self.n_trans + s as usize, p.acc[i]);
             }
         }
