@@ -81,13 +81,13 @@ printf '  static RAM = .data %s + .bss %s + .uninit %s = %s (firmware: %s)\n' \
 echo "firmware-ci: $budget"
 
 # ---------------------------------------------------------------------------
-# HOST PARITY CHECK (to be added by the lead)
-# The log's `workload ...` line carries the f32 results of one simulated revolution
-# (follower_in, follower_in_per_s, follower_bits). Compare them here with the host's
-# f32 run of the same workload, e.g.
-#   fw=$(grep -o 'workload .*' "$LOG")
-#   host=$(cargo run -q -p camsim -- <subcommand> ...)
-#   ... fail "host parity: ..." unless they agree within the agreed tolerance.
+# HOST PARITY CHECK: the host runs the same f32 scene through the same core code
+# (`camsim predict --f32`) and compares every `parity ...` line of the log (table,
+# jump onset, interpolation checks, every sample's margins, timing errors and alarm
+# state, as raw f32 bits) bit for bit; it fails with a one-line error on a mismatch.
 # ---------------------------------------------------------------------------
+echo "firmware-ci: host parity (camsim predict --f32 --check-log $LOG)"
+cargo build -q --release -p camsim
+./target/release/camsim predict --f32 --check-log "$LOG" || fail "host parity: see the line above"
 
 echo "firmware-ci: OK"

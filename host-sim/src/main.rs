@@ -30,6 +30,8 @@ enum Command {
     Scene(cmd::scene::Args),
     /// Run time against error: tolerance ladder and reduced scenes against a tight reference.
     Bench(cmd::bench::Args),
+    /// The firmware's jump/timing predictor on the host (same scene and profile); --check-log for parity.
+    Predict(cmd::predict::Args),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +58,7 @@ fn main() -> ExitCode {
         Command::JumpSpeed(a) => cmd::jump_speed::run(a),
         Command::Scene(a) => cmd::scene::run(a),
         Command::Bench(a) => cmd::bench::run(a),
+        Command::Predict(a) => cmd::predict::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

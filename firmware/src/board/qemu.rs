@@ -6,66 +6,11 @@
 use core::convert::Infallible;
 use core::sync::atomic::{AtomicBool, Ordering};
 
-use camsim_core::SpeedSource;
 use embedded_hal::digital::{ErrorType, InputPin, OutputPin, StatefulOutputPin};
 
-/// Scripted cam speed: a ramp 500 -> 1500 rpm in 25 rpm steps with a 300 rpm step
-/// up at 1000 rpm (1000 -> 1300), then back down to 500 rpm in 25 rpm steps.
-#[derive(Clone, Debug)]
-pub struct ScriptedSpeed {
-    next: Option<i32>,
-    rising: bool,
-}
-
-impl ScriptedSpeed {
-    /// Lowest speed of the script (rpm).
-    pub const LOW_RPM: i32 = 500;
-    /// Highest speed of the script (rpm).
-    pub const HIGH_RPM: i32 = 1500;
-    /// Ramp increment per sample (rpm).
-    pub const STEP_RPM: i32 = 25;
-    /// Speed at which the step up happens (rpm).
-    pub const JUMP_AT_RPM: i32 = 1000;
-    /// Size of the step up (rpm).
-    pub const JUMP_RPM: i32 = 300;
-    /// Samples in the whole script: 21 (500..=1000) + 9 (1300..=1500) + 40 (1475..=500).
-    pub const SAMPLES: u32 = 70;
-
-    /// The script from its first sample.
-    pub fn new() -> Self {
-        Self {
-            next: Some(Self::LOW_RPM),
-            rising: true,
-        }
-    }
-}
-
-impl Default for ScriptedSpeed {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl SpeedSource<f32> for ScriptedSpeed {
-    fn next_rpm(&mut self) -> Option<f32> {
-        let rpm = self.next?;
-        self.next = if self.rising {
-            if rpm == Self::JUMP_AT_RPM {
-                Some(rpm + Self::JUMP_RPM)
-            } else if rpm >= Self::HIGH_RPM {
-                self.rising = false;
-                Some(rpm - Self::STEP_RPM)
-            } else {
-                Some(rpm + Self::STEP_RPM)
-            }
-        } else if rpm <= Self::LOW_RPM {
-            None
-        } else {
-            Some(rpm - Self::STEP_RPM)
-        };
-        Some(rpm as f32)
-    }
-}
+/// Scripted cam speed: the profile shared with the host (`camsim predict`), defined in
+/// `camsim_core::predictor_scene` so both run the same samples.
+pub use camsim_core::ScriptedProfile as ScriptedSpeed;
 
 /// Fake index pulse: each read alternates low/high, so a wait for the next rising
 /// edge always finds one (one "revolution" per speed sample).

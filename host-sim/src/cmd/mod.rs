@@ -5,5 +5,6 @@ pub mod contact;
 pub mod jump_speed;
 pub mod laws;
 pub mod modal;
+pub mod predict;
 pub mod run;
 pub mod scene;
