@@ -519,13 +519,13 @@ impl<T: Real, const N: usize> CamModel<T, N> {
                 );
             }
         }
-        for i in 0..TRANS_DOFS {
-            let s = self.trans_slot[i];
+        let slots = self.trans_slot.iter().zip(RELATIVE_TO_LIFT);
+        for ((&s, relative), (v, a)) in slots.zip(p.vel.iter().zip(p.acc.iter())) {
             if s != NONE {
                 // dq/dt = ẏ - s'(θ_c) θ̇_c for the displacements stored relative to the lift.
-                let rel = if RELATIVE_TO_LIFT[i] { p.lift.dy * p.omega_c } else { T::ZERO };
-                put(self.rot + s as usize, p.vel[i] - rel);
-                put(self.rot + self.n_trans + s as usize, p.acc[i]);
+                let rel = if relative { p.lift.dy * p.omega_c } else { T::ZERO };
+                put(self.rot + s as usize, *v - rel);
+                put(self.rot + self.n_trans + s as usize, *a);
             }
         }
     }

@@ -475,6 +475,12 @@ pub mod predictor_scene {
     /// An active jump alarm turns off once the speed margin exceeds this (rpm).
     pub const CHIP_ALARM_OFF_MARGIN_RPM: f64 = 100.0;
 
+    /// The design compiled into the chip and run by the host's parity check: the reference
+    /// design of VI.1. Another scene is chosen here at build time (never parsed on the chip).
+    pub fn chip_design<T: Real>() -> Design<T> {
+        Design::reference()
+    }
+
     /// Solver settings of the chip's predictor: rtol 1e-3, atol 1e-7 in, at most 1/500
     /// revolution per double step.
     pub fn chip_solver_settings<T: Real>() -> SolverSettings<T> {

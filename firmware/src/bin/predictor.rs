@@ -12,7 +12,7 @@
 #![no_std]
 #![no_main]
 
-use camsim_core::{chip_alarm, DofSet, JumpAlarm, SpeedPrediction, SpeedSource, SteadyState, CHIP_CHECK_RPM, CHIP_DOFS, CHIP_STATES};
+use camsim_core::{chip_alarm, Real, DofSet, JumpAlarm, SpeedPrediction, SpeedSource, SteadyState, CHIP_CHECK_RPM, CHIP_DOFS, CHIP_STATES};
 use camsim_firmware::board::qemu::{FakeIndexPulse, LedAlarmPin, ScriptedSpeed};
 use camsim_firmware::memory::{paint_stack, stack_peak_bytes, Sections};
 use camsim_firmware::timing::{on_systick_wrap, InstrCounter};
@@ -259,6 +259,17 @@ fn main() -> ! {
         defmt::error!("chip model measurement failed");
         exit_failure()
     };
+
+    // What the elementary functions cost (libm in software; f32 trig computes in f64).
+    let x = core::hint::black_box(0.7f32);
+    let (_, sc) = counter.measure(|| (0..100).fold(0.0f32, |a, i| { let (s, c) = core::hint::black_box(x + i as f32 * 1e-3).sin_cos(); a + s + c }));
+    let (_, at) = counter.measure(|| (0..100).fold(0.0f32, |a, i| a + core::hint::black_box(x + i as f32 * 1e-3).atan2(1.3)));
+    let (_, sq) = counter.measure(|| (0..100).fold(0.0f32, |a, i| a + core::hint::black_box(x + i as f32 * 1e-3).sqrt()));
+    let (_, dv) = counter.measure(|| (0..100).fold(0.0f32, |a, i| a + 1.0 / core::hint::black_box(x + i as f32 * 1e-3)));
+    defmt::info!(
+        "math instr_per_call sin_cos={=u64} atan2={=u64} sqrt={=u64} loop_with_divide={=u64}",
+        sc / 100, at / 100, sq / 100, dv / 100
+    );
 
     // Memory: static sections from the linker, stack from the paint.
     let sections = Sections::get();

@@ -14,7 +14,7 @@ use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 
 use camsim_core::{
-    chip_alarm, chip_prediction_table, chip_solver_settings, chip_steady_state, Design, Real, SpeedPrediction,
+    chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state, Real, SpeedPrediction,
     SpeedSource, SteadyState, ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
     CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
 };
@@ -66,7 +66,7 @@ pub struct Prediction<T> {
 
 /// Runs the chip's predictor (reference design, shared scene, scripted profile) in `T`.
 pub fn compute<T: Real>() -> Result<Prediction<T>> {
-    let design = Design::<T>::reference();
+    let design = chip_design::<T>();
     let table = chip_prediction_table(&design).map_err(|e| anyhow::anyhow!("table build: {e:?}"))?;
     let mut checks = Vec::new();
     for r in CHIP_CHECK_RPM {

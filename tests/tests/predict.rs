@@ -1,0 +1,149 @@
+//! The firmware's predictor on the host (`camsim predict`): its f32 run (bit-identical to
+//! the chip's, checked in scripts/firmware-ci.sh) against the f64 run of the same scene,
+//! the alarm hysteresis over the scripted profile, and the parity-line checker.
+//!
+//! Tolerances f32 vs f64 (both runs take their own adaptive steps, so they differ by the
+//! solver's error, not by rounding alone):
+//! - contact force: the contact deflection y1 - q2 is controlled to atol = 1e-7 in per
+//!   double step; times the Hertz stiffness K_h ≈ 6.45e6 lb/in that is 0.65 lb per step
+//!   for each run; allow three of them: 2 lb.
+//! - jump onset: two bisection resolutions (1 rpm each) plus the force tolerance over
+//!   the slope of the smallest contact force between the last two grid speeds below the
+//!   jump (the onset moves by that much if the force curve shifts by 2 lb).
+//! - timing errors (runs without a jump): the load position is resolved to 3 atol in
+//!   (0.3 µin) over the slope dy/dθ at the crossing, plus the f32 cam angle's resolution
+//!   in the second revolution (θ < 4π: ulp 9.5e-7 rad = 5.5e-5 deg) four times: 2.5e-4 deg.
+//!   Rows that jumped are excluded: after a separation the follower's timing depends on
+//!   the impact history (chaotic under a change of step sequence).
+
+use camsim::cmd::predict::{check_parity, compute, parity_lines, Prediction};
+use camsim_core::{
+    ScriptedProfile, SpeedSource, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_GRID_RPM,
+    CHIP_RESOLUTION_RPM,
+};
+
+const FORCE_TOL_LB: f64 = 3.0 * 1e-7 * 6.45e6;
+
+fn timing_tol_deg() -> f64 {
+    // Smallest lift slope at a timing point of the reference program, in/rad.
+    let d = camsim_core::Design::<f64>::reference();
+    let pts = camsim_core::timing_points(&d.program);
+    let slope = pts
+        .iter()
+        .map(|p| d.program.follower(p.theory_deg.to_radians()).dy.abs())
+        .fold(f64::INFINITY, f64::min);
+    assert!(slope > 0.05, "timing points sit on the flanks: slope {slope}");
+    let theta_ulp_deg = (4.0 * std::f64::consts::PI as f32).to_bits();
+    let ulp = f32::from_bits(theta_ulp_deg + 1) as f64 - (4.0 * std::f64::consts::PI as f32) as f64;
+    (3.0 * 1e-7 / slope).to_degrees() + 4.0 * ulp.to_degrees()
+}
+
+fn both() -> (Prediction<f32>, Prediction<f64>) {
+    (compute::<f32>().unwrap(), compute::<f64>().unwrap())
+}
+
+#[test]
+fn f32_and_f64_agree_within_the_solver_tolerance() {
+    let (p32, p64) = both();
+    let ttol = timing_tol_deg();
+    assert!(ttol > 1e-4 && ttol < 5e-4, "derived timing tolerance {ttol}");
+    let mut worst_f = 0.0f64;
+    let mut worst_t = 0.0f64;
+    for (a, b) in p32.table.at.iter().zip(p64.table.at.iter()) {
+        assert_eq!(a.jumped, b.jumped, "jump flag differs on the grid");
+        let df = (a.min_contact_force as f64 - b.min_contact_force).abs();
+        worst_f = worst_f.max(df);
+        assert!(df <= FORCE_TOL_LB, "min contact force differs by {df} lb");
+        if !a.jumped {
+            for (x, y) in a.timing_deg.iter().zip(b.timing_deg.iter()) {
+                let dt = (*x as f64 - y).abs();
+                worst_t = worst_t.max(dt);
+                assert!(dt <= ttol, "timing differs by {dt} deg (tolerance {ttol})");
+            }
+        }
+    }
+    for (a, b) in p32.checks.iter().zip(p64.checks.iter()) {
+        let df = (a.direct.min_contact_force as f64 - b.direct.min_contact_force).abs();
+        worst_f = worst_f.max(df);
+        assert!(df <= FORCE_TOL_LB, "direct run at {} rpm: force differs by {df} lb", b.rpm);
+    }
+    // Jump onset: slope of the force curve between the last two grid speeds with contact.
+    let held: Vec<usize> = (0..CHIP_GRID_RPM.len()).filter(|&i| !p64.table.at[i].jumped).collect();
+    let (i, j) = (held[held.len() - 2], held[held.len() - 1]);
+    let slope = (p64.table.at[i].min_contact_force - p64.table.at[j].min_contact_force).abs()
+        / (CHIP_GRID_RPM[j] - CHIP_GRID_RPM[i]);
+    assert!(slope > 0.0);
+    let jtol = 2.0 * CHIP_RESOLUTION_RPM + FORCE_TOL_LB / slope;
+    let (j32, j64) = (p32.table.jump_rpm.unwrap() as f64, p64.table.jump_rpm.unwrap());
+    assert!((j32 - j64).abs() <= jtol, "jump onset {j32} (f32) vs {j64} (f64), tolerance {jtol}");
+    // The jump lies between the grid's last contact and first jump.
+    assert!(j64 > CHIP_GRID_RPM[j] && j64 <= CHIP_GRID_RPM[j + 1]);
+    eprintln!("f32 vs f64: worst force {worst_f:.4} lb (tol {FORCE_TOL_LB}), worst timing {worst_t:.2e} deg (tol {ttol:.2e}), jump {j32} vs {j64} (tol {jtol:.2})");
+}
+
+#[test]
+fn alarm_follows_the_hysteresis_over_the_scripted_profile() {
+    for (name, seq) in {
+        let (p32, p64) = both();
+        [
+            ("f32", p32.samples.iter().map(|s| (s.prediction.rpm as f64, s.prediction.speed_margin_rpm as f64, s.alarm)).collect::<Vec<_>>()),
+            ("f64", p64.samples.iter().map(|s| (s.prediction.rpm, s.prediction.speed_margin_rpm, s.alarm)).collect()),
+        ]
+    } {
+        // Same samples as the profile itself.
+        let mut prof = ScriptedProfile::new();
+        let rpms: Vec<f64> = std::iter::from_fn(|| SpeedSource::<f64>::next_rpm(&mut prof)).collect();
+        assert_eq!(rpms, seq.iter().map(|s| s.0).collect::<Vec<_>>(), "{name}: samples");
+        let mut prev = false;
+        let mut transitions = 0;
+        for (rpm, margin, on) in &seq {
+            let expect = if *margin <= CHIP_ALARM_ON_MARGIN_RPM {
+                true
+            } else if *margin > CHIP_ALARM_OFF_MARGIN_RPM {
+                false
+            } else {
+                prev
+            };
+            assert_eq!(*on, expect, "{name}: alarm at {rpm} rpm (margin {margin})");
+            transitions += usize::from(*on != prev);
+            prev = *on;
+        }
+        // The profile crosses the jump once up and once down: exactly one on and one off,
+        // and the hysteresis band makes the off speed lower than the on speed.
+        assert_eq!(transitions, 2, "{name}");
+        let on_at = seq.iter().find(|s| s.2).unwrap().0;
+        let off_at = seq.iter().skip_while(|s| !s.2).find(|s| !s.2).unwrap().0;
+        assert!(off_at < on_at, "{name}: off at {off_at} rpm, on at {on_at} rpm");
+    }
+}
+
+#[test]
+fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
+    let p = compute::<f32>().unwrap();
+    let lines = parity_lines(&p);
+    // Table rows, the jump line, the interpolation checks, every sample.
+    assert_eq!(lines.len(), CHIP_GRID_RPM.len() + 1 + camsim_core::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES);
+    let log: String = lines.iter().map(|l| format!("INFO  {l}\n└─ src/bin/predictor.rs:1\n")).collect();
+    assert_eq!(check_parity(&log, &lines).unwrap(), lines.len());
+    // Flip the last bit of the first sample's force.
+    let k = lines.iter().position(|l| l.starts_with("parity sample i=0 ")).unwrap();
+    let mut bad = lines.clone();
+    let bits = f32::to_bits(p.samples[0].prediction.force_margin_lb);
+    bad[k] = bad[k].replace(&format!("force={bits:#010x}"), &format!("force={:#010x}", bits ^ 1));
+    assert_ne!(bad[k], lines[k]);
+    let log: String = bad.iter().map(|l| format!("{l}\n")).collect();
+    let e = check_parity(&log, &lines).unwrap_err().to_string();
+    assert!(e.contains(&format!("parity line {}", k + 1)), "{e}");
+    assert!(check_parity("", &lines).is_err());
+}
+
+#[test]
+fn interpolation_is_exact_on_the_grid() {
+    let p = compute::<f64>().unwrap();
+    for (r, s) in p.table.rpm.iter().zip(p.table.at.iter()) {
+        let q = p.table.predict(*r);
+        assert!(q.in_grid);
+        assert_eq!(q.force_margin_lb, s.min_contact_force);
+        assert_eq!(q.speed_margin_rpm, p.table.jump_rpm.unwrap() - r);
+    }
+}
