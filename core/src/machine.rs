@@ -482,13 +482,14 @@ pub mod predictor_scene {
     }
 
     /// Solver settings of the chip's predictor: rtol 1e-3, atol 1e-7 in, at most 1/500
-    /// revolution per double step.
+    /// revolution per double step, from the thesis's start state (VI.1).
     pub fn chip_solver_settings<T: Real>() -> SolverSettings<T> {
         SolverSettings {
             rtol: T::from_f64(1e-3),
             atol: T::from_f64(1e-7),
             max_step_fraction: T::from_f64(1.0 / 500.0),
             max_steps_per_rev: 2_000_000,
+            start: crate::Start::Thesis,
         }
     }
 

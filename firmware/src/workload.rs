@@ -23,7 +23,7 @@ use camsim_core::{
 };
 
 /// Right-hand-side evaluations timed to get instructions per evaluation.
-pub const RHS_REPS: u32 = 200;
+pub const RHS_REPS: u32 = 1000;
 
 /// Nominal cam speed of the measured revolution (rpm): the reference design's 800 rpm.
 pub const NOMINAL_RPM: f32 = 800.0;
@@ -33,28 +33,33 @@ pub fn chip_design() -> Design<f32> {
     camsim_core::chip_design()
 }
 
-/// Evaluates the right-hand side of the `N`-state model of the chip's design at
-/// [`NOMINAL_RPM`] `reps` times at a mid-rise state; returns a checksum so the work
-/// cannot be optimised away (`None` if the model cannot be built).
-#[inline(never)]
-pub fn evaluate_rhs<const N: usize>(dofs: DofSet, reps: u32) -> Option<f32> {
-    use camsim_core::OdeSystem;
+/// The `N`-state model of the chip's design at [`NOMINAL_RPM`] and a mid-rise state
+/// (100 degrees, on the reference program's rise) for [`evaluate_rhs`]; `None` if the
+/// model cannot be built. Kept out of the timed span: building a model validates the
+/// design (including its undercut scan), which costs millions of instructions.
+pub fn rhs_probe<const N: usize>(dofs: DofSet) -> Option<(CamModel<f32, N>, [f32; N])> {
     let mut d = chip_design();
     d.set_speed_rpm(NOMINAL_RPM).ok()?;
     let model = CamModel::<f32, N>::new(d, dofs).ok()?;
-    // 100 degrees: on the rise of the reference program.
-    let theta = 100.0f32.to_radians();
-    let y = model.state_from(theta, &[0.0; 8], &[0.0; 8]);
+    let y = model.state_from(100.0f32.to_radians(), &[0.0; 8], &[0.0; 8]);
+    Some((model, y))
+}
+
+/// Evaluates the model's right-hand side `reps` times at `y`; returns a checksum so the
+/// work cannot be optimised away.
+#[inline(never)]
+pub fn evaluate_rhs<const N: usize>(model: &CamModel<f32, N>, y: &[f32; N], reps: u32) -> f32 {
+    use camsim_core::OdeSystem;
     let mut dydt = [0.0f32; N];
     let mut acc = 0.0f32;
     for i in 0..reps {
         let t = core::hint::black_box(i as f32 * 1.0e-6);
-        model.rhs(t, core::hint::black_box(&y), &mut dydt);
+        model.rhs(t, core::hint::black_box(y), &mut dydt);
         for v in core::hint::black_box(&dydt) {
             acc += *v;
         }
     }
-    Some(acc)
+    acc
 }
 
 /// What one simulated revolution produced.
