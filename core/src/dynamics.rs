@@ -76,7 +76,8 @@ const NONE: u8 = u8::MAX;
 
 /// Translational DOFs whose displacement state is stored relative to the commanded lift
 /// s(θ_c) (the follower chain y2, y3, y4, y5; see the module docs).
-pub const RELATIVE_TO_LIFT: [bool; TRANS_DOFS] = [false, false, true, false, true, false, true, true];
+pub const RELATIVE_TO_LIFT: [bool; TRANS_DOFS] =
+    [false, false, true, false, true, false, true, true];
 
 /// Every quantity of the model at one instant (what an observer receives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -326,7 +327,11 @@ impl<T: Real, const N: usize> CamModel<T, N> {
             let s = self.trans_slot[i];
             if s != NONE {
                 let s = s as usize;
-                let rel = if RELATIVE_TO_LIFT[i] { self.d.program.follower(theta_c).y } else { T::ZERO };
+                let rel = if RELATIVE_TO_LIFT[i] {
+                    self.d.program.follower(theta_c).y
+                } else {
+                    T::ZERO
+                };
                 if let Some(v) = y.get_mut(self.rot + s) {
                     *v = pos[i] - rel;
                 }
@@ -523,7 +528,11 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         for ((&s, relative), (v, a)) in slots.zip(p.vel.iter().zip(p.acc.iter())) {
             if s != NONE {
                 // dq/dt = ẏ - s'(θ_c) θ̇_c for the displacements stored relative to the lift.
-                let rel = if relative { p.lift.dy * p.omega_c } else { T::ZERO };
+                let rel = if relative {
+                    p.lift.dy * p.omega_c
+                } else {
+                    T::ZERO
+                };
                 put(self.rot + s as usize, *v - rel);
                 put(self.rot + self.n_trans + s as usize, *a);
             }

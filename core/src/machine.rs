@@ -377,7 +377,14 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
         } else if hi < max_rpm {
             // The grid already shows contact at `lo` and a jump at `hi`: bisect between them.
             crate::positive("resolution_rpm", resolution_rpm)?;
-            Some(bisect_onset::<T, N>(design, dofs, lo, hi, resolution_rpm, settings)?)
+            Some(bisect_onset::<T, N>(
+                design,
+                dofs,
+                lo,
+                hi,
+                resolution_rpm,
+                settings,
+            )?)
         } else {
             jump_onset_rpm::<T, N>(design, dofs, lo, hi, resolution_rpm, settings)?
         };
@@ -451,7 +458,10 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
 /// speed; rtol 1e-3 (the thesis ran at 2 %) with atol 1e-7 in keeps the f32 jump speed
 /// within about 1 rpm and the contact-force margin within about 0.3 lb of the f64 model.
 pub mod predictor_scene {
-    use crate::{CamModel, Design, DofSet, JumpAlarm, PredictionTable, Real, Result, SolverSettings, SpeedSource};
+    use crate::{
+        CamModel, Design, DofSet, JumpAlarm, PredictionTable, Real, Result, SolverSettings,
+        SpeedSource,
+    };
 
     /// State size of the chip's model: regulated drive, vertical DOFs only (6 + 2·5).
     pub const CHIP_STATES: usize = 16;
@@ -499,7 +509,9 @@ pub mod predictor_scene {
     }
 
     /// Builds the chip's prediction table for `design` (the boot-time computation).
-    pub fn chip_prediction_table<T: Real>(design: &Design<T>) -> Result<PredictionTable<T, CHIP_GRID>> {
+    pub fn chip_prediction_table<T: Real>(
+        design: &Design<T>,
+    ) -> Result<PredictionTable<T, CHIP_GRID>> {
         PredictionTable::build::<CHIP_STATES>(
             design,
             CHIP_DOFS,
@@ -517,7 +529,10 @@ pub mod predictor_scene {
 
     /// The chip's jump alarm (thresholds [`CHIP_ALARM_ON_MARGIN_RPM`], [`CHIP_ALARM_OFF_MARGIN_RPM`]).
     pub fn chip_alarm<T: Real>() -> Result<JumpAlarm<T>> {
-        JumpAlarm::new(T::from_f64(CHIP_ALARM_ON_MARGIN_RPM), T::from_f64(CHIP_ALARM_OFF_MARGIN_RPM))
+        JumpAlarm::new(
+            T::from_f64(CHIP_ALARM_ON_MARGIN_RPM),
+            T::from_f64(CHIP_ALARM_OFF_MARGIN_RPM),
+        )
     }
 
     /// Scripted cam speed for the QEMU run and the host: a ramp 300 -> 600 rpm in 25 rpm
@@ -545,7 +560,10 @@ pub mod predictor_scene {
 
         /// The profile from its first sample.
         pub fn new() -> Self {
-            Self { next: Some(Self::LOW_RPM), rising: true }
+            Self {
+                next: Some(Self::LOW_RPM),
+                rising: true,
+            }
         }
     }
 
@@ -601,7 +619,11 @@ pub mod predictor_scene {
         fn grid_ascends_and_brackets_the_checks() {
             assert!(CHIP_GRID_RPM.windows(2).all(|w| w[0] < w[1]));
             for c in CHIP_CHECK_RPM {
-                assert!(!CHIP_GRID_RPM.contains(&c) && c > CHIP_GRID_RPM[0] && c < CHIP_GRID_RPM[CHIP_GRID - 1]);
+                assert!(
+                    !CHIP_GRID_RPM.contains(&c)
+                        && c > CHIP_GRID_RPM[0]
+                        && c < CHIP_GRID_RPM[CHIP_GRID - 1]
+                );
             }
             assert!(chip_alarm::<f32>().is_ok());
         }

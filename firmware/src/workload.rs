@@ -18,8 +18,8 @@
 use core::ops::ControlFlow;
 
 use camsim_core::{
-    chip_prediction_table, chip_solver_settings, chip_steady_state, simulate, CamModel, Design, DofSet,
-    PredictionTable, Sample, SpeedPrediction, SteadyState, CHIP_GRID,
+    chip_prediction_table, chip_solver_settings, chip_steady_state, simulate, CamModel, Design,
+    DofSet, PredictionTable, Sample, SpeedPrediction, SteadyState, CHIP_GRID,
 };
 
 /// Right-hand-side evaluations timed to get instructions per evaluation.

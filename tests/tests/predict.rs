@@ -18,8 +18,8 @@
 
 use camsim::cmd::predict::{check_parity, compute, parity_lines, Prediction};
 use camsim_core::{
-    ScriptedProfile, SpeedSource, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_GRID_RPM,
-    CHIP_RESOLUTION_RPM,
+    ScriptedProfile, SpeedSource, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
+    CHIP_GRID_RPM, CHIP_RESOLUTION_RPM,
 };
 
 const FORCE_TOL_LB: f64 = 3.0 * 1e-7 * 6.45e6;
@@ -32,7 +32,10 @@ fn timing_tol_deg() -> f64 {
         .iter()
         .map(|p| d.program.follower(p.theory_deg.to_radians()).dy.abs())
         .fold(f64::INFINITY, f64::min);
-    assert!(slope > 0.05, "timing points sit on the flanks: slope {slope}");
+    assert!(
+        slope > 0.05,
+        "timing points sit on the flanks: slope {slope}"
+    );
     let theta_ulp_deg = (4.0 * std::f64::consts::PI as f32).to_bits();
     let ulp = f32::from_bits(theta_ulp_deg + 1) as f64 - (4.0 * std::f64::consts::PI as f32) as f64;
     (3.0 * 1e-7 / slope).to_degrees() + 4.0 * ulp.to_degrees()
@@ -46,7 +49,10 @@ fn both() -> (Prediction<f32>, Prediction<f64>) {
 fn f32_and_f64_agree_within_the_solver_tolerance() {
     let (p32, p64) = both();
     let ttol = timing_tol_deg();
-    assert!(ttol > 1e-4 && ttol < 5e-4, "derived timing tolerance {ttol}");
+    assert!(
+        ttol > 1e-4 && ttol < 5e-4,
+        "derived timing tolerance {ttol}"
+    );
     let mut worst_f = 0.0f64;
     let mut worst_t = 0.0f64;
     for (a, b) in p32.table.at.iter().zip(p64.table.at.iter()) {
@@ -65,17 +71,29 @@ fn f32_and_f64_agree_within_the_solver_tolerance() {
     for (a, b) in p32.checks.iter().zip(p64.checks.iter()) {
         let df = (a.direct.min_contact_force as f64 - b.direct.min_contact_force).abs();
         worst_f = worst_f.max(df);
-        assert!(df <= FORCE_TOL_LB, "direct run at {} rpm: force differs by {df} lb", b.rpm);
+        assert!(
+            df <= FORCE_TOL_LB,
+            "direct run at {} rpm: force differs by {df} lb",
+            b.rpm
+        );
     }
     // Jump onset: slope of the force curve between the last two grid speeds with contact.
-    let held: Vec<usize> = (0..CHIP_GRID_RPM.len()).filter(|&i| !p64.table.at[i].jumped).collect();
+    let held: Vec<usize> = (0..CHIP_GRID_RPM.len())
+        .filter(|&i| !p64.table.at[i].jumped)
+        .collect();
     let (i, j) = (held[held.len() - 2], held[held.len() - 1]);
     let slope = (p64.table.at[i].min_contact_force - p64.table.at[j].min_contact_force).abs()
         / (CHIP_GRID_RPM[j] - CHIP_GRID_RPM[i]);
     assert!(slope > 0.0);
     let jtol = 2.0 * CHIP_RESOLUTION_RPM + FORCE_TOL_LB / slope;
-    let (j32, j64) = (p32.table.jump_rpm.unwrap() as f64, p64.table.jump_rpm.unwrap());
-    assert!((j32 - j64).abs() <= jtol, "jump onset {j32} (f32) vs {j64} (f64), tolerance {jtol}");
+    let (j32, j64) = (
+        p32.table.jump_rpm.unwrap() as f64,
+        p64.table.jump_rpm.unwrap(),
+    );
+    assert!(
+        (j32 - j64).abs() <= jtol,
+        "jump onset {j32} (f32) vs {j64} (f64), tolerance {jtol}"
+    );
     // The jump lies between the grid's last contact and first jump.
     assert!(j64 > CHIP_GRID_RPM[j] && j64 <= CHIP_GRID_RPM[j + 1]);
     eprintln!("f32 vs f64: worst force {worst_f:.4} lb (tol {FORCE_TOL_LB}), worst timing {worst_t:.2e} deg (tol {ttol:.2e}), jump {j32} vs {j64} (tol {jtol:.2})");
@@ -86,14 +104,37 @@ fn alarm_follows_the_hysteresis_over_the_scripted_profile() {
     for (name, seq) in {
         let (p32, p64) = both();
         [
-            ("f32", p32.samples.iter().map(|s| (s.prediction.rpm as f64, s.prediction.speed_margin_rpm as f64, s.alarm)).collect::<Vec<_>>()),
-            ("f64", p64.samples.iter().map(|s| (s.prediction.rpm, s.prediction.speed_margin_rpm, s.alarm)).collect()),
+            (
+                "f32",
+                p32.samples
+                    .iter()
+                    .map(|s| {
+                        (
+                            s.prediction.rpm as f64,
+                            s.prediction.speed_margin_rpm as f64,
+                            s.alarm,
+                        )
+                    })
+                    .collect::<Vec<_>>(),
+            ),
+            (
+                "f64",
+                p64.samples
+                    .iter()
+                    .map(|s| (s.prediction.rpm, s.prediction.speed_margin_rpm, s.alarm))
+                    .collect(),
+            ),
         ]
     } {
         // Same samples as the profile itself.
         let mut prof = ScriptedProfile::new();
-        let rpms: Vec<f64> = std::iter::from_fn(|| SpeedSource::<f64>::next_rpm(&mut prof)).collect();
-        assert_eq!(rpms, seq.iter().map(|s| s.0).collect::<Vec<_>>(), "{name}: samples");
+        let rpms: Vec<f64> =
+            std::iter::from_fn(|| SpeedSource::<f64>::next_rpm(&mut prof)).collect();
+        assert_eq!(
+            rpms,
+            seq.iter().map(|s| s.0).collect::<Vec<_>>(),
+            "{name}: samples"
+        );
         let mut prev = false;
         let mut transitions = 0;
         for (rpm, margin, on) in &seq {
@@ -113,7 +154,10 @@ fn alarm_follows_the_hysteresis_over_the_scripted_profile() {
         assert_eq!(transitions, 2, "{name}");
         let on_at = seq.iter().find(|s| s.2).unwrap().0;
         let off_at = seq.iter().skip_while(|s| !s.2).find(|s| !s.2).unwrap().0;
-        assert!(off_at < on_at, "{name}: off at {off_at} rpm, on at {on_at} rpm");
+        assert!(
+            off_at < on_at,
+            "{name}: off at {off_at} rpm, on at {on_at} rpm"
+        );
     }
 }
 
@@ -122,14 +166,26 @@ fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
     let p = compute::<f32>().unwrap();
     let lines = parity_lines(&p);
     // Table rows, the jump line, the interpolation checks, every sample.
-    assert_eq!(lines.len(), CHIP_GRID_RPM.len() + 1 + camsim_core::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES);
-    let log: String = lines.iter().map(|l| format!("INFO  {l}\n└─ src/bin/predictor.rs:1\n")).collect();
+    assert_eq!(
+        lines.len(),
+        CHIP_GRID_RPM.len() + 1 + camsim_core::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES
+    );
+    let log: String = lines
+        .iter()
+        .map(|l| format!("INFO  {l}\n└─ src/bin/predictor.rs:1\n"))
+        .collect();
     assert_eq!(check_parity(&log, &lines).unwrap(), lines.len());
     // Flip the last bit of the first sample's force.
-    let k = lines.iter().position(|l| l.starts_with("parity sample i=0 ")).unwrap();
+    let k = lines
+        .iter()
+        .position(|l| l.starts_with("parity sample i=0 "))
+        .unwrap();
     let mut bad = lines.clone();
     let bits = f32::to_bits(p.samples[0].prediction.force_margin_lb);
-    bad[k] = bad[k].replace(&format!("force={bits:#010x}"), &format!("force={:#010x}", bits ^ 1));
+    bad[k] = bad[k].replace(
+        &format!("force={bits:#010x}"),
+        &format!("force={:#010x}", bits ^ 1),
+    );
     assert_ne!(bad[k], lines[k]);
     let log: String = bad.iter().map(|l| format!("{l}\n")).collect();
     let e = check_parity(&log, &lines).unwrap_err().to_string();

@@ -12,7 +12,10 @@
 #![no_std]
 #![no_main]
 
-use camsim_core::{chip_alarm, Real, DofSet, JumpAlarm, SpeedPrediction, SpeedSource, SteadyState, CHIP_CHECK_RPM, CHIP_DOFS, CHIP_STATES};
+use camsim_core::{
+    chip_alarm, DofSet, JumpAlarm, Real, SpeedPrediction, SpeedSource, SteadyState, CHIP_CHECK_RPM,
+    CHIP_DOFS, CHIP_STATES,
+};
 use camsim_firmware::board::qemu::{FakeIndexPulse, LedAlarmPin, ScriptedSpeed};
 use camsim_firmware::memory::{paint_stack, stack_peak_bytes, Sections};
 use camsim_firmware::timing::{on_systick_wrap, InstrCounter};
@@ -142,9 +145,14 @@ where
 }
 
 /// Measures instructions per RHS and per revolution of the `N`-state model.
-fn measure_model<const N: usize>(counter: &InstrCounter, name: &str, dofs: DofSet) -> Option<(u64, u64)> {
+fn measure_model<const N: usize>(
+    counter: &InstrCounter,
+    name: &str,
+    dofs: DofSet,
+) -> Option<(u64, u64)> {
     let (model, y) = workload::rhs_probe::<N>(dofs)?;
-    let (checksum, rhs_instr) = counter.measure(|| workload::evaluate_rhs(&model, &y, workload::RHS_REPS));
+    let (checksum, rhs_instr) =
+        counter.measure(|| workload::evaluate_rhs(&model, &y, workload::RHS_REPS));
     let per_rhs = rhs_instr / u64::from(workload::RHS_REPS);
     let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution::<N>(dofs));
     let rev = rev?;
@@ -238,7 +246,9 @@ fn main() -> ! {
     };
     let mut speed = ScriptedSpeed::new();
     let mut index = FakeIndexPulse::default();
-    let summary = run_predictor(&counter, &mut speed, &mut index, &mut pin, &predictor, &mut alarm);
+    let summary = run_predictor(
+        &counter, &mut speed, &mut index, &mut pin, &predictor, &mut alarm,
+    );
     defmt::info!(
         "predictor samples={=u32} alarm_samples={=u32} alarm_transitions={=u32} missed_index={=u32} max_rpm={=f32} max_instr_per_prediction={=u64}",
         summary.samples,
@@ -255,20 +265,42 @@ fn main() -> ! {
         defmt::error!("full model measurement failed");
         exit_failure()
     }
-    let Some((instr_per_rhs, rev_instr)) = measure_model::<CHIP_STATES>(&counter, "chip", CHIP_DOFS) else {
+    let Some((instr_per_rhs, rev_instr)) =
+        measure_model::<CHIP_STATES>(&counter, "chip", CHIP_DOFS)
+    else {
         defmt::error!("chip model measurement failed");
         exit_failure()
     };
 
     // What the elementary functions cost (libm in software; f32 trig computes in f64).
     let x = core::hint::black_box(0.7f32);
-    let (_, sc) = counter.measure(|| (0..100).fold(0.0f32, |a, i| { let (s, c) = core::hint::black_box(x + i as f32 * 1e-3).sin_cos(); a + s + c }));
-    let (_, at) = counter.measure(|| (0..100).fold(0.0f32, |a, i| a + core::hint::black_box(x + i as f32 * 1e-3).atan2(1.3)));
-    let (_, sq) = counter.measure(|| (0..100).fold(0.0f32, |a, i| a + core::hint::black_box(x + i as f32 * 1e-3).sqrt()));
-    let (_, dv) = counter.measure(|| (0..100).fold(0.0f32, |a, i| a + 1.0 / core::hint::black_box(x + i as f32 * 1e-3)));
+    let (_, sc) = counter.measure(|| {
+        (0..100).fold(0.0f32, |a, i| {
+            let (s, c) = core::hint::black_box(x + i as f32 * 1e-3).sin_cos();
+            a + s + c
+        })
+    });
+    let (_, at) = counter.measure(|| {
+        (0..100).fold(0.0f32, |a, i| {
+            a + core::hint::black_box(x + i as f32 * 1e-3).atan2(1.3)
+        })
+    });
+    let (_, sq) = counter.measure(|| {
+        (0..100).fold(0.0f32, |a, i| {
+            a + core::hint::black_box(x + i as f32 * 1e-3).sqrt()
+        })
+    });
+    let (_, dv) = counter.measure(|| {
+        (0..100).fold(0.0f32, |a, i| {
+            a + 1.0 / core::hint::black_box(x + i as f32 * 1e-3)
+        })
+    });
     defmt::info!(
         "math instr_per_call sin_cos={=u64} atan2={=u64} sqrt={=u64} loop_with_divide={=u64}",
-        sc / 100, at / 100, sq / 100, dv / 100
+        sc / 100,
+        at / 100,
+        sq / 100,
+        dv / 100
     );
 
     // Memory: static sections from the linker, stack from the paint.

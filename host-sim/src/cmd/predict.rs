@@ -14,9 +14,10 @@ use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 
 use camsim_core::{
-    chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state, Real, SpeedPrediction,
-    SpeedSource, SteadyState, ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
-    CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
+    chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state, Real,
+    ScriptedProfile, SpeedPrediction, SpeedSource, SteadyState, CHIP_ALARM_OFF_MARGIN_RPM,
+    CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
+    CHIP_RESOLUTION_RPM, CHIP_STATES,
 };
 
 /// Command-line options of `camsim predict`.
@@ -67,12 +68,18 @@ pub struct Prediction<T> {
 /// Runs the chip's predictor (reference design, shared scene, scripted profile) in `T`.
 pub fn compute<T: Real>() -> Result<Prediction<T>> {
     let design = chip_design::<T>();
-    let table = chip_prediction_table(&design).map_err(|e| anyhow::anyhow!("table build: {e:?}"))?;
+    let table =
+        chip_prediction_table(&design).map_err(|e| anyhow::anyhow!("table build: {e:?}"))?;
     let mut checks = Vec::new();
     for r in CHIP_CHECK_RPM {
         let rpm = T::from_f64(r);
-        let direct = chip_steady_state(&design, rpm).map_err(|e| anyhow::anyhow!("direct run at {r} rpm: {e:?}"))?;
-        checks.push(InterpCheck { rpm, interpolated: table.predict(rpm), direct });
+        let direct = chip_steady_state(&design, rpm)
+            .map_err(|e| anyhow::anyhow!("direct run at {r} rpm: {e:?}"))?;
+        checks.push(InterpCheck {
+            rpm,
+            interpolated: table.predict(rpm),
+            direct,
+        });
     }
     let mut alarm = chip_alarm::<T>().map_err(|e| anyhow::anyhow!("alarm: {e:?}"))?;
     let mut profile = ScriptedProfile::new();
@@ -80,9 +87,16 @@ pub fn compute<T: Real>() -> Result<Prediction<T>> {
     while let Some(rpm) = SpeedSource::<T>::next_rpm(&mut profile) {
         let prediction = table.predict(rpm);
         let on = alarm.update(prediction.speed_margin_rpm);
-        samples.push(SampleOut { prediction, alarm: on });
+        samples.push(SampleOut {
+            prediction,
+            alarm: on,
+        });
     }
-    Ok(Prediction { table, checks, samples })
+    Ok(Prediction {
+        table,
+        checks,
+        samples,
+    })
 }
 
 fn hex(x: f32) -> String {
@@ -134,7 +148,9 @@ pub fn parity_lines(p: &Prediction<f32>) -> Vec<String> {
 
 /// The `parity ...` lines of a decoded firmware log (text from `parity ` to the line end).
 pub fn log_parity_lines(log: &str) -> Vec<String> {
-    log.lines().filter_map(|l| l.find("parity ").map(|i| l[i..].trim_end().to_string())).collect()
+    log.lines()
+        .filter_map(|l| l.find("parity ").map(|i| l[i..].trim_end().to_string()))
+        .collect()
 }
 
 /// Compares the firmware's parity lines with the host's; Err names the first difference.
@@ -142,11 +158,19 @@ pub fn check_parity(log: &str, host: &[String]) -> Result<usize> {
     let fw = log_parity_lines(log);
     for (k, (f, h)) in fw.iter().zip(host.iter()).enumerate() {
         if f != h {
-            bail!("parity mismatch at parity line {} of {}: firmware `{f}` != host `{h}`", k + 1, host.len());
+            bail!(
+                "parity mismatch at parity line {} of {}: firmware `{f}` != host `{h}`",
+                k + 1,
+                host.len()
+            );
         }
     }
     if fw.len() != host.len() {
-        bail!("parity: the firmware log has {} parity lines, the host {}", fw.len(), host.len());
+        bail!(
+            "parity: the firmware log has {} parity lines, the host {}",
+            fw.len(),
+            host.len()
+        );
     }
     Ok(fw.len())
 }
@@ -171,7 +195,10 @@ fn bits_of<T: Real>(x: T, single: bool) -> Value {
 }
 
 fn timing_json<T: Real>(t: &[T; 6], single: bool) -> (Value, Value) {
-    (Value::Array(t.iter().map(|v| f(*v)).collect()), Value::Array(t.iter().map(|v| bits_of(*v, single)).collect()))
+    (
+        Value::Array(t.iter().map(|v| f(*v)).collect()),
+        Value::Array(t.iter().map(|v| bits_of(*v, single)).collect()),
+    )
 }
 
 fn to_json<T: Real>(p: &Prediction<T>, single: bool) -> Value {
@@ -240,10 +267,23 @@ fn to_json<T: Real>(p: &Prediction<T>, single: bool) -> Value {
 
 fn print_text<T: Real>(p: &Prediction<T>, precision: &str) {
     println!("predictor scene: reference design, {CHIP_STATES} states (vertical), {precision}");
-    println!("{:>8} {:>12} {:>7}  timing error, deg (rise 10/50/90 %, return 10/50/90 %)", "rpm", "min F, lb", "jumped");
+    println!(
+        "{:>8} {:>12} {:>7}  timing error, deg (rise 10/50/90 %, return 10/50/90 %)",
+        "rpm", "min F, lb", "jumped"
+    );
     for (r, s) in p.table.rpm.iter().zip(p.table.at.iter()) {
-        let t: Vec<String> = s.timing_deg.iter().map(|v| format!("{:+.4}", v.to_f64())).collect();
-        println!("{:>8.1} {:>12.4} {:>7}  {}", r.to_f64(), s.min_contact_force.to_f64(), s.jumped, t.join(" "));
+        let t: Vec<String> = s
+            .timing_deg
+            .iter()
+            .map(|v| format!("{:+.4}", v.to_f64()))
+            .collect();
+        println!(
+            "{:>8.1} {:>12.4} {:>7}  {}",
+            r.to_f64(),
+            s.min_contact_force.to_f64(),
+            s.jumped,
+            t.join(" ")
+        );
     }
     match p.table.jump_rpm {
         Some(j) => println!("jump onset: {:.3} rpm", j.to_f64()),
@@ -251,7 +291,12 @@ fn print_text<T: Real>(p: &Prediction<T>, precision: &str) {
     }
     for c in &p.checks {
         let mut dt = 0.0f64;
-        for (a, b) in c.interpolated.timing_deg.iter().zip(c.direct.timing_deg.iter()) {
+        for (a, b) in c
+            .interpolated
+            .timing_deg
+            .iter()
+            .zip(c.direct.timing_deg.iter())
+        {
             dt = dt.max((a.to_f64() - b.to_f64()).abs());
         }
         println!(
@@ -266,7 +311,15 @@ fn print_text<T: Real>(p: &Prediction<T>, precision: &str) {
     let mut prev = false;
     for s in &p.samples {
         let q = &s.prediction;
-        let mark = if s.alarm != prev { if s.alarm { "  <- alarm ON" } else { "  <- alarm OFF" } } else { "" };
+        let mark = if s.alarm != prev {
+            if s.alarm {
+                "  <- alarm ON"
+            } else {
+                "  <- alarm OFF"
+            }
+        } else {
+            ""
+        };
         prev = s.alarm;
         println!(
             "speed {:>6.1} rpm: force margin {:>9.4} lb, speed margin {:>8.2} rpm, timing rise50 {:+.4} return50 {:+.4} deg, alarm {}{}",
@@ -289,7 +342,8 @@ pub fn run(args: Args) -> Result<()> {
     if args.single {
         let p = compute::<f32>()?;
         if let Some(path) = &args.check_log {
-            let log = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+            let log = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
             let n = check_parity(&log, &parity_lines(&p))?;
             println!("parity OK: {n} lines (table, jump onset, interpolation checks, every sample) bit-identical");
             return Ok(());
