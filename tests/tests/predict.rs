@@ -4,14 +4,14 @@
 //!
 //! Tolerances f32 vs f64 (both runs take their own adaptive steps, so they differ by the
 //! solver's error, not by rounding alone):
-//! - contact force: the contact deflection y1 - q2 is controlled to atol = 1e-7 in per
-//!   double step; times the Hertz stiffness K_h ≈ 6.45e6 lb/in that is 0.65 lb per step
-//!   for each run; allow three of them: 2 lb.
+//! - contact force: the contact deflection y1 - q2 is controlled to atol = 1e-8 in per
+//!   double step; times the Hertz stiffness K_h ≈ 6.45e6 lb/in that is 0.065 lb per step
+//!   for each run; allow three of them: 0.19 lb.
 //! - jump onset: two bisection resolutions (1 rpm each) plus the force tolerance over
 //!   the slope of the smallest contact force between the last two grid speeds below the
-//!   jump (the onset moves by that much if the force curve shifts by 2 lb).
+//!   jump (the onset moves by that much if the force curve shifts by 0.19 lb).
 //! - timing errors (runs without a jump): the load position is resolved to 3 atol in
-//!   (0.3 µin) over the slope dy/dθ at the crossing, plus the f32 cam angle's resolution
+//!   (0.03 µin) over the slope dy/dθ at the crossing, plus the f32 cam angle's resolution
 //!   in the second revolution (θ < 4π: ulp 9.5e-7 rad = 5.5e-5 deg) four times: 2.5e-4 deg.
 //!   Rows that jumped are excluded: after a separation the follower's timing depends on
 //!   the impact history (chaotic under a change of step sequence).
@@ -22,7 +22,7 @@ use camsim_core::{
     CHIP_GRID_RPM, CHIP_RESOLUTION_RPM,
 };
 
-const FORCE_TOL_LB: f64 = 3.0 * 1e-7 * 6.45e6;
+const FORCE_TOL_LB: f64 = 3.0 * 1e-8 * 6.45e6;
 
 fn timing_tol_deg() -> f64 {
     // Smallest lift slope at a timing point of the reference program, in/rad.
@@ -38,7 +38,7 @@ fn timing_tol_deg() -> f64 {
     );
     let theta_ulp_deg = (4.0 * std::f64::consts::PI as f32).to_bits();
     let ulp = f32::from_bits(theta_ulp_deg + 1) as f64 - (4.0 * std::f64::consts::PI as f32) as f64;
-    (3.0 * 1e-7 / slope).to_degrees() + 4.0 * ulp.to_degrees()
+    (3.0 * 1e-8 / slope).to_degrees() + 4.0 * ulp.to_degrees()
 }
 
 fn both() -> (Prediction<f32>, Prediction<f64>) {

@@ -30,6 +30,16 @@ pub struct Args {
     /// Spring length compressed at assembly δ_rs, in.
     #[arg(long, allow_negative_numbers = true)]
     pub preload_length: Option<f64>,
+    /// Initial state of each simulation: "static" (default: the steady state is then not
+    /// polluted by the start-up impact of the thesis's all-zero state) or "thesis".
+    #[arg(long, value_parser = ["thesis", "static"], default_value = "static")]
+    pub start: String,
+    /// Solver relative tolerance.
+    #[arg(long, allow_negative_numbers = true)]
+    pub rtol: Option<f64>,
+    /// Solver absolute tolerance for displacements, in.
+    #[arg(long, allow_negative_numbers = true)]
+    pub atol: Option<f64>,
     /// Bisection resolution, rpm.
     #[arg(long, default_value_t = 1.0)]
     pub resolution: f64,
@@ -115,6 +125,9 @@ pub fn run(args: Args) -> Result<()> {
         ret: args.ret.clone(),
         spring_rate: args.spring_rate,
         preload_length: args.preload_length,
+        start: Some(args.start.clone()),
+        rtol: args.rtol,
+        atol: args.atol,
         ..Default::default()
     };
     let spec = run_cmd::spec_from(&run_args)?;
