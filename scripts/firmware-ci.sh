@@ -33,20 +33,23 @@ echo "firmware-ci: build (release)"
 (cd firmware && cargo build --release)
 [ -f "$ELF" ] || fail "no ELF at $ELF"
 
-echo "firmware-ci: run under QEMU (timeout ${QEMU_TIMEOUT_S}s) -> $LOG"
-mkdir -p "$(dirname "$LOG")"
-set +e
-timeout "$QEMU_TIMEOUT_S" qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic \
-    -semihosting-config enable=on,target=native -icount shift=0 -kernel "$ELF" </dev/null \
-    | defmt-print -e "$ELF" >"$LOG" 2>&1
-status=("${PIPESTATUS[@]}")
-set -e
-cat "$LOG"
-qemu_rc=${status[0]}
-print_rc=${status[1]}
-[ "$qemu_rc" -eq 124 ] && fail "QEMU timed out after ${QEMU_TIMEOUT_S}s"
-[ "$qemu_rc" -eq 0 ] || fail "QEMU exited with status $qemu_rc (firmware panic or fault?)"
-[ "$print_rc" -eq 0 ] || fail "defmt-print exited with status $print_rc"
+# Runs the ELF under QEMU, decodes the defmt output into $2, fails unless QEMU exits 0.
+run_qemu() {
+    local elf=$1 log=$2
+    echo "firmware-ci: run under QEMU (timeout ${QEMU_TIMEOUT_S}s) -> $log"
+    mkdir -p "$(dirname "$log")"
+    set +e
+    timeout "$QEMU_TIMEOUT_S" qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic \
+        -semihosting-config enable=on,target=native -icount shift=0 -kernel "$elf" </dev/null \
+        | defmt-print -e "$elf" >"$log" 2>&1
+    local status=("${PIPESTATUS[@]}")
+    set -e
+    cat "$log"
+    [ "${status[0]}" -eq 124 ] && fail "QEMU timed out after ${QEMU_TIMEOUT_S}s"
+    [ "${status[0]}" -eq 0 ] || fail "QEMU exited with status ${status[0]} (firmware panic or fault?)"
+    [ "${status[1]}" -eq 0 ] || fail "defmt-print exited with status ${status[1]}"
+}
+run_qemu "$ELF" "$LOG"
 
 budget=$(grep -o 'budget flash_bytes=[0-9]* ram_static_bytes=[0-9]* stack_peak_bytes=[0-9]* ram_bytes=[0-9]* instr_per_rhs=[0-9]* instr_per_rev=[0-9]*' "$LOG" | tail -n 1 || true)
 [ -n "$budget" ] || fail "no budget line in $LOG"
@@ -89,5 +92,21 @@ echo "firmware-ci: $budget"
 echo "firmware-ci: host parity (camsim predict --f32 --check-log $LOG)"
 cargo build -q --release -p camsim
 ./target/release/camsim predict --f32 --check-log "$LOG" || fail "host parity: see the line above"
+
+# ---------------------------------------------------------------------------
+# A scene chosen at build time: generated from a scene file into a const record
+# (never parsed on the chip), compiled in, run, and checked against the host again.
+# ---------------------------------------------------------------------------
+SCENE=scenes/stable-4567-rise.toml
+SCENE_RS="$PWD/target/firmware-scene.rs"
+SCENE_LOG=target/firmware-run-scene.log
+echo "firmware-ci: build-time scene $SCENE"
+./target/release/camsim scene --rust "$SCENE" >"$SCENE_RS"
+(cd firmware && CAMSIM_SCENE_RS="$SCENE_RS" cargo build --release)
+run_qemu "$ELF" "$SCENE_LOG"
+grep -q "scene=generated" "$SCENE_LOG" || fail "the scene build did not report its generated scene"
+./target/release/camsim predict --f32 --scene "$SCENE" --check-log "$SCENE_LOG" || fail "host parity (scene): see the line above"
+# Leave the default (reference) firmware built, as a plain `cargo build` would.
+(cd firmware && cargo build --release)
 
 echo "firmware-ci: OK"

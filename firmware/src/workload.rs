@@ -10,10 +10,9 @@
 //!   chip's model ([`camsim_core::ChipModel`], 16 states) and, for comparison, the full
 //!   22-state model ([`camsim_core::FullModel`]).
 //!
-//! Another scene is chosen at build time, never parsed on the chip: change
-//! `camsim_core::chip_design` (e.g. behind a cargo feature of camsim-core, or a constant
-//! generated from a scene file); `camsim predict` reads the same function, so host parity
-//! keeps holding.
+//! Another scene is chosen at build time, never parsed on the chip:
+//! `camsim scene --rust my.toml > my.rs` and build with `CAMSIM_SCENE_RS=$PWD/my.rs`;
+//! `camsim predict --f32 --scene my.toml` reproduces it bit for bit.
 
 use core::ops::ControlFlow;
 
@@ -28,9 +27,47 @@ pub const RHS_REPS: u32 = 1000;
 /// Nominal cam speed of the measured revolution (rpm): the reference design's 800 rpm.
 pub const NOMINAL_RPM: f32 = 800.0;
 
-/// The design compiled into the chip (`camsim_core::chip_design`, the reference design of VI.1).
+#[cfg(camsim_scene)]
+mod generated {
+    //! The scene chosen at build time (`CAMSIM_SCENE_RS`, from `camsim scene --rust FILE`).
+    include!(concat!(env!("OUT_DIR"), "/scene.rs"));
+}
+
+/// Which design is compiled in: "reference" or "generated" (a build-time scene).
+pub const SCENE_NAME: &str = if cfg!(camsim_scene) {
+    "generated"
+} else {
+    "reference"
+};
+
+/// The design compiled into the chip: the reference design of VI.1
+/// (`camsim_core::chip_design`), or the scene chosen at build time, converted from its
+/// `f64` record with `Design::from_record` exactly as `camsim predict --scene` does.
+/// An invalid generated scene stops the firmware with a failure exit.
 pub fn chip_design() -> Design<f32> {
-    camsim_core::chip_design()
+    #[cfg(camsim_scene)]
+    {
+        match Design::from_record(&generated::SCENE) {
+            Ok(d) => d,
+            Err(e) => {
+                // No core::fmt here: it would cost tens of KiB of flash.
+                if let camsim_core::Error::InvalidParameter { field, value, .. } = e {
+                    defmt::error!(
+                        "the compiled-in scene is invalid: {=str} = {=f64}",
+                        field,
+                        value
+                    );
+                } else {
+                    defmt::error!("the compiled-in scene is invalid");
+                }
+                crate::exit_failure()
+            }
+        }
+    }
+    #[cfg(not(camsim_scene))]
+    {
+        camsim_core::chip_design()
+    }
 }
 
 /// The `N`-state model of the chip's design at [`NOMINAL_RPM`] and a mid-rise state

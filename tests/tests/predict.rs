@@ -42,7 +42,7 @@ fn timing_tol_deg() -> f64 {
 }
 
 fn both() -> (Prediction<f32>, Prediction<f64>) {
-    (compute::<f32>().unwrap(), compute::<f64>().unwrap())
+    (compute::<f32>(None).unwrap(), compute::<f64>(None).unwrap())
 }
 
 #[test]
@@ -163,7 +163,7 @@ fn alarm_follows_the_hysteresis_over_the_scripted_profile() {
 
 #[test]
 fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
-    let p = compute::<f32>().unwrap();
+    let p = compute::<f32>(None).unwrap();
     let lines = parity_lines(&p);
     // Table rows, the jump line, the interpolation checks, every sample.
     assert_eq!(
@@ -195,7 +195,7 @@ fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
 
 #[test]
 fn interpolation_is_exact_on_the_grid() {
-    let p = compute::<f64>().unwrap();
+    let p = compute::<f64>(None).unwrap();
     for (r, s) in p.table.rpm.iter().zip(p.table.at.iter()) {
         let q = p.table.predict(*r);
         assert!(q.in_grid);

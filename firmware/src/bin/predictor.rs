@@ -177,6 +177,7 @@ fn main() -> ! {
     counter.calibrate();
 
     // Boot: the prediction table over the scene's speed grid.
+    defmt::info!("scene={=str}", camsim_firmware::workload::SCENE_NAME);
     let (predictor, boot_instr) = counter.measure(Predictor::boot);
     let predictor = match predictor {
         Ok(p) => p,

@@ -32,6 +32,10 @@ pub struct Args {
     /// Decoded defmt log of the firmware to check bit for bit (needs --f32).
     #[arg(long)]
     pub check_log: Option<PathBuf>,
+    /// Scene file compiled into the firmware (`camsim scene --rust FILE`); default: the
+    /// reference design (`camsim_core::chip_design`).
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
 }
 
 /// One direct simulation between grid points against the interpolated prediction.
@@ -65,9 +69,16 @@ pub struct Prediction<T> {
     pub samples: Vec<SampleOut<T>>,
 }
 
-/// Runs the chip's predictor (reference design, shared scene, scripted profile) in `T`.
-pub fn compute<T: Real>() -> Result<Prediction<T>> {
-    let design = chip_design::<T>();
+/// Runs the chip's predictor (shared scene, scripted profile) in `T` for the reference
+/// design, or for a design record (a scene file compiled in with `camsim scene --rust`):
+/// `Design::from_record` is the same conversion the firmware makes, so the bits agree.
+pub fn compute<T: Real>(record: Option<&camsim_core::DesignRecord>) -> Result<Prediction<T>> {
+    let design = match record {
+        Some(r) => {
+            camsim_core::Design::<T>::from_record(r).map_err(|e| anyhow::anyhow!("scene: {e}"))?
+        }
+        None => chip_design::<T>(),
+    };
     let table =
         chip_prediction_table(&design).map_err(|e| anyhow::anyhow!("table build: {e:?}"))?;
     let mut checks = Vec::new();
@@ -339,8 +350,12 @@ pub fn run(args: Args) -> Result<()> {
     if args.check_log.is_some() && !args.single {
         bail!("--check-log compares the firmware's f32 bits: add --f32");
     }
+    let record = match &args.scene {
+        Some(p) => Some(crate::scene::load(p)?.design.to_record()),
+        None => None,
+    };
     if args.single {
-        let p = compute::<f32>()?;
+        let p = compute::<f32>(record.as_ref())?;
         if let Some(path) = &args.check_log {
             let log = std::fs::read_to_string(path)
                 .with_context(|| format!("reading {}", path.display()))?;
@@ -354,7 +369,7 @@ pub fn run(args: Args) -> Result<()> {
             print_text(&p, "f32");
         }
     } else {
-        let p = compute::<f64>()?;
+        let p = compute::<f64>(record.as_ref())?;
         if args.json {
             println!("{}", to_json(&p, false));
         } else {
