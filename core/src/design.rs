@@ -372,21 +372,7 @@ impl<T: Real> Design<T> {
             f(h.poisson_2),
             f(h.thickness),
         ];
-        let drive = match self.drive {
-            DriveLaw::ConstantCamSpeed => DriveLaw::ConstantCamSpeed,
-            DriveLaw::ConstantMotorSpeed => DriveLaw::ConstantMotorSpeed,
-            DriveLaw::Regulated {
-                omega_ref,
-                t_steady,
-                k_p,
-                t_max,
-            } => DriveLaw::Regulated {
-                omega_ref: f(omega_ref),
-                t_steady: f(t_steady),
-                k_p: f(k_p),
-                t_max: f(t_max),
-            },
-        };
+        let drive = self.drive.map(f);
         let mut segments = [crate::Segment {
             kind: crate::SegmentKind::Dwell,
             start_deg: 0.0,
@@ -429,21 +415,7 @@ impl<T: Real> Design<T> {
                 });
             }
         }
-        let drive = match r.drive {
-            DriveLaw::ConstantCamSpeed => DriveLaw::ConstantCamSpeed,
-            DriveLaw::ConstantMotorSpeed => DriveLaw::ConstantMotorSpeed,
-            DriveLaw::Regulated {
-                omega_ref,
-                t_steady,
-                k_p,
-                t_max,
-            } => DriveLaw::Regulated {
-                omega_ref: T::from_f64(omega_ref),
-                t_steady: T::from_f64(t_steady),
-                k_p: T::from_f64(k_p),
-                t_max: T::from_f64(t_max),
-            },
-        };
+        let drive = r.drive.map(T::from_f64);
         let d = Design {
             i_m: v(0),
             i_cp: v(1),

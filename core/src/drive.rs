@@ -56,6 +56,25 @@ impl<T: Real> DriveLaw<T> {
         }
     }
 
+    /// The same law with every number converted by `f` (e.g. to another precision).
+    pub fn map<U>(self, f: impl Fn(T) -> U) -> DriveLaw<U> {
+        match self {
+            DriveLaw::ConstantCamSpeed => DriveLaw::ConstantCamSpeed,
+            DriveLaw::ConstantMotorSpeed => DriveLaw::ConstantMotorSpeed,
+            DriveLaw::Regulated {
+                omega_ref,
+                t_steady,
+                k_p,
+                t_max,
+            } => DriveLaw::Regulated {
+                omega_ref: f(omega_ref),
+                t_steady: f(t_steady),
+                k_p: f(k_p),
+                t_max: f(t_max),
+            },
+        }
+    }
+
     /// The same law moved to a new reference speed (regulated: feed-forward scaled with speed).
     pub fn at_speed(self, omega_new: T) -> Self {
         match self {
