@@ -152,11 +152,20 @@ pub fn run(args: Args) -> Result<()> {
             acc_rms_sum_error: (acc - ref_acc).abs(),
         });
     }
+    // Fixed memory of a simulation (no heap in the core): what each part occupies.
+    let memory = json!({
+        "model_f64_22_bytes": std::mem::size_of::<camsim_core::CamModel<f64, 22>>(),
+        "solver_f64_22_bytes": std::mem::size_of::<camsim_core::England<f64, 22>>(),
+        "model_f32_16_bytes": std::mem::size_of::<camsim_core::CamModel<f32, 16>>(),
+        "solver_f32_16_bytes": std::mem::size_of::<camsim_core::England<f32, 16>>(),
+        "stats_host_bytes": std::mem::size_of::<sim::Stats>(),
+        "sample_f64_bytes": std::mem::size_of::<camsim_core::Sample<f64>>(),
+    });
     if args.json {
         println!(
             "{}",
             serde_json::to_string_pretty(
-                &json!({"rpm": args.rpm, "revolutions": 2, "reference": {"rtol": 1e-10, "atol_in": 1e-12}, "rows": rows})
+                &json!({"rpm": args.rpm, "revolutions": 2, "reference": {"rtol": 1e-10, "atol_in": 1e-12}, "rows": rows, "memory": memory})
             )?
         );
         return Ok(());
@@ -194,5 +203,11 @@ pub fn run(args: Args) -> Result<()> {
             r.acc_rms_sum_error
         );
     }
+    println!(
+        "memory (fixed, no heap in the core): model {} B and England solver {} B (f64, 22 states); \
+         model {} B and solver {} B (f32, 16 states, the chip's); host statistics {} B",
+        memory["model_f64_22_bytes"], memory["solver_f64_22_bytes"], memory["model_f32_16_bytes"],
+        memory["solver_f32_16_bytes"], memory["stats_host_bytes"]
+    );
     Ok(())
 }
