@@ -207,7 +207,12 @@ impl<T: Real> Design<T> {
     /// C_f1 = 2 ξ sqrt(K_f M_l): structural damping of the follower rod (Eq. V.13).
     #[inline(always)]
     pub fn c_f1(&self, y3: T) -> T {
-        T::TWO * self.damping_ratio_f1 * (self.k_f(y3) * self.m_l).sqrt()
+        self.c_f1_from(self.k_f(y3))
+    }
+    /// C_f1 for an already computed K_f (the right-hand side has it at hand).
+    #[inline(always)]
+    pub fn c_f1_from(&self, k_f: T) -> T {
+        T::TWO * self.damping_ratio_f1 * (k_f * self.m_l).sqrt()
     }
 
     /// K_h on the base circle at unit force (Eq. V.11), the value the preload uses.

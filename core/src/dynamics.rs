@@ -98,6 +98,10 @@ pub struct ModelPoint<T> {
     pub omega_m: T,
     /// θ̈_c, rad/s².
     pub alpha_c: T,
+    /// θ̈_cp, rad/s² (0 for the ideal constant-cam-speed drive).
+    pub alpha_cp: T,
+    /// θ̈_m, rad/s² (0 for the ideal drives).
+    pub alpha_m: T,
     /// Translational displacements (index by [`TransDof`]), in.
     pub pos: [T; TRANS_DOFS],
     /// Translational velocities, in/s.
@@ -237,6 +241,10 @@ impl<T: Real, const N: usize> CamModel<T, N> {
     /// The translational DOFs kept.
     pub fn dofs(&self) -> DofSet {
         self.dofs
+    }
+    /// Number of rotational state components (6, 5 or 0).
+    pub fn rotational_states(&self) -> usize {
+        self.rot
     }
     /// The return-spring preload F_p (Eq. V.18), lb.
     pub fn preload(&self) -> T {
@@ -449,7 +457,7 @@ impl<T: Real, const N: usize> CamModel<T, N> {
 
         // --- translational system (Eqs. IV.2, IV.3) ---
         let k_f = d.k_f(y3);
-        let c_f1 = d.c_f1(y3);
+        let c_f1 = d.c_f1_from(k_f);
         let k_vc = d.k_vc(y3);
         let m_f = d.m_f(y3);
         let m_fc = d.m_fc(y3);
@@ -491,18 +499,19 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         let shaft1 = d.c_s1 * (p.omega_m - p.omega_cp) + d.k_s1 * tw1;
         match self.rot {
             0 => {
-                p.alpha_c = T::ZERO;
                 // The ideal drive holds the cam: it supplies the cam's drag and the output torque.
                 p.torque_drive = d.c_cc * p.omega_c + t_o;
             }
             _ => {
                 p.alpha_c = (shaft2 - d.c_cc * p.omega_c - t_o) * self.inv_i_c;
-                p.torque_drive = if self.rot == 5 {
+                p.alpha_cp = (shaft1 - shaft2) * self.inv_i_cp;
+                if self.rot == 5 {
                     // Torque that holds the motor at ω0 (its acceleration is zero).
-                    d.c_mb * p.omega_m + shaft1
+                    p.torque_drive = d.c_mb * p.omega_m + shaft1;
                 } else {
-                    d.drive.torque(p.omega_m)
-                };
+                    p.torque_drive = d.drive.torque(p.omega_m);
+                    p.alpha_m = (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m;
+                }
             }
         }
         p
@@ -510,28 +519,20 @@ impl<T: Real, const N: usize> CamModel<T, N> {
 
     /// Writes dy/dt for the state (t, y) given the evaluated point.
     #[inline]
-    fn derivative(&self, p: &ModelPoint<T>, y: &[T; N], dydt: &mut [T; N]) {
-        let d = &self.d;
+    fn derivative(&self, p: &ModelPoint<T>, dydt: &mut [T; N]) {
         let mut put = |i: usize, v: T| {
             if let Some(o) = dydt.get_mut(i) {
                 *o = v;
             }
         };
         if self.rot >= 5 {
-            let tw2 = y.get(1).copied().unwrap_or(T::ZERO);
-            let tw1 = y.get(2).copied().unwrap_or(T::ZERO);
-            let shaft2 = d.c_s2 * (p.omega_cp - p.omega_c) + d.k_s2 * tw2;
-            let shaft1 = d.c_s1 * (p.omega_m - p.omega_cp) + d.k_s1 * tw1;
             put(0, p.omega_c);
             put(1, p.omega_cp - p.omega_c);
             put(2, p.omega_m - p.omega_cp);
             put(3, p.alpha_c);
-            put(4, (shaft1 - shaft2) * self.inv_i_cp);
+            put(4, p.alpha_cp);
             if self.rot == 6 {
-                put(
-                    5,
-                    (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m,
-                );
+                put(5, p.alpha_m);
             }
         }
         let slots = self.trans_slot.iter().zip(RELATIVE_TO_LIFT);
@@ -554,7 +555,7 @@ impl<T: Real, const N: usize> OdeSystem<T, N> for CamModel<T, N> {
     #[inline]
     fn rhs(&self, t: T, y: &[T; N], dydt: &mut [T; N]) {
         let p = self.evaluate_with(t, y, false);
-        self.derivative(&p, y, dydt);
+        self.derivative(&p, dydt);
     }
 }
 

@@ -27,6 +27,17 @@ pub struct Theoretical<T> {
     pub a: T,
 }
 
+impl<T: Real> Theoretical<T> {
+    /// The theoretical response for the commanded lift `l` at constant speed `w` (rad/s).
+    pub fn of(l: &crate::FollowerLift<T>, w: T) -> Self {
+        Theoretical {
+            y: l.y,
+            v: l.dy * w,
+            a: l.d2y * w * w,
+        }
+    }
+}
+
 /// One output sample of a running simulation.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Sample<T> {
@@ -209,24 +220,10 @@ pub fn simulate<T: Real, const N: usize, O: Observer<T>>(
 }
 
 impl<T: Real, const N: usize> CamModel<T, N> {
-    /// Number of rotational state components (6, 5 or 0).
-    pub fn rotational_states(&self) -> usize {
-        match self.design().drive {
-            crate::DriveLaw::ConstantCamSpeed => 0,
-            crate::DriveLaw::ConstantMotorSpeed => 5,
-            crate::DriveLaw::Regulated { .. } => 6,
-        }
-    }
-
     /// The theoretical response at cam angle `theta` (rad) at the design's ω0.
     pub fn theoretical(&self, theta: T) -> Theoretical<T> {
         let w = self.design().omega0;
-        let l = self.design().program.follower(theta);
-        Theoretical {
-            y: l.y,
-            v: l.dy * w,
-            a: l.d2y * w * w,
-        }
+        Theoretical::of(&self.design().program.follower(theta), w)
     }
 
     /// A full output sample at (t, y); `stress` computes the Hertz contact stress.
@@ -242,11 +239,7 @@ impl<T: Real, const N: usize> CamModel<T, N> {
             0
         };
         let w = d.omega0;
-        let theory = Theoretical {
-            y: p.lift.y,
-            v: p.lift.dy * w,
-            a: p.lift.d2y * w * w,
-        };
+        let theory = Theoretical::of(&p.lift, w);
         let contact_stress = if stress && p.in_contact {
             // Roller diameter and the signed diameter of the cam surface at the contact.
             d.hertz.max_stress(

@@ -2,8 +2,6 @@
 //! cam in steady state, found by bisection on the dynamic model, and the speed margin
 //! of the current operating point.
 
-use std::path::PathBuf;
-
 use anyhow::{bail, Result};
 use serde_json::json;
 
@@ -13,33 +11,9 @@ use crate::sim;
 /// Command-line options of `camsim jump-speed`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene file; the reference design if omitted.
-    pub scene: Option<PathBuf>,
-    /// Operating speed whose margin is reported, rpm (default: the scene's, 800).
-    #[arg(long, allow_negative_numbers = true)]
-    pub rpm: Option<f64>,
-    /// Motion law of the rise(s).
-    #[arg(long = "rise")]
-    pub rise: Option<String>,
-    /// Motion law of the return(s).
-    #[arg(long = "return")]
-    pub ret: Option<String>,
-    /// Return spring rate K_rs, lb/in.
-    #[arg(long, allow_negative_numbers = true)]
-    pub spring_rate: Option<f64>,
-    /// Spring length compressed at assembly δ_rs, in.
-    #[arg(long, allow_negative_numbers = true)]
-    pub preload_length: Option<f64>,
-    /// Initial state of each simulation: "static" (default: the steady state is then not
-    /// polluted by the start-up impact of the thesis's all-zero state) or "thesis".
-    #[arg(long, value_parser = ["thesis", "static"], default_value = "static")]
-    pub start: String,
-    /// Solver relative tolerance.
-    #[arg(long, allow_negative_numbers = true)]
-    pub rtol: Option<f64>,
-    /// Solver absolute tolerance for displacements, in.
-    #[arg(long, allow_negative_numbers = true)]
-    pub atol: Option<f64>,
+    /// The scene and its overrides (`--start` defaults to "static" here).
+    #[command(flatten)]
+    pub scene: run_cmd::SceneArgs,
     /// Bisection resolution, rpm.
     #[arg(long, default_value_t = 1.0)]
     pub resolution: f64,
@@ -118,19 +92,9 @@ pub fn find(spec: &sim::RunSpec, resolution: f64, max_rpm: f64) -> Result<JumpSp
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    let run_args = run_cmd::Args {
-        scene: args.scene.clone(),
-        rpm: args.rpm,
-        rise: args.rise.clone(),
-        ret: args.ret.clone(),
-        spring_rate: args.spring_rate,
-        preload_length: args.preload_length,
-        start: Some(args.start.clone()),
-        rtol: args.rtol,
-        atol: args.atol,
-        ..Default::default()
-    };
-    let spec = run_cmd::spec_from(&run_args)?;
+    let mut scene = args.scene.clone();
+    scene.start.get_or_insert_with(|| "static".into());
+    let spec = run_cmd::spec_from(&scene)?;
     let op_rpm = spec.design.omega0 * 30.0 / std::f64::consts::PI;
     let t0 = std::time::Instant::now();
     let r = find(&spec, args.resolution, args.max_rpm)?;

@@ -12,14 +12,11 @@ use serde_json::json;
 use crate::sim::{self, RunSpec};
 use crate::{csv, plot, scene};
 
-/// Command-line options of `camsim run`.
+/// The scene and its overrides, shared by `camsim run` and `camsim jump-speed`.
 #[derive(clap::Args, Debug, Clone, Default)]
-pub struct Args {
+pub struct SceneArgs {
     /// Scene file (TOML, see `camsim scene --default`); the reference design if omitted.
     pub scene: Option<PathBuf>,
-    /// Revolutions to simulate (1-16; default 3, or the scene's).
-    #[arg(long)]
-    pub revolutions: Option<u32>,
     /// Cam speed, rpm (default 800).
     #[arg(long, allow_negative_numbers = true)]
     pub rpm: Option<f64>,
@@ -35,8 +32,9 @@ pub struct Args {
     /// Spring length compressed at assembly δ_rs, in.
     #[arg(long, allow_negative_numbers = true)]
     pub preload_length: Option<f64>,
-    /// Initial state: "thesis" (VI.1: speeds at 800 rpm, all else zero) or "static"
-    /// (static equilibrium under the preload and the steady drag).
+    /// Initial state: "thesis" (VI.1: speeds at 800 rpm, all else zero; the default of
+    /// `run`) or "static" (static equilibrium under the preload and the steady drag; the
+    /// default of `jump-speed`, whose steady state the thesis start's impact would pollute).
     #[arg(long, value_parser = ["thesis", "static"])]
     pub start: Option<String>,
     /// Solver relative tolerance.
@@ -45,6 +43,17 @@ pub struct Args {
     /// Solver absolute tolerance for displacements, in.
     #[arg(long, allow_negative_numbers = true)]
     pub atol: Option<f64>,
+}
+
+/// Command-line options of `camsim run`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct Args {
+    /// The scene and its overrides.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Revolutions to simulate (1-16; default 3, or the scene's).
+    #[arg(long)]
+    pub revolutions: Option<u32>,
     /// Write one CSV row per sample to FILE.
     #[arg(long)]
     pub csv: Option<PathBuf>,
@@ -68,14 +77,11 @@ pub fn parse_law(name: &str, flag: &str) -> Result<MotionLaw> {
 }
 
 /// Builds the run specification from the scene (or reference) and the overrides.
-pub fn spec_from(args: &Args) -> Result<RunSpec> {
+pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     let mut spec = match &args.scene {
         Some(p) => scene::load(p)?,
         None => RunSpec::reference(),
     };
-    if let Some(n) = args.revolutions {
-        spec.revolutions = n;
-    }
     if let Some(r) = args.rpm {
         anyhow::ensure!(
             r.is_finite() && r > 0.0,
@@ -141,7 +147,10 @@ pub fn spec_from(args: &Args) -> Result<RunSpec> {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    let spec = spec_from(&args)?;
+    let mut spec = spec_from(&args.scene)?;
+    if let Some(n) = args.revolutions {
+        spec.revolutions = n;
+    }
     let mut csv_out = match &args.csv {
         Some(p) => Some(csv::CsvWriter::create(p)?),
         None => None,
