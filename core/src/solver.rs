@@ -667,36 +667,24 @@ pub fn rk4_step<T: Real, const N: usize, S: OdeSystem<T, N>>(sys: &S, t: T, y: &
     let mut k = [T::ZERO; N];
     let mut acc = [T::ZERO; N];
     let mut arg = [T::ZERO; N];
+    // acc += w k; arg = y + c k.
+    let stage = |arg: &mut [T; N], acc: &mut [T; N], k: &[T; N], w: T, c: T| {
+        for (((a, s), yi), ki) in arg
+            .iter_mut()
+            .zip(acc.iter_mut())
+            .zip(y.iter())
+            .zip(k.iter())
+        {
+            *s += w * *ki;
+            *a = *yi + c * *ki;
+        }
+    };
     sys.rhs(t, y, &mut k);
-    for (((a, s), yi), ki) in arg
-        .iter_mut()
-        .zip(acc.iter_mut())
-        .zip(y.iter())
-        .zip(k.iter())
-    {
-        *s = *ki;
-        *a = *yi + half * *ki;
-    }
+    stage(&mut arg, &mut acc, &k, T::ONE, half);
     sys.rhs(t + half, &arg, &mut k);
-    for (((a, s), yi), ki) in arg
-        .iter_mut()
-        .zip(acc.iter_mut())
-        .zip(y.iter())
-        .zip(k.iter())
-    {
-        *s += T::TWO * *ki;
-        *a = *yi + half * *ki;
-    }
+    stage(&mut arg, &mut acc, &k, T::TWO, half);
     sys.rhs(t + half, &arg, &mut k);
-    for (((a, s), yi), ki) in arg
-        .iter_mut()
-        .zip(acc.iter_mut())
-        .zip(y.iter())
-        .zip(k.iter())
-    {
-        *s += T::TWO * *ki;
-        *a = *yi + h * *ki;
-    }
+    stage(&mut arg, &mut acc, &k, T::TWO, h);
     sys.rhs(t + h, &arg, &mut k);
     let h6 = h * T::from_f64(1.0 / 6.0);
     for ((yi, s), ki) in y.iter_mut().zip(acc.iter()).zip(k.iter()) {
