@@ -8,6 +8,11 @@ cd "$(dirname "$0")/.."
 step() { printf '\n==> %s\n' "$*"; }
 
 step "install what is missing"
+for comp in rustfmt clippy; do
+    if ! rustup component list --installed | grep -q "^$comp"; then
+        rustup component add "$comp"
+    fi
+done
 if ! rustup target list --installed | grep -qx thumbv7em-none-eabihf; then
     rustup target add thumbv7em-none-eabihf
 fi
@@ -24,6 +29,18 @@ if ! command -v llvm-size >/dev/null 2>&1 && ! command -v llvm-size-14 >/dev/nul
     apt-get update -qq
     apt-get install -y -qq llvm-14 >/dev/null
 fi
+
+step "gates: format, lints (warnings denied), docs"
+cargo fmt --all -- --check
+(cd firmware && cargo fmt -- --check)
+cargo clippy --workspace --all-targets -- -D warnings
+# core outside its tests: no unwrap, expect or panic on any input.
+cargo clippy -p camsim-core --lib -- -D warnings \
+    -D clippy::unwrap_used -D clippy::expect_used -D clippy::panic
+cargo clippy -p camsim-core --lib --features micromath -- -D warnings \
+    -D clippy::unwrap_used -D clippy::expect_used -D clippy::panic
+(cd firmware && cargo clippy --release -- -D warnings)
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace
 
 step "core builds no_std for thumbv7em-none-eabihf (libm, and micromath)"
 cargo build -p camsim-core --release --target thumbv7em-none-eabihf
