@@ -4,8 +4,9 @@
 use std::ops::ControlFlow;
 
 use camsim_core::{
-    simulate, CamModel, Design, DofSet, DriveLaw, England, EnglandConfig, MotionLaw, OdeSystem,
-    ResponseStats, Sample, SolverSettings, Start, Tolerance, TransDof,
+    simulate, CamModel, ConstCamVertical, ConstCamVerticalModel, Design, DriveLaw, England,
+    EnglandConfig, MotionLaw, OdeSystem, RegulatedFull, RegulatedFullModel, RegulatedVertical,
+    RegulatedVerticalModel, ResponseStats, Sample, Scene, SolverSettings, Start, Tolerance,
 };
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
@@ -37,7 +38,7 @@ fn conservative(rpm: f64) -> Design<f64> {
 #[test]
 fn statics_contact_force_equals_the_preload() {
     let d = Design::<f64>::reference();
-    let m = CamModel::<f64, 22>::new(d.clone(), DofSet::ALL).unwrap();
+    let m = RegulatedFullModel::new(d.clone()).unwrap();
     // V.18 by hand for the reference: K_t = series(K_rb, K_h, K_vs), F_p = K_t K_rs δ/(K_t + K_rs).
     let k_h = d.hertz.stiffness(0.375, 1.5).unwrap();
     let k_t = 1.0 / (1.0 / 1.5e6 + 1.0 / k_h + 1.0 / 1.48e6);
@@ -54,7 +55,7 @@ fn statics_contact_force_equals_the_preload() {
     // The cam at rest: a negligible speed, so the cam stays on the base circle.
     let mut slow = d.clone();
     slow.set_speed_rpm(1e-9).unwrap();
-    let m = CamModel::<f64, 22>::new(slow, DofSet::ALL).unwrap();
+    let m = RegulatedFullModel::new(slow).unwrap();
     let y = m.static_state();
     let p = m.evaluate(0.0, &y);
     assert!(p.in_contact);
@@ -118,12 +119,11 @@ fn stiffened(scale: f64) -> Design<f64> {
     d
 }
 
-fn rev2_acc_rms_sum<const N: usize>(
+fn rev2_acc_rms_sum<S: Scene, const N: usize>(
     d: Design<f64>,
-    dofs: DofSet,
     settings: &SolverSettings<f64>,
 ) -> f64 {
-    let m = CamModel::<f64, N>::new(d, dofs).unwrap();
+    let m = CamModel::<f64, S, N>::new(d).unwrap();
     let mut stats = ResponseStats::<f64, 2, 8, 8>::new(m.design().omega0);
     simulate(&m, settings, 2, &mut stats).unwrap();
     stats.acceleration_rms_sum(2)
@@ -138,9 +138,10 @@ fn rigid_limit_tracks_the_theoretical_law() {
     let mut s = SolverSettings::reference();
     s.rtol = 1e-7;
     s.start = Start::Static;
-    let r1 = rev2_acc_rms_sum::<10>(stiffened(1.0), DofSet::VERTICAL, &s);
-    let r10 = rev2_acc_rms_sum::<10>(stiffened(10.0), DofSet::VERTICAL, &s);
-    let r100 = rev2_acc_rms_sum::<10>(stiffened(100.0), DofSet::VERTICAL, &s);
+    const N: usize = ConstCamVertical::N;
+    let r1 = rev2_acc_rms_sum::<ConstCamVertical, N>(stiffened(1.0), &s);
+    let r10 = rev2_acc_rms_sum::<ConstCamVertical, N>(stiffened(10.0), &s);
+    let r100 = rev2_acc_rms_sum::<ConstCamVertical, N>(stiffened(100.0), &s);
     // Theoretical peak acceleration of the rise at 300 rpm: 4.888 h (ω/β)² = 1056 in/s².
     let w = rpm_to_rad(300.0);
     let peak = 4.888124 * 1.5 * (w / (150f64.to_radians())).powi(2);
@@ -160,7 +161,7 @@ fn rigid_limit_tracks_the_theoretical_law() {
 ///       + ½ ρA ẏ3 (ẏ3² - ẏ4²) (rod mass passes from the cantilever to the follower)
 ///       + ½ K_vc' ẏ3 (y4 - y3)² + ½ K_f' ẏ3 (y5 - y4)² (stiffnesses depend on y3),
 /// where δ = y + y1 - y2 + F_p/K_h (contact only while δ > 0).
-struct Powered<'a>(&'a CamModel<f64, 10>);
+struct Powered<'a>(&'a ConstCamVerticalModel<f64>);
 
 const NE: usize = 11;
 
@@ -232,7 +233,7 @@ impl OdeSystem<f64, NE> for Powered<'_> {
 /// follower train equals the change of its stored and kinetic energy over a revolution.
 #[test]
 fn energy_balance_over_a_revolution() {
-    let m = CamModel::<f64, 10>::new(conservative(500.0), DofSet::VERTICAL).unwrap();
+    let m = ConstCamVerticalModel::new(conservative(500.0)).unwrap();
     let sys = Powered(&m);
     let y10 = m.initial_state();
     let mut y = [0.0; NE];
@@ -301,7 +302,7 @@ fn steady_jumps(rpm: f64) -> (bool, Vec<camsim_core::JumpInterval<f64>>) {
     d.program =
         camsim_core::CamProgram::with_laws(MotionLaw::ModifiedTrapezoidal, MotionLaw::Poly4567);
     d.set_speed_rpm(rpm).unwrap();
-    let m = CamModel::<f64, 22>::new(d, DofSet::ALL).unwrap();
+    let m = RegulatedFullModel::new(d).unwrap();
     let mut s = SolverSettings::reference();
     s.rtol = 1e-6;
     s.start = Start::Static;
@@ -364,7 +365,7 @@ fn jump_follows_the_quasi_static_estimate() {
 fn rev2_stats(rtol: f64, atol: f64) -> Vec<f64> {
     let mut d = Design::<f64>::reference();
     d.set_speed_rpm(500.0).unwrap();
-    let m = CamModel::<f64, 22>::new(d, DofSet::ALL).unwrap();
+    let m = RegulatedFullModel::new(d).unwrap();
     let mut s = SolverSettings::reference();
     s.rtol = rtol;
     s.atol = atol;
@@ -420,12 +421,16 @@ fn halving_tolerance_changes_statistics_within_what_it_predicts() {
 #[test]
 fn reduced_scenes_have_smaller_states_and_agree_with_the_full_model() {
     // The vertical scene drops x1, x2, x3 (16 states); a constant cam speed drops the
-    // rotational DOFs (10 states). A wrong state size is refused.
+    // rotational DOFs (10 states). A wrong state size does not compile; a design whose
+    // drive is not of the scene's kind is refused.
+    assert_eq!(
+        (RegulatedFull::N, RegulatedVertical::N, ConstCamVertical::N),
+        (22, 16, 10)
+    );
     let d = Design::<f64>::reference();
-    assert!(CamModel::<f64, 22>::new(d.clone(), DofSet::VERTICAL).is_err());
-    assert!(CamModel::<f64, 16>::new(d.clone(), DofSet::VERTICAL).is_ok());
-    assert!(CamModel::<f64, 16>::new(d.clone(), DofSet::VERTICAL.without(TransDof::Load)).is_err());
+    assert!(RegulatedVerticalModel::new(d.clone()).is_ok());
     let mut rigid = d.clone();
     rigid.drive = DriveLaw::ConstantCamSpeed;
-    assert!(CamModel::<f64, 10>::new(rigid, DofSet::VERTICAL).is_ok());
+    assert!(RegulatedVerticalModel::new(rigid.clone()).is_err());
+    assert!(ConstCamVerticalModel::new(rigid).is_ok());
 }
