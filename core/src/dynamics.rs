@@ -219,8 +219,10 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         let drag = d.c_cc * d.omega0;
         let mut s = StateMut::<T, S, N>::new(&mut y);
         s.set(StateVar::CouplingCamTwist, drag / d.k_s2);
-        // The motor shaft's twist is a state under both the regulated drive and the
-        // constant motor speed, but only the regulated one starts twisted.
+        // The motor shaft's twist is a state under the regulated drive and under the
+        // constant motor speed, but only the regulated drive starts it twisted: under the
+        // constant motor speed the coupling starts out of balance by C_cc ω0 (as before
+        // scenes existed; the documented balance would twist it by drag / K_s1 too).
         let motor_twist = match S::DRIVE {
             DriveKind::Regulated => drag / d.k_s1,
             _ => T::ZERO,
@@ -252,10 +254,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             .zip(vel)
             .zip(RELATIVE_TO_LIFT)
         {
-            s.set(
-                StateVar::Position(dof),
-                if rel { *p - lift } else { *p - T::ZERO },
-            );
+            s.set(StateVar::Position(dof), if rel { *p - lift } else { *p });
             s.set(StateVar::Velocity(dof), *v);
         }
         y

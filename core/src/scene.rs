@@ -23,8 +23,9 @@
 //!    Same physics, different coordinates;
 //! 3. their (absolute) velocities in the same order.
 //!
-//! A new scene is one line of the `scenes!` invocation at the end of this file (the host
-//! lists the scenes it dispatches over once, in `host-sim/src/sim.rs`).
+//! A new scene is one entry of the `scenes!` invocation at the end of this file (for
+//! example `DofSet::VERTICAL.without(TransDof::CamY)` for a rigid cam shaft); the host
+//! lists the scenes it dispatches over once, in `host-sim/src/sim.rs`.
 
 use core::marker::PhantomData;
 
@@ -414,24 +415,19 @@ impl<'a, T: Real, S: Scene, const N: usize> StateMut<'a, T, S, N> {
             None => false,
         }
     }
-
-    /// Read access to the same state.
-    #[inline(always)]
-    pub fn as_ref(&self) -> StateRef<'_, T, S, N> {
-        StateRef::new(self.y)
-    }
 }
 
-/// Defines each scene: its type, its `Scene` impl and its model alias.
+/// Defines each scene: its type, its `Scene` impl and its model alias, from its drive
+/// kind (a [`DriveKind`] variant) and its DOF set (a const [`DofSet`] expression).
 macro_rules! scenes {
-    ($($(#[$doc:meta])* $scene:ident => $model:ident: $drive:ident, $dofs:ident;)+) => {$(
+    ($($(#[$doc:meta])* $scene:ident => $model:ident: $drive:ident, $dofs:expr;)+) => {$(
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         pub struct $scene;
         impl sealed::Sealed for $scene {}
         impl Scene for $scene {
             const DRIVE: DriveKind = DriveKind::$drive;
-            const DOFS: DofSet = DofSet::$dofs;
+            const DOFS: DofSet = $dofs;
         }
         // Evaluated here, so a scene with an impossible layout does not compile.
         const _: Layout = <$scene as Scene>::LAYOUT;
@@ -442,18 +438,18 @@ macro_rules! scenes {
 
 scenes! {
     /// Regulated motor, all eleven DOFs: 6 + 2·8 = 22 states (the full model).
-    RegulatedFull => RegulatedFullModel: Regulated, ALL;
+    RegulatedFull => RegulatedFullModel: Regulated, DofSet::ALL;
     /// Regulated motor, vertical motion only: 6 + 2·5 = 16 states (the chip's scene).
-    RegulatedVertical => RegulatedVerticalModel: Regulated, VERTICAL;
+    RegulatedVertical => RegulatedVerticalModel: Regulated, DofSet::VERTICAL;
     /// Motor held at ω0, all translational DOFs: 5 + 2·8 = 21 states.
-    ConstMotorFull => ConstMotorFullModel: ConstantMotorSpeed, ALL;
+    ConstMotorFull => ConstMotorFullModel: ConstantMotorSpeed, DofSet::ALL;
     /// Motor held at ω0, vertical motion only: 5 + 2·5 = 15 states.
-    ConstMotorVertical => ConstMotorVerticalModel: ConstantMotorSpeed, VERTICAL;
+    ConstMotorVertical => ConstMotorVerticalModel: ConstantMotorSpeed, DofSet::VERTICAL;
     /// Cam held at ω0 (rigid drive), all translational DOFs: 2·8 = 16 states.
-    ConstCamFull => ConstCamFullModel: ConstantCamSpeed, ALL;
+    ConstCamFull => ConstCamFullModel: ConstantCamSpeed, DofSet::ALL;
     /// Cam held at ω0 (rigid drive), vertical motion only: 2·5 = 10 states, the cheapest
     /// dynamic scene.
-    ConstCamVertical => ConstCamVerticalModel: ConstantCamSpeed, VERTICAL;
+    ConstCamVertical => ConstCamVerticalModel: ConstantCamSpeed, DofSet::VERTICAL;
 }
 
 #[cfg(test)]
