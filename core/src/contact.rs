@@ -282,17 +282,19 @@ pub struct ContactForce<T> {
 /// Contact force and jump criterion, Eqs. V.19-V.20:
 /// `F_c = K_h (y + y1 + F_p/K_h - y2) cos(phi)` while positive, else 0 (jump).
 ///
-/// `y` is the cam's commanded lift at the current cam angle (NOTES.md's fix of the
-/// printed "y_dot"), `y1` the roller displacement, `y2` the follower displacement,
-/// `preload` the return-spring preload F_p (Eq. V.18), `phi` the pressure angle.
-/// Computed as `(K_h (y + y1 - y2) + F_p) cos(phi)`, which needs no division by K_h.
-/// Exactly at the boundary `y2 = y + y1 + F_p/K_h` the force is 0 and `in_contact` is
-/// false (V.20 counts equality as separation). With `|phi| < 90 deg`, as any pressure
-/// angle is, the sign of the force is that of the overlap. NaN inputs give a NaN force
+/// `approach` is `y + y1 - y2`: the cam's commanded lift `y` at the current cam angle
+/// (NOTES.md's fix of the printed "y_dot") plus the cam's vertical displacement `y1`
+/// minus the roller's `y2` (the model, which stores y2 relative to the lift, forms it as
+/// `y1 - (y2 - y)`); `preload` is the return-spring preload F_p (Eq. V.18), `cos_phi`
+/// the cosine of the pressure angle (the model forms it from R_a + y and dy/dθ, without
+/// the angle). Computed as `(K_h approach + F_p) cos(phi)`, which needs no division by
+/// K_h. Exactly at the boundary `approach = -F_p/K_h` the force is 0 and `in_contact` is
+/// false (V.20 counts equality as separation). With `cos_phi > 0`, as for any pressure
+/// angle, the sign of the force is that of the overlap. NaN inputs give a NaN force
 /// (not in contact) so the solver's non-finite check reports them.
 #[inline]
-pub fn contact_force<T: Real>(k_h: T, y: T, y1: T, y2: T, preload: T, phi: T) -> ContactForce<T> {
-    let f = (k_h * (y + y1 - y2) + preload) * phi.cos();
+pub fn contact_force<T: Real>(k_h: T, approach: T, preload: T, cos_phi: T) -> ContactForce<T> {
+    let f = (k_h * approach + preload) * cos_phi;
     if f > T::ZERO {
         ContactForce {
             force: f,
@@ -314,14 +316,15 @@ pub fn contact_force<T: Real>(k_h: T, y: T, y1: T, y2: T, preload: T, phi: T) ->
 /// Normal forces (N1, N2) in the follower's slide bearings, Eq. V.16:
 /// `N1 = (A+B)/B |F_c sin(phi)|`, `N2 = A/B |F_c sin(phi)|` (magnitudes, lb).
 ///
-/// `a` is the distance A from the roller to the near bearing, `b` the bearing span B
+/// `sin_phi` is the sine of the pressure angle (the model forms it without the angle),
+/// `a` the distance A from the roller to the near bearing, `b` the bearing span B
 /// (Fig. V.2). Precondition: `b > 0` (validated where the model is built); otherwise
 /// both are NaN so the solver's non-finite check reports the bad geometry.
 #[inline]
-pub fn bearing_normal_forces<T: Real>(f_c: T, phi: T, a: T, b: T) -> (T, T) {
+pub fn bearing_normal_forces<T: Real>(f_c: T, sin_phi: T, a: T, b: T) -> (T, T) {
     if b > T::ZERO {
-        let lateral = (f_c * phi.sin()).abs() / b;
-        ((a + b) * lateral, a * lateral)
+        let lateral = (f_c * sin_phi).abs();
+        ((a + b) / b * lateral, a / b * lateral)
     } else {
         let nan = T::from_f64(f64::NAN);
         (nan, nan)
@@ -563,16 +566,16 @@ mod tests {
 
     #[test]
     fn contact_force_overlap_boundary_and_jump() {
-        let phi = 0.3f64;
-        // Overlap 1e-5 in with 10 lb preload.
-        let c = contact_force(6.0e6, 0.5, 1.0e-5, 0.5, 10.0, phi);
+        let cos = 0.3f64.cos();
+        // Overlap 1e-5 in with 10 lb preload: y + y1 - y2 = 0.5 + 1e-5 - 0.5.
+        let c = contact_force(6.0e6, 0.5 + 1.0e-5 - 0.5, 10.0, cos);
         assert!(c.in_contact);
-        assert!(rel(c.force, (60.0 + 10.0) * phi.cos()) < 1e-9);
-        // Zero preload: K_h * overlap * cos(phi).
-        let c = contact_force(6.0e6, 0.5, 0.0, 0.5 - 2.0e-6, 0.0, phi);
-        assert!(rel(c.force, 6.0e6 * 2.0e-6 * phi.cos()) < 1e-8);
+        assert!(rel(c.force, (60.0 + 10.0) * cos) < 1e-9);
+        // Zero preload: K_h * overlap * cos(phi), with y + y1 - y2 = 0.5 + 0 - (0.5 - 2e-6).
+        let c = contact_force(6.0e6, 0.5 - (0.5 - 2.0e-6), 0.0, cos);
+        assert!(rel(c.force, 6.0e6 * 2.0e-6 * cos) < 1e-8);
         // Exactly at the boundary (binary-exact numbers): 2 * (0 + 0 - 0.5) + 1 = 0.
-        let c = contact_force(2.0, 0.0, 0.0, 0.5, 1.0, phi);
+        let c = contact_force(2.0, -0.5, 1.0, cos);
         assert_eq!(
             c,
             ContactForce {
@@ -580,8 +583,8 @@ mod tests {
                 in_contact: false
             }
         );
-        // Separated.
-        let c = contact_force(6.0e6, 0.5, 0.0, 0.6, 10.0, phi);
+        // Separated: y2 0.1 in above y + y1.
+        let c = contact_force(6.0e6, 0.5 - 0.6, 10.0, cos);
         assert_eq!(
             c,
             ContactForce {
@@ -589,20 +592,19 @@ mod tests {
                 in_contact: false
             }
         );
-        assert!(contact_force(6.0e6, f64::NAN, 0.0, 0.0, 10.0, phi)
-            .force
-            .is_nan());
+        assert!(contact_force(6.0e6, f64::NAN, 10.0, cos).force.is_nan());
+        assert!(!contact_force(6.0e6, 1e-5, 10.0, f64::NAN).in_contact);
     }
 
     #[test]
     fn bearing_forces() {
-        let (n1, n2) = bearing_normal_forces(100.0, -0.5f64, 2.0, 3.0);
+        let (n1, n2) = bearing_normal_forces(100.0, (-0.5f64).sin(), 2.0, 3.0);
         let s = 0.5f64.sin() * 100.0;
         assert!(rel(n1, 5.0 / 3.0 * s) < 1e-14);
         assert!(rel(n2, 2.0 / 3.0 * s) < 1e-14);
         // Moment balance about the far bearing and force balance (Fig. V.2).
         assert!(((n1 - n2) - s).abs() < 1e-12);
-        let (a, b) = bearing_normal_forces(100.0, 0.3f64, 2.0, 0.0);
+        let (a, b) = bearing_normal_forces(100.0, 0.3f64.sin(), 2.0, 0.0);
         assert!(a.is_nan() && b.is_nan());
     }
 

@@ -186,7 +186,7 @@ impl<T: Real> Design<T> {
     /// M_fc = ρ A (e2 - y3) + m_spring/3: cantilever mass with a third of the spring (Eq. IV.2, F.1).
     #[inline(always)]
     pub fn m_fc(&self, y3: T) -> T {
-        self.rho * self.area * (self.e2 - y3) + self.m_spring / T::from_f64(3.0)
+        self.rho * self.area * (self.e2 - y3) + crate::spring_effective_mass(self.m_spring)
     }
     /// K_f = E A / (e1 + y3): axial stiffness of the follower between slide bearing and load (NOTES).
     #[inline(always)]

@@ -20,6 +20,30 @@ pub const MOTOR_RATED_SLIP: f64 = 0.04;
 /// Breakdown torque over rated torque: 2.5, typical of NEMA design B motors (2-3).
 pub const MOTOR_BREAKDOWN_RATIO: f64 = 2.5;
 
+/// What kind of drive a scene has: which rotational degrees of freedom stay free (a
+/// [`Scene`](crate::Scene)'s const; the numbers of a regulated drive are the design's
+/// [`DriveLaw`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DriveKind {
+    /// [`DriveLaw::Regulated`]: motor, coupling and cam rotations free.
+    Regulated,
+    /// [`DriveLaw::ConstantMotorSpeed`]: coupling and cam rotations free.
+    ConstantMotorSpeed,
+    /// [`DriveLaw::ConstantCamSpeed`]: the rotational system is rigid.
+    ConstantCamSpeed,
+}
+
+impl DriveKind {
+    /// Number of rotational degrees of freedom this kind leaves free (3, 2 or 0).
+    pub const fn rotational_dofs(self) -> usize {
+        match self {
+            DriveKind::Regulated => 3,
+            DriveKind::ConstantMotorSpeed => 2,
+            DriveKind::ConstantCamSpeed => 0,
+        }
+    }
+}
+
 /// The motor law T_i(θ̇_m) and which rotational degrees of freedom it leaves free.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DriveLaw<T> {
@@ -97,13 +121,18 @@ impl<T: Real> DriveLaw<T> {
         }
     }
 
+    /// The kind of this law.
+    pub fn kind(&self) -> DriveKind {
+        match self {
+            DriveLaw::ConstantCamSpeed => DriveKind::ConstantCamSpeed,
+            DriveLaw::ConstantMotorSpeed => DriveKind::ConstantMotorSpeed,
+            DriveLaw::Regulated { .. } => DriveKind::Regulated,
+        }
+    }
+
     /// Number of rotational degrees of freedom this law leaves free (0, 2 or 3).
     pub fn rotational_dofs(&self) -> usize {
-        match self {
-            DriveLaw::ConstantCamSpeed => 0,
-            DriveLaw::ConstantMotorSpeed => 2,
-            DriveLaw::Regulated { .. } => 3,
-        }
+        self.kind().rotational_dofs()
     }
 
     /// Motor torque T_i at motor speed `omega_m` (0 for the ideal drives, which impose speed).

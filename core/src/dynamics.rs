@@ -3,81 +3,17 @@
 //! Degrees of freedom: motor, coupling and cam rotation (θ_m, θ_cp, θ_c); cam
 //! vertical and horizontal (y1, x1); roller vertical and horizontal (y2, x2);
 //! cantilever portion of the follower vertical and horizontal (y3, x3); follower
-//! (y4); load (y5). A scene may drop groups of them ([`DofSet`]): the ideal drives
-//! of [`DriveLaw`] remove rotational DOFs, and the horizontal motion can be switched
-//! off; the state is then smaller (the const generic `N` of [`CamModel`]).
-//!
-//! State layout (`N` components):
-//! 1. rotational block, by drive law: regulated: `[θ_c, θ_cp - θ_c, θ_m - θ_cp, θ̇_c, θ̇_cp, θ̇_m]`;
-//!    constant motor speed: `[θ_c, θ_cp - θ_c, θ_m - θ_cp, θ̇_c, θ̇_cp]`; constant cam
-//!    speed: nothing (θ_c = ω0 t). Shaft twists are states, not absolute angles, so the
-//!    small twist is not lost to cancellation (this matters in `f32`).
-//! 2. the active translational displacements in the order y1, x1, y2, x2, y3, x3, y4, y5;
-//!    the follower chain's vertical ones (y2, y3, y4, y5) are stored relative to the
-//!    cam's commanded lift, `q_i = y_i - s(θ_c)` ([`RELATIVE_TO_LIFT`]), for the same
-//!    reason: in `f32` an absolute y2 near the 1.5 in lift resolves only 1.2e-7 in, i.e.
-//!    0.8 lb of Hertz force (K_h ≈ 6.5e6 lb/in), and θ_c's own rounding moves s(θ_c) by
-//!    microinches; the spring and contact deflections are formed from the q's instead.
-//!    Same physics, different coordinates;
-//! 3. their (absolute) velocities in the same order.
+//! (y4); load (y5). A [`Scene`] fixes at compile time which of them a model keeps (the
+//! ideal drives of [`DriveLaw`] remove rotational DOFs, and the horizontal motion can be
+//! dropped) and so the state layout and its length `N` (see [`Scene`] and [`crate::Layout`]).
 
-use crate::{coulomb_friction, Design, DriveLaw, Error, FollowerLift, OdeSystem, Real, Result};
+use core::marker::PhantomData;
 
-/// The translational degrees of freedom, in state order.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-pub enum TransDof {
-    /// y1: cam (and shaft) vertical.
-    CamY = 0,
-    /// x1: cam horizontal.
-    CamX = 1,
-    /// y2: roller vertical.
-    RollerY = 2,
-    /// x2: roller horizontal.
-    RollerX = 3,
-    /// y3: cantilever portion of the follower, vertical.
-    CantileverY = 4,
-    /// x3: cantilever portion of the follower, horizontal.
-    CantileverX = 5,
-    /// y4: follower between slide bearing and load.
-    Follower = 6,
-    /// y5: load (the follower output).
-    Load = 7,
-}
-
-/// Number of translational DOFs of the full model.
-pub const TRANS_DOFS: usize = 8;
-
-/// Which translational DOFs a scene keeps (a bit mask over [`TransDof`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct DofSet(u8);
-
-impl DofSet {
-    /// All eight translational DOFs.
-    pub const ALL: DofSet = DofSet(0xFF);
-    /// Vertical motion only: x1, x2, x3 dropped (held at zero).
-    pub const VERTICAL: DofSet = DofSet(!0b0010_1010);
-
-    /// Whether `dof` is kept.
-    pub const fn contains(self, dof: TransDof) -> bool {
-        self.0 & (1 << dof as u8) != 0
-    }
-    /// This set without `dof`.
-    pub const fn without(self, dof: TransDof) -> DofSet {
-        DofSet(self.0 & !(1 << dof as u8))
-    }
-    /// Number of kept DOFs.
-    pub const fn count(self) -> usize {
-        self.0.count_ones() as usize
-    }
-}
-
-const NONE: u8 = u8::MAX;
-
-/// Translational DOFs whose displacement state is stored relative to the commanded lift
-/// s(θ_c) (the follower chain y2, y3, y4, y5; see the module docs).
-pub const RELATIVE_TO_LIFT: [bool; TRANS_DOFS] =
-    [false, false, true, false, true, false, true, true];
+use crate::{
+    bearing_normal_forces, contact_force, coulomb_friction, Design, DriveKind, Error, FollowerLift,
+    OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof, RELATIVE_TO_LIFT,
+    TRANS_DOFS,
+};
 
 /// Every quantity of the model at one instant (what an observer receives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -120,6 +56,10 @@ pub struct ModelPoint<T> {
     pub contact_force: T,
     /// False while the follower is off the cam (Eq. V.20).
     pub in_contact: bool,
+    /// Slide-bearing friction on the follower y4 (from N1, Eqs. V.15-V.16), lb.
+    pub friction_follower: T,
+    /// Slide-bearing friction on the cantilever portion y3 (from N2, Eqs. V.15-V.16), lb.
+    pub friction_cantilever: T,
     /// Output torque on the cam T_o = F_c cos φ dy/dθ (Eq. IV.1), lb·in.
     pub torque_out: T,
     /// Torque delivered by the drive, lb·in: T_i of the motor law, or for an ideal
@@ -128,28 +68,55 @@ pub struct ModelPoint<T> {
 }
 
 impl<T: Real> ModelPoint<T> {
+    /// Displacement of `dof` (absolute), in.
+    pub fn position(&self, dof: TransDof) -> T {
+        dof.of(&self.pos)
+    }
+    /// Velocity of `dof`, in/s.
+    pub fn velocity(&self, dof: TransDof) -> T {
+        dof.of(&self.vel)
+    }
+    /// Acceleration of `dof`, in/s².
+    pub fn acceleration(&self, dof: TransDof) -> T {
+        dof.of(&self.acc)
+    }
     /// Follower output (load) displacement y5, in.
     pub fn load_displacement(&self) -> T {
-        self.pos[TransDof::Load as usize]
+        self.position(TransDof::Load)
     }
     /// Follower output (load) velocity, in/s.
     pub fn load_velocity(&self) -> T {
-        self.vel[TransDof::Load as usize]
+        self.velocity(TransDof::Load)
     }
     /// Follower output (load) acceleration, in/s².
     pub fn load_acceleration(&self) -> T {
-        self.acc[TransDof::Load as usize]
+        self.acceleration(TransDof::Load)
     }
 }
 
-/// The eleven-DOF model of Eqs. IV.1-IV.3 with an `N`-component state (see the module docs).
+/// The eleven-DOF model of Eqs. IV.1-IV.3 for scene `S`, with its `N`-component state.
+///
+/// `N` must equal `S::N`; building a model of any other size is a compile error. The
+/// scenes' aliases ([`crate::RegulatedFullModel`], ...) fill both in:
+///
+/// ```
+/// use camsim_core::{Design, RegulatedVertical, RegulatedVerticalModel, Scene, TransDof};
+/// let m = RegulatedVerticalModel::<f64>::new(Design::reference()).unwrap();
+/// let y = m.static_state();
+/// assert_eq!(y.len(), RegulatedVertical::N); // 16
+/// assert!(m.state(&y).position(TransDof::RollerX).is_none()); // dropped
+/// ```
+///
+/// A state length other than the scene's does not compile (the check runs when the
+/// model is monomorphised):
+///
+/// ```compile_fail
+/// use camsim_core::{CamModel, Design, RegulatedVertical};
+/// let m = CamModel::<f64, RegulatedVertical, 22>::new(Design::reference());
+/// ```
 #[derive(Clone, Debug)]
-pub struct CamModel<T, const N: usize> {
+pub struct CamModel<T, S, const N: usize> {
     d: Design<T>,
-    dofs: DofSet,
-    rot: usize,
-    trans_slot: [u8; TRANS_DOFS],
-    n_trans: usize,
     preload: T,
     prime_radius: T,
     rho_a: T,
@@ -159,66 +126,24 @@ pub struct CamModel<T, const N: usize> {
     inv_m_r: T,
     inv_m_c: T,
     inv_m_l: T,
-    n1_factor: T,
-    n2_factor: T,
+    scene: PhantomData<S>,
 }
 
-/// The state size a drive law and DOF set need.
-pub const fn state_len(rotational_states: usize, dofs: DofSet) -> usize {
-    rotational_states + 2 * dofs.count()
-}
-
-fn rotational_states<T: Real>(drive: &DriveLaw<T>) -> usize {
-    match drive {
-        DriveLaw::ConstantCamSpeed => 0,
-        DriveLaw::ConstantMotorSpeed => 5,
-        DriveLaw::Regulated { .. } => 6,
-    }
-}
-
-impl<T: Real, const N: usize> CamModel<T, N> {
-    /// Builds the model for `design`, keeping the translational DOFs in `dofs` and the
-    /// rotational ones the design's drive law leaves free. `N` must equal the state size
-    /// (6, 5 or 0 rotational states plus twice the translational DOFs); the error says which.
-    pub fn new(design: Design<T>, dofs: DofSet) -> Result<Self> {
+impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
+    /// Builds the model for `design`. The design's drive law must be of the scene's
+    /// drive kind (`S::DRIVE`); the error names the field otherwise.
+    pub fn new(design: Design<T>) -> Result<Self> {
+        crate::scene::assert_fits::<S, N>();
         design.validate()?;
-        for (dof, field) in [
-            (TransDof::RollerY, "dofs: roller vertical y2"),
-            (TransDof::CantileverY, "dofs: cantilever vertical y3"),
-            (TransDof::Load, "dofs: load y5"),
-        ] {
-            if !dofs.contains(dof) {
-                return Err(Error::InvalidParameter {
-                    field,
-                    rule: "the contact, the spring and the output need this DOF",
-                    value: 0.0,
-                });
-            }
-        }
-        let rot = rotational_states(&design.drive);
-        let need = state_len(rot, dofs);
-        if need != N {
+        if design.drive.kind() != S::DRIVE {
             return Err(Error::InvalidParameter {
-                field: "state size N",
-                rule: "must equal the rotational states of the drive plus twice the translational DOFs",
-                value: need as f64,
+                field: "drive",
+                rule: "the drive law must be of the scene's drive kind (value: its free rotational DOFs)",
+                value: design.drive.rotational_dofs() as f64,
             });
         }
-        let mut trans_slot = [NONE; TRANS_DOFS];
-        let mut k = 0u8;
-        for (i, s) in trans_slot.iter_mut().enumerate() {
-            if dofs.0 & (1 << i) != 0 {
-                *s = k;
-                k += 1;
-            }
-        }
         let preload = design.preload()?;
-        let ab = design.bearing_a + design.bearing_b;
         Ok(Self {
-            dofs,
-            rot,
-            trans_slot,
-            n_trans: dofs.count(),
             preload,
             prime_radius: design.geometry.prime_radius(),
             rho_a: design.rho * design.area,
@@ -228,9 +153,8 @@ impl<T: Real, const N: usize> CamModel<T, N> {
             inv_m_r: T::ONE / design.m_r,
             inv_m_c: T::ONE / design.m_c,
             inv_m_l: T::ONE / design.m_l,
-            n1_factor: ab / design.bearing_b,
-            n2_factor: design.bearing_a / design.bearing_b,
             d: design,
+            scene: PhantomData,
         })
     }
 
@@ -238,35 +162,27 @@ impl<T: Real, const N: usize> CamModel<T, N> {
     pub fn design(&self) -> &Design<T> {
         &self.d
     }
-    /// The translational DOFs kept.
-    pub fn dofs(&self) -> DofSet {
-        self.dofs
-    }
-    /// Number of rotational state components (6, 5 or 0).
-    pub fn rotational_states(&self) -> usize {
-        self.rot
-    }
     /// The return-spring preload F_p (Eq. V.18), lb.
     pub fn preload(&self) -> T {
         self.preload
+    }
+    /// Named read access to a state of this model.
+    #[inline(always)]
+    pub fn state<'a>(&self, y: &'a [T; N]) -> StateRef<'a, T, S, N> {
+        StateRef::new(y)
     }
 
     /// Initial state of VI.1: every speed at ω0, everything else zero.
     pub fn initial_state(&self) -> [T; N] {
         let mut y = [T::ZERO; N];
+        let mut s = StateMut::<T, S, N>::new(&mut y);
         let w = self.d.omega0;
-        match self.rot {
-            6 => {
-                if let Some(s) = y.get_mut(3..6) {
-                    s.iter_mut().for_each(|v| *v = w);
-                }
-            }
-            5 => {
-                if let Some(s) = y.get_mut(3..5) {
-                    s.iter_mut().for_each(|v| *v = w);
-                }
-            }
-            _ => {}
+        for v in [
+            StateVar::CamSpeed,
+            StateVar::CouplingSpeed,
+            StateVar::MotorSpeed,
+        ] {
+            s.set(v, w);
         }
         y
     }
@@ -289,64 +205,57 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         let c = T::ONE / d.k_vs + T::ONE / d.k_rb;
         let f_c = self.preload / (T::ONE + d.k_rs * k_h * c / (d.k_rs + k_h));
         let y3 = (f_c - self.preload) / d.k_rs;
-        let mut pos = [T::ZERO; TRANS_DOFS];
-        pos[TransDof::CamY as usize] = -f_c / d.k_vs;
-        pos[TransDof::RollerY as usize] = y3 + f_c / d.k_rb;
-        pos[TransDof::CantileverY as usize] = y3;
-        pos[TransDof::Follower as usize] = y3;
-        pos[TransDof::Load as usize] = y3;
+        let pos = [
+            -f_c / d.k_vs,     // y1
+            T::ZERO,           // x1
+            y3 + f_c / d.k_rb, // y2
+            T::ZERO,           // x2
+            y3,                // y3
+            T::ZERO,           // x3
+            y3,                // y4
+            y3,                // y5
+        ];
         let mut y = self.state_from(T::ZERO, &pos, &[T::ZERO; TRANS_DOFS]);
-        if self.rot >= 5 {
-            let drag = d.c_cc * d.omega0;
-            if let Some(v) = y.get_mut(1) {
-                *v = drag / d.k_s2;
-            }
-            if let Some(v) = y.get_mut(2) {
-                *v = if self.rot == 6 {
-                    drag / d.k_s1
-                } else {
-                    T::ZERO
-                };
-            }
-        }
+        let drag = d.c_cc * d.omega0;
+        let mut s = StateMut::<T, S, N>::new(&mut y);
+        s.set(StateVar::CouplingCamTwist, drag / d.k_s2);
+        // The motor shaft's twist is a state under the regulated drive and under the
+        // constant motor speed, but only the regulated drive starts it twisted: under the
+        // constant motor speed the coupling starts out of balance by C_cc ω0 (as before
+        // scenes existed; the documented balance would twist it by drag / K_s1 too).
+        let motor_twist = match S::DRIVE {
+            DriveKind::Regulated => drag / d.k_s1,
+            _ => T::ZERO,
+        };
+        s.set(StateVar::MotorCouplingTwist, motor_twist);
         y
     }
 
-    /// The cam angle θ_c of a state at time `t`, rad.
+    /// The cam angle θ_c of a state at time `t`, rad (ω0 t under a constant cam speed).
     #[inline]
     pub fn cam_angle(&self, t: T, y: &[T; N]) -> T {
-        if self.rot == 0 {
-            self.d.omega0 * t
-        } else {
-            y.first().copied().unwrap_or(T::ZERO)
+        match self.state(y).cam_angle() {
+            Some(theta) => theta,
+            None => self.d.omega0 * t,
         }
     }
 
-    /// A state vector from translational displacements and velocities (rotational part
-    /// at its initial value, θ_c = `theta_c`).
+    /// A state vector from translational displacements and velocities in [`TransDof`]
+    /// order (the DOFs the scene drops are ignored; the rotational part at its initial
+    /// value, θ_c = `theta_c`).
     pub fn state_from(&self, theta_c: T, pos: &[T; TRANS_DOFS], vel: &[T; TRANS_DOFS]) -> [T; N] {
         let mut y = self.initial_state();
-        if self.rot > 0 {
-            if let Some(v) = y.first_mut() {
-                *v = theta_c;
-            }
-        }
-        for i in 0..TRANS_DOFS {
-            let s = self.trans_slot[i];
-            if s != NONE {
-                let s = s as usize;
-                let rel = if RELATIVE_TO_LIFT[i] {
-                    self.d.program.follower(theta_c).y
-                } else {
-                    T::ZERO
-                };
-                if let Some(v) = y.get_mut(self.rot + s) {
-                    *v = pos[i] - rel;
-                }
-                if let Some(v) = y.get_mut(self.rot + self.n_trans + s) {
-                    *v = vel[i];
-                }
-            }
+        let lift = self.d.program.follower(theta_c).y;
+        let mut s = StateMut::<T, S, N>::new(&mut y);
+        s.set(StateVar::CamAngle, theta_c);
+        for (((dof, p), v), rel) in TransDof::ALL
+            .into_iter()
+            .zip(pos)
+            .zip(vel)
+            .zip(RELATIVE_TO_LIFT)
+        {
+            s.set(StateVar::Position(dof), if rel { *p - lift } else { *p });
+            s.set(StateVar::Velocity(dof), *v);
         }
         y
     }
@@ -368,44 +277,26 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         };
 
         // --- gather the state ---
-        let g = |i: usize| y.get(i).copied().unwrap_or(T::ZERO);
-        let (tw2, tw1);
-        match self.rot {
-            0 => {
-                p.theta_c = d.omega0 * t;
-                p.omega_c = d.omega0;
-                p.omega_cp = d.omega0;
-                p.omega_m = d.omega0;
-                tw2 = T::ZERO;
-                tw1 = T::ZERO;
-            }
-            5 => {
-                p.theta_c = g(0);
-                tw2 = g(1);
-                tw1 = g(2);
-                p.omega_c = g(3);
-                p.omega_cp = g(4);
-                p.omega_m = d.omega0;
-            }
-            _ => {
-                p.theta_c = g(0);
-                tw2 = g(1);
-                tw1 = g(2);
-                p.omega_c = g(3);
-                p.omega_cp = g(4);
-                p.omega_m = g(5);
-            }
-        }
+        // What the scene's drive imposes is not a state: under a constant cam speed
+        // θ_c = ω0 t with every speed at ω0 and rigid shafts; under a constant motor
+        // speed θ̇_m = ω0. These are branches on the scene's consts.
+        let st = self.state(y);
+        let w0 = d.omega0;
+        p.theta_c = match st.cam_angle() {
+            Some(theta) => theta,
+            None => w0 * t,
+        };
+        let tw2 = st.coupling_cam_twist().unwrap_or(T::ZERO);
+        let tw1 = st.motor_coupling_twist().unwrap_or(T::ZERO);
+        p.omega_c = st.cam_speed().unwrap_or(w0);
+        p.omega_cp = st.coupling_speed().unwrap_or(w0);
+        p.omega_m = st.motor_speed().unwrap_or(w0);
         p.theta_cp = p.theta_c + tw2;
         p.theta_m = p.theta_cp + tw1;
-        for i in 0..TRANS_DOFS {
-            let s = self.trans_slot[i];
-            if s != NONE {
-                p.pos[i] = g(self.rot + s as usize);
-                p.vel[i] = g(self.rot + self.n_trans + s as usize);
-            }
-        }
-        // p.pos holds the stored coordinates here: q_i = y_i - s(θ_c) for the follower chain.
+        // The stored coordinates: q_i = y_i - s(θ_c) for the follower chain; the DOFs the
+        // scene drops are held at zero.
+        p.pos = st.positions();
+        p.vel = st.velocities();
         let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
         let [v1, vx1, _v2, _vx2, v3, vx3, v4, v5] = p.vel;
 
@@ -417,7 +308,7 @@ impl<T: Real, const N: usize> CamModel<T, N> {
                 *pos += lift.y;
             }
         }
-        let y3 = p.pos[TransDof::CantileverY as usize];
+        let y3 = q3 + lift.y;
         // Pressure angle: tan φ = (dy/dθ) / (R_a + y); cos and sin without the atan.
         let rpy = self.prime_radius + lift.y;
         let hyp = (rpy * rpy + lift.dy * lift.dy).sqrt();
@@ -438,22 +329,20 @@ impl<T: Real, const N: usize> CamModel<T, N> {
             .stiffness_fast(d.geometry.roller_radius, p.surface_radius);
         p.k_h = k_h;
 
-        // Contact force and jump criterion (Eqs. V.19-V.20).
-        let f_c = (k_h * (y1 - q2) + self.preload) * cos_phi;
-        let (f_c, in_contact) = if f_c > T::ZERO {
-            (f_c, true)
-        } else {
-            (T::ZERO, false)
-        };
+        // Contact force and jump criterion (Eqs. V.19-V.20); y + y1 - y2 = y1 - q2.
+        let contact = contact_force(k_h, y1 - q2, self.preload, cos_phi);
+        let f_c = contact.force;
         p.contact_force = f_c;
-        p.in_contact = in_contact;
+        p.in_contact = contact.in_contact;
         let f_v = f_c * cos_phi; // vertical component on the roller
         let f_h = f_c * sin_phi; // horizontal component
 
         // Slide-bearing friction (Eqs. V.15-V.16), each opposing its own mass's velocity.
-        let side = f_h.abs();
-        let f1 = coulomb_friction(d.mu, self.n1_factor * side, v4, d.friction_smoothing);
-        let f2 = coulomb_friction(d.mu, self.n2_factor * side, v3, d.friction_smoothing);
+        let (n1, n2) = bearing_normal_forces(f_c, sin_phi, d.bearing_a, d.bearing_b);
+        let f1 = coulomb_friction(d.mu, n1, v4, d.friction_smoothing);
+        let f2 = coulomb_friction(d.mu, n2, v3, d.friction_smoothing);
+        p.friction_follower = f1;
+        p.friction_cantilever = f2;
 
         // --- translational system (Eqs. IV.2, IV.3) ---
         let k_f = d.k_f(y3);
@@ -464,104 +353,108 @@ impl<T: Real, const N: usize> CamModel<T, N> {
         let f_load = k_f * (q5 - q4) + c_f1 * (v5 - v4);
         let f_vc = k_vc * (q4 - q3);
         let f_rb = d.k_rb * (q3 - q2);
-        let mut a = [T::ZERO; TRANS_DOFS];
-        // Load.
-        a[7] = -f_load * self.inv_m_l;
-        // Follower: d(M_f ẏ4)/dt = ρA ẏ3 ẏ4 + M_f ÿ4.
-        a[6] = (f_load + f1 - f_vc - self.rho_a * v3 * v4) / m_f;
-        // Cantilever: d(M_fc ẏ3)/dt = -ρA ẏ3² + M_fc ÿ3.
-        a[4] = (f_vc - self.preload - d.k_rs * y3 + f2 - f_rb + self.rho_a * v3 * v3) / m_fc;
-        // Roller.
-        a[2] = (f_rb + f_v) * self.inv_m_r;
-        // Cam and shaft.
-        a[0] = (-f_v - d.k_vs * y1 - d.c_vs * v1) * self.inv_m_c;
-        if self.dofs.contains(TransDof::CantileverX) {
-            // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (NOTES, Eq. IV.3).
-            a[5] = (d.k_rb * (x2 - x3) - d.k_hc(y3) * x3 + self.rho_a * v3 * vx3) / m_fc;
-        }
-        if self.dofs.contains(TransDof::RollerX) {
-            a[3] = (-d.k_rb * (x2 - x3) - f_h) * self.inv_m_r;
-        }
-        if self.dofs.contains(TransDof::CamX) {
-            a[1] = (f_h - d.k_hs * x1 - d.c_hs * vx1) * self.inv_m_c;
-        }
-        for (i, ai) in a.iter_mut().enumerate() {
-            if self.trans_slot[i] == NONE {
-                *ai = T::ZERO;
+        // A DOF the scene drops does not accelerate (a const branch per DOF).
+        let kept = |dof: TransDof, a: T| {
+            if S::DOFS.contains(dof) {
+                a
+            } else {
+                T::ZERO
             }
-        }
-        p.acc = a;
+        };
+        // Load.
+        let a_load = -f_load * self.inv_m_l;
+        // Follower: d(M_f ẏ4)/dt = ρA ẏ3 ẏ4 + M_f ÿ4.
+        let a_follower = (f_load + f1 - f_vc - self.rho_a * v3 * v4) / m_f;
+        // Cantilever: d(M_fc ẏ3)/dt = -ρA ẏ3² + M_fc ÿ3.
+        let a_cantilever =
+            (f_vc - self.preload - d.k_rs * y3 + f2 - f_rb + self.rho_a * v3 * v3) / m_fc;
+        // Roller.
+        let a_roller = (f_rb + f_v) * self.inv_m_r;
+        // Cam and shaft.
+        let a_cam = (-f_v - d.k_vs * y1 - d.c_vs * v1) * self.inv_m_c;
+        // The horizontal equations, evaluated only for the scenes that keep them.
+        let a_cantilever_x = if S::DOFS.contains(TransDof::CantileverX) {
+            // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (NOTES, Eq. IV.3).
+            (d.k_rb * (x2 - x3) - d.k_hc(y3) * x3 + self.rho_a * v3 * vx3) / m_fc
+        } else {
+            T::ZERO
+        };
+        let a_roller_x = if S::DOFS.contains(TransDof::RollerX) {
+            (-d.k_rb * (x2 - x3) - f_h) * self.inv_m_r
+        } else {
+            T::ZERO
+        };
+        let a_cam_x = if S::DOFS.contains(TransDof::CamX) {
+            (f_h - d.k_hs * x1 - d.c_hs * vx1) * self.inv_m_c
+        } else {
+            T::ZERO
+        };
+        p.acc = [
+            kept(TransDof::CamY, a_cam),
+            a_cam_x,
+            kept(TransDof::RollerY, a_roller),
+            a_roller_x,
+            kept(TransDof::CantileverY, a_cantilever),
+            a_cantilever_x,
+            kept(TransDof::Follower, a_follower),
+            kept(TransDof::Load, a_load),
+        ];
 
         // --- rotational system (Eq. IV.1), T_o = F_c cos φ dy/dθ (NOTES) ---
         let t_o = f_v * lift.dy;
         p.torque_out = t_o;
         let shaft2 = d.c_s2 * (p.omega_cp - p.omega_c) + d.k_s2 * tw2;
         let shaft1 = d.c_s1 * (p.omega_m - p.omega_cp) + d.k_s1 * tw1;
-        match self.rot {
-            0 => {
+        match S::DRIVE {
+            DriveKind::ConstantCamSpeed => {
                 // The ideal drive holds the cam: it supplies the cam's drag and the output torque.
                 p.torque_drive = d.c_cc * p.omega_c + t_o;
             }
-            _ => {
+            DriveKind::ConstantMotorSpeed => {
                 p.alpha_c = (shaft2 - d.c_cc * p.omega_c - t_o) * self.inv_i_c;
                 p.alpha_cp = (shaft1 - shaft2) * self.inv_i_cp;
-                if self.rot == 5 {
-                    // Torque that holds the motor at ω0 (its acceleration is zero).
-                    p.torque_drive = d.c_mb * p.omega_m + shaft1;
-                } else {
-                    p.torque_drive = d.drive.torque(p.omega_m);
-                    p.alpha_m = (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m;
-                }
+                // Torque that holds the motor at ω0 (its acceleration is zero).
+                p.torque_drive = d.c_mb * p.omega_m + shaft1;
+            }
+            DriveKind::Regulated => {
+                p.alpha_c = (shaft2 - d.c_cc * p.omega_c - t_o) * self.inv_i_c;
+                p.alpha_cp = (shaft1 - shaft2) * self.inv_i_cp;
+                p.torque_drive = d.drive.torque(p.omega_m);
+                p.alpha_m = (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m;
             }
         }
         p
     }
 
-    /// Writes dy/dt for the state (t, y) given the evaluated point.
+    /// Writes dy/dt for the state (t, y) given the evaluated point: every quantity the
+    /// scene keeps (the layout numbers them 0..N, so every component is written).
     #[inline]
     fn derivative(&self, p: &ModelPoint<T>, dydt: &mut [T; N]) {
-        let mut put = |i: usize, v: T| {
-            if let Some(o) = dydt.get_mut(i) {
-                *o = v;
-            }
-        };
-        if self.rot >= 5 {
-            put(0, p.omega_c);
-            put(1, p.omega_cp - p.omega_c);
-            put(2, p.omega_m - p.omega_cp);
-            put(3, p.alpha_c);
-            put(4, p.alpha_cp);
-            if self.rot == 6 {
-                put(5, p.alpha_m);
-            }
-        }
-        let slots = self.trans_slot.iter().zip(RELATIVE_TO_LIFT);
-        for ((&s, relative), (v, a)) in slots.zip(p.vel.iter().zip(p.acc.iter())) {
-            if s != NONE {
-                // dq/dt = ẏ - s'(θ_c) θ̇_c for the displacements stored relative to the lift.
-                let rel = if relative {
-                    p.lift.dy * p.omega_c
-                } else {
-                    T::ZERO
-                };
-                put(self.rot + s as usize, *v - rel);
-                put(self.rot + self.n_trans + s as usize, *a);
-            }
+        let mut out = StateMut::<T, S, N>::new(dydt);
+        out.set(StateVar::CamAngle, p.omega_c);
+        out.set(StateVar::CouplingCamTwist, p.omega_cp - p.omega_c);
+        out.set(StateVar::MotorCouplingTwist, p.omega_m - p.omega_cp);
+        out.set(StateVar::CamSpeed, p.alpha_c);
+        out.set(StateVar::CouplingSpeed, p.alpha_cp);
+        out.set(StateVar::MotorSpeed, p.alpha_m);
+        let dofs = TransDof::ALL.into_iter().zip(RELATIVE_TO_LIFT);
+        for ((dof, relative), (v, a)) in dofs.zip(p.vel.iter().zip(p.acc.iter())) {
+            // dq/dt = ẏ - s'(θ_c) θ̇_c for the displacements stored relative to the lift.
+            let rel = if relative {
+                p.lift.dy * p.omega_c
+            } else {
+                T::ZERO
+            };
+            out.set(StateVar::Position(dof), *v - rel);
+            out.set(StateVar::Velocity(dof), *a);
         }
     }
 }
 
-impl<T: Real, const N: usize> OdeSystem<T, N> for CamModel<T, N> {
+impl<T: Real, S: Scene, const N: usize> OdeSystem<T, N> for CamModel<T, S, N> {
     #[inline]
     fn rhs(&self, t: T, y: &[T; N], dydt: &mut [T; N]) {
         let p = self.evaluate_with(t, y, false);
         self.derivative(&p, dydt);
     }
 }
-
-/// The full model: regulated drive, all eleven DOFs (22 states).
-pub type FullModel<T> = CamModel<T, 22>;
-/// Regulated drive, vertical motion only (6 + 2·5 = 16 states).
-pub type VerticalModel<T> = CamModel<T, 16>;
-/// Constant cam speed, vertical motion only (10 states): the cheapest dynamic scene.
-pub type RigidDriveVerticalModel<T> = CamModel<T, 10>;

@@ -30,11 +30,14 @@ mod modal;
 pub use modal::*;
 
 // The eleven-degree-of-freedom model (Eqs. IV.1-IV.3): the reference design of VI.1,
-// the motor law, the model itself and its streaming per-period responses.
+// the motor law, the scenes (state layouts fixed at compile time), the model itself and
+// its streaming per-period responses.
 mod design;
 pub use design::*;
 mod drive;
 pub use drive::*;
+mod scene;
+pub use scene::*;
 mod dynamics;
 pub use dynamics::*;
 mod response;

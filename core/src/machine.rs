@@ -85,7 +85,7 @@ mod tests {
 use core::ops::ControlFlow;
 
 use crate::{
-    simulate, CamModel, Design, DofSet, Observer, Result, Sample, SegmentKind, SolverSettings,
+    simulate, CamModel, Design, Observer, Result, Sample, Scene, SegmentKind, SolverSettings,
 };
 
 /// Fractions of a rise or return at which the follower's timing is measured.
@@ -253,17 +253,16 @@ impl<T: Real> Observer<T> for SteadyStateObserver<T> {
 }
 
 /// Simulates the design at `rpm` for two revolutions and measures the steady state
-/// (the second revolution) with the model of state size `N` and translational `dofs`.
-pub fn steady_state_at<T: Real, const N: usize>(
+/// (the second revolution) with the model of scene `S` (`N = S::N`).
+pub fn steady_state_at<T: Real, S: Scene, const N: usize>(
     design: &Design<T>,
-    dofs: DofSet,
     rpm: T,
     settings: &SolverSettings<T>,
 ) -> Result<SteadyState<T>> {
     let mut d = design.clone();
     d.set_speed_rpm(rpm)?;
     let points = timing_points(&d.program);
-    let model = CamModel::<T, N>::new(d, dofs)?;
+    let model = CamModel::<T, S, N>::new(d)?;
     let mut obs = SteadyStateObserver::new(2, points);
     simulate(&model, settings, 2, &mut obs)?;
     Ok(obs.result)
@@ -271,28 +270,26 @@ pub fn steady_state_at<T: Real, const N: usize>(
 
 /// Jump-onset speed by bisection between `lo_rpm` (contact holds) and `hi_rpm`, to
 /// `resolution_rpm`. Returns `None` if the follower does not separate even at `hi_rpm`.
-pub fn jump_onset_rpm<T: Real, const N: usize>(
+pub fn jump_onset_rpm<T: Real, S: Scene, const N: usize>(
     design: &Design<T>,
-    dofs: DofSet,
     lo_rpm: T,
     hi_rpm: T,
     resolution_rpm: T,
     settings: &SolverSettings<T>,
 ) -> Result<Option<T>> {
     crate::positive("resolution_rpm", resolution_rpm)?;
-    if !steady_state_at::<T, N>(design, dofs, hi_rpm, settings)?.jumped {
+    if !steady_state_at::<T, S, N>(design, hi_rpm, settings)?.jumped {
         return Ok(None);
     }
-    if steady_state_at::<T, N>(design, dofs, lo_rpm, settings)?.jumped {
+    if steady_state_at::<T, S, N>(design, lo_rpm, settings)?.jumped {
         return Ok(Some(lo_rpm));
     }
-    bisect_onset::<T, N>(design, dofs, lo_rpm, hi_rpm, resolution_rpm, settings).map(Some)
+    bisect_onset::<T, S, N>(design, lo_rpm, hi_rpm, resolution_rpm, settings).map(Some)
 }
 
 /// Bisection of [`jump_onset_rpm`] once `lo_rpm` is known to hold contact and `hi_rpm` to jump.
-fn bisect_onset<T: Real, const N: usize>(
+fn bisect_onset<T: Real, S: Scene, const N: usize>(
     design: &Design<T>,
-    dofs: DofSet,
     lo_rpm: T,
     hi_rpm: T,
     resolution_rpm: T,
@@ -301,7 +298,7 @@ fn bisect_onset<T: Real, const N: usize>(
     let (mut lo, mut hi) = (lo_rpm, hi_rpm);
     while hi - lo > resolution_rpm {
         let mid = (lo + hi) * T::HALF;
-        if steady_state_at::<T, N>(design, dofs, mid, settings)?.jumped {
+        if steady_state_at::<T, S, N>(design, mid, settings)?.jumped {
             hi = mid;
         } else {
             lo = mid;
@@ -341,9 +338,8 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
     /// Computes the table: the steady state at every grid speed and the jump-onset speed
     /// (bisection to `resolution_rpm` between the grid's fastest speed without a jump and
     /// the first speed with one, or up to `max_rpm`).
-    pub fn build<const N: usize>(
+    pub fn build<S: Scene, const N: usize>(
         design: &Design<T>,
-        dofs: DofSet,
         rpm: [T; G],
         max_rpm: T,
         resolution_rpm: T,
@@ -360,7 +356,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
                 });
             }
             prev = *r;
-            *a = steady_state_at::<T, N>(design, dofs, *r, settings)?;
+            *a = steady_state_at::<T, S, N>(design, *r, settings)?;
         }
         // Bracket the onset from the grid where possible.
         let mut lo = T::ZERO;
@@ -377,16 +373,15 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
         } else if hi < max_rpm {
             // The grid already shows contact at `lo` and a jump at `hi`: bisect between them.
             crate::positive("resolution_rpm", resolution_rpm)?;
-            Some(bisect_onset::<T, N>(
+            Some(bisect_onset::<T, S, N>(
                 design,
-                dofs,
                 lo,
                 hi,
                 resolution_rpm,
                 settings,
             )?)
         } else {
-            jump_onset_rpm::<T, N>(design, dofs, lo, hi, resolution_rpm, settings)?
+            jump_onset_rpm::<T, S, N>(design, lo, hi, resolution_rpm, settings)?
         };
         Ok(Self { rpm, at, jump_rpm })
     }
@@ -450,7 +445,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
 }
 
 /// The predictor scene compiled into the chip, in ONE place read by the firmware and by
-/// `camsim predict` (host parity): state size, DOFs, solver settings, speed grid,
+/// `camsim predict` (host parity): the scene, solver settings, speed grid,
 /// bisection resolution, alarm thresholds and the scripted speed profile.
 ///
 /// Chosen by measurement (firmware/README.md): the full 22-state model costs more per
@@ -459,16 +454,16 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
 /// within about 1 rpm and the contact-force margin within about 0.3 lb of the f64 model.
 pub mod predictor_scene {
     use crate::{
-        CamModel, Design, DofSet, JumpAlarm, PredictionTable, Real, Result, SolverSettings,
-        SpeedSource,
+        CamModel, Design, JumpAlarm, PredictionTable, Real, RegulatedVertical, Result, Scene,
+        SolverSettings, SpeedSource,
     };
 
-    /// State size of the chip's model: regulated drive, vertical DOFs only (6 + 2·5).
-    pub const CHIP_STATES: usize = 16;
+    /// The chip's scene: regulated drive, vertical DOFs only.
+    pub type ChipScene = RegulatedVertical;
+    /// State size of the chip's model (6 + 2·5 = 16).
+    pub const CHIP_STATES: usize = <ChipScene as Scene>::N;
     /// The chip's model type.
-    pub type ChipModel<T> = CamModel<T, CHIP_STATES>;
-    /// Translational DOFs of the chip's model.
-    pub const CHIP_DOFS: DofSet = DofSet::VERTICAL;
+    pub type ChipModel<T> = CamModel<T, ChipScene, CHIP_STATES>;
     /// Number of grid speeds of the boot-time table.
     pub const CHIP_GRID: usize = 10;
     /// Grid speeds of the boot-time table, rpm (ascending; denser near the jump).
@@ -518,9 +513,8 @@ pub mod predictor_scene {
     pub fn chip_prediction_table<T: Real>(
         design: &Design<T>,
     ) -> Result<PredictionTable<T, CHIP_GRID>> {
-        PredictionTable::build::<CHIP_STATES>(
+        PredictionTable::build::<ChipScene, CHIP_STATES>(
             design,
-            CHIP_DOFS,
             chip_grid_rpm(),
             T::from_f64(CHIP_MAX_RPM),
             T::from_f64(CHIP_RESOLUTION_RPM),
@@ -530,7 +524,7 @@ pub mod predictor_scene {
 
     /// The direct steady state at `rpm` with the chip's model (for the interpolation check).
     pub fn chip_steady_state<T: Real>(design: &Design<T>, rpm: T) -> Result<crate::SteadyState<T>> {
-        crate::steady_state_at::<T, CHIP_STATES>(design, CHIP_DOFS, rpm, &chip_solver_settings())
+        crate::steady_state_at::<T, ChipScene, CHIP_STATES>(design, rpm, &chip_solver_settings())
     }
 
     /// The chip's jump alarm (thresholds [`CHIP_ALARM_ON_MARGIN_RPM`], [`CHIP_ALARM_OFF_MARGIN_RPM`]).

@@ -11,8 +11,8 @@
 use core::ops::ControlFlow;
 
 use crate::{
-    CamModel, England, EnglandConfig, Error, ModelPoint, Real, Result, SegmentKind, SolverStats,
-    Tolerance,
+    CamModel, England, EnglandConfig, Error, ModelPoint, Real, Result, Scene, SegmentKind,
+    SolverStats, StateMut, StateVar, Tolerance, TransDof,
 };
 
 /// The theoretical response at a cam angle (NOTES: perfect profile, rigid system,
@@ -135,8 +135,8 @@ impl<T: Real> SolverSettings<T> {
 /// each component by its natural scale: angles and twists are compared as arc length at
 /// the prime radius R_a (atol / R_a rad), velocities as displacement per radian of cam at
 /// ω0 (atol ω0 / R_a rad/s, atol ω0 in/s).
-pub fn solver_config<T: Real, const N: usize>(
-    model: &CamModel<T, N>,
+pub fn solver_config<T: Real, S: Scene, const N: usize>(
+    model: &CamModel<T, S, N>,
     s: &SolverSettings<T>,
     revolutions: u32,
 ) -> Result<EnglandConfig<T, N>> {
@@ -146,19 +146,20 @@ pub fn solver_config<T: Real, const N: usize>(
     let d = model.design();
     let w0 = d.omega0;
     let ra = d.geometry.prime_radius();
-    let rot = model.rotational_states();
-    let n_trans = (N - rot) / 2;
     let mut atol = [s.atol; N];
-    for (i, a) in atol.iter_mut().enumerate() {
-        *a = if i < 3 && i < rot {
-            s.atol / ra
-        } else if i < rot {
-            s.atol * w0 / ra
-        } else if i < rot + n_trans {
-            s.atol
-        } else {
-            s.atol * w0
+    let mut scaled = StateMut::<T, S, N>::new(&mut atol);
+    for var in StateVar::ROTATIONAL {
+        let a = match var {
+            StateVar::CamAngle | StateVar::CouplingCamTwist | StateVar::MotorCouplingTwist => {
+                s.atol / ra
+            }
+            _ => s.atol * w0 / ra,
         };
+        scaled.set(var, a);
+    }
+    for dof in TransDof::ALL {
+        scaled.set(StateVar::Position(dof), s.atol);
+        scaled.set(StateVar::Velocity(dof), s.atol * w0);
     }
     let period = T::TWO * T::PI / w0;
     let h_max = period * s.max_step_fraction;
@@ -173,8 +174,8 @@ pub fn solver_config<T: Real, const N: usize>(
 
 /// Simulates `revolutions` cam revolutions from the initial state of VI.1, feeding every
 /// sample to `observer`. Returns the solver's statistics.
-pub fn simulate<T: Real, const N: usize, O: Observer<T>>(
-    model: &CamModel<T, N>,
+pub fn simulate<T: Real, S: Scene, const N: usize, O: Observer<T>>(
+    model: &CamModel<T, S, N>,
     settings: &SolverSettings<T>,
     revolutions: u32,
     observer: &mut O,
@@ -219,7 +220,7 @@ pub fn simulate<T: Real, const N: usize, O: Observer<T>>(
     Ok(stats)
 }
 
-impl<T: Real, const N: usize> CamModel<T, N> {
+impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     /// The theoretical response at cam angle `theta` (rad) at the design's ω0.
     pub fn theoretical(&self, theta: T) -> Theoretical<T> {
         let w = self.design().omega0;

@@ -8,7 +8,7 @@
 //! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation;
 //! - [`RHS_REPS`], [`evaluate_rhs`], [`simulate_revolution`]: the budget probes, for the
 //!   chip's model ([`camsim_core::ChipModel`], 16 states) and, for comparison, the full
-//!   22-state model ([`camsim_core::FullModel`]).
+//!   22-state model ([`camsim_core::RegulatedFullModel`]).
 //!
 //! Another scene is chosen at build time, never parsed on the chip:
 //! `camsim scene --rust my.toml > my.rs` and build with `CAMSIM_SCENE_RS=$PWD/my.rs`;
@@ -18,7 +18,7 @@ use core::ops::ControlFlow;
 
 use camsim_core::{
     chip_prediction_table, chip_solver_settings, chip_steady_state, simulate, CamModel, Design,
-    DofSet, PredictionTable, Sample, SpeedPrediction, SteadyState, CHIP_GRID,
+    PredictionTable, Sample, Scene, SpeedPrediction, SteadyState, CHIP_GRID,
 };
 
 /// Right-hand-side evaluations timed to get instructions per evaluation.
@@ -70,14 +70,14 @@ pub fn chip_design() -> Design<f32> {
     }
 }
 
-/// The `N`-state model of the chip's design at [`NOMINAL_RPM`] and a mid-rise state
+/// The model of scene `S` (`N = S::N`) for the chip's design at [`NOMINAL_RPM`] and a mid-rise state
 /// (100 degrees, on the reference program's rise) for [`evaluate_rhs`]; `None` if the
 /// model cannot be built. Kept out of the timed span: building a model validates the
 /// design (including its undercut scan), which costs millions of instructions.
-pub fn rhs_probe<const N: usize>(dofs: DofSet) -> Option<(CamModel<f32, N>, [f32; N])> {
+pub fn rhs_probe<S: Scene, const N: usize>() -> Option<(CamModel<f32, S, N>, [f32; N])> {
     let mut d = chip_design();
     d.set_speed_rpm(NOMINAL_RPM).ok()?;
-    let model = CamModel::<f32, N>::new(d, dofs).ok()?;
+    let model = CamModel::<f32, S, N>::new(d).ok()?;
     let y = model.state_from(100.0f32.to_radians(), &[0.0; 8], &[0.0; 8]);
     Some((model, y))
 }
@@ -85,7 +85,11 @@ pub fn rhs_probe<const N: usize>(dofs: DofSet) -> Option<(CamModel<f32, N>, [f32
 /// Evaluates the model's right-hand side `reps` times at `y`; returns a checksum so the
 /// work cannot be optimised away.
 #[inline(never)]
-pub fn evaluate_rhs<const N: usize>(model: &CamModel<f32, N>, y: &[f32; N], reps: u32) -> f32 {
+pub fn evaluate_rhs<S: Scene, const N: usize>(
+    model: &CamModel<f32, S, N>,
+    y: &[f32; N],
+    reps: u32,
+) -> f32 {
     use camsim_core::OdeSystem;
     let mut dydt = [0.0f32; N];
     let mut acc = 0.0f32;
@@ -112,13 +116,13 @@ pub struct Revolution {
     pub load_in_per_s: f32,
 }
 
-/// Simulates one cam revolution of the `N`-state model at [`NOMINAL_RPM`] from the
-/// initial state of VI.1 with the chip's solver settings.
+/// Simulates one cam revolution of scene `S`'s model (`N = S::N`) at [`NOMINAL_RPM`]
+/// with the chip's solver settings.
 #[inline(never)]
-pub fn simulate_revolution<const N: usize>(dofs: DofSet) -> Option<Revolution> {
+pub fn simulate_revolution<S: Scene, const N: usize>() -> Option<Revolution> {
     let mut d = chip_design();
     d.set_speed_rpm(NOMINAL_RPM).ok()?;
-    let model = CamModel::<f32, N>::new(d, dofs).ok()?;
+    let model = CamModel::<f32, S, N>::new(d).ok()?;
     let mut last = (0.0f32, 0.0f32);
     let mut obs = |s: &Sample<f32>| {
         last = (s.point.load_displacement(), s.point.load_velocity());

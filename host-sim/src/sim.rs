@@ -1,13 +1,15 @@
-//! Running the core's model from the host: dispatch on the scene's state size,
-//! collect statistics, samples for CSV and plots, and time the run.
+//! Running the core's model from the host: dispatch to the run's scene type (the one
+//! list of scenes the host runs, [`with_model`]), collect statistics, samples for CSV
+//! and plots, and time the run.
 
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use camsim_core::{
-    period_name, simulate, Both, CamModel, Design, DofSet, Observer, ResponseStats, Sample,
-    SegmentKind, SolverSettings, SolverStats,
+    period_name, simulate, Both, CamModel, ConstCamFull, ConstCamVertical, ConstMotorFull,
+    ConstMotorVertical, Design, DofSet, Observer, RegulatedFull, RegulatedVertical, ResponseStats,
+    Sample, Scene, SegmentKind, SolverSettings, SolverStats,
 };
 use serde::Serialize;
 
@@ -16,6 +18,17 @@ use serde::Serialize;
 pub struct Dofs {
     /// Keep the horizontal motion (x1, x2, x3).
     pub horizontal: bool,
+}
+
+impl Dofs {
+    /// The translational DOFs kept.
+    pub fn set(self) -> DofSet {
+        if self.horizontal {
+            DofSet::ALL
+        } else {
+            DofSet::VERTICAL
+        }
+    }
 }
 
 /// Everything a simulation needs.
@@ -43,44 +56,48 @@ impl RunSpec {
     }
 }
 
-/// Runs `f` with a model of the right state size for `spec`.
-macro_rules! with_model {
-    ($spec:expr, |$m:ident| $body:expr) => {{
-        let spec: &RunSpec = $spec;
-        let rot = spec.design.drive.rotational_dofs();
-        let set = if spec.dofs.horizontal {
-            DofSet::ALL
-        } else {
-            DofSet::VERTICAL
-        };
-        let d = spec.design.clone();
-        match (rot, spec.dofs.horizontal) {
-            (3, true) => {
-                let $m = CamModel::<f64, 22>::new(d, set)?;
-                $body
+/// What a caller does with the model of a run's scene ([`with_model`] builds it).
+pub trait ModelTask {
+    /// What the task returns.
+    type Output;
+    /// Runs the task on the model of scene `S` (`N = S::N`).
+    fn run<S: Scene, const N: usize>(self, model: &CamModel<f64, S, N>) -> Result<Self::Output>;
+}
+
+/// Builds the model of `spec`'s scene (its drive kind and DOFs) and runs `task` on it.
+///
+/// The scenes the host runs are listed here, once: a new scene is defined in
+/// camsim-core (`scene.rs`) and added to this list.
+pub fn with_model<K: ModelTask>(spec: &RunSpec, task: K) -> Result<K::Output> {
+    let drive = spec.design.drive.kind();
+    let dofs = spec.dofs.set();
+    macro_rules! dispatch {
+        ($($scene:ident),+ $(,)?) => {$(
+            if drive == <$scene as Scene>::DRIVE && dofs == <$scene as Scene>::DOFS {
+                let model =
+                    CamModel::<f64, $scene, { <$scene as Scene>::N }>::new(spec.design.clone())?;
+                return task.run(&model);
             }
-            (3, false) => {
-                let $m = CamModel::<f64, 16>::new(d, set)?;
-                $body
-            }
-            (2, true) => {
-                let $m = CamModel::<f64, 21>::new(d, set)?;
-                $body
-            }
-            (2, false) => {
-                let $m = CamModel::<f64, 15>::new(d, set)?;
-                $body
-            }
-            (_, true) => {
-                let $m = CamModel::<f64, 16>::new(d, set)?;
-                $body
-            }
-            (_, false) => {
-                let $m = CamModel::<f64, 10>::new(d, set)?;
-                $body
-            }
-        }
-    }};
+        )+};
+    }
+    dispatch!(
+        RegulatedFull,
+        RegulatedVertical,
+        ConstMotorFull,
+        ConstMotorVertical,
+        ConstCamFull,
+        ConstCamVertical,
+    );
+    bail!("no scene with a {drive:?} drive and {} DOFs", dofs.name())
+}
+
+/// The scene of a run: its degrees of freedom and state length.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SceneSize {
+    /// Degrees of freedom (11 for the full model).
+    pub dofs: usize,
+    /// State length.
+    pub states: usize,
 }
 
 /// Statistics of a run (up to 16 revolutions of up to 8 periods, 1024 jump intervals).
@@ -96,6 +113,8 @@ pub struct RunResult {
     pub wall_ms: f64,
     /// The preload F_p, lb.
     pub preload: f64,
+    /// The scene that ran.
+    pub scene: SceneSize,
 }
 
 /// Runs a simulation, feeding `extra` every sample too.
@@ -105,24 +124,47 @@ pub fn run<O: Observer<f64>>(spec: &RunSpec, extra: &mut O) -> Result<RunResult>
         "revolutions = {}: must be between 1 and 16",
         spec.revolutions
     );
+    struct Simulate<'a, O> {
+        spec: &'a RunSpec,
+        stats: &'a mut Stats,
+        extra: &'a mut O,
+    }
+    impl<O: Observer<f64>> ModelTask for Simulate<'_, O> {
+        type Output = (SolverStats, f64, SceneSize);
+        fn run<S: Scene, const N: usize>(self, m: &CamModel<f64, S, N>) -> Result<Self::Output> {
+            let spec = self.spec;
+            let s = simulate(
+                m,
+                &spec.solver,
+                spec.revolutions,
+                &mut Both(self.stats, self.extra),
+            )
+            .context("simulation failed")?;
+            let l = S::LAYOUT;
+            let size = SceneSize {
+                dofs: l.degrees_of_freedom(),
+                states: l.states(),
+            };
+            Ok((s, m.preload(), size))
+        }
+    }
     let mut stats = Stats::new(spec.design.omega0);
     let t0 = Instant::now();
-    let (solver, preload) = with_model!(spec, |m| {
-        let s = simulate(
-            &m,
-            &spec.solver,
-            spec.revolutions,
-            &mut Both(&mut stats, extra),
-        )
-        .context("simulation failed")?;
-        (s, m.preload())
-    });
+    let (solver, preload, scene) = with_model(
+        spec,
+        Simulate {
+            spec,
+            stats: &mut stats,
+            extra,
+        },
+    )?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     Ok(RunResult {
         stats,
         solver,
         wall_ms,
         preload,
+        scene,
     })
 }
 
@@ -242,13 +284,18 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
             ControlFlow::Continue(())
         }
     }
-    let mut watch = Watch(false);
-    with_model!(&s, |m| {
-        simulate(&m, &s.solver, s.revolutions.max(2), &mut watch)
-            .with_context(|| format!("simulation at {rpm:.1} rpm failed"))?;
-    });
-    let found = watch.0;
-    Ok(found)
+    struct Run<'a>(&'a RunSpec, f64);
+    impl ModelTask for Run<'_> {
+        type Output = bool;
+        fn run<S: Scene, const N: usize>(self, m: &CamModel<f64, S, N>) -> Result<bool> {
+            let (s, rpm) = (self.0, self.1);
+            let mut watch = Watch(false);
+            simulate(m, &s.solver, s.revolutions.max(2), &mut watch)
+                .with_context(|| format!("simulation at {rpm:.1} rpm failed"))?;
+            Ok(watch.0)
+        }
+    }
+    with_model(&s, Run(&s, rpm))
 }
 
 /// How far the last revolution differs from the one before: the largest relative change

@@ -204,12 +204,13 @@ fn reference_preload_and_static_equilibrium() {
     assert!(rel(sum, p.compression) < 1e-13);
     // On the base circle (phi = 0) with the preload carried and no extra overlap,
     // the contact force is F_p (Eq. V.19 with y + y1 - y2 = 0).
-    let c = contact_force(kh, 0.0, 0.0, 0.0, p.force, 0.0);
+    let c = contact_force(kh, 0.0, p.force, 0f64.cos());
     assert!(c.in_contact && c.force == p.force);
-    // Lifting the follower by F_p/K_h takes the contact exactly to the jump boundary.
-    let c = contact_force(kh, 0.0, 0.0, p.force / kh, p.force, 0.0);
+    // Lifting the roller by F_p/K_h (y2 = F_p/K_h, y = y1 = 0) takes the contact exactly
+    // to the jump boundary.
+    let c = contact_force(kh, 0.0 + 0.0 - p.force / kh, p.force, 1.0);
     assert!(c.force.abs() < 1e-9 * p.force);
-    let c = contact_force(kh, 0.0, 0.0, 1.0e-3, p.force, 0.0);
+    let c = contact_force(kh, -1.0e-3, p.force, 1.0);
     assert!(!c.in_contact && c.force == 0.0);
 }
 
@@ -234,7 +235,7 @@ fn f32_chain_agrees_with_f64() {
 fn bearing_friction_opposes_the_follower() {
     // Fig. V.2 with F_c = 100 lb at phi = 20 deg, A = 2 in, B = 3 in, mu = 0.08.
     let phi = 20f64.to_radians();
-    let (n1, n2) = bearing_normal_forces(100.0, phi, 2.0, 3.0);
+    let (n1, n2) = bearing_normal_forces(100.0, phi.sin(), 2.0, 3.0);
     let lateral = 100.0 * phi.sin();
     assert!(rel(n1, lateral * 5.0 / 3.0) < 1e-14);
     assert!(rel(n2, lateral * 2.0 / 3.0) < 1e-14);

@@ -13,8 +13,8 @@
 #![no_main]
 
 use camsim_core::{
-    chip_alarm, DofSet, JumpAlarm, Real, SpeedPrediction, SpeedSource, SteadyState, CHIP_CHECK_RPM,
-    CHIP_DOFS, CHIP_STATES,
+    chip_alarm, ChipScene, JumpAlarm, Real, RegulatedFull, Scene, SpeedPrediction, SpeedSource,
+    SteadyState, CHIP_CHECK_RPM, CHIP_STATES,
 };
 use camsim_firmware::board::qemu::{FakeIndexPulse, LedAlarmPin, ScriptedSpeed};
 use camsim_firmware::memory::{paint_stack, stack_peak_bytes, Sections};
@@ -144,17 +144,16 @@ where
     summary
 }
 
-/// Measures instructions per RHS and per revolution of the `N`-state model.
-fn measure_model<const N: usize>(
+/// Measures instructions per RHS and per revolution of scene `S`'s model (`N = S::N`).
+fn measure_model<S: Scene, const N: usize>(
     counter: &InstrCounter,
     name: &str,
-    dofs: DofSet,
 ) -> Option<(u64, u64)> {
-    let (model, y) = workload::rhs_probe::<N>(dofs)?;
+    let (model, y) = workload::rhs_probe::<S, N>()?;
     let (checksum, rhs_instr) =
         counter.measure(|| workload::evaluate_rhs(&model, &y, workload::RHS_REPS));
     let per_rhs = rhs_instr / u64::from(workload::RHS_REPS);
-    let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution::<N>(dofs));
+    let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution::<S, N>());
     let rev = rev?;
     defmt::info!(
         "model {=str} states={=usize} instr_per_rhs={=u64} instr_per_rev={=u64} rev_rhs_evals={=u32} rev_steps={=u32} instr_per_rev_per_eval={=u64} rhs_checksum={=f32} load_in={=f32} load_in_per_s={=f32} load_bits={=u32:#010x}",
@@ -262,12 +261,12 @@ fn main() -> ! {
 
     // Instructions per right-hand-side evaluation and per simulated revolution (800 rpm):
     // the full 22-state model for comparison, then the chip's model (the budget line).
-    if measure_model::<22>(&counter, "full", DofSet::ALL).is_none() {
+    if measure_model::<RegulatedFull, { RegulatedFull::N }>(&counter, "full").is_none() {
         defmt::error!("full model measurement failed");
         exit_failure()
     }
     let Some((instr_per_rhs, rev_instr)) =
-        measure_model::<CHIP_STATES>(&counter, "chip", CHIP_DOFS)
+        measure_model::<ChipScene, CHIP_STATES>(&counter, "chip")
     else {
         defmt::error!("chip model measurement failed");
         exit_failure()

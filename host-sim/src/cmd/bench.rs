@@ -154,10 +154,10 @@ pub fn run(args: Args) -> Result<()> {
     }
     // Fixed memory of a simulation (no heap in the core): what each part occupies.
     let memory = json!({
-        "model_f64_22_bytes": std::mem::size_of::<camsim_core::CamModel<f64, 22>>(),
-        "solver_f64_22_bytes": std::mem::size_of::<camsim_core::England<f64, 22>>(),
-        "model_f32_16_bytes": std::mem::size_of::<camsim_core::CamModel<f32, 16>>(),
-        "solver_f32_16_bytes": std::mem::size_of::<camsim_core::England<f32, 16>>(),
+        "model_f64_22_bytes": std::mem::size_of::<camsim_core::RegulatedFullModel<f64>>(),
+        "solver_f64_22_bytes": std::mem::size_of::<camsim_core::England<f64, { <camsim_core::RegulatedFull as camsim_core::Scene>::N }>>(),
+        "model_f32_16_bytes": std::mem::size_of::<camsim_core::ChipModel<f32>>(),
+        "solver_f32_16_bytes": std::mem::size_of::<camsim_core::England<f32, { camsim_core::CHIP_STATES }>>(),
         "stats_host_bytes": std::mem::size_of::<sim::Stats>(),
         "sample_f64_bytes": std::mem::size_of::<camsim_core::Sample<f64>>(),
     });

@@ -14,10 +14,10 @@ use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 
 use camsim_core::{
-    chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state, Real,
-    ScriptedProfile, SpeedPrediction, SpeedSource, SteadyState, CHIP_ALARM_OFF_MARGIN_RPM,
-    CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
-    CHIP_RESOLUTION_RPM, CHIP_STATES,
+    chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state,
+    ChipScene, Real, Scene, ScriptedProfile, SpeedPrediction, SpeedSource, SteadyState,
+    CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM,
+    CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
 };
 
 /// Command-line options of `camsim predict`.
@@ -263,7 +263,7 @@ fn to_json<T: Real>(p: &Prediction<T>, single: bool) -> Value {
     let s = chip_solver_settings::<f64>();
     json!({
         "precision": if single { "f32" } else { "f64" },
-        "scene": {"design": "reference", "states": CHIP_STATES, "dofs": "vertical", "rtol": s.rtol, "atol_in": s.atol,
+        "scene": {"design": "reference", "states": CHIP_STATES, "dofs": <ChipScene as Scene>::DOFS.name(), "rtol": s.rtol, "atol_in": s.atol,
                   "max_step_fraction": s.max_step_fraction, "grid_rpm": CHIP_GRID_RPM.to_vec(), "max_rpm": CHIP_MAX_RPM,
                   "resolution_rpm": CHIP_RESOLUTION_RPM, "alarm_on_margin_rpm": CHIP_ALARM_ON_MARGIN_RPM,
                   "alarm_off_margin_rpm": CHIP_ALARM_OFF_MARGIN_RPM},
@@ -277,7 +277,10 @@ fn to_json<T: Real>(p: &Prediction<T>, single: bool) -> Value {
 }
 
 fn print_text<T: Real>(p: &Prediction<T>, precision: &str) {
-    println!("predictor scene: reference design, {CHIP_STATES} states (vertical), {precision}");
+    println!(
+        "predictor scene: reference design, {CHIP_STATES} states ({}), {precision}",
+        <ChipScene as Scene>::DOFS.name()
+    );
     println!(
         "{:>8} {:>12} {:>7}  timing error, deg (rise 10/50/90 %, return 10/50/90 %)",
         "rpm", "min F, lb", "jumped"

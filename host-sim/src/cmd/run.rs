@@ -198,9 +198,7 @@ pub fn run(args: Args) -> Result<()> {
     writeln!(
         out,
         "camsim run: {} revolutions at {rpm:.1} rpm, {} DOF model, preload F_p = {:.3} lb",
-        spec.revolutions,
-        spec.design.drive.rotational_dofs() + if spec.dofs.horizontal { 8 } else { 5 },
-        result.preload
+        spec.revolutions, result.scene.dofs, result.preload
     )?;
     writeln!(
         out,
