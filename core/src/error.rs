@@ -10,12 +10,21 @@ use core::fmt;
 pub enum Error {
     /// A parameter broke a rule (`field` names it, `rule` states the limit).
     InvalidParameter {
-        /// Name of the parameter, as in scene files (for example `"lift_in"`).
+        /// Name of the parameter: its scene key (for example `"spring_rate_lb_per_in"`,
+        /// `"program.segment[2].end_deg"`; see [`crate::key`]).
         field: &'static str,
         /// The rule it must satisfy (for example `"must be positive and finite"`).
         rule: &'static str,
         /// The value given.
         value: f64,
+    },
+    /// A key that does not fit the others (a rise or return without a motion law, a
+    /// law on a dwell): `field` names it, `rule` says what fits.
+    Inconsistent {
+        /// Name of the parameter, as in scene files (for example `"program.segment[1].law"`).
+        field: &'static str,
+        /// What the other keys require of it.
+        rule: &'static str,
     },
     /// A fixed-capacity buffer is too small for the input.
     Capacity {
@@ -65,6 +74,7 @@ impl fmt::Display for Error {
             Error::InvalidParameter { field, rule, value } => {
                 write!(f, "{field} = {value}: {rule}")
             }
+            Error::Inconsistent { field, rule } => write!(f, "{field}: {rule}"),
             Error::Capacity { what, capacity } => {
                 write!(f, "{what}: more than the capacity of {capacity}")
             }
