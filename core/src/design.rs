@@ -41,6 +41,7 @@ pub const STRUCTURAL_DAMPING_RATIO: f64 = 0.03;
     serde(
         deny_unknown_fields,
         default,
+        expecting = "a design: a table of its parameters",
         bound(
             serialize = "T: Real + serde::Serialize",
             deserialize = "T: Real + serde::Deserialize<'de>"

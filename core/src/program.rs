@@ -137,6 +137,7 @@ pub enum SegmentType {
     serde(
         deny_unknown_fields,
         rename = "Segment",
+        expecting = "a segment: a table of kind, law, start_deg, end_deg, lift_in",
         bound(
             serialize = "T: Real + serde::Serialize",
             deserialize = "T: Real + serde::Deserialize<'de>"
@@ -165,6 +166,7 @@ pub struct SegmentData<T> {
     serde(
         deny_unknown_fields,
         rename = "CamProgram",
+        expecting = "a program: a table with a list `segment` of segments",
         bound(
             serialize = "T: Real + serde::Serialize",
             deserialize = "T: Real + serde::Deserialize<'de>"
