@@ -106,11 +106,10 @@ struct Refusal {
 impl std::fmt::Display for Refusal {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self.error {
-            camsim_core::Error::InvalidParameter { field, rule, value } => {
-                write!(f, "{}.{field} = {}: {rule}", self.section, number(value))
-            }
-            camsim_core::Error::Inconsistent { field, rule } => {
-                write!(f, "{}.{field}: {rule}", self.section)
+            // Both start with the key: put the section in front of it.
+            camsim_core::Error::InvalidParameter { .. }
+            | camsim_core::Error::Inconsistent { .. } => {
+                write!(f, "{}.{}", self.section, self.error)
             }
             other => write!(f, "{}: {other}", self.section),
         }
@@ -118,15 +117,6 @@ impl std::fmt::Display for Refusal {
 }
 
 impl std::error::Error for Refusal {}
-
-/// A number as a scene would hold it: plain, or with an exponent if very large or small.
-fn number(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-5..1e16).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
 
 /// One line for a TOML or serde error: line, column, the key there, the message. A
 /// program refused as it is read (by the core's `CamProgram::new`) names its own key.
