@@ -69,8 +69,8 @@ pub fn load(path: &Path) -> Result<RunSpec> {
 }
 
 /// Parses and validates scene text. Errors are one line: where TOML or serde refused
-/// it, the line, column and key; where the core's checks refused it, the key, the
-/// value and the rule.
+/// it, the line, column and key; where the checks refused it, the line that sets the
+/// key (if the text sets it), the key, the value and the rule.
 pub fn parse(text: &str) -> Result<RunSpec> {
     let file: SceneFile = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
     let rpm_conflict = || -> Option<&'static str> {
@@ -85,18 +85,19 @@ pub fn parse(text: &str) -> Result<RunSpec> {
     };
     if file.run.rpm.is_some() {
         if let Some(k) = rpm_conflict() {
-            bail!("run.rpm and design.{k} both set the cam speed: give one of them");
+            return Err(located(
+                text,
+                &format!("run.rpm and design.{k} both set the cam speed: give one of them"),
+            ));
         }
     }
-    file.to_spec().map_err(|e| match e.downcast::<Refusal>() {
-        Ok(r) => located(text, &r.to_string()),
-        Err(e) => e,
-    })
+    file.run_spec()
+        .map_err(|e| located(text, &format!("{e:#}")))
 }
 
 /// A core check's refusal in `section` (`design`, `solver`): its key under the section,
 /// the value and the rule (`design.spring_rate_lb_per_in = -1: must be positive and
-/// finite`); [`parse`] adds the line that sets the key.
+/// finite`).
 #[derive(Debug)]
 struct Refusal {
     section: &'static str,
@@ -205,9 +206,9 @@ fn line_paths(text: &str) -> Vec<String> {
         .collect()
 }
 
-impl SceneFile {
+impl From<&RunSpec> for SceneFile {
     /// A complete scene file describing `spec` (the speed as `design.omega0_rad_per_s`).
-    pub fn from_spec(spec: &RunSpec) -> Self {
+    fn from(spec: &RunSpec) -> Self {
         SceneFile {
             run: RunOptions {
                 revolutions: spec.revolutions,
@@ -218,9 +219,12 @@ impl SceneFile {
             design: spec.design.clone(),
         }
     }
+}
 
-    /// The validated run specification.
-    pub fn to_spec(&self) -> Result<RunSpec> {
+impl SceneFile {
+    /// The validated run specification: the run options checked, `run.rpm` applied,
+    /// then the core's [`SolverSettings::validate`] and [`Design::validate`].
+    pub fn run_spec(&self) -> Result<RunSpec> {
         let revolutions = self.run.revolutions;
         if !(1..=16).contains(&revolutions) {
             bail!("run.revolutions = {revolutions}: must be between 1 and 16");
@@ -309,9 +313,7 @@ fn annotate(text: &str) -> String {
 
 /// A complete scene file (TOML text) for `spec`, every key present and commented.
 pub fn spec_text(spec: &RunSpec) -> Result<String> {
-    Ok(annotate(&toml::to_string_pretty(&SceneFile::from_spec(
-        spec,
-    ))?))
+    Ok(annotate(&toml::to_string_pretty(&SceneFile::from(spec))?))
 }
 
 /// The reference design as TOML text.

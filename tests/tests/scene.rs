@@ -271,7 +271,7 @@ fn refusals_name_the_key_and_the_rule() {
         // Run options.
         (
             "[run]\nrpm = -800\n".into(),
-            "run.rpm = -800: must be positive and finite",
+            "line 2: run.rpm = -800: must be positive and finite",
         ),
         (
             "[run]\nrpm = 900\n[design.drive.regulated]\nomega_ref_rad_per_s = 90\n".into(),
