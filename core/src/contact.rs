@@ -12,24 +12,52 @@
 //! cancellation that would leave no correct digit in `f32` (h is about 1e-7 in against
 //! r of 0.375 in), and it takes a flat surface (`r = inf`, `h = 0`) without `inf - inf`.
 
-use crate::{Error, Real, Result};
+use crate::{key, Error, Real, Result};
 
 /// Material and thickness of a roller-on-cam Hertz line contact (Eq. V.9's data).
 ///
 /// Build it with [`HertzContact::new`] (validated) or [`HertzContact::steel`]; the
-/// fields are public for reading, and a value assembled by hand skips the checks.
+/// fields are public for reading, and a value assembled by hand skips the checks
+/// ([`HertzContact::validate`] makes them). Scene keys (`[hertz]`): `roller_youngs_psi`,
+/// `roller_poisson`, `cam_youngs_psi`, `cam_poisson`, `contact_length_in`; absent keys
+/// take the reference values.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        deny_unknown_fields,
+        default,
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub struct HertzContact<T> {
     /// Young's modulus of body 1, the roller (psi).
+    #[cfg_attr(feature = "serde", serde(rename = "roller_youngs_psi"))]
     pub youngs_1: T,
     /// Poisson's ratio of body 1, the roller.
+    #[cfg_attr(feature = "serde", serde(rename = "roller_poisson"))]
     pub poisson_1: T,
     /// Young's modulus of body 2, the cam (psi).
+    #[cfg_attr(feature = "serde", serde(rename = "cam_youngs_psi"))]
     pub youngs_2: T,
     /// Poisson's ratio of body 2, the cam.
+    #[cfg_attr(feature = "serde", serde(rename = "cam_poisson"))]
     pub poisson_2: T,
-    /// Axial length of the line contact, the cam thickness t (in).
+    /// Axial length of the line contact (in): the cam thickness t, or the roller's
+    /// width if that is narrower.
+    #[cfg_attr(feature = "serde", serde(rename = "contact_length_in"))]
     pub thickness: T,
+}
+
+impl<T: Real> Default for HertzContact<T> {
+    /// [`HertzContact::reference`].
+    fn default() -> Self {
+        Self::reference()
+    }
 }
 
 /// Why a stiffness evaluation failed (internal: no values, so the fast path never
@@ -53,18 +81,31 @@ enum StiffnessFault {
 impl<T: Real> HertzContact<T> {
     /// Validated contact data: `E > 0`, `0 <= nu < 0.5`, `t > 0`, all finite (Eq. V.9).
     pub fn new(youngs_1: T, poisson_1: T, youngs_2: T, poisson_2: T, thickness: T) -> Result<Self> {
-        crate::positive("youngs_1", youngs_1)?;
-        poisson_ratio("poisson_1", poisson_1)?;
-        crate::positive("youngs_2", youngs_2)?;
-        poisson_ratio("poisson_2", poisson_2)?;
-        crate::positive("thickness", thickness)?;
-        Ok(Self {
+        let h = Self {
             youngs_1,
             poisson_1,
             youngs_2,
             poisson_2,
             thickness,
-        })
+        };
+        h.validate()?;
+        Ok(h)
+    }
+
+    /// Checks the data of [`HertzContact::new`]; errors name the scene key
+    /// (`hertz.roller_poisson`).
+    pub fn validate(&self) -> Result<()> {
+        crate::positive(key::ROLLER_YOUNGS, self.youngs_1)?;
+        poisson_ratio(key::ROLLER_POISSON, self.poisson_1)?;
+        crate::positive(key::CAM_YOUNGS, self.youngs_2)?;
+        poisson_ratio(key::CAM_POISSON, self.poisson_2)?;
+        crate::positive(key::CONTACT_LENGTH, self.thickness)?;
+        Ok(())
+    }
+
+    /// The reference contact of VI.1: steel on steel over the 0.25 in cam thickness.
+    pub fn reference() -> Self {
+        Self::steel(T::from_f64(0.25))
     }
 
     /// Steel roller on a steel cam: E = 30e6 psi, nu = 0.295 for both (VI.1 data).
@@ -531,27 +572,27 @@ mod tests {
         );
         assert_eq!(
             field(HertzContact::new(0.0, 0.3, 30e6, 0.3, 0.25)),
-            "youngs_1"
+            "hertz.roller_youngs_psi"
         );
         assert_eq!(
             field(HertzContact::new(30e6, 0.5, 30e6, 0.3, 0.25)),
-            "poisson_1"
+            "hertz.roller_poisson"
         );
         assert_eq!(
             field(HertzContact::new(30e6, -0.1, 30e6, 0.3, 0.25)),
-            "poisson_1"
+            "hertz.roller_poisson"
         );
         assert_eq!(
             field(HertzContact::new(30e6, 0.3, f64::INFINITY, 0.3, 0.25)),
-            "youngs_2"
+            "hertz.cam_youngs_psi"
         );
         assert_eq!(
             field(HertzContact::new(30e6, 0.3, 30e6, f64::NAN, 0.25)),
-            "poisson_2"
+            "hertz.cam_poisson"
         );
         assert_eq!(
             field(HertzContact::new(30e6, 0.3, 30e6, 0.3, -0.25)),
-            "thickness"
+            "hertz.contact_length_in"
         );
     }
 

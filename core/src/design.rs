@@ -6,8 +6,7 @@
 //! reproduce a published figure.
 
 use crate::{
-    finite, non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real,
-    Result,
+    non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real, Result,
 };
 
 /// Pounds-mass per cubic inch of steel (0.2836 lb/in³) over g (386.09 in/s²): lb·s²/in⁴.
@@ -28,91 +27,143 @@ pub const STRUCTURAL_DAMPING_RATIO: f64 = 0.03;
 /// Units: inch, pound-force, second, radian. Rotational inertia lb·in·s²,
 /// torsional stiffness lb·in/rad, torsional damping lb·in·s/rad, mass lb·s²/in,
 /// stiffness lb/in, damping lb·s/in.
+///
+/// With the `serde` feature every field has its scene key, units in the name
+/// ([`crate::key`]); `drive`, `geometry`, `hertz` and `program` are sub-tables. Every
+/// key is optional (absent keys take [`Design::reference`]'s values) and unknown keys
+/// are refused. Deserializing checks the program only: call [`Design::validate`] on
+/// the result. The derives use no `flatten`, no `skip_serializing_if` and no untagged
+/// enums, so non-self-describing formats (postcard) read what they write.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        deny_unknown_fields,
+        default,
+        expecting = "a design: a table of its parameters",
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub struct Design<T> {
     // --- rotational system (Eq. IV.1) ---
     /// I_m: motor armature polar moment of inertia (VI.1: 0.0291).
+    #[cfg_attr(feature = "serde", serde(rename = "i_m_lb_in_s2"))]
     pub i_m: T,
     /// I_cp: coupling polar moment of inertia (VI.1: 0.25).
+    #[cfg_attr(feature = "serde", serde(rename = "i_cp_lb_in_s2"))]
     pub i_cp: T,
     /// I_c: cam polar moment of inertia (VI.1: 0.0102).
+    #[cfg_attr(feature = "serde", serde(rename = "i_c_lb_in_s2"))]
     pub i_c: T,
     /// C_mb: motor bearing viscous damping (VI.1: 0.8).
+    #[cfg_attr(feature = "serde", serde(rename = "c_mb_lb_in_s"))]
     pub c_mb: T,
     /// C_s1: shaft damping motor-coupling (VI.1: 0.11982).
+    #[cfg_attr(feature = "serde", serde(rename = "c_s1_lb_in_s"))]
     pub c_s1: T,
     /// C_s2: shaft damping coupling-cam (VI.1 lists "C_b2" = 0.12; NOTES: read C_s2).
+    #[cfg_attr(feature = "serde", serde(rename = "c_s2_lb_in_s"))]
     pub c_s2: T,
     /// C_cc: cam-shaft bearing and air damping (VI.1: 1.0).
+    #[cfg_attr(feature = "serde", serde(rename = "c_cc_lb_in_s"))]
     pub c_cc: T,
     /// K_s1: shaft stiffness motor-coupling (VI.1: 2e5).
+    #[cfg_attr(feature = "serde", serde(rename = "k_s1_lb_in_per_rad"))]
     pub k_s1: T,
     /// K_s2: shaft stiffness coupling-cam (VI.1: 2e5).
+    #[cfg_attr(feature = "serde", serde(rename = "k_s2_lb_in_per_rad"))]
     pub k_s2: T,
     /// The motor law T_i(θ̇_m) (not in the thesis; see [`DriveLaw`]).
     pub drive: DriveLaw<T>,
     /// Initial and reference cam speed, rad/s (VI.1: 800 rpm = 83.776 rad/s).
+    #[cfg_attr(feature = "serde", serde(rename = "omega0_rad_per_s"))]
     pub omega0: T,
 
     // --- cam and its shaft (Eqs. IV.2-IV.3, cam equations) ---
     /// M_c (VI.1's M_cs): mass of cam and shaft (0.0291).
+    #[cfg_attr(feature = "serde", serde(rename = "cam_mass_lb_s2_per_in"))]
     pub m_c: T,
     /// K_vs: vertical stiffness of the cam shaft and its bearings (VI.1: 1.48e6).
+    #[cfg_attr(feature = "serde", serde(rename = "k_vs_lb_per_in"))]
     pub k_vs: T,
     /// C_vs: vertical damping of the cam shaft (VI.1: 4.30474).
+    #[cfg_attr(feature = "serde", serde(rename = "c_vs_lb_s_per_in"))]
     pub c_vs: T,
     /// K_hs: horizontal cam-shaft stiffness (not listed: NOTES, K_hs = K_vs).
+    #[cfg_attr(feature = "serde", serde(rename = "k_hs_lb_per_in"))]
     pub k_hs: T,
     /// C_hs: horizontal cam-shaft damping (not listed: NOTES, C_hs = C_vs).
+    #[cfg_attr(feature = "serde", serde(rename = "c_hs_lb_s_per_in"))]
     pub c_hs: T,
 
     // --- roller ---
     /// M_r (VI.1's "M_T"): roller mass (0.00013).
+    #[cfg_attr(feature = "serde", serde(rename = "roller_mass_lb_s2_per_in"))]
     pub m_r: T,
     /// K_rb: roller bearing and its shaft (VI.1: 1.5e6).
+    #[cfg_attr(feature = "serde", serde(rename = "k_rb_lb_per_in"))]
     pub k_rb: T,
 
     // --- follower rod ---
     /// ρ: follower material density (steel, lb·s²/in⁴).
+    #[cfg_attr(feature = "serde", serde(rename = "follower_density_lb_s2_per_in4"))]
     pub rho: T,
     /// E of the follower rod (VI.1: 30e6 psi).
+    #[cfg_attr(feature = "serde", serde(rename = "follower_youngs_psi"))]
     pub youngs: T,
     /// A: follower cross-section, in². Not given: from M_f = ρ A e1 = 0.007764 (VI.1)
     /// and K_f = E A / e1 = 1.265e6 (NOTES, from the modal data): A = sqrt(M_f K_f / (ρ E)),
     /// a round rod of about 0.92 in.
+    #[cfg_attr(feature = "serde", serde(rename = "follower_area_in2"))]
     pub area: T,
     /// Second moment of the rod section, in⁴ (round rod of area A: A²/(4π)), for K_hc = 3EI/(e2 - y3)³.
+    #[cfg_attr(feature = "serde", serde(rename = "follower_second_moment_in4"))]
     pub inertia_moment: T,
     /// e1: follower length from load to slide bearing at rest, in (E A / K_f, about 15.9 in).
+    #[cfg_attr(feature = "serde", serde(rename = "e1_in"))]
     pub e1: T,
     /// e2: cantilever length from slide bearing to roller at rest, in. Not given; 2 in (NOTES):
     /// it must exceed the lift, and 2 in leaves 0.5 in at full lift.
+    #[cfg_attr(feature = "serde", serde(rename = "e2_in"))]
     pub e2: T,
     /// A of Eq. V.16: bearing-to-roller lever, in. Not given; taken equal to e2 (2 in).
+    #[cfg_attr(feature = "serde", serde(rename = "bearing_a_in"))]
     pub bearing_a: T,
     /// B of Eq. V.16: distance between the two slide-bearing reactions, in. Not given; 3 in (NOTES).
+    #[cfg_attr(feature = "serde", serde(rename = "bearing_b_in"))]
     pub bearing_b: T,
     /// μ: kinetic friction coefficient of the slide bearing (VI.1: 0.08).
+    #[cfg_attr(feature = "serde", serde(rename = "friction_coefficient"))]
     pub mu: T,
     /// Velocity (in/s) below which Coulomb friction is ramped linearly to zero, so that the
     /// right-hand side stays continuous. Not in the thesis: 0.01 in/s, a thousandth of the
     /// follower's peak speed at 800 rpm, small against every velocity the statistics see.
+    #[cfg_attr(feature = "serde", serde(rename = "friction_smoothing_in_per_s"))]
     pub friction_smoothing: T,
     /// ξ of C_f1 = 2 ξ sqrt(K_f M_l) (Eq. V.13; NOTES: 0.03 structural damping).
     pub damping_ratio_f1: T,
     /// M_l: load mass. Not in VI.1; 3.428e-3 from the modal analysis (NOTES).
+    #[cfg_attr(feature = "serde", serde(rename = "load_mass_lb_s2_per_in"))]
     pub m_l: T,
     /// Mass of the return spring, lb·s²/in; one third joins M_fc (Appendix F.1). Not given:
     /// a steel helical spring of 60 lb/in (wire 0.14 in, mean diameter 1.0 in, 9 active and
     /// 11 total coils: G d⁴ / (8 D³ n) = 60.8 lb/in) weighs 0.151 lb = 3.91e-4 lb·s²/in.
+    #[cfg_attr(feature = "serde", serde(rename = "spring_mass_lb_s2_per_in"))]
     pub m_spring: T,
 
     // --- return spring and preload (V.4) ---
     /// K_rs: return spring rate (VI.1: 60 lb/in).
+    #[cfg_attr(feature = "serde", serde(rename = "spring_rate_lb_per_in"))]
     pub k_rs: T,
     /// δ_rs: spring length compressed during assembly (VI.1: 0.5 in).
+    #[cfg_attr(feature = "serde", serde(rename = "spring_preload_length_in"))]
     pub delta_rs: T,
     /// K_rs used by the thesis's modal analysis (Eq. VI.6): 100 lb/in (NOTES).
+    #[cfg_attr(feature = "serde", serde(rename = "spring_modal_rate_lb_per_in"))]
     pub k_rs_modal: T,
 
     // --- geometry, contact, program ---
@@ -173,7 +224,7 @@ impl<T: Real> Design<T> {
             delta_rs: f(0.5),
             k_rs_modal: f(100.0),
             geometry: CamGeometry::reference(),
-            hertz: HertzContact::steel(f(0.25)),
+            hertz: HertzContact::reference(),
             program: CamProgram::reference(),
         }
     }
@@ -228,76 +279,105 @@ impl<T: Real> Design<T> {
         Ok(crate::return_spring_preload(k_t, self.k_rs, self.delta_rs)?.force)
     }
 
-    /// Checks every parameter; the error names the field and its rule.
+    /// Checks every parameter, the geometry, the contact data and the drive, and that
+    /// the roller fits the profile. The error names the scene key ([`crate::key`]),
+    /// the value and the rule it broke.
     pub fn validate(&self) -> Result<()> {
+        use crate::key as k;
         for (field, v) in [
-            ("i_m", self.i_m),
-            ("i_cp", self.i_cp),
-            ("i_c", self.i_c),
-            ("k_s1", self.k_s1),
-            ("k_s2", self.k_s2),
-            ("omega0", self.omega0),
-            ("m_c", self.m_c),
-            ("k_vs", self.k_vs),
-            ("k_hs", self.k_hs),
-            ("m_r", self.m_r),
-            ("k_rb", self.k_rb),
-            ("rho", self.rho),
-            ("youngs", self.youngs),
-            ("area", self.area),
-            ("inertia_moment", self.inertia_moment),
-            ("e1", self.e1),
-            ("e2", self.e2),
-            ("bearing_b", self.bearing_b),
-            ("friction_smoothing", self.friction_smoothing),
-            ("m_l", self.m_l),
-            ("k_rs", self.k_rs),
-            ("k_rs_modal", self.k_rs_modal),
+            (k::I_M, self.i_m),
+            (k::I_CP, self.i_cp),
+            (k::I_C, self.i_c),
+            (k::K_S1, self.k_s1),
+            (k::K_S2, self.k_s2),
+            (k::OMEGA0, self.omega0),
+            (k::M_C, self.m_c),
+            (k::K_VS, self.k_vs),
+            (k::K_HS, self.k_hs),
+            (k::M_R, self.m_r),
+            (k::K_RB, self.k_rb),
+            (k::RHO, self.rho),
+            (k::YOUNGS, self.youngs),
+            (k::AREA, self.area),
+            (k::INERTIA_MOMENT, self.inertia_moment),
+            (k::E1, self.e1),
+            (k::E2, self.e2),
+            (k::BEARING_B, self.bearing_b),
+            (k::FRICTION_SMOOTHING, self.friction_smoothing),
+            (k::M_L, self.m_l),
+            (k::K_RS, self.k_rs),
+            (k::K_RS_MODAL, self.k_rs_modal),
         ] {
             positive(field, v)?;
         }
         for (field, v) in [
-            ("c_mb", self.c_mb),
-            ("c_s1", self.c_s1),
-            ("c_s2", self.c_s2),
-            ("c_cc", self.c_cc),
-            ("c_vs", self.c_vs),
-            ("c_hs", self.c_hs),
-            ("bearing_a", self.bearing_a),
-            ("mu", self.mu),
-            ("damping_ratio_f1", self.damping_ratio_f1),
-            ("m_spring", self.m_spring),
-            ("delta_rs", self.delta_rs),
+            (k::C_MB, self.c_mb),
+            (k::C_S1, self.c_s1),
+            (k::C_S2, self.c_s2),
+            (k::C_CC, self.c_cc),
+            (k::C_VS, self.c_vs),
+            (k::C_HS, self.c_hs),
+            (k::BEARING_A, self.bearing_a),
+            (k::MU, self.mu),
+            (k::DAMPING_RATIO_F1, self.damping_ratio_f1),
+            (k::M_SPRING, self.m_spring),
+            (k::DELTA_RS, self.delta_rs),
         ] {
             non_negative(field, v)?;
         }
-        finite("omega0", self.omega0)?;
+        self.geometry.validate()?;
+        self.hertz.validate()?;
+        self.drive.validate()?;
         let lift = self.program.max_lift();
         if self.e2 <= lift {
             return Err(Error::InvalidParameter {
-                field: "e2",
+                field: k::E2,
                 rule: "cantilever length must exceed the program's maximum lift",
                 value: self.e2.to_f64(),
             });
         }
-        self.drive.validate()?;
         // The roller must fit the profile: no undercut (a convex pitch radius below r_r).
         let u = self.geometry.undercut(&self.program, 3600)?;
         if u.undercut {
             return Err(Error::InvalidParameter {
-                field: "roller_radius",
+                field: k::ROLLER_RADIUS,
                 rule: "undercut: larger than the smallest convex pitch-curve radius of the profile (use a smaller roller, a larger base circle or a gentler program)",
                 value: self.geometry.roller_radius.to_f64(),
             });
         }
-        self.k_h_base()?;
+        // K_h on the base circle: the roller and base radii must carry a line contact.
+        self.k_h_base().map_err(|e| match e {
+            Error::InvalidParameter { field, rule, .. } => Error::InvalidParameter {
+                field: if field == "r2" {
+                    k::BASE_RADIUS
+                } else {
+                    k::ROLLER_RADIUS
+                },
+                rule,
+                value: if field == "r2" {
+                    self.geometry.base_radius.to_f64()
+                } else {
+                    self.geometry.roller_radius.to_f64()
+                },
+            },
+            other => other,
+        })?;
         self.preload()?;
         Ok(())
     }
 }
 
+impl<T: Real> Default for Design<T> {
+    /// [`Design::reference`].
+    fn default() -> Self {
+        Self::reference()
+    }
+}
+
 impl<T: Real> Design<T> {
     /// Moves the design to a new cam speed (rpm): ω0 and the drive's reference speed.
+    ///
+    /// The error names `rpm` (the host's scene key is `run.rpm`, its flag `--rpm`).
     pub fn set_speed_rpm(&mut self, rpm: T) -> Result<()> {
         positive("rpm", rpm)?;
         let w = rpm * T::PI / T::from_f64(30.0);
@@ -482,7 +562,10 @@ mod record_tests {
         bad.values[16] = -1.0; // k_rb
         assert!(matches!(
             Design::<f32>::from_record(&bad),
-            Err(Error::InvalidParameter { field: "k_rb", .. })
+            Err(Error::InvalidParameter {
+                field: "k_rb_lb_per_in",
+                ..
+            })
         ));
     }
 }

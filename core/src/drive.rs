@@ -8,7 +8,7 @@
 //! speed error, limited to the motor's breakdown torque. Two ideal drives drop
 //! rotational degrees of freedom for simpler scenes.
 
-use crate::{positive, Error, Real, Result};
+use crate::{finite, key, non_negative, positive, Real, Result};
 
 /// One horsepower in lb·in/s.
 pub const HORSEPOWER_IN_LB_PER_S: f64 = 6600.0;
@@ -45,7 +45,24 @@ impl DriveKind {
 }
 
 /// The motor law T_i(θ̇_m) and which rotational degrees of freedom it leaves free.
+///
+/// Scene form (`serde` feature): `drive = "constant-cam-speed"`,
+/// `drive = "constant-motor-speed"`, or a table `[drive.regulated]` with
+/// `omega_ref_rad_per_s`, `t_steady_lb_in`, `k_p_lb_in_s_per_rad`, `t_max_lb_in` (absent
+/// keys take the reference drive's values). Unknown laws and keys are refused.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        rename_all = "kebab-case",
+        deny_unknown_fields,
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub enum DriveLaw<T> {
     /// Ideal constant cam speed ω0: the rotational system is rigid (motor, coupling
     /// and cam DOFs dropped). The cam angle is ω0 t; this is the "theoretical" speed.
@@ -55,14 +72,48 @@ pub enum DriveLaw<T> {
     /// Speed-regulated motor: T_i = t_steady + k_p (ω_ref - θ̇_m), clamped to ±t_max.
     Regulated {
         /// Reference speed ω_ref, rad/s.
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "omega_ref_rad_per_s", default = "reference_field::<T, 0>")
+        )]
         omega_ref: T,
         /// Feed-forward torque: the steady drag (C_mb + C_cc) ω_ref, lb·in.
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "t_steady_lb_in", default = "reference_field::<T, 1>")
+        )]
         t_steady: T,
         /// Proportional gain, lb·in·s/rad: rated torque over rated slip speed.
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "k_p_lb_in_s_per_rad", default = "reference_field::<T, 2>")
+        )]
         k_p: T,
         /// Torque limit (breakdown torque), lb·in.
+        #[cfg_attr(
+            feature = "serde",
+            serde(rename = "t_max_lb_in", default = "reference_field::<T, 3>")
+        )]
         t_max: T,
     },
+}
+
+/// Field `I` (omega_ref, t_steady, k_p, t_max) of the reference design's drive: the
+/// default of an absent key in a `[drive.regulated]` table.
+#[cfg(feature = "serde")]
+fn reference_field<T: Real, const I: usize>() -> T {
+    match crate::Design::<T>::reference().drive {
+        DriveLaw::Regulated {
+            omega_ref,
+            t_steady,
+            k_p,
+            t_max,
+        } => [omega_ref, t_steady, k_p, t_max]
+            .get(I)
+            .copied()
+            .unwrap_or(T::ZERO),
+        _ => T::ZERO,
+    }
 }
 
 impl<T: Real> DriveLaw<T> {
@@ -149,7 +200,8 @@ impl<T: Real> DriveLaw<T> {
         }
     }
 
-    /// Checks the law's parameters.
+    /// Checks the law's parameters; errors name the scene key
+    /// (`drive.regulated.t_max_lb_in`).
     pub fn validate(&self) -> Result<()> {
         if let DriveLaw::Regulated {
             omega_ref,
@@ -158,22 +210,10 @@ impl<T: Real> DriveLaw<T> {
             t_max,
         } = *self
         {
-            positive("drive.omega_ref", omega_ref)?;
-            positive("drive.t_max", t_max)?;
-            if !(k_p.is_finite() && k_p >= T::ZERO) {
-                return Err(Error::InvalidParameter {
-                    field: "drive.k_p",
-                    rule: "must be zero or positive and finite",
-                    value: k_p.to_f64(),
-                });
-            }
-            if !t_steady.is_finite() {
-                return Err(Error::InvalidParameter {
-                    field: "drive.t_steady",
-                    rule: "must be finite",
-                    value: t_steady.to_f64(),
-                });
-            }
+            positive(key::DRIVE_OMEGA_REF, omega_ref)?;
+            positive(key::DRIVE_T_MAX, t_max)?;
+            non_negative(key::DRIVE_K_P, k_p)?;
+            finite(key::DRIVE_T_STEADY, t_steady)?;
         }
         Ok(())
     }

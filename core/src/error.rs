@@ -10,12 +10,21 @@ use core::fmt;
 pub enum Error {
     /// A parameter broke a rule (`field` names it, `rule` states the limit).
     InvalidParameter {
-        /// Name of the parameter, as in scene files (for example `"lift_in"`).
+        /// Name of the parameter: its scene key (for example `"spring_rate_lb_per_in"`,
+        /// `"program.segment[2].end_deg"`; see [`crate::key`]).
         field: &'static str,
         /// The rule it must satisfy (for example `"must be positive and finite"`).
         rule: &'static str,
         /// The value given.
         value: f64,
+    },
+    /// A key that does not fit the others (a rise or return without a motion law, a
+    /// law on a dwell): `field` names it, `rule` says what fits.
+    Inconsistent {
+        /// Name of the parameter, as in scene files (for example `"program.segment[1].law"`).
+        field: &'static str,
+        /// What the other keys require of it.
+        rule: &'static str,
     },
     /// A fixed-capacity buffer is too small for the input.
     Capacity {
@@ -63,8 +72,15 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
             Error::InvalidParameter { field, rule, value } => {
-                write!(f, "{field} = {value}: {rule}")
+                // Plain digits, or an exponent where they would run long (1e-300).
+                let a = if value < 0.0 { -value } else { value };
+                if value == 0.0 || !value.is_finite() || (1e-5..1e16).contains(&a) {
+                    write!(f, "{field} = {value}: {rule}")
+                } else {
+                    write!(f, "{field} = {value:e}: {rule}")
+                }
             }
+            Error::Inconsistent { field, rule } => write!(f, "{field}: {rule}"),
             Error::Capacity { what, capacity } => {
                 write!(f, "{what}: more than the capacity of {capacity}")
             }
@@ -135,5 +151,37 @@ pub fn finite<T: crate::Real>(field: &'static str, value: T) -> Result<T> {
             rule: "must be finite",
             value: value.to_f64(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_print_plain_or_with_an_exponent_when_long() {
+        let e = |value: f64| {
+            Error::InvalidParameter {
+                field: "k",
+                rule: "r",
+                value,
+            }
+            .to_string()
+        };
+        assert_eq!(e(-1.0), "k = -1: r");
+        assert_eq!(e(0.375), "k = 0.375: r");
+        assert_eq!(e(1.5e6), "k = 1500000: r");
+        assert_eq!(e(1e-300), "k = 1e-300: r");
+        assert_eq!(e(-2.5e20), "k = -2.5e20: r");
+        assert_eq!(e(f64::NAN), "k = NaN: r");
+        assert_eq!(e(f64::NEG_INFINITY), "k = -inf: r");
+        let i = Error::Inconsistent {
+            field: "program.segment[1].law",
+            rule: "a dwell takes no motion law",
+        };
+        assert_eq!(
+            i.to_string(),
+            "program.segment[1].law: a dwell takes no motion law"
+        );
     }
 }

@@ -6,17 +6,42 @@
 //! `(R_a + y)(sin θ, cos θ)` with `R_a = R_b + r_r`; the contact point on the cam
 //! surface lies `r_r` from it along the pitch curve's inward normal.
 
-use crate::{non_negative, positive, CamProgram, Error, Real, Result};
+use crate::{key, non_negative, positive, CamProgram, Error, Real, Result};
 
 /// Dimensions of a disk cam and its inline translating roller follower (in).
+///
+/// Scene keys (`[geometry]`): `base_radius_in`, `roller_radius_in`, `thickness_in`;
+/// absent keys take the reference values.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        deny_unknown_fields,
+        default,
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub struct CamGeometry<T> {
     /// Base circle radius R_b (in).
+    #[cfg_attr(feature = "serde", serde(rename = "base_radius_in"))]
     pub base_radius: T,
     /// Roller radius r_r (in); 0 is a knife edge.
+    #[cfg_attr(feature = "serde", serde(rename = "roller_radius_in"))]
     pub roller_radius: T,
-    /// Cam thickness t (in), for the mass and the Hertz contact.
+    /// Cam thickness t (in), for the cam's mass properties.
+    #[cfg_attr(feature = "serde", serde(rename = "thickness_in"))]
     pub thickness: T,
+}
+
+impl<T: Real> Default for CamGeometry<T> {
+    /// [`CamGeometry::reference`].
+    fn default() -> Self {
+        Self::reference()
+    }
 }
 
 /// Area, volume, mass and polar moment of inertia of a disk cam (Eqs. V.2-V.4).
@@ -61,11 +86,22 @@ impl<T: Real> CamGeometry<T> {
     /// Validated dimensions: base radius and thickness positive, roller radius
     /// non-negative, all finite.
     pub fn new(base_radius: T, roller_radius: T, thickness: T) -> Result<Self> {
-        Ok(CamGeometry {
-            base_radius: positive("base_radius", base_radius)?,
-            roller_radius: non_negative("roller_radius", roller_radius)?,
-            thickness: positive("thickness", thickness)?,
-        })
+        let g = CamGeometry {
+            base_radius,
+            roller_radius,
+            thickness,
+        };
+        g.validate()?;
+        Ok(g)
+    }
+
+    /// Checks the dimensions of [`CamGeometry::new`]; errors name the scene key
+    /// (`geometry.roller_radius_in`).
+    pub fn validate(&self) -> Result<()> {
+        positive(key::BASE_RADIUS, self.base_radius)?;
+        non_negative(key::ROLLER_RADIUS, self.roller_radius)?;
+        positive(key::THICKNESS, self.thickness)?;
+        Ok(())
     }
 
     /// The reference cam of VI.1: R_b = 1.5 in, r_r = 0.375 in, t = 0.25 in.
@@ -340,9 +376,18 @@ mod tests {
             Err(Error::InvalidParameter { field, .. }) => field,
             _ => "",
         };
-        assert_eq!(field(CamGeometry::new(0.0, 0.375, 0.25)), "base_radius");
-        assert_eq!(field(CamGeometry::new(1.5, -0.1, 0.25)), "roller_radius");
-        assert_eq!(field(CamGeometry::new(1.5, 0.375, f64::NAN)), "thickness");
+        assert_eq!(
+            field(CamGeometry::new(0.0, 0.375, 0.25)),
+            "geometry.base_radius_in"
+        );
+        assert_eq!(
+            field(CamGeometry::new(1.5, -0.1, 0.25)),
+            "geometry.roller_radius_in"
+        );
+        assert_eq!(
+            field(CamGeometry::new(1.5, 0.375, f64::NAN)),
+            "geometry.thickness_in"
+        );
         let g = CamGeometry::<f64>::reference();
         assert_eq!(g, CamGeometry::new(1.5, 0.375, 0.25).unwrap());
         let p = CamProgram::<f64>::reference();

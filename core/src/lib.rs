@@ -7,6 +7,9 @@ mod num;
 pub use num::*;
 mod error;
 pub use error::*;
+// Scene keys: the serde names of the design's parameters and the names errors use.
+mod keys;
+pub use keys::key;
 
 // Kinematics: Appendix A motion laws, cam programs, cam geometry (V.1-V.4, V.12, E.6).
 mod motion;

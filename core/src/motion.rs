@@ -20,32 +20,48 @@
 use crate::Real;
 
 /// One of the standard follower motion laws of Appendix A (A.1-A.4).
+///
+/// With the `serde` feature a law is (de)serialized by its [`MotionLaw::name`] (the
+/// variant index in non-self-describing formats).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum MotionLaw {
     /// A.1-1 straight line (constant velocity): `s = u`. The acceleration and jerk
     /// impulses at the ends are not representable; `a = j = 0` is reported.
+    #[cfg_attr(feature = "serde", serde(rename = "straight-line"))]
     StraightLine,
     /// A.1-2 parabolic (constant acceleration ±4, jump at `u = 1/2`).
+    #[cfg_attr(feature = "serde", serde(rename = "parabolic"))]
     Parabolic,
     /// A.1-3 cubic No. 1 (constant jerk 24, acceleration jump ±12 at `u = 1/2`).
+    #[cfg_attr(feature = "serde", serde(rename = "cubic-1"))]
     Cubic1,
     /// A.1-4 cubic No. 2 (the 2-3 polynomial, `s = 3u² - 2u³`).
+    #[cfg_attr(feature = "serde", serde(rename = "cubic-2"))]
     Cubic2,
     /// A.2-1 simple harmonic motion (crank curve).
+    #[cfg_attr(feature = "serde", serde(rename = "shm"))]
     SimpleHarmonic,
     /// A.2-2 double harmonic (not symmetric: it decelerates harder than it starts).
+    #[cfg_attr(feature = "serde", serde(rename = "double-harmonic"))]
     DoubleHarmonic,
     /// A.2-3 cycloidal (sine acceleration).
+    #[cfg_attr(feature = "serde", serde(rename = "cycloidal"))]
     Cycloidal,
     /// A.3-1 trapezoidal acceleration.
+    #[cfg_attr(feature = "serde", serde(rename = "trapezoidal"))]
     Trapezoidal,
     /// A.3-2 modified trapezoidal acceleration.
+    #[cfg_attr(feature = "serde", serde(rename = "modified-trapezoidal"))]
     ModifiedTrapezoidal,
     /// A.2-4 modified sine.
+    #[cfg_attr(feature = "serde", serde(rename = "modified-sine"))]
     ModifiedSine,
     /// A.4-2 3-4-5 polynomial.
+    #[cfg_attr(feature = "serde", serde(rename = "3-4-5"))]
     Poly345,
     /// A.4-3 4-5-6-7 polynomial.
+    #[cfg_attr(feature = "serde", serde(rename = "4-5-6-7"))]
     Poly4567,
 }
 

@@ -5,10 +5,20 @@
 //! `y = y_low + h s(1 - u)` with `u = (θ - c)/β₂`. It is not point-symmetric in force;
 //! for the point-symmetric laws the two readings coincide.
 
-use crate::{Error, MotionLaw, Real, Result};
+use crate::keys::{segment_key, SegmentField};
+use crate::{key, Error, MotionLaw, Real, Result};
 
 /// What a program segment does.
+///
+/// With the `serde` feature on its own: `"dwell"`, `{ rise = "<law>" }` or
+/// `{ return = "<law>" }`; inside a [`Segment`] it is split into `kind` and `law`
+/// ([`SegmentData`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "lowercase")
+)]
 pub enum SegmentKind {
     /// The follower rests (lift 0).
     Dwell,
@@ -19,7 +29,22 @@ pub enum SegmentKind {
 }
 
 /// One segment of a cam program, in degrees of cam angle and inches of lift.
+///
+/// With the `serde` feature it reads and writes as a [`SegmentData`]
+/// (`kind`, `law`, `start_deg`, `end_deg`, `lift_in`).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        try_from = "SegmentData<T>",
+        into = "SegmentData<T>",
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub struct Segment<T> {
     /// Dwell, rise or return.
     pub kind: SegmentKind,
@@ -63,44 +88,177 @@ struct Prepared<T> {
 }
 
 /// A cam program over 360 degrees with at most `N` segments (VI.1's is D-R-D-R).
+///
+/// With the `serde` feature it reads and writes as a [`ProgramData`] (a list `segment`
+/// of [`SegmentData`]) and is validated by [`CamProgram::new`] as it is read: a program
+/// that deserializes is valid, and the error names the key (`program.segment[2].end_deg`).
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        try_from = "ProgramData<T, N>",
+        into = "ProgramData<T, N>",
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub struct CamProgram<T, const N: usize = 8> {
     segs: heapless::Vec<Segment<T>, N>,
     pre: heapless::Vec<Prepared<T>, N>,
     max_lift: T,
 }
 
-/// Field names `segments[i].<field>` for error messages (`&'static str`, no allocation).
-macro_rules! seg_names {
-    ($f:literal) => {
-        [
-            concat!("segments[0].", $f),
-            concat!("segments[1].", $f),
-            concat!("segments[2].", $f),
-            concat!("segments[3].", $f),
-            concat!("segments[4].", $f),
-            concat!("segments[5].", $f),
-            concat!("segments[6].", $f),
-            concat!("segments[7].", $f),
-            concat!("segments[8].", $f),
-            concat!("segments[9].", $f),
-            concat!("segments[10].", $f),
-            concat!("segments[11].", $f),
-            concat!("segments[12].", $f),
-            concat!("segments[13].", $f),
-            concat!("segments[14].", $f),
-            concat!("segments[15].", $f),
-            concat!("segments[..].", $f),
-        ]
-    };
+/// A segment's kind without its law, as scene files name it (`kind = "rise"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "lowercase")
+)]
+pub enum SegmentType {
+    /// The follower rests.
+    Dwell,
+    /// The follower rises.
+    Rise,
+    /// The follower returns.
+    Return,
 }
-const START_NAMES: [&str; 17] = seg_names!("start_deg");
-const END_NAMES: [&str; 17] = seg_names!("end_deg");
-const LIFT_NAMES: [&str; 17] = seg_names!("lift");
 
-/// The name of `field` of segment `i` (indices above 15 read `segments[..]`).
-fn field_name(names: &[&'static str; 17], i: usize) -> &'static str {
-    names.get(i).or(names.last()).copied().unwrap_or("segments")
+/// One segment as plain data, the form scene files use: `kind`, a `law` for a rise or
+/// return (none for a dwell), the angles and the lift (0 or absent for a dwell).
+/// [`SegmentData::to_segment`] checks that kind and law fit; [`CamProgram::new`] the rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        deny_unknown_fields,
+        rename = "Segment",
+        expecting = "a segment: a table of kind, law, start_deg, end_deg, lift_in",
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
+pub struct SegmentData<T> {
+    /// `"dwell"`, `"rise"` or `"return"`.
+    pub kind: SegmentType,
+    /// The motion law of a rise or return (names as in `camsim laws`); none for a dwell.
+    pub law: Option<MotionLaw>,
+    /// Cam angle where the segment starts (deg).
+    pub start_deg: T,
+    /// Cam angle where the segment ends (deg).
+    pub end_deg: T,
+    /// Follower travel (in); 0 for a dwell, which may leave it out.
+    #[cfg_attr(feature = "serde", serde(rename = "lift_in", default))]
+    pub lift: T,
+}
+
+/// A program as plain data: its segments in order (`[[program.segment]]` in a scene).
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        deny_unknown_fields,
+        rename = "CamProgram",
+        expecting = "a program: a table with a list `segment` of segments",
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
+pub struct ProgramData<T, const N: usize = 8> {
+    /// The segments.
+    pub segment: heapless::Vec<SegmentData<T>, N>,
+}
+
+impl<T: Real> SegmentData<T> {
+    /// The segment of index `i` in its program (the index names the key in errors):
+    /// a rise or return needs a law, a dwell takes none.
+    pub fn to_segment(&self, i: usize) -> Result<Segment<T>> {
+        let kind = match (self.kind, self.law) {
+            (SegmentType::Dwell, None) => SegmentKind::Dwell,
+            (SegmentType::Rise, Some(l)) => SegmentKind::Rise(l),
+            (SegmentType::Return, Some(l)) => SegmentKind::Return(l),
+            (SegmentType::Dwell, Some(_)) => {
+                return Err(Error::Inconsistent {
+                    field: segment_key(SegmentField::Law, i),
+                    rule: "a dwell takes no motion law",
+                })
+            }
+            (_, None) => {
+                return Err(Error::Inconsistent {
+                    field: segment_key(SegmentField::Law, i),
+                    rule: "a rise or return needs a motion law (names as in `camsim laws`)",
+                })
+            }
+        };
+        Ok(Segment {
+            kind,
+            start_deg: self.start_deg,
+            end_deg: self.end_deg,
+            lift: self.lift,
+        })
+    }
+}
+
+impl<T: Real> From<Segment<T>> for SegmentData<T> {
+    fn from(s: Segment<T>) -> Self {
+        let (kind, law) = match s.kind {
+            SegmentKind::Dwell => (SegmentType::Dwell, None),
+            SegmentKind::Rise(l) => (SegmentType::Rise, Some(l)),
+            SegmentKind::Return(l) => (SegmentType::Return, Some(l)),
+        };
+        SegmentData {
+            kind,
+            law,
+            start_deg: s.start_deg,
+            end_deg: s.end_deg,
+            lift: s.lift,
+        }
+    }
+}
+
+impl<T: Real> TryFrom<SegmentData<T>> for Segment<T> {
+    type Error = Error;
+    /// A segment on its own (errors name `program.segment[..]`).
+    fn try_from(d: SegmentData<T>) -> Result<Self> {
+        d.to_segment(usize::MAX)
+    }
+}
+
+impl<T: Real, const N: usize> From<CamProgram<T, N>> for ProgramData<T, N> {
+    fn from(p: CamProgram<T, N>) -> Self {
+        let mut segment = heapless::Vec::new();
+        for &s in &p.segs {
+            // Same capacity N: never full.
+            let _ = segment.push(SegmentData::from(s));
+        }
+        ProgramData { segment }
+    }
+}
+
+impl<T: Real, const N: usize> TryFrom<ProgramData<T, N>> for CamProgram<T, N> {
+    type Error = Error;
+    /// Checks kind and law of every segment, then the program ([`CamProgram::new`]).
+    fn try_from(d: ProgramData<T, N>) -> Result<Self> {
+        let mut segs: heapless::Vec<Segment<T>, N> = heapless::Vec::new();
+        for (i, s) in d.segment.iter().enumerate() {
+            if segs.push(s.to_segment(i)?).is_err() {
+                return Err(Error::Capacity {
+                    what: "cam program segments",
+                    capacity: N,
+                });
+            }
+        }
+        Self::new(&segs)
+    }
 }
 
 fn invalid<T: Real>(field: &'static str, rule: &'static str, value: T) -> Error {
@@ -128,7 +286,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
     pub fn new(segments: &[Segment<T>]) -> Result<Self> {
         if segments.is_empty() {
             return Err(invalid(
-                "segments",
+                key::PROGRAM_SEGMENT,
                 "must hold at least one segment",
                 T::ZERO,
             ));
@@ -146,14 +304,14 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
         for (i, s) in segments.iter().enumerate() {
             if !s.start_deg.is_finite() {
                 return Err(invalid(
-                    field_name(&START_NAMES, i),
+                    segment_key(SegmentField::StartDeg, i),
                     "must be finite",
                     s.start_deg,
                 ));
             }
             if !s.end_deg.is_finite() {
                 return Err(invalid(
-                    field_name(&END_NAMES, i),
+                    segment_key(SegmentField::EndDeg, i),
                     "must be finite",
                     s.end_deg,
                 ));
@@ -166,7 +324,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
         for (i, s) in segments.iter().enumerate() {
             if i == 0 && s.start_deg.abs() > tol_deg {
                 return Err(invalid(
-                    field_name(&START_NAMES, 0),
+                    segment_key(SegmentField::StartDeg, 0),
                     "must be 0 (the program starts at 0 deg)",
                     s.start_deg,
                 ));
@@ -174,7 +332,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
             // Both ends are finite here, so `<=` is the negation of `>`.
             if s.end_deg - s.start_deg <= tol_deg {
                 return Err(invalid(
-                    field_name(&END_NAMES, i),
+                    segment_key(SegmentField::EndDeg, i),
                     "must exceed the segment's start_deg",
                     s.end_deg,
                 ));
@@ -182,14 +340,14 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
             if let Some(next) = segments.get(i + 1) {
                 if (s.end_deg - next.start_deg).abs() > tol_deg {
                     return Err(invalid(
-                        field_name(&END_NAMES, i),
+                        segment_key(SegmentField::EndDeg, i),
                         "must equal the next segment's start_deg",
                         s.end_deg,
                     ));
                 }
             } else if (s.end_deg - full).abs() > tol_deg {
                 return Err(invalid(
-                    field_name(&END_NAMES, i),
+                    segment_key(SegmentField::EndDeg, i),
                     "must be 360 (the program covers one revolution)",
                     s.end_deg,
                 ));
@@ -198,7 +356,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
                 SegmentKind::Dwell => {
                     if s.lift != T::ZERO {
                         return Err(invalid(
-                            field_name(&LIFT_NAMES, i),
+                            segment_key(SegmentField::LiftIn, i),
                             "must be 0 for a dwell",
                             s.lift,
                         ));
@@ -207,7 +365,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
                 SegmentKind::Rise(_) | SegmentKind::Return(_) => {
                     if !(s.lift.is_finite() && s.lift > T::ZERO) {
                         return Err(invalid(
-                            field_name(&LIFT_NAMES, i),
+                            segment_key(SegmentField::LiftIn, i),
                             "must be positive and finite for a rise or return",
                             s.lift,
                         ));
@@ -234,7 +392,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
             let inv_beta = T::ONE / beta;
             if !(beta > T::ZERO && inv_beta.is_finite()) {
                 return Err(invalid(
-                    field_name(&END_NAMES, i),
+                    segment_key(SegmentField::EndDeg, i),
                     "must exceed the segment's start_deg by a representable angle",
                     s.end_deg,
                 ));
@@ -246,7 +404,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
                     let mut low = level - s.lift;
                     if low < -tol_lift {
                         return Err(invalid(
-                            field_name(&LIFT_NAMES, i),
+                            segment_key(SegmentField::LiftIn, i),
                             "must not exceed the follower level before the return (the follower would go below the base circle)",
                             s.lift,
                         ));
@@ -284,7 +442,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
         }
         if level.abs() > tol_lift {
             return Err(invalid(
-                "segments",
+                key::PROGRAM_SEGMENT,
                 "net displacement over the revolution must be 0 (the returns must undo the rises)",
                 level,
             ));
@@ -576,7 +734,7 @@ mod tests {
         let mut gap = ok;
         gap[1].end_deg = 170.0;
         let e = CamProgram::<f64>::new(&gap).unwrap_err();
-        assert_eq!(field_of(e), "segments[1].end_deg");
+        assert_eq!(field_of(e), "program.segment[1].end_deg");
         assert!(matches!(
             e,
             Error::InvalidParameter {
@@ -589,44 +747,44 @@ mod tests {
         late[0].start_deg = 1.0;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&late).unwrap_err()),
-            "segments[0].start_deg"
+            "program.segment[0].start_deg"
         );
         let mut short = ok;
         short[2].end_deg = 359.0;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&short).unwrap_err()),
-            "segments[2].end_deg"
+            "program.segment[2].end_deg"
         );
         let mut back = ok;
         back[1].end_deg = 90.0;
         back[2].start_deg = 90.0;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&back).unwrap_err()),
-            "segments[1].end_deg"
+            "program.segment[1].end_deg"
         );
         let mut dwell_lift = ok;
         dwell_lift[1].lift = 0.1;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&dwell_lift).unwrap_err()),
-            "segments[1].lift"
+            "program.segment[1].lift_in"
         );
         let mut neg = ok;
         neg[0].lift = -1.0;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&neg).unwrap_err()),
-            "segments[0].lift"
+            "program.segment[0].lift_in"
         );
         let mut nan = ok;
         nan[2].lift = f64::NAN;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&nan).unwrap_err()),
-            "segments[2].lift"
+            "program.segment[2].lift_in"
         );
         let mut open = ok;
         open[2].lift = 0.5;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&open).unwrap_err()),
-            "segments"
+            "program.segment"
         );
         let below = [
             seg(SegmentKind::Return(MotionLaw::Cycloidal), 0.0, 90.0, 1.0),
@@ -634,17 +792,17 @@ mod tests {
         ];
         assert_eq!(
             field_of(CamProgram::<f64>::new(&below).unwrap_err()),
-            "segments[0].lift"
+            "program.segment[0].lift_in"
         );
         assert_eq!(
             field_of(CamProgram::<f64>::new(&[]).unwrap_err()),
-            "segments"
+            "program.segment"
         );
         let mut inf = ok;
         inf[1].start_deg = f64::INFINITY;
         assert_eq!(
             field_of(CamProgram::<f64>::new(&inf).unwrap_err()),
-            "segments[1].start_deg"
+            "program.segment[1].start_deg"
         );
     }
 

@@ -91,14 +91,32 @@ impl<T, A: Observer<T>, B: Observer<T>> Observer<T> for Both<'_, A, B> {
 
 /// Solver settings of a run: relative tolerance and an absolute tolerance in inches
 /// that is scaled to every state component (see [`solver_config`]).
+///
+/// Scene keys (`[solver]`, [`crate::key::SOLVER_KEYS`]): `rtol`, `atol_in`,
+/// `max_step_fraction_rev`, `max_steps_per_rev`, `start`; absent keys take
+/// [`SolverSettings::reference`]'s values.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(
+        deny_unknown_fields,
+        default,
+        bound(
+            serialize = "T: Real + serde::Serialize",
+            deserialize = "T: Real + serde::Deserialize<'de>"
+        )
+    )
+)]
 pub struct SolverSettings<T> {
     /// Relative tolerance.
     pub rtol: T,
     /// Absolute tolerance for displacements, in.
+    #[cfg_attr(feature = "serde", serde(rename = "atol_in"))]
     pub atol: T,
     /// Largest double step as a fraction of one revolution at ω0 (keeps samples dense for
     /// statistics and plots).
+    #[cfg_attr(feature = "serde", serde(rename = "max_step_fraction_rev"))]
     pub max_step_fraction: T,
     /// Step budget per revolution.
     pub max_steps_per_rev: u32,
@@ -106,8 +124,13 @@ pub struct SolverSettings<T> {
     pub start: Start,
 }
 
-/// The initial state of a simulation.
+/// The initial state of a simulation (scene names `"thesis"`, `"static"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "lowercase")
+)]
 pub enum Start {
     /// The thesis's (VI.1): every speed at ω0, everything else zero. The preload then acts
     /// on an unloaded chain, and the first revolution carries that start-up transient.
@@ -128,6 +151,45 @@ impl<T: Real> SolverSettings<T> {
             max_steps_per_rev: 2_000_000,
             start: Start::Thesis,
         }
+    }
+
+    /// Checks the settings; errors name the scene key relative to `[solver]`
+    /// ([`crate::key::RTOL`], ...): `rtol` in (0, 1), `atol_in` positive,
+    /// `max_step_fraction_rev` in (0, 0.25], `max_steps_per_rev` at least 1.
+    pub fn validate(&self) -> Result<()> {
+        use crate::key;
+        crate::positive(key::RTOL, self.rtol)?;
+        if self.rtol >= T::ONE {
+            return Err(crate::Error::InvalidParameter {
+                field: key::RTOL,
+                rule: "must be below 1",
+                value: self.rtol.to_f64(),
+            });
+        }
+        crate::positive(key::ATOL, self.atol)?;
+        crate::positive(key::MAX_STEP_FRACTION, self.max_step_fraction)?;
+        if self.max_step_fraction > T::from_f64(0.25) {
+            return Err(crate::Error::InvalidParameter {
+                field: key::MAX_STEP_FRACTION,
+                rule: "must be at most 0.25",
+                value: self.max_step_fraction.to_f64(),
+            });
+        }
+        if self.max_steps_per_rev == 0 {
+            return Err(crate::Error::InvalidParameter {
+                field: key::MAX_STEPS_PER_REV,
+                rule: "must be at least 1",
+                value: 0.0,
+            });
+        }
+        Ok(())
+    }
+}
+
+impl<T: Real> Default for SolverSettings<T> {
+    /// [`SolverSettings::reference`].
+    fn default() -> Self {
+        Self::reference()
     }
 }
 

@@ -1,176 +1,55 @@
-//! Scene files: every parameter of the model, the program and the solver in TOML,
-//! with the units in the key names. Every key is optional and defaults to the
-//! reference design (`camsim scene --default` prints them all); unknown keys are
-//! refused, so a typo never passes silently.
+//! Scene files: the run options, the solver settings and the design in TOML.
+//!
+//! The file is `[run]` (what to simulate that is not part of the design), `[solver]`
+//! (core's [`SolverSettings`]) and `[design]` (core's [`Design`] as it serializes:
+//! units in the key names, see [`camsim_core::key`]). Every key is optional and
+//! defaults to the reference (`camsim scene --default` prints them all); unknown keys
+//! are refused, so a typo never passes silently. The checks are the core's
+//! ([`Design::validate`], [`SolverSettings::validate`]); errors name the key and rule.
 
 use std::path::Path;
 
 use anyhow::{anyhow, bail, Context, Result};
-use camsim_core::{
-    CamGeometry, CamProgram, DriveLaw, HertzContact, MotionLaw, Segment, SegmentKind,
-    SolverSettings, Start,
-};
+use camsim_core::{key, Design, DriveLaw, SegmentKind, SolverSettings, Start};
 use serde::{Deserialize, Serialize};
 
 use crate::sim::{Dofs, RunSpec};
 
-/// `[run]`: what to simulate.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RunSection {
+/// `[run]`: what to simulate that is not part of the design.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RunOptions {
     /// Revolutions to simulate (1-16).
-    pub revolutions: Option<u32>,
-    /// Cam speed (initial speeds and the drive's reference), rpm.
-    pub rpm: Option<f64>,
+    pub revolutions: u32,
     /// Keep the horizontal motion (x1, x2, x3).
-    pub horizontal_motion: Option<bool>,
-    /// Initial state: "thesis" (VI.1) or "static" (static equilibrium).
-    pub start: Option<String>,
+    pub horizontal_motion: bool,
+    /// Cam speed in rpm, instead of `design.omega0_rad_per_s`: moves the design to this
+    /// speed like `--rpm` ([`Design::set_speed_rpm`]: ω0, the regulated drive's
+    /// reference, its feed-forward scaled with speed). Never written back.
+    pub rpm: Option<f64>,
 }
 
-/// `[solver]`: England's adaptive Runge-Kutta.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SolverSection {
-    /// Relative tolerance.
-    pub rtol: Option<f64>,
-    /// Absolute tolerance for displacements, in (scaled to the other components).
-    pub atol_in: Option<f64>,
-    /// Largest double step, as a fraction of a revolution.
-    pub max_step_fraction_rev: Option<f64>,
-    /// Step budget per revolution.
-    pub max_steps_per_rev: Option<u32>,
-}
-
-/// `[drive]`: the motor law.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DriveSection {
-    /// "regulated", "constant-motor-speed" or "constant-cam-speed".
-    pub law: Option<String>,
-    /// Regulated: feed-forward torque at the reference speed, lb·in.
-    pub t_steady_lb_in: Option<f64>,
-    /// Regulated: proportional gain, lb·in·s/rad.
-    pub k_p_lb_in_s_per_rad: Option<f64>,
-    /// Regulated: torque limit, lb·in.
-    pub t_max_lb_in: Option<f64>,
-}
-
-/// `[rotational]`: motor, coupling, cam rotation (Eq. IV.1).
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RotationalSection {
-    pub i_m_lb_in_s2: Option<f64>,
-    pub i_cp_lb_in_s2: Option<f64>,
-    pub i_c_lb_in_s2: Option<f64>,
-    pub c_mb_lb_in_s: Option<f64>,
-    pub c_s1_lb_in_s: Option<f64>,
-    pub c_s2_lb_in_s: Option<f64>,
-    pub c_cc_lb_in_s: Option<f64>,
-    pub k_s1_lb_in_per_rad: Option<f64>,
-    pub k_s2_lb_in_per_rad: Option<f64>,
-}
-
-/// `[cam]`: the cam disk and its shaft.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CamSection {
-    pub base_radius_in: Option<f64>,
-    pub thickness_in: Option<f64>,
-    pub mass_lb_s2_per_in: Option<f64>,
-    pub k_vs_lb_per_in: Option<f64>,
-    pub c_vs_lb_s_per_in: Option<f64>,
-    pub k_hs_lb_per_in: Option<f64>,
-    pub c_hs_lb_s_per_in: Option<f64>,
-    pub youngs_psi: Option<f64>,
-    pub poisson: Option<f64>,
-}
-
-/// `[roller]`: the roller and its bearing.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RollerSection {
-    pub radius_in: Option<f64>,
-    pub mass_lb_s2_per_in: Option<f64>,
-    pub k_rb_lb_per_in: Option<f64>,
-    pub youngs_psi: Option<f64>,
-    pub poisson: Option<f64>,
-}
-
-/// `[follower]`: the follower rod, its slide bearing and the load.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FollowerSection {
-    pub density_lb_s2_per_in4: Option<f64>,
-    pub youngs_psi: Option<f64>,
-    pub area_in2: Option<f64>,
-    pub second_moment_in4: Option<f64>,
-    pub e1_in: Option<f64>,
-    pub e2_in: Option<f64>,
-    pub bearing_a_in: Option<f64>,
-    pub bearing_b_in: Option<f64>,
-    pub friction_coefficient: Option<f64>,
-    pub friction_smoothing_in_per_s: Option<f64>,
-    pub damping_ratio_f1: Option<f64>,
-    pub load_mass_lb_s2_per_in: Option<f64>,
-}
-
-/// `[spring]`: the return spring.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SpringSection {
-    pub rate_lb_per_in: Option<f64>,
-    pub preload_length_in: Option<f64>,
-    pub mass_lb_s2_per_in: Option<f64>,
-    pub modal_rate_lb_per_in: Option<f64>,
-}
-
-/// One `[[program.segment]]`.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SegmentSection {
-    /// "dwell", "rise" or "return".
-    pub kind: String,
-    /// Motion law of a rise or return (names as in `camsim laws`).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub law: Option<String>,
-    pub start_deg: f64,
-    pub end_deg: f64,
-    /// Lift of a rise or return, in (0 or absent for a dwell).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lift_in: Option<f64>,
-}
-
-/// `[program]`: the cam's motion program over 360 degrees.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ProgramSection {
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub segment: Vec<SegmentSection>,
+impl Default for RunOptions {
+    fn default() -> Self {
+        let r = RunSpec::reference();
+        RunOptions {
+            revolutions: r.revolutions,
+            horizontal_motion: r.dofs.horizontal,
+            rpm: None,
+        }
+    }
 }
 
 /// A whole scene file.
-#[derive(Debug, Default, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
 pub struct SceneFile {
-    #[serde(default)]
-    pub run: RunSection,
-    #[serde(default)]
-    pub solver: SolverSection,
-    #[serde(default)]
-    pub drive: DriveSection,
-    #[serde(default)]
-    pub rotational: RotationalSection,
-    #[serde(default)]
-    pub cam: CamSection,
-    #[serde(default)]
-    pub roller: RollerSection,
-    #[serde(default)]
-    pub follower: FollowerSection,
-    #[serde(default)]
-    pub spring: SpringSection,
-    #[serde(default)]
-    pub program: ProgramSection,
+    /// `[run]`.
+    pub run: RunOptions,
+    /// `[solver]`.
+    pub solver: SolverSettings<f64>,
+    /// `[design]`.
+    pub design: Design<f64>,
 }
 
 /// Parses an initial-state name.
@@ -182,23 +61,100 @@ pub fn parse_start(s: &str, key: &str) -> Result<Start> {
     }
 }
 
-/// Reads and validates a scene file.
+/// Reads and validates a scene file (errors start with the file's name).
 pub fn load(path: &Path) -> Result<RunSpec> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the scene file", path.display()))?;
     parse(&text).map_err(|e| anyhow!("{}: {e:#}", path.display()))
 }
 
-/// Parses and validates scene text (errors name the key and the rule, on one line).
+/// Parses and validates scene text. Errors are one line: where TOML or serde refused
+/// it, the line, column and key; where the checks refused it, the line that sets the
+/// key (if the text sets it), the key, the value and the rule.
 pub fn parse(text: &str) -> Result<RunSpec> {
-    let file: SceneFile = toml::from_str(text).map_err(|e| {
-        let (line, col) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
-        anyhow!(
-            "line {line}, column {col}: {}",
-            e.message().trim().replace('\n', " ")
-        )
-    })?;
-    file.to_spec()
+    let file: SceneFile = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+    let rpm_conflict = || -> Option<&'static str> {
+        let t: toml::Table = toml::from_str(text).ok()?;
+        let d = t.get("design")?.as_table()?;
+        if d.contains_key(key::OMEGA0) {
+            return Some(key::OMEGA0);
+        }
+        let r = d.get("drive")?.get("regulated")?.as_table()?;
+        let omega_ref = key::DRIVE_OMEGA_REF.rsplit('.').next()?;
+        r.contains_key(omega_ref).then_some(key::DRIVE_OMEGA_REF)
+    };
+    if file.run.rpm.is_some() {
+        if let Some(k) = rpm_conflict() {
+            return Err(located(
+                text,
+                &format!("run.rpm and design.{k} both set the cam speed: give one of them"),
+            ));
+        }
+    }
+    file.run_spec()
+        .map_err(|e| located(text, &format!("{e:#}")))
+}
+
+/// A core check's refusal in `section` (`design`, `solver`): its key under the section,
+/// the value and the rule (`design.spring_rate_lb_per_in = -1: must be positive and
+/// finite`).
+#[derive(Debug)]
+struct Refusal {
+    section: &'static str,
+    error: camsim_core::Error,
+}
+
+impl std::fmt::Display for Refusal {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.error {
+            // Both start with the key: put the section in front of it.
+            camsim_core::Error::InvalidParameter { .. }
+            | camsim_core::Error::Inconsistent { .. } => {
+                write!(f, "{}.{}", self.section, self.error)
+            }
+            other => write!(f, "{}: {other}", self.section),
+        }
+    }
+}
+
+impl std::error::Error for Refusal {}
+
+/// One line for a TOML or serde error: line, column, the key there, the message. A
+/// program refused as it is read (by the core's `CamProgram::new`) names its own key.
+fn toml_error(text: &str, e: &toml::de::Error) -> anyhow::Error {
+    let msg = e.message().trim().replace('\n', " ");
+    if msg.starts_with(key::PROGRAM_SEGMENT) {
+        return located(text, &format!("design.{msg}"));
+    }
+    let Some(span) = e.span() else {
+        return anyhow!("{msg}");
+    };
+    let (line, col) = line_col(text, span.start);
+    match line_paths(text).get(line - 1).filter(|k| !k.is_empty()) {
+        Some(k) => anyhow!("line {line}, column {col}: {k}: {msg}"),
+        None => anyhow!("line {line}, column {col}: {msg}"),
+    }
+}
+
+/// `msg` (starting with a key path) prefixed with the line that sets the key, or the
+/// line of its nearest enclosing table, if the text has one.
+fn located(text: &str, msg: &str) -> anyhow::Error {
+    let paths = line_paths(text);
+    let mut key = msg.split([' ', ':']).next().unwrap_or("");
+    loop {
+        let here = |p: &String| {
+            p == key
+                || p.strip_prefix(key)
+                    .is_some_and(|rest| rest.starts_with("[0]"))
+        };
+        if let Some(i) = paths.iter().position(here) {
+            return anyhow!("line {}: {msg}", i + 1);
+        }
+        match key.rsplit_once('.') {
+            Some((parent, _)) => key = parent,
+            None => return anyhow!("{msg}"),
+        }
+    }
 }
 
 fn line_col(text: &str, offset: usize) -> (usize, usize) {
@@ -208,548 +164,170 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
     (line, col)
 }
 
-/// Checks one number: finite, and positive or non-negative.
-fn num(key: &str, v: Option<f64>, default: f64, rule: Rule) -> Result<f64> {
-    let Some(x) = v else { return Ok(default) };
-    let ok = match rule {
-        Rule::Positive => x.is_finite() && x > 0.0,
-        Rule::NonNegative => x.is_finite() && x >= 0.0,
-        Rule::Finite => x.is_finite(),
+/// The key path each line of `text` sets or opens (`design.program.segment[2].law`,
+/// `design.geometry`; empty for blank lines and comments): the last table header
+/// (arrays of tables counted) and the line's own key. A plain reading of the lines,
+/// good for the files this program writes and their edits, used only to name places.
+fn line_paths(text: &str) -> Vec<String> {
+    let mut header = String::new();
+    let mut seen: Vec<(String, usize)> = Vec::new();
+    let join = |h: &str, k: &str| match (h.is_empty(), k.is_empty()) {
+        (_, true) => h.to_string(),
+        (true, false) => k.to_string(),
+        (false, false) => format!("{h}.{k}"),
     };
-    if !ok {
-        bail!("{key} = {x}: {}", rule.text());
-    }
-    Ok(x)
+    text.split('\n')
+        .map(|line| {
+            let t = line.split('#').next().unwrap_or("").trim();
+            if let Some(name) = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")) {
+                let name = name.trim().to_string();
+                let n = match seen.iter_mut().find(|(k, _)| *k == name) {
+                    Some((_, n)) => {
+                        *n += 1;
+                        *n
+                    }
+                    None => {
+                        seen.push((name.clone(), 0));
+                        0
+                    }
+                };
+                header = format!("{name}[{n}]");
+                header.clone()
+            } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+                header = name.trim().to_string();
+                header.clone()
+            } else {
+                match t.split_once('=') {
+                    Some((k, _)) => join(&header, k.trim()),
+                    None => String::new(),
+                }
+            }
+        })
+        .collect()
 }
 
-#[derive(Clone, Copy)]
-enum Rule {
-    Positive,
-    NonNegative,
-    Finite,
-}
-impl Rule {
-    fn text(self) -> &'static str {
-        match self {
-            Rule::Positive => "must be positive and finite",
-            Rule::NonNegative => "must be zero or positive and finite",
-            Rule::Finite => "must be finite",
+impl From<&RunSpec> for SceneFile {
+    /// A complete scene file describing `spec` (the speed as `design.omega0_rad_per_s`).
+    fn from(spec: &RunSpec) -> Self {
+        SceneFile {
+            run: RunOptions {
+                revolutions: spec.revolutions,
+                horizontal_motion: spec.dofs.horizontal,
+                rpm: None,
+            },
+            solver: spec.solver,
+            design: spec.design.clone(),
         }
     }
-}
-
-/// Core field names and the scene keys they come from (for core validation errors).
-const KEY_OF_FIELD: &[(&str, &str)] = &[
-    ("e2", "follower.e2_in"),
-    ("e1", "follower.e1_in"),
-    ("area", "follower.area_in2"),
-    ("bearing_b", "follower.bearing_b_in"),
-    ("k_rs", "spring.rate_lb_per_in"),
-    ("delta_rs", "spring.preload_length_in"),
-    ("r1", "roller.radius_in"),
-    ("roller_radius", "roller.radius_in"),
-    ("r2", "cam.base_radius_in"),
-    ("drive.t_max", "drive.t_max_lb_in"),
-    ("drive.k_p", "drive.k_p_lb_in_s_per_rad"),
-];
-
-fn core_err(e: camsim_core::Error) -> anyhow::Error {
-    if let camsim_core::Error::InvalidParameter { field, rule, value } = e {
-        if let Some((_, key)) = KEY_OF_FIELD.iter().find(|(f, _)| *f == field) {
-            return anyhow!("{key} = {value}: {rule}");
-        }
-        if field.starts_with("segments[") {
-            return anyhow!(
-                "program.{} = {value}: {rule}",
-                field.replace("segments", "segment")
-            );
-        }
-    }
-    anyhow!("{e}")
 }
 
 impl SceneFile {
-    /// The reference design as a complete scene (every key present).
-    pub fn reference() -> Self {
-        let spec = RunSpec::reference();
-        Self::from_spec(&spec)
-    }
-
-    /// A complete scene file describing `spec`.
-    pub fn from_spec(spec: &RunSpec) -> Self {
-        let d = &spec.design;
-        let (law, t_steady, k_p, t_max) = match d.drive {
-            DriveLaw::Regulated {
-                t_steady,
-                k_p,
-                t_max,
-                ..
-            } => ("regulated", Some(t_steady), Some(k_p), Some(t_max)),
-            DriveLaw::ConstantMotorSpeed => ("constant-motor-speed", None, None, None),
-            DriveLaw::ConstantCamSpeed => ("constant-cam-speed", None, None, None),
-        };
-        let mut level = 0.0;
-        let segment = d
-            .program
-            .segments()
-            .iter()
-            .map(|s| {
-                let (kind, law) = match s.kind {
-                    SegmentKind::Dwell => ("dwell", None),
-                    SegmentKind::Rise(l) => ("rise", Some(l.name().to_string())),
-                    SegmentKind::Return(l) => ("return", Some(l.name().to_string())),
-                };
-                match s.kind {
-                    SegmentKind::Rise(_) => level += s.lift,
-                    SegmentKind::Return(_) => level -= s.lift,
-                    SegmentKind::Dwell => {}
-                }
-                SegmentSection {
-                    kind: kind.into(),
-                    law,
-                    start_deg: s.start_deg,
-                    end_deg: s.end_deg,
-                    lift_in: (s.lift != 0.0).then_some(s.lift),
-                }
-            })
-            .collect();
-        SceneFile {
-            run: RunSection {
-                revolutions: Some(spec.revolutions),
-                rpm: Some(d.omega0 * 30.0 / std::f64::consts::PI),
-                horizontal_motion: Some(spec.dofs.horizontal),
-                start: Some(
-                    match spec.solver.start {
-                        Start::Thesis => "thesis",
-                        Start::Static => "static",
-                    }
-                    .into(),
-                ),
-            },
-            solver: SolverSection {
-                rtol: Some(spec.solver.rtol),
-                atol_in: Some(spec.solver.atol),
-                max_step_fraction_rev: Some(spec.solver.max_step_fraction),
-                max_steps_per_rev: Some(spec.solver.max_steps_per_rev),
-            },
-            drive: DriveSection {
-                law: Some(law.into()),
-                t_steady_lb_in: t_steady,
-                k_p_lb_in_s_per_rad: k_p,
-                t_max_lb_in: t_max,
-            },
-            rotational: RotationalSection {
-                i_m_lb_in_s2: Some(d.i_m),
-                i_cp_lb_in_s2: Some(d.i_cp),
-                i_c_lb_in_s2: Some(d.i_c),
-                c_mb_lb_in_s: Some(d.c_mb),
-                c_s1_lb_in_s: Some(d.c_s1),
-                c_s2_lb_in_s: Some(d.c_s2),
-                c_cc_lb_in_s: Some(d.c_cc),
-                k_s1_lb_in_per_rad: Some(d.k_s1),
-                k_s2_lb_in_per_rad: Some(d.k_s2),
-            },
-            cam: CamSection {
-                base_radius_in: Some(d.geometry.base_radius),
-                thickness_in: Some(d.geometry.thickness),
-                mass_lb_s2_per_in: Some(d.m_c),
-                k_vs_lb_per_in: Some(d.k_vs),
-                c_vs_lb_s_per_in: Some(d.c_vs),
-                k_hs_lb_per_in: Some(d.k_hs),
-                c_hs_lb_s_per_in: Some(d.c_hs),
-                youngs_psi: Some(d.hertz.youngs_2),
-                poisson: Some(d.hertz.poisson_2),
-            },
-            roller: RollerSection {
-                radius_in: Some(d.geometry.roller_radius),
-                mass_lb_s2_per_in: Some(d.m_r),
-                k_rb_lb_per_in: Some(d.k_rb),
-                youngs_psi: Some(d.hertz.youngs_1),
-                poisson: Some(d.hertz.poisson_1),
-            },
-            follower: FollowerSection {
-                density_lb_s2_per_in4: Some(d.rho),
-                youngs_psi: Some(d.youngs),
-                area_in2: Some(d.area),
-                second_moment_in4: Some(d.inertia_moment),
-                e1_in: Some(d.e1),
-                e2_in: Some(d.e2),
-                bearing_a_in: Some(d.bearing_a),
-                bearing_b_in: Some(d.bearing_b),
-                friction_coefficient: Some(d.mu),
-                friction_smoothing_in_per_s: Some(d.friction_smoothing),
-                damping_ratio_f1: Some(d.damping_ratio_f1),
-                load_mass_lb_s2_per_in: Some(d.m_l),
-            },
-            spring: SpringSection {
-                rate_lb_per_in: Some(d.k_rs),
-                preload_length_in: Some(d.delta_rs),
-                mass_lb_s2_per_in: Some(d.m_spring),
-                modal_rate_lb_per_in: Some(d.k_rs_modal),
-            },
-            program: ProgramSection { segment },
-        }
-    }
-
-    /// Converts to a validated run specification (reference values for absent keys).
-    pub fn to_spec(&self) -> Result<RunSpec> {
-        use Rule::*;
-        let r = RunSpec::reference();
-        let d0 = &r.design;
-        let mut d = d0.clone();
-        let s = self;
-
-        let revolutions = s.run.revolutions.unwrap_or(r.revolutions);
+    /// The validated run specification: the run options checked, `run.rpm` applied,
+    /// then the core's [`SolverSettings::validate`] and [`Design::validate`].
+    pub fn run_spec(&self) -> Result<RunSpec> {
+        let revolutions = self.run.revolutions;
         if !(1..=16).contains(&revolutions) {
             bail!("run.revolutions = {revolutions}: must be between 1 and 16");
         }
-        let horizontal = s.run.horizontal_motion.unwrap_or(true);
-        let rpm = num("run.rpm", s.run.rpm, 800.0, Positive)?;
-
-        let mut solver = SolverSettings::reference();
-        solver.rtol = num("solver.rtol", s.solver.rtol, solver.rtol, Positive)?;
-        if solver.rtol >= 1.0 {
-            bail!("solver.rtol = {}: must be below 1", solver.rtol);
-        }
-        solver.atol = num("solver.atol_in", s.solver.atol_in, solver.atol, Positive)?;
-        solver.max_step_fraction = num(
-            "solver.max_step_fraction_rev",
-            s.solver.max_step_fraction_rev,
-            solver.max_step_fraction,
-            Positive,
-        )?;
-        if solver.max_step_fraction > 0.25 {
-            bail!(
-                "solver.max_step_fraction_rev = {}: must be at most 0.25",
-                solver.max_step_fraction
-            );
-        }
-        if let Some(st) = s.run.start.as_deref() {
-            solver.start = parse_start(st, "run.start")?;
-        }
-        if let Some(m) = s.solver.max_steps_per_rev {
-            if m == 0 {
-                bail!("solver.max_steps_per_rev = 0: must be at least 1");
+        self.solver.validate().map_err(|error| Refusal {
+            section: "solver",
+            error,
+        })?;
+        let mut design = self.design.clone();
+        if let Some(rpm) = self.run.rpm {
+            if !(rpm.is_finite() && rpm > 0.0) {
+                bail!("run.rpm = {rpm}: must be positive and finite");
             }
-            solver.max_steps_per_rev = m;
+            design
+                .set_speed_rpm(rpm)
+                .map_err(|e| anyhow!("run.rpm = {rpm}: {e}"))?;
         }
-
-        let rt = &s.rotational;
-        d.i_m = num("rotational.i_m_lb_in_s2", rt.i_m_lb_in_s2, d0.i_m, Positive)?;
-        d.i_cp = num(
-            "rotational.i_cp_lb_in_s2",
-            rt.i_cp_lb_in_s2,
-            d0.i_cp,
-            Positive,
-        )?;
-        d.i_c = num("rotational.i_c_lb_in_s2", rt.i_c_lb_in_s2, d0.i_c, Positive)?;
-        d.c_mb = num(
-            "rotational.c_mb_lb_in_s",
-            rt.c_mb_lb_in_s,
-            d0.c_mb,
-            NonNegative,
-        )?;
-        d.c_s1 = num(
-            "rotational.c_s1_lb_in_s",
-            rt.c_s1_lb_in_s,
-            d0.c_s1,
-            NonNegative,
-        )?;
-        d.c_s2 = num(
-            "rotational.c_s2_lb_in_s",
-            rt.c_s2_lb_in_s,
-            d0.c_s2,
-            NonNegative,
-        )?;
-        d.c_cc = num(
-            "rotational.c_cc_lb_in_s",
-            rt.c_cc_lb_in_s,
-            d0.c_cc,
-            NonNegative,
-        )?;
-        d.k_s1 = num(
-            "rotational.k_s1_lb_in_per_rad",
-            rt.k_s1_lb_in_per_rad,
-            d0.k_s1,
-            Positive,
-        )?;
-        d.k_s2 = num(
-            "rotational.k_s2_lb_in_per_rad",
-            rt.k_s2_lb_in_per_rad,
-            d0.k_s2,
-            Positive,
-        )?;
-
-        let c = &s.cam;
-        let base_radius = num(
-            "cam.base_radius_in",
-            c.base_radius_in,
-            d0.geometry.base_radius,
-            Positive,
-        )?;
-        let thickness = num(
-            "cam.thickness_in",
-            c.thickness_in,
-            d0.geometry.thickness,
-            Positive,
-        )?;
-        d.m_c = num(
-            "cam.mass_lb_s2_per_in",
-            c.mass_lb_s2_per_in,
-            d0.m_c,
-            Positive,
-        )?;
-        d.k_vs = num("cam.k_vs_lb_per_in", c.k_vs_lb_per_in, d0.k_vs, Positive)?;
-        d.c_vs = num(
-            "cam.c_vs_lb_s_per_in",
-            c.c_vs_lb_s_per_in,
-            d0.c_vs,
-            NonNegative,
-        )?;
-        d.k_hs = num("cam.k_hs_lb_per_in", c.k_hs_lb_per_in, d0.k_hs, Positive)?;
-        d.c_hs = num(
-            "cam.c_hs_lb_s_per_in",
-            c.c_hs_lb_s_per_in,
-            d0.c_hs,
-            NonNegative,
-        )?;
-        let e_cam = num("cam.youngs_psi", c.youngs_psi, d0.hertz.youngs_2, Positive)?;
-        let nu_cam = num("cam.poisson", c.poisson, d0.hertz.poisson_2, NonNegative)?;
-
-        let ro = &s.roller;
-        let roller_radius = num(
-            "roller.radius_in",
-            ro.radius_in,
-            d0.geometry.roller_radius,
-            Positive,
-        )?;
-        d.m_r = num(
-            "roller.mass_lb_s2_per_in",
-            ro.mass_lb_s2_per_in,
-            d0.m_r,
-            Positive,
-        )?;
-        d.k_rb = num(
-            "roller.k_rb_lb_per_in",
-            ro.k_rb_lb_per_in,
-            d0.k_rb,
-            Positive,
-        )?;
-        let e_rol = num(
-            "roller.youngs_psi",
-            ro.youngs_psi,
-            d0.hertz.youngs_1,
-            Positive,
-        )?;
-        let nu_rol = num(
-            "roller.poisson",
-            ro.poisson,
-            d0.hertz.poisson_1,
-            NonNegative,
-        )?;
-        for (k, nu) in [("cam.poisson", nu_cam), ("roller.poisson", nu_rol)] {
-            if nu >= 0.5 {
-                bail!("{k} = {nu}: must be below 0.5");
-            }
-        }
-        d.geometry = CamGeometry::new(base_radius, roller_radius, thickness).map_err(core_err)?;
-        d.hertz = HertzContact::new(e_rol, nu_rol, e_cam, nu_cam, thickness).map_err(core_err)?;
-
-        let f = &s.follower;
-        d.rho = num(
-            "follower.density_lb_s2_per_in4",
-            f.density_lb_s2_per_in4,
-            d0.rho,
-            Positive,
-        )?;
-        d.youngs = num("follower.youngs_psi", f.youngs_psi, d0.youngs, Positive)?;
-        d.area = num("follower.area_in2", f.area_in2, d0.area, Positive)?;
-        d.inertia_moment = num(
-            "follower.second_moment_in4",
-            f.second_moment_in4,
-            d0.inertia_moment,
-            Positive,
-        )?;
-        d.e1 = num("follower.e1_in", f.e1_in, d0.e1, Positive)?;
-        d.e2 = num("follower.e2_in", f.e2_in, d0.e2, Positive)?;
-        d.bearing_a = num(
-            "follower.bearing_a_in",
-            f.bearing_a_in,
-            d0.bearing_a,
-            NonNegative,
-        )?;
-        d.bearing_b = num(
-            "follower.bearing_b_in",
-            f.bearing_b_in,
-            d0.bearing_b,
-            Positive,
-        )?;
-        d.mu = num(
-            "follower.friction_coefficient",
-            f.friction_coefficient,
-            d0.mu,
-            NonNegative,
-        )?;
-        d.friction_smoothing = num(
-            "follower.friction_smoothing_in_per_s",
-            f.friction_smoothing_in_per_s,
-            d0.friction_smoothing,
-            Positive,
-        )?;
-        d.damping_ratio_f1 = num(
-            "follower.damping_ratio_f1",
-            f.damping_ratio_f1,
-            d0.damping_ratio_f1,
-            NonNegative,
-        )?;
-        d.m_l = num(
-            "follower.load_mass_lb_s2_per_in",
-            f.load_mass_lb_s2_per_in,
-            d0.m_l,
-            Positive,
-        )?;
-
-        let sp = &s.spring;
-        d.k_rs = num(
-            "spring.rate_lb_per_in",
-            sp.rate_lb_per_in,
-            d0.k_rs,
-            Positive,
-        )?;
-        d.delta_rs = num(
-            "spring.preload_length_in",
-            sp.preload_length_in,
-            d0.delta_rs,
-            NonNegative,
-        )?;
-        d.m_spring = num(
-            "spring.mass_lb_s2_per_in",
-            sp.mass_lb_s2_per_in,
-            d0.m_spring,
-            NonNegative,
-        )?;
-        d.k_rs_modal = num(
-            "spring.modal_rate_lb_per_in",
-            sp.modal_rate_lb_per_in,
-            d0.k_rs_modal,
-            Positive,
-        )?;
-
-        if !s.program.segment.is_empty() {
-            let mut segs = Vec::new();
-            for (i, g) in s.program.segment.iter().enumerate() {
-                let key = |k: &str| format!("program.segment[{i}].{k}");
-                let law = |name: &Option<String>| -> Result<MotionLaw> {
-                    let n = name.as_deref().ok_or_else(|| {
-                        anyhow!("{}: a rise or return needs a motion law", key("law"))
-                    })?;
-                    MotionLaw::from_name(n)
-                        .ok_or_else(|| anyhow!("{} = {n:?}: unknown motion law", key("law")))
-                };
-                let kind = match g.kind.as_str() {
-                    "dwell" => SegmentKind::Dwell,
-                    "rise" => SegmentKind::Rise(law(&g.law)?),
-                    "return" => SegmentKind::Return(law(&g.law)?),
-                    other => bail!(
-                        "{} = {other:?}: must be \"dwell\", \"rise\" or \"return\"",
-                        key("kind")
-                    ),
-                };
-                for (k, v) in [("start_deg", g.start_deg), ("end_deg", g.end_deg)] {
-                    if !v.is_finite() {
-                        bail!("{} = {v}: must be finite", key(k));
-                    }
-                }
-                let lift = match kind {
-                    SegmentKind::Dwell => num(&key("lift_in"), g.lift_in, 0.0, Finite)?,
-                    _ => num(
-                        &key("lift_in"),
-                        Some(g.lift_in.ok_or_else(|| {
-                            anyhow!("{}: a rise or return needs a lift", key("lift_in"))
-                        })?),
-                        0.0,
-                        Positive,
-                    )?,
-                };
-                segs.push(Segment {
-                    kind,
-                    start_deg: g.start_deg,
-                    end_deg: g.end_deg,
-                    lift,
-                });
-            }
-            if segs.len() > 8 {
-                bail!("program.segment: {} segments, at most 8", segs.len());
-            }
-            d.program = CamProgram::new(&segs).map_err(core_err)?;
-        }
-
-        // Speed last: it moves the drive's reference (regulated feed-forward follows speed).
-        d.omega0 = rpm * std::f64::consts::PI / 30.0;
-        let dr = &s.drive;
-        d.drive = match dr.law.as_deref().unwrap_or("regulated") {
-            "regulated" => {
-                let base = DriveLaw::reference(d.omega0, d.c_mb, d.c_cc);
-                let DriveLaw::Regulated {
-                    t_steady,
-                    k_p,
-                    t_max,
-                    ..
-                } = base
-                else {
-                    bail!("drive.law: the reference drive is not regulated")
-                };
-                DriveLaw::Regulated {
-                    omega_ref: d.omega0,
-                    t_steady: num("drive.t_steady_lb_in", dr.t_steady_lb_in, t_steady, Finite)?,
-                    k_p: num(
-                        "drive.k_p_lb_in_s_per_rad",
-                        dr.k_p_lb_in_s_per_rad,
-                        k_p,
-                        NonNegative,
-                    )?,
-                    t_max: num("drive.t_max_lb_in", dr.t_max_lb_in, t_max, Positive)?,
-                }
-            }
-            other => {
-                for (k, v) in [
-                    ("drive.t_steady_lb_in", dr.t_steady_lb_in),
-                    ("drive.k_p_lb_in_s_per_rad", dr.k_p_lb_in_s_per_rad),
-                    ("drive.t_max_lb_in", dr.t_max_lb_in),
-                ] {
-                    if v.is_some() {
-                        bail!("{k}: only a \"regulated\" drive takes it (drive.law = {other:?})");
-                    }
-                }
-                match other {
-                    "constant-motor-speed" => DriveLaw::ConstantMotorSpeed,
-                    "constant-cam-speed" => DriveLaw::ConstantCamSpeed,
-                    _ => bail!("drive.law = {other:?}: must be \"regulated\", \"constant-motor-speed\" or \"constant-cam-speed\""),
-                }
-            }
-        };
-        d.validate().map_err(core_err)?;
+        design.validate().map_err(|error| Refusal {
+            section: "design",
+            error,
+        })?;
         Ok(RunSpec {
-            design: d,
-            dofs: Dofs { horizontal },
-            solver,
+            design,
+            dofs: Dofs {
+                horizontal: self.run.horizontal_motion,
+            },
+            solver: self.solver,
             revolutions,
         })
     }
 }
 
-/// A complete scene file (TOML text) for `spec`.
+/// What each `[run]` and `[solver]` key is (for the comments of a written scene).
+const HOST_KEYS: &[(&str, &str)] = &[
+    ("run.revolutions", "revolutions to simulate (1-16)"),
+    (
+        "run.horizontal_motion",
+        "keep the horizontal motion x1, x2, x3",
+    ),
+    ("solver.rtol", "relative tolerance"),
+    ("solver.atol_in", "absolute tolerance of displacements"),
+    (
+        "solver.max_step_fraction_rev",
+        "largest double step, fraction of a revolution",
+    ),
+    ("solver.max_steps_per_rev", "step budget per revolution"),
+    (
+        "solver.start",
+        "\"thesis\" (VI.1) or \"static\" (static equilibrium)",
+    ),
+];
+
+/// `text` with a comment after every known key saying what it is.
+fn annotate(text: &str) -> String {
+    let mut header = String::new();
+    let mut out = String::with_capacity(text.len() * 2);
+    for line in text.lines() {
+        let t = line.trim();
+        if let Some(name) = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")) {
+            header = name.to_string();
+        } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+            header = name.to_string();
+        }
+        let doc = t.split_once(" = ").and_then(|(k, _)| {
+            let path = if header.is_empty() {
+                k.to_string()
+            } else {
+                format!("{header}.{k}")
+            };
+            let in_design = path.strip_prefix("design.").unwrap_or("");
+            HOST_KEYS
+                .iter()
+                .chain(key::DESIGN_KEYS)
+                .find(|(p, _)| *p == path || *p == in_design)
+                .map(|(_, d)| *d)
+        });
+        out.push_str(line);
+        if let Some(d) = doc {
+            out.push_str("  # ");
+            out.push_str(d);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// A complete scene file (TOML text) for `spec`, every key present and commented.
 pub fn spec_text(spec: &RunSpec) -> Result<String> {
-    Ok(toml::to_string_pretty(&SceneFile::from_spec(spec))?)
+    Ok(annotate(&toml::to_string_pretty(&SceneFile::from(spec))?))
 }
 
 /// The reference design as TOML text.
 pub fn default_text() -> Result<String> {
-    let body = toml::to_string_pretty(&SceneFile::reference())?;
+    let body = spec_text(&RunSpec::reference())?;
     Ok(format!(
         "# camsim scene: the reference design of Kim (1982), VI.1, with the documented choices\n\
          # for what the thesis leaves out (core/src/design.rs). Units are in the key names\n\
-         # (inch, pound-force, second). Every key is optional: absent keys take these values.\n\n{body}"
+         # (inch, pound-force, second, radian). Every key is optional: absent keys take these\n\
+         # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
+         # (and moves the regulated drive's reference with it, like --rpm).\n\
+         # drive: \"constant-cam-speed\", \"constant-motor-speed\" or a [design.drive.regulated] table.\n\
+         # program: [[design.program.segment]] with kind \"dwell\", \"rise\" or \"return\",\n\
+         # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, lift_in.\n\n{body}"
     ))
 }
 

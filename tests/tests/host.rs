@@ -1,5 +1,6 @@
 //! The host harness: scene files round-trip and refuse bad input by name, CSV rows
 //! carry every column, the per-period table covers every revolution and period.
+//! (tests/scene.rs checks the scene schema against the core's key table.)
 
 use std::ops::ControlFlow;
 
@@ -22,8 +23,9 @@ fn default_scene_round_trips_to_the_reference_design() {
         "i_m_lb_in_s2",
         "k_rb_lb_per_in",
         "e2_in",
-        "rate_lb_per_in",
-        "[[program.segment]]",
+        "spring_rate_lb_per_in",
+        "[design.drive.regulated]",
+        "[[design.program.segment]]",
         "law = \"4-5-6-7\"",
     ] {
         assert!(text.contains(key), "missing {key}");
@@ -38,7 +40,9 @@ fn default_scene_round_trips_to_the_reference_design() {
     );
     other.dofs.horizontal = false;
     other.solver.start = camsim_core::Start::Static;
-    let back = parse(&camsim::scene::spec_text(&other).unwrap()).unwrap();
+    let other_text = camsim::scene::spec_text(&other).unwrap();
+    assert!(other_text.contains("drive = \"constant-motor-speed\""));
+    let back = parse(&other_text).unwrap();
     assert_eq!(back.design, other.design);
     assert_eq!(back.dofs, other.dofs);
     assert_eq!(back.solver, other.solver);
@@ -52,33 +56,47 @@ fn err(text: &str) -> String {
 fn bad_scenes_are_refused_with_the_key_and_the_rule() {
     let cases = [
         (
-            "[cam]\nmass_lb_s2_per_in = -1\n",
-            "cam.mass_lb_s2_per_in = -1: must be positive",
+            "[design]\ncam_mass_lb_s2_per_in = -1\n",
+            "line 2: design.cam_mass_lb_s2_per_in = -1: must be positive",
         ),
         (
-            "[roller]\nk_rb_lb_per_in = 0\n",
-            "roller.k_rb_lb_per_in = 0: must be positive",
+            "[design]\nk_rb_lb_per_in = 0\n",
+            "design.k_rb_lb_per_in = 0: must be positive",
         ),
         (
-            "[follower]\nload_mass_lb_s2_per_in = nan\n",
-            "follower.load_mass_lb_s2_per_in = NaN",
+            "[design]\nload_mass_lb_s2_per_in = nan\n",
+            "design.load_mass_lb_s2_per_in = NaN: must be positive and finite",
         ),
         (
-            "[follower]\ne2_in = 1.0\n",
-            "follower.e2_in = 1: cantilever length must exceed",
+            "[design]\ne2_in = 1.0\n",
+            "design.e2_in = 1: cantilever length must exceed",
         ),
         ("[run]\nrevolutions = 0\n", "run.revolutions = 0"),
-        ("[cam]\nmas = 1\n", "unknown field `mas`"),
-        ("[drive]\nlaw = \"turbo\"\n", "drive.law = \"turbo\""),
         (
-            "[drive]\nlaw = \"constant-cam-speed\"\nk_p_lb_in_s_per_rad = 3\n",
-            "drive.k_p_lb_in_s_per_rad: only a \"regulated\" drive",
+            "[design]\nmas = 1\n",
+            "line 2, column 1: design.mas: unknown field `mas`",
         ),
         (
-            "[roller]\npoisson = 0.5\n",
-            "roller.poisson = 0.5: must be below 0.5",
+            "[design]\ndrive = \"turbo\"\n",
+            "design.drive: unknown variant `turbo`",
         ),
-        ("[run]\nrpm = \"fast\"\n", "line 2"),
+        (
+            "[design.drive.regulated]\nk_p_lb_in_s_per_rad = -3\n",
+            "design.drive.regulated.k_p_lb_in_s_per_rad = -3: must be zero or positive",
+        ),
+        (
+            "[design.hertz]\nroller_poisson = 0.5\n",
+            "design.hertz.roller_poisson = 0.5: must be in [0, 0.5)",
+        ),
+        (
+            "[run]\nrpm = \"fast\"\n",
+            "line 2, column 7: run.rpm: invalid type",
+        ),
+        ("[solver]\nrtol = 2\n", "solver.rtol = 2: must be below 1"),
+        (
+            "[run]\nrpm = 900\n[design]\nomega0_rad_per_s = 90\n",
+            "run.rpm and design.omega0_rad_per_s both set the cam speed",
+        ),
     ];
     for (text, want) in cases {
         let e = err(text);
@@ -86,29 +104,87 @@ fn bad_scenes_are_refused_with_the_key_and_the_rule() {
         assert!(!e.contains('\n'), "one line: {e:?}");
     }
     // A program that does not close over 360 degrees.
-    let prog = "[[program.segment]]\nkind = \"dwell\"\nstart_deg = 0\nend_deg = 30\n\
-                [[program.segment]]\nkind = \"rise\"\nlaw = \"cycloidal\"\nstart_deg = 30\nend_deg = 180\nlift_in = 1.0\n\
-                [[program.segment]]\nkind = \"return\"\nlaw = \"cycloidal\"\nstart_deg = 180\nend_deg = 350\nlift_in = 1.0\n";
+    let prog = "[[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 0\nend_deg = 30\n\
+                [[design.program.segment]]\nkind = \"rise\"\nlaw = \"cycloidal\"\nstart_deg = 30\nend_deg = 180\nlift_in = 1.0\n\
+                [[design.program.segment]]\nkind = \"return\"\nlaw = \"cycloidal\"\nstart_deg = 180\nend_deg = 350\nlift_in = 1.0\n";
     let e = err(prog);
-    assert!(e.contains("program.segment") && e.contains("360"), "{e}");
+    assert!(
+        e.contains("line 15: design.program.segment[2].end_deg = 350: must be 360"),
+        "{e}"
+    );
     // A law that does not exist.
-    let e = err("[[program.segment]]\nkind = \"rise\"\nlaw = \"bogus\"\nstart_deg = 0\nend_deg = 360\nlift_in = 1\n");
-    assert!(e.contains("program.segment[0].law = \"bogus\""), "{e}");
+    let e = err("[[design.program.segment]]\nkind = \"rise\"\nlaw = \"bogus\"\nstart_deg = 0\nend_deg = 360\nlift_in = 1\n");
+    assert!(
+        e.contains("line 3, column 7: design.program.segment[0].law: unknown variant `bogus`"),
+        "{e}"
+    );
+}
+
+/// Smallest convex radius of curvature of the pitch curve `r = R_a + y(θ)` of a
+/// cycloidal rise of `h` over `beta` rad on prime radius `ra` (polar-curve formula
+/// `(r² + r'²)^1.5 / (r² + 2r'² - r r'')`, sampled), independent of the core's check.
+fn cycloidal_min_convex_pitch_radius(ra: f64, h: f64, beta: f64) -> f64 {
+    use std::f64::consts::TAU;
+    (0..=200_000)
+        .map(|i| {
+            let u = i as f64 / 200_000.0;
+            let y = h * (u - (TAU * u).sin() / TAU);
+            let y1 = h / beta * (1.0 - (TAU * u).cos());
+            let y2 = h / (beta * beta) * TAU * (TAU * u).sin();
+            let r = ra + y;
+            let den = r * r + 2.0 * y1 * y1 - r * y2;
+            if den > 0.0 {
+                (r * r + y1 * y1).powf(1.5) / den
+            } else {
+                f64::INFINITY
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[test]
-fn a_small_roller_in_a_steep_cam_is_refused_or_runs_never_panics() {
-    // Fuzz-ish: garbage and extreme values never panic; they either parse or give one line.
+fn a_small_roller_on_a_steep_cam_is_accepted_and_a_large_one_refused() {
+    // 30-degree cycloidal rise and return of 1.5 in on the 1.5 in base circle.
+    let steep = |roller: f64| {
+        format!(
+            "[design.geometry]\nroller_radius_in = {roller:?}\n\
+             [[design.program.segment]]\nkind='dwell'\nstart_deg=0\nend_deg=30\n\
+             [[design.program.segment]]\nkind='rise'\nlaw='cycloidal'\nstart_deg=30\nend_deg=60\nlift_in=1.5\n\
+             [[design.program.segment]]\nkind='dwell'\nstart_deg=60\nend_deg=210\n\
+             [[design.program.segment]]\nkind='return'\nlaw='cycloidal'\nstart_deg=210\nend_deg=240\nlift_in=1.5\n\
+             [[design.program.segment]]\nkind='dwell'\nstart_deg=240\nend_deg=360\n"
+        )
+    };
+    let beta = 30f64.to_radians();
+    // The premises, from the closed form: 0.5 in exceeds the smallest convex pitch radius
+    // (0.44 in on R_a = 2.0 in), 0.3 in stays below it (0.40 in on R_a = 1.8 in).
+    let (large, small) = (0.5, 0.3);
+    assert!(cycloidal_min_convex_pitch_radius(1.5 + large, 1.5, beta) < 0.9 * large);
+    assert!(cycloidal_min_convex_pitch_radius(1.5 + small, 1.5, beta) > 1.3 * small);
+    let e = err(&steep(large));
+    assert!(
+        e.starts_with("line 2: design.geometry.roller_radius_in = 0.5: undercut"),
+        "{e}"
+    );
+    let spec = parse(&steep(small)).unwrap();
+    assert_eq!(spec.design.geometry.roller_radius, small);
+    assert_eq!(spec.design.program.segments().len(), 5);
+}
+
+#[test]
+fn garbage_is_refused_on_one_line_and_never_panics() {
     for text in [
         "[[[",
-        "[cam]\nbase_radius_in = 1e308\n",
-        "[roller]\nradius_in = 1e-300\n",
+        "[design.geometry]\nroller_radius_in = 1e-300\n",
+        "[design.geometry]\nroller_radius_in = -0.1\n",
         "[solver]\nrtol = 2\n",
+        "[solver]\nmax_steps_per_rev = -1\n",
+        "design = 5\n",
+        "[design.program]\nsegment = 3\n",
         "\u{0}",
     ] {
-        if let Err(e) = parse(text) {
-            assert!(!format!("{e:#}").contains('\n'));
-        }
+        let e = err(text);
+        assert!(!e.contains('\n'), "{text:?}: {e}");
     }
 }
 
@@ -171,17 +247,20 @@ fn csv_rows_and_period_table_cover_the_run() {
 fn an_undercut_cam_is_refused_naming_the_roller() {
     // 30-degree cycloidal rise and return of 1.5 in on a 0.1 in base circle: the pitch
     // curve's convex radius falls below a 0.6 in roller.
-    let text = "[roller]\nradius_in = 0.6\n[cam]\nbase_radius_in = 0.1\n\
-        [[program.segment]]\nkind='dwell'\nstart_deg=0\nend_deg=30\n\
-        [[program.segment]]\nkind='rise'\nlaw='cycloidal'\nstart_deg=30\nend_deg=60\nlift_in=1.5\n\
-        [[program.segment]]\nkind='dwell'\nstart_deg=60\nend_deg=210\n\
-        [[program.segment]]\nkind='return'\nlaw='cycloidal'\nstart_deg=210\nend_deg=240\nlift_in=1.5\n\
-        [[program.segment]]\nkind='dwell'\nstart_deg=240\nend_deg=360\n";
+    let text = "[design.geometry]\nroller_radius_in = 0.6\nbase_radius_in = 0.1\n\
+        [[design.program.segment]]\nkind='dwell'\nstart_deg=0\nend_deg=30\n\
+        [[design.program.segment]]\nkind='rise'\nlaw='cycloidal'\nstart_deg=30\nend_deg=60\nlift_in=1.5\n\
+        [[design.program.segment]]\nkind='dwell'\nstart_deg=60\nend_deg=210\n\
+        [[design.program.segment]]\nkind='return'\nlaw='cycloidal'\nstart_deg=210\nend_deg=240\nlift_in=1.5\n\
+        [[design.program.segment]]\nkind='dwell'\nstart_deg=240\nend_deg=360\n";
     let e = err(text);
-    assert!(e.starts_with("roller.radius_in = 0.6: undercut"), "{e}");
+    assert!(
+        e.starts_with("line 2: design.geometry.roller_radius_in = 0.6: undercut"),
+        "{e}"
+    );
     // The same program with a small roller on a big base circle is fine.
     let ok = text
-        .replace("radius_in = 0.6", "radius_in = 0.1")
+        .replace("roller_radius_in = 0.6", "roller_radius_in = 0.1")
         .replace("base_radius_in = 0.1", "base_radius_in = 3.0");
     assert!(parse(&ok).is_ok());
 }

@@ -31,10 +31,7 @@ pub fn run(args: Args) -> Result<()> {
     }
     if let Some(p) = args.check {
         let spec = crate::scene::load(&p)?;
-        print!(
-            "{}",
-            toml::to_string_pretty(&crate::scene::SceneFile::from_spec(&spec))?
-        );
+        print!("{}", crate::scene::spec_text(&spec)?);
         return Ok(());
     }
     if !args.default {
