@@ -347,7 +347,7 @@ impl FileTarget {
                 .open(&self.target)
                 .with_context(|| format!("{label}: cannot open"))?;
             return Ok(AtomicFile {
-                out: BufWriter::new(f),
+                out: Some(BufWriter::new(f)),
                 tmp: None,
                 target: self.target,
                 label,
@@ -365,7 +365,7 @@ impl FileTarget {
         let (f, tmp) = create_temp(parent_of(&self.target), &self.target)
             .with_context(|| format!("{label}: cannot create a temporary file"))?;
         let out = AtomicFile {
-            out: BufWriter::new(f),
+            out: Some(BufWriter::new(f)),
             tmp: Some(tmp),
             target: self.target,
             label,
@@ -433,7 +433,8 @@ impl DirTarget {
 ///
 /// [`commit`]: AtomicFile::commit
 pub struct AtomicFile {
-    out: BufWriter<File>,
+    /// Taken by the commit (so that nothing can be written after the flush).
+    out: Option<BufWriter<File>>,
     /// `None` for a target written in place (a device, a FIFO).
     tmp: Option<PathBuf>,
     target: PathBuf,
@@ -474,16 +475,20 @@ impl AtomicFile {
     /// temporary is removed). After an interrupt has started the cleanup, fails.
     pub fn commit(mut self) -> Result<()> {
         let label = self.label.clone();
-        self.out
-            .flush()
-            .with_context(|| format!("{label}: write failed"))?;
+        // Flushed and closed here: no buffered byte can reach the file after the rename.
+        let file = match self.out.take() {
+            Some(out) => out
+                .into_inner()
+                .map_err(|e| e.into_error())
+                .with_context(|| format!("{label}: write failed"))?,
+            None => bail!("{label}: already closed"),
+        };
         let Some(tmp) = self.tmp.clone() else {
             return Ok(());
         };
-        self.out
-            .get_ref()
-            .sync_all()
+        file.sync_all()
             .with_context(|| format!("{label}: write failed (fsync)"))?;
+        drop(file);
         {
             let mut reg = registry();
             if reg.terminating {
@@ -514,18 +519,30 @@ impl Write for AtomicFile {
                 )));
             }
         }
-        let n = self.out.write(buf).map_err(|e| self.io_err(e))?;
+        let n = match self.out.as_mut() {
+            Some(out) => out.write(buf),
+            None => Err(io::Error::other("closed")),
+        }
+        .map_err(|e| self.io_err(e))?;
         self.written += n as u64;
         Ok(n)
     }
 
     fn flush(&mut self) -> io::Result<()> {
-        self.out.flush().map_err(|e| self.io_err(e))
+        match self.out.as_mut() {
+            Some(out) => out.flush(),
+            None => Err(io::Error::other("closed")),
+        }
+        .map_err(|e| self.io_err(e))
     }
 }
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
+        // The buffer is discarded, not flushed: an abandoned output gets no more bytes.
+        if let Some(out) = self.out.take() {
+            let _ = out.into_parts();
+        }
         if let Some(tmp) = self.tmp.take() {
             let mut reg = registry();
             let _ = fs::remove_file(&tmp);
