@@ -42,9 +42,10 @@
 //! the temporary is always on DIR's file system (rename stays atomic), and DIR's parent
 //! need not be writable (`--plot .`, `--plot ~`, `--plot /tmp` all work).
 //!
-//! A target under `/dev/` (`/dev/null`, `/dev/stdout`) or one that is not a regular file
-//! (a FIFO, a device) is written directly: there is nothing to replace, and renaming over
-//! a device node would destroy it.
+//! A target that is not a regular file (`/dev/null`, a FIFO) and the process's own
+//! streams (`/dev/stdout`, `/dev/stderr`, `/dev/fd/N`, which may be a shell redirection
+//! to a regular file) are written directly, never truncated: there is nothing to
+//! replace, and renaming over a device node would destroy it.
 
 use std::collections::BTreeMap;
 use std::ffi::OsString;
@@ -101,7 +102,7 @@ impl Plan {
     pub fn file(&mut self, option: &str, path: &Path) -> Result<FileTarget> {
         let label = format!("{option} {}", path.display());
         if is_direct_path(path) {
-            // /dev/null, /dev/stdout...: written in place, never renamed over.
+            // The process's own streams: written in place, never renamed over.
             return Ok(FileTarget {
                 label,
                 target: path.to_owned(),
@@ -207,9 +208,12 @@ impl Plan {
     }
 }
 
-/// Paths written in place: devices and the process's own streams.
+/// Paths written in place: the process's own streams (whatever they point to).
 fn is_direct_path(path: &Path) -> bool {
-    path.starts_with("/dev")
+    path == Path::new("/dev/stdout")
+        || path == Path::new("/dev/stderr")
+        || ((path.starts_with("/dev/fd") || path.starts_with("/proc/self/fd"))
+            && path.file_name().is_some_and(|n| n != "fd"))
 }
 
 /// The directory part of a resolved path ("." for a bare name).
@@ -340,12 +344,7 @@ impl FileTarget {
     pub fn open(self) -> Result<AtomicFile> {
         let label = self.label;
         if self.direct {
-            let f = OpenOptions::new()
-                .write(true)
-                .create(true)
-                .truncate(true)
-                .open(&self.target)
-                .with_context(|| format!("{label}: cannot open"))?;
+            let f = open_direct(&self.target).with_context(|| format!("{label}: cannot open"))?;
             return Ok(AtomicFile {
                 out: Some(BufWriter::new(f)),
                 tmp: None,
@@ -380,6 +379,22 @@ impl FileTarget {
         }
         Ok(out)
     }
+}
+
+/// Opens a target written in place. Standard output and error are shared with the
+/// process (same offset, as a shell redirection expects); nothing is truncated.
+fn open_direct(path: &Path) -> io::Result<File> {
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd;
+        if path == Path::new("/dev/stdout") {
+            return Ok(File::from(io::stdout().as_fd().try_clone_to_owned()?));
+        }
+        if path == Path::new("/dev/stderr") {
+            return Ok(File::from(io::stderr().as_fd().try_clone_to_owned()?));
+        }
+    }
+    OpenOptions::new().write(true).open(path)
 }
 
 /// A checked directory output, not yet opened.
@@ -1158,6 +1173,37 @@ mod tests {
             .unwrap()
             .file_type()
             .is_char_device());
+        // A FIFO is written in place too (its reader gets every byte, no rename).
+        let d = scratch("fifo");
+        let fifo = d.join("pipe");
+        assert!(std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success());
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || fs::read(fifo).unwrap())
+        };
+        let mut out = Plan::new(false)
+            .file("--csv", &fifo)
+            .unwrap()
+            .open()
+            .unwrap();
+        assert!(out.temp_path().is_none());
+        out.write_all(b"through the pipe").unwrap();
+        out.commit().unwrap();
+        assert_eq!(reader.join().unwrap(), b"through the pipe");
+        assert!(fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        fs::remove_dir_all(&d).unwrap();
+        // The process's own streams are direct; a regular file elsewhere under /dev
+        // (a tmpfs such as /dev/shm) is not.
+        for p in ["/dev/stdout", "/dev/stderr", "/dev/fd/3", "/proc/self/fd/1"] {
+            assert!(is_direct_path(Path::new(p)), "{p}");
+        }
+        for p in ["/dev/shm/out.csv", "/dev/fd", "/dev", "out.csv"] {
+            assert!(!is_direct_path(Path::new(p)), "{p}");
+        }
     }
 
     #[test]
