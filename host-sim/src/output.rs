@@ -1204,6 +1204,14 @@ mod tests {
         for p in ["/dev/shm/out.csv", "/dev/fd", "/dev", "out.csv"] {
             assert!(!is_direct_path(Path::new(p)), "{p}");
         }
+        // Standard error opens as a shared descriptor (nothing written to it here).
+        let out = Plan::new(false)
+            .file("--csv", Path::new("/dev/stderr"))
+            .unwrap()
+            .open()
+            .unwrap();
+        assert!(out.temp_path().is_none());
+        out.commit().unwrap();
     }
 
     #[test]
