@@ -3,6 +3,7 @@
 
 pub mod cmd;
 pub mod csv;
+pub mod output;
 pub mod plot;
 pub mod scene;
 pub mod sim;

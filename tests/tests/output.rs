@@ -1,0 +1,224 @@
+//! Output files under interrupts: a run killed by SIGINT or SIGTERM while writing
+//! leaves no temporary behind, no new target, and an old target byte-identical, and
+//! exits with 128 + the signal.
+//!
+//! The writer is this test binary itself, started again in a child mode (the ignored
+//! test `child_writer`, driven by environment variables): it opens an output, reports
+//! its temporary on stdout, then writes slowly until it is killed.
+
+use std::fs;
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use camsim::output::{is_temp_name, Plan};
+
+const ENV_TARGET: &str = "CAMSIM_OUTPUT_CHILD_TARGET";
+const ENV_MODE: &str = "CAMSIM_OUTPUT_CHILD_MODE";
+
+/// The child mode: does nothing unless the parent test set the environment.
+#[test]
+#[ignore = "child mode of the interrupt tests"]
+fn child_writer() {
+    let Some(target) = std::env::var_os(ENV_TARGET).map(PathBuf::from) else {
+        return;
+    };
+    let mode = std::env::var(ENV_MODE).unwrap_or_default();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut stdout = std::io::stdout();
+    if mode == "dir" {
+        let mut out = Plan::new(false)
+            .dir("--plot", &target, &["a.png", "b.png"])
+            .unwrap()
+            .open()
+            .unwrap();
+        out.write("a.png", b"complete a").unwrap();
+        let b = out.path("b.png").unwrap();
+        let mut f = fs::File::create(&b).unwrap();
+        writeln!(stdout, "READY {}", b.display()).unwrap();
+        stdout.flush().unwrap();
+        while Instant::now() < deadline {
+            f.write_all(b"partial b ").unwrap();
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        drop(f);
+        out.commit().unwrap();
+    } else {
+        let force = mode == "force";
+        let mut out = Plan::new(force)
+            .file("--csv", &target)
+            .unwrap()
+            .open()
+            .unwrap();
+        writeln!(out, "t_s,y_in").unwrap();
+        out.flush().unwrap();
+        let tmp = out.temp_path().unwrap().to_owned();
+        writeln!(stdout, "READY {}", tmp.display()).unwrap();
+        stdout.flush().unwrap();
+        let mut i = 0u64;
+        while Instant::now() < deadline {
+            writeln!(out, "{i},{}", i * 3).unwrap();
+            out.flush().unwrap();
+            i += 1;
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        out.commit().unwrap();
+    }
+}
+
+/// A fresh empty directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("camsim-kill-{}-{name}", std::process::id()));
+    let _ = fs::remove_dir_all(&d);
+    fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Every name in `dir` (recursively one level for directories), sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Starts the child writer on `target`, waits until its temporary holds data, sends
+/// `signal` ("INT" or "TERM") and returns the exit code and the temporary's path.
+fn kill_mid_write(target: &Path, mode: &str, signal: &str) -> (Option<i32>, PathBuf) {
+    let exe = std::env::current_exe().unwrap();
+    let mut child = Command::new(exe)
+        .args([
+            "child_writer",
+            "--exact",
+            "--ignored",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(ENV_TARGET, target)
+        .env(ENV_MODE, mode)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let stdout = child.stdout.take().unwrap();
+    let mut tmp = None;
+    for line in BufReader::new(stdout).lines() {
+        let line = line.unwrap();
+        // (libtest's "test child_writer ... " may start the same line)
+        if let Some(i) = line.find("READY ") {
+            tmp = Some(PathBuf::from(&line[i + 6..]));
+            break;
+        }
+    }
+    let tmp = tmp.expect("the child never got ready");
+    // Mid-write: the temporary exists and keeps growing.
+    let t0 = Instant::now();
+    let first = fs::metadata(&tmp).unwrap().len();
+    while fs::metadata(&tmp).unwrap().len() <= first {
+        assert!(
+            t0.elapsed() < Duration::from_secs(5),
+            "the child does not write"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let status = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let t0 = Instant::now();
+    let code = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s.code();
+        }
+        if t0.elapsed() > Duration::from_secs(5) {
+            let _ = child.kill();
+            panic!("the child outlived the signal");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    (code, tmp)
+}
+
+#[test]
+fn sigint_mid_write_leaves_no_target_and_no_temporary() {
+    let d = scratch("int");
+    let target = d.join("out.csv");
+    let (code, tmp) = kill_mid_write(&target, "new", "INT");
+    assert_eq!(code, Some(130));
+    assert_eq!(tmp.parent(), Some(d.as_path()));
+    assert!(!tmp.exists());
+    assert!(!target.exists());
+    assert!(listing(&d).is_empty(), "{:?}", listing(&d));
+    fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn sigterm_mid_write_leaves_the_old_file_byte_identical() {
+    let d = scratch("term");
+    let target = d.join("out.csv");
+    let old: Vec<u8> = (0..50_000u32).flat_map(|i| i.to_le_bytes()).collect();
+    fs::write(&target, &old).unwrap();
+    let (code, tmp) = kill_mid_write(&target, "force", "TERM");
+    assert_eq!(code, Some(143));
+    assert!(!tmp.exists());
+    assert_eq!(fs::read(&target).unwrap(), old);
+    assert_eq!(listing(&d), ["out.csv"]);
+    fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn sigint_mid_plot_removes_the_partial_files_and_the_new_directory() {
+    let d = scratch("dir");
+    let plots = d.join("plots");
+    let (code, tmp) = kill_mid_write(&plots, "dir", "INT");
+    assert_eq!(code, Some(130));
+    assert_eq!(tmp.parent(), Some(plots.as_path()));
+    assert!(is_temp_name(&tmp.file_name().unwrap().to_string_lossy()));
+    assert!(!plots.exists(), "{:?}", listing(&plots));
+    assert!(listing(&d).is_empty());
+    fs::remove_dir_all(&d).unwrap();
+}
+
+/// The whole flow a command follows: plan every output, run, write, commit.
+#[test]
+fn plan_run_write_commit() {
+    let d = scratch("flow");
+    let csv = d.join("out.csv");
+    let plots = d.join("plots");
+    fs::write(&csv, b"old").unwrap();
+    // Refused: the existing CSV without --force; the plot directory is not created.
+    let mut plan = Plan::new(false);
+    let e = plan.file("--csv", &csv).unwrap_err();
+    assert_eq!(
+        format!("{e:#}"),
+        format!("--csv {}: exists (use --force to overwrite)", csv.display())
+    );
+    assert_eq!(listing(&d), ["out.csv"]);
+    // Accepted with --force.
+    let mut plan = Plan::new(true);
+    let csv_t = plan
+        .file("--csv", &csv)
+        .unwrap()
+        .limit(100, 1_000_000, "--max-csv-mb N")
+        .unwrap();
+    let plot_t = plan.dir("--plot", &plots, &["a.png"]).unwrap();
+    let mut out = csv_t.open().unwrap();
+    let mut dir = plot_t.open().unwrap();
+    for i in 0..10 {
+        writeln!(out, "{i}").unwrap();
+    }
+    dir.write("a.png", b"png").unwrap();
+    assert_eq!(fs::read(&csv).unwrap(), b"old");
+    out.commit().unwrap();
+    dir.commit().unwrap();
+    let expect: String = (0..10).map(|i| format!("{i}\n")).collect();
+    assert_eq!(fs::read_to_string(&csv).unwrap(), expect);
+    assert_eq!(fs::read(plots.join("a.png")).unwrap(), b"png");
+    assert_eq!(listing(&d), ["out.csv", "plots"]);
+    assert_eq!(listing(&plots), ["a.png"]);
+    fs::remove_dir_all(&d).unwrap();
+}
