@@ -1,6 +1,7 @@
 //! Shared code of the camsim firmware: the board adapters, the budget probes
 //! (linker sections, stack painting, SysTick instruction counting), the model
-//! workload, and the panic/exit plumbing. One binary per file in `src/bin/`.
+//! workload, the exception handlers and the panic/exit plumbing. One concern per
+//! binary in `src/bin/`: `predictor` (the product) and `budget` (the instruction probes).
 //!
 //! `unsafe` is confined to this crate (the core forbids it): linker-symbol
 //! addresses, the stack paint/scan, the calibration loop and one MMIO register.
@@ -26,20 +27,23 @@ pub mod memory;
 pub mod timing;
 pub mod workload;
 
-use cortex_m_semihosting::debug;
+use cortex_m_rt::{exception, ExceptionFrame};
 
 /// Ends the program with success (QEMU exits with status 0 through semihosting).
 pub fn exit_success() -> ! {
-    debug::exit(debug::EXIT_SUCCESS);
+    cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_SUCCESS);
     // Only reached on a board without a debugger attached: park the core.
-    loop {
-        cortex_m::asm::wfi();
-    }
+    park()
 }
 
 /// Ends the program with failure (QEMU exits with status 1 through semihosting).
 pub fn exit_failure() -> ! {
-    debug::exit(debug::EXIT_FAILURE);
+    cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_FAILURE);
+    park()
+}
+
+/// Stops doing anything, for good.
+fn park() -> ! {
     loop {
         cortex_m::asm::wfi();
     }
@@ -55,5 +59,22 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
 /// defmt's own panics (`defmt::panic!`, `defmt::unwrap!`): already logged, exit with failure.
 #[defmt::panic_handler]
 fn defmt_panic() -> ! {
+    exit_failure()
+}
+
+/// Counts SysTick wraps for [`timing::InstrCounter`] (both binaries use it).
+#[exception]
+fn SysTick() {
+    timing::on_systick_wrap();
+}
+
+/// HardFault: log where, then exit with failure.
+#[exception]
+unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
+    defmt::error!(
+        "HardFault at pc={=u32:#010x} lr={=u32:#010x}",
+        ef.pc(),
+        ef.lr()
+    );
     exit_failure()
 }
