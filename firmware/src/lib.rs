@@ -3,6 +3,16 @@
 //! workload, the exception handlers and the panic/exit plumbing. One concern per
 //! binary in `src/bin/`: `predictor` (the product) and `budget` (the instruction probes).
 //!
+//! Failure paths depend on the defmt transport:
+//! - `semihosting` (default, QEMU): a panic or HardFault is logged, then a semihosting
+//!   exit with status 1 ends QEMU.
+//! - `rtt` (a real board): never semihosting on a failure path (without a debugger
+//!   attached a semihosting call faults again). Panics go through `panic-probe`
+//!   (message logged with defmt, then `udf`, i.e. a HardFault); `probe-rs run` catches
+//!   the HardFault (its vector catch is on by default), prints the backtrace and exits
+//!   non-zero. Without a debugger the HardFault handler logs into the RTT buffer and
+//!   parks the core (a board that must recover adds a watchdog).
+//!
 //! `unsafe` is confined to this crate (the core forbids it): linker-symbol
 //! addresses, the stack paint/scan, the calibration loop and one MMIO register.
 //! Each use carries a SAFETY comment.
@@ -29,34 +39,52 @@ pub mod workload;
 
 use cortex_m_rt::{exception, ExceptionFrame};
 
-/// Ends the program with success (QEMU exits with status 0 through semihosting).
+/// Ends the program with success: a semihosting exit with status 0 (QEMU, or `probe-rs
+/// run` with the `rtt` feature when a debugger is attached); otherwise parks the core.
 pub fn exit_success() -> ! {
-    cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_SUCCESS);
-    // Only reached on a board without a debugger attached: park the core.
+    // With `rtt`, a semihosting call without a debugger would fault: only with one attached.
+    if cfg!(feature = "semihosting") || cortex_m::peripheral::DCB::is_debugger_attached() {
+        cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_SUCCESS);
+    }
     park()
 }
 
-/// Ends the program with failure (QEMU exits with status 1 through semihosting).
+/// Ends the program with failure: with `semihosting` a semihosting exit with status 1
+/// (QEMU); with `rtt` a HardFault (`panic_probe::hard_fault`), which `probe-rs run`
+/// reports as a failure, and which parks the core without a debugger.
 pub fn exit_failure() -> ! {
-    cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_FAILURE);
-    park()
+    #[cfg(feature = "rtt")]
+    {
+        panic_probe::hard_fault()
+    }
+    #[cfg(not(feature = "rtt"))]
+    {
+        cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_FAILURE);
+        park()
+    }
 }
 
-/// Stops doing anything, for good.
+/// Stops doing anything, for good (interrupts still run; a watchdog would reset).
 fn park() -> ! {
     loop {
         cortex_m::asm::wfi();
     }
 }
 
-/// Rust panics: log the message with defmt, then exit with failure.
+/// Rust panics on QEMU: log the message with defmt, then exit with failure.
+/// (With `rtt`, `panic-probe` is the panic handler.)
+#[cfg(not(feature = "rtt"))]
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
     defmt::error!("panic: {}", defmt::Display2Format(info));
     exit_failure()
 }
 
-/// defmt's own panics (`defmt::panic!`, `defmt::unwrap!`): already logged, exit with failure.
+#[cfg(feature = "rtt")]
+use panic_probe as _;
+
+/// defmt's own panics (`defmt::panic!`, `defmt::unwrap!`): already logged, exit with
+/// failure (with `rtt` that is panic-probe's HardFault, without printing twice).
 #[defmt::panic_handler]
 fn defmt_panic() -> ! {
     exit_failure()
@@ -68,7 +96,10 @@ fn SysTick() {
     timing::on_systick_wrap();
 }
 
-/// HardFault: log where, then exit with failure.
+/// HardFault: log where, then end with failure. With `rtt`, `probe-rs run` normally halts
+/// the core at the fault's entry before this runs; if this runs with a debugger attached
+/// (vector catch off) it stops at a breakpoint, without one it parks the core. No
+/// semihosting with `rtt`: without a debugger that would fault inside the fault handler.
 #[exception]
 unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
     defmt::error!(
@@ -76,5 +107,15 @@ unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
         ef.pc(),
         ef.lr()
     );
-    exit_failure()
+    #[cfg(feature = "rtt")]
+    {
+        if cortex_m::peripheral::DCB::is_debugger_attached() {
+            cortex_m::asm::bkpt();
+        }
+        park()
+    }
+    #[cfg(not(feature = "rtt"))]
+    {
+        exit_failure()
+    }
 }
