@@ -1,19 +1,29 @@
 #!/usr/bin/env bash
-# Builds the camsim firmware (Cortex-M4F, release), runs it under QEMU mps2-an386
-# with -icount shift=0, decodes its defmt output, and checks its budget line:
-#   budget flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. instr_per_rhs=.. instr_per_rev=..
-# Flash and static RAM are cross-checked against `llvm-size -A` on the ELF, counting
-# the same sections on both sides (see firmware/src/memory.rs):
+# Builds the camsim firmware (Cortex-M4F, release) and runs its two binaries under QEMU
+# mps2-an386 with -icount shift=0, decodes their defmt output and checks them:
+# - predictor (the product): its memory line
+#     product flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. boot_instr=.. max_instr_per_prediction=..
+#   and host parity of every `parity ...` line (camsim predict --f32 --check-log);
+# - budget (the instruction probes): its budget line
+#     budget flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. instr_per_rhs=.. instr_per_rev=..
+# For each image, flash and static RAM are cross-checked against `llvm-size -A` on its
+# ELF, counting the same sections on both sides (see firmware/src/memory.rs):
 #   flash      = .vector_table + .text + .rodata + .data (load image)
 #   static RAM = .data + .bss + .uninit
+# and checked against the budget in memory.x (flash <= FLASH, static RAM + stack peak
+# <= RAM). The real-board build (`--features rtt`) is compiled and its sizes checked too
+# (it is not run). Then a scene chosen at build time is built, run and checked again.
 # Called by scripts/test-all.sh; run from anywhere (it cd's to the repository root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 export PATH="$HOME/.cargo/bin:$PATH"
 
-ELF=firmware/target/thumbv7em-none-eabihf/release/predictor
-LOG=target/firmware-run.log
+ELF_DIR=firmware/target/thumbv7em-none-eabihf/release
+PREDICTOR_ELF=$ELF_DIR/predictor
+BUDGET_ELF=$ELF_DIR/budget
+LOG=target/firmware-run.log              # the predictor's log (host parity reads it)
+BUDGET_LOG=target/firmware-budget.log    # the budget probes' log
 QEMU_TIMEOUT_S=300
 
 fail() { printf 'firmware-ci: FAIL: %s\n' "$*" >&2; exit 1; }
@@ -29,9 +39,53 @@ for tool in qemu-system-arm defmt-print timeout; do
     command -v "$tool" >/dev/null 2>&1 || fail "$tool not found"
 done
 
+# The budget: LENGTH of FLASH and RAM in memory.x (the link fails beyond it; checked
+# here too, so the reported figures are held against the same numbers).
+region_bytes() {
+    local len
+    len=$(sed -n "s/^[[:space:]]*$1[[:space:]]*:.*LENGTH[[:space:]]*=[[:space:]]*\([0-9]*[KM]\{0,1\}\).*/\1/p" memory.x)
+    case "$len" in
+        *K) echo $(( ${len%K} * 1024 )) ;;
+        *M) echo $(( ${len%M} * 1024 * 1024 )) ;;
+        [0-9]*) echo "$len" ;;
+        *) fail "no LENGTH for region $1 in memory.x" ;;
+    esac
+}
+FLASH_BUDGET=$(region_bytes FLASH)
+RAM_BUDGET=$(region_bytes RAM)
+echo "firmware-ci: budget from memory.x: flash $FLASH_BUDGET B, RAM $RAM_BUDGET B"
+
+# Flash and static RAM of an ELF from `llvm-size -A`, the same sections the firmware counts.
+# Sets ls_flash and ls_ram_static; fails on any other non-empty loadable section.
+llvm_sizes() {
+    local elf=$1 sizes unexpected
+    sizes=$("$LLVM_SIZE" -A "$elf")
+    sec() { awk -v s="$1" '$1 == s { print $2; found = 1 } END { if (!found) print 0 }' <<<"$sizes"; }
+    # Any other section that takes flash or RAM must be added to both counts.
+    unexpected=$(awk 'NR > 2 && NF >= 3 && $2 > 0 && $1 !~ /^\.(vector_table|text|rodata|data|bss|uninit|defmt|debug_.*|comment|ARM\.attributes|symtab|strtab|shstrtab)$/ { print $1 }' <<<"$sizes")
+    [ -z "$unexpected" ] || fail "$elf: unexpected non-empty sections (count them in firmware/src/memory.rs and here): $unexpected"
+    ls_flash=$(( $(sec .vector_table) + $(sec .text) + $(sec .rodata) + $(sec .data) ))
+    ls_ram_static=$(( $(sec .data) + $(sec .bss) + $(sec .uninit) ))
+    printf '  %s: flash = .vector_table %s + .text %s + .rodata %s + .data %s = %s; static RAM = .data %s + .bss %s + .uninit %s = %s\n' \
+        "$elf" "$(sec .vector_table)" "$(sec .text)" "$(sec .rodata)" "$(sec .data)" "$ls_flash" \
+        "$(sec .data)" "$(sec .bss)" "$(sec .uninit)" "$ls_ram_static"
+}
+
+# The real board's build (defmt over RTT, panic-probe): it must compile and fit; it is
+# not run (no probe here). Built first: it shares the target directory with the QEMU build.
+echo "firmware-ci: build the real-board image (release, --no-default-features --features rtt)"
+(cd firmware && cargo build --release --no-default-features --features rtt)
+for elf in "$PREDICTOR_ELF" "$BUDGET_ELF"; do
+    llvm_sizes "$elf"
+    [ "$ls_flash" -le "$FLASH_BUDGET" ] || fail "$elf (rtt): flash $ls_flash > $FLASH_BUDGET"
+    [ "$ls_ram_static" -lt "$RAM_BUDGET" ] || fail "$elf (rtt): static RAM $ls_ram_static >= $RAM_BUDGET"
+done
+
 echo "firmware-ci: build (release)"
 (cd firmware && cargo build --release)
-[ -f "$ELF" ] || fail "no ELF at $ELF"
+for elf in "$PREDICTOR_ELF" "$BUDGET_ELF"; do
+    [ -f "$elf" ] || fail "no ELF at $elf"
+done
 
 # Runs the ELF under QEMU, decodes the defmt output into $2, fails unless QEMU exits 0.
 run_qemu() {
@@ -49,39 +103,58 @@ run_qemu() {
     [ "${status[0]}" -eq 0 ] || fail "QEMU exited with status ${status[0]} (firmware panic or fault?)"
     [ "${status[1]}" -eq 0 ] || fail "defmt-print exited with status ${status[1]}"
 }
-run_qemu "$ELF" "$LOG"
+# The last line of $2 that starts with "$1 " (e.g. "product", "budget"), or fail.
+last_line() {
+    local what=$1 log=$2 line
+    line=$(grep -o "$what flash_bytes=[0-9]* .*" "$log" | tail -n 1 || true)
+    [ -n "$line" ] || fail "no '$what ...' line in $log"
+    printf '%s\n' "$line"
+}
+# A numeric field of a line: field LINE NAME.
+field() {
+    local v
+    v=$(sed -n "s/.*[[:space:]]$2=\([0-9][0-9]*\).*/\1/p" <<<" $1")
+    [ -n "$v" ] || fail "no numeric $2= in: $1"
+    printf '%s\n' "$v"
+}
+# Checks the memory fields of a `product`/`budget` line against the image's ELF and memory.x.
+check_memory() {
+    local line=$1 elf=$2 flash ram_static stack ram
+    flash=$(field "$line" flash_bytes)
+    ram_static=$(field "$line" ram_static_bytes)
+    stack=$(field "$line" stack_peak_bytes)
+    ram=$(field "$line" ram_bytes)
+    [ "$ram" -eq $((ram_static + stack)) ] || fail "$elf: ram_bytes $ram != ram_static_bytes $ram_static + stack_peak_bytes $stack"
+    [ "$stack" -gt 0 ] || fail "$elf: stack_peak_bytes is 0 (stack paint not working)"
+    echo "firmware-ci: cross-check $elf with $LLVM_SIZE -A"
+    llvm_sizes "$elf"
+    [ "$ls_flash" -eq "$flash" ] || fail "$elf: flash: llvm-size $ls_flash != firmware $flash"
+    [ "$ls_ram_static" -eq "$ram_static" ] || fail "$elf: static RAM: llvm-size $ls_ram_static != firmware $ram_static"
+    [ "$flash" -le "$FLASH_BUDGET" ] || fail "$elf: flash $flash B > budget $FLASH_BUDGET B (memory.x)"
+    [ "$ram" -le "$RAM_BUDGET" ] || fail "$elf: RAM $ram B > budget $RAM_BUDGET B (memory.x)"
+    printf '  flash %s B of %s (%s %%), RAM %s B of %s (%s %%)\n' "$flash" "$FLASH_BUDGET" \
+        $((flash * 100 / FLASH_BUDGET)) "$ram" "$RAM_BUDGET" $((ram * 100 / RAM_BUDGET))
+}
+# Runs both binaries (product log $1, budget log $2) and checks their lines.
+run_and_check() {
+    local log=$1 budget_log=$2 product budget
+    run_qemu "$PREDICTOR_ELF" "$log"
+    run_qemu "$BUDGET_ELF" "$budget_log"
 
-budget=$(grep -o 'budget flash_bytes=[0-9]* ram_static_bytes=[0-9]* stack_peak_bytes=[0-9]* ram_bytes=[0-9]* instr_per_rhs=[0-9]* instr_per_rev=[0-9]*' "$LOG" | tail -n 1 || true)
-[ -n "$budget" ] || fail "no budget line in $LOG"
+    product=$(last_line product "$log")
+    check_memory "$product" "$PREDICTOR_ELF"
+    [ "$(field "$product" boot_instr)" -gt 0 ] || fail "boot_instr is 0 (SysTick calibration not working)"
+    grep -q 'budget flash_bytes=' "$log" && fail "the product log has a budget line (the probes belong to the budget binary)"
 
-field() { sed -n "s/.*[[:space:]]$1=\([0-9]*\).*/\1/p" <<<" $budget"; }
-fw_flash=$(field flash_bytes)
-fw_ram_static=$(field ram_static_bytes)
-fw_stack=$(field stack_peak_bytes)
-fw_ram=$(field ram_bytes)
-fw_rhs=$(field instr_per_rhs)
-fw_rev=$(field instr_per_rev)
+    budget=$(last_line budget "$budget_log")
+    check_memory "$budget" "$BUDGET_ELF"
+    [ "$(field "$budget" instr_per_rhs)" -gt 0 ] && [ "$(field "$budget" instr_per_rev)" -gt 0 ] \
+        || fail "instruction counts are 0 (SysTick calibration not working)"
 
-[ "$fw_ram" -eq $((fw_ram_static + fw_stack)) ] || fail "ram_bytes $fw_ram != ram_static_bytes + stack_peak_bytes"
-[ "$fw_stack" -gt 0 ] || fail "stack_peak_bytes is 0 (stack paint not working)"
-[ "$fw_rhs" -gt 0 ] && [ "$fw_rev" -gt 0 ] || fail "instruction counts are 0 (SysTick calibration not working)"
-
-echo "firmware-ci: cross-check with $LLVM_SIZE -A"
-sizes=$("$LLVM_SIZE" -A "$ELF")
-sec() { awk -v s="$1" '$1 == s { print $2; found = 1 } END { if (!found) print 0 }' <<<"$sizes"; }
-# Any other section that takes flash or RAM must be added to both counts.
-unexpected=$(awk 'NR > 2 && NF >= 3 && $2 > 0 && $1 !~ /^\.(vector_table|text|rodata|data|bss|uninit|defmt|debug_.*|comment|ARM\.attributes|symtab|strtab|shstrtab)$/ { print $1 }' <<<"$sizes")
-[ -z "$unexpected" ] || fail "unexpected non-empty sections (count them in firmware/src/memory.rs and here): $unexpected"
-ls_flash=$(( $(sec .vector_table) + $(sec .text) + $(sec .rodata) + $(sec .data) ))
-ls_ram_static=$(( $(sec .data) + $(sec .bss) + $(sec .uninit) ))
-printf '  flash      = .vector_table %s + .text %s + .rodata %s + .data %s = %s (firmware: %s)\n' \
-    "$(sec .vector_table)" "$(sec .text)" "$(sec .rodata)" "$(sec .data)" "$ls_flash" "$fw_flash"
-printf '  static RAM = .data %s + .bss %s + .uninit %s = %s (firmware: %s)\n' \
-    "$(sec .data)" "$(sec .bss)" "$(sec .uninit)" "$ls_ram_static" "$fw_ram_static"
-[ "$ls_flash" -eq "$fw_flash" ] || fail "flash: llvm-size $ls_flash != firmware $fw_flash"
-[ "$ls_ram_static" -eq "$fw_ram_static" ] || fail "static RAM: llvm-size $ls_ram_static != firmware $fw_ram_static"
-
-echo "firmware-ci: $budget"
+    echo "firmware-ci: $product"
+    echo "firmware-ci: $budget"
+}
+run_and_check "$LOG" "$BUDGET_LOG"
 
 # ---------------------------------------------------------------------------
 # HOST PARITY CHECK: the host runs the same f32 scene through the same core code
@@ -100,11 +173,13 @@ cargo build -q --release -p camsim
 SCENE=scenes/stable-4567-rise.toml
 SCENE_RS="$PWD/target/firmware-scene.rs"
 SCENE_LOG=target/firmware-run-scene.log
+SCENE_BUDGET_LOG=target/firmware-budget-scene.log
 echo "firmware-ci: build-time scene $SCENE"
 ./target/release/camsim scene --rust "$SCENE" >"$SCENE_RS"
 (cd firmware && CAMSIM_SCENE_RS="$SCENE_RS" cargo build --release)
-run_qemu "$ELF" "$SCENE_LOG"
+run_and_check "$SCENE_LOG" "$SCENE_BUDGET_LOG"
 grep -q "scene=generated" "$SCENE_LOG" || fail "the scene build did not report its generated scene"
+grep -q "scene=generated" "$SCENE_BUDGET_LOG" || fail "the scene's budget image did not report its generated scene"
 ./target/release/camsim predict --f32 --scene "$SCENE" --check-log "$SCENE_LOG" || fail "host parity (scene): see the line above"
 # Leave the default (reference) firmware built, as a plain `cargo build` would.
 (cd firmware && cargo build --release)

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every camsim test on a fresh machine: installs what it lacks (idempotent),
 # builds the no_std core for the Cortex-M4F, runs the workspace tests, then builds
-# the firmware, runs it under QEMU and checks its budget line and host parity.
+# the firmware (product and budget binaries, and the real-board rtt build), runs it under
+# QEMU and checks its memory and budget lines against llvm-size and memory.x, and host parity.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -40,6 +41,8 @@ cargo clippy -p camsim-core --lib -- -D warnings \
 cargo clippy -p camsim-core --lib --features micromath -- -D warnings \
     -D clippy::unwrap_used -D clippy::expect_used -D clippy::panic
 (cd firmware && cargo clippy --release -- -D warnings)
+# the real-board build (defmt over RTT, panic-probe); scripts/firmware-ci.sh builds it too
+(cd firmware && cargo clippy --release --no-default-features --features rtt -- -D warnings)
 RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace
 
 step "core builds no_std for thumbv7em-none-eabihf (libm, and micromath)"

@@ -145,3 +145,49 @@ pub fn stack_peak_bytes() -> u32 {
     }
     s.stack_start - p
 }
+
+/// What a binary reports about its own image at the end of a run.
+#[derive(Clone, Copy, Debug, defmt::Format)]
+pub struct MemoryReport {
+    /// Flash of this image ([`Sections::flash_bytes`]).
+    pub flash_bytes: u32,
+    /// Static RAM of this image ([`Sections::ram_static_bytes`]).
+    pub ram_static_bytes: u32,
+    /// Peak stack since [`paint_stack`] ([`stack_peak_bytes`]).
+    pub stack_peak_bytes: u32,
+    /// RAM left for the stack ([`Sections::stack_room_bytes`]).
+    pub stack_room_bytes: u32,
+}
+
+impl MemoryReport {
+    /// Reads the sections and the stack peak, and logs the section addresses.
+    pub fn measure() -> Self {
+        let s = Sections::get();
+        defmt::info!(
+            "sections text_end={=u32:#x} rodata={=u32:#x}..{=u32:#x} data={=u32:#x}..{=u32:#x} bss={=u32:#x}..{=u32:#x} uninit={=u32:#x}..{=u32:#x} stack={=u32:#x}..{=u32:#x}",
+            s.etext, s.srodata, s.erodata, s.sdata, s.edata, s.sbss, s.ebss, s.suninit, s.euninit,
+            s.stack_end, s.stack_start
+        );
+        Self {
+            flash_bytes: s.flash_bytes(),
+            ram_static_bytes: s.ram_static_bytes(),
+            stack_peak_bytes: stack_peak_bytes(),
+            stack_room_bytes: s.stack_room_bytes(),
+        }
+    }
+
+    /// RAM used: static data + peak stack.
+    pub fn ram_bytes(&self) -> u32 {
+        self.ram_static_bytes + self.stack_peak_bytes
+    }
+
+    /// True when the stack reached the end of its room (the peak is then a lower bound
+    /// and static data may have been overwritten): the run is void. Logs the error.
+    pub fn stack_overflowed(&self) -> bool {
+        let over = self.stack_peak_bytes >= self.stack_room_bytes;
+        if over {
+            defmt::error!("stack overflowed its {=u32} bytes", self.stack_room_bytes);
+        }
+        over
+    }
+}

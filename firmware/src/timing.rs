@@ -9,8 +9,8 @@
 //! counts core cycles (the calibration then gives cycles per loop instruction).
 //!
 //! The 24-bit counter wraps every 2^24 ticks; the SysTick exception counts the
-//! wraps (the binary's `SysTick` handler calls [`on_systick_wrap`]), so spans of
-//! any length are measured.
+//! wraps (the crate's `SysTick` handler in `lib.rs` calls [`on_systick_wrap`]), so
+//! spans of any length are measured.
 
 use core::sync::atomic::{AtomicU32, Ordering};
 use cortex_m::peripheral::syst::SystClkSource;

@@ -3,12 +3,14 @@
 //! from `camsim_core::predictor_scene` (the one place the host's `camsim predict --f32`
 //! reads too, so both run exactly the same arithmetic).
 //!
-//! The binary calls just these items:
-//! - [`chip_design`]: the design compiled in (the reference design of VI.1);
-//! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation;
-//! - [`RHS_REPS`], [`evaluate_rhs`], [`simulate_revolution`]: the budget probes, for the
-//!   chip's model ([`camsim_core::ChipModel`], 16 states) and, for comparison, the full
-//!   22-state model ([`camsim_core::RegulatedFullModel`]).
+//! The binaries call just these items:
+//! - [`chip_design`]: the design compiled in (the reference design of VI.1), both;
+//! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation, the
+//!   `predictor` binary (the product; it instantiates only the chip's model);
+//! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`simulate_revolution`]: the budget
+//!   probes, generic over the scene, which the `budget` binary instantiates for the chip's
+//!   model ([`camsim_core::ChipModel`], 16 states) and, for comparison, the full 22-state
+//!   model ([`camsim_core::RegulatedFullModel`]).
 //!
 //! Another scene is chosen at build time, never parsed on the chip:
 //! `camsim scene --rust my.toml > my.rs` and build with `CAMSIM_SCENE_RS=$PWD/my.rs`;

@@ -1,9 +1,13 @@
-//! Cam-timing and jump predictor: at boot, builds the prediction table of the chip's
-//! scene (camsim-core's model in f32, `camsim_core::predictor_scene`) and checks its
-//! interpolation against direct simulations; then reads the cam speed once per
+//! The product: cam-timing and jump predictor. At boot, builds the prediction table of
+//! the chip's scene (camsim-core's model in f32, `camsim_core::predictor_scene`) and
+//! checks its interpolation against direct simulations; then reads the cam speed once per
 //! revolution, predicts the contact-force margin, the speed margin to jump onset and the
-//! follower timing errors, drives the alarm pin with hysteresis; finally measures and
-//! prints the budget line and exits (status 0) through semihosting.
+//! follower timing errors, drives the alarm pin with hysteresis; when the speed source
+//! ends (the QEMU board's scripted profile), prints this image's own memory and boot cost
+//! (the `product ...` line) and exits with success.
+//!
+//! Only the chip's model is linked here; the instruction probes (per RHS, per revolution,
+//! the 22-state comparison model, libm costs) are the `budget` binary.
 //!
 //! Lines starting with `parity ` carry every compared value as raw f32 bits; the host
 //! regenerates them with `camsim predict --f32` and checks them bit for bit
@@ -13,15 +17,14 @@
 #![no_main]
 
 use camsim_core::{
-    chip_alarm, ChipScene, JumpAlarm, Real, RegulatedFull, Scene, SpeedPrediction, SpeedSource,
-    SteadyState, CHIP_CHECK_RPM, CHIP_STATES,
+    chip_alarm, JumpAlarm, SpeedPrediction, SpeedSource, SteadyState, CHIP_CHECK_RPM,
 };
 use camsim_firmware::board::qemu::{FakeIndexPulse, LedAlarmPin, ScriptedSpeed};
-use camsim_firmware::memory::{paint_stack, stack_peak_bytes, Sections};
-use camsim_firmware::timing::{on_systick_wrap, InstrCounter};
-use camsim_firmware::workload::{self, Predictor};
+use camsim_firmware::memory::{paint_stack, MemoryReport};
+use camsim_firmware::timing::InstrCounter;
+use camsim_firmware::workload::Predictor;
 use camsim_firmware::{exit_failure, exit_success};
-use cortex_m_rt::{entry, exception, ExceptionFrame};
+use cortex_m_rt::entry;
 use embedded_hal::digital::{InputPin, OutputPin};
 
 /// Polls of the index input before a missing pulse is reported.
@@ -144,25 +147,6 @@ where
     summary
 }
 
-/// Measures instructions per RHS and per revolution of scene `S`'s model (`N = S::N`).
-fn measure_model<S: Scene, const N: usize>(
-    counter: &InstrCounter,
-    name: &str,
-) -> Option<(u64, u64)> {
-    let (model, y) = workload::rhs_probe::<S, N>()?;
-    let (checksum, rhs_instr) =
-        counter.measure(|| workload::evaluate_rhs(&model, &y, workload::RHS_REPS));
-    let per_rhs = rhs_instr / u64::from(workload::RHS_REPS);
-    let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution::<S, N>());
-    let rev = rev?;
-    defmt::info!(
-        "model {=str} states={=usize} instr_per_rhs={=u64} instr_per_rev={=u64} rev_rhs_evals={=u32} rev_steps={=u32} instr_per_rev_per_eval={=u64} rhs_checksum={=f32} load_in={=f32} load_in_per_s={=f32} load_bits={=u32:#010x}",
-        name, N, per_rhs, rev_instr, rev.rhs_evals, rev.steps,
-        rev_instr / u64::from(rev.rhs_evals.max(1)), checksum, rev.load_in, rev.load_in_per_s, rev.load_in.to_bits()
-    );
-    Some((per_rhs, rev_instr))
-}
-
 #[entry]
 fn main() -> ! {
     // First: paint the free stack so the peak can be read back at the end.
@@ -259,95 +243,19 @@ fn main() -> ! {
         summary.max_predict_instr
     );
 
-    // Instructions per right-hand-side evaluation and per simulated revolution (800 rpm):
-    // the full 22-state model for comparison, then the chip's model (the budget line).
-    if measure_model::<RegulatedFull, { RegulatedFull::N }>(&counter, "full").is_none() {
-        defmt::error!("full model measurement failed");
-        exit_failure()
-    }
-    let Some((instr_per_rhs, rev_instr)) =
-        measure_model::<ChipScene, CHIP_STATES>(&counter, "chip")
-    else {
-        defmt::error!("chip model measurement failed");
-        exit_failure()
-    };
-
-    // What the elementary functions cost (libm in software; f32 trig computes in f64).
-    let x = core::hint::black_box(0.7f32);
-    let (_, sc) = counter.measure(|| {
-        (0..100).fold(0.0f32, |a, i| {
-            let (s, c) = core::hint::black_box(x + i as f32 * 1e-3).sin_cos();
-            a + s + c
-        })
-    });
-    let (_, at) = counter.measure(|| {
-        (0..100).fold(0.0f32, |a, i| {
-            a + core::hint::black_box(x + i as f32 * 1e-3).atan2(1.3)
-        })
-    });
-    let (_, sq) = counter.measure(|| {
-        (0..100).fold(0.0f32, |a, i| {
-            a + core::hint::black_box(x + i as f32 * 1e-3).sqrt()
-        })
-    });
-    let (_, dv) = counter.measure(|| {
-        (0..100).fold(0.0f32, |a, i| {
-            a + 1.0 / core::hint::black_box(x + i as f32 * 1e-3)
-        })
-    });
-    defmt::info!(
-        "math instr_per_call sin_cos={=u64} atan2={=u64} sqrt={=u64} loop_with_divide={=u64}",
-        sc / 100,
-        at / 100,
-        sq / 100,
-        dv / 100
-    );
-
-    // Memory: static sections from the linker, stack from the paint.
-    let sections = Sections::get();
-    let flash_bytes = sections.flash_bytes();
-    let ram_static_bytes = sections.ram_static_bytes();
-    let stack_peak = stack_peak_bytes();
-    defmt::info!(
-        "sections text_end={=u32:#x} rodata={=u32:#x}..{=u32:#x} data={=u32:#x}..{=u32:#x} bss={=u32:#x}..{=u32:#x} uninit={=u32:#x}..{=u32:#x} stack={=u32:#x}..{=u32:#x}",
-        sections.etext,
-        sections.srodata,
-        sections.erodata,
-        sections.sdata,
-        sections.edata,
-        sections.sbss,
-        sections.ebss,
-        sections.suninit,
-        sections.euninit,
-        sections.stack_end,
-        sections.stack_start
-    );
-    if stack_peak >= sections.stack_room_bytes() {
-        defmt::error!(
-            "stack overflowed its {=u32} bytes",
-            sections.stack_room_bytes()
-        );
+    // Memory of this image: static sections from the linker, stack from the paint.
+    let mem = MemoryReport::measure();
+    if mem.stack_overflowed() {
         exit_failure()
     }
     defmt::info!(
-        "budget flash_bytes={=u32} ram_static_bytes={=u32} stack_peak_bytes={=u32} ram_bytes={=u32} instr_per_rhs={=u64} instr_per_rev={=u64}",
-        flash_bytes,
-        ram_static_bytes,
-        stack_peak,
-        ram_static_bytes + stack_peak,
-        instr_per_rhs,
-        rev_instr
+        "product flash_bytes={=u32} ram_static_bytes={=u32} stack_peak_bytes={=u32} ram_bytes={=u32} boot_instr={=u64} max_instr_per_prediction={=u64}",
+        mem.flash_bytes,
+        mem.ram_static_bytes,
+        mem.stack_peak_bytes,
+        mem.ram_bytes(),
+        boot_instr,
+        summary.max_predict_instr
     );
     exit_success()
-}
-
-#[exception]
-fn SysTick() {
-    on_systick_wrap();
-}
-
-#[exception]
-unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
-    defmt::error!("HardFault at pc={=u32:#010x}", ef.pc());
-    exit_failure()
 }

@@ -19,8 +19,9 @@
 //! - the index `InputPin` is the same pin read as a GPIO (the loop uses it to stay in step
 //!   with the revolutions; with capture interrupts it can be dropped);
 //! - the alarm `OutputPin` is any HAL GPIO output (`embedded-hal` 1.0 pins work as-is);
-//! - logging: build with `--no-default-features --features rtt` for defmt over RTT
-//!   and run with `probe-rs run --chip <chip>`;
+//! - logging and failures: build with `--no-default-features --features rtt` for defmt
+//!   over RTT and panics through `panic-probe` (no semihosting on a failure path), and
+//!   run with `probe-rs run --chip <chip>` (see the firmware README, "A real board");
 //! - memory: the chip's own `memory.x` regions (keep the 128K/32K budget, or change the
 //!   root memory.x deliberately).
 

@@ -1,0 +1,111 @@
+//! The budget probes: instructions per right-hand-side evaluation and per simulated
+//! revolution (800 rpm, the chip's solver settings) of the chip's model (16 states) and,
+//! for comparison, of the full 22-state model; what the elementary functions cost; and
+//! this image's own memory. Prints the `budget ...` line that scripts/firmware-ci.sh reads
+//! and exits with success.
+//!
+//! Not the product (that is `predictor`): this image links both models, so its flash and
+//! stack are those of the probes, not of what a board runs.
+
+#![no_std]
+#![no_main]
+
+use camsim_core::{ChipScene, Real, RegulatedFull, Scene, CHIP_STATES};
+use camsim_firmware::memory::{paint_stack, MemoryReport};
+use camsim_firmware::timing::InstrCounter;
+use camsim_firmware::workload;
+use camsim_firmware::{exit_failure, exit_success};
+use cortex_m_rt::entry;
+
+/// Measures instructions per RHS and per revolution of scene `S`'s model (`N = S::N`).
+fn measure_model<S: Scene, const N: usize>(
+    counter: &InstrCounter,
+    name: &str,
+) -> Option<(u64, u64)> {
+    let (model, y) = workload::rhs_probe::<S, N>()?;
+    let (checksum, rhs_instr) =
+        counter.measure(|| workload::evaluate_rhs(&model, &y, workload::RHS_REPS));
+    let per_rhs = rhs_instr / u64::from(workload::RHS_REPS);
+    let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution::<S, N>());
+    let rev = rev?;
+    defmt::info!(
+        "model {=str} states={=usize} instr_per_rhs={=u64} instr_per_rev={=u64} rev_rhs_evals={=u32} rev_steps={=u32} instr_per_rev_per_eval={=u64} rhs_checksum={=f32} load_in={=f32} load_in_per_s={=f32} load_bits={=u32:#010x}",
+        name, N, per_rhs, rev_instr, rev.rhs_evals, rev.steps,
+        rev_instr / u64::from(rev.rhs_evals.max(1)), checksum, rev.load_in, rev.load_in_per_s, rev.load_in.to_bits()
+    );
+    Some((per_rhs, rev_instr))
+}
+
+/// Instructions per call of the elementary functions an RHS uses (mean of 100 calls,
+/// loop overhead included); libm's f32 functions run in software on the M4F.
+fn measure_math(counter: &InstrCounter) {
+    use core::hint::black_box;
+    let x = black_box(0.7f32);
+    // Every result goes through `black_box`: a pure call whose result is unused is
+    // otherwise removed (which made `sqrt` look like 9 instructions).
+    let (_, sc) = counter.measure(|| {
+        black_box((0..100).fold(0.0f32, |a, i| {
+            let (s, c) = black_box(x + i as f32 * 1e-3).sin_cos();
+            a + s + c
+        }))
+    });
+    let (_, at) = counter.measure(|| {
+        black_box((0..100).fold(0.0f32, |a, i| a + black_box(x + i as f32 * 1e-3).atan2(1.3)))
+    });
+    let (_, sq) = counter.measure(|| {
+        black_box((0..100).fold(0.0f32, |a, i| a + black_box(x + i as f32 * 1e-3).sqrt()))
+    });
+    let (_, dv) = counter.measure(|| {
+        black_box((0..100).fold(0.0f32, |a, i| a + 1.0 / black_box(x + i as f32 * 1e-3)))
+    });
+    defmt::info!(
+        "math instr_per_call sin_cos={=u64} atan2={=u64} sqrt={=u64} loop_with_divide={=u64}",
+        sc / 100,
+        at / 100,
+        sq / 100,
+        dv / 100
+    );
+}
+
+#[entry]
+fn main() -> ! {
+    // First: paint the free stack so the peak can be read back at the end.
+    paint_stack();
+
+    let Some(cp) = cortex_m::Peripherals::take() else {
+        defmt::error!("core peripherals already taken");
+        exit_failure()
+    };
+    let mut counter = InstrCounter::start(cp.SYST);
+    counter.calibrate();
+    defmt::info!("scene={=str}", workload::SCENE_NAME);
+
+    // The full 22-state model for comparison, then the chip's model (the budget line).
+    if measure_model::<RegulatedFull, { RegulatedFull::N }>(&counter, "full").is_none() {
+        defmt::error!("full model measurement failed");
+        exit_failure()
+    }
+    let Some((instr_per_rhs, rev_instr)) =
+        measure_model::<ChipScene, CHIP_STATES>(&counter, "chip")
+    else {
+        defmt::error!("chip model measurement failed");
+        exit_failure()
+    };
+    measure_math(&counter);
+
+    // Memory of THIS image (both models and the probes), for the llvm-size cross-check.
+    let mem = MemoryReport::measure();
+    if mem.stack_overflowed() {
+        exit_failure()
+    }
+    defmt::info!(
+        "budget flash_bytes={=u32} ram_static_bytes={=u32} stack_peak_bytes={=u32} ram_bytes={=u32} instr_per_rhs={=u64} instr_per_rev={=u64}",
+        mem.flash_bytes,
+        mem.ram_static_bytes,
+        mem.stack_peak_bytes,
+        mem.ram_bytes(),
+        instr_per_rhs,
+        rev_instr
+    );
+    exit_success()
+}
