@@ -316,7 +316,7 @@ impl SceneFile {
         SceneFile {
             run: RunSection {
                 revolutions: Some(spec.revolutions),
-                rpm: Some(d.omega0 * 30.0 / std::f64::consts::PI),
+                rpm: Some(camsim_core::rad_per_s_to_rpm(d.omega0)),
                 horizontal_motion: Some(spec.dofs.horizontal),
                 start: Some(
                     match spec.solver.start {
@@ -685,7 +685,7 @@ impl SceneFile {
         }
 
         // Speed last: it moves the drive's reference (regulated feed-forward follows speed).
-        d.omega0 = rpm * std::f64::consts::PI / 30.0;
+        d.omega0 = camsim_core::rpm_to_rad_per_s(rpm);
         let dr = &s.drive;
         d.drive = match dr.law.as_deref().unwrap_or("regulated") {
             "regulated" => {

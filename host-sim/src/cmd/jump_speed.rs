@@ -95,7 +95,7 @@ pub fn run(args: Args) -> Result<()> {
     let mut scene = args.scene.clone();
     scene.start.get_or_insert_with(|| "static".into());
     let spec = run_cmd::spec_from(&scene)?;
-    let op_rpm = spec.design.omega0 * 30.0 / std::f64::consts::PI;
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let t0 = std::time::Instant::now();
     let r = find(&spec, args.resolution, args.max_rpm)?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
