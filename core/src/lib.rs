@@ -5,6 +5,9 @@
 
 mod num;
 pub use num::*;
+// One-dimensional searches (peak scan, jump-onset bracketing and bisection).
+mod search;
+pub use search::*;
 mod error;
 pub use error::*;
 
