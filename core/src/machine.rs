@@ -85,7 +85,8 @@ mod tests {
 use core::ops::ControlFlow;
 
 use crate::{
-    simulate, CamModel, Design, Observer, Result, Sample, Scene, SegmentKind, SolverSettings,
+    simulate, CamModel, Design, Observer, OnsetSearch, Result, Sample, Scene, SegmentKind,
+    SolverSettings,
 };
 
 /// Fractions of a rise or return at which the follower's timing is measured.
@@ -268,45 +269,6 @@ pub fn steady_state_at<T: Real, S: Scene, const N: usize>(
     Ok(obs.result)
 }
 
-/// Jump-onset speed by bisection between `lo_rpm` (contact holds) and `hi_rpm`, to
-/// `resolution_rpm`. Returns `None` if the follower does not separate even at `hi_rpm`.
-pub fn jump_onset_rpm<T: Real, S: Scene, const N: usize>(
-    design: &Design<T>,
-    lo_rpm: T,
-    hi_rpm: T,
-    resolution_rpm: T,
-    settings: &SolverSettings<T>,
-) -> Result<Option<T>> {
-    crate::positive("resolution_rpm", resolution_rpm)?;
-    if !steady_state_at::<T, S, N>(design, hi_rpm, settings)?.jumped {
-        return Ok(None);
-    }
-    if steady_state_at::<T, S, N>(design, lo_rpm, settings)?.jumped {
-        return Ok(Some(lo_rpm));
-    }
-    bisect_onset::<T, S, N>(design, lo_rpm, hi_rpm, resolution_rpm, settings).map(Some)
-}
-
-/// Bisection of [`jump_onset_rpm`] once `lo_rpm` is known to hold contact and `hi_rpm` to jump.
-fn bisect_onset<T: Real, S: Scene, const N: usize>(
-    design: &Design<T>,
-    lo_rpm: T,
-    hi_rpm: T,
-    resolution_rpm: T,
-    settings: &SolverSettings<T>,
-) -> Result<T> {
-    let (mut lo, mut hi) = (lo_rpm, hi_rpm);
-    while hi - lo > resolution_rpm {
-        let mid = (lo + hi) * T::HALF;
-        if steady_state_at::<T, S, N>(design, mid, settings)?.jumped {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Ok(hi)
-}
-
 /// A table of steady-state predictions over a grid of `G` speeds, computed once at boot,
 /// interpolated linearly in the loop.
 #[derive(Clone, Debug)]
@@ -336,8 +298,9 @@ pub struct SpeedPrediction<T> {
 
 impl<T: Real, const G: usize> PredictionTable<T, G> {
     /// Computes the table: the steady state at every grid speed and the jump-onset speed
-    /// (bisection to `resolution_rpm` between the grid's fastest speed without a jump and
-    /// the first speed with one, or up to `max_rpm`).
+    /// ([`OnsetSearch`]: bisection to `resolution_rpm` between the grid's fastest speed
+    /// without a jump and the first speed with one; without a jump on the grid, `max_rpm`
+    /// is tried and the bracket up to it bisected).
     pub fn build<S: Scene, const N: usize>(
         design: &Design<T>,
         rpm: [T; G],
@@ -358,30 +321,38 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
             prev = *r;
             *a = steady_state_at::<T, S, N>(design, *r, settings)?;
         }
-        // Bracket the onset from the grid where possible.
-        let mut lo = T::ZERO;
-        let mut hi = max_rpm;
+        // Bracket the onset from the grid where possible: the fastest grid speed without
+        // a jump below the first one with a jump.
+        let mut below = None;
+        let mut above = None;
         for (r, a) in rpm.iter().zip(at.iter()) {
             if a.jumped {
-                hi = *r;
+                above = Some(*r);
                 break;
             }
-            lo = *r;
+            below = Some(*r);
         }
-        let jump_rpm = if lo <= T::ZERO {
-            Some(hi)
-        } else if hi < max_rpm {
-            // The grid already shows contact at `lo` and a jump at `hi`: bisect between them.
-            crate::positive("resolution_rpm", resolution_rpm)?;
-            Some(bisect_onset::<T, S, N>(
-                design,
-                lo,
-                hi,
-                resolution_rpm,
-                settings,
-            )?)
-        } else {
-            jump_onset_rpm::<T, S, N>(design, lo, hi, resolution_rpm, settings)?
+        let jumps = |r: T| steady_state_at::<T, S, N>(design, r, settings).map(|s| s.jumped);
+        let jump_rpm = match (below, above) {
+            // The slowest grid speed jumps already.
+            (None, Some(first)) => Some(first),
+            (None, None) => {
+                return Err(crate::Error::InvalidParameter {
+                    field: "grid rpm",
+                    rule: "must hold at least one speed",
+                    value: 0.0,
+                })
+            }
+            // The grid shows contact at `lo` and a jump at `hi`: bisect between them.
+            (Some(lo), Some(hi)) => OnsetSearch::new(lo, None, hi, resolution_rpm)?
+                .bisect(lo, hi, jumps)?
+                .at(),
+            // No jump on the grid, which reaches the search limit.
+            (Some(lo), None) if lo >= max_rpm => None,
+            // No jump on the grid: try `max_rpm`, bisect if it jumps.
+            (Some(lo), None) => OnsetSearch::new(lo, None, max_rpm, resolution_rpm)?
+                .find_above(jumps)?
+                .at(),
         };
         Ok(Self { rpm, at, jump_rpm })
     }

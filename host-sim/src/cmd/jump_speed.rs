@@ -5,6 +5,8 @@
 use anyhow::{bail, Result};
 use serde_json::json;
 
+use camsim_core::{Onset, OnsetSearch};
+
 use crate::cmd::run as run_cmd;
 use crate::sim;
 
@@ -36,58 +38,52 @@ pub struct JumpSpeed {
     pub simulations: u32,
 }
 
-/// Bisection for the jump speed of `spec` between `lo` (must not jump) and `max_rpm`.
+/// Speed the bracket starts from (halved if `max_rpm` is below twice it), rpm: slow
+/// enough that contact must hold there.
+pub const START_RPM: f64 = 50.0;
+
+/// The jump speed of `spec` to `resolution` rpm, up to `max_rpm`: core's [`OnsetSearch`]
+/// (doubling from [`START_RPM`], then bisection) with [`sim::jumps_at`] (two revolutions,
+/// stopped at the first separation in the second) as the predicate.
 pub fn find(spec: &sim::RunSpec, resolution: f64, max_rpm: f64) -> Result<JumpSpeed> {
+    let mut spec = spec.clone();
+    spec.revolutions = 2;
+    find_with(resolution, max_rpm, |rpm| sim::jumps_at(&spec, rpm))
+}
+
+/// [`find`] with any "separates at this speed?" predicate (counted in `simulations`).
+pub fn find_with(
+    resolution: f64,
+    max_rpm: f64,
+    mut jumps: impl FnMut(f64) -> Result<bool>,
+) -> Result<JumpSpeed> {
     if !(resolution.is_finite() && resolution > 0.0) {
         bail!("--resolution {resolution}: must be positive and finite (rpm)");
     }
     if !(max_rpm.is_finite() && max_rpm > 0.0) {
         bail!("--max-rpm {max_rpm}: must be positive and finite");
     }
-    let mut spec = spec.clone();
-    spec.revolutions = 2;
-    let mut sims = 0;
-    let mut jumps = |rpm: f64| -> Result<bool> {
-        sims += 1;
-        sim::jumps_at(&spec, rpm)
-    };
-    // Bracket: start from a low speed that must hold contact, double until separation.
-    let mut lo = 50.0_f64.min(max_rpm / 2.0);
-    if jumps(lo)? {
-        bail!("the follower separates already at {lo} rpm: check the spring and preload");
-    }
-    let mut hi = lo * 2.0;
-    loop {
-        if hi >= max_rpm {
-            hi = max_rpm;
-            if !jumps(hi)? {
-                return Ok(JumpSpeed {
-                    jump_rpm: None,
-                    no_jump_rpm: hi,
-                    simulations: sims,
-                });
-            }
-            break;
+    let search = OnsetSearch::new(START_RPM.min(max_rpm / 2.0), Some(2.0), max_rpm, resolution)?;
+    let mut simulations = 0;
+    let onset = search.find(|rpm| {
+        simulations += 1;
+        jumps(rpm)
+    })?;
+    match onset {
+        Onset::AtStart(lo) => {
+            bail!("the follower separates already at {lo} rpm: check the spring and preload")
         }
-        if jumps(hi)? {
-            break;
-        }
-        lo = hi;
-        hi *= 2.0;
+        Onset::Bracketed { below, at } => Ok(JumpSpeed {
+            jump_rpm: Some(at),
+            no_jump_rpm: below,
+            simulations,
+        }),
+        Onset::Beyond(max) => Ok(JumpSpeed {
+            jump_rpm: None,
+            no_jump_rpm: max,
+            simulations,
+        }),
     }
-    while hi - lo > resolution {
-        let mid = 0.5 * (lo + hi);
-        if jumps(mid)? {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Ok(JumpSpeed {
-        jump_rpm: Some(hi),
-        no_jump_rpm: lo,
-        simulations: sims,
-    })
 }
 
 /// Runs the command.
