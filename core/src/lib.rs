@@ -46,6 +46,7 @@ pub use dynamics::*;
 mod response;
 pub use response::*;
 
-// What a machine feeds the predictor (implemented by the firmware's board modules).
-mod machine;
-pub use machine::*;
+// The cam-timing and jump predictor: what a machine feeds it (implemented by the
+// firmware's board modules), the alarm, the steady-state observer and the boot-time table.
+mod predict;
+pub use predict::*;

@@ -17,10 +17,11 @@
 //!   the impact history (chaotic under a change of step sequence).
 
 use camsim::cmd::predict::{check_parity, compute, parity_lines, Prediction};
-use camsim_core::{
-    ScriptedProfile, SpeedSource, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
-    CHIP_GRID_RPM, CHIP_RESOLUTION_RPM,
+use camsim_chip::{
+    ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_GRID_RPM,
+    CHIP_RESOLUTION_RPM,
 };
+use camsim_core::SpeedSource;
 
 const FORCE_TOL_LB: f64 = 3.0 * 1e-8 * 6.45e6;
 
@@ -168,7 +169,7 @@ fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
     // Table rows, the jump line, the interpolation checks, every sample.
     assert_eq!(
         lines.len(),
-        CHIP_GRID_RPM.len() + 1 + camsim_core::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES
+        CHIP_GRID_RPM.len() + 1 + camsim_chip::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES
     );
     let log: String = lines
         .iter()

@@ -1,5 +1,5 @@
 //! Cam-timing and jump predictor: at boot, builds the prediction table of the chip's
-//! scene (camsim-core's model in f32, `camsim_core::predictor_scene`) and checks its
+//! scene (camsim-core's model in f32, configured by the `camsim-chip` crate) and checks its
 //! interpolation against direct simulations; then reads the cam speed once per
 //! revolution, predicts the contact-force margin, the speed margin to jump onset and the
 //! follower timing errors, drives the alarm pin with hysteresis; finally measures and
@@ -12,9 +12,9 @@
 #![no_std]
 #![no_main]
 
+use camsim_chip::{chip_alarm, ChipScene, CHIP_CHECK_RPM, CHIP_STATES};
 use camsim_core::{
-    chip_alarm, ChipScene, JumpAlarm, Real, RegulatedFull, Scene, SpeedPrediction, SpeedSource,
-    SteadyState, CHIP_CHECK_RPM, CHIP_STATES,
+    JumpAlarm, Real, RegulatedFull, Scene, SpeedPrediction, SpeedSource, SteadyState,
 };
 use camsim_firmware::board::qemu::{FakeIndexPulse, LedAlarmPin, ScriptedSpeed};
 use camsim_firmware::memory::{paint_stack, stack_peak_bytes, Sections};

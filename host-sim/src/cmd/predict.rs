@@ -1,5 +1,5 @@
 //! `camsim predict [--f32] [--json] [--check-log FILE]`: the firmware's cam-timing and
-//! jump predictor run on the host with the same scene (`camsim_core::predictor_scene`),
+//! jump predictor run on the host with the same scene (the `camsim-chip` crate),
 //! the same scripted speed profile and the same core code: the boot-time table, the
 //! interpolation check, the prediction and the alarm state for every speed sample.
 //!
@@ -13,12 +13,12 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use serde_json::{json, Value};
 
-use camsim_core::{
+use camsim_chip::{
     chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state,
-    ChipScene, Real, Scene, ScriptedProfile, SpeedPrediction, SpeedSource, SteadyState,
-    CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM,
-    CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
+    ChipScene, ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
+    CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
 };
+use camsim_core::{Real, Scene, SpeedPrediction, SpeedSource, SteadyState};
 
 /// Command-line options of `camsim predict`.
 #[derive(clap::Args, Debug, Default)]
@@ -33,7 +33,7 @@ pub struct Args {
     #[arg(long)]
     pub check_log: Option<PathBuf>,
     /// Scene file compiled into the firmware (`camsim scene --rust FILE`); default: the
-    /// reference design (`camsim_core::chip_design`).
+    /// reference design (`camsim_chip::chip_design`).
     #[arg(long)]
     pub scene: Option<PathBuf>,
 }
