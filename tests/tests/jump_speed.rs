@@ -2,7 +2,9 @@
 //! predicate: it ends for any resolution, brackets the onset to the resolution, and runs
 //! as many simulations as doubling-then-bisection must.
 
-use camsim::cmd::jump_speed::{find, find_with, START_RPM};
+use camsim::cmd::jump_speed::{
+    find, find_with, render_text, JumpSpeed, JumpSpeedReport, START_RPM,
+};
 use camsim::sim::RunSpec;
 
 #[test]
@@ -65,4 +67,53 @@ fn step_onsets_are_bracketed_to_the_resolution() {
     assert!(failed.unwrap_err().to_string().contains("diverged at 400"));
     assert!(find_with(0.0, 1000.0, |_| Ok(true)).is_err());
     assert!(find_with(1.0, f64::NAN, |_| Ok(true)).is_err());
+}
+
+#[test]
+fn report_feeds_text_and_json() {
+    let found = JumpSpeed {
+        jump_rpm: Some(698.4375),
+        no_jump_rpm: 697.65625,
+        simulations: 14,
+    };
+    let r = JumpSpeedReport::new(&found, 800.0, 1.0, 12.0);
+    assert_eq!(r.margin_rpm, Some(698.4375 - 800.0));
+    assert_eq!(r.margin_percent, Some(100.0 * (698.4375 - 800.0) / 800.0));
+    let v = serde_json::to_value(&r).unwrap();
+    let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    keys.sort_unstable();
+    assert_eq!(
+        keys,
+        [
+            "jump_rpm",
+            "margin_percent",
+            "margin_rpm",
+            "no_jump_rpm",
+            "operating_rpm",
+            "resolution_rpm",
+            "simulations",
+            "wall_ms"
+        ]
+    );
+    assert_eq!(v["simulations"], 14);
+    let text = render_text(&r);
+    assert!(text.starts_with(
+        "jump speed: 698.4 rpm (steady-state separation; contact holds at 697.7 rpm)\n"
+    ));
+    assert!(text.contains("margin -101.6 rpm (-12.7 %)  -- the follower JUMPS"));
+    assert!(text.ends_with("14 simulations of 2 revolutions, 12 ms\n"));
+    // No onset: nulls in JSON, one line in the text.
+    let none = JumpSpeedReport::new(
+        &JumpSpeed {
+            jump_rpm: None,
+            no_jump_rpm: 20000.0,
+            simulations: 10,
+        },
+        800.0,
+        1.0,
+        1.0,
+    );
+    let v = serde_json::to_value(&none).unwrap();
+    assert!(v["jump_rpm"].is_null() && v["margin_rpm"].is_null() && v["margin_percent"].is_null());
+    assert!(render_text(&none).starts_with("no jump up to 20000 rpm\n"));
 }

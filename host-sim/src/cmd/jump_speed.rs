@@ -3,7 +3,7 @@
 //! of the current operating point.
 
 use anyhow::{bail, Result};
-use serde_json::json;
+use serde::Serialize;
 
 use camsim_core::{Onset, OnsetSearch};
 
@@ -86,6 +86,78 @@ pub fn find_with(
     }
 }
 
+/// What `camsim jump-speed` prints: the text output and `--json` are both this report.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct JumpSpeedReport {
+    /// Lowest speed with steady-state separation, rpm (null: none up to `--max-rpm`).
+    pub jump_rpm: Option<f64>,
+    /// Highest speed checked without separation, rpm.
+    pub no_jump_rpm: f64,
+    /// The scene's operating speed, rpm.
+    pub operating_rpm: f64,
+    /// Jump speed minus operating speed, rpm.
+    pub margin_rpm: Option<f64>,
+    /// The margin in percent of the operating speed.
+    pub margin_percent: Option<f64>,
+    /// Bisection resolution asked for, rpm.
+    pub resolution_rpm: f64,
+    /// Simulations run.
+    pub simulations: u32,
+    /// Wall time of the search, ms.
+    pub wall_ms: f64,
+}
+
+impl JumpSpeedReport {
+    /// The report of a search result at operating speed `operating_rpm`.
+    pub fn new(r: &JumpSpeed, operating_rpm: f64, resolution_rpm: f64, wall_ms: f64) -> Self {
+        let margin_rpm = r.jump_rpm.map(|j| j - operating_rpm);
+        Self {
+            jump_rpm: r.jump_rpm,
+            no_jump_rpm: r.no_jump_rpm,
+            operating_rpm,
+            margin_rpm,
+            margin_percent: margin_rpm.map(|m| 100.0 * m / operating_rpm),
+            resolution_rpm,
+            simulations: r.simulations,
+            wall_ms,
+        }
+    }
+}
+
+/// The human-readable output.
+pub fn render_text(r: &JumpSpeedReport) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let op = r.operating_rpm;
+    match (r.jump_rpm, r.margin_rpm, r.margin_percent) {
+        (Some(j), Some(m), Some(pct)) => {
+            let _ = writeln!(
+                out,
+                "jump speed: {j:.1} rpm (steady-state separation; contact holds at {:.1} rpm)",
+                r.no_jump_rpm
+            );
+            let _ = writeln!(
+                out,
+                "operating point {op:.1} rpm: margin {m:+.1} rpm ({pct:+.1} %){}",
+                if m <= 0.0 {
+                    "  -- the follower JUMPS at the operating speed"
+                } else {
+                    ""
+                }
+            );
+        }
+        _ => {
+            let _ = writeln!(out, "no jump up to {:.0} rpm", r.no_jump_rpm);
+        }
+    }
+    let _ = writeln!(
+        out,
+        "{} simulations of 2 revolutions, {:.0} ms",
+        r.simulations, r.wall_ms
+    );
+    out
+}
+
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut scene = args.scene.clone();
@@ -95,43 +167,11 @@ pub fn run(args: Args) -> Result<()> {
     let t0 = std::time::Instant::now();
     let r = find(&spec, args.resolution, args.max_rpm)?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let margin = r.jump_rpm.map(|j| j - op_rpm);
+    let report = JumpSpeedReport::new(&r, op_rpm, args.resolution, wall_ms);
     if args.json {
-        let v = json!({
-            "jump_rpm": r.jump_rpm,
-            "no_jump_rpm": r.no_jump_rpm,
-            "operating_rpm": op_rpm,
-            "margin_rpm": margin,
-            "margin_percent": margin.map(|m| 100.0 * m / op_rpm),
-            "resolution_rpm": args.resolution,
-            "simulations": r.simulations,
-            "wall_ms": wall_ms,
-        });
-        println!("{v}");
-        return Ok(());
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        print!("{}", render_text(&report));
     }
-    match r.jump_rpm {
-        Some(j) => {
-            println!(
-                "jump speed: {j:.1} rpm (steady-state separation; contact holds at {:.1} rpm)",
-                r.no_jump_rpm
-            );
-            let m = j - op_rpm;
-            println!(
-                "operating point {op_rpm:.1} rpm: margin {m:+.1} rpm ({:+.1} %){}",
-                100.0 * m / op_rpm,
-                if m <= 0.0 {
-                    "  -- the follower JUMPS at the operating speed"
-                } else {
-                    ""
-                }
-            );
-        }
-        None => println!("no jump up to {:.0} rpm", r.no_jump_rpm),
-    }
-    println!(
-        "{} simulations of 2 revolutions, {:.0} ms",
-        r.simulations, wall_ms
-    );
     Ok(())
 }
