@@ -187,7 +187,7 @@ impl<T: Real> Design<T> {
         let area = (m_f0 * k_f0 / (rho * youngs)).sqrt();
         let e1 = youngs * area / k_f0;
         let inertia_moment = area * area / (f(4.0) * T::PI);
-        let omega0 = f(REFERENCE_RPM * core::f64::consts::PI / 30.0);
+        let omega0 = f(crate::rpm_to_rad_per_s(REFERENCE_RPM));
         Design {
             i_m: f(0.0291),
             i_cp: f(0.25),
@@ -380,7 +380,7 @@ impl<T: Real> Design<T> {
     /// The error names `rpm` (the host's scene key is `run.rpm`, its flag `--rpm`).
     pub fn set_speed_rpm(&mut self, rpm: T) -> Result<()> {
         positive("rpm", rpm)?;
-        let w = rpm * T::PI / T::from_f64(30.0);
+        let w = crate::rpm_to_rad_per_s(rpm);
         self.omega0 = w;
         self.drive = self.drive.at_speed(w);
         Ok(())

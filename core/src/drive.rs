@@ -225,7 +225,7 @@ mod tests {
 
     #[test]
     fn reference_gain_from_rated_slip() {
-        let w = 800.0f64 * core::f64::consts::PI / 30.0;
+        let w = crate::rpm_to_rad_per_s(800.0f64);
         let d = DriveLaw::reference(w, 0.8, 1.0);
         // At the reference speed the motor delivers exactly the steady drag.
         assert!((d.torque(w) - 1.8 * w).abs() < 1e-12);

@@ -6,7 +6,9 @@
 //! `(R_a + y)(sin θ, cos θ)` with `R_a = R_b + r_r`; the contact point on the cam
 //! surface lies `r_r` from it along the pitch curve's inward normal.
 
-use crate::{key, non_negative, positive, CamProgram, Error, Real, Result};
+use crate::{
+    key, non_negative, positive, CamProgram, Error, Peak, PeakScan, Real, Result, ScanEnds,
+};
 
 /// Dimensions of a disk cam and its inline translating roller follower (in).
 ///
@@ -294,59 +296,34 @@ fn check_samples(samples: usize) -> Result<()> {
 }
 
 /// Maximum of `f` over the angles `k * step`, `k < samples`, then refined by golden
-/// section between the best sample's neighbours; returns the best point seen and its
-/// value (so a maximum at a kink or a jump is never lost).
+/// section between the best sample's neighbours ([`PeakScan`], periodic); returns the
+/// best point seen, wrapped into [0, 2π), and its value (so a maximum at a kink or a jump
+/// is never lost), or (0, −∞) when `f` is −∞ everywhere.
 fn argmax_refined<T: Real>(f: impl Fn(T) -> T, step: T, samples: usize) -> (T, T) {
-    let (mut best_x, mut best) = (T::ZERO, -T::INFINITY);
-    for k in 0..samples {
-        let x = T::from_usize(k) * step;
-        let y = f(x);
-        if y > best {
-            best = y;
-            best_x = x;
-        }
-    }
-    if best == -T::INFINITY {
-        return (T::ZERO, best);
-    }
-    let (mut a, mut b) = (best_x - step, best_x + step);
-    let r = T::from_f64(0.618_033_988_749_894_9);
-    // Enough halvings to reach the precision's resolution of the bracket.
-    let iters = if T::EPSILON < T::from_f64(1e-10) {
-        80
-    } else {
-        40
-    };
-    for _ in 0..iters {
-        let (c, d) = (b - r * (b - a), a + r * (b - a));
-        let (fc, fd) = (f(c), f(d));
-        if fc > best {
-            best = fc;
-            best_x = c;
-        }
-        if fd > best {
-            best = fd;
-            best_x = d;
-        }
-        if fc > fd {
-            b = d;
+    let scan = PeakScan {
+        start: T::ZERO,
+        step,
+        points: samples,
+        ends: ScanEnds::Periodic,
+        // Enough steps to reach the precision's resolution of the bracket.
+        iterations: if T::EPSILON < T::from_f64(1e-10) {
+            80
         } else {
-            a = c;
-        }
-    }
-    let two_pi = T::TWO * T::PI;
-    let wrapped = if best_x < T::ZERO {
-        best_x + two_pi
-    } else {
-        best_x
+            40
+        },
     };
+    let Some(Peak { at, value }) = scan.maximize(f) else {
+        return (T::ZERO, -T::INFINITY);
+    };
+    let two_pi = T::TWO * T::PI;
+    let wrapped = if at < T::ZERO { at + two_pi } else { at };
     (
         if wrapped >= two_pi {
             wrapped - two_pi
         } else {
             wrapped
         },
-        best,
+        value,
     )
 }
 

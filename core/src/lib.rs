@@ -5,6 +5,9 @@
 
 mod num;
 pub use num::*;
+// One-dimensional searches (peak scan, jump-onset bracketing and bisection).
+mod search;
+pub use search::*;
 mod error;
 pub use error::*;
 // Scene keys: the serde names of the design's parameters and the names errors use.
@@ -46,6 +49,7 @@ pub use dynamics::*;
 mod response;
 pub use response::*;
 
-// What a machine feeds the predictor (implemented by the firmware's board modules).
-mod machine;
-pub use machine::*;
+// The cam-timing and jump predictor: what a machine feeds it (implemented by the
+// firmware's board modules), the alarm, the steady-state observer and the boot-time table.
+mod predict;
+pub use predict::*;

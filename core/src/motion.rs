@@ -546,35 +546,19 @@ mod tests {
         }
     }
 
-    /// Extremes of one coefficient over a dense grid plus golden-section refinement.
+    /// Extremes of one coefficient over a dense grid plus golden-section refinement
+    /// (keeping the best point seen: at a jump the supremum is a one-sided limit).
     fn extreme(law: MotionLaw, f: fn(LawValue<f64>) -> f64, sign: f64) -> f64 {
         let n = 8 * 2048;
-        let g = |u: f64| sign * f(e(law, u));
-        let (mut best_k, mut best) = (0, f64::NEG_INFINITY);
-        for k in 0..=n {
-            let y = g(k as f64 / n as f64);
-            if y > best {
-                best = y;
-                best_k = k;
-            }
-        }
-        let (mut a, mut b) = (
-            (best_k.max(1) - 1) as f64 / n as f64,
-            ((best_k + 1).min(n)) as f64 / n as f64,
-        );
-        let r = (5f64.sqrt() - 1.0) / 2.0;
-        // Keep the best point seen: at a jump the supremum is a one-sided limit.
-        for _ in 0..80 {
-            let (c, d) = (b - r * (b - a), a + r * (b - a));
-            let (gc, gd) = (g(c), g(d));
-            best = best.max(gc).max(gd);
-            if gc > gd {
-                b = d;
-            } else {
-                a = c;
-            }
-        }
-        sign * best
+        let scan = crate::PeakScan {
+            start: 0.0,
+            step: 1.0 / n as f64,
+            points: n + 1,
+            ends: crate::ScanEnds::Clamped,
+            iterations: 80,
+        };
+        let best = scan.maximize(|u| sign * f(e(law, u))).map(|p| p.value);
+        sign * best.unwrap_or(f64::NEG_INFINITY)
     }
 
     fn peaks(law: MotionLaw) -> [f64; 5] {

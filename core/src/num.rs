@@ -334,6 +334,20 @@ impl Real for f32 {
     }
 }
 
+/// Cam speed in rpm to angular speed in rad/s, computed as `(rpm · π) / 30` in `T`
+/// (that order: the firmware's f32 numbers and the host's agree bit for bit only if
+/// both sides round the same products).
+#[inline(always)]
+pub fn rpm_to_rad_per_s<T: Real>(rpm: T) -> T {
+    rpm * T::PI / T::from_f64(30.0)
+}
+
+/// Angular speed in rad/s to rpm, computed as `(ω · 30) / π` in `T`.
+#[inline(always)]
+pub fn rad_per_s_to_rpm<T: Real>(rad_per_s: T) -> T {
+    rad_per_s * T::from_f64(30.0) / T::PI
+}
+
 /// Single-precision sine and cosine computed in single precision.
 ///
 /// libm's `sinf`/`cosf` evaluate in `f64`: on the Cortex-M4F's single-precision FPU that
@@ -443,6 +457,24 @@ impl Real for f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rpm_conversions_are_the_hand_formulas_and_invert() {
+        use core::f64::consts::PI;
+        // 60 rpm is one revolution per second: 2π rad/s.
+        assert!((rpm_to_rad_per_s(60.0f64) - 2.0 * PI).abs() < 1e-15);
+        assert!((rad_per_s_to_rpm(2.0 * PI) - 60.0f64).abs() < 1e-12);
+        for rpm in [0.1f64, 1.0, 300.0, 697.65625, 800.0, 20000.0] {
+            // Bit for bit the formulas the code used before (same operation order).
+            assert_eq!(rpm_to_rad_per_s(rpm).to_bits(), (rpm * PI / 30.0).to_bits());
+            let w = rpm * PI / 30.0;
+            assert_eq!(rad_per_s_to_rpm(w).to_bits(), (w * 30.0 / PI).to_bits());
+            assert!((rad_per_s_to_rpm(rpm_to_rad_per_s(rpm)) / rpm - 1.0).abs() < 1e-15);
+            let r = rpm as f32;
+            let pi = core::f32::consts::PI;
+            assert_eq!(rpm_to_rad_per_s(r).to_bits(), (r * pi / 30.0).to_bits());
+        }
+    }
 
     fn generic_identity<T: Real>(x: T) -> T {
         let (s, c) = x.sin_cos();

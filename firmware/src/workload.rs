@@ -1,6 +1,6 @@
 //! The model workload the firmware runs and measures: camsim-core's cam-follower model
 //! in `f32`, integrated by the core's England solver, with the chip's predictor scene
-//! from `camsim_core::predictor_scene` (the one place the host's `camsim predict --f32`
+//! from the `camsim-chip` crate (the one place the host's `camsim predict --f32`
 //! reads too, so both run exactly the same arithmetic).
 //!
 //! The binaries call just these items:
@@ -9,7 +9,7 @@
 //!   `predictor` binary (the product; it instantiates only the chip's model);
 //! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`simulate_revolution`]: the budget
 //!   probes, generic over the scene, which the `budget` binary instantiates for the chip's
-//!   model ([`camsim_core::ChipModel`], 16 states) and, for comparison, the full 22-state
+//!   model ([`camsim_chip::ChipModel`], 16 states) and, for comparison, the full 22-state
 //!   model ([`camsim_core::RegulatedFullModel`]).
 //!
 //! Another scene is chosen at build time, never parsed on the chip:
@@ -18,9 +18,9 @@
 
 use core::ops::ControlFlow;
 
+use camsim_chip::{chip_prediction_table, chip_solver_settings, chip_steady_state, CHIP_GRID};
 use camsim_core::{
-    chip_prediction_table, chip_solver_settings, chip_steady_state, simulate, CamModel, Design,
-    PredictionTable, Sample, Scene, SpeedPrediction, SteadyState, CHIP_GRID,
+    simulate, CamModel, Design, PredictionTable, Sample, Scene, SpeedPrediction, SteadyState,
 };
 
 /// Right-hand-side evaluations timed to get instructions per evaluation.
@@ -43,7 +43,7 @@ pub const SCENE_NAME: &str = if cfg!(camsim_scene) {
 };
 
 /// The design compiled into the chip: the reference design of VI.1
-/// (`camsim_core::chip_design`), or the scene chosen at build time, converted from its
+/// (`camsim_chip::chip_design`), or the scene chosen at build time, converted from its
 /// `f64` record with `Design::from_record` exactly as `camsim predict --scene` does.
 /// An invalid generated scene stops the firmware with a failure exit.
 pub fn chip_design() -> Design<f32> {
@@ -68,7 +68,7 @@ pub fn chip_design() -> Design<f32> {
     }
     #[cfg(not(camsim_scene))]
     {
-        camsim_core::chip_design()
+        camsim_chip::chip_design()
     }
 }
 

@@ -4,17 +4,13 @@
 use std::ops::ControlFlow;
 
 use camsim_core::{
-    bearing_normal_forces, contact_force, coulomb_friction, simulate, CamModel, ConstCamVertical,
-    ConstCamVerticalModel, Design, DriveLaw, England, EnglandConfig, MotionLaw, OdeSystem,
-    RegulatedFull, RegulatedFullModel, RegulatedVerticalModel, ResponseStats, Sample, Scene,
-    SolverSettings, Start, Tolerance, TransDof,
+    bearing_normal_forces, contact_force, coulomb_friction, rad_per_s_to_rpm, rpm_to_rad_per_s,
+    simulate, CamModel, ConstCamVertical, ConstCamVerticalModel, Design, DriveLaw, England,
+    EnglandConfig, MotionLaw, OdeSystem, RegulatedFull, RegulatedFullModel, RegulatedVerticalModel,
+    ResponseStats, Sample, Scene, SolverSettings, Start, Tolerance, TransDof,
 };
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
-
-fn rpm_to_rad(rpm: f64) -> f64 {
-    rpm * std::f64::consts::PI / 30.0
-}
 
 /// The reference design without any damping or friction, driven at constant cam speed.
 fn conservative(rpm: f64) -> Design<f64> {
@@ -166,7 +162,7 @@ fn rigid_limit_tracks_the_theoretical_law() {
     let r10 = rev2_acc_rms_sum::<ConstCamVertical, N>(stiffened(10.0), &s);
     let r100 = rev2_acc_rms_sum::<ConstCamVertical, N>(stiffened(100.0), &s);
     // Theoretical peak acceleration of the rise at 300 rpm: 4.888 h (ω/β)² = 1056 in/s².
-    let w = rpm_to_rad(300.0);
+    let w = rpm_to_rad_per_s(300.0);
     let peak = 4.888124 * 1.5 * (w / (150f64.to_radians())).powi(2);
     assert!(r1 < 0.2 * peak, "flexible: {r1} vs peak {peak}");
     assert!(r10 < 0.5 * r1, "x10 stiffer: {r10} vs {r1}");
@@ -333,7 +329,7 @@ fn quasi_static_jump_rpm(d: &Design<f64>, f_p: f64) -> f64 {
             best = best.min((f_p + d.k_rs * h * s) * beta * beta / (m * h * -a));
         }
     }
-    best.sqrt() * 30.0 / std::f64::consts::PI
+    rad_per_s_to_rpm(best.sqrt())
 }
 
 fn steady_jumps(rpm: f64) -> (bool, Vec<camsim_core::JumpInterval<f64>>) {

@@ -16,11 +16,14 @@
 //!   Rows that jumped are excluded: after a separation the follower's timing depends on
 //!   the impact history (chaotic under a change of step sequence).
 
-use camsim::cmd::predict::{check_parity, compute, parity_lines, Prediction};
-use camsim_core::{
-    ScriptedProfile, SpeedSource, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
-    CHIP_GRID_RPM, CHIP_RESOLUTION_RPM,
+use camsim::cmd::predict::{
+    check_parity, compute, parity_lines, render_text, report, Num, Prediction, REFERENCE_SCENE,
 };
+use camsim_chip::{
+    ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_GRID_RPM,
+    CHIP_RESOLUTION_RPM,
+};
+use camsim_core::SpeedSource;
 
 const FORCE_TOL_LB: f64 = 3.0 * 1e-8 * 6.45e6;
 
@@ -168,7 +171,7 @@ fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
     // Table rows, the jump line, the interpolation checks, every sample.
     assert_eq!(
         lines.len(),
-        CHIP_GRID_RPM.len() + 1 + camsim_core::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES
+        CHIP_GRID_RPM.len() + 1 + camsim_chip::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES
     );
     let log: String = lines
         .iter()
@@ -202,4 +205,71 @@ fn interpolation_is_exact_on_the_grid() {
         assert_eq!(q.force_margin_lb, s.min_contact_force);
         assert_eq!(q.speed_margin_rpm, p.table.jump_rpm.unwrap() - r);
     }
+}
+
+#[test]
+fn report_names_its_scene_and_feeds_text_and_json() {
+    let p = compute::<f32>(None).unwrap();
+    for design in [REFERENCE_SCENE, "scenes/stable-4567-rise.toml"] {
+        let r = report(&p, true, design);
+        let v = serde_json::to_value(&r).unwrap();
+        let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+        keys.sort_unstable();
+        assert_eq!(
+            keys,
+            [
+                "alarm_transitions",
+                "interp_checks",
+                "jump_rpm",
+                "jump_rpm_bits",
+                "precision",
+                "samples",
+                "scene",
+                "table"
+            ]
+        );
+        assert_eq!(v["scene"]["design"], design);
+        assert_eq!(v["precision"], "f32");
+        // The numbers are the computed ones, the bits their f32 patterns.
+        let j = p.table.jump_rpm.unwrap();
+        assert_eq!(v["jump_rpm"].as_f64(), Some(j as f64));
+        assert_eq!(v["jump_rpm_bits"], format!("{:#010x}", j.to_bits()));
+        assert_eq!(v["table"].as_array().unwrap().len(), CHIP_GRID_RPM.len());
+        assert_eq!(
+            v["samples"].as_array().unwrap().len(),
+            ScriptedProfile::SAMPLES
+        );
+        // The text is the same report: header naming the scene, then the table rows, the
+        // jump line, the checks and one line per sample.
+        let text = render_text(&r);
+        let first = text.lines().next().unwrap();
+        let name = if design == REFERENCE_SCENE {
+            "reference design"
+        } else {
+            design
+        };
+        assert_eq!(
+            first,
+            format!("predictor scene: {name}, 16 states (vertical), f32")
+        );
+        assert_eq!(
+            text.lines().count(),
+            2 + CHIP_GRID_RPM.len()
+                + 1
+                + camsim_chip::CHIP_CHECK_RPM.len()
+                + ScriptedProfile::SAMPLES
+        );
+        assert!(text.contains(&format!("jump onset: {j:.3} rpm")));
+    }
+    // Not measured -> null; no onset -> "inf" margins.
+    assert_eq!(serde_json::to_string(&Num(f64::NAN)).unwrap(), "null");
+    assert_eq!(
+        serde_json::to_string(&Num(f64::INFINITY)).unwrap(),
+        "\"inf\""
+    );
+    assert_eq!(
+        serde_json::to_string(&Num(-f64::INFINITY)).unwrap(),
+        "\"-inf\""
+    );
+    assert_eq!(serde_json::to_string(&Num(0.5)).unwrap(), "0.5");
 }

@@ -10,7 +10,8 @@
 #![no_std]
 #![no_main]
 
-use camsim_core::{ChipScene, Real, RegulatedFull, Scene, CHIP_STATES};
+use camsim_chip::{ChipScene, CHIP_STATES};
+use camsim_core::{Real, RegulatedFull, Scene};
 use camsim_firmware::memory::{paint_stack, MemoryReport};
 use camsim_firmware::timing::InstrCounter;
 use camsim_firmware::workload;

@@ -1,5 +1,5 @@
 //! The product: cam-timing and jump predictor. At boot, builds the prediction table of
-//! the chip's scene (camsim-core's model in f32, `camsim_core::predictor_scene`) and
+//! the chip's scene (camsim-core's model in f32, configured by the `camsim-chip` crate) and
 //! checks its interpolation against direct simulations; then reads the cam speed once per
 //! revolution, predicts the contact-force margin, the speed margin to jump onset and the
 //! follower timing errors, drives the alarm pin with hysteresis; when the speed source
@@ -16,9 +16,8 @@
 #![no_std]
 #![no_main]
 
-use camsim_core::{
-    chip_alarm, JumpAlarm, SpeedPrediction, SpeedSource, SteadyState, CHIP_CHECK_RPM,
-};
+use camsim_chip::{chip_alarm, CHIP_CHECK_RPM};
+use camsim_core::{JumpAlarm, SpeedPrediction, SpeedSource, SteadyState};
 use camsim_firmware::board::qemu::{FakeIndexPulse, LedAlarmPin, ScriptedSpeed};
 use camsim_firmware::memory::{paint_stack, MemoryReport};
 use camsim_firmware::timing::InstrCounter;

@@ -9,8 +9,8 @@ use core::sync::atomic::{AtomicBool, Ordering};
 use embedded_hal::digital::{ErrorType, InputPin, OutputPin, StatefulOutputPin};
 
 /// Scripted cam speed: the profile shared with the host (`camsim predict`), defined in
-/// `camsim_core::predictor_scene` so both run the same samples.
-pub use camsim_core::ScriptedProfile as ScriptedSpeed;
+/// the `camsim-chip` crate so both run the same samples.
+pub use camsim_chip::ScriptedProfile as ScriptedSpeed;
 
 /// Fake index pulse: each read alternates low/high, so a wait for the next rising
 /// edge always finds one (one "revolution" per speed sample).

@@ -156,8 +156,8 @@ pub fn run(args: Args) -> Result<()> {
     let memory = json!({
         "model_f64_22_bytes": std::mem::size_of::<camsim_core::RegulatedFullModel<f64>>(),
         "solver_f64_22_bytes": std::mem::size_of::<camsim_core::England<f64, { <camsim_core::RegulatedFull as camsim_core::Scene>::N }>>(),
-        "model_f32_16_bytes": std::mem::size_of::<camsim_core::ChipModel<f32>>(),
-        "solver_f32_16_bytes": std::mem::size_of::<camsim_core::England<f32, { camsim_core::CHIP_STATES }>>(),
+        "model_f32_16_bytes": std::mem::size_of::<camsim_chip::ChipModel<f32>>(),
+        "solver_f32_16_bytes": std::mem::size_of::<camsim_core::England<f32, { camsim_chip::CHIP_STATES }>>(),
         "stats_host_bytes": std::mem::size_of::<sim::Stats>(),
         "sample_f64_bytes": std::mem::size_of::<camsim_core::Sample<f64>>(),
     });

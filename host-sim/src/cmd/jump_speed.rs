@@ -3,7 +3,9 @@
 //! of the current operating point.
 
 use anyhow::{bail, Result};
-use serde_json::json;
+use serde::Serialize;
+
+use camsim_core::{Onset, OnsetSearch};
 
 use crate::cmd::run as run_cmd;
 use crate::sim;
@@ -36,94 +38,107 @@ pub struct JumpSpeed {
     pub simulations: u32,
 }
 
-/// Bisection for the jump speed of `spec` between `lo` (must not jump) and `max_rpm`.
+/// Speed the bracket starts from (halved if `max_rpm` is below twice it), rpm: slow
+/// enough that contact must hold there.
+pub const START_RPM: f64 = 50.0;
+
+/// The jump speed of `spec` to `resolution` rpm, up to `max_rpm`: core's [`OnsetSearch`]
+/// (doubling from [`START_RPM`], then bisection) with [`sim::jumps_at`] (two revolutions,
+/// stopped at the first separation in the second) as the predicate.
 pub fn find(spec: &sim::RunSpec, resolution: f64, max_rpm: f64) -> Result<JumpSpeed> {
+    let mut spec = spec.clone();
+    spec.revolutions = 2;
+    find_with(resolution, max_rpm, |rpm| sim::jumps_at(&spec, rpm))
+}
+
+/// [`find`] with any "separates at this speed?" predicate (counted in `simulations`).
+pub fn find_with(
+    resolution: f64,
+    max_rpm: f64,
+    mut jumps: impl FnMut(f64) -> Result<bool>,
+) -> Result<JumpSpeed> {
     if !(resolution.is_finite() && resolution > 0.0) {
         bail!("--resolution {resolution}: must be positive and finite (rpm)");
     }
     if !(max_rpm.is_finite() && max_rpm > 0.0) {
         bail!("--max-rpm {max_rpm}: must be positive and finite");
     }
-    let mut spec = spec.clone();
-    spec.revolutions = 2;
-    let mut sims = 0;
-    let mut jumps = |rpm: f64| -> Result<bool> {
-        sims += 1;
-        sim::jumps_at(&spec, rpm)
-    };
-    // Bracket: start from a low speed that must hold contact, double until separation.
-    let mut lo = 50.0_f64.min(max_rpm / 2.0);
-    if jumps(lo)? {
-        bail!("the follower separates already at {lo} rpm: check the spring and preload");
-    }
-    let mut hi = lo * 2.0;
-    loop {
-        if hi >= max_rpm {
-            hi = max_rpm;
-            if !jumps(hi)? {
-                return Ok(JumpSpeed {
-                    jump_rpm: None,
-                    no_jump_rpm: hi,
-                    simulations: sims,
-                });
-            }
-            break;
+    let search = OnsetSearch::new(START_RPM.min(max_rpm / 2.0), Some(2.0), max_rpm, resolution)?;
+    let mut simulations = 0;
+    let onset = search.find(|rpm| {
+        simulations += 1;
+        jumps(rpm)
+    })?;
+    match onset {
+        Onset::AtStart(lo) => {
+            bail!("the follower separates already at {lo} rpm: check the spring and preload")
         }
-        if jumps(hi)? {
-            break;
-        }
-        lo = hi;
-        hi *= 2.0;
+        Onset::Bracketed { below, at } => Ok(JumpSpeed {
+            jump_rpm: Some(at),
+            no_jump_rpm: below,
+            simulations,
+        }),
+        Onset::Beyond(max) => Ok(JumpSpeed {
+            jump_rpm: None,
+            no_jump_rpm: max,
+            simulations,
+        }),
     }
-    while hi - lo > resolution {
-        let mid = 0.5 * (lo + hi);
-        if jumps(mid)? {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Ok(JumpSpeed {
-        jump_rpm: Some(hi),
-        no_jump_rpm: lo,
-        simulations: sims,
-    })
 }
 
-/// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    let mut scene = args.scene.clone();
-    scene.start.get_or_insert_with(|| "static".into());
-    let spec = run_cmd::spec_from(&scene)?;
-    let op_rpm = spec.design.omega0 * 30.0 / std::f64::consts::PI;
-    let t0 = std::time::Instant::now();
-    let r = find(&spec, args.resolution, args.max_rpm)?;
-    let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
-    let margin = r.jump_rpm.map(|j| j - op_rpm);
-    if args.json {
-        let v = json!({
-            "jump_rpm": r.jump_rpm,
-            "no_jump_rpm": r.no_jump_rpm,
-            "operating_rpm": op_rpm,
-            "margin_rpm": margin,
-            "margin_percent": margin.map(|m| 100.0 * m / op_rpm),
-            "resolution_rpm": args.resolution,
-            "simulations": r.simulations,
-            "wall_ms": wall_ms,
-        });
-        println!("{v}");
-        return Ok(());
+/// What `camsim jump-speed` prints: the text output and `--json` are both this report.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct JumpSpeedReport {
+    /// Lowest speed with steady-state separation, rpm (null: none up to `--max-rpm`).
+    pub jump_rpm: Option<f64>,
+    /// Highest speed checked without separation, rpm.
+    pub no_jump_rpm: f64,
+    /// The scene's operating speed, rpm.
+    pub operating_rpm: f64,
+    /// Jump speed minus operating speed, rpm.
+    pub margin_rpm: Option<f64>,
+    /// The margin in percent of the operating speed.
+    pub margin_percent: Option<f64>,
+    /// Bisection resolution asked for, rpm.
+    pub resolution_rpm: f64,
+    /// Simulations run.
+    pub simulations: u32,
+    /// Wall time of the search, ms.
+    pub wall_ms: f64,
+}
+
+impl JumpSpeedReport {
+    /// The report of a search result at operating speed `operating_rpm`.
+    pub fn new(r: &JumpSpeed, operating_rpm: f64, resolution_rpm: f64, wall_ms: f64) -> Self {
+        let margin_rpm = r.jump_rpm.map(|j| j - operating_rpm);
+        Self {
+            jump_rpm: r.jump_rpm,
+            no_jump_rpm: r.no_jump_rpm,
+            operating_rpm,
+            margin_rpm,
+            margin_percent: margin_rpm.map(|m| 100.0 * m / operating_rpm),
+            resolution_rpm,
+            simulations: r.simulations,
+            wall_ms,
+        }
     }
-    match r.jump_rpm {
-        Some(j) => {
-            println!(
+}
+
+/// The human-readable output.
+pub fn render_text(r: &JumpSpeedReport) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let op = r.operating_rpm;
+    match (r.jump_rpm, r.margin_rpm, r.margin_percent) {
+        (Some(j), Some(m), Some(pct)) => {
+            let _ = writeln!(
+                out,
                 "jump speed: {j:.1} rpm (steady-state separation; contact holds at {:.1} rpm)",
                 r.no_jump_rpm
             );
-            let m = j - op_rpm;
-            println!(
-                "operating point {op_rpm:.1} rpm: margin {m:+.1} rpm ({:+.1} %){}",
-                100.0 * m / op_rpm,
+            let _ = writeln!(
+                out,
+                "operating point {op:.1} rpm: margin {m:+.1} rpm ({pct:+.1} %){}",
                 if m <= 0.0 {
                     "  -- the follower JUMPS at the operating speed"
                 } else {
@@ -131,11 +146,32 @@ pub fn run(args: Args) -> Result<()> {
                 }
             );
         }
-        None => println!("no jump up to {:.0} rpm", r.no_jump_rpm),
+        _ => {
+            let _ = writeln!(out, "no jump up to {:.0} rpm", r.no_jump_rpm);
+        }
     }
-    println!(
+    let _ = writeln!(
+        out,
         "{} simulations of 2 revolutions, {:.0} ms",
-        r.simulations, wall_ms
+        r.simulations, r.wall_ms
     );
+    out
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    let mut scene = args.scene.clone();
+    scene.start.get_or_insert_with(|| "static".into());
+    let spec = run_cmd::spec_from(&scene)?;
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
+    let t0 = std::time::Instant::now();
+    let r = find(&spec, args.resolution, args.max_rpm)?;
+    let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let report = JumpSpeedReport::new(&r, op_rpm, args.resolution, wall_ms);
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        print!("{}", render_text(&report));
+    }
     Ok(())
 }

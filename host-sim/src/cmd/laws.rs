@@ -2,7 +2,7 @@
 //! unit rise over a unit angle, and the largest pressure angle each gives on the
 //! reference cam (VI.1 geometry and timing, the law used for both rise and return).
 
-use camsim_core::{CamGeometry, CamProgram, LawValue, MotionLaw};
+use camsim_core::{CamGeometry, CamProgram, LawValue, MotionLaw, PeakScan, ScanEnds};
 use serde::Serialize;
 
 /// Command-line options.
@@ -32,40 +32,26 @@ pub struct LawRow {
     pub pressure_angle_max_deg: f64,
 }
 
-/// Grid points per unit of `u` (a multiple of 8, so every junction is a grid point).
+/// Grid intervals per unit of `u` (a power of two, a multiple of 8 so every junction is a
+/// grid point).
 const GRID: usize = 8 * 4096;
 /// Cam-angle samples for the pressure-angle scan (before refinement).
 const PHI_SAMPLES: usize = 36_000;
 
 /// Supremum of `f(law(u))` over `[0, 1]`: dense grid, then golden section between the
-/// best point's neighbours, keeping the best value seen (so a one-sided limit at an
-/// acceleration jump is approached, and a maximum at a junction is kept).
+/// best point's neighbours ([`PeakScan`]), keeping the best value seen (so a one-sided
+/// limit at an acceleration jump is approached, and a maximum at a junction is kept).
 fn sup(law: MotionLaw, f: impl Fn(LawValue<f64>) -> f64) -> f64 {
-    let g = |u: f64| f(law.eval(u));
-    let (mut best_k, mut best) = (0, f64::NEG_INFINITY);
-    for k in 0..=GRID {
-        let y = g(k as f64 / GRID as f64);
-        if y > best {
-            best = y;
-            best_k = k;
-        }
-    }
-    let (mut a, mut b) = (
-        best_k.saturating_sub(1) as f64 / GRID as f64,
-        (best_k + 1).min(GRID) as f64 / GRID as f64,
-    );
-    let r = (5f64.sqrt() - 1.0) / 2.0;
-    for _ in 0..100 {
-        let (c, d) = (b - r * (b - a), a + r * (b - a));
-        let (fc, fd) = (g(c), g(d));
-        best = best.max(fc).max(fd);
-        if fc > fd {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    best
+    let scan = PeakScan {
+        start: 0.0,
+        // Exact: GRID is a power of two, so the grid points are exactly k / GRID.
+        step: 1.0 / GRID as f64,
+        points: GRID + 1,
+        ends: ScanEnds::Clamped,
+        iterations: 100,
+    };
+    scan.maximize(|u| f(law.eval(u)))
+        .map_or(f64::NEG_INFINITY, |p| p.value)
 }
 
 /// The table `camsim laws` prints, one row per law in the order of [`MotionLaw::ALL`].

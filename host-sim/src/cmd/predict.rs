@@ -1,5 +1,5 @@
 //! `camsim predict [--f32] [--json] [--check-log FILE]`: the firmware's cam-timing and
-//! jump predictor run on the host with the same scene (`camsim_core::predictor_scene`),
+//! jump predictor run on the host with the same scene (the `camsim-chip` crate),
 //! the same scripted speed profile and the same core code: the boot-time table, the
 //! interpolation check, the prediction and the alarm state for every speed sample.
 //!
@@ -11,14 +11,14 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
-use serde_json::{json, Value};
+use serde::Serialize;
 
-use camsim_core::{
+use camsim_chip::{
     chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state,
-    ChipScene, Real, Scene, ScriptedProfile, SpeedPrediction, SpeedSource, SteadyState,
-    CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM,
-    CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
+    ChipScene, ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
+    CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
 };
+use camsim_core::{Real, Scene, SpeedPrediction, SpeedSource, SteadyState};
 
 /// Command-line options of `camsim predict`.
 #[derive(clap::Args, Debug, Default)]
@@ -33,7 +33,7 @@ pub struct Args {
     #[arg(long)]
     pub check_log: Option<PathBuf>,
     /// Scene file compiled into the firmware (`camsim scene --rust FILE`); default: the
-    /// reference design (`camsim_core::chip_design`).
+    /// reference design (`camsim_chip::chip_design`).
     #[arg(long)]
     pub scene: Option<PathBuf>,
 }
@@ -186,166 +186,371 @@ pub fn check_parity(log: &str, host: &[String]) -> Result<usize> {
     Ok(fw.len())
 }
 
-fn f(x: impl Real) -> Value {
-    let v = x.to_f64();
-    if v.is_finite() {
-        json!(v)
-    } else if v.is_nan() {
-        Value::Null
-    } else {
-        json!(if v > 0.0 { "inf" } else { "-inf" })
+/// A number of the report: finite values as JSON numbers, NaN (not measured) as `null`,
+/// infinities as `"inf"` / `"-inf"`; the text output formats the `f64` itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Num(pub f64);
+
+impl Num {
+    fn of(x: impl Real) -> Self {
+        Num(x.to_f64())
     }
 }
 
-fn bits_of<T: Real>(x: T, single: bool) -> Value {
+impl Serialize for Num {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        let v = self.0;
+        if v.is_finite() {
+            s.serialize_f64(v)
+        } else if v.is_nan() {
+            s.serialize_none()
+        } else {
+            s.serialize_str(if v > 0.0 { "inf" } else { "-inf" })
+        }
+    }
+}
+
+/// The raw bits of a value as computed: `0x` + 8 hex digits under `--f32`, 16 under f64.
+fn bits_of<T: Real>(x: T, single: bool) -> String {
     if single {
-        json!(format!("{:#010x}", (x.to_f64() as f32).to_bits()))
+        format!("{:#010x}", (x.to_f64() as f32).to_bits())
     } else {
-        json!(format!("{:#018x}", x.to_f64().to_bits()))
+        format!("{:#018x}", x.to_f64().to_bits())
     }
 }
 
-fn timing_json<T: Real>(t: &[T; 6], single: bool) -> (Value, Value) {
-    (
-        Value::Array(t.iter().map(|v| f(*v)).collect()),
-        Value::Array(t.iter().map(|v| bits_of(*v, single)).collect()),
-    )
+/// The scene the predictor ran and its fixed configuration (`camsim-chip`).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneReport {
+    /// The scene file given with `--scene`, or "reference" (the reference design).
+    pub design: String,
+    /// State size of the chip's model.
+    pub states: usize,
+    /// Degrees of freedom of the chip's scene.
+    pub dofs: &'static str,
+    /// Solver relative tolerance.
+    pub rtol: f64,
+    /// Solver absolute tolerance, in.
+    pub atol_in: f64,
+    /// Largest step, fraction of a revolution.
+    pub max_step_fraction: f64,
+    /// Grid speeds of the table, rpm.
+    pub grid_rpm: [f64; CHIP_GRID],
+    /// Upper limit of the jump search, rpm.
+    pub max_rpm: f64,
+    /// Resolution of the jump-onset bisection, rpm.
+    pub resolution_rpm: f64,
+    /// Alarm-on speed margin, rpm.
+    pub alarm_on_margin_rpm: f64,
+    /// Alarm-off speed margin, rpm.
+    pub alarm_off_margin_rpm: f64,
 }
 
-fn to_json<T: Real>(p: &Prediction<T>, single: bool) -> Value {
-    let table: Vec<Value> = p
+/// Raw bits of a table row.
+#[derive(Clone, Debug, Serialize)]
+pub struct TableBits {
+    /// Grid speed.
+    pub rpm: String,
+    /// Smallest contact force.
+    pub min_force_lb: String,
+    /// Timing errors.
+    pub timing_deg: [String; 6],
+}
+
+/// One grid speed of the boot-time table.
+#[derive(Clone, Debug, Serialize)]
+pub struct TableRow {
+    /// Grid speed, rpm.
+    pub rpm: Num,
+    /// Smallest contact force in revolution 2, lb.
+    pub min_force_lb: Num,
+    /// Its cam angle, degrees.
+    pub min_force_deg: Num,
+    /// Whether the follower separated.
+    pub jumped: bool,
+    /// Timing errors (rise 10/50/90 %, return 10/50/90 %), degrees.
+    pub timing_deg: [Num; 6],
+    /// The same as raw bits.
+    pub bits: TableBits,
+}
+
+/// Raw bits of an interpolation check.
+#[derive(Clone, Debug, Serialize)]
+pub struct CheckBits {
+    /// Direct smallest contact force.
+    pub direct_force_lb: String,
+    /// Direct timing errors.
+    pub direct_timing_deg: [String; 6],
+}
+
+/// One interpolation check: the table's prediction against a direct simulation.
+#[derive(Clone, Debug, Serialize)]
+pub struct CheckRow {
+    /// Speed, rpm.
+    pub rpm: Num,
+    /// Interpolated smallest contact force, lb.
+    pub interp_force_lb: Num,
+    /// Directly simulated smallest contact force, lb.
+    pub direct_force_lb: Num,
+    /// Whether the direct run separated.
+    pub direct_jumped: bool,
+    /// |interpolated − direct| force, lb.
+    pub abs_err_force_lb: f64,
+    /// Largest |interpolated − direct| timing error, degrees.
+    pub max_abs_err_timing_deg: f64,
+    /// Direct timing errors, degrees.
+    pub direct_timing_deg: [Num; 6],
+    /// The direct values as raw bits.
+    pub bits: CheckBits,
+}
+
+/// Raw bits of a sample's prediction.
+#[derive(Clone, Debug, Serialize)]
+pub struct SampleBits {
+    /// Force margin.
+    pub force_margin_lb: String,
+    /// Speed margin.
+    pub speed_margin_rpm: String,
+    /// Timing errors.
+    pub timing_deg: [String; 6],
+}
+
+/// One speed sample of the scripted profile and the prediction for it.
+#[derive(Clone, Debug, Serialize)]
+pub struct SampleRow {
+    /// Measured speed, rpm.
+    pub rpm: Num,
+    /// Interpolated smallest contact force, lb.
+    pub force_margin_lb: Num,
+    /// Jump-onset speed minus the measured speed, rpm.
+    pub speed_margin_rpm: Num,
+    /// Whether the speed lies on the grid.
+    pub in_grid: bool,
+    /// Alarm state after this sample.
+    pub alarm: bool,
+    /// Interpolated timing errors, degrees.
+    pub timing_deg: [Num; 6],
+    /// The prediction as raw bits.
+    pub bits: SampleBits,
+}
+
+/// A sample at which the alarm switched.
+#[derive(Clone, Debug, Serialize)]
+pub struct AlarmTransition {
+    /// Sample index.
+    pub sample: usize,
+    /// Its speed, rpm.
+    pub rpm: Num,
+    /// The new alarm state.
+    pub alarm: bool,
+}
+
+/// What `camsim predict` prints: the text output and `--json` are both this report.
+#[derive(Clone, Debug, Serialize)]
+pub struct PredictReport {
+    /// "f32" or "f64".
+    pub precision: &'static str,
+    /// The scene run and the chip's configuration.
+    pub scene: SceneReport,
+    /// Jump-onset speed, rpm (null: none up to the search limit).
+    pub jump_rpm: Option<Num>,
+    /// Its raw bits.
+    pub jump_rpm_bits: Option<String>,
+    /// The boot-time table.
+    pub table: Vec<TableRow>,
+    /// The interpolation checks.
+    pub interp_checks: Vec<CheckRow>,
+    /// Every sample of the scripted profile.
+    pub samples: Vec<SampleRow>,
+    /// The samples at which the alarm switched.
+    pub alarm_transitions: Vec<AlarmTransition>,
+}
+
+/// The scene name of the report when no scene file is given.
+pub const REFERENCE_SCENE: &str = "reference";
+
+fn timing<T: Real>(t: &[T; 6], single: bool) -> ([Num; 6], [String; 6]) {
+    (t.map(Num::of), t.map(|v| bits_of(v, single)))
+}
+
+/// The report of a prediction computed in `T` (`single`: f32 bits) for the scene `design`.
+pub fn report<T: Real>(p: &Prediction<T>, single: bool, design: &str) -> PredictReport {
+    let table = p
         .table
         .rpm
         .iter()
         .zip(p.table.at.iter())
         .map(|(r, s)| {
-            let (t, tb) = timing_json(&s.timing_deg, single);
-            json!({"rpm": f(*r), "min_force_lb": f(s.min_contact_force), "min_force_deg": f(s.min_force_deg),
-                   "jumped": s.jumped, "timing_deg": t,
-                   "bits": {"rpm": bits_of(*r, single), "min_force_lb": bits_of(s.min_contact_force, single), "timing_deg": tb}})
+            let (timing_deg, timing_bits) = timing(&s.timing_deg, single);
+            TableRow {
+                rpm: Num::of(*r),
+                min_force_lb: Num::of(s.min_contact_force),
+                min_force_deg: Num::of(s.min_force_deg),
+                jumped: s.jumped,
+                timing_deg,
+                bits: TableBits {
+                    rpm: bits_of(*r, single),
+                    min_force_lb: bits_of(s.min_contact_force, single),
+                    timing_deg: timing_bits,
+                },
+            }
         })
         .collect();
-    let checks: Vec<Value> = p
+    let interp_checks = p
         .checks
         .iter()
         .map(|c| {
             let mut dt = 0.0f64;
-            for (a, b) in c.interpolated.timing_deg.iter().zip(c.direct.timing_deg.iter()) {
+            for (a, b) in c
+                .interpolated
+                .timing_deg
+                .iter()
+                .zip(c.direct.timing_deg.iter())
+            {
                 dt = dt.max((a.to_f64() - b.to_f64()).abs());
             }
-            let (t, tb) = timing_json(&c.direct.timing_deg, single);
-            json!({"rpm": f(c.rpm), "interp_force_lb": f(c.interpolated.force_margin_lb),
-                   "direct_force_lb": f(c.direct.min_contact_force), "direct_jumped": c.direct.jumped,
-                   "abs_err_force_lb": (c.interpolated.force_margin_lb.to_f64() - c.direct.min_contact_force.to_f64()).abs(),
-                   "max_abs_err_timing_deg": dt, "direct_timing_deg": t,
-                   "bits": {"direct_force_lb": bits_of(c.direct.min_contact_force, single), "direct_timing_deg": tb}})
+            let (direct_timing_deg, timing_bits) = timing(&c.direct.timing_deg, single);
+            CheckRow {
+                rpm: Num::of(c.rpm),
+                interp_force_lb: Num::of(c.interpolated.force_margin_lb),
+                direct_force_lb: Num::of(c.direct.min_contact_force),
+                direct_jumped: c.direct.jumped,
+                abs_err_force_lb: (c.interpolated.force_margin_lb.to_f64()
+                    - c.direct.min_contact_force.to_f64())
+                .abs(),
+                max_abs_err_timing_deg: dt,
+                direct_timing_deg,
+                bits: CheckBits {
+                    direct_force_lb: bits_of(c.direct.min_contact_force, single),
+                    direct_timing_deg: timing_bits,
+                },
+            }
         })
         .collect();
     let mut prev = false;
-    let mut transitions = Vec::new();
-    let samples: Vec<Value> = p
+    let mut alarm_transitions = Vec::new();
+    let samples = p
         .samples
         .iter()
         .enumerate()
         .map(|(i, s)| {
             let q = &s.prediction;
             if s.alarm != prev {
-                transitions.push(json!({"sample": i, "rpm": f(q.rpm), "alarm": s.alarm}));
+                alarm_transitions.push(AlarmTransition {
+                    sample: i,
+                    rpm: Num::of(q.rpm),
+                    alarm: s.alarm,
+                });
                 prev = s.alarm;
             }
-            let (t, tb) = timing_json(&q.timing_deg, single);
-            json!({"rpm": f(q.rpm), "force_margin_lb": f(q.force_margin_lb), "speed_margin_rpm": f(q.speed_margin_rpm),
-                   "in_grid": q.in_grid, "alarm": s.alarm, "timing_deg": t,
-                   "bits": {"force_margin_lb": bits_of(q.force_margin_lb, single),
-                            "speed_margin_rpm": bits_of(q.speed_margin_rpm, single), "timing_deg": tb}})
+            let (timing_deg, timing_bits) = timing(&q.timing_deg, single);
+            SampleRow {
+                rpm: Num::of(q.rpm),
+                force_margin_lb: Num::of(q.force_margin_lb),
+                speed_margin_rpm: Num::of(q.speed_margin_rpm),
+                in_grid: q.in_grid,
+                alarm: s.alarm,
+                timing_deg,
+                bits: SampleBits {
+                    force_margin_lb: bits_of(q.force_margin_lb, single),
+                    speed_margin_rpm: bits_of(q.speed_margin_rpm, single),
+                    timing_deg: timing_bits,
+                },
+            }
         })
         .collect();
     let s = chip_solver_settings::<f64>();
-    json!({
-        "precision": if single { "f32" } else { "f64" },
-        "scene": {"design": "reference", "states": CHIP_STATES, "dofs": <ChipScene as Scene>::DOFS.name(), "rtol": s.rtol, "atol_in": s.atol,
-                  "max_step_fraction": s.max_step_fraction, "grid_rpm": CHIP_GRID_RPM.to_vec(), "max_rpm": CHIP_MAX_RPM,
-                  "resolution_rpm": CHIP_RESOLUTION_RPM, "alarm_on_margin_rpm": CHIP_ALARM_ON_MARGIN_RPM,
-                  "alarm_off_margin_rpm": CHIP_ALARM_OFF_MARGIN_RPM},
-        "jump_rpm": p.table.jump_rpm.map(f),
-        "jump_rpm_bits": p.table.jump_rpm.map(|j| bits_of(j, single)),
-        "table": table,
-        "interp_checks": checks,
-        "samples": samples,
-        "alarm_transitions": transitions,
-    })
+    PredictReport {
+        precision: if single { "f32" } else { "f64" },
+        scene: SceneReport {
+            design: design.to_string(),
+            states: CHIP_STATES,
+            dofs: <ChipScene as Scene>::DOFS.name(),
+            rtol: s.rtol,
+            atol_in: s.atol,
+            max_step_fraction: s.max_step_fraction,
+            grid_rpm: CHIP_GRID_RPM,
+            max_rpm: CHIP_MAX_RPM,
+            resolution_rpm: CHIP_RESOLUTION_RPM,
+            alarm_on_margin_rpm: CHIP_ALARM_ON_MARGIN_RPM,
+            alarm_off_margin_rpm: CHIP_ALARM_OFF_MARGIN_RPM,
+        },
+        jump_rpm: p.table.jump_rpm.map(Num::of),
+        jump_rpm_bits: p.table.jump_rpm.map(|j| bits_of(j, single)),
+        table,
+        interp_checks,
+        samples,
+        alarm_transitions,
+    }
 }
 
-fn print_text<T: Real>(p: &Prediction<T>, precision: &str) {
-    println!(
-        "predictor scene: reference design, {CHIP_STATES} states ({}), {precision}",
-        <ChipScene as Scene>::DOFS.name()
+/// The human-readable output.
+pub fn render_text(r: &PredictReport) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let sc = &r.scene;
+    let name = if sc.design == REFERENCE_SCENE {
+        "reference design"
+    } else {
+        &sc.design
+    };
+    let _ = writeln!(
+        out,
+        "predictor scene: {name}, {} states ({}), {}",
+        sc.states, sc.dofs, r.precision
     );
-    println!(
+    let _ = writeln!(
+        out,
         "{:>8} {:>12} {:>7}  timing error, deg (rise 10/50/90 %, return 10/50/90 %)",
         "rpm", "min F, lb", "jumped"
     );
-    for (r, s) in p.table.rpm.iter().zip(p.table.at.iter()) {
-        let t: Vec<String> = s
+    for row in &r.table {
+        let t: Vec<String> = row
             .timing_deg
             .iter()
-            .map(|v| format!("{:+.4}", v.to_f64()))
+            .map(|v| format!("{:+.4}", v.0))
             .collect();
-        println!(
+        let _ = writeln!(
+            out,
             "{:>8.1} {:>12.4} {:>7}  {}",
-            r.to_f64(),
-            s.min_contact_force.to_f64(),
-            s.jumped,
+            row.rpm.0,
+            row.min_force_lb.0,
+            row.jumped,
             t.join(" ")
         );
     }
-    match p.table.jump_rpm {
-        Some(j) => println!("jump onset: {:.3} rpm", j.to_f64()),
-        None => println!("jump onset: none up to {CHIP_MAX_RPM} rpm"),
-    }
-    for c in &p.checks {
-        let mut dt = 0.0f64;
-        for (a, b) in c
-            .interpolated
-            .timing_deg
-            .iter()
-            .zip(c.direct.timing_deg.iter())
-        {
-            dt = dt.max((a.to_f64() - b.to_f64()).abs());
-        }
-        println!(
+    let _ = match r.jump_rpm {
+        Some(j) => writeln!(out, "jump onset: {:.3} rpm", j.0),
+        None => writeln!(out, "jump onset: none up to {} rpm", sc.max_rpm),
+    };
+    for c in &r.interp_checks {
+        let _ = writeln!(
+            out,
             "interpolation check at {:.0} rpm: force {:.4} (interp) vs {:.4} (direct) lb, |err| {:.4} lb; max timing |err| {:.5} deg",
-            c.rpm.to_f64(),
-            c.interpolated.force_margin_lb.to_f64(),
-            c.direct.min_contact_force.to_f64(),
-            (c.interpolated.force_margin_lb.to_f64() - c.direct.min_contact_force.to_f64()).abs(),
-            dt
+            c.rpm.0, c.interp_force_lb.0, c.direct_force_lb.0, c.abs_err_force_lb, c.max_abs_err_timing_deg
         );
     }
     let mut prev = false;
-    for s in &p.samples {
-        let q = &s.prediction;
-        let mark = if s.alarm != prev {
-            if s.alarm {
-                "  <- alarm ON"
-            } else {
-                "  <- alarm OFF"
-            }
-        } else {
-            ""
+    for s in &r.samples {
+        let mark = match (s.alarm != prev, s.alarm) {
+            (true, true) => "  <- alarm ON",
+            (true, false) => "  <- alarm OFF",
+            _ => "",
         };
         prev = s.alarm;
-        println!(
+        let _ = writeln!(
+            out,
             "speed {:>6.1} rpm: force margin {:>9.4} lb, speed margin {:>8.2} rpm, timing rise50 {:+.4} return50 {:+.4} deg, alarm {}{}",
-            q.rpm.to_f64(),
-            q.force_margin_lb.to_f64(),
-            q.speed_margin_rpm.to_f64(),
-            q.timing_deg[1].to_f64(),
-            q.timing_deg[4].to_f64(),
+            s.rpm.0,
+            s.force_margin_lb.0,
+            s.speed_margin_rpm.0,
+            s.timing_deg[1].0,
+            s.timing_deg[4].0,
             if s.alarm { "on" } else { "off" },
             mark
         );
     }
+    out
 }
 
 /// Runs the command.
@@ -357,7 +562,11 @@ pub fn run(args: Args) -> Result<()> {
         Some(p) => Some(crate::scene::load(p)?.design.to_record()),
         None => None,
     };
-    if args.single {
+    let design = match &args.scene {
+        Some(p) => p.display().to_string(),
+        None => REFERENCE_SCENE.to_string(),
+    };
+    let report = if args.single {
         let p = compute::<f32>(record.as_ref())?;
         if let Some(path) = &args.check_log {
             let log = std::fs::read_to_string(path)
@@ -366,18 +575,14 @@ pub fn run(args: Args) -> Result<()> {
             println!("parity OK: {n} lines (table, jump onset, interpolation checks, every sample) bit-identical");
             return Ok(());
         }
-        if args.json {
-            println!("{}", to_json(&p, true));
-        } else {
-            print_text(&p, "f32");
-        }
+        report(&p, true, &design)
     } else {
-        let p = compute::<f64>(record.as_ref())?;
-        if args.json {
-            println!("{}", to_json(&p, false));
-        } else {
-            print_text(&p, "f64");
-        }
+        report(&compute::<f64>(record.as_ref())?, false, &design)
+    };
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        print!("{}", render_text(&report));
     }
     Ok(())
 }

@@ -188,13 +188,13 @@ pub fn run(args: Args) -> Result<()> {
             "steady_state": sim::steady_check(&rows),
             "wall_ms": result.wall_ms,
             "preload_lb": result.preload,
-            "rpm": spec.design.omega0 * 30.0 / std::f64::consts::PI,
+            "rpm": camsim_core::rad_per_s_to_rpm(spec.design.omega0),
             "revolutions": spec.revolutions,
         });
         writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
         return Ok(());
     }
-    let rpm = spec.design.omega0 * 30.0 / std::f64::consts::PI;
+    let rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     writeln!(
         out,
         "camsim run: {} revolutions at {rpm:.1} rpm, {} DOF model, preload F_p = {:.3} lb",

@@ -1,0 +1,119 @@
+//! `camsim jump-speed`'s search is core's `OnsetSearch` with the host's early-stopping
+//! predicate: it ends for any resolution, brackets the onset to the resolution, and runs
+//! as many simulations as doubling-then-bisection must.
+
+use camsim::cmd::jump_speed::{
+    find, find_with, render_text, JumpSpeed, JumpSpeedReport, START_RPM,
+};
+use camsim::sim::RunSpec;
+
+#[test]
+fn reference_search_runs_the_simulations_bisection_needs() {
+    let mut spec = RunSpec::reference();
+    spec.solver.start = camsim_core::Start::Static;
+    let r = find(&spec, 1.0, 20000.0).unwrap();
+    // 50, 100, 200, 400 (contact), 800 (the reference separates below its operating
+    // speed), then the bracket 400 -> 800 halved to <= 1 rpm: 9 halvings.
+    assert_eq!(r.simulations, 5 + 9);
+    let (j, n) = (r.jump_rpm.unwrap(), r.no_jump_rpm);
+    assert_eq!(j - n, 400.0 / 512.0);
+    // Both ends are on the bisection's lattice 400 + k * 400/512.
+    assert_eq!(((j - 400.0) / (400.0 / 512.0)).fract(), 0.0);
+    // The f32 predictor's table (grid 700 holds, 800 jumps) agrees within a few rpm.
+    assert!(j > 690.0 && j < 705.0, "{j}");
+}
+
+#[test]
+fn resolution_below_the_float_spacing_ends_on_adjacent_floats() {
+    let onset = 698.437_512_345;
+    let mut calls = 0;
+    let r = find_with(1e-13, 20000.0, |rpm| {
+        calls += 1;
+        Ok(rpm >= onset)
+    })
+    .unwrap();
+    let (j, n) = (r.jump_rpm.unwrap(), r.no_jump_rpm);
+    assert!(n < onset && onset <= j);
+    // 1e-13 is below the spacing of f64 near 700 rpm (1.1e-13): the bisection ends when
+    // the bracket's ends are neighbouring floats.
+    assert_eq!(n.to_bits() + 1, j.to_bits());
+    assert_eq!(r.simulations, calls);
+    assert!(calls < 5 + 64, "{calls}");
+}
+
+#[test]
+fn step_onsets_are_bracketed_to_the_resolution() {
+    for (onset, res) in [(51.0, 1.0), (123.456, 0.01), (698.4, 1.0), (15000.0, 1e-6)] {
+        let r = find_with(res, 20000.0, |rpm| Ok(rpm >= onset)).unwrap();
+        let (j, n) = (r.jump_rpm.unwrap(), r.no_jump_rpm);
+        assert!(
+            n < onset && onset <= j && j - n <= res,
+            "{onset}: ({n}, {j}]"
+        );
+    }
+    // No onset up to the limit, onset below the start, the predicate's failure.
+    let none = find_with(1.0, 1000.0, |_| Ok(false)).unwrap();
+    assert_eq!((none.jump_rpm, none.no_jump_rpm), (None, 1000.0));
+    // 50, 100, 200, 400, 800, 1000.
+    assert_eq!(none.simulations, 6);
+    let early = find_with(1.0, 1000.0, |_| Ok(true)).unwrap_err();
+    assert!(early
+        .to_string()
+        .contains(&format!("already at {START_RPM} rpm")));
+    let failed = find_with(1.0, 1000.0, |rpm| {
+        anyhow::ensure!(rpm < 300.0, "diverged at {rpm}");
+        Ok(false)
+    });
+    assert!(failed.unwrap_err().to_string().contains("diverged at 400"));
+    assert!(find_with(0.0, 1000.0, |_| Ok(true)).is_err());
+    assert!(find_with(1.0, f64::NAN, |_| Ok(true)).is_err());
+}
+
+#[test]
+fn report_feeds_text_and_json() {
+    let found = JumpSpeed {
+        jump_rpm: Some(698.4375),
+        no_jump_rpm: 697.65625,
+        simulations: 14,
+    };
+    let r = JumpSpeedReport::new(&found, 800.0, 1.0, 12.0);
+    assert_eq!(r.margin_rpm, Some(698.4375 - 800.0));
+    assert_eq!(r.margin_percent, Some(100.0 * (698.4375 - 800.0) / 800.0));
+    let v = serde_json::to_value(&r).unwrap();
+    let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
+    keys.sort_unstable();
+    assert_eq!(
+        keys,
+        [
+            "jump_rpm",
+            "margin_percent",
+            "margin_rpm",
+            "no_jump_rpm",
+            "operating_rpm",
+            "resolution_rpm",
+            "simulations",
+            "wall_ms"
+        ]
+    );
+    assert_eq!(v["simulations"], 14);
+    let text = render_text(&r);
+    assert!(text.starts_with(
+        "jump speed: 698.4 rpm (steady-state separation; contact holds at 697.7 rpm)\n"
+    ));
+    assert!(text.contains("margin -101.6 rpm (-12.7 %)  -- the follower JUMPS"));
+    assert!(text.ends_with("14 simulations of 2 revolutions, 12 ms\n"));
+    // No onset: nulls in JSON, one line in the text.
+    let none = JumpSpeedReport::new(
+        &JumpSpeed {
+            jump_rpm: None,
+            no_jump_rpm: 20000.0,
+            simulations: 10,
+        },
+        800.0,
+        1.0,
+        1.0,
+    );
+    let v = serde_json::to_value(&none).unwrap();
+    assert!(v["jump_rpm"].is_null() && v["margin_rpm"].is_null() && v["margin_percent"].is_null());
+    assert!(render_text(&none).starts_with("no jump up to 20000 rpm\n"));
+}
