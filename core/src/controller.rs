@@ -447,8 +447,8 @@ fn seed<T: Real, const N: usize>(v: &mut [T; N]) {
 /// dominant real eigenvalue or complex pair; when `u` and `J u` are numerically parallel
 /// it uses `√(‖J u‖ ‖J² u‖)` for unit `u` instead.
 ///
-/// `v` is the start vector and returns the last iterate (pass it back for a warm start;
-/// a zero or non-finite `v` is replaced by a fixed seed). Stops when the estimate changes
+/// `v` is the start vector and returns the last iterate, both in the original coordinates
+/// (pass it back for a warm start; a zero or non-finite `v` is replaced by a fixed seed). Stops when the estimate changes
 /// by at most `rel_tol` relatively, or after `max_iterations` iterations (at least 1),
 /// returning the last estimate. Costs `1 + iterations` evaluations, added to `evals`.
 #[allow(clippy::too_many_arguments)]
@@ -512,20 +512,25 @@ pub fn spectral_radius<T: Real, const N: usize, S: OdeSystem<T, N>>(
         Ok(())
     };
 
-    let mut nv = norm2(v);
-    if !(nv > T::ZERO && nv.is_finite()) {
-        seed(v);
-        nv = norm2(v);
-    }
+    // v is kept in the original coordinates, so that a change of D (with y) between two
+    // estimates does not turn a converged eigenvector into a contaminated start.
     let mut u = [T::ZERO; N];
-    for (a, b) in u.iter_mut().zip(v.iter()) {
-        *a = *b / nv;
+    for ((a, b), di) in u.iter_mut().zip(v.iter()).zip(d.iter()) {
+        *a = *b / *di;
+    }
+    let mut nu = norm2(&u);
+    if !(nu > T::ZERO && nu.is_finite()) {
+        seed(&mut u);
+        nu = norm2(&u);
+    }
+    for a in u.iter_mut() {
+        *a /= nu;
     }
     let mut w = [T::ZERO; N];
     jv(&u, &mut w)?;
     let mut nw = norm2(&w);
     if !positive(nw) {
-        *v = u;
+        store(v, &u, &d);
         return Ok(T::ZERO);
     }
     // Below this sine of the angle between u and J u the pair is numerically one
@@ -582,6 +587,20 @@ pub fn spectral_radius<T: Real, const N: usize, S: OdeSystem<T, N>>(
             break;
         }
     }
-    *v = u;
+    store(v, &u, &d);
     Ok(rho)
+}
+
+/// `v = D u`, normalised to a largest entry of 1 (a direction in the original coordinates).
+fn store<T: Real, const N: usize>(v: &mut [T; N], u: &[T; N], d: &[T; N]) {
+    let mut big = T::ZERO;
+    for ((a, b), di) in v.iter_mut().zip(u.iter()).zip(d.iter()) {
+        *a = *b * *di;
+        big = big.max(a.abs());
+    }
+    if positive(big) && big.is_finite() {
+        for a in v.iter_mut() {
+            *a /= big;
+        }
+    }
 }
