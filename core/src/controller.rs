@@ -182,6 +182,17 @@ pub enum InitialStep {
 /// A cap on the double step from the spectral radius `ρ` of the Jacobian `∂f/∂y`:
 /// `h ≤ fraction · 2 · boundary / ρ`.
 ///
+/// Why: an explicit method on a problem whose fastest mode carries no accuracy
+/// information (a stiff, almost undamped mode of tiny amplitude, like the cam model's
+/// Hertz-contact mode near 2.5e5 rad/s) is held by *stability*, not accuracy. An
+/// error-per-step controller then finds the stability boundary by trial: steps beyond it
+/// let the fast mode grow until the error estimate rejects them, the step is cut, grows
+/// again, and so on (Hairer & Wanner, *Solving ODEs II*, IV.2). The PI controller damps
+/// that oscillation; the cap removes it by never planning a step beyond a fraction of the
+/// boundary. England's double step is two RK4 half steps `s = h/2`, stable when `s λ`
+/// lies in RK4's stability region, which reaches `|s λ| = 2√2` on the imaginary axis
+/// (2.785 on the negative real axis).
+///
 /// `ρ` comes from [`OdeSystem::spectral_radius`] when the system provides it, otherwise
 /// from [`spectral_radius`] (power iteration with finite-difference Jacobian-vector
 /// products, `max_iterations` at most; 0 disables it). It is re-estimated at the start of

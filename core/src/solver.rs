@@ -24,6 +24,14 @@
 //!
 //! All step sizes in [`EnglandConfig`] and [`England::step_size`] are *double*-step
 //! sizes `h`: one accepted step advances time by `h`, with the midpoint at `h/2`.
+//!
+//! Opt-in extras (the defaults reproduce the original solver bit for bit):
+//! - [`England::with_control`] takes a [`StepControl`]: a PI step-size controller,
+//!   Hairer's starting step, and a cap on the step from the stiffest eigenvalue
+//!   ([`StiffnessCap`](crate::StiffnessCap)), for problems whose step is held by stability
+//!   rather than accuracy.
+//! - [`England::integrate_dense`] passes each accepted step's continuous extension
+//!   [`Dense`] (a quintic Hermite interpolant, globally as accurate as the steps).
 
 use core::ops::ControlFlow;
 
@@ -103,7 +111,9 @@ pub struct SolverStats {
     /// Right-hand-side evaluations. For [`England`] this is exactly
     /// `9 · accepted + 7 · rejected` after a successful run: an accepted double step costs
     /// `k1..k9`; a rejected one `k2..k7` and `k9` (it stops before `k8`, and the retry
-    /// from the same point reuses `f(t0, y0)`). For [`rk4_integrate`] it is `4 · steps`.
+    /// from the same point reuses `f(t0, y0)`), plus the [`England::auxiliary_evals`] of
+    /// an opt-in step control or dense output (zero with [`England::new`] and
+    /// [`England::integrate`]). For [`rk4_integrate`] it is `4 · steps`.
     pub rhs_evals: u32,
 }
 
@@ -536,7 +546,9 @@ impl<T: Real, const N: usize> England<T, N> {
             }
 
             // Starting step and stiffness estimate when due (never with the classic control).
-            self.prepare(sys, t0, y)?;
+            if capped || self.initial_due {
+                self.prepare(sys, t0, y)?;
+            }
 
             // Choose this attempt's double step h, shortened near t_end.
             let h_plan = if capped {
@@ -828,6 +840,8 @@ impl<T: Real, const N: usize> England<T, N> {
         mut observer: F,
     ) -> Result<SolverStats> {
         self.stats = SolverStats::default();
+        self.aux_evals = 0;
+        self.estimate_due = true;
         if !t0.is_finite() {
             return Err(Error::InvalidParameter {
                 field: "t0",
