@@ -29,9 +29,12 @@ pub use contact::*;
 mod spring;
 pub use spring::*;
 
-// Numerics: England's adaptive Runge-Kutta (Appendix D), modal analysis (VI.2).
+// Numerics: England's adaptive Runge-Kutta (Appendix D) and its step-size control,
+// modal analysis (VI.2).
 mod solver;
 pub use solver::*;
+mod controller;
+pub use controller::*;
 mod modal;
 pub use modal::*;
 

@@ -24,16 +24,35 @@
 //!
 //! All step sizes in [`EnglandConfig`] and [`England::step_size`] are *double*-step
 //! sizes `h`: one accepted step advances time by `h`, with the midpoint at `h/2`.
+//!
+//! Opt-in extras (the defaults reproduce the original solver bit for bit):
+//! - [`England::with_control`] takes a [`StepControl`]: a PI step-size controller,
+//!   Hairer's starting step, and a cap on the step from the stiffest eigenvalue
+//!   ([`StiffnessCap`](crate::StiffnessCap)), for problems whose step is held by stability
+//!   rather than accuracy.
+//! - [`England::integrate_dense`] passes each accepted step's continuous extension
+//!   [`Dense`] (a quintic Hermite interpolant, globally as accurate as the steps).
 
 use core::ops::ControlFlow;
 
-use crate::{Error, Real, Result};
+use crate::{
+    initial_step, spectral_radius, Controller, Error, InitialStep, Real, Result, StepControl,
+};
 
 /// A system of first-order ordinary differential equations `dy/dt = f(t, y)` with
 /// `N` components, as integrated by [`England`] and [`rk4_integrate`].
 pub trait OdeSystem<T: Real, const N: usize> {
     /// dy/dt = f(t, y): writes the derivative of every component into `dydt`.
     fn rhs(&self, t: T, y: &[T; N], dydt: &mut [T; N]);
+
+    /// An estimate of the spectral radius of the Jacobian `∂f/∂y` at `(t, y)` (the
+    /// modulus of the stiffest eigenvalue, 1/s), if the system knows one; used only by
+    /// [`StiffnessCap`](crate::StiffnessCap) (which otherwise estimates it by power
+    /// iteration). The default knows none.
+    fn spectral_radius(&self, t: T, y: &[T; N]) -> Option<T> {
+        let _ = (t, y);
+        None
+    }
 }
 
 /// Error tolerance of [`England`]: component `i` of a double step is accepted when
@@ -92,7 +111,9 @@ pub struct SolverStats {
     /// Right-hand-side evaluations. For [`England`] this is exactly
     /// `9 · accepted + 7 · rejected` after a successful run: an accepted double step costs
     /// `k1..k9`; a rejected one `k2..k7` and `k9` (it stops before `k8`, and the retry
-    /// from the same point reuses `f(t0, y0)`). For [`rk4_integrate`] it is `4 · steps`.
+    /// from the same point reuses `f(t0, y0)`), plus the [`England::auxiliary_evals`] of
+    /// an opt-in step control or dense output (zero with [`England::new`] and
+    /// [`England::integrate`]). For [`rk4_integrate`] it is `4 · steps`.
     pub rhs_evals: u32,
 }
 
@@ -167,6 +188,22 @@ pub struct England<T, const N: usize> {
     k9: [T; N],
     /// Argument of the stage being evaluated.
     arg: [T; N],
+    /// Step-size control beyond the configuration ([`StepControl::classic`] by default).
+    control: StepControl<T>,
+    /// Double-step cap from the last stiffness estimate (`T::MAX`: none).
+    h_cap: T,
+    /// Last spectral-radius estimate (NaN: none yet).
+    rho: T,
+    /// Accepted steps since the last stiffness estimate.
+    since_estimate: u32,
+    /// A stiffness estimate is due at the next step.
+    estimate_due: bool,
+    /// Hairer's starting step is due at the next step.
+    initial_due: bool,
+    /// Right-hand-side evaluations outside the `9 · accepted + 7 · rejected` of the steps.
+    aux_evals: u32,
+    /// Power-iteration vector, kept for a warm start.
+    power_v: [T; N],
 }
 
 /// Evaluates `out = scale · f(t, arg)` and checks that it is finite.
@@ -200,8 +237,29 @@ fn first_non_finite<T: Real, const N: usize>(y: &[T; N]) -> Option<usize> {
 }
 
 impl<T: Real, const N: usize> England<T, N> {
-    /// Checks the configuration and builds a solver whose first double step is `h_init`.
+    /// Checks the configuration and builds a solver whose first double step is `h_init`,
+    /// with England's original step-size rule ([`StepControl::classic`]).
     pub fn new(config: EnglandConfig<T, N>) -> Result<Self> {
+        Self::with_control(config, StepControl::classic())
+    }
+
+    /// Like [`England::new`] with the given step-size control (PI controller, Hairer's
+    /// starting step, stiffness cap); `StepControl::classic()` is exactly [`England::new`].
+    ///
+    /// ```
+    /// use camsim_core::{England, EnglandConfig, StepControl, Tolerance};
+    /// let config = EnglandConfig::<f64, 2> {
+    ///     tol: Tolerance::scalar(1e-8, 1e-8),
+    ///     h_init: 1e-3,
+    ///     h_min: 1e-12,
+    ///     h_max: 0.1,
+    ///     max_steps: 1_000_000,
+    /// };
+    /// let solver = England::with_control(config, StepControl::pi_capped())?;
+    /// # Ok::<(), camsim_core::Error>(())
+    /// ```
+    pub fn with_control(config: EnglandConfig<T, N>, control: StepControl<T>) -> Result<Self> {
+        control.validate()?;
         let tol = config.tol;
         if !(tol.rtol.is_finite() && tol.rtol >= T::ZERO) {
             return Err(Error::InvalidParameter {
@@ -269,7 +327,54 @@ impl<T: Real, const N: usize> England<T, N> {
             k7: z,
             k9: z,
             arg: z,
+            control,
+            h_cap: T::MAX,
+            rho: T::NAN,
+            since_estimate: 0,
+            estimate_due: true,
+            initial_due: control.initial_step == InitialStep::Hairer,
+            aux_evals: 0,
+            power_v: z,
         })
+    }
+
+    /// The step-size control it was built with.
+    pub fn control(&self) -> &StepControl<T> {
+        &self.control
+    }
+
+    /// The last spectral-radius estimate of the stiffness cap (`None` without a cap or
+    /// before the first step).
+    pub fn spectral_radius(&self) -> Option<T> {
+        if self.rho.is_nan() {
+            None
+        } else {
+            Some(self.rho)
+        }
+    }
+
+    /// The current double-step cap of the stiffness cap (`None` without one).
+    pub fn step_cap(&self) -> Option<T> {
+        if self.control.stiffness_cap.is_some() && self.h_cap < T::MAX {
+            Some(self.h_cap)
+        } else {
+            None
+        }
+    }
+
+    /// Right-hand-side evaluations since the counters were last reset that are not part of
+    /// the `9 · accepted + 7 · rejected` of the steps themselves (included in
+    /// [`SolverStats::rhs_evals`]): Hairer's starting step (1), stiffness estimates
+    /// (1 + iterations each) and the end-point derivative of [`England::integrate_dense`] (1).
+    /// Zero with [`StepControl::classic`] and [`England::integrate`].
+    pub fn auxiliary_evals(&self) -> u32 {
+        self.aux_evals
+    }
+
+    /// Asks for a new stiffness estimate at the next step (after the caller changed the
+    /// system, for example); no effect without a [`StiffnessCap`](crate::StiffnessCap).
+    pub fn refresh_stiffness(&mut self) {
+        self.estimate_due = true;
     }
 
     /// The configuration it was built with.
@@ -287,11 +392,73 @@ impl<T: Real, const N: usize> England<T, N> {
         self.h
     }
 
-    /// Forgets the controller's history: the next step tries `h_init` and the counters
-    /// (and so the step budget) restart from zero.
+    /// Forgets the controller's history: the next step tries `h_init` (or Hairer's
+    /// starting step, with [`InitialStep::Hairer`]) and the counters (and so the step
+    /// budget) restart from zero; a PI controller forgets its previous error and the
+    /// stiffness cap starts over from a fresh estimate.
     pub fn reset(&mut self) {
         self.h = self.config.h_init;
         self.stats = SolverStats::default();
+        self.aux_evals = 0;
+        if let Controller::Pi(pi) = &mut self.control.controller {
+            pi.reset();
+        }
+        self.h_cap = T::MAX;
+        self.rho = T::NAN;
+        self.since_estimate = 0;
+        self.estimate_due = true;
+        self.initial_due = self.control.initial_step == InitialStep::Hairer;
+        self.power_v = [T::ZERO; N];
+    }
+
+    /// Hairer's starting step and the stiffness estimate, when due, from `f0 = f(t0, y0)`.
+    fn prepare<S: OdeSystem<T, N>>(&mut self, sys: &S, t0: T, y: &[T; N]) -> Result<()> {
+        let before = self.stats.rhs_evals;
+        if let Some(cap) = self.control.stiffness_cap {
+            // Periodic estimates only while the cap may bind (the planned step within a
+            // factor 2 of it); rejections ask for one through `estimate_due`.
+            let periodic =
+                self.since_estimate >= cap.refresh_every && self.h >= T::HALF * self.h_cap;
+            if self.estimate_due || periodic {
+                let rho = match sys.spectral_radius(t0, y) {
+                    Some(r) if r.is_finite() && r >= T::ZERO => r,
+                    _ if cap.max_iterations > 0 => spectral_radius(
+                        sys,
+                        t0,
+                        y,
+                        &self.f0,
+                        &self.config.tol,
+                        &mut self.power_v,
+                        cap.max_iterations,
+                        cap.rel_tol,
+                        &mut self.stats.rhs_evals,
+                    )?,
+                    _ => T::NAN,
+                };
+                self.rho = rho;
+                self.h_cap = cap.h_cap(rho);
+                self.since_estimate = 0;
+                self.estimate_due = false;
+            }
+        }
+        if self.initial_due {
+            self.initial_due = false;
+            let h = initial_step(
+                sys,
+                t0,
+                y,
+                &self.f0,
+                &self.config.tol,
+                4,
+                self.config.h_max,
+                &mut self.stats.rhs_evals,
+            )?;
+            self.h = h.clamp(self.config.h_min, self.config.h_max);
+        }
+        self.aux_evals = self
+            .aux_evals
+            .saturating_add(self.stats.rhs_evals.saturating_sub(before));
+        Ok(())
     }
 
     /// Advances one accepted double step (retrying rejected ones), never past `t_end`;
@@ -311,6 +478,21 @@ impl<T: Real, const N: usize> England<T, N> {
         t_end: T,
         mid: &mut (T, [T; N]),
     ) -> Result<T> {
+        self.step_impl(sys, t, y, t_end, mid, false)
+            .map(|(err, _)| err)
+    }
+
+    /// [`England::step`]; `f0_ready`: `self.f0` already holds `f(t, y)`. Returns the error
+    /// ratio and the half step `s` of the accepted step.
+    fn step_impl<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t: &mut T,
+        y: &mut [T; N],
+        t_end: T,
+        mid: &mut (T, [T; N]),
+        f0_ready: bool,
+    ) -> Result<(T, T)> {
         let t0 = *t;
         if !t0.is_finite() {
             return Err(Error::InvalidParameter {
@@ -333,7 +515,10 @@ impl<T: Real, const N: usize> England<T, N> {
             });
         }
         // f(t0, y0), shared by every attempt from this point.
-        stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
+        if !f0_ready {
+            stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
+        }
+        let capped = self.control.stiffness_cap.is_some();
 
         let (h_min, h_max, max_steps, rtol) = (
             self.config.h_min,
@@ -360,8 +545,17 @@ impl<T: Real, const N: usize> England<T, N> {
                 });
             }
 
+            // Starting step and stiffness estimate when due (never with the classic control).
+            if capped || self.initial_due {
+                self.prepare(sys, t0, y)?;
+            }
+
             // Choose this attempt's double step h, shortened near t_end.
-            let h_plan = self.h;
+            let h_plan = if capped {
+                self.h.min(self.h_cap).max(h_min)
+            } else {
+                self.h
+            };
             let remaining = t_end - t0;
             let (h, last) = if remaining <= h_plan * stretch {
                 (remaining, true)
@@ -573,13 +767,19 @@ impl<T: Real, const N: usize> England<T, N> {
                 mid.0 = t_mid;
                 *t = t_end_step;
 
-                let fac_cap = if rejected_here { T::ONE } else { fac_max };
-                let fac_unbounded = if rejected_here {
-                    fac_raw.min(T::ONE)
-                } else {
-                    fac_raw
+                let (fac, fac_unbounded) = match &mut self.control.controller {
+                    Controller::Classic => {
+                        let fac_cap = if rejected_here { T::ONE } else { fac_max };
+                        let fac_unbounded = if rejected_here {
+                            fac_raw.min(T::ONE)
+                        } else {
+                            fac_raw
+                        };
+                        (fac_raw.clamp(fac_min, fac_cap), fac_unbounded)
+                    }
+                    Controller::Pi(pi) => pi.accept_raw(err, rejected_here),
                 };
-                let mut h_next = h * fac_raw.clamp(fac_min, fac_cap);
+                let mut h_next = h * fac;
                 if clipped {
                     // A step shortened to meet t_end says nothing against the planned size.
                     let h_ok = if fac_unbounded >= h_plan / h {
@@ -590,7 +790,11 @@ impl<T: Real, const N: usize> England<T, N> {
                     h_next = h_next.max(h_ok);
                 }
                 self.h = h_next.clamp(h_min, h_max);
-                return Ok(err);
+                if capped {
+                    self.since_estimate = self.since_estimate.saturating_add(1);
+                    self.h = self.h.min(self.h_cap).max(h_min);
+                }
+                return Ok((err, s));
             }
 
             // Rejected: shrink and retry from the same point.
@@ -602,7 +806,23 @@ impl<T: Real, const N: usize> England<T, N> {
                 });
             }
             rejected_here = true;
-            self.h = (h * fac_raw.clamp(fac_min, T::ONE)).max(h_min);
+            let fac = match &mut self.control.controller {
+                Controller::Classic => fac_raw.clamp(fac_min, T::ONE),
+                Controller::Pi(pi) => pi.reject(err),
+            };
+            if let Some(cap) = &self.control.stiffness_cap {
+                // Rejected at the cap, or near it long after the last estimate, or very long
+                // after it (the stiffness may have grown past the cap): it may be stale.
+                let k = cap.refresh_every;
+                let since = self.since_estimate;
+                if h >= T::from_f64(0.99) * self.h_cap
+                    || (since >= k && h >= T::HALF * self.h_cap)
+                    || since >= k.saturating_mul(4)
+                {
+                    self.estimate_due = true;
+                }
+            }
+            self.h = (h * fac).max(h_min);
         }
     }
 
@@ -620,6 +840,8 @@ impl<T: Real, const N: usize> England<T, N> {
         mut observer: F,
     ) -> Result<SolverStats> {
         self.stats = SolverStats::default();
+        self.aux_evals = 0;
+        self.estimate_due = true;
         if !t0.is_finite() {
             return Err(Error::InvalidParameter {
                 field: "t0",
@@ -657,6 +879,257 @@ impl<T: Real, const N: usize> England<T, N> {
             }
         }
         Ok(self.stats)
+    }
+
+    /// Integrates from `t0` to `t_end` like [`England::integrate`], calling
+    /// `observer(&dense)` once per accepted double step with its continuous extension
+    /// [`Dense`], which evaluates the solution anywhere in the step (in time order; the
+    /// observer returns [`ControlFlow::Break`] to stop early, still `Ok`, with `y` at the
+    /// end of that step). No call if `t_end == t0`. Starts from the current
+    /// [`England::step_size`], resets the counters and returns those of this run.
+    ///
+    /// The points `y` passes through are bit for bit those of [`England::integrate`]; the
+    /// extension needs `f` at each step's end, which is the next step's first stage, so
+    /// the only extra cost is one evaluation at the very end:
+    /// `rhs_evals = 9 · accepted + 7 · rejected + 1` (plus the
+    /// [`England::auxiliary_evals`] of the step control).
+    ///
+    /// ```
+    /// use core::ops::ControlFlow;
+    /// use camsim_core::{England, EnglandConfig, OdeSystem, Tolerance};
+    ///
+    /// struct Decay;
+    /// impl OdeSystem<f64, 1> for Decay {
+    ///     fn rhs(&self, _t: f64, y: &[f64; 1], dydt: &mut [f64; 1]) {
+    ///         dydt[0] = -y[0];
+    ///     }
+    /// }
+    /// let mut solver = England::new(EnglandConfig {
+    ///     tol: Tolerance::scalar(1e-9, 1e-12),
+    ///     h_init: 0.01,
+    ///     h_min: 1e-9,
+    ///     h_max: 0.5,
+    ///     max_steps: 100_000,
+    /// })?;
+    /// // Sample on a uniform grid, independent of the steps taken.
+    /// let mut next = 0.0;
+    /// let mut worst: f64 = 0.0;
+    /// let mut out = [0.0];
+    /// solver.integrate_dense(&Decay, 0.0, &mut [1.0], 3.0, |d| {
+    ///     while next <= d.t_end() {
+    ///         d.eval(next, &mut out);
+    ///         worst = worst.max((out[0] - (-next).exp()).abs());
+    ///         next += 0.01;
+    ///     }
+    ///     ControlFlow::Continue(())
+    /// })?;
+    /// assert!(next > 3.0 && worst < 1e-8, "{worst}");
+    /// # Ok::<(), camsim_core::Error>(())
+    /// ```
+    pub fn integrate_dense<S, F>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &mut [T; N],
+        t_end: T,
+        mut observer: F,
+    ) -> Result<SolverStats>
+    where
+        S: OdeSystem<T, N>,
+        F: FnMut(&Dense<'_, T, N>) -> ControlFlow<()>,
+    {
+        self.stats = SolverStats::default();
+        self.aux_evals = 0;
+        self.estimate_due = true;
+        if !t0.is_finite() {
+            return Err(Error::InvalidParameter {
+                field: "t0",
+                rule: "must be finite",
+                value: t0.to_f64(),
+            });
+        }
+        if !(t_end.is_finite() && t_end >= t0) {
+            return Err(Error::InvalidParameter {
+                field: "t_end",
+                rule: "must be finite and not before t0",
+                value: t_end.to_f64(),
+            });
+        }
+        if let Some(i) = first_non_finite(y) {
+            return Err(Error::NonFinite {
+                t: t0.to_f64(),
+                component: i,
+            });
+        }
+        if t_end == t0 {
+            return Ok(self.stats);
+        }
+        stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
+        let mut t = t0;
+        let mut mid = (t0, [T::ZERO; N]);
+        let mut f1 = [T::ZERO; N];
+        let mut f2 = [T::ZERO; N];
+        while t < t_end {
+            let t_start = t;
+            let y0 = *y;
+            let f0 = self.f0;
+            let (_, s) = self.step_impl(sys, &mut t, y, t_end, &mut mid, true)?;
+            // f(t1, y1) = k5 / s; f(t2, y2) is the next step's f(t0, y0).
+            for (a, k5) in f1.iter_mut().zip(self.k5.iter()) {
+                *a = *k5 / s;
+            }
+            stage(sys, t, y, T::ONE, &mut f2, &mut self.stats.rhs_evals)?;
+            self.f0 = f2;
+            let dense = Dense::new([t_start, mid.0, t], [&y0, &mid.1, y], [&f0, &f1, &f2])?;
+            if observer(&dense).is_break() {
+                // f(t, y) was evaluated for a next step that will not come.
+                self.aux_evals = self.aux_evals.saturating_add(1);
+                return Ok(self.stats);
+            }
+        }
+        self.aux_evals = self.aux_evals.saturating_add(1);
+        Ok(self.stats)
+    }
+}
+
+/// The continuous extension of one accepted double step of [`England`] (its dense
+/// output, passed by [`England::integrate_dense`]): the quintic Hermite interpolant of the
+/// start `(t0, y0)`, midpoint `(t1, y1)` and end `(t2, y2)` of the step and of the
+/// derivatives `f(t_j, y_j)` at all three.
+///
+/// Why quintic: it uses only what the solver has anyway (`f(t0, y0)` is `k1/s`,
+/// `f(t1, y1)` is `k5/s`, `f(t2, y2)` is the next step's first stage), its interpolation
+/// error `y⁽⁶⁾(ξ) ((t-t0)(t-t1)(t-t2))² / 720` is `O(h⁶)`, one order below the
+/// `O(h⁵)` local error of the nodes themselves, so between the nodes the output is as
+/// accurate as at them (globally fourth order, like the solver); and it matches `f` at
+/// every node, so it is continuously differentiable across steps. A quartic from
+/// `y0, y1, y2, f0, f1` would save only the one final evaluation, with an `O(h⁵)`
+/// interpolation error and a kink at every step end.
+///
+/// It reproduces `y0`, `y1`, `y2` exactly (bit for bit) at `t0`, `t1`, `t2`. Outside
+/// `[t0, t2]` it extrapolates (no error; accuracy degrades quickly).
+#[derive(Clone, Copy, Debug)]
+pub struct Dense<'a, T, const N: usize> {
+    t: [T; 3],
+    y: [&'a [T; N]; 3],
+    f: [&'a [T; N]; 3],
+    /// L_j'(t_j) of the quadratic Lagrange basis.
+    c: [T; 3],
+}
+
+impl<'a, T: Real, const N: usize> Dense<'a, T, N> {
+    /// The interpolant of `y[j]` with derivative `f[j]` at times `t[j]`; the times must
+    /// be finite and strictly increasing (they need not be equally spaced).
+    pub fn new(t: [T; 3], y: [&'a [T; N]; 3], f: [&'a [T; N]; 3]) -> Result<Self> {
+        let [t0, t1, t2] = t;
+        if !(t0.is_finite() && t1.is_finite() && t2.is_finite() && t0 < t1 && t1 < t2) {
+            return Err(Error::InvalidParameter {
+                field: "t",
+                rule: "dense-output nodes must be finite and strictly increasing (a step below the resolution of t?)",
+                value: t1.to_f64(),
+            });
+        }
+        let c = [
+            T::ONE / (t0 - t1) + T::ONE / (t0 - t2),
+            T::ONE / (t1 - t0) + T::ONE / (t1 - t2),
+            T::ONE / (t2 - t0) + T::ONE / (t2 - t1),
+        ];
+        Ok(Self { t, y, f, c })
+    }
+
+    /// Start time of the step.
+    pub fn t_start(&self) -> T {
+        self.t[0]
+    }
+
+    /// Midpoint time of the step.
+    pub fn t_mid(&self) -> T {
+        self.t[1]
+    }
+
+    /// End time of the step.
+    pub fn t_end(&self) -> T {
+        self.t[2]
+    }
+
+    /// State at the start, midpoint and end.
+    pub fn nodes(&self) -> [&'a [T; N]; 3] {
+        self.y
+    }
+
+    /// Derivative `f(t_j, y_j)` at the start, midpoint and end.
+    pub fn derivatives(&self) -> [&'a [T; N]; 3] {
+        self.f
+    }
+
+    /// Weights `[H0, H1, H2, K0, K1, K2]` of the values and derivatives at `t`:
+    /// `L_j` the quadratic Lagrange basis, `H_j = (1 - 2 L_j'(t_j)(t - t_j)) L_j²`,
+    /// `K_j = (t - t_j) L_j²`. Each `L_j` is a product of ratios that is exactly 1 at
+    /// `t_j` and exactly 0 at the other nodes, so the nodes are reproduced exactly.
+    fn weights(&self, t: T) -> [T; 6] {
+        let [t0, t1, t2] = self.t;
+        let a = [t - t0, t - t1, t - t2];
+        let [a0, a1, a2] = a;
+        let l = [
+            (a1 / (t0 - t1)) * (a2 / (t0 - t2)),
+            (a0 / (t1 - t0)) * (a2 / (t1 - t2)),
+            (a0 / (t2 - t0)) * (a1 / (t2 - t1)),
+        ];
+        let mut w = [T::ZERO; 6];
+        for j in 0..3 {
+            let (lj, aj, cj) = (l[j], a[j], self.c[j]);
+            let l2 = lj * lj;
+            w[j] = (T::ONE - T::TWO * cj * aj) * l2;
+            w[j + 3] = aj * l2;
+        }
+        w
+    }
+
+    /// The interpolated state at `t`.
+    pub fn eval(&self, t: T, out: &mut [T; N]) {
+        let w = self.weights(t);
+        let [y0, y1, y2] = self.y;
+        let [f0, f1, f2] = self.f;
+        for (i, o) in out.iter_mut().enumerate() {
+            // i < N: every array has length N.
+            *o = w[0] * y0[i]
+                + w[1] * y1[i]
+                + w[2] * y2[i]
+                + (w[3] * f0[i] + w[4] * f1[i] + w[5] * f2[i]);
+        }
+    }
+
+    /// The interpolated derivative `dy/dt` at `t` (continuous across steps; equal to
+    /// `f(t_j, y_j)` at the nodes up to rounding).
+    pub fn eval_derivative(&self, t: T, out: &mut [T; N]) {
+        // d/dt of the weights: with a_j = t - t_j, L_j = (a_k/(t_j-t_k))(a_m/(t_j-t_m)),
+        // L_j' = a_m/((t_j-t_k)(t_j-t_m)) + a_k/((t_j-t_k)(t_j-t_m)).
+        let [t0, t1, t2] = self.t;
+        let a = [t - t0, t - t1, t - t2];
+        let den = [
+            (t0 - t1) * (t0 - t2),
+            (t1 - t0) * (t1 - t2),
+            (t2 - t0) * (t2 - t1),
+        ];
+        let other = [(1, 2), (0, 2), (0, 1)];
+        let mut dw = [T::ZERO; 6];
+        for j in 0..3 {
+            let (k, m) = other[j];
+            let l = a[k] * a[m] / den[j];
+            let dl = (a[k] + a[m]) / den[j];
+            let (aj, cj) = (a[j], self.c[j]);
+            // H_j' = -2 c_j L² + (1 - 2 c_j a_j) 2 L L';  K_j' = L² + a_j 2 L L'.
+            dw[j] = -T::TWO * cj * l * l + (T::ONE - T::TWO * cj * aj) * T::TWO * l * dl;
+            dw[j + 3] = l * l + aj * T::TWO * l * dl;
+        }
+        let [y0, y1, y2] = self.y;
+        let [f0, f1, f2] = self.f;
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = dw[0] * y0[i]
+                + dw[1] * y1[i]
+                + dw[2] * y2[i]
+                + (dw[3] * f0[i] + dw[4] * f1[i] + dw[5] * f2[i]);
+        }
     }
 }
 
