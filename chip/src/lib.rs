@@ -3,10 +3,9 @@
 //! resolution, alarm thresholds and the scripted speed profile of the QEMU run. The
 //! predictor itself (table, observer, alarm, onset search) is `camsim_core`'s.
 //!
-//! Chosen by measurement (firmware/README.md): the full 22-state model costs more per
-//! evaluation and needs more steps than the vertical 16-state one for the same jump
-//! speed; rtol 1e-3 (the thesis ran at 2 %) with atol 1e-7 in keeps the f32 jump speed
-//! within about 1 rpm and the contact-force margin within about 0.3 lb of the f64 model.
+//! Chosen by measurement (the figures are in firmware/README.md): the vertical 16-state
+//! model, whose vertical motion is that of the full 22-state one (docs/MODEL.md §2) at
+//! less cost, and rtol 1e-3 (the thesis ran at 2 %) with atol 1e-8 in (docs/MODEL.md §5.12).
 
 #![no_std]
 #![forbid(unsafe_code)]
@@ -49,10 +48,9 @@ pub fn chip_design<T: Real>() -> Design<T> {
 
 /// Solver settings of the chip's predictor: rtol 1e-3, atol 1e-8 in, at most 1/500
 /// revolution per double step, from static equilibrium. The thesis's all-zero start
-/// leaves a start-up impact whose lightly damped roller chatter is still there in the
-/// second revolution, so it is not a steady state: with it the jump speed moves from
-/// 698 to 668 rpm and depends on the tolerance; from static equilibrium it converges
-/// (697.7 rpm at rtol 1e-3, 698.4 rpm at 1e-4 to 1e-7: `camsim jump-speed --rtol X`).
+/// leaves a start-up impact whose roller ringing is still there in the second revolution,
+/// so it is not a steady state (docs/MODEL.md §5.11, §7.3; its effect on the jump speed
+/// is measured in firmware/README.md).
 pub fn chip_solver_settings<T: Real>() -> SolverSettings<T> {
     SolverSettings {
         rtol: T::from_f64(1e-3),

@@ -351,13 +351,13 @@ pub fn rad_per_s_to_rpm<T: Real>(rad_per_s: T) -> T {
 /// Single-precision sine and cosine computed in single precision.
 ///
 /// libm's `sinf`/`cosf` evaluate in `f64`: on the Cortex-M4F's single-precision FPU that
-/// is software double arithmetic, about 2 200 instructions a call (measured under QEMU).
+/// is software double arithmetic (its cost is measured in firmware/README.md).
 /// This is Cephes' `sinf`/`cosf` (S. L. Moshier): reduction by π/4 in three parts
 /// (Cody-Waite, exact for |x| < 8192) and minimax polynomials on [-π/4, π/4]; peak error
-/// 1.5 ulp measured (tested against `f64` below). Larger, infinite and NaN arguments fall back
+/// within 2 ulp (tested against `f64` below). Larger, infinite and NaN arguments fall back
 /// to libm.
 #[cfg(not(feature = "micromath"))]
-#[inline(never)] // one copy: inlined at every call site it cost 5 KB of the chip's flash
+#[inline(never)] // one copy: inlining it at every call site costs the chip's flash
 fn sin_cos_f32(x: f32) -> (f32, f32) {
     let ax = if x < 0.0 { -x } else { x };
     if ax.is_nan() || ax >= 8192.0 {

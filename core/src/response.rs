@@ -3,7 +3,7 @@
 //! Nothing is stored per sample: an [`Observer`] receives each [`Sample`] as the
 //! solver produces it (the midpoint and end point of every accepted double step)
 //! and accumulates what it needs. [`ResponseStats`] accumulates the thesis's
-//! per-period metrics (VI.4 and NOTES.md): RMS deviation of the follower output from
+//! per-period metrics (VI.4, docs/MODEL.md §3.17): RMS deviation of the follower output from
 //! the theoretical response, average and extreme torque, contact force and stress,
 //! AORD of each angular velocity, and jump intervals. Time averages are
 //! time-weighted (trapezoidal), so they do not depend on where the solver stepped.
@@ -15,7 +15,7 @@ use crate::{
     SolverStats, StateMut, StateVar, Tolerance, TransDof,
 };
 
-/// The theoretical response at a cam angle (NOTES: perfect profile, rigid system,
+/// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
 /// constant cam speed ω0): y = s(θ), v = s' ω0, a = s'' ω0².
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Theoretical<T> {
@@ -234,7 +234,8 @@ pub fn solver_config<T: Real, S: Scene, const N: usize>(
     })
 }
 
-/// Simulates `revolutions` cam revolutions from the initial state of VI.1, feeding every
+/// Simulates `revolutions` cam revolutions from the initial state `settings.start` selects
+/// (the thesis's VI.1 start or static equilibrium, docs/MODEL.md §5.11), feeding every
 /// sample to `observer`. Returns the solver's statistics.
 pub fn simulate<T: Real, S: Scene, const N: usize, O: Observer<T>>(
     model: &CamModel<T, S, N>,
@@ -324,7 +325,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     }
 }
 
-/// Per-period accumulators of one revolution's period (VI.4, NOTES "Definitions").
+/// Per-period accumulators of one revolution's period (VI.4, docs/MODEL.md §3.17).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PeriodStats<T> {
     /// Time spent in the period, s.

@@ -1,4 +1,4 @@
-//! England's adaptive Runge-Kutta method (Appendix D, as corrected in NOTES.md) and a
+//! England's adaptive Runge-Kutta method (Appendix D, as corrected: docs/MODEL.md §3.16, §4.1) and a
 //! classic fixed-step fourth-order Runge-Kutta for comparison.
 //!
 //! England's scheme (R. England, *Computer Journal* 12, 1969) takes a *double step*
@@ -56,8 +56,8 @@ pub trait OdeSystem<T: Real, const N: usize> {
 }
 
 /// Error tolerance of [`England`]: component `i` of a double step is accepted when
-/// `|E_i| <= atol_i + rtol · max(|y_i(t0)|, |y_i(t0 + h)|)` (Appendix D's
-/// "absolute error + relative error · y").
+/// `|E_i| <= atol_i + rtol · max(|y_i(t0)|, |ŷ2_i|)`, ŷ2 England's auxiliary end-point
+/// estimate (Appendix D's "absolute error + relative error · y"; docs/MODEL.md §3.16).
 #[derive(Clone, Copy, Debug)]
 pub struct Tolerance<T, const N: usize> {
     /// Relative tolerance (dimensionless), shared by all components.

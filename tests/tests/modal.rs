@@ -88,7 +88,7 @@ fn rotational_frequencies_match_the_hand_calculation() {
 #[test]
 fn translational_frequencies_match_the_characteristic_cubic() {
     let r = analyse().unwrap();
-    // The reference design's values (VI.1 and NOTES.md): M_f and K_f at the nominal
+    // The reference design's values (VI.1 and docs/MODEL.md §5.1, §5.2): M_f and K_f at the nominal
     // follower position, K_rs = 100 lb/in of the modal analysis.
     let p = modal::reference_parameters().unwrap();
     let (mr, mf, ml) = (p.m_r, p.m_f, p.m_l);
