@@ -43,3 +43,8 @@ pub use response::*;
 // What a machine feeds the predictor (implemented by the firmware's board modules).
 mod machine;
 pub use machine::*;
+
+// Stochastic profile (IV.2, Appendices B, C, E): random numbers, cubic splines,
+// waviness (FPR, VI.4.1), the actual cam contour and follower lift.
+mod random;
+pub use random::*;
