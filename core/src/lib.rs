@@ -48,3 +48,5 @@ pub use machine::*;
 // waviness (FPR, VI.4.1), the actual cam contour and follower lift.
 mod random;
 pub use random::*;
+mod spline;
+pub use spline::*;
