@@ -50,3 +50,5 @@ mod random;
 pub use random::*;
 mod spline;
 pub use spline::*;
+mod waviness;
+pub use waviness::*;
