@@ -52,3 +52,5 @@ mod spline;
 pub use spline::*;
 mod waviness;
 pub use waviness::*;
+mod profile;
+pub use profile::*;

@@ -288,6 +288,21 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
         values: &[T],
         ends: SplineEnds<T>,
     ) -> Result<Self, SplineError> {
+        Self::uniform_from_fn(start, step, values.len(), ends, |i| {
+            values.get(i).copied().unwrap_or(T::ZERO)
+        })
+    }
+
+    /// The spline through `value(i)` at the uniform knots `start + i·step`,
+    /// `i < points` (called once for each `i`, in order), without a buffer of values;
+    /// for [`SplineEnds::Periodic`] `value(points − 1)` must repeat `value(0)`.
+    pub fn uniform_from_fn(
+        start: T,
+        step: T,
+        points: usize,
+        ends: SplineEnds<T>,
+        mut value: impl FnMut(usize) -> T,
+    ) -> Result<Self, SplineError> {
         if !start.is_finite() {
             return Err(SplineError::NonFinite {
                 what: "knots",
@@ -304,11 +319,10 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
                 }
             });
         }
-        let mut s = Self::empty(values.len(), ends)?;
-        for (i, ((dst, vdst), &vsrc)) in s.x.iter_mut().zip(s.y.iter_mut()).zip(values).enumerate()
-        {
+        let mut s = Self::empty(points, ends)?;
+        for (i, (dst, vdst)) in s.x.iter_mut().zip(s.y.iter_mut()).take(points).enumerate() {
             *dst = start + T::from_usize(i) * step;
-            *vdst = vsrc;
+            *vdst = value(i);
         }
         s.build(ends)?;
         Ok(s)
