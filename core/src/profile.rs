@@ -569,7 +569,7 @@ mod tests {
         }
         assert!(worst < 1e-7, "{worst}");
         // The contour: setting points exactly on the theoretical surface.
-        let mut rng = RandomStream::new(1, BoxMuller);
+        let mut rng = RandomStream::new(1, Polar);
         let c = ActualContour::<f64, 361>::generate(&p, &g, &none, 360, &mut rng).unwrap();
         for k in 0..360 {
             let th = (k as f64).to_radians();
@@ -585,9 +585,9 @@ mod tests {
     fn knot_deviations_have_the_linearised_sigma() {
         // At the knots (y_k − y(θ_k))/σ_s(θ_k) are the stream's deviates: over 40
         // profiles of 360 knots (n = 14 400), mean² within 5/√n and the mean square
-        // within 5 √((μ4 − 1)/n) of 1 (μ4 = 2.9 for the sum of 12, 3 for Box-Muller).
+        // within 5 √((μ4 − 1)/n) of 1 (μ4 = 2.9 for the sum of 12, 3 for the polar method).
         let (p, g, t) = reference();
-        for (method, mu4) in [(SumOfTwelve, 2.9), (BoxMuller, 3.0)] {
+        for (method, mu4) in [(SumOfTwelve, 2.9), (Polar, 3.0)] {
             let (mut s1, mut s2, mut n) = (0.0, 0.0, 0usize);
             for i in 0..40 {
                 let mut rng = RandomStream::for_sample(77, i, method);
@@ -616,7 +616,7 @@ mod tests {
         let sc = 0.0005 / 3.0;
         let (mut s2, mut n) = (0.0, 0usize);
         for i in 0..40 {
-            let mut rng = RandomStream::for_sample(5, i, BoxMuller);
+            let mut rng = RandomStream::for_sample(5, i, Polar);
             let c = ActualContour::<f64, 361>::generate(&p, &g, &t, 360, &mut rng).unwrap();
             for k in 0..360 {
                 let th = (k as f64).to_radians();
@@ -775,7 +775,7 @@ mod tests {
             seg(crate::SegmentKind::Dwell, 315.0, 360.0, 0.0),
         ])
         .unwrap();
-        let choice = choose_interval::<f64, 361, 4>(&q, &g, &t, 1, BoxMuller).unwrap();
+        let choice = choose_interval::<f64, 361, 4>(&q, &g, &t, 1, Polar).unwrap();
         let degs: heapless::Vec<f64, 24> =
             choice.candidates.iter().map(|c| c.interval_deg).collect();
         assert_eq!(&degs[..], &[1.0, 3.0, 5.0, 9.0, 15.0, 45.0]);
