@@ -109,21 +109,6 @@ impl<T: Real> Tolerances<T> {
         )
     }
 
-    /// The sensitivities of Eq. E.8 at cam angle `theta` for the theoretical lift
-    /// `y`, `dy` (see the module docs).
-    pub fn sensitivity(geometry: &CamGeometry<T>, theta: T, y: T, dy: T) -> LiftSensitivity<T> {
-        let tan = dy / (geometry.prime_radius() + y);
-        let sec = (T::ONE + tan * tan).sqrt();
-        let (st, ct) = theta.sin_cos();
-        LiftSensitivity {
-            dx: st - tan * ct,
-            dy: ct + tan * st,
-            // sec − 1 without cancellation.
-            dr: tan * tan / (sec + T::ONE),
-            de: tan,
-        }
-    }
-
     /// Linearised standard deviation of the follower displacement (Eq. E.5) where the
     /// theoretical lift is `y`, `dy` (in):
     /// `√(σ_c² (1 + tan²φ) + σ_r² (1/cos φ − 1)² + σ_e² tan²φ)`.
@@ -133,6 +118,26 @@ impl<T: Real> Tolerances<T> {
         let sec = (T::ONE + tan2).sqrt();
         let dr = tan2 / (sec + T::ONE);
         (sc * sc * (T::ONE + tan2) + sr * sr * dr * dr + se * se * tan2).sqrt()
+    }
+}
+
+/// The sensitivities of Eq. E.8 at cam angle `theta` for the theoretical lift
+/// `y`, `dy` (see the module docs).
+pub fn lift_sensitivity<T: Real>(
+    geometry: &CamGeometry<T>,
+    theta: T,
+    y: T,
+    dy: T,
+) -> LiftSensitivity<T> {
+    let tan = dy / (geometry.prime_radius() + y);
+    let sec = (T::ONE + tan * tan).sqrt();
+    let (st, ct) = theta.sin_cos();
+    LiftSensitivity {
+        dx: st - tan * ct,
+        dy: ct + tan * st,
+        // sec − 1 without cancellation.
+        dr: tan * tan / (sec + T::ONE),
+        de: tan,
     }
 }
 
@@ -500,7 +505,7 @@ mod tests {
         for k in 0..72 {
             let th = (k as f64 * 5.0 + 1.7).to_radians();
             let f = p.follower(th);
-            let s = Tolerances::sensitivity(&g, th, f.y, f.dy);
+            let s = lift_sensitivity(&g, th, f.y, f.dy);
             let (x, y) = g.surface_point(th, f.y, f.dy);
             let r = g.roller_radius;
             // E.7 at the theoretical contact point gives back the lift.
