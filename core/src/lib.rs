@@ -56,3 +56,14 @@ pub use response::*;
 // firmware's board modules), the alarm, the steady-state observer and the boot-time table.
 mod predict;
 pub use predict::*;
+
+// Stochastic profile (IV.2, Appendices B, C, E): random numbers, cubic splines,
+// waviness (FPR, VI.4.1), the actual cam contour and follower lift.
+mod random;
+pub use random::*;
+mod spline;
+pub use spline::*;
+mod waviness;
+pub use waviness::*;
+mod profile;
+pub use profile::*;
