@@ -11,16 +11,17 @@
 //! embedded in the binary (no system fonts needed).
 
 use std::ops::Range;
-use std::path::Path;
 use std::sync::OnceLock;
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use camsim_core::{JumpInterval, Sample};
 use plotters::coord::ranged1d::{KeyPointHint, NoDefaultFormatting, Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
+
+use crate::output::AtomicDir;
 
 /// DejaVu Sans (Bitstream Vera licence, see `host-sim/assets/DejaVuSans-LICENSE.txt`).
 static FONT_TTF: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
@@ -567,8 +568,8 @@ pub fn decimate(
 }
 
 /// Converts a plotters error to anyhow, naming the file.
-fn plot_err<E: std::fmt::Display>(path: &Path) -> impl FnOnce(E) -> anyhow::Error + '_ {
-    move |e| anyhow!("cannot draw plot {}: {e}", path.display())
+fn plot_err<E: std::fmt::Display>(file: &str) -> impl FnOnce(E) -> anyhow::Error + '_ {
+    move |e| anyhow!("cannot draw plot {file}: {e}")
 }
 
 /// Pixel ranges (x, y) of a panel's plotting area.
@@ -806,10 +807,22 @@ fn fmt_tick(v: f64, span: f64) -> String {
 }
 
 /// An RGB buffer, its size and its panels' plotting areas.
-#[cfg(test)]
 type RenderedRgb = (Vec<u8>, (u32, u32), Vec<PixelArea>);
 
-/// Draws one figure into an RGB buffer (`size.0 * size.1 * 3` bytes); used by the tests.
+/// Draws one figure into an RGB buffer (`size.0 * size.1 * 3` bytes).
+fn render(fig: &Figure, axis: &AngleAxis, data: &PlotData) -> Result<RenderedRgb> {
+    let size = fig.size();
+    let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
+    let areas = {
+        let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+        let areas = draw_figure(&root, fig, axis, &data.angle_deg).map_err(plot_err(fig.file))?;
+        root.present().map_err(plot_err(fig.file))?;
+        areas
+    };
+    Ok((buf, size, areas))
+}
+
+/// Draws the figure number `fig_index` into an RGB buffer; used by the tests.
 #[cfg(test)]
 fn render_to_buffer(
     fig_index: usize,
@@ -819,32 +832,46 @@ fn render_to_buffer(
     ensure_font()?;
     let axis = AngleAxis::new(data, jumps);
     let figs = figures(data);
-    let fig = figs.get(fig_index).context("no such figure")?;
-    let size = fig.size();
-    let mut buf = vec![0u8; size.0 as usize * size.1 as usize * 3];
-    let areas = {
-        let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
-        let areas = draw_figure(&root, fig, &axis, &data.angle_deg).map_err(|e| anyhow!("{e}"))?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-        areas
-    };
-    Ok((buf, size, areas))
+    let fig = figs
+        .get(fig_index)
+        .ok_or_else(|| anyhow!("no such figure"))?;
+    render(fig, &axis, data)
 }
 
-/// Writes every plot of a run into `dir` (created if needed) as PNG files:
-/// displacement, velocity, acceleration, pressure_angle, angular_velocity,
-/// contact_force, contact_stress and torque.
-pub fn write_all(dir: &Path, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Result<()> {
+/// The files `--plot DIR` writes, in the order they are drawn.
+pub const FILES: [&str; 8] = [
+    "displacement.png",
+    "velocity.png",
+    "acceleration.png",
+    "pressure_angle.png",
+    "angular_velocity.png",
+    "contact_force.png",
+    "contact_stress.png",
+    "torque.png",
+];
+
+/// Draws every plot of a run ([`FILES`]) as PNG into the directory output `out` (each
+/// file to its temporary: the caller commits `out`).
+pub fn draw_all(out: &mut AtomicDir, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Result<()> {
     ensure_font()?;
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("cannot create plot directory {}", dir.display()))?;
     let axis = AngleAxis::new(data, jumps);
     for fig in figures(data) {
-        let path = dir.join(fig.file);
-        let root = BitMapBackend::new(&path, fig.size()).into_drawing_area();
-        draw_figure(&root, &fig, &axis, &data.angle_deg).map_err(plot_err(&path))?;
-        root.present()
-            .map_err(|e| anyhow!("cannot write plot {}: {e}", path.display()))?;
+        let (buf, (w, h), _) = render(&fig, &axis, data)?;
+        let path = out.path(fig.file)?;
+        image::save_buffer_with_format(
+            &path,
+            &buf,
+            w,
+            h,
+            image::ColorType::Rgb8,
+            image::ImageFormat::Png,
+        )
+        .map_err(|e| {
+            anyhow!(
+                "cannot write plot {}: {e}",
+                out.dir().join(fig.file).display()
+            )
+        })?;
     }
     Ok(())
 }
@@ -852,6 +879,24 @@ pub fn write_all(dir: &Path, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::output::Plan;
+    use std::path::Path;
+
+    /// What `camsim run --plot DIR --force` does with the plots.
+    fn write_all(dir: &Path, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Result<()> {
+        let mut out = Plan::new(true).dir("--plot", dir, &FILES)?.open()?;
+        draw_all(&mut out, data, jumps)?;
+        out.commit()
+    }
+
+    #[test]
+    fn the_declared_files_are_the_figures() {
+        let files: Vec<&str> = figures(&PlotData::default())
+            .iter()
+            .map(|f| f.file)
+            .collect();
+        assert_eq!(files, FILES);
+    }
 
     /// A synthetic two-revolution run: a cycloidal-like rise and return with a small
     /// vibration on top of the theoretical curves, sampled every 0.05 degrees.
@@ -905,6 +950,8 @@ mod tests {
     fn writes_every_plot_as_png_of_the_expected_size() {
         let dir = tmp_dir("all").join("nested");
         let _ = std::fs::remove_dir_all(&dir);
+        // DIR may be new, its parent must exist (the output plan checks it).
+        std::fs::create_dir_all(tmp_dir("all")).unwrap();
         let d = synthetic();
         let jumps = [JumpInterval {
             revolution: 2,

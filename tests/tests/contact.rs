@@ -1,7 +1,7 @@
 //! Hertz contact, contact force, friction and return-spring preload across core and
 //! the `camsim contact` command, checked against hand calculations.
 
-use camsim::cmd::contact::{self, compute, parse_force, Args, ContactReport};
+use camsim::cmd::contact::{self, compute, Args, ContactReport};
 use camsim_core::{
     bearing_normal_forces, contact_force, coulomb_friction, return_spring_preload,
     series_stiffness, spring_effective_mass, Error, HertzContact,
@@ -159,27 +159,35 @@ fn bad_force_is_refused_with_one_line_naming_the_flag() {
     for f in [0.0, -1.0, f64::NAN, f64::INFINITY] {
         one_line(compute(f).unwrap_err());
     }
-    for t in [
-        None,
-        Some("abc"),
-        Some("-2"),
-        Some("NaN"),
-        Some("0"),
-        Some(""),
-    ] {
-        one_line(parse_force(t).unwrap_err());
+    // The command line: clap refuses with one line naming --force, the value and the rule.
+    let usage = |args: &[&str]| {
+        let argv = ["camsim", "contact"].iter().chain(args).copied();
+        camsim::cli::usage_line(&camsim::cli::parse_from(argv).unwrap_err())
+    };
+    for t in ["-2", "NaN", "0", "inf"] {
+        assert_eq!(
+            usage(&["--force", t]),
+            format!("invalid value '{t}' for '--force <LB>': must be positive and finite")
+        );
     }
-    assert_eq!(parse_force(Some("12.5")).unwrap(), 12.5);
-    one_line(
-        contact::run(Args {
-            force: None,
-            json: true,
-        })
-        .unwrap_err(),
+    for t in ["abc", ""] {
+        assert_eq!(
+            usage(&["--force", t]),
+            format!("invalid value '{t}' for '--force <LB>': not a number")
+        );
+    }
+    assert_eq!(
+        usage(&[]),
+        "the following required arguments were not provided: --force <LB>"
     );
+    let cli = camsim::cli::parse_from(["camsim", "contact", "--force", "12.5"]).unwrap();
+    match cli.command {
+        camsim::cli::Command::Contact(a) => assert_eq!(a.force, 12.5),
+        other => panic!("{other:?}"),
+    }
     one_line(
         contact::run(Args {
-            force: Some("-7".into()),
+            force: -7.0,
             json: false,
         })
         .unwrap_err(),

@@ -2,8 +2,6 @@
 //! carry every column, the per-period table covers every revolution and period.
 //! (tests/scene.rs checks the scene schema against the core's key table.)
 
-use std::ops::ControlFlow;
-
 use camsim::scene::parse;
 use camsim::sim::{self, RunSpec};
 
@@ -195,15 +193,20 @@ fn csv_rows_and_period_table_cover_the_run() {
     spec.design.set_speed_rpm(400.0).unwrap();
     spec.solver.start = camsim_core::Start::Static;
     let path = std::env::temp_dir().join(format!("camsim-test-{}.csv", std::process::id()));
-    let mut w = camsim::csv::CsvWriter::create(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    let file = camsim::output::Plan::new(false)
+        .file("--csv", &path)
+        .unwrap()
+        .open()
+        .unwrap();
+    let mut w = camsim::csv::CsvOut::new(file);
     let mut n = 0usize;
     let mut obs = |s: &camsim_core::Sample<f64>| {
-        w.row(s);
         n += 1;
-        ControlFlow::Continue(())
+        w.row(s)
     };
     let r = sim::run(&spec, &mut obs).unwrap();
-    w.finish().unwrap();
+    w.into_file().unwrap().commit().unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     let _ = std::fs::remove_file(&path);
     let mut lines = text.lines();

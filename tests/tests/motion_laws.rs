@@ -2,7 +2,8 @@
 
 use std::f64::consts::PI;
 
-use camsim::cmd::laws::{table, to_json, to_text, LawRow};
+use camsim::cmd::laws::{report, table, LawRow};
+use camsim::report::Report;
 use camsim_core::MotionLaw;
 
 fn row<'a>(rows: &'a [LawRow], name: &str) -> &'a LawRow {
@@ -18,8 +19,8 @@ fn close(got: f64, want: f64, tol: f64, what: &str) {
 
 #[test]
 fn json_shape() {
-    let rows = table();
-    let json = to_json(&rows).unwrap();
+    let report = report();
+    let json = report.json().unwrap();
     let v: serde_json::Value = serde_json::from_str(&json).unwrap();
     let obj = v.as_object().unwrap();
     assert_eq!(obj.len(), 1);
@@ -52,7 +53,7 @@ fn json_shape() {
         assert!(pos.windows(2).all(|w| w[0] < w[1]), "key order in {obj}");
     }
     // The text table lists every law.
-    let text = to_text(&rows);
+    let text = report.text();
     for law in MotionLaw::ALL {
         assert!(
             text.lines().any(|l| l.starts_with(law.name())),

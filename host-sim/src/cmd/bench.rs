@@ -8,8 +8,9 @@ use std::time::Instant;
 use anyhow::Result;
 use camsim_core::{DriveLaw, Start};
 use serde::Serialize;
-use serde_json::json;
 
+use crate::args::positive_finite;
+use crate::report::{sorted_pretty_json, Report};
 use crate::sim::{self, Dofs, Nothing, RunSpec};
 
 /// Command-line options of `camsim bench`.
@@ -17,7 +18,7 @@ use crate::sim::{self, Dofs, Nothing, RunSpec};
 pub struct Args {
     /// Cam speed, rpm (500: the reference holds contact, so the statistics converge;
     /// at 800 it jumps and the impacts make them chaotic).
-    #[arg(long, default_value_t = 500.0)]
+    #[arg(long, default_value_t = 500.0, allow_negative_numbers = true, value_parser = positive_finite)]
     pub rpm: f64,
     /// Repetitions of each timing (the fastest is reported).
     #[arg(long, default_value_t = 3)]
@@ -27,22 +28,102 @@ pub struct Args {
     pub json: bool,
 }
 
-#[derive(Serialize)]
-struct Row {
-    scene: String,
-    rtol: f64,
-    atol_in: f64,
-    wall_ms: f64,
-    steps: u32,
-    rejected: u32,
-    rhs_evals: u32,
-    ns_per_rhs: f64,
+/// Revolutions every bench run simulates.
+const REVOLUTIONS: u32 = 2;
+/// Tolerances of the reference run, (rtol, atol in).
+const REFERENCE_TOL: (f64, f64) = (1e-10, 1e-12);
+
+/// Everything `camsim bench` prints (`--json`: keys sorted, as before the report was a
+/// struct; `wall_ms` and `ns_per_rhs` are timings).
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    /// Cam speed, rpm.
+    pub rpm: f64,
+    /// Revolutions of every run.
+    pub revolutions: u32,
+    /// The tolerances of the reference run.
+    pub reference: Tolerances,
+    /// One row per scene and tolerance.
+    pub rows: Vec<BenchRow>,
+    /// Fixed memory of a simulation (no heap in the core).
+    pub memory: Memory,
+    /// Repetitions of each timing (text only).
+    #[serde(skip)]
+    pub repeat: u32,
+}
+
+/// Solver tolerances.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Tolerances {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance of displacements, in.
+    pub atol_in: f64,
+}
+
+/// One scene at one tolerance against the reference run.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchRow {
+    /// What ran.
+    pub scene: String,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance of displacements, in.
+    pub atol_in: f64,
+    /// Fastest wall time of the repetitions, ms.
+    pub wall_ms: f64,
+    /// Accepted steps.
+    pub steps: u32,
+    /// Rejected steps.
+    pub rejected: u32,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u32,
+    /// Wall time per right-hand-side evaluation, ns.
+    pub ns_per_rhs: f64,
     /// Largest relative error of the revolution-2 statistics against the reference.
-    max_rel_error: f64,
+    pub max_rel_error: f64,
     /// Error of the smallest contact force, lb.
-    force_min_error_lb: f64,
+    pub force_min_error_lb: f64,
     /// Error of the RMS acceleration deviation summed over the periods, in/s².
-    acc_rms_sum_error: f64,
+    pub acc_rms_sum_error: f64,
+}
+
+/// What each part of a simulation occupies, bytes.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Memory {
+    /// The full model, f64, 22 states.
+    pub model_f64_22_bytes: usize,
+    /// England's solver, f64, 22 states.
+    pub solver_f64_22_bytes: usize,
+    /// The chip's model, f32, 16 states.
+    pub model_f32_16_bytes: usize,
+    /// England's solver, f32, 16 states.
+    pub solver_f32_16_bytes: usize,
+    /// The host's per-period statistics.
+    pub stats_host_bytes: usize,
+    /// One sample, f64.
+    pub sample_f64_bytes: usize,
+}
+
+impl Memory {
+    /// The sizes of this build.
+    pub fn of_this_build() -> Self {
+        use std::mem::size_of;
+        Memory {
+            model_f64_22_bytes: size_of::<camsim_core::RegulatedFullModel<f64>>(),
+            solver_f64_22_bytes: size_of::<
+                camsim_core::England<
+                    f64,
+                    { <camsim_core::RegulatedFull as camsim_core::Scene>::N },
+                >,
+            >(),
+            model_f32_16_bytes: size_of::<camsim_chip::ChipModel<f32>>(),
+            solver_f32_16_bytes: size_of::<camsim_core::England<f32, { camsim_chip::CHIP_STATES }>>(
+            ),
+            stats_host_bytes: size_of::<sim::Stats>(),
+            sample_f64_bytes: size_of::<camsim_core::Sample<f64>>(),
+        }
+    }
 }
 
 fn stats_vector(spec: &RunSpec, r: &sim::RunResult) -> Vec<f64> {
@@ -74,20 +155,14 @@ fn timed(spec: &RunSpec, repeat: u32) -> Result<(sim::RunResult, f64)> {
     Ok((last.ok_or_else(|| anyhow::anyhow!("no run"))?, best))
 }
 
-/// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    anyhow::ensure!(
-        args.rpm.is_finite() && args.rpm > 0.0,
-        "--rpm {}: must be positive and finite",
-        args.rpm
-    );
+/// Runs the bench (`rpm` positive and finite, each timing the best of `repeat`).
+pub fn measure(rpm: f64, repeat: u32) -> Result<BenchReport> {
     let mut base = RunSpec::reference();
-    base.revolutions = 2;
+    base.revolutions = REVOLUTIONS;
     base.solver.start = Start::Static;
-    base.design.set_speed_rpm(args.rpm)?;
+    base.design.set_speed_rpm(rpm)?;
     let mut reference = base.clone();
-    reference.solver.rtol = 1e-10;
-    reference.solver.atol = 1e-12;
+    (reference.solver.rtol, reference.solver.atol) = REFERENCE_TOL;
     let (ref_run, _) = timed(&reference, 1)?;
     let ref_stats = stats_vector(&reference, &ref_run);
     let ref_fmin = ref_stats
@@ -124,7 +199,7 @@ pub fn run(args: Args) -> Result<()> {
 
     let mut rows = Vec::new();
     for (name, spec) in &cases {
-        let (r, wall_ms) = timed(spec, args.repeat)?;
+        let (r, wall_ms) = timed(spec, repeat)?;
         let st = stats_vector(spec, &r);
         let max_rel_error = st
             .iter()
@@ -138,7 +213,7 @@ pub fn run(args: Args) -> Result<()> {
             .cloned()
             .fold(f64::INFINITY, f64::min);
         let acc: f64 = st.iter().skip(2).step_by(6).sum();
-        rows.push(Row {
+        rows.push(BenchRow {
             scene: name.clone(),
             rtol: spec.solver.rtol,
             atol_in: spec.solver.atol,
@@ -152,62 +227,79 @@ pub fn run(args: Args) -> Result<()> {
             acc_rms_sum_error: (acc - ref_acc).abs(),
         });
     }
-    // Fixed memory of a simulation (no heap in the core): what each part occupies.
-    let memory = json!({
-        "model_f64_22_bytes": std::mem::size_of::<camsim_core::RegulatedFullModel<f64>>(),
-        "solver_f64_22_bytes": std::mem::size_of::<camsim_core::England<f64, { <camsim_core::RegulatedFull as camsim_core::Scene>::N }>>(),
-        "model_f32_16_bytes": std::mem::size_of::<camsim_chip::ChipModel<f32>>(),
-        "solver_f32_16_bytes": std::mem::size_of::<camsim_core::England<f32, { camsim_chip::CHIP_STATES }>>(),
-        "stats_host_bytes": std::mem::size_of::<sim::Stats>(),
-        "sample_f64_bytes": std::mem::size_of::<camsim_core::Sample<f64>>(),
-    });
-    if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(
-                &json!({"rpm": args.rpm, "revolutions": 2, "reference": {"rtol": 1e-10, "atol_in": 1e-12}, "rows": rows, "memory": memory})
-            )?
-        );
-        return Ok(());
+    Ok(BenchReport {
+        rpm,
+        revolutions: REVOLUTIONS,
+        reference: Tolerances {
+            rtol: REFERENCE_TOL.0,
+            atol_in: REFERENCE_TOL.1,
+        },
+        rows,
+        memory: Memory::of_this_build(),
+        repeat,
+    })
+}
+
+impl Report for BenchReport {
+    fn json(&self) -> serde_json::Result<String> {
+        sorted_pretty_json(self)
     }
-    println!(
-        "camsim bench: reference design at {} rpm, 2 revolutions from static equilibrium; errors of the\n\
-         revolution-2 statistics against the full model at rtol 1e-10, atol 1e-12 in (best of {} runs)",
-        args.rpm, args.repeat
-    );
-    println!(
-        "{:<42} {:>7} {:>7} {:>9} {:>8} {:>9} {:>8} {:>11} {:>10} {:>10}",
-        "scene",
-        "rtol",
-        "atol",
-        "wall ms",
-        "steps",
-        "rhs",
-        "ns/rhs",
-        "max rel err",
-        "Fmin err",
-        "acc err"
-    );
-    for r in &rows {
-        println!(
-            "{:<42} {:>7.0e} {:>7.0e} {:>9.1} {:>8} {:>9} {:>8.0} {:>11.2e} {:>10.2e} {:>10.2e}",
-            r.scene,
-            r.rtol,
-            r.atol_in,
-            r.wall_ms,
-            r.steps,
-            r.rhs_evals,
-            r.ns_per_rhs,
-            r.max_rel_error,
-            r.force_min_error_lb,
-            r.acc_rms_sum_error
+
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "camsim bench: reference design at {} rpm, {} revolutions from static equilibrium; errors of the\n\
+             revolution-2 statistics against the full model at rtol {:e}, atol {:e} in (best of {} runs)",
+            self.rpm, self.revolutions, self.reference.rtol, self.reference.atol_in, self.repeat
         );
+        let _ = writeln!(
+            s,
+            "{:<42} {:>7} {:>7} {:>9} {:>8} {:>9} {:>8} {:>11} {:>10} {:>10}",
+            "scene",
+            "rtol",
+            "atol",
+            "wall ms",
+            "steps",
+            "rhs",
+            "ns/rhs",
+            "max rel err",
+            "Fmin err",
+            "acc err"
+        );
+        for r in &self.rows {
+            let _ = writeln!(
+                s,
+                "{:<42} {:>7.0e} {:>7.0e} {:>9.1} {:>8} {:>9} {:>8.0} {:>11.2e} {:>10.2e} {:>10.2e}",
+                r.scene,
+                r.rtol,
+                r.atol_in,
+                r.wall_ms,
+                r.steps,
+                r.rhs_evals,
+                r.ns_per_rhs,
+                r.max_rel_error,
+                r.force_min_error_lb,
+                r.acc_rms_sum_error
+            );
+        }
+        let m = &self.memory;
+        let _ = writeln!(
+            s,
+            "memory (fixed, no heap in the core): model {} B and England solver {} B (f64, 22 states); \
+             model {} B and solver {} B (f32, 16 states, the chip's); host statistics {} B",
+            m.model_f64_22_bytes,
+            m.solver_f64_22_bytes,
+            m.model_f32_16_bytes,
+            m.solver_f32_16_bytes,
+            m.stats_host_bytes
+        );
+        s
     }
-    println!(
-        "memory (fixed, no heap in the core): model {} B and England solver {} B (f64, 22 states); \
-         model {} B and solver {} B (f32, 16 states, the chip's); host statistics {} B",
-        memory["model_f64_22_bytes"], memory["solver_f64_22_bytes"], memory["model_f32_16_bytes"],
-        memory["solver_f32_16_bytes"], memory["stats_host_bytes"]
-    );
-    Ok(())
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    crate::report::print(&measure(args.rpm, args.repeat)?, args.json)
 }

@@ -5,6 +5,9 @@ use anyhow::{bail, Context};
 use camsim_core::HertzContact;
 use serde::Serialize;
 
+use crate::args::positive_finite;
+use crate::report::Report;
+
 /// Reference roller diameter d1 (in, VI.1).
 pub const ROLLER_DIAMETER_IN: f64 = 0.75;
 /// Reference base-circle diameter d2 (in, VI.1).
@@ -16,8 +19,8 @@ pub const CAM_THICKNESS_IN: f64 = 0.25;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Contact force in pounds (positive, finite).
-    #[arg(long, value_name = "LB", allow_hyphen_values = true)]
-    pub force: Option<String>,
+    #[arg(long, value_name = "LB", allow_negative_numbers = true, value_parser = positive_finite)]
+    pub force: f64,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -64,18 +67,6 @@ pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
     })
 }
 
-/// Parses the `--force` text; refuses missing, non-numeric, NaN, infinite or
-/// non-positive values with one line naming `--force`.
-pub fn parse_force(text: Option<&str>) -> anyhow::Result<f64> {
-    let Some(text) = text else {
-        bail!("{FORCE_RULE} (missing)");
-    };
-    match text.trim().parse::<f64>() {
-        Ok(f) if f.is_finite() && f > 0.0 => Ok(f),
-        _ => bail!("{FORCE_RULE} (got '{text}')"),
-    }
-}
-
 /// Renders the report as the human-readable table.
 pub fn render_table(r: &ContactReport) -> String {
     format!(
@@ -89,14 +80,13 @@ pub fn render_table(r: &ContactReport) -> String {
     )
 }
 
+impl Report for ContactReport {
+    fn text(&self) -> String {
+        render_table(self) + "\n"
+    }
+}
+
 /// Runs the command.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let force = parse_force(args.force.as_deref())?;
-    let report = compute(force)?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        println!("{}", render_table(&report));
-    }
-    Ok(())
+    crate::report::print(&compute(args.force)?, args.json)
 }

@@ -5,6 +5,8 @@
 use camsim_core::{CamGeometry, CamProgram, LawValue, MotionLaw, PeakScan, ScanEnds};
 use serde::Serialize;
 
+use crate::report::Report;
+
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -76,71 +78,75 @@ pub fn table() -> Vec<LawRow> {
         .collect()
 }
 
-/// The JSON `camsim laws --json` prints: `{"laws":[{"name":..,"cv":..,..}, ..]}`.
-pub fn to_json(rows: &[LawRow]) -> anyhow::Result<String> {
-    #[derive(Serialize)]
-    struct Out<'a> {
-        laws: &'a [LawRow],
-    }
-    Ok(serde_json::to_string(&Out { laws: rows })?)
+/// Everything `camsim laws` prints: `{"laws":[{"name":..,"cv":..,..}, ..]}` with
+/// `--json` (compact, keys in field order), the table without.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct LawsReport {
+    /// One row per law, in the order of [`MotionLaw::ALL`].
+    pub laws: Vec<LawRow>,
 }
 
-/// The human-readable table.
-pub fn to_text(rows: &[LawRow]) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "Motion laws (Appendix A): peak coefficients for a unit rise over a unit angle,"
-    );
-    let _ = writeln!(
-        s,
-        "y = h s(theta/beta): dy/dtheta = cv h/beta, d2y/dtheta2 = ca h/beta^2, d3y/dtheta3 = cj h/beta^3."
-    );
-    let _ = writeln!(
-        s,
-        "phi_max: largest pressure angle on the reference cam (R_b 1.5 in, r_r 0.375 in, lift 1.5 in,"
-    );
-    let _ = writeln!(
-        s,
-        "rise 30-180 deg and return 210-360 deg both with the law)."
-    );
-    let _ = writeln!(s);
-    let _ = writeln!(
-        s,
-        "{:<22}{:>9}{:>10}{:>10}{:>11}{:>11}{:>13}",
-        "law", "cv", "ca_max", "ca_min", "cj_max", "cj_min", "phi_max_deg"
-    );
-    for r in rows {
+/// Computes the report.
+pub fn report() -> LawsReport {
+    LawsReport { laws: table() }
+}
+
+impl Report for LawsReport {
+    fn json(&self) -> serde_json::Result<String> {
+        serde_json::to_string(self)
+    }
+
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let rows = &self.laws;
+        let mut s = String::new();
         let _ = writeln!(
             s,
-            "{:<22}{:>9.4}{:>10.4}{:>10.4}{:>11.4}{:>11.4}{:>13.3}",
-            r.name, r.cv, r.ca_max, r.ca_min, r.cj_max, r.cj_min, r.pressure_angle_max_deg
+            "Motion laws (Appendix A): peak coefficients for a unit rise over a unit angle,"
         );
+        let _ = writeln!(
+            s,
+            "y = h s(theta/beta): dy/dtheta = cv h/beta, d2y/dtheta2 = ca h/beta^2, d3y/dtheta3 = cj h/beta^3."
+        );
+        let _ = writeln!(
+            s,
+            "phi_max: largest pressure angle on the reference cam (R_b 1.5 in, r_r 0.375 in, lift 1.5 in,"
+        );
+        let _ = writeln!(
+            s,
+            "rise 30-180 deg and return 210-360 deg both with the law)."
+        );
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "{:<22}{:>9}{:>10}{:>10}{:>11}{:>11}{:>13}",
+            "law", "cv", "ca_max", "ca_min", "cj_max", "cj_min", "phi_max_deg"
+        );
+        for r in rows {
+            let _ = writeln!(
+                s,
+                "{:<22}{:>9.4}{:>10.4}{:>10.4}{:>11.4}{:>11.4}{:>13.3}",
+                r.name, r.cv, r.ca_max, r.ca_min, r.cj_max, r.cj_min, r.pressure_angle_max_deg
+            );
+        }
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "Only finite values inside the stroke are listed: the impulses at a velocity or acceleration"
+        );
+        let _ = writeln!(
+            s,
+            "jump (straight-line at its ends, parabolic and cubic-1 at mid-stroke, and any law whose"
+        );
+        let _ = writeln!(
+            s,
+            "end acceleration is not 0 against a dwell) are not representable and are excluded."
+        );
+        s
     }
-    let _ = writeln!(s);
-    let _ = writeln!(
-        s,
-        "Only finite values inside the stroke are listed: the impulses at a velocity or acceleration"
-    );
-    let _ = writeln!(
-        s,
-        "jump (straight-line at its ends, parabolic and cubic-1 at mid-stroke, and any law whose"
-    );
-    let _ = writeln!(
-        s,
-        "end acceleration is not 0 against a dwell) are not representable and are excluded."
-    );
-    s
 }
 
 /// Runs the command.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let rows = table();
-    if args.json {
-        println!("{}", to_json(&rows)?);
-    } else {
-        print!("{}", to_text(&rows));
-    }
-    Ok(())
+    crate::report::print(&report(), args.json)
 }

@@ -10,6 +10,8 @@ use anyhow::Context;
 use camsim_core::{modal_analysis, rotational_system, translational_system, Design, ModalAnalysis};
 use serde::Serialize;
 
+use crate::report::Report;
+
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -229,13 +231,13 @@ pub fn render_table(r: &ModalReport) -> String {
     out
 }
 
+impl Report for ModalReport {
+    fn text(&self) -> String {
+        render_table(self)
+    }
+}
+
 /// Runs the command.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let report = analyse()?;
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        print!("{}", render_table(&report));
-    }
-    Ok(())
+    crate::report::print(&analyse()?, args.json)
 }

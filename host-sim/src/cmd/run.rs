@@ -1,16 +1,23 @@
 //! `camsim run`: simulate a scene (the built-in reference design by default) and
 //! print the per-period table of every revolution, the jumps, the solver statistics
-//! and the run time.
+//! and the run time ([`RunReport`]); optionally every sample as CSV and the plots.
 
-use std::io::Write;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
-use camsim_core::{MotionLaw, SegmentKind};
-use serde_json::json;
+use anyhow::{anyhow, Result};
+use camsim_core::SegmentKind;
+use clap::builder::PossibleValuesParser;
+use clap::ValueEnum;
+use serde::Serialize;
 
-use crate::sim::{self, RunSpec};
-use crate::{csv, plot, scene};
+use crate::args::{
+    megabytes, non_negative_finite, positive_finite, possible_values, unit_interval, Law, StartArg,
+};
+use crate::csv::{self, CsvOut};
+use crate::output::Plan;
+use crate::plot;
+use crate::report::{sorted_pretty_json, Report};
+use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
 
 /// The scene and its overrides, shared by `camsim run` and `camsim jump-speed`.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -18,284 +25,378 @@ pub struct SceneArgs {
     /// Scene file (TOML, see `camsim scene --default`); the reference design if omitted.
     pub scene: Option<PathBuf>,
     /// Cam speed, rpm (default 800).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = positive_finite)]
     pub rpm: Option<f64>,
     /// Motion law of the rise(s) (names as in `camsim laws`).
-    #[arg(long = "rise")]
-    pub rise: Option<String>,
+    #[arg(long = "rise", value_name = "LAW", ignore_case = true)]
+    pub rise: Option<Law>,
     /// Motion law of the return(s).
-    #[arg(long = "return")]
-    pub ret: Option<String>,
+    #[arg(long = "return", value_name = "LAW", ignore_case = true)]
+    pub ret: Option<Law>,
     /// Return spring rate K_rs, lb/in.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, value_name = "LB_PER_IN", allow_negative_numbers = true, value_parser = positive_finite)]
     pub spring_rate: Option<f64>,
     /// Spring length compressed at assembly δ_rs, in.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
     pub preload_length: Option<f64>,
-    /// Initial state: "thesis" (VI.1: speeds at 800 rpm, all else zero; the default of
-    /// `run`) or "static" (static equilibrium under the preload and the steady drag; the
-    /// default of `jump-speed`, whose steady state the thesis start's impact would pollute).
-    #[arg(long, value_parser = ["thesis", "static"])]
+    /// Initial state (default: "thesis" for `run`, "static" for `jump-speed`, whose
+    /// steady state the thesis start's impact would pollute).
+    // The text of a `StartArg` (jump-speed fills in its default as text).
+    #[arg(long, value_parser = PossibleValuesParser::new(possible_values::<StartArg>()))]
     pub start: Option<String>,
     /// Solver relative tolerance.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = unit_interval)]
     pub rtol: Option<f64>,
     /// Solver absolute tolerance for displacements, in.
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = positive_finite)]
     pub atol: Option<f64>,
 }
 
+/// The default of `--max-csv-mb`: 1000 MB = 1 GB.
+pub const DEFAULT_MAX_CSV_MB: u64 = 1000;
+
 /// Command-line options of `camsim run`.
-#[derive(clap::Args, Debug, Clone, Default)]
+#[derive(clap::Args, Debug, Clone)]
 pub struct Args {
     /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Revolutions to simulate (1-16; default 3, or the scene's).
-    #[arg(long)]
+    /// Revolutions to simulate, 1-16 (default 3, or the scene's).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub revolutions: Option<u32>,
-    /// Write one CSV row per sample to FILE.
-    #[arg(long)]
+    /// Write one CSV row per sample to FILE (written whole at the end of a successful
+    /// run; an existing FILE needs --force).
+    #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// Write PNG plots against cam angle into DIR.
-    #[arg(long)]
+    /// Largest --csv file, MB (10^6 bytes; the default is 1 GB). The size is estimated
+    /// before the run (about 850 B a row, 120 000 rows a revolution at rtol 1e-6) and a
+    /// larger one is refused; a run that writes more stops with an error and leaves no file.
+    #[arg(long, value_name = "MB", default_value_t = DEFAULT_MAX_CSV_MB, value_parser = megabytes)]
+    pub max_csv_mb: u64,
+    /// Write PNG plots against cam angle into DIR (created if missing; its parent must
+    /// exist; existing plots need --force).
+    #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    /// Replace existing --csv and --plot files.
+    #[arg(long)]
+    pub force: bool,
     /// Print JSON instead of tables.
     #[arg(long)]
     pub json: bool,
 }
 
-/// Parses a motion law name with a helpful error.
-pub fn parse_law(name: &str, flag: &str) -> Result<MotionLaw> {
-    MotionLaw::from_name(name).with_context(|| {
-        let names: Vec<&str> = MotionLaw::ALL.iter().map(|l| l.name()).collect();
-        format!(
-            "{flag} {name:?}: unknown motion law (one of {})",
-            names.join(", ")
-        )
-    })
+impl Default for Args {
+    fn default() -> Self {
+        Args {
+            scene: SceneArgs::default(),
+            revolutions: None,
+            csv: None,
+            max_csv_mb: DEFAULT_MAX_CSV_MB,
+            plot: None,
+            force: false,
+            json: false,
+        }
+    }
 }
 
-/// Builds the run specification from the scene (or reference) and the overrides.
+/// Builds the run specification from the scene (or reference) and the overrides (the
+/// option values as clap checked them; the core's checks of the result still apply).
 pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     let mut spec = match &args.scene {
-        Some(p) => scene::load(p)?,
+        Some(p) => crate::scene::load(p)?,
         None => RunSpec::reference(),
     };
     if let Some(r) = args.rpm {
-        anyhow::ensure!(
-            r.is_finite() && r > 0.0,
-            "--rpm {r}: must be positive and finite"
-        );
         spec.design.set_speed_rpm(r)?;
     }
     if args.rise.is_some() || args.ret.is_some() {
-        let rise = args
-            .rise
-            .as_deref()
-            .map(|n| parse_law(n, "--rise"))
-            .transpose()?;
-        let ret = args
-            .ret
-            .as_deref()
-            .map(|n| parse_law(n, "--return"))
-            .transpose()?;
         let mut segs: Vec<_> = spec.design.program.segments().to_vec();
         for s in &mut segs {
-            match (&mut s.kind, rise, ret) {
-                (SegmentKind::Rise(l), Some(r), _) => *l = r,
-                (SegmentKind::Return(l), _, Some(r)) => *l = r,
+            match (&mut s.kind, args.rise, args.ret) {
+                (SegmentKind::Rise(l), Some(r), _) => *l = r.into(),
+                (SegmentKind::Return(l), _, Some(r)) => *l = r.into(),
                 _ => {}
             }
         }
         spec.design.program = camsim_core::CamProgram::new(&segs)?;
     }
     if let Some(k) = args.spring_rate {
-        anyhow::ensure!(
-            k.is_finite() && k > 0.0,
-            "--spring-rate {k}: must be positive and finite (lb/in)"
-        );
         spec.design.k_rs = k;
     }
     if let Some(d) = args.preload_length {
-        anyhow::ensure!(
-            d.is_finite() && d >= 0.0,
-            "--preload-length {d}: must be zero or positive and finite (in)"
-        );
         spec.design.delta_rs = d;
     }
     if let Some(s) = args.start.as_deref() {
-        spec.solver.start = crate::scene::parse_start(s, "--start")?;
+        let start = StartArg::from_str(s, false)
+            .map_err(|_| anyhow!("--start {s:?}: must be \"thesis\" or \"static\""))?;
+        spec.solver.start = start.into();
     }
     if let Some(x) = args.rtol {
-        anyhow::ensure!(
-            x.is_finite() && x > 0.0 && x < 1.0,
-            "--rtol {x}: must be in (0, 1)"
-        );
         spec.solver.rtol = x;
     }
     if let Some(x) = args.atol {
-        anyhow::ensure!(
-            x.is_finite() && x > 0.0,
-            "--atol {x}: must be positive and finite (in)"
-        );
         spec.solver.atol = x;
     }
+    spec.solver.validate()?;
     spec.design.validate()?;
     Ok(spec)
 }
 
-/// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+/// One separation interval (the JSON `jumps` entries).
+#[derive(Clone, Debug, Serialize)]
+pub struct JumpRow {
+    /// Revolution of the onset, from 1.
+    pub revolution: u32,
+    /// Cam angle of the onset within that revolution, degrees.
+    pub start_deg: f64,
+    /// Cam angle of the landing, degrees (on the onset revolution's scale).
+    pub end_deg: f64,
+    /// Index of the period of the onset (text only).
+    #[serde(skip)]
+    pub period: usize,
+}
+
+/// Everything `camsim run` prints (`--json`: keys sorted, as before the report was a
+/// struct; `wall_ms` is a timing).
+#[derive(Clone, Debug, Serialize)]
+pub struct RunReport {
+    /// Per-period statistics of every revolution.
+    pub per_period: Vec<PeriodRow>,
+    /// Every recorded separation interval.
+    pub jumps: Vec<JumpRow>,
+    /// Accepted (double) steps.
+    pub steps: u32,
+    /// Rejected (double) steps.
+    pub rejected_steps: u32,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u32,
+    /// Separation intervals not recorded (past the statistics' capacity).
+    pub jumps_dropped: u32,
+    /// The last two revolutions compared (None with one revolution).
+    pub steady_state: Option<SteadyCheck>,
+    /// Wall-clock time of the simulation, ms.
+    pub wall_ms: f64,
+    /// The preload F_p, lb.
+    pub preload_lb: f64,
+    /// Cam speed ω0, rpm.
+    pub rpm: f64,
+    /// Revolutions simulated.
+    pub revolutions: u32,
+    /// Degrees of freedom of the scene (text only).
+    #[serde(skip)]
+    pub dofs: usize,
+    /// Solver relative tolerance (text only).
+    #[serde(skip)]
+    pub rtol: f64,
+    /// Solver absolute tolerance, in (text only).
+    #[serde(skip)]
+    pub atol_in: f64,
+    /// The name of each period of the program (text only).
+    #[serde(skip)]
+    pub periods: Vec<&'static str>,
+}
+
+impl RunReport {
+    /// The report of a finished run of `spec`.
+    pub fn new(spec: &RunSpec, result: &sim::RunResult) -> Self {
+        let per_period = sim::period_rows(&spec.design, &result.stats);
+        let steady_state = sim::steady_check(&per_period);
+        let jumps = result
+            .stats
+            .jumps()
+            .iter()
+            .map(|j| JumpRow {
+                revolution: j.revolution,
+                start_deg: j.start_deg,
+                end_deg: j.end_deg,
+                period: spec.design.program.segment_at(j.start_deg.to_radians()),
+            })
+            .collect();
+        RunReport {
+            per_period,
+            jumps,
+            steps: result.solver.accepted,
+            rejected_steps: result.solver.rejected,
+            rhs_evals: result.solver.rhs_evals,
+            jumps_dropped: result.stats.jumps_dropped,
+            steady_state,
+            wall_ms: result.wall_ms,
+            preload_lb: result.preload,
+            rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
+            revolutions: spec.revolutions,
+            dofs: result.scene.dofs,
+            rtol: spec.solver.rtol,
+            atol_in: spec.solver.atol,
+            periods: sim::period_names(&spec.design),
+        }
+    }
+}
+
+/// Runs the simulation `args` asks for and writes its outputs: every output is checked
+/// before the simulation (a refusal touches no file), written to temporaries during it,
+/// and committed only when all succeeded.
+pub fn report(args: &Args) -> Result<RunReport> {
     let mut spec = spec_from(&args.scene)?;
     if let Some(n) = args.revolutions {
         spec.revolutions = n;
     }
-    let mut csv_out = match &args.csv {
-        Some(p) => Some(csv::CsvWriter::create(p)?),
+    let mut plan = Plan::new(args.force);
+    let csv_target = match &args.csv {
+        Some(p) => Some(plan.file("--csv", p)?.limit(
+            csv::estimated_bytes(&spec),
+            args.max_csv_mb.saturating_mul(1_000_000),
+            "--max-csv-mb N",
+        )?),
         None => None,
     };
-    let mut plot_data = args.plot.as_ref().map(|_| plot::PlotData::default());
+    let plot_target = match &args.plot {
+        Some(dir) => Some(plan.dir("--plot", dir, &plot::FILES)?),
+        None => None,
+    };
+    let mut csv_out = match csv_target {
+        Some(t) => Some(CsvOut::new(t.open()?)),
+        None => None,
+    };
+    let mut plot_data = plot_target.as_ref().map(|_| plot::PlotData::default());
     let result = {
         let mut obs = |s: &camsim_core::Sample<f64>| {
-            if let Some(c) = csv_out.as_mut() {
-                c.row(s);
-            }
             if let Some(p) = plot_data.as_mut() {
                 p.push(s);
             }
-            std::ops::ControlFlow::Continue(())
+            match csv_out.as_mut() {
+                Some(c) => c.row(s),
+                None => std::ops::ControlFlow::Continue(()),
+            }
         };
         sim::run(&spec, &mut obs)?
     };
-    if let Some(c) = csv_out {
-        c.finish()?;
+    let csv_file = csv_out.map(CsvOut::into_file).transpose()?;
+    let plots = match (plot_target, plot_data) {
+        (Some(t), Some(data)) => {
+            let mut out = t.open()?;
+            plot::draw_all(&mut out, &data, &result.stats.jumps())?;
+            Some(out)
+        }
+        _ => None,
+    };
+    if let Some(f) = csv_file {
+        f.commit()?;
     }
-    if let (Some(dir), Some(data)) = (&args.plot, plot_data) {
-        plot::write_all(dir, &data, &result.stats.jumps())?;
+    if let Some(p) = plots {
+        p.commit()?;
     }
-    let rows = sim::period_rows(&spec.design, &result.stats);
-    let jumps = result.stats.jumps();
-    let mut out = std::io::stdout().lock();
-    if args.json {
-        let v = json!({
-            "per_period": rows,
-            "jumps": jumps.iter().map(|j| json!({"revolution": j.revolution, "start_deg": j.start_deg, "end_deg": j.end_deg})).collect::<Vec<_>>(),
-            "steps": result.solver.accepted,
-            "rejected_steps": result.solver.rejected,
-            "rhs_evals": result.solver.rhs_evals,
-            "jumps_dropped": result.stats.jumps_dropped,
-            "steady_state": sim::steady_check(&rows),
-            "wall_ms": result.wall_ms,
-            "preload_lb": result.preload,
-            "rpm": camsim_core::rad_per_s_to_rpm(spec.design.omega0),
-            "revolutions": spec.revolutions,
-        });
-        writeln!(out, "{}", serde_json::to_string_pretty(&v)?)?;
-        return Ok(());
+    Ok(RunReport::new(&spec, &result))
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    crate::report::print(&report(&args)?, args.json)
+}
+
+impl Report for RunReport {
+    fn json(&self) -> serde_json::Result<String> {
+        sorted_pretty_json(self)
     }
-    let rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    writeln!(
-        out,
-        "camsim run: {} revolutions at {rpm:.1} rpm, {} DOF model, preload F_p = {:.3} lb",
-        spec.revolutions, result.scene.dofs, result.preload
-    )?;
-    writeln!(
-        out,
-        "units: in, lb, s; torque lb in; stress psi; AORD = mean (omega - omega0)/omega0"
-    )?;
-    let mut last_rev = 0;
-    for r in &rows {
-        if r.revolution != last_rev {
-            last_rev = r.revolution;
-            writeln!(
-                out,
-                "\nrevolution {}{}",
-                r.revolution,
-                if r.revolution == 1 {
+
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "camsim run: {} revolutions at {:.1} rpm, {} DOF model, preload F_p = {:.3} lb",
+            self.revolutions, self.rpm, self.dofs, self.preload_lb
+        );
+        let _ = writeln!(
+            out,
+            "units: in, lb, s; torque lb in; stress psi; AORD = mean (omega - omega0)/omega0"
+        );
+        let mut last_rev = 0;
+        for r in &self.per_period {
+            if r.revolution != last_rev {
+                last_rev = r.revolution;
+                let transient = if r.revolution == 1 {
                     " (transient)"
                 } else {
                     ""
-                }
-            )?;
-            writeln!(
+                };
+                let _ = writeln!(out, "\nrevolution {}{transient}", r.revolution);
+                let _ = writeln!(
+                    out,
+                    "{:<11} {:>10} {:>10} {:>10} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9} {:>10} {:>10} {:>10} {:>5}",
+                    "period", "rms_y", "rms_v", "rms_a", "T_avg", "T_max", "T_min", "Fc_min", "Fc_max", "Fc_avg",
+                    "stress", "aord_m", "aord_cp", "aord_c", "jump"
+                );
+            }
+            let _ = writeln!(
                 out,
-                "{:<11} {:>10} {:>10} {:>10} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9} {:>10} {:>10} {:>10} {:>5}",
-                "period", "rms_y", "rms_v", "rms_a", "T_avg", "T_max", "T_min", "Fc_min", "Fc_max", "Fc_avg",
-                "stress", "aord_m", "aord_cp", "aord_c", "jump"
-            )?;
+                "{:<11} {:>10.3e} {:>10.3e} {:>10.3e} {:>9.2} {:>9.2} {:>9.2} {:>8.2} {:>8.2} {:>8.2} {:>9.0} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}",
+                r.period, r.rms_displacement, r.rms_velocity, r.rms_acceleration, r.torque_avg, r.torque_max,
+                r.torque_min, r.contact_force_min, r.contact_force_max, r.contact_force_avg, r.contact_stress_max,
+                r.aord_motor, r.aord_coupling, r.aord_cam, if r.jump { "yes" } else { "no" }
+            );
         }
-        writeln!(
-            out,
-            "{:<11} {:>10.3e} {:>10.3e} {:>10.3e} {:>9.2} {:>9.2} {:>9.2} {:>8.2} {:>8.2} {:>8.2} {:>9.0} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}",
-            r.period, r.rms_displacement, r.rms_velocity, r.rms_acceleration, r.torque_avg, r.torque_max,
-            r.torque_min, r.contact_force_min, r.contact_force_max, r.contact_force_avg, r.contact_stress_max,
-            r.aord_motor, r.aord_coupling, r.aord_cam, if r.jump { "yes" } else { "no" }
-        )?;
-    }
-    writeln!(out)?;
-    if jumps.is_empty() {
-        writeln!(out, "jumps: none (the follower stays on the cam)")?;
-    } else {
-        // Separations come in bursts (the roller bounces after landing): summarise each
-        // revolution and period; --json and --csv keep every interval.
-        writeln!(
-            out,
-            "jumps: {} separation intervals (every one in --json)",
-            jumps.len()
-        )?;
-        let names = sim::period_names(&spec.design);
-        let mut groups: Vec<(u32, usize, usize, f64, f64, f64)> = Vec::new();
-        for j in &jumps {
-            let seg = spec.design.program.segment_at(j.start_deg.to_radians());
-            match groups.last_mut() {
-                Some(g) if g.0 == j.revolution && g.1 == seg => {
-                    g.2 += 1;
-                    g.4 = j.end_deg;
-                    g.5 += j.end_deg - j.start_deg;
+        let _ = writeln!(out);
+        if self.jumps.is_empty() {
+            let _ = writeln!(out, "jumps: none (the follower stays on the cam)");
+        } else {
+            // Separations come in bursts (the roller bounces after landing): summarise each
+            // revolution and period; --json and --csv keep every interval.
+            let _ = writeln!(
+                out,
+                "jumps: {} separation intervals (every one in --json)",
+                self.jumps.len()
+            );
+            // (revolution, period, intervals, first onset, last landing, degrees off the cam)
+            let mut groups: Vec<(u32, usize, usize, f64, f64, f64)> = Vec::new();
+            for j in &self.jumps {
+                match groups.last_mut() {
+                    Some(g) if g.0 == j.revolution && g.1 == j.period => {
+                        g.2 += 1;
+                        g.4 = j.end_deg;
+                        g.5 += j.end_deg - j.start_deg;
+                    }
+                    _ => groups.push((
+                        j.revolution,
+                        j.period,
+                        1,
+                        j.start_deg,
+                        j.end_deg,
+                        j.end_deg - j.start_deg,
+                    )),
                 }
-                _ => groups.push((
-                    j.revolution,
-                    seg,
-                    1,
-                    j.start_deg,
-                    j.end_deg,
-                    j.end_deg - j.start_deg,
-                )),
+            }
+            for (rev, seg, n, first, last, total) in groups {
+                let _ = writeln!(
+                    out,
+                    "  revolution {rev}, {:<10}: {n:>4} intervals from {first:7.2} to {last:7.2} deg, {total:6.2} deg off the cam",
+                    self.periods.get(seg).copied().unwrap_or("?")
+                );
+            }
+            if self.jumps_dropped > 0 {
+                let _ = writeln!(
+                    out,
+                    "  ({} more intervals not recorded)",
+                    self.jumps_dropped
+                );
             }
         }
-        for (rev, seg, n, first, last, total) in groups {
-            writeln!(
+        if let Some(c) = &self.steady_state {
+            let _ = writeln!(
                 out,
-                "  revolution {rev}, {:<10}: {n:>4} intervals from {first:7.2} to {last:7.2} deg, {total:6.2} deg off the cam",
-                names.get(seg).copied().unwrap_or("?")
-            )?;
+                "steady state: revolution {} vs {}: largest relative change of the per-period statistics {:.2e} ({}){}",
+                c.compared[1],
+                c.compared[0],
+                c.max_rel_change,
+                c.statistic,
+                if c.max_rel_change > 0.01 { "  -- NOT steady (jumps make it irregular, or run more revolutions)" } else { "" }
+            );
         }
-        if result.stats.jumps_dropped > 0 {
-            writeln!(
-                out,
-                "  ({} more intervals not recorded)",
-                result.stats.jumps_dropped
-            )?;
-        }
-    }
-    if let Some(c) = sim::steady_check(&rows) {
-        writeln!(
+        let _ = writeln!(
             out,
-            "steady state: revolution {} vs {}: largest relative change of the per-period statistics {:.2e} ({}){}",
-            c.compared[1],
-            c.compared[0],
-            c.max_rel_change,
-            c.statistic,
-            if c.max_rel_change > 0.01 { "  -- NOT steady (jumps make it irregular, or run more revolutions)" } else { "" }
-        )?;
+            "solver: England adaptive RK, rtol {:e}, atol {:e} in: {} steps, {} rejected, {} rhs evaluations",
+            self.rtol, self.atol_in, self.steps, self.rejected_steps, self.rhs_evals
+        );
+        let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
+        out
     }
-    let s = &result.solver;
-    writeln!(
-        out,
-        "solver: England adaptive RK, rtol {:e}, atol {:e} in: {} steps, {} rejected, {} rhs evaluations",
-        spec.solver.rtol, spec.solver.atol, s.accepted, s.rejected, s.rhs_evals
-    )?;
-    writeln!(out, "run time: {:.1} ms", result.wall_ms)?;
-    Ok(())
 }

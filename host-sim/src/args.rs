@@ -1,0 +1,158 @@
+//! Values of the command line that clap checks: the motion laws and the initial state
+//! as [`ValueEnum`]s, and the numeric rules as value parsers. A refused value is a clap
+//! error, one line naming the option, the value and the rule
+//! (`invalid value '-5' for '--rpm <RPM>': must be positive and finite`).
+
+use camsim_core::{MotionLaw, Start};
+use clap::builder::PossibleValue;
+use clap::ValueEnum;
+
+/// A motion law on the command line (`--rise`, `--return`), by its
+/// [`MotionLaw::name`] (the names `camsim laws` prints; ASCII case ignored where the
+/// option says `ignore_case`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Law(pub MotionLaw);
+
+/// [`MotionLaw::ALL`] as command-line values, in the same order.
+static LAWS: [Law; MotionLaw::ALL.len()] = {
+    let mut laws = [Law(MotionLaw::StraightLine); MotionLaw::ALL.len()];
+    let mut i = 0;
+    while i < laws.len() {
+        laws[i] = Law(MotionLaw::ALL[i]);
+        i += 1;
+    }
+    laws
+};
+
+impl ValueEnum for Law {
+    fn value_variants<'a>() -> &'a [Self] {
+        &LAWS
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.0.name()))
+    }
+}
+
+impl From<Law> for MotionLaw {
+    fn from(l: Law) -> Self {
+        l.0
+    }
+}
+
+/// The initial state of a simulation (`--start`; the scene's `solver.start`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum StartArg {
+    /// The thesis's (VI.1): every speed at ω0, everything else zero.
+    Thesis,
+    /// Static equilibrium on the base circle under the preload and the steady drag.
+    Static,
+}
+
+impl From<StartArg> for Start {
+    fn from(s: StartArg) -> Self {
+        match s {
+            StartArg::Thesis => Start::Thesis,
+            StartArg::Static => Start::Static,
+        }
+    }
+}
+
+/// The names of a [`ValueEnum`]'s values, for a parser that keeps the text
+/// (`PossibleValuesParser::new(possible_values::<StartArg>())`).
+pub fn possible_values<E: ValueEnum>() -> Vec<PossibleValue> {
+    E::value_variants()
+        .iter()
+        .filter_map(ValueEnum::to_possible_value)
+        .collect()
+}
+
+fn number(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .map_err(|_| "not a number".to_string())
+}
+
+/// A positive, finite number (speeds, stiffnesses, tolerances, forces).
+pub fn positive_finite(s: &str) -> Result<f64, String> {
+    match number(s)? {
+        x if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err("must be positive and finite".into()),
+    }
+}
+
+/// Zero or a positive finite number (lengths that may vanish).
+pub fn non_negative_finite(s: &str) -> Result<f64, String> {
+    match number(s)? {
+        x if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err("must be zero or positive and finite".into()),
+    }
+}
+
+/// A number strictly between 0 and 1 (relative tolerances).
+pub fn unit_interval(s: &str) -> Result<f64, String> {
+    match number(s)? {
+        x if x > 0.0 && x < 1.0 => Ok(x),
+        _ => Err("must be in (0, 1)".into()),
+    }
+}
+
+/// A whole number of megabytes, at least 1 (size limits).
+pub fn megabytes(s: &str) -> Result<u64, String> {
+    match s.trim().parse::<u64>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("must be a whole number of MB, at least 1".into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_law_is_a_value_by_its_name_in_order() {
+        let names: Vec<String> = possible_values::<Law>()
+            .iter()
+            .map(|v| v.get_name().to_string())
+            .collect();
+        let expect: Vec<&str> = MotionLaw::ALL.iter().map(|l| l.name()).collect();
+        assert_eq!(names, expect);
+        for law in MotionLaw::ALL {
+            assert_eq!(Law::from_str(law.name(), false), Ok(Law(law)));
+            let upper = law.name().to_ascii_uppercase();
+            assert_eq!(Law::from_str(&upper, true), Ok(Law(law)));
+        }
+        assert!(Law::from_str("modified trapezoidal", true).is_err());
+    }
+
+    #[test]
+    fn start_names_are_the_scene_names() {
+        for (s, name) in [(Start::Thesis, "thesis"), (Start::Static, "static")] {
+            let arg = StartArg::from_str(name, false).unwrap();
+            assert_eq!(Start::from(arg), s);
+            // The scene file spells it the same way.
+            let toml = toml::to_string(&std::collections::BTreeMap::from([("start", s)])).unwrap();
+            assert_eq!(toml.trim(), format!("start = \"{name}\""));
+        }
+    }
+
+    #[test]
+    fn numeric_rules() {
+        assert_eq!(positive_finite(" 12.5"), Ok(12.5));
+        for bad in ["0", "-1", "NaN", "inf", "-inf", "", "abc"] {
+            assert!(positive_finite(bad).is_err(), "{bad}");
+        }
+        assert_eq!(non_negative_finite("0"), Ok(0.0));
+        assert!(non_negative_finite("-0.1").is_err());
+        assert!(non_negative_finite("inf").is_err());
+        assert_eq!(unit_interval("1e-6"), Ok(1e-6));
+        for bad in ["0", "1", "2", "NaN", "-1e-6"] {
+            assert!(unit_interval(bad).is_err(), "{bad}");
+        }
+        assert_eq!(positive_finite("x").unwrap_err(), "not a number");
+        assert_eq!(megabytes("1000"), Ok(1000));
+        for bad in ["0", "-1", "1.5", "", "1e3"] {
+            assert!(megabytes(bad).is_err(), "{bad}");
+        }
+    }
+}

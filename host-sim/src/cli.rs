@@ -1,0 +1,112 @@
+//! The command line: the command tree clap parses, the dispatch to [`crate::cmd`], and
+//! usage errors folded to one line. `main.rs` is only [`main`]; the tests parse and run
+//! exactly what the binary does.
+
+use std::ffi::OsString;
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+use crate::cmd;
+
+/// Simulation of real cam-follower mechanisms (Kim 1982, eleven degrees of freedom).
+#[derive(Parser, Debug)]
+#[command(name = "camsim", version, about, long_about = None)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Peak dimensionless coefficients of every motion law (Table VI.9's quantities).
+    Laws(cmd::laws::Args),
+    /// Natural frequencies, modes and modal stiffness (Eqs. VI.6 and VI.7).
+    Modal(cmd::modal::Args),
+    /// Hertz contact stiffness, width and stress of the reference roller and cam at a force.
+    Contact(cmd::contact::Args),
+    /// Simulate a scene (the reference design by default): per-period table, jumps, solver statistics.
+    Run(cmd::run::Args),
+    /// Lowest cam speed at which the follower separates in steady state (bisection on the model).
+    JumpSpeed(cmd::jump_speed::Args),
+    /// Print the reference design as a scene file, or check one.
+    Scene(cmd::scene::Args),
+    /// Run time against error: tolerance ladder and reduced scenes against a tight reference.
+    Bench(cmd::bench::Args),
+    /// The firmware's jump/timing predictor on the host (same scene and profile); --check-log for parity.
+    Predict(cmd::predict::Args),
+}
+
+/// Parses a command line (the first item is the program name).
+pub fn parse_from<I, T>(args: I) -> std::result::Result<Cli, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    Cli::try_parse_from(args)
+}
+
+/// Runs a parsed command.
+pub fn execute(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Laws(a) => cmd::laws::run(a),
+        Command::Modal(a) => cmd::modal::run(a),
+        Command::Contact(a) => cmd::contact::run(a),
+        Command::Run(a) => cmd::run::run(a),
+        Command::JumpSpeed(a) => cmd::jump_speed::run(a),
+        Command::Scene(a) => cmd::scene::run(a),
+        Command::Bench(a) => cmd::bench::run(a),
+        Command::Predict(a) => cmd::predict::run(a),
+    }
+}
+
+/// A usage error on one line: clap's message (without its "error: ") with what it
+/// adds below it (the possible values, a missing argument, a tip) joined on, the usage
+/// and help pointers left out.
+pub fn usage_line(e: &clap::Error) -> String {
+    let text = e.render().to_string();
+    let mut parts: Vec<&str> = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+        if !line.is_empty() {
+            parts.push(line);
+        }
+    }
+    let line = parts.join(" ");
+    let line = line.strip_prefix("error: ").unwrap_or(&line);
+    if line.is_empty() {
+        "invalid arguments".to_string()
+    } else {
+        line.to_string()
+    }
+}
+
+/// The binary: parse, run, print any error on one line (exit 2 for usage errors, 1 for
+/// failures).
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            // --help and --version are not errors.
+            if !e.use_stderr() {
+                let _ = e.print();
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("camsim: error: {} (see camsim --help)", usage_line(&e));
+            return ExitCode::from(2);
+        }
+    };
+    match execute(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line, no backtrace.
+            eprintln!("camsim: error: {}", format!("{e:#}").replace('\n', " "));
+            ExitCode::FAILURE
+        }
+    }
+}
