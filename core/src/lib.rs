@@ -49,3 +49,8 @@ pub use response::*;
 // What a machine feeds the predictor (implemented by the firmware's board modules).
 mod machine;
 pub use machine::*;
+
+// Cam speed from a once-per-revolution index pulse: captured timer counts to rpm, with
+// bounce rejection, timeout and range check (fed by the firmware's board adapters).
+mod index_pulse;
+pub use index_pulse::*;
