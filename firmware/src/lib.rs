@@ -26,9 +26,18 @@ pub mod memory;
 pub mod timing;
 pub mod workload;
 
+// A real board (feature `panic-probe`): panic-probe's handler and exits that need no
+// semihosting (src/probe.rs). Otherwise (QEMU) the semihosting ones below.
+#[cfg(feature = "panic-probe")]
+mod probe;
+#[cfg(feature = "panic-probe")]
+pub use probe::{exit_failure, exit_success};
+
+#[cfg(not(feature = "panic-probe"))]
 use cortex_m_semihosting::debug;
 
 /// Ends the program with success (QEMU exits with status 0 through semihosting).
+#[cfg(not(feature = "panic-probe"))]
 pub fn exit_success() -> ! {
     debug::exit(debug::EXIT_SUCCESS);
     // Only reached on a board without a debugger attached: park the core.
@@ -38,6 +47,7 @@ pub fn exit_success() -> ! {
 }
 
 /// Ends the program with failure (QEMU exits with status 1 through semihosting).
+#[cfg(not(feature = "panic-probe"))]
 pub fn exit_failure() -> ! {
     debug::exit(debug::EXIT_FAILURE);
     loop {
@@ -46,6 +56,7 @@ pub fn exit_failure() -> ! {
 }
 
 /// Rust panics: log the message with defmt, then exit with failure.
+#[cfg(not(feature = "panic-probe"))]
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
     defmt::error!("panic: {}", defmt::Display2Format(info));
@@ -53,6 +64,7 @@ fn panic(info: &core::panic::PanicInfo) -> ! {
 }
 
 /// defmt's own panics (`defmt::panic!`, `defmt::unwrap!`): already logged, exit with failure.
+#[cfg(not(feature = "panic-probe"))]
 #[defmt::panic_handler]
 fn defmt_panic() -> ! {
     exit_failure()

@@ -25,3 +25,7 @@
 //!   root memory.x deliberately).
 
 pub mod qemu;
+
+// Nucleo-F446RE (feature `stm32f446`, binary `board_f446`): TIM2 capture on PA0, alarm on PA5.
+#[cfg(feature = "stm32f446")]
+pub mod f446;
