@@ -34,8 +34,13 @@ use stm32f4xx_hal::prelude::*;
 use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::watchdog::IndependentWatchdog;
 
-/// Core clock: the F446's maximum (HSI 16 MHz through the PLL; APB1 45 MHz, TIM2 90 MHz).
+/// Core clock: the F446's maximum (APB1 45 MHz, TIM2 90 MHz).
 const SYSCLK_HZ: u32 = 180_000_000;
+/// HSE: the Nucleo-64's default clock input, 8 MHz from the ST-LINK's crystal (MCO, in
+/// bypass mode). The capture timer's clock is the speed's reference: a crystal is good to
+/// about 50 ppm (0.035 rpm at 700 rpm); the internal HSI only to 1 % at 25 °C (7 rpm) and
+/// several % over temperature.
+const HSE_HZ: u32 = 8_000_000;
 
 /// Slowest speed the boot table covers, rpm (its first grid speed, rounded up).
 const RANGE_MIN_RPM: u32 = {
@@ -130,10 +135,20 @@ fn main() -> ! {
     );
     dp.RCC.csr().modify(|_, w| w.rmvf().set_bit());
 
-    let mut rcc = dp.RCC.freeze(Config::hsi().sysclk(SYSCLK_HZ.Hz()));
+    let mut rcc = dp.RCC.constrain();
     let gpioa = dp.GPIOA.split(&mut rcc);
     // The alarm output first, asserted (LOW) from the moment it is an output.
     let Ok(mut out) = FailSafeOutput::new(gpioa.pa5.into_push_pull_output_in_state(PinState::Low));
+    defmt::info!(
+        "clock: HSE {=u32} Hz from the ST-LINK (bypass) -> {=u32} Hz (a hang here: no HSE, check SB16/SB50)",
+        HSE_HZ,
+        SYSCLK_HZ
+    );
+    let mut rcc = rcc.freeze(
+        Config::hse(HSE_HZ.Hz())
+            .bypass_hse_oscillator()
+            .sysclk(SYSCLK_HZ.Hz()),
+    );
     let mut capture = IndexCapture::new(dp.TIM2, gpioa.pa0, &mut rcc);
     let tick_hz = capture.tick_hz();
 

@@ -2,7 +2,8 @@
 //!
 //! - **Index pulse -> TIM2 input capture, channel 1 on PA0** (AF1; Arduino header A0,
 //!   CN8 pin 1, also CN7 pin 28). TIM2 is one of the F446's two 32-bit timers; it counts
-//!   at [`TICK_HZ`] = 1 MHz (its 90 MHz APB1 timer clock divided by 90) and latches the
+//!   at [`TICK_HZ`] = 1 MHz (its 90 MHz APB1 timer clock divided by 90; the clock comes
+//!   from the ST-LINK's 8 MHz crystal, see the binary) and latches the
 //!   count on the **falling** edge: an NPN (sinking) inductive sensor pulls the line to
 //!   ground when the cam's target passes. The input filter (fDTS/32, N = 8: 2.8 µs at
 //!   90 MHz) drops ringing shorter than that; longer bounces reach the core's state

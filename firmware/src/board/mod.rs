@@ -9,6 +9,8 @@
 //! index pulse, and the alarm on the FPGA IO `LED0` register.
 //!
 //! ## Where a real board plugs in
+//! `f446` (feature `stm32f446`, binary `src/bin/board_f446.rs`) is a worked example: TIM2
+//! capture -> `camsim_core::IndexPulse` -> prediction -> a fail-safe alarm pin.
 //! Add `board/<name>.rs` behind a cargo feature, with the chip's HAL as an optional
 //! dependency, and select it in the binary instead of `qemu`:
 //! - index pulse -> rpm: route the index sensor (Hall or optical, one pulse per cam
