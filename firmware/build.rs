@@ -1,16 +1,26 @@
-//! Puts the repository's root `memory.x` (the flash/RAM budget) on the linker search path.
+//! Puts the repository's root `memory.x` (the flash/RAM budget) on the linker search path;
+//! for a real board (feature `stm32f446`), a `memory.x` at the board's origins with the
+//! budget's lengths instead (`build/board_memory.rs`).
 
 use std::env;
 use std::fs;
 use std::path::PathBuf;
+
+#[path = "build/board_memory.rs"]
+mod board_memory;
 
 fn main() {
     let manifest =
         PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     let memory_x = manifest.join("..").join("memory.x");
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    fs::copy(&memory_x, out.join("memory.x"))
-        .unwrap_or_else(|e| panic!("cannot copy {}: {e}", memory_x.display()));
+    if env::var_os("CARGO_FEATURE_STM32F446").is_some() {
+        board_memory::write(&memory_x, &out.join("memory.x"), &board_memory::STM32F446);
+    } else {
+        fs::copy(&memory_x, out.join("memory.x"))
+            .unwrap_or_else(|e| panic!("cannot copy {}: {e}", memory_x.display()));
+    }
+    println!("cargo:rerun-if-changed=build/board_memory.rs");
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed={}", memory_x.display());
     println!("cargo:rerun-if-changed=build.rs");

@@ -57,3 +57,5 @@ if [ -x scripts/firmware-ci.sh ]; then
     step "firmware under QEMU"
     scripts/firmware-ci.sh
 fi
+step "real-board image (Nucleo-F446RE, no hardware): build, budget, panic call sites"
+bash scripts/board-ci.sh

@@ -67,3 +67,8 @@ mod waviness;
 pub use waviness::*;
 mod profile;
 pub use profile::*;
+
+// Cam speed from a once-per-revolution index pulse: captured timer counts to rpm, with
+// bounce rejection, timeout and range check (fed by the firmware's board adapters).
+mod index_pulse;
+pub use index_pulse::*;

@@ -37,6 +37,7 @@ pub mod memory;
 pub mod timing;
 pub mod workload;
 
+#[cfg(not(feature = "stm32f446"))]
 use cortex_m_rt::{exception, ExceptionFrame};
 
 /// Ends the program with success: a semihosting exit with status 0 (QEMU, or `probe-rs
@@ -90,7 +91,8 @@ fn defmt_panic() -> ! {
     exit_failure()
 }
 
-/// Counts SysTick wraps for [`timing::InstrCounter`] (both binaries use it).
+/// Counts SysTick wraps for [`timing::InstrCounter`] (the QEMU binaries use it).
+#[cfg(not(feature = "stm32f446"))]
 #[exception]
 fn SysTick() {
     timing::on_systick_wrap();
@@ -100,6 +102,8 @@ fn SysTick() {
 /// the core at the fault's entry before this runs; if this runs with a debugger attached
 /// (vector catch off) it stops at a breakpoint, without one it parks the core. No
 /// semihosting with `rtt`: without a debugger that would fault inside the fault handler.
+/// The board binary (`stm32f446`) has its own, which first puts the alarm in its safe state.
+#[cfg(not(feature = "stm32f446"))]
 #[exception]
 unsafe fn HardFault(ef: &ExceptionFrame) -> ! {
     defmt::error!(

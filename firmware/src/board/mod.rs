@@ -9,6 +9,8 @@
 //! index pulse, and the alarm on the FPGA IO `LED0` register.
 //!
 //! ## Where a real board plugs in
+//! `f446` (feature `stm32f446`, binary `src/bin/board_f446.rs`) is a worked example: TIM2
+//! capture -> `camsim_core::IndexPulse` -> prediction -> a fail-safe alarm pin.
 //! Add `board/<name>.rs` behind a cargo feature, with the chip's HAL as an optional
 //! dependency, and select it in the binary instead of `qemu`:
 //! - index pulse -> rpm: route the index sensor (Hall or optical, one pulse per cam
@@ -26,3 +28,7 @@
 //!   root memory.x deliberately).
 
 pub mod qemu;
+
+// Nucleo-F446RE (feature `stm32f446`, binary `board_f446`): TIM2 capture on PA0, alarm on PA5.
+#[cfg(feature = "stm32f446")]
+pub mod f446;
