@@ -10,7 +10,7 @@
 use std::path::Path;
 
 use anyhow::{anyhow, bail, Context, Result};
-use camsim_core::{key, Design, DriveLaw, SegmentKind, SolverSettings, Start};
+use camsim_core::{key, Design, DriveLaw, SegmentKind, SolverSettings};
 use serde::{Deserialize, Serialize};
 
 use crate::sim::{Dofs, RunSpec};
@@ -50,15 +50,6 @@ pub struct SceneFile {
     pub solver: SolverSettings<f64>,
     /// `[design]`.
     pub design: Design<f64>,
-}
-
-/// Parses an initial-state name.
-pub fn parse_start(s: &str, key: &str) -> Result<Start> {
-    match s {
-        "thesis" => Ok(Start::Thesis),
-        "static" => Ok(Start::Static),
-        other => bail!("{key} = {other:?}: must be \"thesis\" or \"static\""),
-    }
 }
 
 /// Reads and validates a scene file (errors start with the file's name).

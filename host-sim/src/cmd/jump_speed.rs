@@ -161,7 +161,7 @@ pub fn render_text(r: &JumpSpeedReport) -> String {
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut scene = args.scene.clone();
-    scene.start.get_or_insert_with(|| "static".into());
+    scene.start.get_or_insert(crate::args::StartArg::Static);
     let spec = run_cmd::spec_from(&scene)?;
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let t0 = std::time::Instant::now();

@@ -4,15 +4,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use camsim_core::SegmentKind;
-use clap::builder::PossibleValuesParser;
-use clap::ValueEnum;
 use serde::Serialize;
 
-use crate::args::{
-    megabytes, non_negative_finite, positive_finite, possible_values, unit_interval, Law, StartArg,
-};
+use crate::args::{megabytes, non_negative_finite, positive_finite, unit_interval, Law, StartArg};
 use crate::csv::{self, CsvOut};
 use crate::output::Plan;
 use crate::plot;
@@ -41,9 +37,8 @@ pub struct SceneArgs {
     pub preload_length: Option<f64>,
     /// Initial state (default: "thesis" for `run`, "static" for `jump-speed`, whose
     /// steady state the thesis start's impact would pollute).
-    // The text of a `StartArg` (jump-speed fills in its default as text).
-    #[arg(long, value_parser = PossibleValuesParser::new(possible_values::<StartArg>()))]
-    pub start: Option<String>,
+    #[arg(long, value_enum)]
+    pub start: Option<StartArg>,
     /// Solver relative tolerance.
     #[arg(long, allow_negative_numbers = true, value_parser = unit_interval)]
     pub rtol: Option<f64>,
@@ -126,10 +121,8 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     if let Some(d) = args.preload_length {
         spec.design.delta_rs = d;
     }
-    if let Some(s) = args.start.as_deref() {
-        let start = StartArg::from_str(s, false)
-            .map_err(|_| anyhow!("--start {s:?}: must be \"thesis\" or \"static\""))?;
-        spec.solver.start = start.into();
+    if let Some(s) = args.start {
+        spec.solver.start = s.into();
     }
     if let Some(x) = args.rtol {
         spec.solver.rtol = x;
