@@ -21,6 +21,10 @@ pub const STEEL_POISSON: f64 = 0.295;
 pub const REFERENCE_RPM: f64 = 800.0;
 /// Structural damping ratio for the follower rod C_f1 (Eq. V.13 with ξ = 0.03, V.14).
 pub const STRUCTURAL_DAMPING_RATIO: f64 = 0.03;
+/// Damping ratio ξ_h of the cam-roller contact, C_h = 2 ξ_h sqrt(K_h M_r) (Eq. V.13): 0.05,
+/// the lower end of V.14's 0.05-0.07 for well-lubricated machine parts (a lubricated
+/// rolling contact is one). docs/MODEL.md §6.2.
+pub const CONTACT_DAMPING_RATIO: f64 = 0.05;
 
 /// Every parameter of the eleven-degree-of-freedom model (Eqs. IV.1-IV.3).
 ///
@@ -104,9 +108,15 @@ pub struct Design<T> {
     /// M_r (VI.1's "M_T"): roller mass (0.00013).
     #[cfg_attr(feature = "serde", serde(rename = "roller_mass_lb_s2_per_in"))]
     pub m_r: T,
-    /// K_rb: roller bearing and its shaft (VI.1: 1.5e6).
+    /// K_rb: roller bearing and its shaft (VI.1: 1.5e6). Undamped, as printed
+    /// (docs/MODEL.md §6.2).
     #[cfg_attr(feature = "serde", serde(rename = "k_rb_lb_per_in"))]
     pub k_rb: T,
+    /// ξ_h of the contact damping C_h = 2 ξ_h sqrt(K_h M_r) (Eq. V.13), K_h at the current
+    /// contact point. Not in the printed model (which has none, so the roller's mode rings
+    /// undamped); 0.05 from V.14 for well-lubricated machine parts ([`CONTACT_DAMPING_RATIO`],
+    /// docs/MODEL.md §3.9, §6.2). 0 gives the printed model bit for bit.
+    pub contact_damping_ratio: T,
 
     // --- follower rod ---
     /// ρ: follower material density (steel, lb·s²/in⁴).
@@ -207,6 +217,7 @@ impl<T: Real> Design<T> {
             c_hs: f(4.30474),
             m_r: f(0.00013),
             k_rb: f(1.5e6),
+            contact_damping_ratio: f(CONTACT_DAMPING_RATIO),
             rho,
             youngs,
             area,
@@ -266,6 +277,13 @@ impl<T: Real> Design<T> {
         T::TWO * self.damping_ratio_f1 * (k_f * self.m_l).sqrt()
     }
 
+    /// C_h = 2 ξ_h sqrt(K_h M_r): the contact damping for the Hertz stiffness `k_h` at the
+    /// contact point (Eq. V.13, docs/MODEL.md §3.9); exactly 0 when ξ_h = 0.
+    #[inline(always)]
+    pub fn c_h(&self, k_h: T) -> T {
+        crate::damping_coefficient(self.contact_damping_ratio, k_h, self.m_r)
+    }
+
     /// K_h on the base circle at unit force (Eq. V.11), the value the preload uses.
     pub fn k_h_base(&self) -> Result<T> {
         self.hertz
@@ -320,6 +338,7 @@ impl<T: Real> Design<T> {
             (k::BEARING_A, self.bearing_a),
             (k::MU, self.mu),
             (k::DAMPING_RATIO_F1, self.damping_ratio_f1),
+            (k::CONTACT_DAMPING_RATIO, self.contact_damping_ratio),
             (k::M_SPRING, self.m_spring),
             (k::DELTA_RS, self.delta_rs),
         ] {
@@ -395,7 +414,8 @@ pub const RECORD_SEGMENTS: usize = 8;
 /// reproduces the chip's design bit for bit ([`Design::from_record`] on both sides).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DesignRecord {
-    /// Every scalar parameter, in [`Design`]'s field order (see [`Design::to_record`]).
+    /// Every scalar parameter, in [`Design`]'s field order but for the contact damping
+    /// ratio, which is last (index 41; see [`Design::to_record`]).
     pub values: [f64; RECORD_VALUES],
     /// The motor law (its numbers in `f64`).
     pub drive: DriveLaw<f64>,
@@ -406,7 +426,7 @@ pub struct DesignRecord {
 }
 
 /// Number of scalar values in a [`DesignRecord`].
-pub const RECORD_VALUES: usize = 41;
+pub const RECORD_VALUES: usize = 42;
 
 impl<T: Real> Design<T> {
     /// The design as a [`DesignRecord`] (widened to `f64`).
@@ -456,6 +476,7 @@ impl<T: Real> Design<T> {
             f(h.youngs_2),
             f(h.poisson_2),
             f(h.thickness),
+            f(self.contact_damping_ratio),
         ];
         let drive = self.drive.map(f);
         let mut segments = [crate::Segment {
@@ -520,6 +541,7 @@ impl<T: Real> Design<T> {
             c_hs: v(14),
             m_r: v(15),
             k_rb: v(16),
+            contact_damping_ratio: v(41),
             rho: v(17),
             youngs: v(18),
             area: v(19),

@@ -10,9 +10,9 @@
 use core::marker::PhantomData;
 
 use crate::{
-    bearing_normal_forces, contact_force, coulomb_friction, Design, DriveKind, Error, FollowerLift,
-    OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof, RELATIVE_TO_LIFT,
-    TRANS_DOFS,
+    bearing_normal_forces, coulomb_friction, damped_contact_force, Design, DriveKind, Error,
+    FollowerLift, OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof,
+    RELATIVE_TO_LIFT, TRANS_DOFS,
 };
 
 /// Every quantity of the model at one instant (what an observer receives).
@@ -52,7 +52,7 @@ pub struct ModelPoint<T> {
     pub k_h: T,
     /// Cam surface radius of curvature at the contact point (Eq. V.12), in; negative when concave.
     pub surface_radius: T,
-    /// Contact force F_c (Eq. V.19), lb; 0 while jumping.
+    /// Contact force F_c (Eq. V.19 with the contact damping of docs/MODEL.md §3.9), lb; 0 while jumping.
     pub contact_force: T,
     /// False while the follower is off the cam (Eq. V.20).
     pub in_contact: bool,
@@ -298,7 +298,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         p.pos = st.positions();
         p.vel = st.velocities();
         let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
-        let [v1, vx1, _v2, _vx2, v3, vx3, v4, v5] = p.vel;
+        let [v1, vx1, v2, _vx2, v3, vx3, v4, v5] = p.vel;
 
         // --- contact geometry at the current cam angle ---
         let lift = d.program.follower(p.theta_c);
@@ -329,8 +329,16 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             .stiffness_fast(d.geometry.roller_radius, p.surface_radius);
         p.k_h = k_h;
 
-        // Contact force and jump criterion (Eqs. V.19-V.20); y + y1 - y2 = y1 - q2.
-        let contact = contact_force(k_h, y1 - q2, self.preload, cos_phi);
+        // Contact force and jump criterion (Eqs. V.19-V.20) with the contact damping of
+        // docs/MODEL.md §3.9; y + y1 - y2 = y1 - q2, its rate y' θ̇_c + ẏ1 - ẏ2.
+        let contact = damped_contact_force(
+            k_h,
+            y1 - q2,
+            self.preload,
+            d.c_h(k_h),
+            lift.dy * p.omega_c + v1 - v2,
+            cos_phi,
+        );
         let f_c = contact.force;
         p.contact_force = f_c;
         p.in_contact = contact.in_contact;

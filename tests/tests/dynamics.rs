@@ -4,10 +4,10 @@
 use std::ops::ControlFlow;
 
 use camsim_core::{
-    bearing_normal_forces, contact_force, coulomb_friction, simulate, CamModel, ConstCamVertical,
-    ConstCamVerticalModel, Design, DriveLaw, England, EnglandConfig, MotionLaw, OdeSystem,
-    RegulatedFull, RegulatedFullModel, RegulatedVerticalModel, ResponseStats, Sample, Scene,
-    SolverSettings, Start, Tolerance, TransDof,
+    bearing_normal_forces, contact_force, coulomb_friction, damped_contact_force, simulate,
+    CamModel, ConstCamVertical, ConstCamVerticalModel, Design, DriveLaw, England, EnglandConfig,
+    MotionLaw, OdeSystem, Real, RegulatedFull, RegulatedFullModel, RegulatedVerticalModel,
+    ResponseStats, Sample, Scene, SolverSettings, Start, Tolerance, TransDof,
 };
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
@@ -16,7 +16,8 @@ fn rpm_to_rad(rpm: f64) -> f64 {
     rpm * std::f64::consts::PI / 30.0
 }
 
-/// The reference design without any damping or friction, driven at constant cam speed.
+/// The reference design without any damping (the contact's too) or friction, driven at
+/// constant cam speed.
 fn conservative(rpm: f64) -> Design<f64> {
     let mut d = Design::reference();
     d.set_speed_rpm(rpm).unwrap();
@@ -25,6 +26,7 @@ fn conservative(rpm: f64) -> Design<f64> {
     d.c_hs = 0.0;
     d.c_cc = 0.0;
     d.damping_ratio_f1 = 0.0;
+    d.contact_damping_ratio = 0.0;
     d.mu = 0.0;
     d
 }
@@ -127,6 +129,97 @@ fn statics_contact_force_equals_the_preload() {
     assert!(fmin <= avg && avg <= fmax, "{fmin} <= {avg} <= {fmax}");
     assert!((avg - expect).abs() < 1e-9 * expect, "{avg} vs {expect}");
     assert_eq!(stats.period(1, 1).map(|p| p.samples), Some(0));
+}
+
+// ---------------------------------------------------------------- the printed model
+
+/// FNV-1a over the bits of every sample's time, displacements, velocities and contact
+/// force: one number that changes if any bit of any sample does.
+struct Fingerprint {
+    hash: u64,
+    samples: u64,
+}
+
+impl Fingerprint {
+    fn new() -> Self {
+        Self {
+            hash: 0xcbf2_9ce4_8422_2325,
+            samples: 0,
+        }
+    }
+    fn eat(&mut self, bits: u64) {
+        for b in bits.to_le_bytes() {
+            self.hash ^= u64::from(b);
+            self.hash = self.hash.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    fn sample<T: Real>(&mut self, s: &Sample<T>) -> ControlFlow<()> {
+        let p = &s.point;
+        self.eat(p.t.to_f64().to_bits());
+        for v in p.pos.iter().chain(&p.vel) {
+            self.eat(v.to_f64().to_bits());
+        }
+        self.eat(p.contact_force.to_f64().to_bits());
+        self.samples += 1;
+        ControlFlow::Continue(())
+    }
+}
+
+/// VI.1's listed spring (60 lb/in, with the 0.151 lb mass the model used for it) and no
+/// contact damping: the design the model ran before contact damping existed.
+fn listed_printed<T: Real>() -> Design<T> {
+    let mut d = Design::<T>::reference();
+    d.k_rs = T::from_f64(60.0);
+    d.m_spring = T::from_f64(0.151 / 386.09);
+    d.contact_damping_ratio = T::ZERO;
+    d
+}
+
+/// ξ_h = 0 is the printed model bit for bit: one revolution of the full f64 model from
+/// the thesis start (its impact rings and jumps, so every branch of the contact law is
+/// taken) and of the chip's f32 vertical model from the static start give the solver
+/// counts and the fingerprint of every sample recorded with the code before contact
+/// damping (commit 12f8cc7; libm makes them the same on every platform).
+#[test]
+fn zero_contact_damping_is_the_printed_model_bit_for_bit() {
+    let m = RegulatedFullModel::<f64>::new(listed_printed()).unwrap();
+    let mut fp = Fingerprint::new();
+    let st = simulate(&m, &SolverSettings::reference(), 1, &mut |s: &Sample<
+        f64,
+    >| {
+        fp.sample(s)
+    })
+    .unwrap();
+    assert_eq!(
+        (st.accepted, st.rejected, st.rhs_evals, fp.samples),
+        (52412, 9517, 538_327, 104_823)
+    );
+    assert_eq!(fp.hash, 0xb9fb_b46f_8bf8_d565);
+
+    let m = RegulatedVerticalModel::<f32>::new(listed_printed()).unwrap();
+    let mut s = SolverSettings::<f32>::reference();
+    s.rtol = 1e-3;
+    s.start = Start::Static;
+    let mut fp = Fingerprint::new();
+    let st = simulate(&m, &s, 1, &mut |s: &Sample<f32>| fp.sample(s)).unwrap();
+    assert_eq!(
+        (st.accepted, st.rejected, st.rhs_evals, fp.samples),
+        (6513, 2081, 73184, 13026)
+    );
+    assert_eq!(fp.hash, 0xb6cd_87ed_ce43_3e9c);
+
+    // The default contact damping changes the run (and so can fail this test).
+    let mut damped = listed_printed::<f64>();
+    damped.contact_damping_ratio = 0.05;
+    let m = RegulatedFullModel::<f64>::new(damped).unwrap();
+    let mut fp = Fingerprint::new();
+    simulate(&m, &SolverSettings::reference(), 1, &mut |s: &Sample<
+        f64,
+    >| {
+        fp.sample(s)
+    })
+    .unwrap();
+    assert_ne!(fp.hash, 0xb9fb_b46f_8bf8_d565);
 }
 
 // ---------------------------------------------------------------- rigid limit
@@ -544,14 +637,14 @@ impl Rng {
 /// At random states of the full model (any cam angle, deflections of ±50 µin around the
 /// static ones, velocities up to 20 in/s, some near zero where friction is smoothed),
 /// the model's contact force and slide-bearing friction are those of the tested force
-/// functions (Eqs. V.15-V.16, V.19-V.20) applied to its own displacements and pressure
-/// angle.
+/// functions (Eqs. V.15-V.16, V.19-V.20 with the contact damping of docs/MODEL.md §3.9)
+/// applied to its own displacements, velocities and pressure angle.
 #[test]
 fn model_forces_are_the_force_functions() {
     let d = Design::<f64>::reference();
     let m = RegulatedFullModel::new(d.clone()).unwrap();
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    let (mut touching, mut apart, mut rubbing) = (0, 0, 0);
+    let (mut touching, mut apart, mut rubbing, mut clamped) = (0, 0, 0, 0);
     for _ in 0..2000 {
         let theta = rng.within(0.0, TWO_PI);
         let lift = d.program.follower(theta).y;
@@ -571,7 +664,11 @@ fn model_forces_are_the_force_functions() {
         let p = m.evaluate(0.0, &y);
         let (cos_phi, sin_phi) = (p.pressure_angle.cos(), p.pressure_angle.sin());
         let approach = p.lift.y + p.position(TransDof::CamY) - p.position(TransDof::RollerY);
-        let c = contact_force(p.k_h, approach, m.preload(), cos_phi);
+        // d/dt (y + y1 - y2) = y'(θ_c) θ̇_c + ẏ1 - ẏ2; C_h = 2 ξ_h sqrt(K_h M_r) (V.13).
+        let rate =
+            p.lift.dy * p.omega_c + p.velocity(TransDof::CamY) - p.velocity(TransDof::RollerY);
+        let c_h = 2.0 * d.contact_damping_ratio * (p.k_h * d.m_r).sqrt();
+        let c = damped_contact_force(p.k_h, approach, m.preload(), c_h, rate, cos_phi);
         // The model forms y + y1 - y2 from y2 stored relative to the lift and cos φ without
         // the angle: both differ from the test's by rounding (K_h · 1 ulp of 1.5 in ≈ 1.5e-9 lb).
         let tol = 1e-7 + 1e-12 * c.force.abs();
@@ -583,6 +680,12 @@ fn model_forces_are_the_force_functions() {
         );
         if c.force.abs() > tol {
             assert_eq!(p.in_contact, c.in_contact, "θ {theta}");
+        }
+        // The elastic part alone (the printed V.19): where it is positive but the damper
+        // would pull, the force is clamped at 0.
+        let elastic = contact_force(p.k_h, approach, m.preload(), cos_phi);
+        if elastic.in_contact && !c.in_contact {
+            clamped += 1;
         }
         let (n1, n2) = bearing_normal_forces(c.force, sin_phi, d.bearing_a, d.bearing_b);
         let f1 = coulomb_friction(
@@ -616,9 +719,9 @@ fn model_forces_are_the_force_functions() {
             rubbing += 1;
         }
     }
-    // Both sides of the jump criterion and real friction were exercised.
+    // Both sides of the jump criterion, the clamp and real friction were exercised.
     assert!(
-        touching > 200 && apart > 200 && rubbing > 200,
-        "{touching} {apart} {rubbing}"
+        touching > 200 && apart > 200 && rubbing > 200 && clamped > 20,
+        "{touching} {apart} {rubbing} {clamped}"
     );
 }
