@@ -365,6 +365,19 @@ pub fn damping_coefficient<T: Real>(ratio: T, stiffness: T, mass: T) -> T {
     T::TWO * ratio * (stiffness * mass).sqrt()
 }
 
+/// Force of a spring `k` and a parallel damper `c` (Kelvin-Voigt) on the body at one end:
+/// `k dx + c dv`, with `dx` and `dv` the other end's displacement and velocity relative
+/// to this body's (lb). Used for the roller bearing K_rb with its damper C_rb
+/// (docs/MODEL.md §3.13). `c == 0` returns `k dx` bit for bit, whatever `dv`.
+#[inline]
+pub fn spring_damper_force<T: Real>(k: T, dx: T, c: T, dv: T) -> T {
+    if c == T::ZERO {
+        k * dx
+    } else {
+        k * dx + c * dv
+    }
+}
+
 /// Contact force with viscous damping at the contact (docs/MODEL.md §3.9): Eqs.
 /// V.19-V.20 plus a damper `C_h` on the rate of approach, acting only in contact and
 /// never pulling:
@@ -786,6 +799,25 @@ mod tests {
         // V.13: C = 2 ξ sqrt(K M); 2 · 0.05 · sqrt(4e6 · 1e-4) = 2.
         assert!((damping_coefficient(0.05, 4.0e6, 1.0e-4) - 2.0).abs() < 1e-15);
         assert_eq!(damping_coefficient(0.0, 6.45e6, 1.3e-4), 0.0);
+    }
+
+    /// The roller bearing's spring and damper by hand, and `c = 0` as the spring alone
+    /// bit for bit (whatever the velocity, the sign of a zero kept).
+    #[test]
+    fn spring_damper_force_by_hand_and_without_damping() {
+        assert_eq!(spring_damper_force(4.0, 0.5, 0.25, -4.0), 1.0);
+        assert_eq!(spring_damper_force(4.0, -0.5, 0.25, 4.0), -1.0);
+        assert_eq!(spring_damper_force(1.5e6, 0.0, 1.4, 2.0), 2.8);
+        for (k, dx) in [(1.5e6, 1e-6), (1.5e6, -3e-7), (2.0, -0.0), (1.5e6, 0.0)] {
+            for dv in [0.0, -0.0, 5.0, f64::NAN, f64::INFINITY] {
+                assert_eq!(
+                    spring_damper_force(k, dx, 0.0, dv).to_bits(),
+                    (k * dx).to_bits(),
+                    "{k} {dx} {dv}"
+                );
+            }
+        }
+        assert!(spring_damper_force(1.0, 1.0, 1.0, f64::NAN).is_nan());
     }
 
     /// Rebound of a mass m from a wall through this contact (k, c = 2 ζ sqrt(k m), no

@@ -21,6 +21,10 @@ pub const STEEL_POISSON: f64 = 0.295;
 pub const REFERENCE_RPM: f64 = 800.0;
 /// Structural damping ratio for the follower rod C_f1 (Eq. V.13 with ξ = 0.03, V.14).
 pub const STRUCTURAL_DAMPING_RATIO: f64 = 0.03;
+/// Damping ratio ξ_rb of the roller bearing, C_rb = 2 ξ_rb sqrt(K_rb M_r) (Eq. V.13): 0.05,
+/// V.14's lower end for well-lubricated machine parts (the roller's needle bearing is
+/// one). docs/MODEL.md §3.13, §3.14, §6.2.
+pub const ROLLER_BEARING_DAMPING_RATIO: f64 = 0.05;
 /// Return spring rate K_rs of the reference design, lb/in: 100, the rate of VI.2's modal
 /// analysis, not VI.1's listed 60 (docs/MODEL.md §6.1). With 60 lb/in and the listed
 /// δ_rs = 0.5 in the reference program separates below its own 800 rpm, while the
@@ -136,10 +140,14 @@ pub struct Design<T> {
     /// M_r (VI.1's "M_T"): roller mass (0.00013).
     #[cfg_attr(feature = "serde", serde(rename = "roller_mass_lb_s2_per_in"))]
     pub m_r: T,
-    /// K_rb: roller bearing and its shaft (VI.1: 1.5e6). Undamped, as printed
-    /// (docs/MODEL.md §6.2).
+    /// K_rb: roller bearing and its shaft (VI.1: 1.5e6), vertical and horizontal.
     #[cfg_attr(feature = "serde", serde(rename = "k_rb_lb_per_in"))]
     pub k_rb: T,
+    /// ξ_rb of the roller-bearing damping C_rb = 2 ξ_rb sqrt(K_rb M_r) (Eq. V.13), acting
+    /// beside K_rb vertically and horizontally. Not in the printed model; 0.05 from V.14
+    /// for well-lubricated machine parts ([`ROLLER_BEARING_DAMPING_RATIO`], docs/MODEL.md
+    /// §6.2). 0 (with [`Design::contact_damping_ratio`] 0) gives the printed model bit for bit.
+    pub roller_bearing_damping_ratio: T,
     /// ξ_h of the contact damping C_h = 2 ξ_h sqrt(K_h M_r) (Eq. V.13), K_h at the current
     /// contact point. Not in the printed model (which has none, so the roller's mode rings
     /// undamped); 0.05 from V.14 for well-lubricated machine parts ([`CONTACT_DAMPING_RATIO`],
@@ -248,6 +256,7 @@ impl<T: Real> Design<T> {
             c_hs: f(4.30474),
             m_r: f(0.00013),
             k_rb: f(1.5e6),
+            roller_bearing_damping_ratio: f(ROLLER_BEARING_DAMPING_RATIO),
             contact_damping_ratio: f(CONTACT_DAMPING_RATIO),
             rho,
             youngs,
@@ -315,6 +324,13 @@ impl<T: Real> Design<T> {
         crate::damping_coefficient(self.contact_damping_ratio, k_h, self.m_r)
     }
 
+    /// C_rb = 2 ξ_rb sqrt(K_rb M_r): the roller bearing's damping (Eq. V.13,
+    /// docs/MODEL.md §3.13); exactly 0 when ξ_rb = 0.
+    #[inline(always)]
+    pub fn c_rb(&self) -> T {
+        crate::damping_coefficient(self.roller_bearing_damping_ratio, self.k_rb, self.m_r)
+    }
+
     /// K_h on the base circle at unit force (Eq. V.11), the value the preload uses.
     pub fn k_h_base(&self) -> Result<T> {
         self.hertz
@@ -370,6 +386,10 @@ impl<T: Real> Design<T> {
             (k::MU, self.mu),
             (k::DAMPING_RATIO_F1, self.damping_ratio_f1),
             (k::CONTACT_DAMPING_RATIO, self.contact_damping_ratio),
+            (
+                k::ROLLER_BEARING_DAMPING_RATIO,
+                self.roller_bearing_damping_ratio,
+            ),
             (k::M_SPRING, self.m_spring),
             (k::DELTA_RS, self.delta_rs),
         ] {
@@ -445,8 +465,9 @@ pub const RECORD_SEGMENTS: usize = 8;
 /// reproduces the chip's design bit for bit ([`Design::from_record`] on both sides).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DesignRecord {
-    /// Every scalar parameter, in [`Design`]'s field order but for the contact damping
-    /// ratio, which is last (index 41; see [`Design::to_record`]).
+    /// Every scalar parameter, in [`Design`]'s field order but for the contact and
+    /// roller-bearing damping ratios, which are last (indices 41, 42; see
+    /// [`Design::to_record`]).
     pub values: [f64; RECORD_VALUES],
     /// The motor law (its numbers in `f64`).
     pub drive: DriveLaw<f64>,
@@ -457,7 +478,7 @@ pub struct DesignRecord {
 }
 
 /// Number of scalar values in a [`DesignRecord`].
-pub const RECORD_VALUES: usize = 42;
+pub const RECORD_VALUES: usize = 43;
 
 impl<T: Real> Design<T> {
     /// The design as a [`DesignRecord`] (widened to `f64`).
@@ -508,6 +529,7 @@ impl<T: Real> Design<T> {
             f(h.poisson_2),
             f(h.thickness),
             f(self.contact_damping_ratio),
+            f(self.roller_bearing_damping_ratio),
         ];
         let drive = self.drive.map(f);
         let mut segments = [crate::Segment {
@@ -572,6 +594,7 @@ impl<T: Real> Design<T> {
             c_hs: v(14),
             m_r: v(15),
             k_rb: v(16),
+            roller_bearing_damping_ratio: v(42),
             contact_damping_ratio: v(41),
             rho: v(17),
             youngs: v(18),

@@ -9,7 +9,8 @@ use camsim_core::{
     bearing_normal_forces, contact_force, coulomb_friction, damped_contact_force, simulate,
     CamModel, ConstCamVertical, ConstCamVerticalModel, Design, DriveLaw, England, EnglandConfig,
     MotionLaw, OdeSystem, Real, RegulatedFull, RegulatedFullModel, RegulatedVerticalModel,
-    ResponseStats, Sample, Scene, SolverSettings, Start, StateMut, StateVar, Tolerance, TransDof,
+    ResponseStats, Sample, Scene, SolverSettings, SolverStats, Start, StateMut, StateVar,
+    Tolerance, TransDof,
 };
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
@@ -29,6 +30,7 @@ fn conservative(rpm: f64) -> Design<f64> {
     d.c_cc = 0.0;
     d.damping_ratio_f1 = 0.0;
     d.contact_damping_ratio = 0.0;
+    d.roller_bearing_damping_ratio = 0.0;
     d.mu = 0.0;
     d
 }
@@ -171,30 +173,35 @@ impl Fingerprint {
 }
 
 /// VI.1's listed spring (60 lb/in, with the 0.151 lb mass the model used for it) and no
-/// contact damping: the design the model ran before contact damping existed.
+/// damping at the roller: the design the model ran before that damping existed.
 fn listed_printed<T: Real>() -> Design<T> {
     let mut d = Design::<T>::reference();
     d.k_rs = T::from_f64(60.0);
     d.m_spring = T::from_f64(0.151 / 386.09);
     d.contact_damping_ratio = T::ZERO;
+    d.roller_bearing_damping_ratio = T::ZERO;
     d
 }
 
-/// ξ_h = 0 is the printed model bit for bit: one revolution of the full f64 model from
-/// the thesis start (its impact rings and jumps, so every branch of the contact law is
-/// taken) and of the chip's f32 vertical model from the static start give the solver
-/// counts and the fingerprint of every sample recorded with the code before contact
-/// damping (commit 12f8cc7; libm makes them the same on every platform).
-#[test]
-fn zero_contact_damping_is_the_printed_model_bit_for_bit() {
-    let m = RegulatedFullModel::<f64>::new(listed_printed()).unwrap();
+/// One revolution of the full f64 model from the thesis start: the solver's counts and
+/// the fingerprint of every sample.
+fn full_run(d: Design<f64>) -> (SolverStats, Fingerprint) {
+    let m = RegulatedFullModel::<f64>::new(d).unwrap();
     let mut fp = Fingerprint::new();
-    let st = simulate(&m, &SolverSettings::reference(), 1, &mut |s: &Sample<
-        f64,
-    >| {
-        fp.sample(s)
-    })
-    .unwrap();
+    let mut obs = |s: &Sample<f64>| fp.sample(s);
+    let st = simulate(&m, &SolverSettings::reference(), 1, &mut obs).unwrap();
+    (st, fp)
+}
+
+/// ξ_h = ξ_rb = 0 is the printed model bit for bit: one revolution of the full f64 model
+/// from the thesis start (its impact rings and jumps, so every branch of the contact law
+/// is taken, and the horizontal motion is excited) and of the chip's f32 vertical model
+/// from the static start give the solver counts and the fingerprint of every sample
+/// recorded with the code before the damping at the roller (commit 12f8cc7; libm makes
+/// them the same on every platform).
+#[test]
+fn zero_damping_at_the_roller_is_the_printed_model_bit_for_bit() {
+    let (st, fp) = full_run(listed_printed());
     assert_eq!(
         (st.accepted, st.rejected, st.rhs_evals, fp.samples),
         (52412, 9517, 538_327, 104_823)
@@ -213,18 +220,13 @@ fn zero_contact_damping_is_the_printed_model_bit_for_bit() {
     );
     assert_eq!(fp.hash, 0xb6cd_87ed_ce43_3e9c);
 
-    // The default contact damping changes the run (and so can fail this test).
-    let mut damped = listed_printed::<f64>();
-    damped.contact_damping_ratio = 0.05;
-    let m = RegulatedFullModel::<f64>::new(damped).unwrap();
-    let mut fp = Fingerprint::new();
-    simulate(&m, &SolverSettings::reference(), 1, &mut |s: &Sample<
-        f64,
-    >| {
-        fp.sample(s)
-    })
-    .unwrap();
-    assert_ne!(fp.hash, 0xb9fb_b46f_8bf8_d565);
+    // Either damper alone changes the run (and so can fail this test).
+    let mut contact = listed_printed::<f64>();
+    contact.contact_damping_ratio = 0.05;
+    assert_ne!(full_run(contact).1.hash, 0xb9fb_b46f_8bf8_d565);
+    let mut bearing = listed_printed::<f64>();
+    bearing.roller_bearing_damping_ratio = 0.05;
+    assert_ne!(full_run(bearing).1.hash, 0xb9fb_b46f_8bf8_d565);
 }
 
 // ---------------------------------------------------------------- rigid limit
@@ -289,14 +291,16 @@ fn rigid_limit_tracks_the_theoretical_law() {
 
 /// The model plus extra states: the integral of the power that enters the mechanical
 /// energy E (kinetic + elastic + spring + contact), that of the drive's share alone and
-/// that of the contact damper's dissipation. By hand, from the vertical equations with
-/// no friction, no damping but the contact's, and the constant-speed cam:
+/// those of the contact damper's and the roller bearing damper's dissipation. By hand,
+/// from the vertical equations with no friction, no damping but the contact's and the
+/// roller bearing's, and the constant-speed cam:
 /// dE/dt = T_o ω0 (the drive's work through the lift)
 ///       + ½ κ' ω0 δ² + κ δ F_p (1/K_h)' ω0 (the contact stiffness κ = K_h cos²φ and the
 ///         preload compression F_p/K_h change with the cam angle)
 ///       + ½ ρA ẏ3 (ẏ3² - ẏ4²) (rod mass passes from the cantilever to the follower)
 ///       + ½ K_vc' ẏ3 (y4 - y3)² + ½ K_f' ẏ3 (y5 - y4)² (stiffnesses depend on y3)
-///       - C_h (δ̇ cos φ)² (the contact damper, while it is not clamped),
+///       - C_h (δ̇ cos φ)² (the contact damper, while it is not clamped)
+///       - C_rb (ẏ3 - ẏ2)² (the roller bearing's damper),
 /// where δ = y + y1 - y2 + F_p/K_h (contact only while δ > 0). The damper's share of the
 /// vertical contact force, C_h δ̇ cos²φ, does work f (ẏ2 - ẏ1) on roller and cam and
 /// takes f y' ω0 from the drive (inside T_o): the net is -f δ̇ with δ̇ = y' ω0 + ẏ1 - ẏ2,
@@ -304,14 +308,15 @@ fn rigid_limit_tracks_the_theoretical_law() {
 struct Powered<'a>(&'a ConstCamVerticalModel<f64>);
 
 /// The model's 10 states, the work of all the power terms, that of the drive's alone and
-/// the contact damper's dissipation.
-const NE: usize = 13;
+/// the two dampers' dissipation.
+const NE: usize = 14;
 
 /// Power terms at one instant, lb·in/s.
 struct Power {
     drive: f64,
     total: f64,
-    dissipation: f64,
+    contact: f64,
+    bearing: f64,
 }
 
 impl Powered<'_> {
@@ -328,7 +333,7 @@ impl Powered<'_> {
         let [v1, _, v2, _, v3, _, v4, _] = p.vel;
         let drive = p.torque_out * w;
         let mut power = drive;
-        let mut dissipation = 0.0;
+        let mut contact = 0.0;
         let kh = p.k_h;
         let delta = p.lift.y + y1 - y2 + m.preload() / kh;
         if delta > 0.0 {
@@ -341,17 +346,19 @@ impl Powered<'_> {
             if p.contact_force > 0.0 {
                 let c_h = 2.0 * d.contact_damping_ratio * (kh * d.m_r).sqrt();
                 let normal_rate = (p.lift.dy * w + v1 - v2) * p.pressure_angle.cos();
-                dissipation = c_h * normal_rate * normal_rate;
+                contact = c_h * normal_rate * normal_rate;
             }
         }
         let ea = d.youngs * d.area;
         power += 0.5 * d.rho * d.area * v3 * (v3 * v3 - v4 * v4);
         power += 0.5 * ea / (d.e2 - y3).powi(2) * v3 * (y4 - y3).powi(2);
         power += 0.5 * (-ea / (d.e1 + y3).powi(2)) * v3 * (y5 - y4).powi(2);
+        let c_rb = 2.0 * d.roller_bearing_damping_ratio * (d.k_rb * d.m_r).sqrt();
         Power {
             drive,
             total: power,
-            dissipation,
+            contact,
+            bearing: c_rb * (v3 - v2).powi(2),
         }
     }
     fn energy(&self, t: f64, y: &[f64; 10]) -> f64 {
@@ -386,9 +393,10 @@ impl OdeSystem<f64, NE> for Powered<'_> {
         self.0.rhs(t, &s, &mut ds);
         dydt[..10].copy_from_slice(&ds);
         let p = self.power(t, &s);
-        dydt[10] = p.total - p.dissipation;
+        dydt[10] = p.total - p.contact - p.bearing;
         dydt[11] = p.drive;
-        dydt[12] = p.dissipation;
+        dydt[12] = p.contact;
+        dydt[13] = p.bearing;
     }
 }
 
@@ -402,6 +410,8 @@ struct Balance {
     drive: f64,
     /// ∫ C_h (δ̇ cos φ)² dt.
     dissipated: f64,
+    /// ∫ C_rb (ẏ3 - ẏ2)² dt.
+    bearing: f64,
     /// ∫ |T_o ω0| dt: the gross work.
     gross: f64,
     /// Smallest contact force sampled, lb.
@@ -443,6 +453,7 @@ fn balance_over_a_revolution(m: &ConstCamVerticalModel<f64>, y0: [f64; 10]) -> B
         work: y[10],
         drive: y[11],
         dissipated: y[12],
+        bearing: y[13],
         gross,
         force_min,
     }
@@ -455,7 +466,7 @@ fn energy_balance_over_a_revolution() {
     let m = ConstCamVerticalModel::new(conservative(500.0)).unwrap();
     let b = balance_over_a_revolution(&m, m.initial_state());
     let (d_e, work, abs_work) = (b.d_e, b.work, b.gross);
-    assert_eq!(b.dissipated, 0.0);
+    assert_eq!((b.dissipated, b.bearing), (0.0, 0.0));
     // The lift does real work (the spring is compressed and released): far from zero.
     assert!(abs_work > 50.0, "|work| {abs_work}");
     // Over the revolution the lift's work nearly cancels (the spring is compressed and
@@ -492,6 +503,7 @@ fn contact_damper_dissipates_its_integral() {
     StateMut::<f64, ConstCamVertical, { ConstCamVertical::N }>::new(&mut y0)
         .set(StateVar::Velocity(TransDof::RollerY), 1.5);
     let b = balance_over_a_revolution(&m, y0);
+    assert_eq!(b.bearing, 0.0);
     assert!(b.force_min > 5.0, "smallest force {}", b.force_min);
     // The kick's energy ½ M_r v² = 1.46e-4 lb·in goes almost all into the roller's mode,
     // which the damper empties within a millisecond; a little goes into modes this
@@ -525,6 +537,64 @@ fn contact_damper_dissipates_its_integral() {
         b.dissipated > 1000.0 * err && b.dissipated < 0.01 * kick,
         "no kick: dissipated {} vs error {err}",
         b.dissipated
+    );
+}
+
+/// With the roller bearing's damper too (ξ_rb = 0.05) the balance closes with both
+/// integrals. Kicked in the shape of the roller's mode ([`roller_mode`]), the whole kick's
+/// energy is dissipated, split between the two dampers in proportion to C_h (φ2 - φ1)²
+/// and C_rb (φ2 - φ3)² (about √K_h : √K_rb: the cam and the cantilever barely move).
+#[test]
+fn roller_bearing_damper_dissipates_its_integral() {
+    let mut d = conservative(500.0);
+    d.contact_damping_ratio = 0.05;
+    d.roller_bearing_damping_ratio = 0.05;
+    let m = ConstCamVerticalModel::new(d.clone()).unwrap();
+    // The kick in the shape of the roller's mode, 1.5 in/s at the roller.
+    let (_, _, p) = roller_mode(&d);
+    let mut y0 = m.static_state();
+    let mut s = StateMut::<f64, ConstCamVertical, { ConstCamVertical::N }>::new(&mut y0);
+    let dofs = [
+        TransDof::CamY,
+        TransDof::RollerY,
+        TransDof::CantileverY,
+        TransDof::Follower,
+        TransDof::Load,
+    ];
+    let mut kick = 0.0;
+    let masses = [d.m_c, d.m_r, d.m_fc(0.0), d.m_f(0.0), d.m_l];
+    for ((dof, pi), mi) in dofs.into_iter().zip(p).zip(masses) {
+        s.set(StateVar::Velocity(dof), 1.5 * pi);
+        kick += 0.5 * mi * (1.5 * pi).powi(2);
+    }
+    let b = balance_over_a_revolution(&m, y0);
+    assert!(b.force_min > 5.0, "smallest force {}", b.force_min);
+    let err = (b.d_e - b.work).abs();
+    assert!(
+        err < 1e-9 * b.gross,
+        "ΔE {} vs work {} (gross {}), error {err}",
+        b.d_e,
+        b.work,
+        b.gross
+    );
+    assert!(b.dissipated > 100.0 * err && b.bearing > 100.0 * err);
+    // Less what the dampers take from the program's own vibration (the same run without
+    // the kick: the ring and that vibration, far apart in frequency, add), all of the
+    // kick's energy is dissipated (seen: to 3e-6 of it; the split to 1e-4).
+    let quiet = balance_over_a_revolution(&m, m.static_state());
+    assert!((quiet.d_e - quiet.work).abs() < 1e-9 * quiet.gross);
+    let contact = b.dissipated - quiet.dissipated;
+    let bearing = b.bearing - quiet.bearing;
+    assert!(
+        ((contact + bearing) / kick - 1.0).abs() < 1e-3,
+        "{contact} + {bearing} vs {kick}"
+    );
+    let k_h = d.k_h_base().unwrap();
+    let split = d.k_rb.sqrt() * (p[1] - p[2]).powi(2) / (k_h.sqrt() * (p[1] - p[0]).powi(2));
+    assert!(
+        (bearing / contact / split - 1.0).abs() < 1e-3,
+        "bearing / contact {} vs {split}",
+        bearing / contact
     );
 }
 
@@ -593,26 +663,15 @@ fn log_slope(a: &[(f64, f64)]) -> f64 {
     num / den
 }
 
-/// The contact damping makes the roller's free ring decay at the rate the linearised
-/// chain predicts. The cam at rest on the base circle (φ = 0, no friction), the vertical
-/// chain y1..y5 linearised at static equilibrium: M = diag(M_c, M_r, M_fc, M_f, M_l);
-/// springs K_vs (y1 to the frame), K_h (y1-y2), K_rb (y2-y3), K_rs (y3 to the frame),
-/// K_vc (y3-y4), K_f (y4-y5); dampers C_vs (y1), C_h = 2 ξ_h sqrt(K_h M_r) (y1-y2),
-/// C_f1 (y4-y5). The roller's mode is the highest of K φ = ω² M φ (about 2.5e5 rad/s); for
-/// light damping its amplitude decays as exp(-σ t) with σ = ζω = ½ φᵀCφ (φ M-normalised,
-/// first order in the damping: the error is O(ζ²), 0.2 %).
-/// For the roller alone between fixed cam and cantilever σ = C_h / (2 M_r) =
-/// ξ_h sqrt(K_h / M_r) = 1.11e4 1/s; the heavier neighbours move it by a few percent. The
-/// contact force's swing after a kick at rest in the shape of that mode, 1 in/s at the
-/// roller (K_h v / ω = 26 lb, below the 50 lb static force), falls as exp(-σ t) over
-/// 200 µs (8 periods, a factor of 5; seen: the rate within 1e-4 of σ). Without the
-/// contact damping the same ring keeps its amplitude: that is the printed model.
-#[test]
-fn contact_damping_decays_the_roller_ring() {
-    let mut d = Design::<f64>::reference();
-    assert_eq!((d.contact_damping_ratio, d.damping_ratio_f1), (0.05, 0.03));
-    d.set_speed_rpm(1e-9).unwrap(); // the cam stays on the base circle
-    d.drive = DriveLaw::ConstantCamSpeed;
+/// The roller's mode of the vertical chain linearised at rest on the base circle (φ = 0,
+/// no friction): M = diag(M_c, M_r, M_fc, M_f, M_l); springs K_vs (y1 to the frame), K_h
+/// (y1-y2), K_rb (y2-y3), K_rs (y3 to the frame), K_vc (y3-y4), K_f (y4-y5); dampers C_vs
+/// (y1), C_h = 2 ξ_h sqrt(K_h M_r) (y1-y2), C_rb = 2 ξ_rb sqrt(K_rb M_r) (y2-y3), C_f1 =
+/// 2 ξ sqrt(K_f M_l) (y4-y5). The roller's mode is the highest of K φ = ω² M φ; for light
+/// damping it decays as exp(-σ t) with σ = ζω = ½ φᵀCφ (φ M-normalised; first order in
+/// the damping, the error is O(ζ²), 0.2 %). Returns ω, σ and the mode's shape scaled to
+/// 1 at the roller.
+fn roller_mode(d: &Design<f64>) -> (f64, f64, [f64; 5]) {
     let k_h = d.k_h_base().unwrap();
     let y3 = {
         let m = ConstCamVerticalModel::new(d.clone()).unwrap();
@@ -633,6 +692,7 @@ fn contact_damping_decays_the_roller_ring() {
             a[j][i] -= k;
         }
     }
+    let v13 = |ratio: f64, k: f64, m: f64| 2.0 * ratio * (k * m).sqrt();
     let mut kk = [[0.0; 5]; 5];
     add(&mut kk, 0, None, d.k_vs);
     add(&mut kk, 0, Some(1), k_h);
@@ -640,66 +700,116 @@ fn contact_damping_decays_the_roller_ring() {
     add(&mut kk, 2, None, d.k_rs);
     add(&mut kk, 2, Some(3), d.k_vc(y3));
     add(&mut kk, 3, Some(4), d.k_f(y3));
-    let c_h = 2.0 * 0.05 * (k_h * d.m_r).sqrt();
     let mut cc = [[0.0; 5]; 5];
     add(&mut cc, 0, None, d.c_vs);
-    add(&mut cc, 0, Some(1), c_h);
-    add(&mut cc, 3, Some(4), 2.0 * 0.03 * (d.k_f(y3) * d.m_l).sqrt());
+    add(
+        &mut cc,
+        0,
+        Some(1),
+        v13(d.contact_damping_ratio, k_h, d.m_r),
+    );
+    add(
+        &mut cc,
+        1,
+        Some(2),
+        v13(d.roller_bearing_damping_ratio, d.k_rb, d.m_r),
+    );
+    add(
+        &mut cc,
+        3,
+        Some(4),
+        v13(d.damping_ratio_f1, d.k_f(y3), d.m_l),
+    );
     let (lambda, phi) = camsim_core::generalized_eigen(&kk, &mm).unwrap();
-    let w = lambda[4].sqrt();
-    let p: Vec<f64> = (0..5).map(|i| phi[i][4]).collect();
+    let p: [f64; 5] = core::array::from_fn(|i| phi[i][4]);
     let mut ptcp = 0.0;
     for i in 0..5 {
         for j in 0..5 {
             ptcp += p[i] * cc[i][j] * p[j];
         }
     }
-    let sigma = 0.5 * ptcp;
-    let sigma_alone = 0.05 * (k_h / d.m_r).sqrt();
-    // The roller alone: sqrt((K_h + K_rb) / M_r) = 2.47e5 rad/s.
-    let w_alone = ((k_h + d.k_rb) / d.m_r).sqrt();
-    assert!(
-        (w / w_alone - 1.0).abs() < 0.02,
-        "roller mode {w} vs {w_alone} rad/s"
-    );
-    assert!(
-        (sigma / sigma_alone - 1.0).abs() < 0.05,
-        "σ {sigma} vs the roller alone {sigma_alone}"
-    );
+    (lambda[4].sqrt(), 0.5 * ptcp, p.map(|x| x / p[1]))
+}
 
-    // The kick: the roller's mode shape scaled to 1 in/s at the roller, so that no other
-    // mode rings (the roller moves most; the cam and the cantilever far less).
-    let kick: [f64; 5] = core::array::from_fn(|i| p[i] / p[1]);
-    assert!(
-        kick.iter()
-            .enumerate()
-            .all(|(i, k)| i == 1 || k.abs() < 0.25),
-        "{kick:?}"
+/// The contact damping (and the roller bearing's) makes the roller's free ring decay at
+/// the rate the linearised chain predicts ([`roller_mode`]). For the roller alone
+/// between a fixed cam and cantilever ω = sqrt((K_h + K_rb) / M_r) = 2.47e5 rad/s and
+/// σ = (C_h + C_rb) / (2 M_r) = ξ_h sqrt(K_h / M_r) + ξ_rb sqrt(K_rb / M_r): 1.11e4 1/s
+/// from the contact, 0.54e4 from the bearing; the heavier neighbours move both by a few
+/// percent. The contact force's swing after a kick at rest in the shape of the mode,
+/// 1 in/s at the roller (K_h v / ω = 26 lb, below the 50 lb static force), falls as
+/// exp(-σ t) over 200 µs (8 periods; seen: the rate within 1e-4 of σ): with the contact
+/// damper alone, and with both. Without either the ring keeps its amplitude: that is the
+/// printed model.
+#[test]
+fn contact_damping_decays_the_roller_ring() {
+    let mut d = Design::<f64>::reference();
+    assert_eq!(
+        (
+            d.contact_damping_ratio,
+            d.roller_bearing_damping_ratio,
+            d.damping_ratio_f1
+        ),
+        (0.05, 0.05, 0.03)
     );
+    d.set_speed_rpm(1e-9).unwrap(); // the cam stays on the base circle
+    d.drive = DriveLaw::ConstantCamSpeed;
+    let k_h = d.k_h_base().unwrap();
     let duration = 2e-4;
-    let a = swings(&ring(d.clone(), kick, duration));
-    assert!(a.len() >= 6, "{} swings", a.len());
-    // The first swing, at its mid time: the overlap rings with amplitude (v2 - v1) / ω,
-    // the force with K_h (v2 - v1) / ω, less the decay so far.
-    let (t0, first) = a[0];
-    let expect = k_h * (1.0 - kick[0]) / w * (-sigma * t0).exp();
-    assert!(
-        (first / expect - 1.0).abs() < 0.02,
-        "first swing {first} vs {expect} lb"
-    );
-    let measured = -log_slope(&a);
-    assert!(
-        (measured / sigma - 1.0).abs() < 0.01,
-        "decay rate {measured} vs {sigma} (the roller alone: {sigma_alone})"
-    );
-    // The swing period is the damped mode's, 2π / (ω sqrt(1 - ζ²)).
-    let period = (a[a.len() - 1].0 - a[0].0) / (a.len() - 1) as f64;
-    let expect = TWO_PI / (w * (1.0 - (sigma / w).powi(2)).sqrt());
-    assert!((period / expect - 1.0).abs() < 0.01, "{period} vs {expect}");
+    let mut contact_only = d.clone();
+    contact_only.roller_bearing_damping_ratio = 0.0;
+    for (case, d) in [
+        ("contact", contact_only),
+        ("contact and bearing", d.clone()),
+    ] {
+        let (w, sigma, kick) = roller_mode(&d);
+        let w_alone = ((k_h + d.k_rb) / d.m_r).sqrt();
+        assert!(
+            (w / w_alone - 1.0).abs() < 0.02,
+            "roller mode {w} vs {w_alone} rad/s"
+        );
+        let sigma_alone = d.contact_damping_ratio * (k_h / d.m_r).sqrt()
+            + d.roller_bearing_damping_ratio * (d.k_rb / d.m_r).sqrt();
+        assert!(
+            (sigma / sigma_alone - 1.0).abs() < 0.05,
+            "{case}: σ {sigma} vs the roller alone {sigma_alone}"
+        );
+        // The roller moves most; the cam and the cantilever far less.
+        assert!(
+            kick.iter()
+                .enumerate()
+                .all(|(i, k)| i == 1 || k.abs() < 0.25),
+            "{kick:?}"
+        );
+        let a = swings(&ring(d.clone(), kick, duration));
+        assert!(a.len() >= 6, "{case}: {} swings", a.len());
+        // The first swing, at its mid time: the overlap rings with amplitude
+        // (v2 - v1) / ω, the force with K_h (v2 - v1) / ω, less the decay so far.
+        let (t0, first) = a[0];
+        let expect = k_h * (1.0 - kick[0]) / w * (-sigma * t0).exp();
+        assert!(
+            (first / expect - 1.0).abs() < 0.02,
+            "{case}: first swing {first} vs {expect} lb"
+        );
+        let measured = -log_slope(&a);
+        assert!(
+            (measured / sigma - 1.0).abs() < 0.01,
+            "{case}: decay rate {measured} vs {sigma} (the roller alone: {sigma_alone})"
+        );
+        // The swing period is the damped mode's, 2π / (ω sqrt(1 - ζ²)).
+        let period = (a[a.len() - 1].0 - a[0].0) / (a.len() - 1) as f64;
+        let expect = TWO_PI / (w * (1.0 - (sigma / w).powi(2)).sqrt());
+        assert!(
+            (period / expect - 1.0).abs() < 0.01,
+            "{case}: {period} vs {expect}"
+        );
+    }
 
-    // ξ_h = 0: the ring keeps its amplitude (the other dampers hardly touch this mode:
+    // Neither: the ring keeps its amplitude (the other dampers hardly touch this mode:
     // seen 0.99997 of it after 200 µs).
     d.contact_damping_ratio = 0.0;
+    d.roller_bearing_damping_ratio = 0.0;
+    let (_, _, kick) = roller_mode(&d);
     let a = swings(&ring(d, kick, duration));
     let kept = a[a.len() - 1].1 / a[0].1;
     assert!(kept > 0.99, "undamped: the ring fell to {kept}");
@@ -864,8 +974,12 @@ fn rev2_stats(rtol: f64, atol: f64) -> Vec<f64> {
 /// Halving the tolerances changes the per-period statistics by less than the tolerance
 /// predicts. A displacement error of at most atol moves the contact force by at most
 /// K_h atol (K_h = 6.45e6 lb/in), so force statistics (indices 4..6 of each period) may
-/// move by that much; the others are kinematic and must agree to 1e-3 relative (the
-/// largest seen is 3.4e-4: the trapezoidal time average of the sampled vibration).
+/// move by that much. The others (RMS deviations of the load's motion, the average
+/// torque) must agree to 1e-3 of that statistic's largest value in the revolution: the
+/// solver's error is absolute, about the same in every period (seen: 2.9e-3 in/s² on
+/// the rise's RMS acceleration of 243 in/s² and on the low dwell's of 3.0), so a period
+/// that hardly vibrates is judged on the revolution's scale. Largest seen: 1.5e-4 (the
+/// return's average torque).
 #[test]
 fn halving_tolerance_changes_statistics_within_what_it_predicts() {
     let k_h = Design::<f64>::reference().k_h_base().unwrap();
@@ -880,7 +994,13 @@ fn halving_tolerance_changes_statistics_within_what_it_predicts() {
                     "atol {atol}: force statistic {i}: {x} vs {y}"
                 );
             } else {
-                let scale = x.abs().max(y.abs()).max(1e-3);
+                let kind = i % 7;
+                let scale = a
+                    .iter()
+                    .chain(&b)
+                    .skip(kind)
+                    .step_by(7)
+                    .fold(1e-3, |m: f64, v| m.max(v.abs()));
                 assert!(
                     change / scale < 1e-3,
                     "atol {atol}: statistic {i}: {x} vs {y} (rel {:e})",
@@ -939,12 +1059,13 @@ fn reduced_scenes_have_smaller_states_and_agree_with_the_full_model() {
             .map(|(a, b)| (a - b).abs() / b.abs().max(1e-3))
             .fold(0.0, f64::max)
     };
-    // Seen: 2.56e-4 (3.79e-4 with the listed spring and no contact damping, what `camsim
-    // bench` reported for this scene then). It is the solver's tolerance, not the dropped
-    // DOFs: the full model at the same tolerance is 5.2e-4 off.
+    // It is the solver's tolerance, not the dropped DOFs: the vertical scene at rtol 1e-6
+    // is held to the same bound as the full model at that tolerance. Seen: 4.8e-4 and
+    // the full model 3.4e-4 (with the printed model's listed spring and no damping at the
+    // roller: 3.79e-4, what `camsim bench` reported then, and 6.0e-4).
     let e = err(&vertical);
     assert!(
-        e < 4.5e-4,
+        e < 1e-3,
         "vertical scene vs full model: max relative error {e:e}"
     );
     assert!(e > 0.0);
@@ -1057,6 +1178,26 @@ fn model_forces_are_the_force_functions() {
         } else {
             apart += 1;
         }
+        // The roller's equations (IV.2, IV.3) with the roller bearing's spring and damper
+        // C_rb = 2 ξ_rb sqrt(K_rb M_r) (docs/MODEL.md §3.13, §3.14), both directions.
+        let c_rb = 2.0 * d.roller_bearing_damping_ratio * (d.k_rb * d.m_r).sqrt();
+        let rel = |a: TransDof, b: TransDof| {
+            (p.position(a) - p.position(b), p.velocity(a) - p.velocity(b))
+        };
+        let (dy, dv) = rel(TransDof::CantileverY, TransDof::RollerY);
+        let a_roller = (d.k_rb * dy + c_rb * dv + c.force * cos_phi) / d.m_r;
+        let got = p.acceleration(TransDof::RollerY);
+        assert!(
+            (got - a_roller).abs() < 1e-9 * (1.0 + a_roller.abs()) + tol / d.m_r,
+            "θ {theta}: roller {got} vs {a_roller}"
+        );
+        let (dx, dvx) = rel(TransDof::CantileverX, TransDof::RollerX);
+        let a_roller_x = (d.k_rb * dx + c_rb * dvx - c.force * sin_phi) / d.m_r;
+        let got = p.acceleration(TransDof::RollerX);
+        assert!(
+            (got - a_roller_x).abs() < 1e-9 * (1.0 + a_roller_x.abs()) + tol / d.m_r,
+            "θ {theta}: roller x {got} vs {a_roller_x}"
+        );
         if p.friction_follower.abs() > 0.01 {
             rubbing += 1;
         }
