@@ -1,5 +1,7 @@
 //! Hertz line contact between roller and cam (Eqs. V.9-V.11), the contact force and
-//! jump criterion (Eqs. V.19-V.20), and the slide-bearing friction (Eqs. V.15-V.16).
+//! jump criterion (Eqs. V.19-V.20) with the contact damper of docs/MODEL.md §3.9, the
+//! roller bearing's spring and damper (§3.13), and the slide-bearing friction (Eqs.
+//! V.15-V.16).
 //!
 //! Everything here sits inside the ODE right-hand side, so the hot-path functions are
 //! branch-light, never panic and never allocate. The checked variants (`new`,

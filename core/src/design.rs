@@ -146,12 +146,13 @@ pub struct Design<T> {
     /// ξ_rb of the roller-bearing damping C_rb = 2 ξ_rb sqrt(K_rb M_r) (Eq. V.13), acting
     /// beside K_rb vertically and horizontally. Not in the printed model; 0.05 from V.14
     /// for well-lubricated machine parts ([`ROLLER_BEARING_DAMPING_RATIO`], docs/MODEL.md
-    /// §6.2). 0 (with [`Design::contact_damping_ratio`] 0) gives the printed model bit for bit.
+    /// §6.2). 0, with [`Design::contact_damping_ratio`] 0, gives the printed model bit for bit.
     pub roller_bearing_damping_ratio: T,
     /// ξ_h of the contact damping C_h = 2 ξ_h sqrt(K_h M_r) (Eq. V.13), K_h at the current
     /// contact point. Not in the printed model (which has none, so the roller's mode rings
     /// undamped); 0.05 from V.14 for well-lubricated machine parts ([`CONTACT_DAMPING_RATIO`],
-    /// docs/MODEL.md §3.9, §6.2). 0 gives the printed model bit for bit.
+    /// docs/MODEL.md §3.9, §6.2). 0, with [`Design::roller_bearing_damping_ratio`] 0, gives
+    /// the printed model bit for bit.
     pub contact_damping_ratio: T,
 
     // --- follower rod ---
