@@ -24,17 +24,18 @@ pub const CHIP_STATES: usize = <ChipScene as Scene>::N;
 pub type ChipModel<T> = CamModel<T, ChipScene, CHIP_STATES>;
 /// Number of grid speeds of the boot-time table.
 pub const CHIP_GRID: usize = 10;
-/// Grid speeds of the boot-time table, rpm (ascending; denser near the jump).
+/// Grid speeds of the boot-time table, rpm (ascending; denser towards the reference
+/// design's jump onset, which lies between 900 and 950 rpm with the study spring).
 pub const CHIP_GRID_RPM: [f64; CHIP_GRID] = [
-    300.0, 400.0, 500.0, 550.0, 600.0, 625.0, 650.0, 675.0, 700.0, 800.0,
+    300.0, 400.0, 500.0, 600.0, 700.0, 750.0, 800.0, 850.0, 900.0, 950.0,
 ];
 /// Upper limit of the jump search when no grid speed jumps, rpm.
-pub const CHIP_MAX_RPM: f64 = 1000.0;
+pub const CHIP_MAX_RPM: f64 = 1200.0;
 /// Resolution of the jump-onset bisection, rpm.
 pub const CHIP_RESOLUTION_RPM: f64 = 1.0;
 /// Speeds between grid points where the boot check compares the interpolated
 /// prediction with a direct simulation, rpm.
-pub const CHIP_CHECK_RPM: [f64; 3] = [450.0, 575.0, 660.0];
+pub const CHIP_CHECK_RPM: [f64; 3] = [450.0, 650.0, 825.0];
 /// The jump alarm turns on at this speed margin (rpm) or less.
 pub const CHIP_ALARM_ON_MARGIN_RPM: f64 = 50.0;
 /// An active jump alarm turns off once the speed margin exceeds this (rpm).
@@ -90,9 +91,9 @@ pub fn chip_alarm<T: Real>() -> Result<JumpAlarm<T>> {
     )
 }
 
-/// Scripted cam speed for the QEMU run and the host: a ramp 300 -> 600 rpm in 25 rpm
-/// steps, a step up to 700 rpm, a ramp to 900 rpm, then back down to 300 rpm in 25 rpm
-/// steps (46 samples, one per revolution).
+/// Scripted cam speed for the QEMU run and the host: a ramp 300 -> 800 rpm in 25 rpm
+/// steps, a step up to 925 rpm (across the reference design's jump onset), 950 rpm, then
+/// back down to 300 rpm in 25 rpm steps (49 samples, one per revolution).
 #[derive(Clone, Debug)]
 pub struct ScriptedProfile {
     next: Option<i32>,
@@ -103,15 +104,15 @@ impl ScriptedProfile {
     /// Lowest speed, rpm.
     pub const LOW_RPM: i32 = 300;
     /// Highest speed, rpm.
-    pub const HIGH_RPM: i32 = 900;
+    pub const HIGH_RPM: i32 = 950;
     /// Ramp increment per sample, rpm.
     pub const STEP_RPM: i32 = 25;
     /// Speed after which the step up happens, rpm.
-    pub const STEP_AT_RPM: i32 = 600;
+    pub const STEP_AT_RPM: i32 = 800;
     /// Speed the step goes to, rpm.
-    pub const STEP_TO_RPM: i32 = 700;
-    /// Samples in the whole profile: 13 (300..=600) + 9 (700..=900) + 24 (875..=300).
-    pub const SAMPLES: usize = 46;
+    pub const STEP_TO_RPM: i32 = 925;
+    /// Samples in the whole profile: 21 (300..=800) + 2 (925, 950) + 26 (925..=300).
+    pub const SAMPLES: usize = 49;
 
     /// The profile from its first sample.
     pub fn new() -> Self {
@@ -164,10 +165,10 @@ mod tests {
         }
         assert_eq!(n, ScriptedProfile::SAMPLES);
         assert_eq!(&v[..3], &[300.0, 325.0, 350.0]);
-        assert_eq!(&v[12..14], &[600.0, 700.0]); // the step
-        assert_eq!(v[21], 900.0);
-        assert_eq!(v[22], 875.0);
-        assert_eq!(v[45], 300.0);
+        assert_eq!(&v[20..22], &[800.0, 925.0]); // the step
+        assert_eq!(v[22], 950.0);
+        assert_eq!(v[23], 925.0);
+        assert_eq!(v[48], 300.0);
     }
 
     #[test]

@@ -1,5 +1,7 @@
 //! Hertz line contact between roller and cam (Eqs. V.9-V.11), the contact force and
-//! jump criterion (Eqs. V.19-V.20), and the slide-bearing friction (Eqs. V.15-V.16).
+//! jump criterion (Eqs. V.19-V.20) with the contact damper of docs/MODEL.md §3.9, the
+//! roller bearing's spring and damper (§3.13), and the slide-bearing friction (Eqs.
+//! V.15-V.16).
 //!
 //! Everything here sits inside the ODE right-hand side, so the hot-path functions are
 //! branch-light, never panic and never allocate. The checked variants (`new`,
@@ -354,6 +356,82 @@ pub fn contact_force<T: Real>(k_h: T, approach: T, preload: T, cos_phi: T) -> Co
     }
 }
 
+/// Viscous damping coefficient by the thesis's rule for damping that is not measured,
+/// Eq. V.13: `C = 2 xi sqrt(K M)` (lb·s/in for K in lb/in and M in lb·s²/in).
+///
+/// For the contact (docs/MODEL.md §3.9) `K` is the Hertz stiffness K_h at the contact
+/// point and `M` the roller mass M_r, the mass whose mode the damping is for. `xi = 0`
+/// gives exactly 0 for any finite `K M`.
+#[inline]
+pub fn damping_coefficient<T: Real>(ratio: T, stiffness: T, mass: T) -> T {
+    T::TWO * ratio * (stiffness * mass).sqrt()
+}
+
+/// Force of a spring `k` and a parallel damper `c` (Kelvin-Voigt) on the body at one end:
+/// `k dx + c dv`, with `dx` and `dv` the other end's displacement and velocity relative
+/// to this body's (lb). Used for the roller bearing K_rb with its damper C_rb
+/// (docs/MODEL.md §3.13). `c == 0` returns `k dx` bit for bit, whatever `dv`.
+#[inline]
+pub fn spring_damper_force<T: Real>(k: T, dx: T, c: T, dv: T) -> T {
+    if c == T::ZERO {
+        k * dx
+    } else {
+        k * dx + c * dv
+    }
+}
+
+/// Contact force with viscous damping at the contact (docs/MODEL.md §3.9): Eqs.
+/// V.19-V.20 plus a damper `C_h` on the rate of approach, acting only in contact and
+/// never pulling:
+///
+/// `F_c = max(0, (K_h (y + y1 - y2) + F_p + C_h d/dt(y + y1 - y2)) cos(phi))` while the
+/// elastic part `(K_h (y + y1 - y2) + F_p) cos(phi)` is positive, else 0 (jump).
+///
+/// `approach`, `preload`, `cos_phi` are those of [`contact_force`]; `c_h` is the contact
+/// damping coefficient (lb·s/in, [`damping_coefficient`]), expected `>= 0`;
+/// `approach_rate` the time derivative of the approach, `y'(θ_c) θ̇_c + ẏ1 - ẏ2` (in/s,
+/// positive while the cam and roller close in). The damper acts only while the elastic
+/// overlap is positive: at the first touch the force jumps from 0 to `C_h rate cos(phi)`
+/// (a Kelvin-Voigt contact). While the surfaces part faster than the elastic overlap
+/// recovers, the damper would pull; the force is then 0 and the follower counts as out
+/// of contact (`in_contact` is `force > 0`, as in V.20). The clamp makes the force
+/// continuous where it engages.
+///
+/// `c_h == 0` returns [`contact_force`]'s result unchanged, bit for bit (the printed
+/// model). NaN inputs give a NaN force (not in contact) so the solver's non-finite check
+/// reports them.
+#[inline]
+pub fn damped_contact_force<T: Real>(
+    k_h: T,
+    approach: T,
+    preload: T,
+    c_h: T,
+    approach_rate: T,
+    cos_phi: T,
+) -> ContactForce<T> {
+    let elastic = contact_force(k_h, approach, preload, cos_phi);
+    if !elastic.in_contact || c_h == T::ZERO {
+        return elastic;
+    }
+    let f = (k_h * approach + preload + c_h * approach_rate) * cos_phi;
+    if f > T::ZERO {
+        ContactForce {
+            force: f,
+            in_contact: true,
+        }
+    } else if f.is_nan() {
+        ContactForce {
+            force: f,
+            in_contact: false,
+        }
+    } else {
+        ContactForce {
+            force: T::ZERO,
+            in_contact: false,
+        }
+    }
+}
+
 /// Normal forces (N1, N2) in the follower's slide bearings, Eq. V.16:
 /// `N1 = (A+B)/B |F_c sin(phi)|`, `N2 = A/B |F_c sin(phi)|` (magnitudes, lb).
 ///
@@ -635,6 +713,173 @@ mod tests {
         );
         assert!(contact_force(6.0e6, f64::NAN, 10.0, cos).force.is_nan());
         assert!(!contact_force(6.0e6, 1e-5, 10.0, f64::NAN).in_contact);
+    }
+
+    /// Every input of the printed model's table, and some that are not finite: with
+    /// `c_h = 0` the damped law returns [`contact_force`]'s result bit for bit, whatever
+    /// the rate (even NaN or infinite).
+    #[test]
+    fn damped_contact_force_without_damping_is_the_printed_law() {
+        let cos = 0.3f64.cos();
+        let approaches = [1e-5, 2e-6, -0.5, -0.1, 0.0, -1e-300, f64::NAN, 1e300];
+        let preloads = [0.0, 1.0, 10.0, 50.0];
+        let rates = [0.0, -3.0, 7.5, 1e9, -1e9, f64::NAN, f64::INFINITY];
+        for a in approaches {
+            for p in preloads {
+                for k in [2.0, 6.0e6] {
+                    let printed = contact_force(k, a, p, cos);
+                    for r in rates {
+                        let damped = damped_contact_force(k, a, p, 0.0, r, cos);
+                        assert_eq!(
+                            damped.force.to_bits(),
+                            printed.force.to_bits(),
+                            "{k} {a} {p} {r}"
+                        );
+                        assert_eq!(damped.in_contact, printed.in_contact);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The damping term by hand with binary-exact numbers, the clamp, and no damping
+    /// outside contact.
+    #[test]
+    fn damped_contact_force_adds_the_damper_in_contact_and_never_pulls() {
+        // K_h = 4, approach 0.5, F_p = 1: elastic bracket 3; C_h = 0.25, cos φ = 0.5.
+        let f = |rate: f64| damped_contact_force(4.0, 0.5, 1.0, 0.25, rate, 0.5);
+        // Closing at 4 in/s: (3 + 0.25 · 4) · 0.5 = 2.
+        assert_eq!(
+            f(4.0),
+            ContactForce {
+                force: 2.0,
+                in_contact: true
+            }
+        );
+        // Opening at 4 in/s: (3 - 1) · 0.5 = 1.
+        assert_eq!(f(-4.0).force, 1.0);
+        // Opening at exactly 12 in/s the damper cancels the elastic part: 0, a jump (V.20).
+        assert_eq!(
+            f(-12.0),
+            ContactForce {
+                force: 0.0,
+                in_contact: false
+            }
+        );
+        // Faster it would pull: clamped at 0.
+        assert_eq!(
+            f(-100.0),
+            ContactForce {
+                force: 0.0,
+                in_contact: false
+            }
+        );
+        // Continuous where the clamp engages: the force falls linearly to 0 at -12 in/s.
+        for r in [-11.0, -11.9, -11.99] {
+            let got = f(r).force;
+            assert!((got - 0.125 * (r + 12.0)).abs() < 1e-15, "{r}: {got}");
+        }
+        // No damping while the elastic part is not positive, however fast the approach:
+        // at the touching point (elastic 0) and separated.
+        for a in [-0.25, -0.3] {
+            assert_eq!(
+                damped_contact_force(4.0, a, 1.0, 0.25, 1e6, 0.5),
+                ContactForce {
+                    force: 0.0,
+                    in_contact: false
+                }
+            );
+        }
+        // Bad values reach the solver as NaN.
+        assert!(damped_contact_force(4.0, 0.5, 1.0, f64::NAN, 1.0, 0.5)
+            .force
+            .is_nan());
+        assert!(damped_contact_force(4.0, 0.5, 1.0, 0.25, f64::NAN, 0.5)
+            .force
+            .is_nan());
+        assert!(!damped_contact_force(4.0, 0.5, 1.0, 0.25, f64::NAN, 0.5).in_contact);
+        // V.13: C = 2 ξ sqrt(K M); 2 · 0.05 · sqrt(4e6 · 1e-4) = 2.
+        assert!((damping_coefficient(0.05, 4.0e6, 1.0e-4) - 2.0).abs() < 1e-15);
+        assert_eq!(damping_coefficient(0.0, 6.45e6, 1.3e-4), 0.0);
+    }
+
+    /// The roller bearing's spring and damper by hand, and `c = 0` as the spring alone
+    /// bit for bit (whatever the velocity, the sign of a zero kept).
+    #[test]
+    fn spring_damper_force_by_hand_and_without_damping() {
+        assert_eq!(spring_damper_force(4.0, 0.5, 0.25, -4.0), 1.0);
+        assert_eq!(spring_damper_force(4.0, -0.5, 0.25, 4.0), -1.0);
+        assert_eq!(spring_damper_force(1.5e6, 0.0, 1.4, 2.0), 2.8);
+        for (k, dx) in [(1.5e6, 1e-6), (1.5e6, -3e-7), (2.0, -0.0), (1.5e6, 0.0)] {
+            for dv in [0.0, -0.0, 5.0, f64::NAN, f64::INFINITY] {
+                assert_eq!(
+                    spring_damper_force(k, dx, 0.0, dv).to_bits(),
+                    (k * dx).to_bits(),
+                    "{k} {dx} {dv}"
+                );
+            }
+        }
+        assert!(spring_damper_force(1.0, 1.0, 1.0, f64::NAN).is_nan());
+    }
+
+    /// Rebound of a mass m from a wall through this contact (k, c = 2 ζ sqrt(k m), no
+    /// preload, cos φ = 1), integrated by classic RK4 with a small step. By hand: in
+    /// contact δ'' + 2ζω δ' + ω² δ = 0 from δ = 0, δ' = v0, so
+    /// δ = (v0/ω_d) e^(-ζωt) sin(ω_d t), ω_d = ω sqrt(1 - ζ²). The force k δ + c δ'
+    /// reaches 0 (the clamp) where ω²(1 - 2ζ²) sin + 2ζω ω_d cos = 0, that is
+    /// ω_d t* = π - 2α with sin α = ζ, while the overlap is still positive; there
+    /// δ'(t*) = -v0 e^(-ζω t*) exactly, and the mass leaves with that velocity (after t*
+    /// k δ + c δ' < 0 as δ falls, so it never touches again). Coefficient of restitution
+    /// e = exp(-ζ (π - 2 asin ζ) / sqrt(1 - ζ²)): larger than the unclamped Kelvin-Voigt
+    /// exp(-ζ π / sqrt(1 - ζ²)), which would pull the mass back until δ = 0.
+    #[test]
+    fn damped_contact_restitution_matches_the_clamped_kelvin_voigt_closed_form() {
+        let (m, k, v0) = (2.0f64, 50.0f64, 3.0f64);
+        let w = (k / m).sqrt();
+        for zeta in [0.0, 0.05, 0.2, 0.5] {
+            let c = damping_coefficient(zeta, k, m);
+            let accel = |d: f64, v: f64| -damped_contact_force(k, d, 0.0, c, v, 1.0).force / m;
+            let h = 1e-5 / w;
+            let (mut d, mut v, mut t) = (0.0f64, v0, 0.0f64);
+            let mut touched = false;
+            let mut t_release = f64::NAN;
+            // Until the mass is clear of the wall (δ < 0) after having been in contact.
+            while !(touched && d < 0.0) {
+                let (k1d, k1v) = (v, accel(d, v));
+                let (k2d, k2v) = (
+                    v + 0.5 * h * k1v,
+                    accel(d + 0.5 * h * k1d, v + 0.5 * h * k1v),
+                );
+                let (k3d, k3v) = (
+                    v + 0.5 * h * k2v,
+                    accel(d + 0.5 * h * k2d, v + 0.5 * h * k2v),
+                );
+                let (k4d, k4v) = (v + h * k3v, accel(d + h * k3d, v + h * k3v));
+                d += h / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
+                v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+                t += h;
+                let f = damped_contact_force(k, d, 0.0, c, v, 1.0);
+                if f.in_contact {
+                    touched = true;
+                } else if touched && t_release.is_nan() {
+                    t_release = t;
+                }
+                assert!(t < 10.0 / w, "no rebound");
+            }
+            let s = (1.0 - zeta * zeta).sqrt();
+            let e = (-zeta * (core::f64::consts::PI - 2.0 * zeta.asin()) / s).exp();
+            let got = -v / v0;
+            assert!((got - e).abs() < 1e-5, "ζ {zeta}: e {got} vs {e}");
+            let t_star = (core::f64::consts::PI - 2.0 * zeta.asin()) / (w * s);
+            assert!(
+                (t_release - t_star).abs() < 3.0 * h,
+                "ζ {zeta}: released at {t_release}, expected {t_star}"
+            );
+            let e_unclamped = (-zeta * core::f64::consts::PI / s).exp();
+            if zeta > 0.0 {
+                assert!(got - e_unclamped > 1e-3, "ζ {zeta}: {got} vs {e_unclamped}");
+            }
+        }
     }
 
     #[test]

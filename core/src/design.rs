@@ -21,6 +21,42 @@ pub const STEEL_POISSON: f64 = 0.295;
 pub const REFERENCE_RPM: f64 = 800.0;
 /// Structural damping ratio for the follower rod C_f1 (Eq. V.13 with ξ = 0.03, V.14).
 pub const STRUCTURAL_DAMPING_RATIO: f64 = 0.03;
+/// Damping ratio ξ_rb of the roller bearing, C_rb = 2 ξ_rb sqrt(K_rb M_r) (Eq. V.13): 0.05,
+/// V.14's lower end for well-lubricated machine parts (the roller's needle bearing is
+/// one). docs/MODEL.md §3.13, §3.14, §6.2.
+pub const ROLLER_BEARING_DAMPING_RATIO: f64 = 0.05;
+/// Return spring rate K_rs of the reference design, lb/in: 100, the rate of VI.2's modal
+/// analysis, not VI.1's listed 60 (docs/MODEL.md §6.1). With 60 lb/in and the listed
+/// δ_rs = 0.5 in the reference program separates below its own 800 rpm, while the
+/// thesis's study results show it running without a jump at 800 rpm with forces that
+/// follow from 100 lb/in: a choice between two printed values, not a fit.
+pub const REFERENCE_SPRING_RATE: f64 = 100.0;
+/// VI.1's listed return spring rate, lb/in (the `scenes/listed-spring-60.toml` variant).
+pub const LISTED_SPRING_RATE: f64 = 60.0;
+/// Return-spring wire diameter d, in (not given: a steel helical spring, docs/MODEL.md §5.6).
+pub const SPRING_WIRE_DIAMETER: f64 = 0.14;
+/// Return-spring mean coil diameter D, in (not given, docs/MODEL.md §5.6).
+pub const SPRING_MEAN_DIAMETER: f64 = 1.0;
+/// Active coils n of the reference spring: k = G d⁴ / (8 D³ n) = 547.4 / n lb/in with
+/// G = 11.4e6 psi, d = 0.14 in, D = 1.0 in, so n = 5.47 for 100 lb/in; 5.5 coils give
+/// 99.5 lb/in (the listed 60 lb/in spring had 9, 60.8 lb/in).
+pub const SPRING_ACTIVE_COILS: f64 = 5.5;
+/// Total coils: the active ones plus one closed coil at each end (squared and ground).
+pub const SPRING_TOTAL_COILS: f64 = SPRING_ACTIVE_COILS + 2.0;
+/// Mass of the reference return spring, lb·s²/in: steel wire of area π d²/4 over
+/// π D per coil, 7.5 coils: 0.3627 in³, 0.1029 lb, 2.664e-4 lb·s²/in (the listed
+/// 60 lb/in spring, 11 coils, weighed 0.151 lb: the mass goes with the total coils).
+pub const SPRING_MASS: f64 = STEEL_DENSITY
+    * (core::f64::consts::PI * SPRING_WIRE_DIAMETER * SPRING_WIRE_DIAMETER / 4.0)
+    * (core::f64::consts::PI * SPRING_MEAN_DIAMETER)
+    * SPRING_TOTAL_COILS;
+/// Mass of the listed 60 lb/in spring (9 active, 11 total coils of the same wire and
+/// diameter), lb·s²/in: 0.151 lb, as the model used before the reference spring changed.
+pub const LISTED_SPRING_MASS: f64 = 0.151 / 386.09;
+/// Damping ratio ξ_h of the cam-roller contact, C_h = 2 ξ_h sqrt(K_h M_r) (Eq. V.13): 0.05,
+/// the lower end of V.14's 0.05-0.07 for well-lubricated machine parts (a lubricated
+/// rolling contact is one). docs/MODEL.md §6.2.
+pub const CONTACT_DAMPING_RATIO: f64 = 0.05;
 
 /// Every parameter of the eleven-degree-of-freedom model (Eqs. IV.1-IV.3).
 ///
@@ -104,9 +140,20 @@ pub struct Design<T> {
     /// M_r (VI.1's "M_T"): roller mass (0.00013).
     #[cfg_attr(feature = "serde", serde(rename = "roller_mass_lb_s2_per_in"))]
     pub m_r: T,
-    /// K_rb: roller bearing and its shaft (VI.1: 1.5e6).
+    /// K_rb: roller bearing and its shaft (VI.1: 1.5e6), vertical and horizontal.
     #[cfg_attr(feature = "serde", serde(rename = "k_rb_lb_per_in"))]
     pub k_rb: T,
+    /// ξ_rb of the roller-bearing damping C_rb = 2 ξ_rb sqrt(K_rb M_r) (Eq. V.13), acting
+    /// beside K_rb vertically and horizontally. Not in the printed model; 0.05 from V.14
+    /// for well-lubricated machine parts ([`ROLLER_BEARING_DAMPING_RATIO`], docs/MODEL.md
+    /// §6.2). 0, with [`Design::contact_damping_ratio`] 0, gives the printed model bit for bit.
+    pub roller_bearing_damping_ratio: T,
+    /// ξ_h of the contact damping C_h = 2 ξ_h sqrt(K_h M_r) (Eq. V.13), K_h at the current
+    /// contact point. Not in the printed model (which has none, so the roller's mode rings
+    /// undamped); 0.05 from V.14 for well-lubricated machine parts ([`CONTACT_DAMPING_RATIO`],
+    /// docs/MODEL.md §3.9, §6.2). 0, with [`Design::roller_bearing_damping_ratio`] 0, gives
+    /// the printed model bit for bit.
+    pub contact_damping_ratio: T,
 
     // --- follower rod ---
     /// ρ: follower material density (steel, lb·s²/in⁴).
@@ -150,19 +197,22 @@ pub struct Design<T> {
     #[cfg_attr(feature = "serde", serde(rename = "load_mass_lb_s2_per_in"))]
     pub m_l: T,
     /// Mass of the return spring, lb·s²/in; one third joins M_fc (Appendix F.1). Not given:
-    /// a steel helical spring of 60 lb/in (wire 0.14 in, mean diameter 1.0 in, 9 active and
-    /// 11 total coils: G d⁴ / (8 D³ n) = 60.8 lb/in) weighs 0.151 lb = 3.91e-4 lb·s²/in.
+    /// a steel helical spring of 100 lb/in (wire 0.14 in, mean diameter 1.0 in, 5.5 active
+    /// and 7.5 total coils: G d⁴ / (8 D³ n) = 99.5 lb/in) weighs 0.103 lb = 2.66e-4 lb·s²/in
+    /// ([`SPRING_MASS`]; the listed 60 lb/in spring: [`LISTED_SPRING_MASS`]).
     #[cfg_attr(feature = "serde", serde(rename = "spring_mass_lb_s2_per_in"))]
     pub m_spring: T,
 
     // --- return spring and preload (V.4) ---
-    /// K_rs: return spring rate (VI.1: 60 lb/in).
+    /// K_rs: return spring rate, 100 lb/in: VI.2's modal rate, not VI.1's listed 60
+    /// ([`REFERENCE_SPRING_RATE`], docs/MODEL.md §6.1).
     #[cfg_attr(feature = "serde", serde(rename = "spring_rate_lb_per_in"))]
     pub k_rs: T,
     /// δ_rs: spring length compressed during assembly (VI.1: 0.5 in).
     #[cfg_attr(feature = "serde", serde(rename = "spring_preload_length_in"))]
     pub delta_rs: T,
-    /// K_rs used by the thesis's modal analysis (Eq. VI.6): 100 lb/in (NOTES).
+    /// K_rs used by the thesis's modal analysis (Eq. VI.6): 100 lb/in, the same as the
+    /// dynamic model's [`Design::k_rs`] in the reference design.
     #[cfg_attr(feature = "serde", serde(rename = "spring_modal_rate_lb_per_in"))]
     pub k_rs_modal: T,
 
@@ -207,6 +257,8 @@ impl<T: Real> Design<T> {
             c_hs: f(4.30474),
             m_r: f(0.00013),
             k_rb: f(1.5e6),
+            roller_bearing_damping_ratio: f(ROLLER_BEARING_DAMPING_RATIO),
+            contact_damping_ratio: f(CONTACT_DAMPING_RATIO),
             rho,
             youngs,
             area,
@@ -219,8 +271,8 @@ impl<T: Real> Design<T> {
             friction_smoothing: f(0.01),
             damping_ratio_f1: f(STRUCTURAL_DAMPING_RATIO),
             m_l: f(3.428e-3),
-            m_spring: f(0.151 / 386.09),
-            k_rs: f(60.0),
+            m_spring: f(SPRING_MASS),
+            k_rs: f(REFERENCE_SPRING_RATE),
             delta_rs: f(0.5),
             k_rs_modal: f(100.0),
             geometry: CamGeometry::reference(),
@@ -264,6 +316,20 @@ impl<T: Real> Design<T> {
     #[inline(always)]
     pub fn c_f1_from(&self, k_f: T) -> T {
         T::TWO * self.damping_ratio_f1 * (k_f * self.m_l).sqrt()
+    }
+
+    /// C_h = 2 ξ_h sqrt(K_h M_r): the contact damping for the Hertz stiffness `k_h` at the
+    /// contact point (Eq. V.13, docs/MODEL.md §3.9); exactly 0 when ξ_h = 0.
+    #[inline(always)]
+    pub fn c_h(&self, k_h: T) -> T {
+        crate::damping_coefficient(self.contact_damping_ratio, k_h, self.m_r)
+    }
+
+    /// C_rb = 2 ξ_rb sqrt(K_rb M_r): the roller bearing's damping (Eq. V.13,
+    /// docs/MODEL.md §3.13); exactly 0 when ξ_rb = 0.
+    #[inline(always)]
+    pub fn c_rb(&self) -> T {
+        crate::damping_coefficient(self.roller_bearing_damping_ratio, self.k_rb, self.m_r)
     }
 
     /// K_h on the base circle at unit force (Eq. V.11), the value the preload uses.
@@ -320,6 +386,11 @@ impl<T: Real> Design<T> {
             (k::BEARING_A, self.bearing_a),
             (k::MU, self.mu),
             (k::DAMPING_RATIO_F1, self.damping_ratio_f1),
+            (k::CONTACT_DAMPING_RATIO, self.contact_damping_ratio),
+            (
+                k::ROLLER_BEARING_DAMPING_RATIO,
+                self.roller_bearing_damping_ratio,
+            ),
             (k::M_SPRING, self.m_spring),
             (k::DELTA_RS, self.delta_rs),
         ] {
@@ -395,7 +466,9 @@ pub const RECORD_SEGMENTS: usize = 8;
 /// reproduces the chip's design bit for bit ([`Design::from_record`] on both sides).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DesignRecord {
-    /// Every scalar parameter, in [`Design`]'s field order (see [`Design::to_record`]).
+    /// Every scalar parameter, in [`Design`]'s field order but for the contact and
+    /// roller-bearing damping ratios, which are last (indices 41, 42; see
+    /// [`Design::to_record`]).
     pub values: [f64; RECORD_VALUES],
     /// The motor law (its numbers in `f64`).
     pub drive: DriveLaw<f64>,
@@ -406,7 +479,7 @@ pub struct DesignRecord {
 }
 
 /// Number of scalar values in a [`DesignRecord`].
-pub const RECORD_VALUES: usize = 41;
+pub const RECORD_VALUES: usize = 43;
 
 impl<T: Real> Design<T> {
     /// The design as a [`DesignRecord`] (widened to `f64`).
@@ -456,6 +529,8 @@ impl<T: Real> Design<T> {
             f(h.youngs_2),
             f(h.poisson_2),
             f(h.thickness),
+            f(self.contact_damping_ratio),
+            f(self.roller_bearing_damping_ratio),
         ];
         let drive = self.drive.map(f);
         let mut segments = [crate::Segment {
@@ -520,6 +595,8 @@ impl<T: Real> Design<T> {
             c_hs: v(14),
             m_r: v(15),
             k_rb: v(16),
+            roller_bearing_damping_ratio: v(42),
+            contact_damping_ratio: v(41),
             rho: v(17),
             youngs: v(18),
             area: v(19),
@@ -542,6 +619,36 @@ impl<T: Real> Design<T> {
         };
         d.validate()?;
         Ok(d)
+    }
+}
+
+#[cfg(test)]
+mod spring_tests {
+    use super::*;
+
+    /// The spring constants by hand: k = G d⁴ / (8 D³ n) with G = 11.4e6 psi,
+    /// d⁴ = 3.8416e-4 in⁴, D = 1 in: 4379.42 / (8 n) = 547.43 / n lb/in; the wire's
+    /// volume per coil π² d² D / 4 = 0.0483611 in³.
+    #[test]
+    fn spring_rate_and_mass_follow_from_the_wire() {
+        let rate = |n: f64| {
+            STEEL_SHEAR * SPRING_WIRE_DIAMETER.powi(4) / (8.0 * SPRING_MEAN_DIAMETER.powi(3) * n)
+        };
+        assert!((rate(1.0) - 547.428).abs() < 1e-3);
+        // Reference: 5.5 active coils, 99.53 lb/in, within 0.5 % of 100.
+        assert!((rate(SPRING_ACTIVE_COILS) / REFERENCE_SPRING_RATE - 1.0).abs() < 5e-3);
+        // The listed spring: 9 active coils, 60.8 lb/in.
+        assert!((rate(9.0) - 60.825).abs() < 1e-3);
+        // Mass: 7.5 coils of 0.0483611 in³ of steel at 0.2836 lb/in³.
+        let lb = 7.5 * 0.048_361_1 * 0.2836;
+        assert!((SPRING_MASS * 386.09 / lb - 1.0).abs() < 1e-6, "{lb}");
+        // The listed spring's 0.151 lb is the same wire over 11 coils (0.15087 lb, rounded).
+        assert!((LISTED_SPRING_MASS / SPRING_MASS - 11.0 / 7.5).abs() < 2e-3);
+        let d = Design::<f64>::reference();
+        assert_eq!(
+            (d.k_rs, d.k_rs_modal, d.m_spring),
+            (100.0, 100.0, SPRING_MASS)
+        );
     }
 }
 

@@ -10,9 +10,9 @@
 use core::marker::PhantomData;
 
 use crate::{
-    bearing_normal_forces, contact_force, coulomb_friction, Design, DriveKind, Error, FollowerLift,
-    OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof, RELATIVE_TO_LIFT,
-    TRANS_DOFS,
+    bearing_normal_forces, coulomb_friction, damped_contact_force, Design, DriveKind, Error,
+    FollowerLift, OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof,
+    RELATIVE_TO_LIFT, TRANS_DOFS,
 };
 
 /// Every quantity of the model at one instant (what an observer receives).
@@ -52,7 +52,7 @@ pub struct ModelPoint<T> {
     pub k_h: T,
     /// Cam surface radius of curvature at the contact point (Eq. V.12), in; negative when concave.
     pub surface_radius: T,
-    /// Contact force F_c (Eq. V.19), lb; 0 while jumping.
+    /// Contact force F_c (Eq. V.19 with the contact damping of docs/MODEL.md §3.9), lb; 0 while jumping.
     pub contact_force: T,
     /// False while the follower is off the cam (Eq. V.20).
     pub in_contact: bool,
@@ -126,6 +126,7 @@ pub struct CamModel<T, S, const N: usize> {
     inv_m_r: T,
     inv_m_c: T,
     inv_m_l: T,
+    c_rb: T,
     scene: PhantomData<S>,
 }
 
@@ -153,6 +154,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             inv_m_r: T::ONE / design.m_r,
             inv_m_c: T::ONE / design.m_c,
             inv_m_l: T::ONE / design.m_l,
+            c_rb: design.c_rb(),
             d: design,
             scene: PhantomData,
         })
@@ -298,7 +300,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         p.pos = st.positions();
         p.vel = st.velocities();
         let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
-        let [v1, vx1, _v2, _vx2, v3, vx3, v4, v5] = p.vel;
+        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
 
         // --- contact geometry at the current cam angle ---
         let lift = d.program.follower(p.theta_c);
@@ -329,8 +331,16 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             .stiffness_fast(d.geometry.roller_radius, p.surface_radius);
         p.k_h = k_h;
 
-        // Contact force and jump criterion (Eqs. V.19-V.20); y + y1 - y2 = y1 - q2.
-        let contact = contact_force(k_h, y1 - q2, self.preload, cos_phi);
+        // Contact force and jump criterion (Eqs. V.19-V.20) with the contact damping of
+        // docs/MODEL.md §3.9; y + y1 - y2 = y1 - q2, its rate y' θ̇_c + ẏ1 - ẏ2.
+        let contact = damped_contact_force(
+            k_h,
+            y1 - q2,
+            self.preload,
+            d.c_h(k_h),
+            lift.dy * p.omega_c + v1 - v2,
+            cos_phi,
+        );
         let f_c = contact.force;
         p.contact_force = f_c;
         p.in_contact = contact.in_contact;
@@ -352,7 +362,10 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         let m_fc = d.m_fc(y3);
         let f_load = k_f * (q5 - q4) + c_f1 * (v5 - v4);
         let f_vc = k_vc * (q4 - q3);
-        let f_rb = d.k_rb * (q3 - q2);
+        // Roller bearing on the roller (the opposite on the cantilever), vertical and
+        // horizontal: K_rb and its damper C_rb (docs/MODEL.md §3.13, §3.14).
+        let f_rb = crate::spring_damper_force(d.k_rb, q3 - q2, self.c_rb, v3 - v2);
+        let f_rb_x = crate::spring_damper_force(d.k_rb, x3 - x2, self.c_rb, vx3 - vx2);
         // A DOF the scene drops does not accelerate (a const branch per DOF).
         let kept = |dof: TransDof, a: T| {
             if S::DOFS.contains(dof) {
@@ -375,12 +388,12 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         // The horizontal equations, evaluated only for the scenes that keep them.
         let a_cantilever_x = if S::DOFS.contains(TransDof::CantileverX) {
             // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (NOTES, Eq. IV.3).
-            (d.k_rb * (x2 - x3) - d.k_hc(y3) * x3 + self.rho_a * v3 * vx3) / m_fc
+            (-f_rb_x - d.k_hc(y3) * x3 + self.rho_a * v3 * vx3) / m_fc
         } else {
             T::ZERO
         };
         let a_roller_x = if S::DOFS.contains(TransDof::RollerX) {
-            (-d.k_rb * (x2 - x3) - f_h) * self.inv_m_r
+            (f_rb_x - f_h) * self.inv_m_r
         } else {
             T::ZERO
         };

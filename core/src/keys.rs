@@ -51,6 +51,10 @@ pub mod key {
     pub const M_R: &str = "roller_mass_lb_s2_per_in";
     /// [`crate::Design::k_rb`].
     pub const K_RB: &str = "k_rb_lb_per_in";
+    /// [`crate::Design::roller_bearing_damping_ratio`].
+    pub const ROLLER_BEARING_DAMPING_RATIO: &str = "roller_bearing_damping_ratio";
+    /// [`crate::Design::contact_damping_ratio`].
+    pub const CONTACT_DAMPING_RATIO: &str = "contact_damping_ratio";
 
     // --- follower rod ---
     /// [`crate::Design::rho`].
@@ -147,6 +151,14 @@ pub mod key {
         (C_HS, "C_hs, horizontal cam shaft damping"),
         (M_R, "M_r, roller mass"),
         (K_RB, "K_rb, roller bearing stiffness"),
+        (
+            ROLLER_BEARING_DAMPING_RATIO,
+            "xi_rb of C_rb, roller bearing damping ratio",
+        ),
+        (
+            CONTACT_DAMPING_RATIO,
+            "xi_h of C_h, cam-roller contact damping ratio",
+        ),
         (RHO, "rho, follower rod density"),
         (YOUNGS, "E, follower rod Young's modulus"),
         (AREA, "A, follower rod cross-section"),

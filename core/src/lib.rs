@@ -22,8 +22,8 @@ pub use program::*;
 mod geometry;
 pub use geometry::*;
 
-// Forces: Hertz contact and jump (V.9-V.11, V.19-V.20), return spring (V.17-V.18),
-// slide-bearing friction (V.15-V.16).
+// Forces: Hertz contact and jump (V.9-V.11, V.19-V.20) with the damping at the roller
+// (V.13), return spring (V.17-V.18), slide-bearing friction (V.15-V.16).
 mod contact;
 pub use contact::*;
 mod spring;

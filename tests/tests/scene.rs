@@ -79,6 +79,31 @@ fn the_stable_scene_is_the_reference_with_its_laws_swapped() {
     assert_eq!(spec.solver, SolverSettings::reference());
 }
 
+/// The shipped variants of the reference: VI.1's listed spring (with its mass) and the
+/// printed model without damping at the roller differ from the reference in those keys
+/// only.
+#[test]
+fn the_shipped_variants_are_the_reference_with_their_keys() {
+    let load = |name: &str| {
+        let path = format!("{}/../scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+        camsim::scene::load(std::path::Path::new(&path)).unwrap()
+    };
+    let spec = load("listed-spring-60.toml");
+    let mut want = Design::<f64>::reference();
+    want.k_rs = camsim_core::LISTED_SPRING_RATE;
+    want.m_spring = camsim_core::LISTED_SPRING_MASS;
+    assert_eq!(bits(&spec.design), bits(&want));
+    assert_eq!(spec.design.m_spring, 0.151 / 386.09);
+    assert_eq!(spec.solver, SolverSettings::reference());
+
+    let spec = load("undamped-printed.toml");
+    let mut want = Design::<f64>::reference();
+    want.contact_damping_ratio = 0.0;
+    want.roller_bearing_damping_ratio = 0.0;
+    assert_eq!(bits(&spec.design), bits(&want));
+    assert_eq!(spec.solver, SolverSettings::reference());
+}
+
 /// The value at a dotted path of a TOML table.
 fn at<'a>(t: &'a toml::Table, path: &str) -> Option<&'a toml::Value> {
     let mut parts = path.split('.');

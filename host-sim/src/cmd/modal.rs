@@ -4,7 +4,8 @@
 //!
 //! The parameters come from [`Design::reference`]: the follower's M_f and K_f at its
 //! nominal position (y3 = 0) and the modal analysis's return-spring rate `k_rs_modal`
-//! (100 lb/in, not the 60 lb/in of the dynamic runs).
+//! (VI.2's 100 lb/in, the same as the dynamic model's `k_rs` in the reference design,
+//! docs/MODEL.md §6.1).
 
 use anyhow::Context;
 use camsim_core::{modal_analysis, rotational_system, translational_system, Design, ModalAnalysis};
