@@ -309,8 +309,9 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
     with_model(&s, Run(&s, rpm))
 }
 
-/// How far the last revolution differs from the one before: the largest relative change
-/// of the per-period statistics (RMS deviations, average torque and contact force).
+/// How far the last revolution differs from the one before: the largest change of a
+/// per-period statistic (RMS deviations, average torque and contact force), relative to
+/// that statistic's largest magnitude over the periods of both revolutions.
 #[derive(Clone, Debug, Serialize)]
 pub struct SteadyCheck {
     /// The two revolutions compared.
@@ -332,36 +333,31 @@ pub fn steady_check(rows: &[PeriodRow]) -> Option<SteadyCheck> {
         max_rel_change: 0.0,
         statistic: String::new(),
     };
-    for b in rows.iter().filter(|r| r.revolution == last) {
-        let Some(a) = rows
-            .iter()
-            .find(|r| r.revolution == last - 1 && r.period == b.period)
-        else {
-            continue;
-        };
-        for (name, x, y, floor) in [
-            (
-                "rms_displacement",
-                a.rms_displacement,
-                b.rms_displacement,
-                1e-6,
-            ),
-            ("rms_velocity", a.rms_velocity, b.rms_velocity, 1e-3),
-            (
-                "rms_acceleration",
-                a.rms_acceleration,
-                b.rms_acceleration,
-                1.0,
-            ),
-            ("torque_avg", a.torque_avg, b.torque_avg, 1e-2),
-            (
-                "contact_force_avg",
-                a.contact_force_avg,
-                b.contact_force_avg,
-                1e-2,
-            ),
-        ] {
-            let rel = (x - y).abs() / x.abs().max(y.abs()).max(floor);
+    // Each statistic's change is measured against its largest magnitude over the periods
+    // of the two revolutions (the scale the solver's absolute error lives on), so a period
+    // where a statistic is tiny (a dwell's velocity deviation) does not read as unsteady.
+    type Stat = fn(&PeriodRow) -> f64;
+    let stats: [(&str, Stat, f64); 5] = [
+        ("rms_displacement", |r| r.rms_displacement, 1e-6),
+        ("rms_velocity", |r| r.rms_velocity, 1e-3),
+        ("rms_acceleration", |r| r.rms_acceleration, 1.0),
+        ("torque_avg", |r| r.torque_avg, 1e-2),
+        ("contact_force_avg", |r| r.contact_force_avg, 1e-2),
+    ];
+    let both = || {
+        rows.iter()
+            .filter(move |r| r.revolution == last || r.revolution == last - 1)
+    };
+    for (name, get, floor) in stats {
+        let scale = both().map(|r| get(r).abs()).fold(floor, f64::max);
+        for b in rows.iter().filter(|r| r.revolution == last) {
+            let Some(a) = rows
+                .iter()
+                .find(|r| r.revolution == last - 1 && r.period == b.period)
+            else {
+                continue;
+            };
+            let rel = (get(a) - get(b)).abs() / scale;
             if rel > worst.max_rel_change {
                 worst.max_rel_change = rel;
                 worst.statistic = format!("{}.{name}", b.period);
@@ -369,4 +365,54 @@ pub fn steady_check(rows: &[PeriodRow]) -> Option<SteadyCheck> {
         }
     }
     Some(worst)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(revolution: u32, period: &'static str, rms_velocity: f64) -> PeriodRow {
+        PeriodRow {
+            revolution,
+            period,
+            rms_displacement: 0.0,
+            rms_velocity,
+            rms_acceleration: 0.0,
+            torque_avg: 0.0,
+            torque_max: 0.0,
+            torque_min: 0.0,
+            contact_force_min: 0.0,
+            contact_force_max: 0.0,
+            contact_force_avg: 0.0,
+            contact_stress_max: 0.0,
+            aord_motor: 0.0,
+            aord_coupling: 0.0,
+            aord_cam: 0.0,
+            jump: false,
+        }
+    }
+
+    #[test]
+    fn steady_check_scales_each_statistic_by_its_largest_period() {
+        // A dwell's velocity deviation 0.01 -> 0.02 in/s next to a rise's steady 2 in/s:
+        // the change is 0.01 against a scale of 2, i.e. 5e-3.
+        let rows = [
+            row(1, "dwell", 0.01),
+            row(1, "rise", 2.0),
+            row(2, "dwell", 0.02),
+            row(2, "rise", 2.0),
+        ];
+        let c = steady_check(&rows).unwrap();
+        assert_eq!(c.compared, [1, 2]);
+        assert!(
+            (c.max_rel_change - 0.005).abs() < 1e-15,
+            "{}",
+            c.max_rel_change
+        );
+        assert_eq!(c.statistic, "dwell.rms_velocity");
+        // The rise itself changing by 10 % is 10 % of the scale (2.2).
+        let rows = [row(1, "rise", 2.0), row(2, "rise", 2.2)];
+        let c = steady_check(&rows).unwrap();
+        assert!((c.max_rel_change - 0.2 / 2.2).abs() < 1e-15);
+    }
 }
