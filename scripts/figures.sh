@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Prints every figure README.md and firmware/README.md quote, with the command that
+# produces it, so a change that moves the physics is followed by one run of this script
+# and a copy of what it prints (a stale figure is a defect).
+#
+#   bash scripts/figures.sh            # host figures (a few minutes: bench is most of it)
+#   bash scripts/figures.sh --firmware # also the firmware's product/budget lines (QEMU)
+#
+# Timings are of the machine it runs on; run it on an otherwise idle machine.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+cargo build --release -q -p camsim
+C=./target/release/camsim
+
+show() {
+    printf '\n$ camsim %s\n' "$*"
+    "$C" "$@"
+}
+
+show run
+for _ in 1 2; do "$C" run | grep '^run time'; done
+show run --start static
+show jump-speed
+show jump-speed scenes/stable-4567-rise.toml
+show jump-speed scenes/listed-spring-60.toml
+show jump-speed scenes/undamped-printed.toml
+show run scenes/undamped-printed.toml
+show laws
+show modal
+show contact --force 100
+show predict --f32
+show bench
+
+if [ "${1:-}" = "--firmware" ]; then
+    printf '\n$ bash scripts/firmware-ci.sh\n'
+    bash scripts/firmware-ci.sh | grep -E '(product|budget) flash_bytes=|jump_onset_rpm|parity OK|firmware-ci: OK|flash +=|static RAM ='
+fi
