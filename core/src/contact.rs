@@ -326,7 +326,7 @@ pub struct ContactForce<T> {
 /// `F_c = K_h (y + y1 + F_p/K_h - y2) cos(phi)` while positive, else 0 (jump).
 ///
 /// `approach` is `y + y1 - y2`: the cam's commanded lift `y` at the current cam angle
-/// (NOTES.md's fix of the printed "y_dot") plus the cam's vertical displacement `y1`
+/// (the printed "y_dot" is y, docs/MODEL.md §4.6) plus the cam's vertical displacement `y1`
 /// minus the roller's `y2` (the model, which stores y2 relative to the lift, forms it as
 /// `y1 - (y2 - y)`); `preload` is the return-spring preload F_p (Eq. V.18), `cos_phi`
 /// the cosine of the pressure angle (the model forms it from R_a + y and dy/dθ, without
@@ -458,7 +458,7 @@ pub fn bearing_normal_forces<T: Real>(f_c: T, sin_phi: T, a: T, b: T) -> (T, T) 
 /// right-hand side). `tanh` keeps the right-hand side smooth: the force is within 0.5 %
 /// of `mu |N|` once `|v| > 3 v_smooth` and passes through 0 with slope
 /// `mu |N| / v_smooth`. Choose `v_smooth` far below the follower's working velocities
-/// (for example 1e-3 in/s). `v_smooth <= 0` (or NaN) selects the exact, discontinuous
+/// (the reference design uses 0.01 in/s, docs/MODEL.md §5.7). `v_smooth <= 0` (or NaN) selects the exact, discontinuous
 /// law with `sign(0) = 0`. `mu` is the kinetic coefficient, expected `>= 0`.
 #[inline]
 pub fn coulomb_friction<T: Real>(mu: T, normal: T, velocity: T, v_smooth: T) -> T {

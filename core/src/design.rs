@@ -2,7 +2,7 @@
 //!
 //! This is the one place where the model's parameters live. Values from VI.1 are
 //! quoted with their symbol; values the thesis does not give are chosen once here,
-//! each with its reason (see `../shared/spec/NOTES.md`). Nothing here is tuned to
+//! each with its reason (docs/MODEL.md §5, §6). Nothing here is tuned to
 //! reproduce a published figure.
 
 use crate::{
@@ -101,7 +101,7 @@ pub struct Design<T> {
     /// C_s1: shaft damping motor-coupling (VI.1: 0.11982).
     #[cfg_attr(feature = "serde", serde(rename = "c_s1_lb_in_s"))]
     pub c_s1: T,
-    /// C_s2: shaft damping coupling-cam (VI.1 lists "C_b2" = 0.12; NOTES: read C_s2).
+    /// C_s2: shaft damping coupling-cam (VI.1 lists "C_b2" = 0.12: read C_s2, docs/MODEL.md §4.8).
     #[cfg_attr(feature = "serde", serde(rename = "c_s2_lb_in_s"))]
     pub c_s2: T,
     /// C_cc: cam-shaft bearing and air damping (VI.1: 1.0).
@@ -129,10 +129,10 @@ pub struct Design<T> {
     /// C_vs: vertical damping of the cam shaft (VI.1: 4.30474).
     #[cfg_attr(feature = "serde", serde(rename = "c_vs_lb_s_per_in"))]
     pub c_vs: T,
-    /// K_hs: horizontal cam-shaft stiffness (not listed: NOTES, K_hs = K_vs).
+    /// K_hs: horizontal cam-shaft stiffness (not listed: K_hs = K_vs, docs/MODEL.md §4.11).
     #[cfg_attr(feature = "serde", serde(rename = "k_hs_lb_per_in"))]
     pub k_hs: T,
-    /// C_hs: horizontal cam-shaft damping (not listed: NOTES, C_hs = C_vs).
+    /// C_hs: horizontal cam-shaft damping (not listed: C_hs = C_vs, docs/MODEL.md §4.11).
     #[cfg_attr(feature = "serde", serde(rename = "c_hs_lb_s_per_in"))]
     pub c_hs: T,
 
@@ -163,37 +163,38 @@ pub struct Design<T> {
     #[cfg_attr(feature = "serde", serde(rename = "follower_youngs_psi"))]
     pub youngs: T,
     /// A: follower cross-section, in². Not given: from M_f = ρ A e1 = 0.007764 (VI.1)
-    /// and K_f = E A / e1 = 1.265e6 (NOTES, from the modal data): A = sqrt(M_f K_f / (ρ E)),
+    /// and K_f = E A / e1 = 1.265e6 (from the modal data, docs/MODEL.md §5.2): A = sqrt(M_f K_f / (ρ E)),
     /// a round rod of about 0.92 in.
     #[cfg_attr(feature = "serde", serde(rename = "follower_area_in2"))]
     pub area: T,
     /// Second moment of the rod section, in⁴ (round rod of area A: A²/(4π)), for K_hc = 3EI/(e2 - y3)³.
     #[cfg_attr(feature = "serde", serde(rename = "follower_second_moment_in4"))]
     pub inertia_moment: T,
-    /// e1: follower length from load to slide bearing at rest, in (E A / K_f, about 15.9 in).
+    /// e1: follower length from load to slide bearing at rest, in (E A / K_f, about 15.8 in; docs/MODEL.md §5.2).
     #[cfg_attr(feature = "serde", serde(rename = "e1_in"))]
     pub e1: T,
-    /// e2: cantilever length from slide bearing to roller at rest, in. Not given; 2 in (NOTES):
+    /// e2: cantilever length from slide bearing to roller at rest, in. Not given; 2 in (docs/MODEL.md §5.3):
     /// it must exceed the lift, and 2 in leaves 0.5 in at full lift.
     #[cfg_attr(feature = "serde", serde(rename = "e2_in"))]
     pub e2: T,
     /// A of Eq. V.16: bearing-to-roller lever, in. Not given; taken equal to e2 (2 in).
     #[cfg_attr(feature = "serde", serde(rename = "bearing_a_in"))]
     pub bearing_a: T,
-    /// B of Eq. V.16: distance between the two slide-bearing reactions, in. Not given; 3 in (NOTES).
+    /// B of Eq. V.16: distance between the two slide-bearing reactions, in. Not given; 3 in (docs/MODEL.md §5.4).
     #[cfg_attr(feature = "serde", serde(rename = "bearing_b_in"))]
     pub bearing_b: T,
     /// μ: kinetic friction coefficient of the slide bearing (VI.1: 0.08).
     #[cfg_attr(feature = "serde", serde(rename = "friction_coefficient"))]
     pub mu: T,
-    /// Velocity (in/s) below which Coulomb friction is ramped linearly to zero, so that the
-    /// right-hand side stays continuous. Not in the thesis: 0.01 in/s, a thousandth of the
-    /// follower's peak speed at 800 rpm, small against every velocity the statistics see.
+    /// Smoothing velocity v_s (in/s) of the slide-bearing Coulomb friction,
+    /// F = -μ|N| tanh(v/v_s), which keeps the right-hand side smooth (docs/MODEL.md §3.10).
+    /// Not in the thesis: 0.01 in/s, about 1e-4 of the follower's peak speed at 800 rpm
+    /// (docs/MODEL.md §5.7).
     #[cfg_attr(feature = "serde", serde(rename = "friction_smoothing_in_per_s"))]
     pub friction_smoothing: T,
-    /// ξ of C_f1 = 2 ξ sqrt(K_f M_l) (Eq. V.13; NOTES: 0.03 structural damping).
+    /// ξ of C_f1 = 2 ξ sqrt(K_f M_l) (Eq. V.13; 0.03 structural damping, docs/MODEL.md §5.8).
     pub damping_ratio_f1: T,
-    /// M_l: load mass. Not in VI.1; 3.428e-3 from the modal analysis (NOTES).
+    /// M_l: load mass. Not in VI.1; 3.428e-3 from the modal analysis (docs/MODEL.md §5.1).
     #[cfg_attr(feature = "serde", serde(rename = "load_mass_lb_s2_per_in"))]
     pub m_l: T,
     /// Mass of the return spring, lb·s²/in; one third joins M_fc (Appendix F.1). Not given:
@@ -217,7 +218,7 @@ pub struct Design<T> {
     pub k_rs_modal: T,
 
     // --- geometry, contact, program ---
-    /// Base circle, roller and thickness (NOTES: R_b 1.5, r_r 0.375, t 0.25 in).
+    /// Base circle, roller and thickness (VI.1: R_b 1.5, r_r 0.375 in; t 0.25 in, docs/MODEL.md §5.5).
     pub geometry: CamGeometry<T>,
     /// Hertz contact between roller and cam (both steel, VI.1).
     pub hertz: HertzContact<T>,
@@ -231,7 +232,7 @@ impl<T: Real> Design<T> {
         let f = T::from_f64;
         let rho = f(STEEL_DENSITY);
         let youngs = f(STEEL_YOUNGS);
-        // From M_f = ρ A e1 and K_f = E A / e1 (NOTES): A² = M_f K_f / (ρ E).
+        // From M_f = ρ A e1 and K_f = E A / e1 (docs/MODEL.md §5.2): A² = M_f K_f / (ρ E).
         let m_f0 = f(0.007764);
         let k_f0 = f(1.265e6);
         let area = (m_f0 * k_f0 / (rho * youngs)).sqrt();
@@ -291,17 +292,17 @@ impl<T: Real> Design<T> {
     pub fn m_fc(&self, y3: T) -> T {
         self.rho * self.area * (self.e2 - y3) + crate::spring_effective_mass(self.m_spring)
     }
-    /// K_f = E A / (e1 + y3): axial stiffness of the follower between slide bearing and load (NOTES).
+    /// K_f = E A / (e1 + y3): axial stiffness of the follower between slide bearing and load (Eq. V.7, docs/MODEL.md §3.11).
     #[inline(always)]
     pub fn k_f(&self, y3: T) -> T {
         self.youngs * self.area / (self.e1 + y3)
     }
-    /// K_vc = E A / (e2 - y3): axial stiffness of the cantilever portion (NOTES).
+    /// K_vc = E A / (e2 - y3): axial stiffness of the cantilever portion (Eq. V.7, docs/MODEL.md §3.11).
     #[inline(always)]
     pub fn k_vc(&self, y3: T) -> T {
         self.youngs * self.area / (self.e2 - y3)
     }
-    /// K_hc = 3 E I / (e2 - y3)³: lateral stiffness of the cantilever portion (Eq. V.8, NOTES).
+    /// K_hc = 3 E I / (e2 - y3)³: lateral stiffness of the cantilever portion (Eq. V.8, docs/MODEL.md §3.11).
     #[inline(always)]
     pub fn k_hc(&self, y3: T) -> T {
         let l = self.e2 - y3;

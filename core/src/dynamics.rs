@@ -269,7 +269,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
 
     /// [`Self::evaluate`]; `outputs = false` skips what only observers read (the pressure
     /// angle itself: the forces use its sine and cosine), for the right-hand side. One copy
-    /// for both uses: inlined into each, it cost the chip 5 KB of flash.
+    /// for both uses (inlined into each it costs the chip's flash; firmware/README.md).
     #[inline(never)]
     fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
         let d = &self.d;
@@ -387,7 +387,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         let a_cam = (-f_v - d.k_vs * y1 - d.c_vs * v1) * self.inv_m_c;
         // The horizontal equations, evaluated only for the scenes that keep them.
         let a_cantilever_x = if S::DOFS.contains(TransDof::CantileverX) {
-            // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (NOTES, Eq. IV.3).
+            // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (Eq. IV.3 corrected, docs/MODEL.md §4.4).
             (-f_rb_x - d.k_hc(y3) * x3 + self.rho_a * v3 * vx3) / m_fc
         } else {
             T::ZERO
@@ -413,7 +413,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             kept(TransDof::Load, a_load),
         ];
 
-        // --- rotational system (Eq. IV.1), T_o = F_c cos φ dy/dθ (NOTES) ---
+        // --- rotational system (Eq. IV.1), T_o = F_c cos φ dy/dθ (docs/MODEL.md §4.2) ---
         let t_o = f_v * lift.dy;
         p.torque_out = t_o;
         let shaft2 = d.c_s2 * (p.omega_cp - p.omega_c) + d.k_s2 * tw2;

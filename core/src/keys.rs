@@ -173,7 +173,7 @@ pub mod key {
         (MU, "mu, slide bearing friction coefficient"),
         (
             FRICTION_SMOOTHING,
-            "speed below which friction ramps to zero",
+            "smoothing speed v_s of the friction, F = -mu |N| tanh(v / v_s)",
         ),
         (
             DAMPING_RATIO_F1,

@@ -12,7 +12,7 @@ use crate::report::Report;
 pub const ROLLER_DIAMETER_IN: f64 = 0.75;
 /// Reference base-circle diameter d2 (in, VI.1).
 pub const BASE_CIRCLE_DIAMETER_IN: f64 = 3.0;
-/// Reference cam thickness t (in, NOTES.md).
+/// Reference cam thickness t (in, docs/MODEL.md §5.5).
 pub const CAM_THICKNESS_IN: f64 = 0.25;
 
 /// Command-line options.
