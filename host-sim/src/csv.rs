@@ -204,7 +204,7 @@ pub const ROW_BYTES: u64 = 850;
 
 /// Accepted double steps per revolution of the reference run at rtol 1e-6 (55 537 at
 /// 800 rpm from the thesis start, whose jumps and impacts need short steps), rounded up.
-const STEPS_PER_REV: f64 = 60_000.0;
+pub const STEPS_PER_REV: f64 = 60_000.0;
 
 /// The rows `--csv` is expected to get for `spec`, before it runs: two samples per
 /// accepted double step, [`STEPS_PER_REV`] steps per revolution at rtol 1e-6, scaled
@@ -254,7 +254,7 @@ impl CsvOut {
     }
 
     /// Writes one sample; after the first write error (a full disk, the size limit)
-    /// asks the simulation to stop, and [`CsvOut::finish`] reports the error.
+    /// asks the simulation to stop, and [`CsvOut::into_file`] reports the error.
     pub fn row(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
         if self.err.is_some() {
             return ControlFlow::Break(());
