@@ -387,6 +387,59 @@ impl<T: Real> Design<T> {
     }
 }
 
+impl<T: Real> Design<T> {
+    /// The design in precision `U`: every number converted with [`Real::cast`]
+    /// (`U::from_f64(x.to_f64())`, no other arithmetic), the drive, geometry and contact
+    /// with theirs, the program rebuilt by [`CamProgram::new`] in `U` (its typed error,
+    /// naming the segment's key, if it does not hold in `U`). Nothing else is checked:
+    /// call [`Design::validate`] on the result.
+    ///
+    /// The firmware's build-time scene and `camsim predict --f32 --scene` both narrow the
+    /// scene file's `Design<f64>` with this, so their `f32` bits agree.
+    pub fn cast<U: Real>(&self) -> Result<Design<U>> {
+        let c = |x: T| x.cast::<U>();
+        Ok(Design {
+            i_m: c(self.i_m),
+            i_cp: c(self.i_cp),
+            i_c: c(self.i_c),
+            c_mb: c(self.c_mb),
+            c_s1: c(self.c_s1),
+            c_s2: c(self.c_s2),
+            c_cc: c(self.c_cc),
+            k_s1: c(self.k_s1),
+            k_s2: c(self.k_s2),
+            drive: self.drive.cast(),
+            omega0: c(self.omega0),
+            m_c: c(self.m_c),
+            k_vs: c(self.k_vs),
+            c_vs: c(self.c_vs),
+            k_hs: c(self.k_hs),
+            c_hs: c(self.c_hs),
+            m_r: c(self.m_r),
+            k_rb: c(self.k_rb),
+            rho: c(self.rho),
+            youngs: c(self.youngs),
+            area: c(self.area),
+            inertia_moment: c(self.inertia_moment),
+            e1: c(self.e1),
+            e2: c(self.e2),
+            bearing_a: c(self.bearing_a),
+            bearing_b: c(self.bearing_b),
+            mu: c(self.mu),
+            friction_smoothing: c(self.friction_smoothing),
+            damping_ratio_f1: c(self.damping_ratio_f1),
+            m_l: c(self.m_l),
+            m_spring: c(self.m_spring),
+            k_rs: c(self.k_rs),
+            delta_rs: c(self.delta_rs),
+            k_rs_modal: c(self.k_rs_modal),
+            geometry: self.geometry.cast(),
+            hertz: self.hertz.cast(),
+            program: self.program.cast()?,
+        })
+    }
+}
+
 /// Most segments a [`DesignRecord`] carries (the default program capacity).
 pub const RECORD_SEGMENTS: usize = 8;
 
@@ -548,6 +601,62 @@ impl<T: Real> Design<T> {
 #[cfg(test)]
 mod record_tests {
     use super::*;
+
+    /// Every number of an `f32` design as raw bits, in its `Debug` text (shortest
+    /// round-trip digits: equal text is equal bits, signed zeros included).
+    fn bits32(d: &Design<f32>) -> std::string::String {
+        std::format!("{d:?}")
+    }
+
+    #[test]
+    fn cast_narrows_exactly_like_the_record() {
+        use crate::{MotionLaw, Segment, SegmentKind};
+        let mut stable = Design::<f64>::reference();
+        stable.program = CamProgram::with_laws(MotionLaw::Poly4567, MotionLaw::ModifiedTrapezoidal);
+        stable.set_speed_rpm(650.0).unwrap();
+        let mut rigid = Design::<f64>::reference();
+        rigid.drive = DriveLaw::ConstantCamSpeed;
+        rigid.k_rb = 1.0 / 3.0;
+        rigid.program = CamProgram::new(&[
+            Segment {
+                kind: SegmentKind::Dwell,
+                start_deg: 0.0,
+                end_deg: 100.0 / 3.0,
+                lift: 0.0,
+            },
+            Segment {
+                kind: SegmentKind::Rise(MotionLaw::Cycloidal),
+                start_deg: 100.0 / 3.0,
+                end_deg: 170.0,
+                lift: 0.1 + 0.2,
+            },
+            Segment {
+                kind: SegmentKind::Return(MotionLaw::Poly345),
+                start_deg: 170.0,
+                end_deg: 360.0,
+                lift: 0.1 + 0.2,
+            },
+        ])
+        .unwrap();
+        for d in [Design::<f64>::reference(), stable, rigid] {
+            let via_record = Design::<f32>::from_record(&d.to_record()).unwrap();
+            let cast = d.cast::<f32>().unwrap();
+            assert_eq!(bits32(&cast), bits32(&via_record));
+            assert_eq!(cast, via_record);
+            // Spot checks against the conversion itself (round to nearest).
+            assert_eq!(cast.area.to_bits(), (d.area as f32).to_bits());
+            for (a, b) in cast.program.segments().iter().zip(d.program.segments()) {
+                assert_eq!(a.start_deg.to_bits(), (b.start_deg as f32).to_bits());
+                assert_eq!(a.lift.to_bits(), (b.lift as f32).to_bits());
+            }
+            // f64 to f64 is the identity; f32 widened and narrowed again too.
+            assert_eq!(d.cast::<f64>().unwrap(), d);
+            assert_eq!(
+                bits32(&cast.cast::<f64>().unwrap().cast::<f32>().unwrap()),
+                bits32(&cast)
+            );
+        }
+    }
 
     #[test]
     fn record_round_trips_and_narrows_like_from_f64() {
