@@ -62,6 +62,10 @@ fn the_default_scene_reads_back_to_the_reference_bit_for_bit() {
     );
     assert_eq!(spec.solver, r.solver);
     assert_eq!((spec.revolutions, spec.dofs), (r.revolutions, r.dofs));
+    // An empty file is the reference run too (the scene-file crate's own defaults).
+    let empty = parse("").unwrap();
+    assert_eq!(bits(&empty.design), bits(&r.design));
+    assert_eq!((empty.revolutions, empty.dofs), (r.revolutions, r.dofs));
     // The check command's output is the same text (without the header comment).
     assert!(text.ends_with(&camsim::scene::spec_text(&spec).unwrap()));
 }
