@@ -90,6 +90,15 @@ impl Error {
     }
 }
 
+impl Error {
+    /// The same refusal prefixed with the line of `text` that sets its key (or that
+    /// opens the key's nearest enclosing table), if the text has one: for a check made
+    /// after reading, such as the design's in another precision.
+    pub fn at_line_in(self, text: &str) -> Error {
+        located(text, &self.message)
+    }
+}
+
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.message)
@@ -138,7 +147,7 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
 /// A core check's refusal in `section` (`design`, `solver`): its key under the section,
 /// the value and the rule (`design.spring_rate_lb_per_in = -1: must be positive and
 /// finite`).
-fn refusal(section: &str, error: camsim_core::Error) -> Error {
+pub fn refusal(section: &str, error: camsim_core::Error) -> Error {
     Error::new(match error {
         // Both start with the key: put the section in front of it.
         camsim_core::Error::InvalidParameter { .. } | camsim_core::Error::Inconsistent { .. } => {
