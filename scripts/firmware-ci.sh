@@ -12,7 +12,8 @@
 #   static RAM = .data + .bss + .uninit
 # and checked against the budget in memory.x (flash <= FLASH, static RAM + stack peak
 # <= RAM). The real-board build (`--features rtt`) is compiled and its sizes checked too
-# (it is not run). Then a scene chosen at build time is built, run and checked again.
+# (it is not run). Then a scene chosen at build time (CAMSIM_SCENE=scene file) is built,
+# run and checked again.
 # Called by scripts/test-all.sh; run from anywhere (it cd's to the repository root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -167,19 +168,21 @@ cargo build -q --release -p camsim
 ./target/release/camsim predict --f32 --check-log "$LOG" || fail "host parity: see the line above"
 
 # ---------------------------------------------------------------------------
-# A scene chosen at build time: generated from a scene file into a const record
-# (never parsed on the chip), compiled in, run, and checked against the host again.
+# A scene chosen at build time: firmware/build.rs reads the scene file (CAMSIM_SCENE)
+# with the host's reader, narrows its design to f32 and compiles it in as postcard
+# (decoded at boot, never parsed as text on the chip); run, and checked against the
+# host again (`camsim predict --f32 --scene`, the same reader and the same narrowing).
 # ---------------------------------------------------------------------------
 SCENE=scenes/stable-4567-rise.toml
-SCENE_RS="$PWD/target/firmware-scene.rs"
+SCENE_NAME=$(basename "$SCENE")
 SCENE_LOG=target/firmware-run-scene.log
 SCENE_BUDGET_LOG=target/firmware-budget-scene.log
 echo "firmware-ci: build-time scene $SCENE"
-./target/release/camsim scene --rust "$SCENE" >"$SCENE_RS"
-(cd firmware && CAMSIM_SCENE_RS="$SCENE_RS" cargo build --release)
+SCENE_PATH="$PWD/$SCENE"   # absolute: build.rs runs in firmware/
+(cd firmware && CAMSIM_SCENE="$SCENE_PATH" cargo build --release)
 run_and_check "$SCENE_LOG" "$SCENE_BUDGET_LOG"
-grep -q "scene=generated" "$SCENE_LOG" || fail "the scene build did not report its generated scene"
-grep -q "scene=generated" "$SCENE_BUDGET_LOG" || fail "the scene's budget image did not report its generated scene"
+grep -q "scene=$SCENE_NAME" "$SCENE_LOG" || fail "the scene build did not report its scene ($SCENE_NAME)"
+grep -q "scene=$SCENE_NAME" "$SCENE_BUDGET_LOG" || fail "the scene's budget image did not report its scene ($SCENE_NAME)"
 ./target/release/camsim predict --f32 --scene "$SCENE" --check-log "$SCENE_LOG" || fail "host parity (scene): see the line above"
 # Leave the default (reference) firmware built, as a plain `cargo build` would.
 (cd firmware && cargo build --release)

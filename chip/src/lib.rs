@@ -41,10 +41,20 @@ pub const CHIP_ALARM_ON_MARGIN_RPM: f64 = 50.0;
 /// An active jump alarm turns off once the speed margin exceeds this (rpm).
 pub const CHIP_ALARM_OFF_MARGIN_RPM: f64 = 100.0;
 
-/// The design compiled into the chip and run by the host's parity check: the reference
-/// design of VI.1. Another scene is chosen here at build time (never parsed on the chip).
+/// The design compiled into the chip and run by the host's parity check when no scene
+/// is chosen: the reference design of VI.1.
 pub fn chip_design<T: Real>() -> Design<T> {
     Design::reference()
+}
+
+/// A scene file's design (`Design<f64>`, as `camsim_scene_file` reads it) in the chip's
+/// precision `T`: [`Design::cast`], then [`Design::validate`] in `T`. The firmware's
+/// build script (`CAMSIM_SCENE`) and `camsim predict --scene` both call this, so the
+/// chip and the host's parity check run the same bits.
+pub fn chip_design_from<T: Real>(scene: &Design<f64>) -> Result<Design<T>> {
+    let d = scene.cast::<T>()?;
+    d.validate()?;
+    Ok(d)
 }
 
 /// Solver settings of the chip's predictor: rtol 1e-3, atol 1e-8 in, at most 1/500

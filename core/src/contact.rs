@@ -105,6 +105,18 @@ impl<T: Real> HertzContact<T> {
         Ok(())
     }
 
+    /// The same data in precision `U`, each number converted with [`Real::cast`]
+    /// (not checked: [`HertzContact::validate`] does that).
+    pub fn cast<U: Real>(&self) -> HertzContact<U> {
+        HertzContact {
+            youngs_1: self.youngs_1.cast(),
+            poisson_1: self.poisson_1.cast(),
+            youngs_2: self.youngs_2.cast(),
+            poisson_2: self.poisson_2.cast(),
+            thickness: self.thickness.cast(),
+        }
+    }
+
     /// The reference contact of VI.1: steel on steel over the 0.25 in cam thickness.
     pub fn reference() -> Self {
         Self::steel(T::from_f64(0.25))

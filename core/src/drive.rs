@@ -150,6 +150,11 @@ impl<T: Real> DriveLaw<T> {
         }
     }
 
+    /// The same law in precision `U`, every number converted with [`Real::cast`].
+    pub fn cast<U: Real>(self) -> DriveLaw<U> {
+        self.map(Real::cast)
+    }
+
     /// The same law moved to a new reference speed (regulated: feed-forward scaled with speed).
     pub fn at_speed(self, omega_new: T) -> Self {
         match self {

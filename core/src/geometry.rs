@@ -106,6 +106,16 @@ impl<T: Real> CamGeometry<T> {
         Ok(())
     }
 
+    /// The same dimensions in precision `U`, each converted with [`Real::cast`]
+    /// (not checked: [`CamGeometry::validate`] does that).
+    pub fn cast<U: Real>(&self) -> CamGeometry<U> {
+        CamGeometry {
+            base_radius: self.base_radius.cast(),
+            roller_radius: self.roller_radius.cast(),
+            thickness: self.thickness.cast(),
+        }
+    }
+
     /// The reference cam of VI.1: R_b = 1.5 in, r_r = 0.375 in, t = 0.25 in.
     pub fn reference() -> Self {
         CamGeometry {

@@ -59,6 +59,13 @@ pub trait Real:
     fn from_usize(n: usize) -> Self;
     /// Widens to `f64` (for reports and errors only, never in hot paths).
     fn to_f64(self) -> f64;
+    /// Converts to another precision through `f64`, `U::from_f64(self.to_f64())`: exact
+    /// when widening, rounded to nearest when narrowing to `f32`. How a design changes
+    /// precision ([`Design::cast`](crate::Design::cast)); not for hot paths.
+    #[inline]
+    fn cast<U: Real>(self) -> U {
+        U::from_f64(self.to_f64())
+    }
 
     /// Square root.
     fn sqrt(self) -> Self;

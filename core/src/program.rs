@@ -208,6 +208,19 @@ impl<T: Real> SegmentData<T> {
     }
 }
 
+impl<T: Real> Segment<T> {
+    /// The same segment in precision `U`, angles and lift converted with [`Real::cast`]
+    /// (not checked: [`CamProgram::new`] checks segments in their program).
+    pub fn cast<U: Real>(&self) -> Segment<U> {
+        Segment {
+            kind: self.kind,
+            start_deg: self.start_deg.cast(),
+            end_deg: self.end_deg.cast(),
+            lift: self.lift.cast(),
+        }
+    }
+}
+
 impl<T: Real> From<Segment<T>> for SegmentData<T> {
     fn from(s: Segment<T>) -> Self {
         let (kind, law) = match s.kind {
@@ -533,6 +546,19 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
             .unwrap_or(self.pre.len().saturating_sub(1))
     }
 
+    /// The same program in precision `U`: every segment's angles and lift converted
+    /// with [`Real::cast`], then rebuilt and checked by [`CamProgram::new`] in `U` (whose
+    /// tolerances depend on the precision: a program whose angles meet within `f32`'s
+    /// tolerance but not `f64`'s is refused when widened, with the segment's key).
+    pub fn cast<U: Real>(&self) -> Result<CamProgram<U, N>> {
+        let mut segs: heapless::Vec<Segment<U>, N> = heapless::Vec::new();
+        for s in &self.segs {
+            // Same capacity N as `self.segs`: never full.
+            let _ = segs.push(s.cast());
+        }
+        CamProgram::new(&segs)
+    }
+
     /// The validated segments, in order.
     pub fn segments(&self) -> &[Segment<T>] {
         &self.segs
@@ -580,6 +606,43 @@ mod tests {
             Error::InvalidParameter { field, .. } => field,
             _ => "",
         }
+    }
+
+    #[test]
+    fn cast_rebuilds_the_program_under_the_new_precision_s_tolerances() {
+        // Angles that meet within f32's tolerance (3.4e-4 deg) but not f64's (1e-6 deg).
+        let segs: [Segment<f32>; 3] = [
+            Segment {
+                kind: SegmentKind::Dwell,
+                start_deg: 0.0,
+                end_deg: 90.0,
+                lift: 0.0,
+            },
+            Segment {
+                kind: SegmentKind::Rise(MotionLaw::Cycloidal),
+                start_deg: 90.0001,
+                end_deg: 180.0,
+                lift: 1.0,
+            },
+            Segment {
+                kind: SegmentKind::Return(MotionLaw::Cycloidal),
+                start_deg: 180.0,
+                end_deg: 360.0,
+                lift: 1.0,
+            },
+        ];
+        let p = CamProgram::<f32>::new(&segs).unwrap();
+        let e = p.cast::<f64>().unwrap_err();
+        assert_eq!(field_of(e), "program.segment[0].end_deg");
+        // Narrowing the reference keeps every segment, converted number by number.
+        let r = CamProgram::<f64>::reference();
+        let n = r.cast::<f32>().unwrap();
+        assert_eq!(n.segments().len(), 4);
+        for (a, b) in n.segments().iter().zip(r.segments()) {
+            assert_eq!(a.kind, b.kind);
+            assert_eq!(a.end_deg.to_bits(), (b.end_deg as f32).to_bits());
+        }
+        assert_eq!(n.max_lift(), 1.5f32);
     }
 
     #[test]

@@ -12,9 +12,11 @@
 //!   model ([`camsim_chip::ChipModel`], 16 states) and, for comparison, the full 22-state
 //!   model ([`camsim_core::RegulatedFullModel`]).
 //!
-//! Another scene is chosen at build time, never parsed on the chip:
-//! `camsim scene --rust my.toml > my.rs` and build with `CAMSIM_SCENE_RS=$PWD/my.rs`;
-//! `camsim predict --f32 --scene my.toml` reproduces it bit for bit.
+//! Another scene is chosen at build time, never parsed as text on the chip: build with
+//! `CAMSIM_SCENE=$PWD/my.toml` (a host scene file); `build.rs` reads and checks it with
+//! the host's reader, narrows its design to `f32` (`camsim_chip::chip_design_from`) and
+//! stores it as postcard, which [`chip_design`] decodes. `camsim predict --f32 --scene
+//! my.toml` makes the same conversion and reproduces the chip bit for bit.
 
 use core::ops::ControlFlow;
 
@@ -29,42 +31,46 @@ pub const RHS_REPS: u32 = 1000;
 /// Nominal cam speed of the measured revolution (rpm): the reference design's 800 rpm.
 pub const NOMINAL_RPM: f32 = 800.0;
 
+/// The scene chosen at build time (`CAMSIM_SCENE`): the chip's `Design<f32>` in postcard,
+/// written by `build.rs`.
 #[cfg(camsim_scene)]
-mod generated {
-    //! The scene chosen at build time (`CAMSIM_SCENE_RS`, from `camsim scene --rust FILE`).
-    include!(concat!(env!("OUT_DIR"), "/scene.rs"));
-}
+static SCENE_POSTCARD: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/scene.postcard"));
 
-/// Which design is compiled in: "reference" or "generated" (a build-time scene).
-pub const SCENE_NAME: &str = if cfg!(camsim_scene) {
-    "generated"
-} else {
-    "reference"
-};
+/// Which design is compiled in: "reference", or the file name of the scene chosen at
+/// build time (`CAMSIM_SCENE`).
+#[cfg(camsim_scene)]
+pub const SCENE_NAME: &str = env!("CAMSIM_SCENE_NAME");
+/// Which design is compiled in: "reference", or the file name of the scene chosen at
+/// build time (`CAMSIM_SCENE`).
+#[cfg(not(camsim_scene))]
+pub const SCENE_NAME: &str = "reference";
 
 /// The design compiled into the chip: the reference design of VI.1
-/// (`camsim_chip::chip_design`), or the scene chosen at build time, converted from its
-/// `f64` record with `Design::from_record` exactly as `camsim predict --scene` does.
-/// An invalid generated scene stops the firmware with a failure exit.
+/// (`camsim_chip::chip_design`), or the scene chosen at build time, decoded from its
+/// postcard bytes (the `f32` design `build.rs` got from `camsim_chip::chip_design_from`,
+/// as `camsim predict --f32 --scene` does) and validated. A scene that does not decode
+/// or validate stops the firmware with a failure exit.
 pub fn chip_design() -> Design<f32> {
     #[cfg(camsim_scene)]
     {
-        match Design::from_record(&generated::SCENE) {
-            Ok(d) => d,
-            Err(e) => {
-                // No core::fmt here: it would cost tens of KiB of flash.
-                if let camsim_core::Error::InvalidParameter { field, value, .. } = e {
-                    defmt::error!(
-                        "the compiled-in scene is invalid: {=str} = {=f64}",
-                        field,
-                        value
-                    );
-                } else {
-                    defmt::error!("the compiled-in scene is invalid");
-                }
-                crate::exit_failure()
+        let Ok(d) = postcard::from_bytes::<Design<f32>>(SCENE_POSTCARD) else {
+            defmt::error!("the compiled-in scene does not decode");
+            crate::exit_failure()
+        };
+        if let Err(e) = d.validate() {
+            // No core::fmt here: it would cost tens of KiB of flash.
+            if let camsim_core::Error::InvalidParameter { field, value, .. } = e {
+                defmt::error!(
+                    "the compiled-in scene is invalid: {=str} = {=f64}",
+                    field,
+                    value
+                );
+            } else {
+                defmt::error!("the compiled-in scene is invalid");
             }
+            crate::exit_failure()
         }
+        d
     }
     #[cfg(not(camsim_scene))]
     {

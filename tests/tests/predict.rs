@@ -275,3 +275,24 @@ fn report_names_its_scene_and_feeds_text_and_json() {
     );
     assert_eq!(serde_json::to_string(&Num(0.5)).unwrap(), "0.5");
 }
+
+#[test]
+fn a_scene_is_checked_in_the_precision_it_runs_in() {
+    // Positive in f64 (the scene file is valid), zero in f32: the f32 run refuses the
+    // scene with its key, as the firmware's build refuses it; the f64 conversion is the
+    // scene's own design (identity).
+    let mut d = camsim_core::Design::<f64>::reference();
+    d.friction_smoothing = 1e-50;
+    d.validate().unwrap();
+    let e = format!("{:#}", compute::<f32>(Some(&d)).unwrap_err());
+    assert_eq!(
+        e,
+        "scene in f32: design.friction_smoothing_in_per_s = 0: must be positive and finite"
+    );
+    assert_eq!(camsim_chip::chip_design_from::<f64>(&d).unwrap(), d);
+    let r = camsim_core::Design::<f64>::reference();
+    assert_eq!(
+        camsim_chip::chip_design_from::<f32>(&r).unwrap(),
+        r.cast::<f32>().unwrap()
+    );
+}

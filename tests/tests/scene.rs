@@ -6,45 +6,18 @@
 use camsim::scene::parse;
 use camsim::sim::RunSpec;
 use camsim_core::{
-    key, CamProgram, Design, DesignRecord, DriveLaw, MotionLaw, ProgramData, SegmentData,
-    SegmentType, SolverSettings,
+    key, CamProgram, Design, DriveLaw, MotionLaw, ProgramData, SegmentData, SegmentType,
+    SolverSettings,
 };
 
 fn err(text: &str) -> String {
     format!("{:#}", parse(text).unwrap_err())
 }
 
-/// Every number of a design as raw bits (the record holds every scalar, the drive and
-/// the segments), so that equality means f64-identical.
-fn bits(d: &Design<f64>) -> Vec<u64> {
-    let DesignRecord {
-        values,
-        drive,
-        segments,
-        segment_count,
-    } = d.to_record();
-    let mut v: Vec<u64> = values.iter().map(|x| x.to_bits()).collect();
-    match drive {
-        DriveLaw::Regulated {
-            omega_ref,
-            t_steady,
-            k_p,
-            t_max,
-        } => v.extend([
-            1,
-            omega_ref.to_bits(),
-            t_steady.to_bits(),
-            k_p.to_bits(),
-            t_max.to_bits(),
-        ]),
-        DriveLaw::ConstantMotorSpeed => v.push(2),
-        DriveLaw::ConstantCamSpeed => v.push(3),
-    }
-    v.push(segment_count as u64);
-    for s in &segments[..segment_count] {
-        v.extend([s.start_deg.to_bits(), s.end_deg.to_bits(), s.lift.to_bits()]);
-    }
-    v
+/// A design as postcard bytes: every number as its raw little-endian bits, the drive's
+/// and the segments' tags, in field order; equal bytes mean f64-identical designs.
+fn bits(d: &Design<f64>) -> Vec<u8> {
+    postcard::to_allocvec(d).unwrap()
 }
 
 #[test]
@@ -62,6 +35,10 @@ fn the_default_scene_reads_back_to_the_reference_bit_for_bit() {
     );
     assert_eq!(spec.solver, r.solver);
     assert_eq!((spec.revolutions, spec.dofs), (r.revolutions, r.dofs));
+    // An empty file is the reference run too (the scene-file crate's own defaults).
+    let empty = parse("").unwrap();
+    assert_eq!(bits(&empty.design), bits(&r.design));
+    assert_eq!((empty.revolutions, empty.dofs), (r.revolutions, r.dofs));
     // The check command's output is the same text (without the header comment).
     assert!(text.ends_with(&camsim::scene::spec_text(&spec).unwrap()));
 }

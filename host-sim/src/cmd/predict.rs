@@ -14,11 +14,12 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
 use camsim_chip::{
-    chip_alarm, chip_design, chip_prediction_table, chip_solver_settings, chip_steady_state,
-    ChipScene, ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
-    CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES,
+    chip_alarm, chip_design, chip_design_from, chip_prediction_table, chip_solver_settings,
+    chip_steady_state, ChipScene, ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM,
+    CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
+    CHIP_RESOLUTION_RPM, CHIP_STATES,
 };
-use camsim_core::{Real, Scene, SpeedPrediction, SpeedSource, SteadyState};
+use camsim_core::{Design, Real, Scene, SpeedPrediction, SpeedSource, SteadyState};
 
 /// Command-line options of `camsim predict`.
 #[derive(clap::Args, Debug, Default)]
@@ -32,8 +33,8 @@ pub struct Args {
     /// Decoded defmt log of the firmware to check bit for bit (needs --f32).
     #[arg(long)]
     pub check_log: Option<PathBuf>,
-    /// Scene file compiled into the firmware (`camsim scene --rust FILE`); default: the
-    /// reference design (`camsim_chip::chip_design`).
+    /// Scene file compiled into the firmware (`CAMSIM_SCENE=FILE` at its build); default:
+    /// the reference design (`camsim_chip::chip_design`).
     #[arg(long)]
     pub scene: Option<PathBuf>,
 }
@@ -70,13 +71,15 @@ pub struct Prediction<T> {
 }
 
 /// Runs the chip's predictor (shared scene, scripted profile) in `T` for the reference
-/// design, or for a design record (a scene file compiled in with `camsim scene --rust`):
-/// `Design::from_record` is the same conversion the firmware makes, so the bits agree.
-pub fn compute<T: Real>(record: Option<&camsim_core::DesignRecord>) -> Result<Prediction<T>> {
-    let design = match record {
-        Some(r) => {
-            camsim_core::Design::<T>::from_record(r).map_err(|e| anyhow::anyhow!("scene: {e}"))?
-        }
+/// design, or for a scene file's design (`Design<f64>`, as the firmware's build script
+/// reads `CAMSIM_SCENE`): `camsim_chip::chip_design_from` is the conversion the
+/// firmware's image carries, so the bits agree.
+pub fn compute<T: Real>(scene: Option<&Design<f64>>) -> Result<Prediction<T>> {
+    let design = match scene {
+        Some(d) => chip_design_from::<T>(d).map_err(|e| {
+            let why = camsim_scene_file::refusal("design", e);
+            anyhow::anyhow!("scene in {}: {why}", std::any::type_name::<T>())
+        })?,
         None => chip_design::<T>(),
     };
     let table =
@@ -558,8 +561,8 @@ pub fn run(args: Args) -> Result<()> {
     if args.check_log.is_some() && !args.single {
         bail!("--check-log compares the firmware's f32 bits: add --f32");
     }
-    let record = match &args.scene {
-        Some(p) => Some(crate::scene::load(p)?.design.to_record()),
+    let scene = match &args.scene {
+        Some(p) => Some(crate::scene::load(p)?.design),
         None => None,
     };
     let design = match &args.scene {
@@ -567,7 +570,7 @@ pub fn run(args: Args) -> Result<()> {
         None => REFERENCE_SCENE.to_string(),
     };
     let report = if args.single {
-        let p = compute::<f32>(record.as_ref())?;
+        let p = compute::<f32>(scene.as_ref())?;
         if let Some(path) = &args.check_log {
             let log = std::fs::read_to_string(path)
                 .with_context(|| format!("reading {}", path.display()))?;
@@ -577,7 +580,7 @@ pub fn run(args: Args) -> Result<()> {
         }
         report(&p, true, &design)
     } else {
-        report(&compute::<f64>(record.as_ref())?, false, &design)
+        report(&compute::<f64>(scene.as_ref())?, false, &design)
     };
     if args.json {
         println!("{}", serde_json::to_string(&report)?);

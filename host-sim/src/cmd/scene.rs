@@ -11,24 +11,12 @@ pub struct Args {
     #[arg(long, conflicts_with = "check")]
     pub default: bool,
     /// Validate a scene file and print it back complete (every key, defaults filled in).
-    #[arg(long, value_name = "FILE", conflicts_with = "rust")]
-    pub check: Option<PathBuf>,
-    /// Validate a scene file and print it as Rust source for the firmware (a `const`
-    /// `SCENE` record; build the firmware with `CAMSIM_SCENE_RS=that.rs`).
     #[arg(long, value_name = "FILE")]
-    pub rust: Option<PathBuf>,
+    pub check: Option<PathBuf>,
 }
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    if let Some(p) = args.rust {
-        let spec = crate::scene::load(&p)?;
-        print!(
-            "{}",
-            crate::scene::rust_source(&spec, &p.display().to_string())
-        );
-        return Ok(());
-    }
     if let Some(p) = args.check {
         let spec = crate::scene::load(&p)?;
         print!("{}", crate::scene::spec_text(&spec)?);

@@ -1,0 +1,327 @@
+//! Scene files: the run options, the solver settings and the design in TOML, read and
+//! checked. One parser for everything that reads a scene file: the host (`camsim`, whose
+//! `scene` module writes them too) and the firmware's build script (`CAMSIM_SCENE`), so
+//! a file the host refuses never reaches the chip and both read the same `Design<f64>`.
+//!
+//! The file is `[run]` (what to simulate that is not part of the design), `[solver]`
+//! (core's [`SolverSettings`]) and `[design]` (core's [`Design`] as it serializes:
+//! units in the key names, see [`camsim_core::key`]). Every key is optional and
+//! defaults to the reference (`camsim scene --default` prints them all); unknown keys
+//! are refused, so a typo never passes silently. The checks are the core's
+//! ([`Design::validate`], [`SolverSettings::validate`]); errors are one line naming
+//! the line, the key, the value and the rule.
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+use std::fmt;
+use std::path::Path;
+
+use camsim_core::{key, Design, SolverSettings};
+use serde::{Deserialize, Serialize};
+
+/// Revolutions a run simulates unless `run.revolutions` says otherwise.
+pub const DEFAULT_REVOLUTIONS: u32 = 3;
+/// Most revolutions a run may simulate (the host's statistics hold 16).
+pub const MAX_REVOLUTIONS: u32 = 16;
+
+/// `[run]`: what to simulate that is not part of the design.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RunOptions {
+    /// Revolutions to simulate (1-16).
+    pub revolutions: u32,
+    /// Keep the horizontal motion (x1, x2, x3).
+    pub horizontal_motion: bool,
+    /// Cam speed in rpm, instead of `design.omega0_rad_per_s`: moves the design to this
+    /// speed like `--rpm` ([`Design::set_speed_rpm`]: ω0, the regulated drive's
+    /// reference, its feed-forward scaled with speed). Never written back.
+    pub rpm: Option<f64>,
+}
+
+impl Default for RunOptions {
+    /// [`DEFAULT_REVOLUTIONS`], all DOFs, the design's own speed.
+    fn default() -> Self {
+        RunOptions {
+            revolutions: DEFAULT_REVOLUTIONS,
+            horizontal_motion: true,
+            rpm: None,
+        }
+    }
+}
+
+/// A whole scene file as it reads and writes (nothing checked yet: [`SceneFile::check`]).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SceneFile {
+    /// `[run]`.
+    pub run: RunOptions,
+    /// `[solver]`.
+    pub solver: SolverSettings<f64>,
+    /// `[design]`.
+    pub design: Design<f64>,
+}
+
+/// A scene file read and checked: what a run or a build uses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedScene {
+    /// The design at its speed (`run.rpm` applied), validated by [`Design::validate`].
+    pub design: Design<f64>,
+    /// The solver settings, validated by [`SolverSettings::validate`].
+    pub solver: SolverSettings<f64>,
+    /// Revolutions to simulate (1-16).
+    pub revolutions: u32,
+    /// Keep the horizontal motion (x1, x2, x3).
+    pub horizontal_motion: bool,
+}
+
+/// Why a scene file was refused: one line (the file, where it can be told the line and
+/// column, the key, the value and the rule).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Error {
+    message: String,
+}
+
+impl Error {
+    fn new(message: impl Into<String>) -> Self {
+        Error {
+            message: message.into(),
+        }
+    }
+}
+
+impl Error {
+    /// The same refusal prefixed with the line of `text` that sets its key (or that
+    /// opens the key's nearest enclosing table), if the text has one: for a check made
+    /// after reading, such as the design's in another precision.
+    pub fn at_line_in(self, text: &str) -> Error {
+        located(text, &self.message)
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// Reads and checks a scene file (errors start with the file's name).
+pub fn load(path: &Path) -> Result<CheckedScene, Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        Error::new(format!(
+            "{}: cannot read the scene file: {e}",
+            path.display()
+        ))
+    })?;
+    parse(&text).map_err(|e| Error::new(format!("{}: {e}", path.display())))
+}
+
+/// Parses and checks scene text. Errors are one line: where TOML or serde refused
+/// it, the line, column and key; where the checks refused it, the line that sets the
+/// key (if the text sets it), the key, the value and the rule.
+pub fn parse(text: &str) -> Result<CheckedScene, Error> {
+    let file: SceneFile = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+    let rpm_conflict = || -> Option<&'static str> {
+        let t: toml::Table = toml::from_str(text).ok()?;
+        let d = t.get("design")?.as_table()?;
+        if d.contains_key(key::OMEGA0) {
+            return Some(key::OMEGA0);
+        }
+        let r = d.get("drive")?.get("regulated")?.as_table()?;
+        let omega_ref = key::DRIVE_OMEGA_REF.rsplit('.').next()?;
+        r.contains_key(omega_ref).then_some(key::DRIVE_OMEGA_REF)
+    };
+    if file.run.rpm.is_some() {
+        if let Some(k) = rpm_conflict() {
+            return Err(located(
+                text,
+                &format!("run.rpm and design.{k} both set the cam speed: give one of them"),
+            ));
+        }
+    }
+    file.check().map_err(|e| located(text, &e.message))
+}
+
+/// A core check's refusal in `section` (`design`, `solver`): its key under the section,
+/// the value and the rule (`design.spring_rate_lb_per_in = -1: must be positive and
+/// finite`).
+pub fn refusal(section: &str, error: camsim_core::Error) -> Error {
+    Error::new(match error {
+        // Both start with the key: put the section in front of it.
+        camsim_core::Error::InvalidParameter { .. } | camsim_core::Error::Inconsistent { .. } => {
+            format!("{section}.{error}")
+        }
+        other => format!("{section}: {other}"),
+    })
+}
+
+/// One line for a TOML or serde error: line, column, the key there, the message. A
+/// program refused as it is read (by the core's `CamProgram::new`) names its own key.
+fn toml_error(text: &str, e: &toml::de::Error) -> Error {
+    let msg = e.message().trim().replace('\n', " ");
+    if msg.starts_with(key::PROGRAM_SEGMENT) {
+        return located(text, &format!("design.{msg}"));
+    }
+    let Some(span) = e.span() else {
+        return Error::new(msg);
+    };
+    let (line, col) = line_col(text, span.start);
+    Error::new(
+        match line_paths(text).get(line - 1).filter(|k| !k.is_empty()) {
+            Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
+            None => format!("line {line}, column {col}: {msg}"),
+        },
+    )
+}
+
+/// `msg` (starting with a key path) prefixed with the line that sets the key, or the
+/// line of its nearest enclosing table, if the text has one.
+fn located(text: &str, msg: &str) -> Error {
+    let paths = line_paths(text);
+    let mut key = msg.split([' ', ':']).next().unwrap_or("");
+    loop {
+        let here = |p: &String| {
+            p == key
+                || p.strip_prefix(key)
+                    .is_some_and(|rest| rest.starts_with("[0]"))
+        };
+        if let Some(i) = paths.iter().position(here) {
+            return Error::new(format!("line {}: {msg}", i + 1));
+        }
+        match key.rsplit_once('.') {
+            Some((parent, _)) => key = parent,
+            None => return Error::new(msg),
+        }
+    }
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = text.get(..offset).unwrap_or(text);
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+/// The key path each line of `text` sets or opens (`design.program.segment[2].law`,
+/// `design.geometry`; empty for blank lines and comments): the last table header
+/// (arrays of tables counted) and the line's own key. A plain reading of the lines,
+/// good for the files camsim writes and their edits, used only to name places.
+fn line_paths(text: &str) -> Vec<String> {
+    let mut header = String::new();
+    let mut seen: Vec<(String, usize)> = Vec::new();
+    let join = |h: &str, k: &str| match (h.is_empty(), k.is_empty()) {
+        (_, true) => h.to_string(),
+        (true, false) => k.to_string(),
+        (false, false) => format!("{h}.{k}"),
+    };
+    text.split('\n')
+        .map(|line| {
+            let t = line.split('#').next().unwrap_or("").trim();
+            if let Some(name) = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")) {
+                let name = name.trim().to_string();
+                let n = match seen.iter_mut().find(|(k, _)| *k == name) {
+                    Some((_, n)) => {
+                        *n += 1;
+                        *n
+                    }
+                    None => {
+                        seen.push((name.clone(), 0));
+                        0
+                    }
+                };
+                header = format!("{name}[{n}]");
+                header.clone()
+            } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+                header = name.trim().to_string();
+                header.clone()
+            } else {
+                match t.split_once('=') {
+                    Some((k, _)) => join(&header, k.trim()),
+                    None => String::new(),
+                }
+            }
+        })
+        .collect()
+}
+
+impl SceneFile {
+    /// The checked scene: the run options checked, `run.rpm` applied, then the core's
+    /// [`SolverSettings::validate`] and [`Design::validate`]. Errors start with the key
+    /// (no line: [`parse`] adds it).
+    pub fn check(&self) -> Result<CheckedScene, Error> {
+        let revolutions = self.run.revolutions;
+        if !(1..=MAX_REVOLUTIONS).contains(&revolutions) {
+            return Err(Error::new(format!(
+                "run.revolutions = {revolutions}: must be between 1 and {MAX_REVOLUTIONS}"
+            )));
+        }
+        self.solver
+            .validate()
+            .map_err(|error| refusal("solver", error))?;
+        let mut design = self.design.clone();
+        if let Some(rpm) = self.run.rpm {
+            if !(rpm.is_finite() && rpm > 0.0) {
+                return Err(Error::new(format!(
+                    "run.rpm = {rpm}: must be positive and finite"
+                )));
+            }
+            design
+                .set_speed_rpm(rpm)
+                .map_err(|e| Error::new(format!("run.rpm = {rpm}: {e}")))?;
+        }
+        design
+            .validate()
+            .map_err(|error| refusal("design", error))?;
+        Ok(CheckedScene {
+            design,
+            solver: self.solver,
+            revolutions,
+            horizontal_motion: self.run.horizontal_motion,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_empty_file_is_the_reference_and_rpm_moves_the_design() {
+        let s = parse("").unwrap();
+        assert_eq!(s.design, Design::<f64>::reference());
+        assert_eq!(s.solver, SolverSettings::reference());
+        assert_eq!((s.revolutions, s.horizontal_motion), (3, true));
+        let fast = parse("[run]\nrpm = 1000\n").unwrap();
+        let mut want = Design::<f64>::reference();
+        want.set_speed_rpm(1000.0).unwrap();
+        assert_eq!(fast.design, want);
+        assert_eq!(fast.design.omega0, 1000.0 * std::f64::consts::PI / 30.0);
+    }
+
+    #[test]
+    fn refusals_are_one_line_with_the_line_key_and_rule() {
+        let e = parse("[run]\nrevolutions = 17\n").unwrap_err().to_string();
+        assert_eq!(e, "line 2: run.revolutions = 17: must be between 1 and 16");
+        let e = parse("# a comment\n[design]\nk_rb_lb_per_in = -2\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "line 3: design.k_rb_lb_per_in = -2: must be positive and finite"
+        );
+        let e = parse("[design]\nk_rb = 1\n").unwrap_err().to_string();
+        assert!(
+            e.starts_with("line 2, column 1: design.k_rb: unknown field `k_rb`"),
+            "{e}"
+        );
+        let e = load(Path::new("/nonexistent/x.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("/nonexistent/x.toml: cannot read the scene file"),
+            "{e}"
+        );
+    }
+}
