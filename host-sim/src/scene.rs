@@ -10,20 +10,11 @@
 
 use std::path::Path;
 
-use anyhow::{bail, Result};
-use camsim_core::{key, Start};
+use anyhow::Result;
+use camsim_core::key;
 pub use camsim_scene_file::{CheckedScene, RunOptions, SceneFile};
 
 use crate::sim::{Dofs, RunSpec};
-
-/// Parses an initial-state name.
-pub fn parse_start(s: &str, key: &str) -> Result<Start> {
-    match s {
-        "thesis" => Ok(Start::Thesis),
-        "static" => Ok(Start::Static),
-        other => bail!("{key} = {other:?}: must be \"thesis\" or \"static\""),
-    }
-}
 
 /// Reads and validates a scene file (errors start with the file's name).
 pub fn load(path: &Path) -> Result<RunSpec> {
