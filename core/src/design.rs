@@ -571,6 +571,8 @@ mod cast_tests {
         d.k_hs = 1.4e6;
         d.c_hs = 4.1;
         d.bearing_a = 2.2;
+        d.contact_damping_ratio = 0.051;
+        d.roller_bearing_damping_ratio = 0.052;
         d.k_rb = 1.0 / 3.0 * 4.5e6;
         d.hertz.youngs_2 = 29.0e6;
         d.hertz.poisson_2 = 0.3;
@@ -610,13 +612,13 @@ mod cast_tests {
             let d32 = d.cast::<f32>().unwrap();
             let wide: Vec<f64> = numbers(&std::format!("{d:?}"));
             let narrow: Vec<f32> = numbers(&std::format!("{d32:?}"));
-            // 33 scalar fields, 3 of the geometry, 5 of the contact; 4 of a regulated drive.
+            // 35 scalar fields, 3 of the geometry, 5 of the contact; 4 of a regulated drive.
             let drive_numbers = if d.drive.kind() == crate::DriveKind::Regulated {
                 4
             } else {
                 0
             };
-            assert_eq!(wide.len(), 41 + drive_numbers);
+            assert_eq!(wide.len(), 43 + drive_numbers);
             assert_eq!(narrow.len(), wide.len());
             for (k, (w, n)) in wide.iter().zip(&narrow).enumerate() {
                 assert_eq!(n.to_bits(), (*w as f32).to_bits(), "number {k}: {w}");
