@@ -349,21 +349,29 @@ pub struct ContactForce<T> {
 /// (not in contact) so the solver's non-finite check reports them.
 #[inline]
 pub fn contact_force<T: Real>(k_h: T, approach: T, preload: T, cos_phi: T) -> ContactForce<T> {
-    let f = (k_h * approach + preload) * cos_phi;
-    if f > T::ZERO {
-        ContactForce {
-            force: f,
-            in_contact: true,
-        }
-    } else if f.is_nan() {
-        ContactForce {
-            force: f,
-            in_contact: false,
-        }
-    } else {
-        ContactForce {
-            force: T::ZERO,
-            in_contact: false,
+    ContactForce::clamped((k_h * approach + preload) * cos_phi)
+}
+
+impl<T: Real> ContactForce<T> {
+    /// A contact can only push: a positive force is contact, zero or less is separation
+    /// with force 0 (V.20), NaN stays NaN and out of contact (the solver reports it).
+    #[inline]
+    fn clamped(f: T) -> Self {
+        if f > T::ZERO {
+            ContactForce {
+                force: f,
+                in_contact: true,
+            }
+        } else if f.is_nan() {
+            ContactForce {
+                force: f,
+                in_contact: false,
+            }
+        } else {
+            ContactForce {
+                force: T::ZERO,
+                in_contact: false,
+            }
         }
     }
 }
@@ -421,27 +429,13 @@ pub fn damped_contact_force<T: Real>(
     approach_rate: T,
     cos_phi: T,
 ) -> ContactForce<T> {
-    let elastic = contact_force(k_h, approach, preload, cos_phi);
+    // The elastic term once: (e + c r) cos φ is the printed (K_h δ + F_p + c r) cos φ.
+    let e = k_h * approach + preload;
+    let elastic = ContactForce::clamped(e * cos_phi);
     if !elastic.in_contact || c_h == T::ZERO {
         return elastic;
     }
-    let f = (k_h * approach + preload + c_h * approach_rate) * cos_phi;
-    if f > T::ZERO {
-        ContactForce {
-            force: f,
-            in_contact: true,
-        }
-    } else if f.is_nan() {
-        ContactForce {
-            force: f,
-            in_contact: false,
-        }
-    } else {
-        ContactForce {
-            force: T::ZERO,
-            in_contact: false,
-        }
-    }
+    ContactForce::clamped((e + c_h * approach_rate) * cos_phi)
 }
 
 /// Normal forces (N1, N2) in the follower's slide bearings, Eq. V.16:
@@ -453,12 +447,36 @@ pub fn damped_contact_force<T: Real>(
 /// both are NaN so the solver's non-finite check reports the bad geometry.
 #[inline]
 pub fn bearing_normal_forces<T: Real>(f_c: T, sin_phi: T, a: T, b: T) -> (T, T) {
-    if b > T::ZERO {
+    BearingLevers::new(a, b).normal_forces(f_c, sin_phi)
+}
+
+/// The lever ratios of Eq. V.16, `(A+B)/B` and `A/B`, divided once where a model is
+/// built so its right-hand side only multiplies ([`bearing_normal_forces`] in two steps).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BearingLevers<T> {
+    n1: T,
+    n2: T,
+}
+
+impl<T: Real> BearingLevers<T> {
+    /// The ratios for bearing distance `a` (A) and span `b` (B); NaN unless `b > 0`.
+    pub fn new(a: T, b: T) -> Self {
+        if b > T::ZERO {
+            Self {
+                n1: (a + b) / b,
+                n2: a / b,
+            }
+        } else {
+            let nan = T::from_f64(f64::NAN);
+            Self { n1: nan, n2: nan }
+        }
+    }
+
+    /// (N1, N2) for contact force `f_c` and pressure-angle sine `sin_phi` (lb).
+    #[inline]
+    pub fn normal_forces(&self, f_c: T, sin_phi: T) -> (T, T) {
         let lateral = (f_c * sin_phi).abs();
-        ((a + b) / b * lateral, a / b * lateral)
-    } else {
-        let nan = T::from_f64(f64::NAN);
-        (nan, nan)
+        (self.n1 * lateral, self.n2 * lateral)
     }
 }
 

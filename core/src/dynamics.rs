@@ -10,9 +10,9 @@
 use core::marker::PhantomData;
 
 use crate::{
-    bearing_normal_forces, coulomb_friction, damped_contact_force, Design, DriveKind, Error,
-    FollowerLift, OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof,
-    RELATIVE_TO_LIFT, TRANS_DOFS,
+    coulomb_friction, damped_contact_force, BearingLevers, Design, DriveKind, Error, FollowerLift,
+    OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof, RELATIVE_TO_LIFT,
+    TRANS_DOFS,
 };
 
 /// Every quantity of the model at one instant (what an observer receives).
@@ -127,6 +127,7 @@ pub struct CamModel<T, S, const N: usize> {
     inv_m_c: T,
     inv_m_l: T,
     c_rb: T,
+    levers: BearingLevers<T>,
     scene: PhantomData<S>,
 }
 
@@ -155,6 +156,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             inv_m_c: T::ONE / design.m_c,
             inv_m_l: T::ONE / design.m_l,
             c_rb: design.c_rb(),
+            levers: BearingLevers::new(design.bearing_a, design.bearing_b),
             d: design,
             scene: PhantomData,
         })
@@ -348,7 +350,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         let f_h = f_c * sin_phi; // horizontal component
 
         // Slide-bearing friction (Eqs. V.15-V.16), each opposing its own mass's velocity.
-        let (n1, n2) = bearing_normal_forces(f_c, sin_phi, d.bearing_a, d.bearing_b);
+        let (n1, n2) = self.levers.normal_forces(f_c, sin_phi);
         let f1 = coulomb_friction(d.mu, n1, v4, d.friction_smoothing);
         let f2 = coulomb_friction(d.mu, n2, v3, d.friction_smoothing);
         p.friction_follower = f1;

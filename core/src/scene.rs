@@ -279,7 +279,8 @@ pub trait Scene:
     const DRIVE: DriveKind;
     /// The translational DOFs kept.
     const DOFS: DofSet;
-    /// The state layout; a scene lacking y2, y3 or y5 fails to compile here.
+    /// The state layout; a scene lacking y2, y3 or y5 fails to compile here (the `panic!`
+    /// below runs in const evaluation, at compile time; it cannot reach a running program).
     const LAYOUT: Layout = match Layout::try_new(Self::DRIVE, Self::DOFS) {
         Some(l) => l,
         None => panic!("a scene must keep the roller y2, the cantilever y3 and the load y5"),

@@ -826,19 +826,9 @@ impl<T: Real, const N: usize> England<T, N> {
         }
     }
 
-    /// Integrates from `t0` to `t_end`, calling `observer(t, &y)` at the start, at every
-    /// midpoint and end point of each accepted double step (in time order); the observer
-    /// returns [`ControlFlow::Break`] to stop early (still `Ok`). Starts from the current
-    /// [`England::step_size`] (`h_init` for a new solver), resets the counters and returns
-    /// those of this run; `y` is left at the last point reached.
-    pub fn integrate<S: OdeSystem<T, N>, F: FnMut(T, &[T; N]) -> ControlFlow<()>>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        y: &mut [T; N],
-        t_end: T,
-        mut observer: F,
-    ) -> Result<SolverStats> {
+    /// Resets the statistics for a new integration from (t0, y) to t_end and checks both
+    /// ends and the state (shared by [`Self::integrate`] and [`Self::integrate_dense`]).
+    fn begin(&mut self, t0: T, y: &[T; N], t_end: T) -> Result<()> {
         self.stats = SolverStats::default();
         self.aux_evals = 0;
         self.estimate_due = true;
@@ -862,6 +852,22 @@ impl<T: Real, const N: usize> England<T, N> {
                 component: i,
             });
         }
+        Ok(())
+    }
+    /// Integrates from `t0` to `t_end`, calling `observer(t, &y)` at the start, at every
+    /// midpoint and end point of each accepted double step (in time order); the observer
+    /// returns [`ControlFlow::Break`] to stop early (still `Ok`). Starts from the current
+    /// [`England::step_size`] (`h_init` for a new solver), resets the counters and returns
+    /// those of this run; `y` is left at the last point reached.
+    pub fn integrate<S: OdeSystem<T, N>, F: FnMut(T, &[T; N]) -> ControlFlow<()>>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &mut [T; N],
+        t_end: T,
+        mut observer: F,
+    ) -> Result<SolverStats> {
+        self.begin(t0, y, t_end)?;
         if observer(t0, y).is_break() {
             return Ok(self.stats);
         }
@@ -938,29 +944,7 @@ impl<T: Real, const N: usize> England<T, N> {
         S: OdeSystem<T, N>,
         F: FnMut(&Dense<'_, T, N>) -> ControlFlow<()>,
     {
-        self.stats = SolverStats::default();
-        self.aux_evals = 0;
-        self.estimate_due = true;
-        if !t0.is_finite() {
-            return Err(Error::InvalidParameter {
-                field: "t0",
-                rule: "must be finite",
-                value: t0.to_f64(),
-            });
-        }
-        if !(t_end.is_finite() && t_end >= t0) {
-            return Err(Error::InvalidParameter {
-                field: "t_end",
-                rule: "must be finite and not before t0",
-                value: t_end.to_f64(),
-            });
-        }
-        if let Some(i) = first_non_finite(y) {
-            return Err(Error::NonFinite {
-                t: t0.to_f64(),
-                component: i,
-            });
-        }
+        self.begin(t0, y, t_end)?;
         if t_end == t0 {
             return Ok(self.stats);
         }
