@@ -11,8 +11,8 @@ use core::marker::PhantomData;
 
 use crate::{
     coulomb_friction, damped_contact_force, BearingLevers, Design, DriveKind, Error, FollowerLift,
-    OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof, RELATIVE_TO_LIFT,
-    TRANS_DOFS,
+    LiftProfile, OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TheoreticalLift,
+    TransDof, RELATIVE_TO_LIFT, TRANS_DOFS,
 };
 
 /// Every quantity of the model at one instant (what an observer receives).
@@ -114,9 +114,14 @@ impl<T: Real> ModelPoint<T> {
 /// use camsim_core::{CamModel, Design, RegulatedVertical};
 /// let m = CamModel::<f64, RegulatedVertical, 22>::new(Design::reference());
 /// ```
+///
+/// The fourth parameter is where the lift comes from ([`LiftProfile`]): the theoretical
+/// program by default, or an actual cam ([`crate::DeviatedLift`], built with
+/// [`CamModel::with_profile`]).
 #[derive(Clone, Debug)]
-pub struct CamModel<T, S, const N: usize> {
+pub struct CamModel<T, S, const N: usize, P = TheoreticalLift> {
     d: Design<T>,
+    profile: P,
     preload: T,
     prime_radius: T,
     rho_a: T,
@@ -132,9 +137,16 @@ pub struct CamModel<T, S, const N: usize> {
 }
 
 impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
-    /// Builds the model for `design`. The design's drive law must be of the scene's
-    /// drive kind (`S::DRIVE`); the error names the field otherwise.
+    /// Builds the model of the theoretical cam for `design`. The design's drive law must
+    /// be of the scene's drive kind (`S::DRIVE`); the error names the field otherwise.
     pub fn new(design: Design<T>) -> Result<Self> {
+        Self::with_profile(design, TheoreticalLift)
+    }
+}
+
+impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> {
+    /// Builds the model for `design` whose roller rides on `profile` (an actual cam).
+    pub fn with_profile(design: Design<T>, profile: P) -> Result<Self> {
         crate::scene::assert_fits::<S, N>();
         design.validate()?;
         if design.drive.kind() != S::DRIVE {
@@ -158,6 +170,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             c_rb: design.c_rb(),
             levers: BearingLevers::new(design.bearing_a, design.bearing_b),
             d: design,
+            profile,
             scene: PhantomData,
         })
     }
@@ -165,6 +178,16 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     /// The design this model was built from.
     pub fn design(&self) -> &Design<T> {
         &self.d
+    }
+    /// Where the roller's lift comes from.
+    pub fn profile(&self) -> &P {
+        &self.profile
+    }
+    /// The lift the roller rides on at cam angle `theta` (rad): the program plus the
+    /// profile's deviation.
+    #[inline(always)]
+    pub fn lift(&self, theta: T) -> FollowerLift<T> {
+        self.profile.follower(&self.d.program, theta)
     }
     /// The return-spring preload F_p (Eq. V.18), lb.
     pub fn preload(&self) -> T {
@@ -201,7 +224,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     /// unbalanced preload causes.
     pub fn static_state(&self) -> [T; N] {
         let d = &self.d;
-        let l = d.program.follower(T::ZERO);
+        let l = self.lift(T::ZERO);
         let k_h = d.hertz.stiffness_fast(
             d.geometry.roller_radius,
             d.geometry.surface_curvature_radius(l.y, l.dy, l.d2y),
@@ -249,7 +272,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     /// value, θ_c = `theta_c`).
     pub fn state_from(&self, theta_c: T, pos: &[T; TRANS_DOFS], vel: &[T; TRANS_DOFS]) -> [T; N] {
         let mut y = self.initial_state();
-        let lift = self.d.program.follower(theta_c).y;
+        let lift = self.lift(theta_c).y;
         let mut s = StateMut::<T, S, N>::new(&mut y);
         s.set(StateVar::CamAngle, theta_c);
         for (((dof, p), v), rel) in TransDof::ALL
@@ -305,7 +328,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
         let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
 
         // --- contact geometry at the current cam angle ---
-        let lift = d.program.follower(p.theta_c);
+        let lift = self.lift(p.theta_c);
         p.lift = lift;
         for (pos, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
             if rel {
@@ -466,7 +489,9 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     }
 }
 
-impl<T: Real, S: Scene, const N: usize> OdeSystem<T, N> for CamModel<T, S, N> {
+impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> OdeSystem<T, N>
+    for CamModel<T, S, N, P>
+{
     #[inline]
     fn rhs(&self, t: T, y: &[T; N], dydt: &mut [T; N]) {
         let p = self.evaluate_with(t, y, false);

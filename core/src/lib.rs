@@ -67,6 +67,9 @@ mod waviness;
 pub use waviness::*;
 mod profile;
 pub use profile::*;
+// The lift the model's roller rides on: the program, or the program plus a deviation.
+mod lift;
+pub use lift::*;
 
 // Cam speed from a once-per-revolution index pulse: captured timer counts to rpm, with
 // bounce rejection, timeout and range check (fed by the firmware's board adapters).

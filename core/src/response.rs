@@ -11,8 +11,8 @@
 use core::ops::ControlFlow;
 
 use crate::{
-    CamModel, England, EnglandConfig, Error, ModelPoint, Real, Result, Scene, SegmentKind,
-    SolverStats, StateMut, StateVar, Tolerance, TransDof,
+    CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
+    SegmentKind, SolverStats, StateMut, StateVar, Tolerance, TransDof,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -197,8 +197,8 @@ impl<T: Real> Default for SolverSettings<T> {
 /// each component by its natural scale: angles and twists are compared as arc length at
 /// the prime radius R_a (atol / R_a rad), velocities as displacement per radian of cam at
 /// ω0 (atol ω0 / R_a rad/s, atol ω0 in/s).
-pub fn solver_config<T: Real, S: Scene, const N: usize>(
-    model: &CamModel<T, S, N>,
+pub fn solver_config<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
+    model: &CamModel<T, S, N, P>,
     s: &SolverSettings<T>,
     revolutions: u32,
 ) -> Result<EnglandConfig<T, N>> {
@@ -237,8 +237,8 @@ pub fn solver_config<T: Real, S: Scene, const N: usize>(
 /// Simulates `revolutions` cam revolutions from the initial state `settings.start` selects
 /// (the thesis's VI.1 start or static equilibrium, docs/MODEL.md §5.11), feeding every
 /// sample to `observer`. Returns the solver's statistics.
-pub fn simulate<T: Real, S: Scene, const N: usize, O: Observer<T>>(
-    model: &CamModel<T, S, N>,
+pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>>(
+    model: &CamModel<T, S, N, P>,
     settings: &SolverSettings<T>,
     revolutions: u32,
     observer: &mut O,
@@ -283,7 +283,7 @@ pub fn simulate<T: Real, S: Scene, const N: usize, O: Observer<T>>(
     Ok(stats)
 }
 
-impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
+impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> {
     /// The theoretical response at cam angle `theta` (rad) at the design's ω0.
     pub fn theoretical(&self, theta: T) -> Theoretical<T> {
         let w = self.design().omega0;
