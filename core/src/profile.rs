@@ -41,8 +41,8 @@
 //! dwell `σ_s = σ_c`; the pressure angle inflates it on the flanks.
 
 use crate::{
-    non_negative, waviness_fpr_of, CamGeometry, CamProgram, CubicSpline, Error, FollowerLift,
-    NormalMethod, RandomStream, Real, Result, SplineEnds, SplinePoint,
+    non_negative, waviness_fpr_of, CamGeometry, CamProgram, CubicSpline, DeviatedLift, Error,
+    FollowerLift, NormalMethod, RandomStream, Real, Result, SplineEnds, SplinePoint,
 };
 
 /// Manufacturing tolerances (± half-widths, in); each is three standard deviations.
@@ -239,6 +239,30 @@ impl<T: Real, const N: usize> ActualLift<T, N> {
         waviness_fpr_of(samples, threshold, |k| {
             let th = T::from_usize(k) * step;
             self.lift(th).dy - program.follower(th).dy
+        })
+    }
+}
+
+impl<T: Real, const K: usize> DeviatedLift<T, K> {
+    /// The thesis's actual lift (IV.2.3) as a deviation from the program: at every
+    /// `θ_k = 2πk/intervals` the deviate `σ_s(θ_k) z_k` (Eq. B-3 with the σ of E.5),
+    /// joined by a periodic spline. It draws exactly the deviates
+    /// [`ActualLift::generate`] draws from the same stream (that spline carries
+    /// `y(θ_k) + σ_s z_k`; this one adds `σ_s z_k` to the program's closed form, so zero
+    /// tolerances give back the theoretical cam everywhere, not only at the knots).
+    /// Needs `3 ≤ intervals < K`.
+    pub fn thesis<const S: usize>(
+        program: &CamProgram<T, S>,
+        geometry: &CamGeometry<T>,
+        tolerances: &Tolerances<T>,
+        intervals: usize,
+        rng: &mut RandomStream<T>,
+    ) -> Result<Self> {
+        let step = interval_rad::<T, K>(intervals)?;
+        Self::uniform(step, intervals, |k| {
+            let f = program.follower(T::from_usize(k) * step);
+            let sigma = tolerances.lift_sigma(geometry, f.y, f.dy);
+            rng.gaussian(T::ZERO, sigma)
         })
     }
 }

@@ -37,6 +37,7 @@ pub fn run_spec(scene: CheckedScene) -> RunSpec {
         },
         solver: scene.solver,
         revolutions: scene.revolutions,
+        profile: None,
     }
 }
 

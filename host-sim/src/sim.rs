@@ -8,9 +8,17 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use camsim_core::{
     period_name, simulate, Both, CamModel, ConstCamFull, ConstCamVertical, ConstMotorFull,
-    ConstMotorVertical, Design, DofSet, Observer, RegulatedFull, RegulatedVertical, ResponseStats,
-    Sample, Scene, SegmentKind, SolverSettings, SolverStats,
+    ConstMotorVertical, Design, DeviatedLift, DofSet, LiftProfile, Observer, RegulatedFull,
+    RegulatedVertical, ResponseStats, Sample, Scene, SegmentKind, SolverSettings, SolverStats,
 };
+use std::sync::Arc;
+
+/// Knots of the host's actual-cam deviation spline: one revolution at down to 0.1°.
+pub const PROFILE_KNOTS: usize = 3601;
+
+/// An actual cam on the host: the program plus a deviation spline (see camsim-core's
+/// `lift` module).
+pub type HostDeviation = DeviatedLift<f64, PROFILE_KNOTS>;
 use serde::Serialize;
 
 /// Which parts of the model a run keeps.
@@ -42,6 +50,8 @@ pub struct RunSpec {
     pub solver: SolverSettings<f64>,
     /// Revolutions to simulate.
     pub revolutions: u32,
+    /// The actual cam's deviation from the program (None: the theoretical cam).
+    pub profile: Option<Arc<HostDeviation>>,
 }
 
 impl RunSpec {
@@ -52,6 +62,7 @@ impl RunSpec {
             dofs: Dofs { horizontal: true },
             solver: SolverSettings::reference(),
             revolutions: 3,
+            profile: None,
         }
     }
 }
@@ -60,8 +71,11 @@ impl RunSpec {
 pub trait ModelTask {
     /// What the task returns.
     type Output;
-    /// Runs the task on the model of scene `S` (`N = S::N`).
-    fn run<S: Scene, const N: usize>(self, model: &CamModel<f64, S, N>) -> Result<Self::Output>;
+    /// Runs the task on the model of scene `S` (`N = S::N`) riding on the lift `P`.
+    fn run<S: Scene, const N: usize, P: LiftProfile<f64>>(
+        self,
+        model: &CamModel<f64, S, N, P>,
+    ) -> Result<Self::Output>;
 }
 
 /// Builds the model of `spec`'s scene (its drive kind and DOFs) and runs `task` on it.
@@ -74,6 +88,13 @@ pub fn with_model<K: ModelTask>(spec: &RunSpec, task: K) -> Result<K::Output> {
     macro_rules! dispatch {
         ($($scene:ident),+ $(,)?) => {$(
             if drive == <$scene as Scene>::DRIVE && dofs == <$scene as Scene>::DOFS {
+                if let Some(profile) = &spec.profile {
+                    let model = CamModel::<f64, $scene, { <$scene as Scene>::N }, _>::with_profile(
+                        spec.design.clone(),
+                        profile.as_ref(),
+                    )?;
+                    return task.run(&model);
+                }
                 let model =
                     CamModel::<f64, $scene, { <$scene as Scene>::N }>::new(spec.design.clone())?;
                 return task.run(&model);
@@ -131,7 +152,10 @@ pub fn run<O: Observer<f64>>(spec: &RunSpec, extra: &mut O) -> Result<RunResult>
     }
     impl<O: Observer<f64>> ModelTask for Simulate<'_, O> {
         type Output = (SolverStats, f64, SceneSize);
-        fn run<S: Scene, const N: usize>(self, m: &CamModel<f64, S, N>) -> Result<Self::Output> {
+        fn run<S: Scene, const N: usize, P: LiftProfile<f64>>(
+            self,
+            m: &CamModel<f64, S, N, P>,
+        ) -> Result<Self::Output> {
             let spec = self.spec;
             let s = simulate(
                 m,
@@ -293,7 +317,10 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
     struct Run<'a>(&'a RunSpec, f64);
     impl ModelTask for Run<'_> {
         type Output = bool;
-        fn run<S: Scene, const N: usize>(self, m: &CamModel<f64, S, N>) -> Result<bool> {
+        fn run<S: Scene, const N: usize, P: LiftProfile<f64>>(
+            self,
+            m: &CamModel<f64, S, N, P>,
+        ) -> Result<bool> {
             let (s, rpm) = (self.0, self.1);
             let mut watch = Watch(false, false);
             match simulate(m, &s.solver, s.revolutions.max(2), &mut watch) {
