@@ -10,9 +10,10 @@
 #       static RAM = .data + .bss + .uninit
 #  3. its panic call sites (branches to core::panicking::*, panic_*, unwrap/expect_failed,
 #     slice index failures) are listed with the code responsible for each: the innermost
-#     inlined frame outside Rust's own library (llvm-addr2line -i). It fails if any lies
-#     in camsim's own sources (core/, firmware/); HAL, transport and core-library sites
-#     are printed and counted. The QEMU image's are counted too, for comparison, if built.
+#     inlined frame outside Rust's own library (llvm-addr2line -i; scripts/panic-sites.sh,
+#     shared with firmware-ci.sh). It fails if any lies in camsim's own sources (core/,
+#     chip/, firmware/); HAL, transport and core-library sites are printed and counted.
+#     The QEMU image's are counted too, for comparison, if built.
 # Called by scripts/test-all.sh after the firmware step; run from anywhere.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,8 +37,9 @@ tool() {
     fi
 }
 LLVM_SIZE=$(tool llvm-size)
-OBJDUMP=$(tool llvm-objdump)
-ADDR2LINE=$(tool llvm-addr2line)
+# The panic lister (scripts/panic-sites.sh) needs these two; checked here for the message.
+tool llvm-objdump >/dev/null
+tool llvm-addr2line >/dev/null
 
 echo "board-ci: build (release, --no-default-features --features stm32f446 --bin board_f446) and lints"
 (cd firmware && cargo build --release --no-default-features --features stm32f446 --bin board_f446)
@@ -84,60 +86,10 @@ echo "board-ci: board flash_bytes=$flash ram_static_bytes=$ram_static"
 # ---------------------------------------------------------------------------
 # Panic call sites.
 # ---------------------------------------------------------------------------
-# Panic entry points (demangled, without hash): core::panicking::*, any panic_* item,
-# Option/Result unwrap and expect failures, slice and str index failures, the handler.
-PANIC_RE='^(core::panicking::|core::option::(unwrap|expect)_failed|core::result::unwrap_failed|core::slice::index::[a-z_]*_fail|core::str::slice_error_fail|core::cell::panic_|(__rustc::)?rust_begin_unwind$)|(^|::)panic_[a-z_]*$'
-
-# panic_sites ELF: prints the count and one line per call site; sets PANIC_OWN to the
-# number whose responsible code is camsim's own.
-panic_sites() {
-    local elf=$1 sites
-    # "address<TAB>callee<TAB>caller" for each branch to a panic entry point from code that
-    # is not itself one (branches inside a function, <f+0x..>, are not calls).
-    sites=$("$OBJDUMP" -d --no-show-raw-insn -C "$elf" | awk -v re="$PANIC_RE" '
-        # A label starts a function, except the ARM mapping symbols ($t, $d: Thumb code, data).
-        /^[0-9a-f]+ <.*>:$/ { l = $0; sub(/^[0-9a-f]+ </, "", l); sub(/>:$/, "", l); if (l !~ /^\$/) fn = l; next }
-        $2 ~ /^b/ && match($0, /<[^>]*>/) {
-            callee = substr($0, RSTART + 1, RLENGTH - 2)
-            if (callee ~ /\+0x[0-9a-f]+$/) next
-            if (callee ~ re && fn !~ re) { a = $1; sub(/:$/, "", a); printf "%s\t%s\t%s\n", a, callee, fn }
-        }')
-    PANIC_OWN=0
-    if [ -z "$sites" ]; then
-        echo "  0 panic call sites"
-        return
-    fi
-    # The responsible frame of each site: the innermost inlined frame whose file is not
-    # Rust's own library (/rustc/...), else the innermost frame.
-    local frames
-    frames=$(cut -f1 <<<"$sites" | sed 's/^/0x/' | "$ADDR2LINE" -a -f -i -e "$elf" | awk '
-        function flush() { if (a != "") print a "\t" (pick != "" ? pick : first) }
-        /^0x[0-9a-f]+$/ { flush(); a = $0; first = ""; pick = ""; n = 0; next }
-        { n++; if (n % 2 == 1) { f = $0; next }
-          fr = $0 "\t" f
-          if (first == "") first = fr
-          if (pick == "" && $0 !~ /^\/rustc\// && $0 !~ /^\?\?/) pick = fr }
-        END { flush() }')
-    paste <(cut -f2,3 <<<"$sites") <(cut -f2,3 <<<"$frames") | awk -F '\t' -v root="$ROOT/" '
-        {
-            callee = $1; caller = $2; file = $3
-            if (index(file, root) == 1) { origin = "camsim"; file = substr(file, length(root) + 1); own++ }
-            else if (file ~ /\/\.cargo\/registry\/src\/[^\/]*\//) {
-                origin = file; sub(/.*\/\.cargo\/registry\/src\/[^\/]*\//, "", origin); sub(/\/.*/, "", origin)
-                sub(/.*\/\.cargo\/registry\/src\/[^\/]*\/[^\/]*\//, "", file)
-            } else if (file ~ /^\/rustc\//) { origin = "core library"; sub(/^\/rustc\/[^\/]*\/library\//, "", file) }
-            else origin = "unknown"
-            count[origin]++; total++
-            printf "    %-14s %-42s <- %s (in %s)\n", origin, callee, file, caller
-        }
-        END {
-            line = ""
-            for (o in count) line = line sprintf("%s%s %d", (line == "" ? "" : ", "), o, count[o])
-            printf "  %d panic call sites (%s)\n", total, line
-            exit own > 0 ? 3 : 0
-        }' || { [ $? -eq 3 ] && PANIC_OWN=1; }
-    return 0
-}
+# The lister is shared with scripts/firmware-ci.sh (which holds the QEMU product to a
+# stricter rule: every site in the logging transport).
+# shellcheck source=scripts/panic-sites.sh
+source scripts/panic-sites.sh
 
 echo "board-ci: panic call sites in $ELF (responsible code <- file:line (in the function holding the call))"
 panic_sites "$ELF"

@@ -1,9 +1,18 @@
 #!/usr/bin/env bash
-# Builds the camsim firmware (Cortex-M4F, release) and runs its two binaries under QEMU
+# Builds the camsim firmware (Cortex-M4F, release) and runs its binaries under QEMU
 # mps2-an386 with -icount shift=0, decodes their defmt output and checks them:
 # - predictor (the product): its memory line
-#     product flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. boot_instr=.. max_instr_per_prediction=..
-#   and host parity of every `parity ...` line (camsim predict --f32 --check-log);
+#     product flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. boot_instr=.. max_instr_per_reading=..
+#   host parity of every `parity ...` line (camsim predict --f32 --check-log), and the
+#   reactions to the faults of the scripted machine (camsim_chip::CHIP_SCRIPT): for each
+#   of a lost speed, a pulse faster than the machine's limit, a bounce, a missed pulse
+#   and a speed outside the table's grid, its warning and a `reaction kind=.. alarm=asserted
+#   pin=LED0 level=low` line (LED0 read back), never a released alarm on a reading that
+#   does not vouch for the speed, and the alarm asserted when the script ends;
+# - boot_fault (the product's boot with an impossible solver budget): exit status 1,
+#   the error reported, the alarm asserted with LED0 read back low;
+# - the release product ELF's panic call sites (scripts/panic-sites.sh): it fails if any
+#   lies outside the logging transport (defmt-semihosting and its semihosting crate);
 # - budget (the instruction probes): its budget line
 #     budget flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. instr_per_rhs=.. instr_per_rev=..
 # For each image, flash and static RAM are cross-checked against `llvm-size -A` on its
@@ -23,6 +32,10 @@ export PATH="$HOME/.cargo/bin:$PATH"
 ELF_DIR=firmware/target/thumbv7em-none-eabihf/release
 PREDICTOR_ELF=$ELF_DIR/predictor
 BUDGET_ELF=$ELF_DIR/budget
+BOOT_FAULT_ELF=$ELF_DIR/boot_fault
+BOOT_FAULT_LOG=target/firmware-boot-fault.log   # the boot-failure test's log
+# Crates whose code may hold the product's panic call sites: the logging transport.
+TRANSPORT_ORIGINS='^(defmt-semihosting|semihosting)-[0-9]'
 LOG=target/firmware-run.log              # the predictor's log (host parity reads it)
 BUDGET_LOG=target/firmware-budget.log    # the budget probes' log
 QEMU_TIMEOUT_S=300
@@ -84,13 +97,14 @@ done
 
 echo "firmware-ci: build (release)"
 (cd firmware && cargo build --release)
-for elf in "$PREDICTOR_ELF" "$BUDGET_ELF"; do
+for elf in "$PREDICTOR_ELF" "$BUDGET_ELF" "$BOOT_FAULT_ELF"; do
     [ -f "$elf" ] || fail "no ELF at $elf"
 done
 
-# Runs the ELF under QEMU, decodes the defmt output into $2, fails unless QEMU exits 0.
+# Runs the ELF under QEMU, decodes the defmt output into $2, fails unless QEMU exits with
+# status $3 (default 0).
 run_qemu() {
-    local elf=$1 log=$2
+    local elf=$1 log=$2 expect=${3:-0}
     echo "firmware-ci: run under QEMU (timeout ${QEMU_TIMEOUT_S}s) -> $log"
     mkdir -p "$(dirname "$log")"
     set +e
@@ -101,7 +115,7 @@ run_qemu() {
     set -e
     cat "$log"
     [ "${status[0]}" -eq 124 ] && fail "QEMU timed out after ${QEMU_TIMEOUT_S}s"
-    [ "${status[0]}" -eq 0 ] || fail "QEMU exited with status ${status[0]} (firmware panic or fault?)"
+    [ "${status[0]}" -eq "$expect" ] || fail "QEMU exited with status ${status[0]}, expected $expect (firmware panic or fault?)"
     [ "${status[1]}" -eq 0 ] || fail "defmt-print exited with status ${status[1]}"
 }
 # The last line of $2 that starts with "$1 " (e.g. "product", "budget"), or fail.
@@ -136,6 +150,27 @@ check_memory() {
     printf '  flash %s B of %s (%s %%), RAM %s B of %s (%s %%)\n' "$flash" "$FLASH_BUDGET" \
         $((flash * 100 / FLASH_BUDGET)) "$ram" "$RAM_BUDGET" $((ram * 100 / RAM_BUDGET))
 }
+# The product's reactions to the scripted machine's faults, from its log $1.
+check_reactions() {
+    local log=$1 kind n bad
+    for kind in lost too_short bounce step out_of_range; do
+        n=$(grep -c "reaction kind=$kind alarm=asserted pin=LED0 level=low" "$log" || true)
+        [ "$n" -ge 1 ] || fail "$log: no 'reaction kind=$kind alarm=asserted pin=LED0 level=low' line (the script's $kind fault)"
+        printf '  fault %-12s %s reading(s), each: alarm asserted, LED0 read back low\n' "$kind" "$n"
+    done
+    bad=$(grep 'reaction kind=' "$log" | grep -v 'alarm=asserted pin=LED0 level=low' || true)
+    [ -z "$bad" ] || fail "$log: a reading that does not vouch for the speed left the alarm released or LED0 high: $bad"
+    # Each fault's warning names it (the flagged speed is never extrapolated).
+    for text in 'speed lost: no index pulse for [0-9]* ticks' \
+                'pulse rejected: [0-9]* ticks since the last, faster than [0-9]* rpm' \
+                'pulse rejected: [0-9]* ticks, under [0-9]* % of the last period (bounce)' \
+                'period rejected: [0-9]* ticks, more than [0-9]* % off the last' \
+                'outside the table.s [0-9]*\.\.[0-9]* rpm: flagged, not extrapolated'; do
+        grep -q "$text" "$log" || fail "$log: no warning matching '$text'"
+    done
+    grep -q 'predictor readings=.* alarm_at_end=asserted (LED0 low)' "$log" \
+        || fail "$log: the alarm is not asserted (LED0 low) when the pulses have stopped"
+}
 # Runs both binaries (product log $1, budget log $2) and checks their lines.
 run_and_check() {
     local log=$1 budget_log=$2 product budget
@@ -146,6 +181,8 @@ run_and_check() {
     check_memory "$product" "$PREDICTOR_ELF"
     [ "$(field "$product" boot_instr)" -gt 0 ] || fail "boot_instr is 0 (SysTick calibration not working)"
     grep -q 'budget flash_bytes=' "$log" && fail "the product log has a budget line (the probes belong to the budget binary)"
+    echo "firmware-ci: fault reactions in $log"
+    check_reactions "$log"
 
     budget=$(last_line budget "$budget_log")
     check_memory "$budget" "$BUDGET_ELF"
@@ -156,6 +193,33 @@ run_and_check() {
     echo "firmware-ci: $budget"
 }
 run_and_check "$LOG" "$BUDGET_LOG"
+
+# ---------------------------------------------------------------------------
+# A solver failure at boot: the product's boot (board::qemu::boot_or_stop) with an
+# impossible step budget must report the error and stop with the alarm asserted.
+# ---------------------------------------------------------------------------
+echo "firmware-ci: boot failure (boot_fault: the product's boot with 1 solver step per revolution)"
+run_qemu "$BOOT_FAULT_ELF" "$BOOT_FAULT_LOG" 1
+grep -q 'ERROR *boot: table build failed: step budget exceeded' "$BOOT_FAULT_LOG" \
+    || fail "boot_fault: the solver failure is not reported"
+grep -q 'ERROR *alarm asserted (LED0 low: true), stopped: boot failed' "$BOOT_FAULT_LOG" \
+    || fail "boot_fault: the alarm is not left asserted (LED0 low) after the failed boot"
+grep -q 'table rpm=\|predictor readings=' "$BOOT_FAULT_LOG" \
+    && fail "boot_fault: it went on after the failed boot"
+
+# ---------------------------------------------------------------------------
+# No panic on the chip: every panic call site of the release product ELF lies in the
+# logging transport. The lister must see them: with nothing allowed it counts them all.
+# ---------------------------------------------------------------------------
+# shellcheck source=scripts/panic-sites.sh
+source scripts/panic-sites.sh
+echo "firmware-ci: panic call sites in $PREDICTOR_ELF (responsible code <- file:line (in the function holding the call))"
+panic_sites "$PREDICTOR_ELF" "$TRANSPORT_ORIGINS"
+[ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the product outside the logging transport (listed above)"
+[ "$PANIC_TOTAL" -gt 0 ] || fail "no panic call site found: the transport has 6; is the lister broken?"
+panic_sites "$PREDICTOR_ELF" >/dev/null
+[ "$PANIC_OUTSIDE" -eq "$PANIC_TOTAL" ] || fail "the panic lister's filter is broken"
+echo "firmware-ci: product panic call sites: $PANIC_TOTAL, all in the logging transport"
 
 # ---------------------------------------------------------------------------
 # HOST PARITY CHECK: the host runs the same f32 scene through the same core code

@@ -1,7 +1,10 @@
 //! The cam predictor chip's product configuration, in ONE place read by the firmware and
 //! by `camsim predict` (host parity): the scene, solver settings, speed grid, jump-onset
-//! resolution, alarm thresholds and the scripted speed profile of the QEMU run. The
-//! predictor itself (table, observer, alarm, onset search) is `camsim_core`'s.
+//! resolution, alarm thresholds, the speed measurement ([`ChipMonitor`]: index pulses ->
+//! speed reading -> prediction -> alarm, the same for the board, the QEMU image and the
+//! host) and the scripted machine of the QEMU run ([`CHIP_SCRIPT`], fed through
+//! [`ScriptedPulseTrain`], a [`CaptureTimer`] like the board's timer capture). The
+//! predictor itself (table, observer, alarm, onset search, index pulse) is `camsim_core`'s.
 //!
 //! Chosen by measurement (the figures are in firmware/README.md): the vertical 16-state
 //! model, whose vertical motion is that of the full 22-state one (docs/MODEL.md §2) at
@@ -12,8 +15,9 @@
 #![warn(missing_docs)]
 
 use camsim_core::{
-    steady_state_at, CamModel, Design, JumpAlarm, PredictionTable, Real, RegulatedVertical, Result,
-    Scene, SolverSettings, SpeedSource, Start, SteadyState,
+    steady_state_at, CamModel, CaptureEvent, CaptureTimer, Design, IndexPulse, IndexPulseConfig,
+    JumpAlarm, PredictionTable, Real, RegulatedVertical, Result, Scene, SolverSettings,
+    SpeedPrediction, SpeedReading, Start, SteadyState,
 };
 
 /// The chip's scene: regulated drive, vertical DOFs only.
@@ -79,12 +83,21 @@ pub fn chip_grid_rpm<T: Real>() -> [T; CHIP_GRID] {
 
 /// Builds the chip's prediction table for `design` (the boot-time computation).
 pub fn chip_prediction_table<T: Real>(design: &Design<T>) -> Result<PredictionTable<T, CHIP_GRID>> {
+    chip_prediction_table_with(design, &chip_solver_settings())
+}
+
+/// [`chip_prediction_table`] with other solver settings (the firmware's boot-fault test
+/// gives it an impossible step budget).
+pub fn chip_prediction_table_with<T: Real>(
+    design: &Design<T>,
+    settings: &SolverSettings<T>,
+) -> Result<PredictionTable<T, CHIP_GRID>> {
     PredictionTable::build::<ChipScene, CHIP_STATES>(
         design,
         chip_grid_rpm(),
         T::from_f64(CHIP_MAX_RPM),
         T::from_f64(CHIP_RESOLUTION_RPM),
-        &chip_solver_settings(),
+        settings,
     )
 }
 
@@ -101,62 +114,407 @@ pub fn chip_alarm<T: Real>() -> Result<JumpAlarm<T>> {
     )
 }
 
-/// Scripted cam speed for the QEMU run and the host: a ramp 300 -> 800 rpm in 25 rpm
-/// steps, a step up to 925 rpm (across the reference design's jump onset), 950 rpm, then
-/// back down to 300 rpm in 25 rpm steps (49 samples, one per revolution).
-#[derive(Clone, Debug)]
-pub struct ScriptedProfile {
-    next: Option<i32>,
-    rising: bool,
+// ---------------------------------------------------------------------------
+// The speed measurement: index pulses -> speed reading -> prediction -> alarm.
+// ---------------------------------------------------------------------------
+
+/// Tick rate of the index-pulse capture timer, Hz: the board's TIM2 (90 MHz / 90) and
+/// the scripted pulse train of the QEMU image and the host alike.
+pub const CHIP_TICK_HZ: u32 = 1_000_000;
+
+/// Slowest speed the boot table covers, rpm: its first grid speed, rounded up. Slower
+/// measured speeds are [`SpeedReading::OutOfRange`].
+pub const CHIP_RANGE_MIN_RPM: u32 = {
+    let x = CHIP_GRID_RPM[0];
+    let t = x as u32;
+    if (t as f64) < x {
+        t + 1
+    } else {
+        t
+    }
+};
+/// Fastest speed the boot table covers, rpm: its last grid speed, rounded down. Faster
+/// measured speeds are [`SpeedReading::OutOfRange`].
+pub const CHIP_RANGE_MAX_RPM: u32 = CHIP_GRID_RPM[CHIP_GRID - 1] as u32;
+/// Fastest speed the machine can turn, rpm: twice the table's top. A shorter period is
+/// noise ([`camsim_core::Rejection::TooShort`]).
+pub const CHIP_LIMIT_RPM: u32 = 2 * CHIP_RANGE_MAX_RPM;
+/// Below half the table's slowest speed the speed counts as lost: one such revolution
+/// without a pulse is [`SpeedReading::Lost`].
+pub const CHIP_LOST_RPM: u32 = CHIP_RANGE_MIN_RPM / 2;
+/// A period under this share of the last accepted one is a bounce, %.
+pub const CHIP_BOUNCE_PERCENT: u32 = 25;
+/// Consecutive periods agree within this share, %: a cam shaft's speed changes less per
+/// revolution; a larger step is believed after one confirming revolution.
+pub const CHIP_MAX_CHANGE_PERCENT: u32 = 25;
+
+/// The chip's index-pulse configuration for a capture timer ticking at `tick_hz`.
+pub fn chip_index_pulse_config(tick_hz: u32) -> IndexPulseConfig {
+    IndexPulseConfig {
+        tick_hz,
+        min_rpm: CHIP_RANGE_MIN_RPM,
+        max_rpm: CHIP_RANGE_MAX_RPM,
+        limit_rpm: CHIP_LIMIT_RPM,
+        lost_rpm: CHIP_LOST_RPM,
+        bounce_percent: CHIP_BOUNCE_PERCENT,
+        max_change_percent: CHIP_MAX_CHANGE_PERCENT,
+    }
 }
 
-impl ScriptedProfile {
-    /// Lowest speed, rpm.
-    pub const LOW_RPM: i32 = 300;
-    /// Highest speed, rpm.
-    pub const HIGH_RPM: i32 = 950;
-    /// Ramp increment per sample, rpm.
-    pub const STEP_RPM: i32 = 25;
-    /// Speed after which the step up happens, rpm.
-    pub const STEP_AT_RPM: i32 = 800;
-    /// Speed the step goes to, rpm.
-    pub const STEP_TO_RPM: i32 = 925;
-    /// Samples in the whole profile: 21 (300..=800) + 2 (925, 950) + 26 (925..=300).
-    pub const SAMPLES: usize = 49;
+/// What the chip's predictor made of one speed reading ([`ChipMonitor::step`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChipStep<T> {
+    /// The reading of the index pulse.
+    pub reading: SpeedReading<T>,
+    /// The table's prediction, at a vouched speed ([`SpeedReading::Rpm`]) only: every
+    /// other reading is never interpolated or extrapolated.
+    pub prediction: Option<SpeedPrediction<T>>,
+    /// Whether the alarm is asserted after this reading.
+    pub alarm: bool,
+}
 
-    /// The profile from its first sample.
-    pub fn new() -> Self {
+/// The chip's speed monitor, one policy for the board, the QEMU image and `camsim
+/// predict`: a [`CaptureTimer`] -> [`IndexPulse`] ([`chip_index_pulse_config`]) -> a
+/// speed reading -> the table's prediction at a vouched speed -> the [`JumpAlarm`]
+/// ([`chip_alarm`]). Only a vouched speed feeds its speed margin to the alarm; every other
+/// reading (out of the table's range, a rejected pulse, a lost speed, an acquisition, a
+/// capture overrun) feeds NaN, which asserts it; it is released only once a vouched
+/// margin exceeds the release threshold. It starts asserted.
+#[derive(Clone, Copy, Debug)]
+pub struct ChipMonitor<T> {
+    pulse: IndexPulse<T>,
+    alarm: JumpAlarm<T>,
+}
+
+impl<T: Real> ChipMonitor<T> {
+    /// A monitor for a capture timer ticking at `tick_hz`, waiting for its first pulse,
+    /// the alarm asserted. Fails if the configuration breaks [`IndexPulseConfig`]'s rules
+    /// at that tick rate.
+    pub fn new(tick_hz: u32) -> Result<Self> {
+        let pulse = IndexPulse::new(chip_index_pulse_config(tick_hz))?;
+        let mut alarm = chip_alarm()?;
+        alarm.update(T::NAN);
+        Ok(Self { pulse, alarm })
+    }
+
+    /// One step of the main loop: reads `timer` once ([`IndexPulse::service`]); with a
+    /// reading, predicts and updates the alarm ([`Self::react`]).
+    pub fn step<C: CaptureTimer + ?Sized>(
+        &mut self,
+        table: &PredictionTable<T, CHIP_GRID>,
+        timer: &mut C,
+    ) -> Option<ChipStep<T>> {
+        let reading = self.pulse.service(timer)?;
+        Some(self.react(table, reading))
+    }
+
+    /// The prediction (at a vouched speed only) and the alarm after `reading`.
+    pub fn react(
+        &mut self,
+        table: &PredictionTable<T, CHIP_GRID>,
+        reading: SpeedReading<T>,
+    ) -> ChipStep<T> {
+        let prediction = reading.vouched_rpm().map(|rpm| table.predict(rpm));
+        let margin = prediction.map_or(T::NAN, |p| p.speed_margin_rpm);
+        let alarm = self.alarm.update(margin);
+        ChipStep {
+            reading,
+            prediction,
+            alarm,
+        }
+    }
+
+    /// Whether the alarm is asserted.
+    pub fn alarm_asserted(&self) -> bool {
+        self.alarm.is_active()
+    }
+
+    /// The alarm's thresholds and state.
+    pub fn alarm(&self) -> &JumpAlarm<T> {
+        &self.alarm
+    }
+
+    /// The index-pulse state machine (its configuration and derived periods).
+    pub fn pulse(&self) -> &IndexPulse<T> {
+        &self.pulse
+    }
+}
+
+/// A reading as logged in a `parity reading` line: its [`SpeedReading::kind`] and one
+/// number, the f32 bits of the speed for [`SpeedReading::OutOfRange`], the period in
+/// ticks for a rejection, 0 otherwise.
+pub fn reading_parity(reading: &SpeedReading<f32>) -> (&'static str, u32) {
+    let value = match reading {
+        SpeedReading::Rpm(r) | SpeedReading::OutOfRange(r) => r.to_bits(),
+        SpeedReading::Rejected(why) => why.period_ticks(),
+        SpeedReading::Lost | SpeedReading::Acquiring | SpeedReading::Overrun => 0,
+    };
+    (reading.kind(), value)
+}
+
+// ---------------------------------------------------------------------------
+// The scripted machine (QEMU image and host): its index pulses, with the faults.
+// ---------------------------------------------------------------------------
+
+/// One item of the scripted machine's index pulse train ([`CHIP_SCRIPT`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScriptItem {
+    /// One revolution at each speed from `from_rpm` to `to_rpm` (inclusive, up or down)
+    /// in steps of `step_rpm`, one index pulse at the end of each.
+    Ramp {
+        /// First speed, rpm.
+        from_rpm: u32,
+        /// Last speed, rpm.
+        to_rpm: u32,
+        /// Step, rpm (positive).
+        step_rpm: u32,
+    },
+    /// An extra pulse `after_ticks` after the last one (a bouncing contact, electrical
+    /// noise); the next revolution's pulse comes on time.
+    Extra {
+        /// Ticks after the last pulse.
+        after_ticks: u32,
+    },
+    /// One more revolution at the last speed, whose pulse the sensor misses.
+    Missed,
+    /// No pulse for `ticks` (the machine stopped, the sensor's cable cut); the next
+    /// revolution's pulse comes a period after that.
+    Silence {
+        /// Ticks without a pulse.
+        ticks: u32,
+    },
+}
+
+/// The scripted machine of the QEMU run and of `camsim predict`, one index pulse per
+/// revolution, with every fault the predictor must survive:
+/// - 300 -> 800 rpm by 25 rpm, a step to 925 rpm (across the reference design's jump
+///   onset), 950, then 975 and 1000 rpm, above the table's grid (flagged, never
+///   extrapolated), back down by 25 rpm to 300 rpm, then 275 and 250 rpm, below the
+///   grid; at the end the pulses stop (the speed is lost);
+/// - on the way up a bounce at 400 rpm (an extra pulse 35 000 ticks after the real one:
+///   longer than a revolution at the machine's limit, under 25 % of the period) and
+///   contact chatter at 500 rpm (an extra pulse 2 000 ticks after: faster than the
+///   machine's limit); on the way down a missed pulse after 725 rpm and, at 600 rpm, one
+///   second without pulses (the speed is lost; the pulses then resume at 600 rpm).
+pub const CHIP_SCRIPT: [ScriptItem; 13] = [
+    ScriptItem::Ramp {
+        from_rpm: 300,
+        to_rpm: 400,
+        step_rpm: 25,
+    },
+    ScriptItem::Extra {
+        after_ticks: 35_000,
+    },
+    ScriptItem::Ramp {
+        from_rpm: 425,
+        to_rpm: 500,
+        step_rpm: 25,
+    },
+    ScriptItem::Extra { after_ticks: 2_000 },
+    ScriptItem::Ramp {
+        from_rpm: 525,
+        to_rpm: 800,
+        step_rpm: 25,
+    },
+    ScriptItem::Ramp {
+        from_rpm: 925,
+        to_rpm: 1000,
+        step_rpm: 25,
+    },
+    ScriptItem::Ramp {
+        from_rpm: 975,
+        to_rpm: 725,
+        step_rpm: 25,
+    },
+    ScriptItem::Missed,
+    ScriptItem::Ramp {
+        from_rpm: 700,
+        to_rpm: 600,
+        step_rpm: 25,
+    },
+    ScriptItem::Silence { ticks: 1_000_000 },
+    ScriptItem::Ramp {
+        from_rpm: 600,
+        to_rpm: 300,
+        step_rpm: 25,
+    },
+    ScriptItem::Ramp {
+        from_rpm: 275,
+        to_rpm: 250,
+        step_rpm: 25,
+    },
+    ScriptItem::Silence { ticks: 1_000_000 },
+];
+
+/// The edge times of a script, ticks since its start (an iterator).
+#[derive(Clone, Debug)]
+pub struct ScriptedEdges<'a> {
+    script: &'a [ScriptItem],
+    tick_hz: u32,
+    /// Index of the current item.
+    item: usize,
+    /// The next speed of the current ramp.
+    ramp_rpm: Option<u32>,
+    /// Time of the last revolution's end (its pulse, or where the pulse would have been).
+    last: u64,
+    /// Speed of the last revolution, rpm.
+    last_rpm: u32,
+}
+
+impl<'a> ScriptedEdges<'a> {
+    /// The edges of `script` with a timer at `tick_hz`.
+    pub fn new(script: &'a [ScriptItem], tick_hz: u32) -> Self {
         Self {
-            next: Some(Self::LOW_RPM),
-            rising: true,
+            script,
+            tick_hz,
+            item: 0,
+            ramp_rpm: None,
+            last: 0,
+            last_rpm: 0,
+        }
+    }
+
+    /// One revolution at `rpm`, ticks, rounded to the nearest (0 for 0 rpm).
+    pub fn period_ticks(&self, rpm: u32) -> u64 {
+        let tpm = 60 * u64::from(self.tick_hz);
+        (tpm + u64::from(rpm) / 2)
+            .checked_div(u64::from(rpm))
+            .unwrap_or(0)
+    }
+
+    /// Where the script's time ends (after its last pulse and any silence after it) once
+    /// the iterator has returned `None`.
+    pub fn end_ticks(&self) -> u64 {
+        self.last
+    }
+}
+
+impl Iterator for ScriptedEdges<'_> {
+    type Item = u64;
+
+    fn next(&mut self) -> Option<u64> {
+        loop {
+            let item = *self.script.get(self.item)?;
+            match item {
+                ScriptItem::Ramp {
+                    from_rpm,
+                    to_rpm,
+                    step_rpm,
+                } => {
+                    let rpm = self.ramp_rpm.unwrap_or(from_rpm);
+                    // The ramp's next speed; None after its last.
+                    let next = if rpm == to_rpm || step_rpm == 0 {
+                        None
+                    } else if to_rpm > from_rpm {
+                        rpm.checked_add(step_rpm).filter(|n| *n <= to_rpm)
+                    } else {
+                        rpm.checked_sub(step_rpm).filter(|n| *n >= to_rpm)
+                    };
+                    if next.is_none() {
+                        self.item += 1;
+                    }
+                    self.ramp_rpm = next;
+                    if rpm == 0 {
+                        continue;
+                    }
+                    self.last += self.period_ticks(rpm);
+                    self.last_rpm = rpm;
+                    return Some(self.last);
+                }
+                ScriptItem::Extra { after_ticks } => {
+                    self.item += 1;
+                    return Some(self.last + u64::from(after_ticks));
+                }
+                ScriptItem::Missed => {
+                    self.item += 1;
+                    self.last += self.period_ticks(self.last_rpm);
+                }
+                ScriptItem::Silence { ticks } => {
+                    self.item += 1;
+                    self.last += u64::from(ticks);
+                }
+            }
         }
     }
 }
+/// Ticks between two polls of the scripted machine's timer while no pulse is due (1 ms
+/// at [`CHIP_TICK_HZ`]): the main loop's period in the script's time.
+pub const SCRIPT_POLL_TICKS: u32 = 1_000;
+/// The scripted counter at the script's start: 2^32 - 2^20, so it wraps about a second
+/// in (after five revolutions), as a free-running 32-bit timer does.
+pub const SCRIPT_START_COUNT: u32 = 0xFFF0_0000;
 
-impl Default for ScriptedProfile {
-    fn default() -> Self {
-        Self::new()
+/// A scripted machine's index pulses behind the [`CaptureTimer`] trait the board's timer
+/// capture implements: the QEMU image and `camsim predict` feed it to the same
+/// [`ChipMonitor`] (and so the same [`IndexPulse`]) as the board. Time is virtual: a poll
+/// without a pulse due advances the counter by [`SCRIPT_POLL_TICKS`]; a pulse due before
+/// that is returned at its exact count ([`SCRIPT_START_COUNT`] + its time, wrapping).
+#[derive(Clone, Debug)]
+pub struct ScriptedPulseTrain<'a> {
+    edges: ScriptedEdges<'a>,
+    /// The next edge, ticks since the start.
+    pending: Option<u64>,
+    /// The virtual time now, ticks since the start.
+    clock: u64,
+}
+
+impl ScriptedPulseTrain<'static> {
+    /// The chip's scripted machine ([`CHIP_SCRIPT`] at [`CHIP_TICK_HZ`]).
+    pub fn chip() -> Self {
+        Self::new(&CHIP_SCRIPT, CHIP_TICK_HZ)
     }
 }
 
-impl<T: Real> SpeedSource<T> for ScriptedProfile {
-    fn next_rpm(&mut self) -> Option<T> {
-        let rpm = self.next?;
-        self.next = if self.rising {
-            if rpm == Self::STEP_AT_RPM {
-                Some(Self::STEP_TO_RPM)
-            } else if rpm >= Self::HIGH_RPM {
-                self.rising = false;
-                Some(rpm - Self::STEP_RPM)
-            } else {
-                Some(rpm + Self::STEP_RPM)
+impl<'a> ScriptedPulseTrain<'a> {
+    /// The pulses of `script` on a timer at `tick_hz`.
+    pub fn new(script: &'a [ScriptItem], tick_hz: u32) -> Self {
+        let mut edges = ScriptedEdges::new(script, tick_hz);
+        let pending = edges.next();
+        Self {
+            edges,
+            pending,
+            clock: 0,
+        }
+    }
+
+    /// Whether the script is over: no pulse left and its time (any final silence) passed.
+    pub fn finished(&self) -> bool {
+        self.pending.is_none() && self.clock >= self.edges.end_ticks()
+    }
+
+    /// The virtual time since the start, ticks.
+    pub fn elapsed_ticks(&self) -> u64 {
+        self.clock
+    }
+
+    /// The 32-bit counter at time `t` (ticks since the start): it wraps.
+    fn count(t: u64) -> u32 {
+        SCRIPT_START_COUNT.wrapping_add((t & u64::from(u32::MAX)) as u32)
+    }
+}
+
+impl CaptureTimer for ScriptedPulseTrain<'_> {
+    fn tick_hz(&self) -> u32 {
+        self.edges.tick_hz
+    }
+
+    fn poll_capture(&mut self) -> Option<CaptureEvent> {
+        let step = u64::from(SCRIPT_POLL_TICKS);
+        match self.pending {
+            Some(e) if e <= self.clock + step => {
+                self.clock = self.clock.max(e);
+                self.pending = self.edges.next();
+                Some(CaptureEvent::Edge(Self::count(e)))
             }
-        } else if rpm <= Self::LOW_RPM {
-            None
-        } else {
-            Some(rpm - Self::STEP_RPM)
-        };
-        Some(T::from_i32(rpm))
+            _ => {
+                self.clock += step;
+                None
+            }
+        }
+    }
+
+    fn now(&mut self) -> u32 {
+        Self::count(self.clock)
     }
 }
 
@@ -164,21 +522,115 @@ impl<T: Real> SpeedSource<T> for ScriptedProfile {
 mod tests {
     use super::*;
 
+    extern crate std;
+    use std::vec::Vec;
+
+    /// The speeds of the revolutions that end in a pulse, as the script's doc lists them.
+    fn scripted_revolutions() -> Vec<u32> {
+        let mut v: Vec<u32> = (300..=800).step_by(25).collect();
+        v.extend((925..=1000).step_by(25));
+        v.extend((725..=975).rev().step_by(25));
+        v.extend((600..=700).rev().step_by(25));
+        v.extend((300..=600).rev().step_by(25));
+        v.extend([275, 250]);
+        v
+    }
+
     #[test]
-    fn profile_has_the_documented_samples() {
-        let mut p = ScriptedProfile::new();
-        let mut v = [0.0f64; 64];
-        let mut n = 0;
-        while let Some(r) = SpeedSource::<f64>::next_rpm(&mut p) {
-            v[n] = r;
-            n += 1;
+    fn the_script_has_its_documented_edges() {
+        let revs = scripted_revolutions();
+        assert_eq!(revs.len(), 56);
+        let mut edges = ScriptedEdges::new(&CHIP_SCRIPT, CHIP_TICK_HZ);
+        let times: Vec<u64> = edges.by_ref().collect();
+        // Every revolution's pulse and the two extra pulses, ascending.
+        assert_eq!(times.len(), revs.len() + 2);
+        assert!(times.windows(2).all(|w| w[0] < w[1]));
+        // The first pulse ends a revolution at 300 rpm: 60 s / 300 at 1 MHz.
+        assert_eq!(times[0], 200_000);
+        // The bounce 35 000 ticks after the 400 rpm pulse (the fifth), then 425 rpm.
+        assert_eq!(times[5] - times[4], 35_000);
+        assert_eq!(times[6] - times[4], 141_176); // 6e7 / 425 = 141 176.5 -> nearest
+                                                  // The script's time: every revolution, the missed one (at 725 rpm) and both
+                                                  // silences.
+        let p = |n: u32| (60_000_000 + u64::from(n) / 2) / u64::from(n);
+        let total: u64 = revs.iter().map(|n| p(*n)).sum::<u64>() + p(725) + 2_000_000;
+        assert_eq!(edges.end_ticks(), total);
+        assert_eq!(*times.last().unwrap() + 1_000_000, total);
+    }
+
+    #[test]
+    fn the_scripted_train_gives_each_fault_once_and_wraps_the_counter() {
+        let mut train = ScriptedPulseTrain::chip();
+        let mut ip = IndexPulse::<f32>::new(chip_index_pulse_config(CHIP_TICK_HZ)).unwrap();
+        let mut readings = Vec::new();
+        let mut wrapped = false;
+        let mut last_now = train.now();
+        while !train.finished() {
+            if let Some(r) = ip.service(&mut train) {
+                readings.push(r);
+            }
+            let now = train.now();
+            wrapped |= now < last_now;
+            last_now = now;
         }
-        assert_eq!(n, ScriptedProfile::SAMPLES);
-        assert_eq!(&v[..3], &[300.0, 325.0, 350.0]);
-        assert_eq!(&v[20..22], &[800.0, 925.0]); // the step
-        assert_eq!(v[22], 950.0);
-        assert_eq!(v[23], 925.0);
-        assert_eq!(v[48], 300.0);
+        assert!(wrapped, "the 32-bit counter wraps during the script");
+        let count = |k: &str| readings.iter().filter(|r| r.kind() == k).count();
+        // 58 edges and two timeouts. Acquiring: the first two pulses, and two after the
+        // silence at 600 rpm; rejected: the bounce, the chatter, the period spanning the
+        // missed pulse; out of range: 975, 1000, 975 and 275, 250 rpm; lost: the two
+        // silences; the rest read.
+        assert_eq!(readings.len(), 60);
+        assert_eq!(count("acquiring"), 4);
+        assert_eq!(count("bounce"), 1);
+        assert_eq!(count("too_short"), 1);
+        assert_eq!(count("step"), 1);
+        assert_eq!(count("out_of_range"), 5);
+        assert_eq!(count("lost"), 2);
+        assert_eq!(count("overrun"), 0);
+        assert_eq!(count("rpm"), 46);
+        assert_eq!(readings.last(), Some(&SpeedReading::Lost));
+        // Each vouched speed is 60 f / N of a revolution's period N rounded to a tick.
+        let p = |n: u32| (60_000_000 + n / 2) / n;
+        for r in &readings {
+            if let SpeedReading::Rpm(v) | SpeedReading::OutOfRange(v) = r {
+                let n = v.round() as u32;
+                assert_eq!(*v, 60_000_000.0f32 / p(n) as f32, "{r:?}");
+                let inside = (CHIP_RANGE_MIN_RPM..=CHIP_RANGE_MAX_RPM).contains(&n);
+                assert_eq!(r.vouched_rpm().is_some(), inside, "{r:?}");
+            }
+        }
+        assert_eq!(
+            readings.iter().find(|r| r.kind() == "bounce"),
+            Some(&SpeedReading::Rejected(camsim_core::Rejection::Bounce {
+                period_ticks: 35_000
+            }))
+        );
+    }
+
+    #[test]
+    fn the_monitor_starts_asserted_and_asserts_on_every_reading_but_a_vouched_one() {
+        let table = PredictionTable::<f32, CHIP_GRID> {
+            rpm: chip_grid_rpm(),
+            at: [SteadyState::default(); CHIP_GRID],
+            jump_rpm: Some(900.0),
+        };
+        let mut m = ChipMonitor::<f32>::new(CHIP_TICK_HZ).unwrap();
+        assert!(m.alarm_asserted());
+        // Margin 400 rpm > 100: released; then each other reading asserts it.
+        for r in [
+            SpeedReading::Lost,
+            SpeedReading::Acquiring,
+            SpeedReading::Overrun,
+            SpeedReading::OutOfRange(1000.0),
+            SpeedReading::Rejected(camsim_core::Rejection::Step { period_ticks: 9 }),
+        ] {
+            let s = m.react(&table, SpeedReading::Rpm(500.0));
+            assert!(!s.alarm && s.prediction.is_some());
+            let s = m.react(&table, r);
+            assert!(s.alarm && s.prediction.is_none(), "{r:?}");
+        }
+        // Margin 75 rpm (inside the hysteresis band) does not release it.
+        assert!(m.react(&table, SpeedReading::Rpm(825.0)).alarm);
     }
 
     #[test]

@@ -7,9 +7,16 @@
 //! predictor may use ([`SpeedReading::Rpm`]), a measured speed outside the range its
 //! table covers ([`SpeedReading::OutOfRange`], never extrapolated silently), a rejected
 //! pulse ([`SpeedReading::Rejected`] with its [`Rejection`]), a lost speed
-//! ([`SpeedReading::Lost`]) or not enough pulses yet ([`SpeedReading::Acquiring`]).
+//! ([`SpeedReading::Lost`]), not enough pulses yet ([`SpeedReading::Acquiring`]) or an
+//! edge the capture hardware lost ([`SpeedReading::Overrun`]).
 //! Only [`SpeedReading::Rpm`] vouches for the speed; a board drives its alarm to the safe
 //! state on every other reading (feed `NaN` to [`crate::JumpAlarm::update`]).
+//!
+//! What times the pulses is behind one small trait, [`CaptureTimer`] (the pending capture
+//! and the counter now), and [`IndexPulse::service`] is the one loop step that reads it:
+//! a board implements the trait with its timer's input capture, a scripted pulse train
+//! (the QEMU image, the host's `camsim predict`) with a list of edge times, and both run
+//! the same code from the captured count on.
 //!
 //! All tick arithmetic is integer (`u32` with wrapping differences, `u64` products); the
 //! only floating-point operation is the final `rpm = 60 · tick_hz / period` in `T`.
@@ -225,6 +232,9 @@ pub enum SpeedReading<T> {
     /// Not enough consistent pulses yet (after start, [`SpeedReading::Lost`] or
     /// [`IndexPulse::resync`]).
     Acquiring,
+    /// The capture hardware lost an edge ([`CaptureEvent::Overrun`]): every pulse is
+    /// forgotten and the later edge starts a new acquisition.
+    Overrun,
 }
 
 impl<T: Copy> SpeedReading<T> {
@@ -235,6 +245,53 @@ impl<T: Copy> SpeedReading<T> {
             _ => None,
         }
     }
+
+    /// A short name of the reading for logs: `rpm`, `out_of_range`, `too_short`,
+    /// `bounce`, `step`, `lost`, `acquiring` or `overrun`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SpeedReading::Rpm(_) => "rpm",
+            SpeedReading::OutOfRange(_) => "out_of_range",
+            SpeedReading::Rejected(Rejection::TooShort { .. }) => "too_short",
+            SpeedReading::Rejected(Rejection::Bounce { .. }) => "bounce",
+            SpeedReading::Rejected(Rejection::Step { .. }) => "step",
+            SpeedReading::Lost => "lost",
+            SpeedReading::Acquiring => "acquiring",
+            SpeedReading::Overrun => "overrun",
+        }
+    }
+}
+
+impl Rejection {
+    /// Ticks since the reference pulse.
+    pub fn period_ticks(&self) -> u32 {
+        match *self {
+            Rejection::TooShort { period_ticks }
+            | Rejection::Bounce { period_ticks }
+            | Rejection::Step { period_ticks } => period_ticks,
+        }
+    }
+}
+
+/// What a [`CaptureTimer`] has for the speed measurement at one poll.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CaptureEvent {
+    /// The count latched at an index edge.
+    Edge(u32),
+    /// Two edges came before the first was read: one is lost. The count is the later one.
+    Overrun(u32),
+}
+
+/// The timer that captures the index pulse: what a board implements with its hardware
+/// (a free-running 32-bit timer with input capture) and a scripted pulse train with a
+/// list of edge times, so that both feed [`IndexPulse::service`] the same way.
+pub trait CaptureTimer {
+    /// Tick rate of the counter, Hz.
+    fn tick_hz(&self) -> u32;
+    /// The capture pending since the last call, if any (each edge is returned once).
+    fn poll_capture(&mut self) -> Option<CaptureEvent>;
+    /// The free-running counter now, ticks (for the timeout of a lost speed).
+    fn now(&mut self) -> u32;
 }
 
 /// The index-pulse state machine (see the module documentation for its rules).
@@ -319,6 +376,27 @@ impl<T: Real> IndexPulse<T> {
             return Some(SpeedReading::Lost);
         }
         None
+    }
+
+    /// One step of a main loop: reads `timer` once and returns the reading it gives, if
+    /// any. A capture goes to [`Self::capture`]; an overrun forgets every pulse
+    /// ([`Self::resync`]), starts a new acquisition with the later edge and reads
+    /// [`SpeedReading::Overrun`]; without a capture the counter goes to [`Self::poll`] (a
+    /// lost speed). Call it at least once per counter wrap.
+    pub fn service<C: CaptureTimer + ?Sized>(&mut self, timer: &mut C) -> Option<SpeedReading<T>> {
+        match timer.poll_capture() {
+            Some(CaptureEvent::Edge(t)) => Some(self.capture(t)),
+            Some(CaptureEvent::Overrun(t)) => {
+                self.resync();
+                // The first pulse of an acquisition only becomes the reference.
+                let _ = self.capture(t);
+                Some(SpeedReading::Overrun)
+            }
+            None => {
+                let now = timer.now();
+                self.poll(now)
+            }
+        }
     }
 
     /// Feeds the timer count captured at an index pulse.

@@ -1,7 +1,10 @@
-//! Shared code of the camsim firmware: the board adapters, the budget probes
-//! (linker sections, stack painting, SysTick instruction counting), the model
-//! workload, the exception handlers and the panic/exit plumbing. One concern per
-//! binary in `src/bin/`: `predictor` (the product) and `budget` (the instruction probes).
+//! Shared code of the camsim firmware: the board adapters, what the boards share around
+//! the chip's speed monitor (the fail-safe alarm output and the fault log lines:
+//! [`monitor`]), the budget probes (linker sections, stack painting, SysTick instruction
+//! counting), the model workload, the exception handlers and the panic/exit plumbing.
+//! One concern per binary in `src/bin/`: `predictor` (the product), `budget` (the
+//! instruction probes), `boot_fault` (the product's boot-failure path under test) and,
+//! with feature `stm32f446`, `board_f446` (the Nucleo-F446RE).
 //!
 //! Failure paths depend on the defmt transport:
 //! - `semihosting` (default, QEMU): a panic or HardFault is logged, then a semihosting
@@ -34,6 +37,7 @@ use defmt_semihosting as _;
 
 pub mod board;
 pub mod memory;
+pub mod monitor;
 pub mod timing;
 pub mod workload;
 

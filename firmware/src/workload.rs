@@ -20,9 +20,10 @@
 
 use core::ops::ControlFlow;
 
-use camsim_chip::{chip_prediction_table, chip_solver_settings, chip_steady_state, CHIP_GRID};
+use camsim_chip::{chip_prediction_table_with, chip_solver_settings, chip_steady_state, CHIP_GRID};
 use camsim_core::{
-    simulate, CamModel, Design, PredictionTable, Sample, Scene, SpeedPrediction, SteadyState,
+    simulate, CamModel, Design, PredictionTable, Sample, Scene, SolverSettings, SpeedPrediction,
+    SteadyState,
 };
 
 /// Right-hand-side evaluations timed to get instructions per evaluation.
@@ -156,8 +157,14 @@ pub struct Predictor {
 impl Predictor {
     /// Computes the table for the chip's design (the boot-time work).
     pub fn boot() -> Result<Self, camsim_core::Error> {
+        Self::boot_with(&chip_solver_settings())
+    }
+
+    /// [`Self::boot`] with other solver settings (the `boot_fault` binary's impossible
+    /// step budget).
+    pub fn boot_with(settings: &SolverSettings<f32>) -> Result<Self, camsim_core::Error> {
         let design = chip_design();
-        let table = chip_prediction_table(&design)?;
+        let table = chip_prediction_table_with(&design, settings)?;
         Ok(Self { design, table })
     }
 

@@ -1,6 +1,6 @@
 //! The firmware's predictor on the host (`camsim predict`): its f32 run (bit-identical to
 //! the chip's, checked in scripts/firmware-ci.sh) against the f64 run of the same scene,
-//! the alarm hysteresis over the scripted profile, and the parity-line checker.
+//! the alarm over the scripted machine's readings, and the parity-line checker.
 //!
 //! Tolerances f32 vs f64 (both runs take their own adaptive steps, so they differ by the
 //! solver's error, not by rounding alone):
@@ -20,10 +20,9 @@ use camsim::cmd::predict::{
     check_parity, compute, parity_lines, render_text, report, Num, Prediction, REFERENCE_SCENE,
 };
 use camsim_chip::{
-    ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_GRID_RPM,
-    CHIP_MAX_RPM, CHIP_RESOLUTION_RPM,
+    CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_GRID_RPM, CHIP_MAX_RPM,
+    CHIP_RESOLUTION_RPM, CHIP_TICK_HZ,
 };
-use camsim_core::SpeedSource;
 
 const FORCE_TOL_LB: f64 = 3.0 * 1e-8 * 6.45e6;
 
@@ -105,60 +104,59 @@ fn f32_and_f64_agree_within_the_solver_tolerance() {
 }
 
 #[test]
-fn alarm_follows_the_hysteresis_over_the_scripted_profile() {
-    for (name, seq) in {
-        let (p32, p64) = both();
-        [
-            (
-                "f32",
-                p32.samples
-                    .iter()
-                    .map(|s| {
-                        (
-                            s.prediction.rpm as f64,
-                            s.prediction.speed_margin_rpm as f64,
-                            s.alarm,
-                        )
-                    })
-                    .collect::<Vec<_>>(),
-            ),
-            (
-                "f64",
-                p64.samples
-                    .iter()
-                    .map(|s| (s.prediction.rpm, s.prediction.speed_margin_rpm, s.alarm))
-                    .collect(),
-            ),
-        ]
-    } {
-        // Same samples as the profile itself.
-        let mut prof = ScriptedProfile::new();
-        let rpms: Vec<f64> =
-            std::iter::from_fn(|| SpeedSource::<f64>::next_rpm(&mut prof)).collect();
-        assert_eq!(
-            rpms,
-            seq.iter().map(|s| s.0).collect::<Vec<_>>(),
-            "{name}: samples"
-        );
-        let mut prev = false;
-        let mut transitions = 0;
-        for (rpm, margin, on) in &seq {
-            let expect = if *margin <= CHIP_ALARM_ON_MARGIN_RPM {
-                true
-            } else if *margin > CHIP_ALARM_OFF_MARGIN_RPM {
-                false
-            } else {
-                prev
+fn alarm_follows_the_hysteresis_over_the_scripted_machine() {
+    let (p32, p64) = both();
+    for (name, seq) in [
+        (
+            "f32",
+            p32.samples
+                .iter()
+                .map(|s| {
+                    (
+                        s.prediction
+                            .map(|q| (q.rpm as f64, q.speed_margin_rpm as f64)),
+                        s.alarm,
+                    )
+                })
+                .collect::<Vec<_>>(),
+        ),
+        (
+            "f64",
+            p64.samples
+                .iter()
+                .map(|s| (s.prediction.map(|q| (q.rpm, q.speed_margin_rpm)), s.alarm))
+                .collect(),
+        ),
+    ] {
+        // The alarm starts asserted; a reading without a vouched speed asserts it; a
+        // vouched one applies the hysteresis to its margin.
+        let mut prev = true;
+        let (mut on_at, mut off_at) = (None, None);
+        for (k, (vouched, on)) in seq.iter().enumerate() {
+            let expect = match vouched {
+                None => true,
+                Some((_, m)) if *m <= CHIP_ALARM_ON_MARGIN_RPM => true,
+                Some((_, m)) if *m > CHIP_ALARM_OFF_MARGIN_RPM => false,
+                Some(_) => prev,
             };
-            assert_eq!(*on, expect, "{name}: alarm at {rpm} rpm (margin {margin})");
-            transitions += usize::from(*on != prev);
+            assert_eq!(*on, expect, "{name}: reading {k} {vouched:?}");
+            if let Some((rpm, _)) = vouched {
+                // A vouched speed is the scripted one (a multiple of 25 rpm) to within
+                // one tick of its period: n^2 / (60 f), plus the division's rounding.
+                let n = (rpm / 25.0).round() * 25.0;
+                let tick = n * n / (60.0 * f64::from(CHIP_TICK_HZ));
+                assert!((rpm - n).abs() <= tick, "{name}: {rpm} rpm");
+                if *on && !prev && on_at.is_none() {
+                    on_at = Some(*rpm);
+                } else if !*on && prev && on_at.is_some() && off_at.is_none() {
+                    off_at = Some(*rpm);
+                }
+            }
             prev = *on;
         }
-        // The profile crosses the jump once up and once down: exactly one on and one off,
-        // and the hysteresis band makes the off speed lower than the on speed.
-        assert_eq!(transitions, 2, "{name}");
-        let on_at = seq.iter().find(|s| s.2).unwrap().0;
-        let off_at = seq.iter().skip_while(|s| !s.2).find(|s| !s.2).unwrap().0;
+        // The machine crosses the jump once up and once down: a vouched margin turns the
+        // alarm on once, and the hysteresis band releases it at a lower speed.
+        let (on_at, off_at) = (on_at.unwrap(), off_at.unwrap());
         assert!(
             off_at < on_at,
             "{name}: off at {off_at} rpm, on at {on_at} rpm"
@@ -170,23 +168,26 @@ fn alarm_follows_the_hysteresis_over_the_scripted_profile() {
 fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
     let p = compute::<f32>(None).unwrap();
     let lines = parity_lines(&p);
-    // Table rows, the jump line, the interpolation checks, every sample.
+    // Table rows, the jump line, the interpolation checks, every reading of the
+    // scripted machine (60: camsim-chip's tests count them).
+    assert_eq!(p.samples.len(), 60);
     assert_eq!(
         lines.len(),
-        CHIP_GRID_RPM.len() + 1 + camsim_chip::CHIP_CHECK_RPM.len() + ScriptedProfile::SAMPLES
+        CHIP_GRID_RPM.len() + 1 + camsim_chip::CHIP_CHECK_RPM.len() + p.samples.len()
     );
     let log: String = lines
         .iter()
         .map(|l| format!("INFO  {l}\n└─ src/bin/predictor.rs:1\n"))
         .collect();
     assert_eq!(check_parity(&log, &lines).unwrap(), lines.len());
-    // Flip the last bit of the first sample's force.
+    // Flip the last bit of the first vouched sample's force.
     let k = lines
         .iter()
-        .position(|l| l.starts_with("parity sample i=0 "))
+        .position(|l| l.starts_with("parity sample i="))
         .unwrap();
+    let first = p.samples.iter().find_map(|s| s.prediction).unwrap();
     let mut bad = lines.clone();
-    let bits = f32::to_bits(p.samples[0].prediction.force_margin_lb);
+    let bits = f32::to_bits(first.force_margin_lb);
     bad[k] = bad[k].replace(
         &format!("force={bits:#010x}"),
         &format!("force={:#010x}", bits ^ 1),
@@ -221,6 +222,7 @@ fn report_names_its_scene_and_feeds_text_and_json() {
             keys,
             [
                 "alarm_transitions",
+                "faults",
                 "interp_checks",
                 "jump_rpm",
                 "jump_rpm_bits",
@@ -237,12 +239,14 @@ fn report_names_its_scene_and_feeds_text_and_json() {
         assert_eq!(v["jump_rpm"].as_f64(), Some(j as f64));
         assert_eq!(v["jump_rpm_bits"], format!("{:#010x}", j.to_bits()));
         assert_eq!(v["table"].as_array().unwrap().len(), CHIP_GRID_RPM.len());
+        let vouched = p.samples.iter().filter(|s| s.prediction.is_some()).count();
+        assert_eq!(v["samples"].as_array().unwrap().len(), vouched);
         assert_eq!(
-            v["samples"].as_array().unwrap().len(),
-            ScriptedProfile::SAMPLES
+            v["faults"].as_array().unwrap().len(),
+            p.samples.len() - vouched
         );
         // The text is the same report: header naming the scene, then the table rows, the
-        // jump line, the checks and one line per sample.
+        // jump line, the checks and one line per reading.
         let text = render_text(&r);
         let first = text.lines().next().unwrap();
         let name = if design == REFERENCE_SCENE {
@@ -256,10 +260,7 @@ fn report_names_its_scene_and_feeds_text_and_json() {
         );
         assert_eq!(
             text.lines().count(),
-            2 + CHIP_GRID_RPM.len()
-                + 1
-                + camsim_chip::CHIP_CHECK_RPM.len()
-                + ScriptedProfile::SAMPLES
+            2 + CHIP_GRID_RPM.len() + 1 + camsim_chip::CHIP_CHECK_RPM.len() + p.samples.len()
         );
         assert!(text.contains(&format!("jump onset: {j:.3} rpm")));
     }

@@ -1,14 +1,17 @@
 //! The index-pulse state machine (`camsim_core::IndexPulse`) on synthetic pulse trains:
 //! constant speed, a ramp, the 32-bit counter wrapping, bounces, a dropout, a stop, speeds
 //! outside the table's range and above the machine's limit, and a "recorded" train with
-//! seeded jitter, bounces and dropouts.
+//! seeded jitter, bounces and dropouts; and `IndexPulse::service`, the loop step a board
+//! runs on its capture timer (`CaptureTimer`), on a recorded list of timer events.
 //!
 //! Tolerances are derived, not tuned: a capture is exact to half a tick at each end (the
 //! pulse times below are rounded to whole ticks), so a measured period N_m is within one
 //! tick of the true N = 60 f / n and the speed within n / (N - 1) ≈ n² / (60 f)
 //! (`resolution`), plus the roundings of the final division in T.
 
-use camsim_core::{IndexPulse, IndexPulseConfig, JumpAlarm, Rejection, SpeedReading};
+use camsim_core::{
+    CaptureEvent, CaptureTimer, IndexPulse, IndexPulseConfig, JumpAlarm, Rejection, SpeedReading,
+};
 
 const F: u32 = 1_000_000;
 
@@ -428,4 +431,121 @@ fn every_reading_but_rpm_holds_the_alarm_in_its_safe_state() {
             (true, false),
         ]
     );
+}
+
+/// A capture timer that plays back a list of polls: `Some(event)` a capture, `None` a
+/// poll without one at the given counter value.
+struct Playback {
+    polls: Vec<(Option<CaptureEvent>, u32)>,
+    next: usize,
+    now: u32,
+}
+
+impl CaptureTimer for Playback {
+    fn tick_hz(&self) -> u32 {
+        F
+    }
+    fn poll_capture(&mut self) -> Option<CaptureEvent> {
+        let (event, now) = *self.polls.get(self.next)?;
+        self.next += 1;
+        self.now = now;
+        event
+    }
+    fn now(&mut self) -> u32 {
+        self.now
+    }
+}
+
+#[test]
+fn service_reads_captures_timeouts_and_overruns_as_capture_and_poll_do() {
+    use CaptureEvent::{Edge, Overrun};
+    // 600 rpm from near the wrap: 100 000 ticks a revolution.
+    let s = u32::MAX - 150_000;
+    let at = |k: u32| s.wrapping_add(k * 100_000);
+    let polls = vec![
+        (Some(Edge(at(0))), at(0)),
+        (None, at(0) + 50_000),
+        (Some(Edge(at(1))), at(1)),
+        (Some(Edge(at(2))), at(2)), // the counter has wrapped
+        (Some(Edge(at(3))), at(3)),
+        // An edge lost in the capture hardware: the later one is reported.
+        (Some(Overrun(at(5))), at(5)),
+        (Some(Edge(at(6))), at(6)),
+        (Some(Edge(at(7))), at(7)),
+        (Some(Edge(at(8))), at(8)),
+        // The pulses stop: a poll at 400 000 ticks is not yet lost, one tick later is.
+        (None, at(8).wrapping_add(400_000)),
+        (None, at(8).wrapping_add(400_001)),
+        (None, at(8).wrapping_add(900_000)),
+    ];
+    let n = polls.len();
+    let mut timer = Playback {
+        polls,
+        next: 0,
+        now: 0,
+    };
+    let mut ip = machine::<f32>();
+    let got: Vec<Option<SpeedReading<f32>>> = (0..n).map(|_| ip.service(&mut timer)).collect();
+    let r600 = Some(SpeedReading::Rpm(600.0f32));
+    assert_eq!(
+        got,
+        [
+            Some(SpeedReading::Acquiring),
+            None,
+            Some(SpeedReading::Acquiring),
+            r600,
+            r600,
+            Some(SpeedReading::Overrun),
+            // After the overrun the later edge was the reference: a new acquisition.
+            Some(SpeedReading::Acquiring),
+            r600,
+            r600,
+            None,
+            Some(SpeedReading::Lost),
+            None,
+        ]
+    );
+    // The same timeline through capture/poll directly, with the overrun as a resync.
+    let mut direct = machine::<f32>();
+    for (k, (event, now)) in timer.polls.iter().enumerate() {
+        let want = match event {
+            Some(Edge(t)) => Some(direct.capture(*t)),
+            Some(Overrun(t)) => {
+                direct.resync();
+                direct.capture(*t);
+                Some(SpeedReading::Overrun)
+            }
+            None => direct.poll(*now),
+        };
+        assert_eq!(got[k], want, "poll {k}");
+    }
+}
+
+#[test]
+fn reading_kinds_and_rejection_periods() {
+    let kinds = [
+        (SpeedReading::Rpm(1.0f32), "rpm"),
+        (SpeedReading::OutOfRange(1.0), "out_of_range"),
+        (
+            SpeedReading::Rejected(Rejection::TooShort { period_ticks: 3 }),
+            "too_short",
+        ),
+        (
+            SpeedReading::Rejected(Rejection::Bounce { period_ticks: 3 }),
+            "bounce",
+        ),
+        (
+            SpeedReading::Rejected(Rejection::Step { period_ticks: 3 }),
+            "step",
+        ),
+        (SpeedReading::Lost, "lost"),
+        (SpeedReading::Acquiring, "acquiring"),
+        (SpeedReading::Overrun, "overrun"),
+    ];
+    for (r, k) in kinds {
+        assert_eq!(r.kind(), k);
+        if let SpeedReading::Rejected(why) = r {
+            assert_eq!(why.period_ticks(), 3);
+        }
+    }
 }

@@ -1,73 +1,39 @@
-//! The product: cam-timing and jump predictor. At boot, builds the prediction table of
-//! the chip's scene (camsim-core's model in f32, configured by the `camsim-chip` crate) and
-//! checks its interpolation against direct simulations; then reads the cam speed once per
-//! revolution, predicts the contact-force margin, the speed margin to jump onset and the
-//! follower timing errors, drives the alarm pin with hysteresis; when the speed source
-//! ends (the QEMU board's scripted profile), prints this image's own memory and boot cost
-//! (the `product ...` line) and exits with success.
+//! The product: cam-timing and jump predictor. At boot, with the alarm asserted, builds
+//! the prediction table of the chip's scene (camsim-core's model in f32, configured by
+//! the `camsim-chip` crate) and checks its interpolation against direct simulations;
+//! then runs the chip's speed monitor (`camsim_chip::ChipMonitor`, the board's too) on
+//! the QEMU board's index pulses: the scripted machine (`camsim_chip::CHIP_SCRIPT`, with
+//! its faults) through the same `CaptureTimer` trait and `IndexPulse` code the board's
+//! TIM2 capture feeds. Each reading gives a prediction and the alarm state (LED0, LOW =
+//! asserted, the safe state) or a fault that asserts the alarm. When the script ends it
+//! prints this image's own memory and boot cost (the `product ...` line) and exits with
+//! success.
 //!
 //! Only the chip's model is linked here; the instruction probes (per RHS, per revolution,
 //! the 22-state comparison model, libm costs) are the `budget` binary.
 //!
 //! Lines starting with `parity ` carry every compared value as raw f32 bits; the host
-//! regenerates them with `camsim predict --f32` and checks them bit for bit
-//! (`camsim predict --f32 --check-log`).
+//! regenerates them with `camsim predict --f32` (the same script, monitor and table) and
+//! checks them bit for bit (`camsim predict --f32 --check-log`). Lines starting with
+//! `reaction ` state, for each reading that does not vouch for the speed, the alarm
+//! state and the level read back from LED0 (scripts/firmware-ci.sh checks them).
 
 #![no_std]
 #![no_main]
 
-use camsim_chip::{chip_alarm, CHIP_CHECK_RPM};
-use camsim_core::{JumpAlarm, SpeedPrediction, SpeedSource, SteadyState};
-use camsim_firmware::board::qemu::{FakeIndexPulse, LedAlarmPin, ScriptedSpeed};
+use camsim_chip::{
+    chip_solver_settings, reading_parity, ChipMonitor, ChipStep, ScriptedPulseTrain, CHIP_CHECK_RPM,
+};
+use camsim_core::{CaptureTimer, SpeedPrediction, SteadyState};
+use camsim_firmware::board::qemu::{alarm_output, boot_or_stop, stop_safe, ALARM_PIN};
 use camsim_firmware::memory::{paint_stack, MemoryReport};
+use camsim_firmware::monitor::{error_name, log_alarm_change, log_config, log_fault, Counts};
 use camsim_firmware::timing::InstrCounter;
-use camsim_firmware::workload::Predictor;
 use camsim_firmware::{exit_failure, exit_success};
 use cortex_m_rt::entry;
-use embedded_hal::digital::{InputPin, OutputPin};
 
-/// Polls of the index input before a missing pulse is reported.
-const INDEX_POLLS: u32 = 100_000;
 /// Clock the boot time is stated at (Hz): a typical Cortex-M4F (e.g. STM32F4) at full speed.
 const STATED_CLOCK_HZ: u64 = 168_000_000;
-
-/// What the predictor loop saw.
-#[derive(Clone, Copy, Debug, Default, defmt::Format)]
-struct LoopSummary {
-    samples: u32,
-    alarm_samples: u32,
-    missed_index: u32,
-    max_rpm: f32,
-    /// Instructions of the slowest loop iteration (prediction + alarm, logging excluded).
-    max_predict_instr: u64,
-}
-
-/// Waits for a rising edge of the index pulse; false if none came within the poll budget.
-fn wait_index<I: InputPin>(index: &mut I) -> Result<bool, I::Error> {
-    let mut was_high = index.is_high()?;
-    for _ in 0..INDEX_POLLS {
-        let high = index.is_high()?;
-        if high && !was_high {
-            return Ok(true);
-        }
-        was_high = high;
-    }
-    Ok(false)
-}
-
-/// A short name of a core error for the log (core::fmt would cost ~20 KB of flash).
-fn error_name(e: &camsim_core::Error) -> &'static str {
-    use camsim_core::Error as E;
-    match e {
-        E::InvalidParameter { field, .. } => field,
-        E::Capacity { what, .. } => what,
-        E::StepSizeUnderflow { .. } => "step size underflow",
-        E::NonFinite { .. } => "non-finite state",
-        E::StepBudgetExceeded { .. } => "step budget exceeded",
-        E::NoConvergence { what, .. } => what,
-        _ => "other error",
-    }
-}
 
 /// Raw bits of the six timing errors.
 fn timing_bits(t: &[f32; 6]) -> [u32; 6] {
@@ -88,7 +54,7 @@ fn log_table_row(i: usize, rpm: f32, s: &SteadyState<f32>) {
     );
 }
 
-/// Logs one prediction (readable and as parity bits).
+/// Logs a prediction at a vouched speed (readable and as parity bits).
 fn log_sample(i: u32, p: &SpeedPrediction<f32>, alarm: bool) {
     let t = &p.timing_deg;
     defmt::info!(
@@ -102,48 +68,25 @@ fn log_sample(i: u32, p: &SpeedPrediction<f32>, alarm: bool) {
     );
 }
 
-/// The predictor loop: one speed sample per revolution -> prediction -> hysteresis -> pin.
-fn run_predictor<S, I, P>(
-    counter: &InstrCounter,
-    source: &mut S,
-    index: &mut I,
-    alarm_pin: &mut P,
-    predictor: &Predictor,
-    alarm: &mut JumpAlarm<f32>,
-) -> LoopSummary
-where
-    S: SpeedSource<f32>,
-    I: InputPin,
-    P: OutputPin,
-{
-    let mut summary = LoopSummary::default();
-    loop {
-        match wait_index(index) {
-            Ok(true) => {}
-            Ok(false) => summary.missed_index += 1,
-            Err(_) => {
-                defmt::warn!("index pulse input failed");
-                summary.missed_index += 1;
-            }
-        }
-        let Some(rpm) = source.next_rpm() else { break };
-        let ((p, on), instr) = counter.measure(|| {
-            let p = predictor.predict(rpm);
-            let on = alarm.update(p.speed_margin_rpm);
-            (p, on)
-        });
-        if alarm_pin.set_state(on.into()).is_err() {
-            defmt::error!("alarm pin write failed");
-        }
-        log_sample(summary.samples, &p, on);
-        summary.samples += 1;
-        summary.alarm_samples += u32::from(on);
-        summary.max_predict_instr = summary.max_predict_instr.max(instr);
-        if rpm > summary.max_rpm {
-            summary.max_rpm = rpm;
-        }
-    }
-    summary
+/// Logs a reading that does not vouch for the speed: why (a warning), the parity line,
+/// and the reaction: the alarm state and LED0's level read back.
+fn log_non_vouched(i: u32, monitor: &ChipMonitor<f32>, step: &ChipStep<f32>, led0_low: bool) {
+    log_fault(monitor, &step.reading);
+    let (kind, value) = reading_parity(&step.reading);
+    defmt::info!(
+        "parity reading i={=u32} kind={=str} value={=u32:#010x} alarm={=bool}",
+        i,
+        kind,
+        value,
+        step.alarm
+    );
+    defmt::info!(
+        "reaction kind={=str} alarm={=str} pin={=str} level={=str}",
+        kind,
+        if step.alarm { "asserted" } else { "released" },
+        ALARM_PIN,
+        if led0_low { "low" } else { "high" }
+    );
 }
 
 #[entry]
@@ -151,23 +94,19 @@ fn main() -> ! {
     // First: paint the free stack so the peak can be read back at the end.
     paint_stack();
 
-    let Some(cp) = cortex_m::Peripherals::take() else {
-        defmt::error!("core peripherals already taken");
+    // The alarm output before anything else, asserted (LED0 low, the safe state).
+    let Some(mut out) = alarm_output() else {
+        defmt::error!("alarm pin already taken");
         exit_failure()
+    };
+    let Some(cp) = cortex_m::Peripherals::take() else {
+        stop_safe(&mut out, "core peripherals already taken")
     };
     let mut counter = InstrCounter::start(cp.SYST);
     counter.calibrate();
 
-    // Boot: the prediction table over the scene's speed grid.
-    defmt::info!("scene={=str}", camsim_firmware::workload::SCENE_NAME);
-    let (predictor, boot_instr) = counter.measure(Predictor::boot);
-    let predictor = match predictor {
-        Ok(p) => p,
-        Err(e) => {
-            defmt::error!("boot: table build failed: {=str}", error_name(&e));
-            exit_failure()
-        }
-    };
+    // Boot: the prediction table over the scene's speed grid (the alarm stays asserted).
+    let (predictor, boot_instr) = boot_or_stop(&counter, &mut out, &chip_solver_settings());
     let boot_ms = boot_instr * 1000 / STATED_CLOCK_HZ;
     defmt::info!(
         "boot_instr={=u64} (~{=u64} ms at {=u64} MHz assuming ~1 instruction per cycle; a real M4F needs more cycles than instructions)",
@@ -215,46 +154,68 @@ fn main() -> ! {
     });
     defmt::info!("interp_check_instr={=u64}", check_instr);
 
-    // Predictor loop on the scripted speed profile.
-    let Some(mut pin) = LedAlarmPin::take() else {
-        defmt::error!("alarm pin already taken");
-        exit_failure()
-    };
-    let mut alarm = match chip_alarm::<f32>() {
-        Ok(a) => a,
-        Err(_) => {
-            defmt::error!("invalid alarm thresholds");
-            exit_failure()
+    // The speed monitor on the scripted machine's index pulses (its faults included).
+    let mut train = ScriptedPulseTrain::chip();
+    let mut monitor = match ChipMonitor::<f32>::new(train.tick_hz()) {
+        Ok(m) => m,
+        Err(e) => {
+            defmt::error!("speed monitor configuration: {=str}", error_name(&e));
+            stop_safe(&mut out, "invalid speed monitor configuration")
         }
     };
-    let mut speed = ScriptedSpeed::new();
-    let mut index = FakeIndexPulse::default();
-    let summary = run_predictor(
-        &counter, &mut speed, &mut index, &mut pin, &predictor, &mut alarm,
-    );
+    log_config(&monitor);
+    let mut counts = Counts::default();
+    let mut max_rpm = 0.0f32;
+    let mut max_instr = 0u64;
+    while !train.finished() {
+        let (step, instr) = counter.measure(|| monitor.step(&predictor.table, &mut train));
+        let Some(step) = step else { continue };
+        max_instr = max_instr.max(instr);
+        let i = counts.total();
+        counts.add(&step.reading);
+        // LED0 writes cannot fail (Infallible).
+        let Ok(changed) = out.set_asserted(step.alarm);
+        match &step.prediction {
+            Some(p) => {
+                log_sample(i, p, step.alarm);
+                max_rpm = max_rpm.max(p.rpm);
+            }
+            None => {
+                let Ok(low) = out.reads_low();
+                log_non_vouched(i, &monitor, &step, low);
+            }
+        }
+        if changed {
+            log_alarm_change(ALARM_PIN, &step);
+        }
+    }
+    let Ok(low) = out.reads_low();
     defmt::info!(
-        "predictor samples={=u32} alarm_samples={=u32} alarm_transitions={=u32} missed_index={=u32} max_rpm={=f32} max_instr_per_prediction={=u64}",
-        summary.samples,
-        summary.alarm_samples,
-        pin.transitions(),
-        summary.missed_index,
-        summary.max_rpm,
-        summary.max_predict_instr
+        "predictor readings={=u32} counts={} alarm_transitions={=u32} max_vouched_rpm={=f32} max_instr_per_reading={=u64} script_ticks={=u64} alarm_at_end={=str} ({=str} {=str})",
+        counts.total(),
+        counts,
+        out.transitions(),
+        max_rpm,
+        max_instr,
+        train.elapsed_ticks(),
+        if out.is_asserted() { "asserted" } else { "released" },
+        ALARM_PIN,
+        if low { "low" } else { "high" }
     );
 
     // Memory of this image: static sections from the linker, stack from the paint.
     let mem = MemoryReport::measure();
     if mem.stack_overflowed() {
-        exit_failure()
+        stop_safe(&mut out, "stack overflow")
     }
     defmt::info!(
-        "product flash_bytes={=u32} ram_static_bytes={=u32} stack_peak_bytes={=u32} ram_bytes={=u32} boot_instr={=u64} max_instr_per_prediction={=u64}",
+        "product flash_bytes={=u32} ram_static_bytes={=u32} stack_peak_bytes={=u32} ram_bytes={=u32} boot_instr={=u64} max_instr_per_reading={=u64}",
         mem.flash_bytes,
         mem.ram_static_bytes,
         mem.stack_peak_bytes,
         mem.ram_bytes(),
         boot_instr,
-        summary.max_predict_instr
+        max_instr
     );
     exit_success()
 }

@@ -10,7 +10,7 @@
 //!   machine ([`camsim_core::IndexPulse`]), which rejects them. PA0 gets the internal
 //!   pull-up (about 40 kΩ); wire an external 4.7 kΩ to 3.3 V for a sensor cable.
 //! - **Jump alarm -> PA5** (the board's green LED LD2, a stand-in for a relay driver or
-//!   PLC input). [`FailSafeOutput`]: **LOW = alarm asserted = the safe state**, HIGH =
+//!   PLC input). [`crate::monitor::FailSafeOutput`]: **LOW = alarm asserted = the safe state**, HIGH =
 //!   the predictor vouches for the speed and its margin. A de-energised output, a reset
 //!   (pins float as inputs; a pull-down on the driver), a lost supply, a broken wire
 //!   and a halted program (the independent watchdog resets it) all read as the alarm, so
@@ -18,7 +18,7 @@
 //! - [`drive_alarm_safe_from_fault`]: the one register write the HardFault and default
 //!   handlers make to put PA5 low without owning the pin.
 
-use embedded_hal::digital::OutputPin;
+use camsim_core::{CaptureEvent, CaptureTimer};
 use stm32f4xx_hal::gpio::{Output, PA0, PA5};
 use stm32f4xx_hal::pac::{GPIOA, TIM2};
 use stm32f4xx_hal::rcc::Rcc;
@@ -29,15 +29,6 @@ use stm32f4xx_hal::{ClearFlags, ReadFlags};
 
 /// Tick rate of the index capture (TIM2 after its prescaler), Hz.
 pub const TICK_HZ: u32 = 1_000_000;
-
-/// What the capture hardware has for the main loop.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, defmt::Format)]
-pub enum CaptureEvent {
-    /// The count latched at an index edge.
-    Edge(u32),
-    /// Two edges came before the first was read: one is lost. The count is the later one.
-    Overrun(u32),
-}
 
 /// TIM2 in input-capture mode on PA0 (channel 1), free-running over all 32 bits.
 pub struct IndexCapture {
@@ -58,16 +49,20 @@ impl IndexCapture {
         channel.enable();
         Self { timer, channel }
     }
+}
 
+/// The board's side of the speed monitor (`camsim_chip::ChipMonitor`): the same trait the
+/// QEMU board's scripted pulse train implements.
+impl CaptureTimer for IndexCapture {
     /// The counter's actual tick rate, Hz (TIM2's clock over its prescaler).
-    pub fn tick_hz(&self) -> u32 {
+    fn tick_hz(&self) -> u32 {
         self.timer.get_timer_clock()
     }
 
     /// The pending capture, if any. Reading the capture register clears its flag; the
     /// overcapture flag is checked after that read, so a capture lost at any moment is
     /// reported, never a period that silently spans two edges.
-    pub fn poll(&mut self) -> Option<CaptureEvent> {
+    fn poll_capture(&mut self) -> Option<CaptureEvent> {
         if !self.timer.flags().contains(Flag::C1) {
             return None;
         }
@@ -80,53 +75,10 @@ impl IndexCapture {
     }
 
     /// The counter now (for timeouts).
-    pub fn now(&self) -> u32 {
+    fn now(&mut self) -> u32 {
         // SAFETY: TIM2's CNT register, a plain 32-bit read without side effects; `self`
         // owns TIM2 (through the HAL's capture manager), nothing else writes it.
         unsafe { (*TIM2::ptr()).cnt().read().bits() }
-    }
-}
-
-/// The alarm output with its fail-safe polarity: asserted = LOW.
-#[derive(Debug)]
-pub struct FailSafeOutput<P> {
-    pin: P,
-    asserted: bool,
-    transitions: u32,
-}
-
-impl<P: OutputPin> FailSafeOutput<P> {
-    /// Takes the pin and drives it to the safe state (alarm asserted, LOW).
-    pub fn new(mut pin: P) -> Result<Self, P::Error> {
-        pin.set_low()?;
-        Ok(Self {
-            pin,
-            asserted: true,
-            transitions: 0,
-        })
-    }
-
-    /// Asserts (LOW) or releases (HIGH) the alarm; true if the level changed.
-    pub fn set_asserted(&mut self, asserted: bool) -> Result<bool, P::Error> {
-        if asserted {
-            self.pin.set_low()?;
-        } else {
-            self.pin.set_high()?;
-        }
-        let changed = asserted != self.asserted;
-        self.asserted = asserted;
-        self.transitions += u32::from(changed);
-        Ok(changed)
-    }
-
-    /// Whether the alarm is asserted.
-    pub fn is_asserted(&self) -> bool {
-        self.asserted
-    }
-
-    /// Level changes so far.
-    pub fn transitions(&self) -> u32 {
-        self.transitions
     }
 }
 

@@ -1,31 +1,37 @@
-//! Board adapters: everything that touches hardware, kept out of camsim-core.
+//! Board adapters: everything that touches hardware, kept out of camsim-core and
+//! camsim-chip.
 //!
-//! A board supplies three things to the predictor loop (`src/bin/predictor.rs`):
-//! - a [`camsim_core::SpeedSource<f32>`]: measured cam speed in rpm, one sample per revolution;
-//! - an `embedded_hal::digital::InputPin` for the once-per-revolution index pulse;
-//! - an `embedded_hal::digital::OutputPin` driving the jump alarm (lamp, relay, PLC input).
+//! The predictor loop is the chip's speed monitor (`camsim_chip::ChipMonitor`: index
+//! pulses -> core's `IndexPulse` -> a speed reading -> the table's prediction -> the
+//! alarm's hysteresis), the same on every board and on the host (`camsim predict`). A
+//! board supplies only its HAL glue:
+//! - a [`camsim_core::CaptureTimer`]: the timer count latched at each index pulse (one per
+//!   cam revolution), overruns, and the counter now (for the lost-speed timeout);
+//! - an `embedded_hal::digital::OutputPin` for the jump alarm, wrapped in
+//!   [`crate::monitor::FailSafeOutput`] (LOW = asserted, the safe state);
+//! - its clocks, logging transport and failure path.
 //!
-//! [`qemu`] is the MPS2 AN386 (QEMU `mps2-an386`): a scripted speed profile, a fake
-//! index pulse, and the alarm on the FPGA IO `LED0` register.
+//! [`qemu`] is the MPS2 AN386 (QEMU `mps2-an386`): the scripted machine's pulse train
+//! (`camsim_chip::ScriptedPulseTrain`, with its faults) as the capture timer, the alarm on
+//! the FPGA IO `LED0` register. `f446` (feature `stm32f446`, binary
+//! `src/bin/board_f446.rs`) is the Nucleo-F446RE: TIM2 input capture on PA0, the alarm
+//! on PA5.
 //!
-//! ## Where a real board plugs in
-//! `f446` (feature `stm32f446`, binary `src/bin/board_f446.rs`) is a worked example: TIM2
-//! capture -> `camsim_core::IndexPulse` -> prediction -> a fail-safe alarm pin.
+//! ## Where another board plugs in
 //! Add `board/<name>.rs` behind a cargo feature, with the chip's HAL as an optional
-//! dependency, and select it in the binary instead of `qemu`:
-//! - index pulse -> rpm: route the index sensor (Hall or optical, one pulse per cam
-//!   revolution) to a timer input-capture channel. In the capture interrupt, take the
-//!   captured count difference `d` between consecutive pulses and push
-//!   `60 * f_timer / d` (rpm) into a `heapless::spsc::Queue<f32, 8>`; `SpeedSource::next_rpm`
-//!   pops it (`None` while empty). Reject `d == 0` and captures that overflowed.
-//! - the index `InputPin` is the same pin read as a GPIO (the loop uses it to stay in step
-//!   with the revolutions; with capture interrupts it can be dropped);
-//! - the alarm `OutputPin` is any HAL GPIO output (`embedded-hal` 1.0 pins work as-is);
+//! dependency, and a binary like `board_f446.rs`:
+//! - index pulse: route the index sensor (Hall, inductive or optical, one pulse per cam
+//!   revolution) to a 32-bit timer's input-capture channel and implement
+//!   `CaptureTimer` on it: `poll_capture` returns the latched count once per edge (and
+//!   `CaptureEvent::Overrun` when the hardware's overcapture flag says an edge was lost),
+//!   `now` the free-running count, `tick_hz` the timer's rate (the chip's configuration
+//!   is for 1 MHz: `camsim_chip::CHIP_TICK_HZ`);
+//! - call `ChipMonitor::step` in the main loop and drive the `FailSafeOutput` with the
+//!   step's alarm; log with [`crate::monitor`]'s lines;
 //! - logging and failures: build with `--no-default-features --features rtt` for defmt
 //!   over RTT and panics through `panic-probe` (no semihosting on a failure path), and
 //!   run with `probe-rs run --chip <chip>` (see the firmware README, "A real board");
-//! - memory: the chip's own `memory.x` regions (keep the 128K/32K budget, or change the
-//!   root memory.x deliberately).
+//! - memory: the chip's own origins with the budget's lengths (`build/board_memory.rs`).
 
 pub mod qemu;
 

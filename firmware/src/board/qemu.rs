@@ -1,4 +1,9 @@
-//! QEMU `mps2-an386` (ARM MPS2 board, AN386 Cortex-M4 FPGA image).
+//! QEMU `mps2-an386` (ARM MPS2 board, AN386 Cortex-M4 FPGA image): the HAL glue of the
+//! QEMU board, as `f446` is the Nucleo's. The index pulses come from the scripted machine
+//! ([`ScriptedPulseTrain`], a [`camsim_core::CaptureTimer`] like the board's TIM2
+//! capture), the alarm goes to the FPGA IO's `LED0` with the board's fail-safe polarity
+//! (LOW = asserted), and the product's boot ([`boot_or_stop`]) stops with the alarm
+//! asserted on any failure.
 //!
 //! Memory map used (checked with QEMU 7.2 `info mtree`): code SSRAM at 0x0000_0000,
 //! data SSRAM at 0x2000_0000, FPGA IO block at 0x4002_8000 (`LED0` at offset 0).
@@ -6,59 +11,42 @@
 use core::convert::Infallible;
 use core::sync::atomic::{AtomicBool, Ordering};
 
-use embedded_hal::digital::{ErrorType, InputPin, OutputPin, StatefulOutputPin};
+use camsim_core::SolverSettings;
+use embedded_hal::digital::{ErrorType, OutputPin, StatefulOutputPin};
 
-/// Scripted cam speed: the profile shared with the host (`camsim predict`), defined in
-/// the `camsim-chip` crate so both run the same samples.
-pub use camsim_chip::ScriptedProfile as ScriptedSpeed;
+use crate::monitor::{error_name, FailSafeOutput};
+use crate::timing::InstrCounter;
+use crate::workload::{Predictor, SCENE_NAME};
 
-/// Fake index pulse: each read alternates low/high, so a wait for the next rising
-/// edge always finds one (one "revolution" per speed sample).
-#[derive(Clone, Debug, Default)]
-pub struct FakeIndexPulse {
-    level: bool,
-}
+/// The scripted machine's index pulses (`camsim_chip::CHIP_SCRIPT`): the QEMU board's
+/// [`camsim_core::CaptureTimer`], in place of the board's TIM2 capture; the host's
+/// `camsim predict` feeds the same train to the same monitor.
+pub use camsim_chip::ScriptedPulseTrain;
 
-impl ErrorType for FakeIndexPulse {
-    type Error = Infallible;
-}
-
-impl InputPin for FakeIndexPulse {
-    fn is_high(&mut self) -> Result<bool, Self::Error> {
-        self.level = !self.level;
-        Ok(self.level)
-    }
-
-    fn is_low(&mut self) -> Result<bool, Self::Error> {
-        self.is_high().map(|h| !h)
-    }
-}
+/// The name of the alarm output in the log.
+pub const ALARM_PIN: &str = "LED0";
 
 /// FPGA IO `LED0` register of the MPS2 (bit 0 = user LED 0).
 const FPGAIO_LED0: usize = 0x4002_8000;
 
 static LED_TAKEN: AtomicBool = AtomicBool::new(false);
 
-/// The jump alarm on the MPS2's user LED 0 (FPGA IO `LED0` bit 0); logs every transition.
+/// The jump alarm on the MPS2's user LED 0 (FPGA IO `LED0` bit 0), a plain output pin:
+/// wrap it in [`FailSafeOutput`] (LOW = alarm asserted, the safe state, as on the board).
 #[derive(Debug)]
 pub struct LedAlarmPin {
-    transitions: u32,
+    _private: (),
 }
 
 impl LedAlarmPin {
-    /// The pin, once (`None` if already taken), switched off.
+    /// The pin, once (`None` if already taken), driven LOW (the safe state).
     pub fn take() -> Option<Self> {
         if LED_TAKEN.swap(true, Ordering::AcqRel) {
             return None;
         }
-        let mut pin = Self { transitions: 0 };
+        let mut pin = Self { _private: () };
         pin.write(false);
         Some(pin)
-    }
-
-    /// Times the output changed level.
-    pub fn transitions(&self) -> u32 {
-        self.transitions
     }
 
     fn read(&self) -> bool {
@@ -77,21 +65,6 @@ impl LedAlarmPin {
             core::ptr::write_volatile(p, (v & !1) | u32::from(on));
         }
     }
-
-    fn set(&mut self, on: bool) {
-        if self.read() != on {
-            self.transitions += 1;
-            defmt::info!(
-                "alarm pin -> {=str}",
-                if on {
-                    "HIGH (jump alarm on)"
-                } else {
-                    "LOW (jump alarm off)"
-                }
-            );
-        }
-        self.write(on);
-    }
 }
 
 impl ErrorType for LedAlarmPin {
@@ -100,12 +73,12 @@ impl ErrorType for LedAlarmPin {
 
 impl OutputPin for LedAlarmPin {
     fn set_low(&mut self) -> Result<(), Self::Error> {
-        self.set(false);
+        self.write(false);
         Ok(())
     }
 
     fn set_high(&mut self) -> Result<(), Self::Error> {
-        self.set(true);
+        self.write(true);
         Ok(())
     }
 }
@@ -117,5 +90,53 @@ impl StatefulOutputPin for LedAlarmPin {
 
     fn is_set_low(&mut self) -> Result<bool, Self::Error> {
         Ok(!self.read())
+    }
+}
+
+/// The alarm output of this board: [`LedAlarmPin`] with the fail-safe polarity.
+pub type AlarmOutput = FailSafeOutput<LedAlarmPin>;
+
+/// Takes LED0 as the alarm output, asserted (LOW); `None` if already taken.
+pub fn alarm_output() -> Option<AlarmOutput> {
+    let Ok(out) = FailSafeOutput::new(LedAlarmPin::take()?);
+    Some(out)
+}
+
+/// Stops with the alarm in its safe state: asserts it, reads LED0 back, logs why, then the
+/// failure exit (semihosting exit 1 under QEMU).
+pub fn stop_safe(out: &mut AlarmOutput, why: &str) -> ! {
+    let Ok(_) = out.set_asserted(true);
+    let Ok(low) = out.reads_low();
+    defmt::error!(
+        "alarm asserted ({=str} low: {=bool}), stopped: {=str}",
+        ALARM_PIN,
+        low,
+        why
+    );
+    crate::exit_failure()
+}
+
+/// The product's boot: builds the prediction table of the compiled-in scene with the
+/// solver `settings` (the product passes `camsim_chip::chip_solver_settings()`) while the
+/// alarm stays asserted; returns it with the instructions it took. A failure is logged
+/// (`boot: table build failed: <error>`) and stops the firmware with the alarm asserted
+/// ([`stop_safe`]).
+pub fn boot_or_stop(
+    counter: &InstrCounter,
+    out: &mut AlarmOutput,
+    settings: &SolverSettings<f32>,
+) -> (Predictor, u64) {
+    defmt::info!(
+        "scene={=str}; alarm asserted ({=str} low): booting, building the prediction table",
+        SCENE_NAME,
+        ALARM_PIN
+    );
+    let (predictor, instr) = counter.measure(|| Predictor::boot_with(settings));
+    match predictor {
+        Ok(p) => (p, instr),
+        Err(e) => {
+            defmt::error!("boot: table build failed: {=str}", error_name(&e));
+            stop_safe(out, "boot failed")
+        }
     }
 }

@@ -1,7 +1,10 @@
 //! `camsim predict [--f32] [--json] [--check-log FILE]`: the firmware's cam-timing and
-//! jump predictor run on the host with the same scene (the `camsim-chip` crate),
-//! the same scripted speed profile and the same core code: the boot-time table, the
-//! interpolation check, the prediction and the alarm state for every speed sample.
+//! jump predictor run on the host with the same scene (the `camsim-chip` crate), the
+//! same scripted machine (`CHIP_SCRIPT`'s index pulses through the chip's `ChipMonitor`,
+//! as the QEMU image feeds them) and the same core code: the boot-time table, the
+//! interpolation check, and for every speed reading (a vouched speed, or a fault: out of
+//! the grid, a rejected pulse, the speed lost, an acquisition) the prediction and the
+//! alarm state.
 //!
 //! With `--f32` it computes in `f32` exactly as the chip does (same libm code, no FMA
 //! contraction in Rust, IEEE single precision on both SSE and the M4F's FPU) and can
@@ -14,12 +17,12 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
 use camsim_chip::{
-    chip_alarm, chip_design, chip_design_from, chip_prediction_table, chip_solver_settings,
-    chip_steady_state, ChipScene, ScriptedProfile, CHIP_ALARM_OFF_MARGIN_RPM,
-    CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
-    CHIP_RESOLUTION_RPM, CHIP_STATES,
+    chip_design, chip_design_from, chip_prediction_table, chip_solver_settings, chip_steady_state,
+    reading_parity, ChipMonitor, ChipScene, ChipStep, ScriptedPulseTrain,
+    CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM,
+    CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
 };
-use camsim_core::{Design, Real, Scene, SpeedPrediction, SpeedSource, SteadyState};
+use camsim_core::{Design, Real, Scene, SpeedPrediction, SpeedReading, SteadyState};
 
 /// Command-line options of `camsim predict`.
 #[derive(clap::Args, Debug, Default)]
@@ -50,15 +53,6 @@ pub struct InterpCheck<T> {
     pub direct: SteadyState<T>,
 }
 
-/// One speed sample of the scripted profile and what the predictor said.
-#[derive(Clone, Copy, Debug)]
-pub struct SampleOut<T> {
-    /// The prediction.
-    pub prediction: SpeedPrediction<T>,
-    /// Alarm state after this sample.
-    pub alarm: bool,
-}
-
 /// Everything the predictor computes for the chip's scene.
 #[derive(Clone, Debug)]
 pub struct Prediction<T> {
@@ -66,11 +60,12 @@ pub struct Prediction<T> {
     pub table: camsim_core::PredictionTable<T, CHIP_GRID>,
     /// The interpolation checks at `CHIP_CHECK_RPM`.
     pub checks: Vec<InterpCheck<T>>,
-    /// The scripted profile's samples.
-    pub samples: Vec<SampleOut<T>>,
+    /// Every speed reading of the scripted machine, in order, with the prediction (at a
+    /// vouched speed) and the alarm state after it.
+    pub samples: Vec<ChipStep<T>>,
 }
 
-/// Runs the chip's predictor (shared scene, scripted profile) in `T` for the reference
+/// Runs the chip's predictor (shared scene, scripted machine) in `T` for the reference
 /// design, or for a scene file's design (`Design<f64>`, as the firmware's build script
 /// reads `CAMSIM_SCENE`): `camsim_chip::chip_design_from` is the conversion the
 /// firmware's image carries, so the bits agree.
@@ -95,16 +90,15 @@ pub fn compute<T: Real>(scene: Option<&Design<f64>>) -> Result<Prediction<T>> {
             direct,
         });
     }
-    let mut alarm = chip_alarm::<T>().map_err(|e| anyhow::anyhow!("alarm: {e:?}"))?;
-    let mut profile = ScriptedProfile::new();
+    // The firmware's loop (src/bin/predictor.rs): the same train, monitor and steps.
+    let mut monitor =
+        ChipMonitor::<T>::new(CHIP_TICK_HZ).map_err(|e| anyhow::anyhow!("monitor: {e:?}"))?;
+    let mut train = ScriptedPulseTrain::chip();
     let mut samples = Vec::new();
-    while let Some(rpm) = SpeedSource::<T>::next_rpm(&mut profile) {
-        let prediction = table.predict(rpm);
-        let on = alarm.update(prediction.speed_margin_rpm);
-        samples.push(SampleOut {
-            prediction,
-            alarm: on,
-        });
+    while !train.finished() {
+        if let Some(step) = monitor.step(&table, &mut train) {
+            samples.push(step);
+        }
     }
     Ok(Prediction {
         table,
@@ -147,15 +141,23 @@ pub fn parity_lines(p: &Prediction<f32>) -> Vec<String> {
         ));
     }
     for (i, s) in p.samples.iter().enumerate() {
-        let q = &s.prediction;
-        out.push(format!(
-            "parity sample i={i} rpm={} force={} speed={} alarm={} timing={}",
-            hex(q.rpm),
-            hex(q.force_margin_lb),
-            hex(q.speed_margin_rpm),
-            s.alarm,
-            timing_hex(&q.timing_deg)
-        ));
+        out.push(match &s.prediction {
+            Some(q) => format!(
+                "parity sample i={i} rpm={} force={} speed={} alarm={} timing={}",
+                hex(q.rpm),
+                hex(q.force_margin_lb),
+                hex(q.speed_margin_rpm),
+                s.alarm,
+                timing_hex(&q.timing_deg)
+            ),
+            None => {
+                let (kind, value) = reading_parity(&s.reading);
+                format!(
+                    "parity reading i={i} kind={kind} value={value:#010x} alarm={}",
+                    s.alarm
+                )
+            }
+        });
     }
     out
 }
@@ -318,9 +320,11 @@ pub struct SampleBits {
     pub timing_deg: [String; 6],
 }
 
-/// One speed sample of the scripted profile and the prediction for it.
+/// A vouched speed reading of the scripted machine and the prediction for it.
 #[derive(Clone, Debug, Serialize)]
 pub struct SampleRow {
+    /// Index of the reading (among all readings, faults included).
+    pub reading: usize,
     /// Measured speed, rpm.
     pub rpm: Num,
     /// Interpolated smallest contact force, lb.
@@ -337,14 +341,36 @@ pub struct SampleRow {
     pub bits: SampleBits,
 }
 
-/// A sample at which the alarm switched.
+/// A reading that does not vouch for the speed: the predictor makes no prediction and
+/// asserts the alarm.
+#[derive(Clone, Debug, Serialize)]
+pub struct FaultRow {
+    /// Index of the reading (among all readings).
+    pub reading: usize,
+    /// What it is: `out_of_range`, `too_short`, `bounce`, `step`, `lost`, `acquiring`,
+    /// `overrun` (`camsim_core::SpeedReading::kind`).
+    pub kind: &'static str,
+    /// The measured speed of an `out_of_range` reading, rpm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rpm: Option<Num>,
+    /// The period of a rejected pulse, ticks of the 1 MHz capture timer.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period_ticks: Option<u32>,
+    /// Alarm state after this reading.
+    pub alarm: bool,
+}
+
+/// A reading at which the alarm switched.
 #[derive(Clone, Debug, Serialize)]
 pub struct AlarmTransition {
-    /// Sample index.
-    pub sample: usize,
-    /// Its speed, rpm.
-    pub rpm: Num,
-    /// The new alarm state.
+    /// Index of the reading.
+    pub reading: usize,
+    /// What it is (`camsim_core::SpeedReading::kind`).
+    pub kind: &'static str,
+    /// Its speed, rpm, if it measured one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rpm: Option<Num>,
+    /// The new alarm state (true: asserted).
     pub alarm: bool,
 }
 
@@ -363,9 +389,11 @@ pub struct PredictReport {
     pub table: Vec<TableRow>,
     /// The interpolation checks.
     pub interp_checks: Vec<CheckRow>,
-    /// Every sample of the scripted profile.
+    /// Every vouched reading of the scripted machine with its prediction.
     pub samples: Vec<SampleRow>,
-    /// The samples at which the alarm switched.
+    /// Every other reading (faults and acquisitions): no prediction, alarm asserted.
+    pub faults: Vec<FaultRow>,
+    /// The readings at which the alarm switched.
     pub alarm_transitions: Vec<AlarmTransition>,
 }
 
@@ -430,24 +458,44 @@ pub fn report<T: Real>(p: &Prediction<T>, single: bool, design: &str) -> Predict
             }
         })
         .collect();
-    let mut prev = false;
+    // The alarm starts asserted (the monitor's boot state).
+    let mut prev = true;
     let mut alarm_transitions = Vec::new();
+    let mut faults = Vec::new();
     let samples = p
         .samples
         .iter()
         .enumerate()
-        .map(|(i, s)| {
-            let q = &s.prediction;
+        .filter_map(|(i, s)| {
+            let measured = match s.reading {
+                SpeedReading::Rpm(r) | SpeedReading::OutOfRange(r) => Some(Num::of(r)),
+                _ => None,
+            };
             if s.alarm != prev {
                 alarm_transitions.push(AlarmTransition {
-                    sample: i,
-                    rpm: Num::of(q.rpm),
+                    reading: i,
+                    kind: s.reading.kind(),
+                    rpm: measured,
                     alarm: s.alarm,
                 });
                 prev = s.alarm;
             }
+            let Some(q) = &s.prediction else {
+                faults.push(FaultRow {
+                    reading: i,
+                    kind: s.reading.kind(),
+                    rpm: measured,
+                    period_ticks: match s.reading {
+                        SpeedReading::Rejected(why) => Some(why.period_ticks()),
+                        _ => None,
+                    },
+                    alarm: s.alarm,
+                });
+                return None;
+            };
             let (timing_deg, timing_bits) = timing(&q.timing_deg, single);
-            SampleRow {
+            Some(SampleRow {
+                reading: i,
                 rpm: Num::of(q.rpm),
                 force_margin_lb: Num::of(q.force_margin_lb),
                 speed_margin_rpm: Num::of(q.speed_margin_rpm),
@@ -459,7 +507,7 @@ pub fn report<T: Real>(p: &Prediction<T>, single: bool, design: &str) -> Predict
                     speed_margin_rpm: bits_of(q.speed_margin_rpm, single),
                     timing_deg: timing_bits,
                 },
-            }
+            })
         })
         .collect();
     let s = chip_solver_settings::<f64>();
@@ -483,6 +531,7 @@ pub fn report<T: Real>(p: &Prediction<T>, single: bool, design: &str) -> Predict
         table,
         interp_checks,
         samples,
+        faults,
         alarm_transitions,
     }
 }
@@ -533,24 +582,64 @@ pub fn render_text(r: &PredictReport) -> String {
             c.rpm.0, c.interp_force_lb.0, c.direct_force_lb.0, c.abs_err_force_lb, c.max_abs_err_timing_deg
         );
     }
-    let mut prev = false;
-    for s in &r.samples {
-        let mark = match (s.alarm != prev, s.alarm) {
+    // Every reading in order: the vouched ones with their prediction, the others named.
+    let mut prev = true;
+    let (mut si, mut fi) = (r.samples.iter().peekable(), r.faults.iter().peekable());
+    loop {
+        let (line, alarm) = match (si.peek(), fi.peek()) {
+            (Some(s), f) if f.is_none_or(|f| s.reading < f.reading) => {
+                let line = format!(
+                    "speed {:>6.1} rpm: force margin {:>9.4} lb, speed margin {:>8.2} rpm, timing rise50 {:+.4} return50 {:+.4} deg",
+                    s.rpm.0,
+                    s.force_margin_lb.0,
+                    s.speed_margin_rpm.0,
+                    s.timing_deg[1].0,
+                    s.timing_deg[4].0,
+                );
+                let a = s.alarm;
+                si.next();
+                (line, a)
+            }
+            (_, Some(f)) => {
+                let what = match f.kind {
+                    "out_of_range" => format!(
+                        "speed {:.1} rpm outside the table's grid: not extrapolated",
+                        f.rpm.map_or(f64::NAN, |n| n.0)
+                    ),
+                    "too_short" => format!(
+                        "pulse rejected: {} ticks, faster than the machine's limit (noise or bounce)",
+                        f.period_ticks.unwrap_or(0)
+                    ),
+                    "bounce" => format!(
+                        "pulse rejected: {} ticks, a bounce",
+                        f.period_ticks.unwrap_or(0)
+                    ),
+                    "step" => format!(
+                        "period rejected: {} ticks, a missed pulse or a step",
+                        f.period_ticks.unwrap_or(0)
+                    ),
+                    "lost" => "speed lost: no index pulse".to_string(),
+                    "acquiring" => "acquiring the speed".to_string(),
+                    other => other.to_string(),
+                };
+                let a = f.alarm;
+                fi.next();
+                (what, a)
+            }
+            (None, None) => break,
+            // Unreachable: the first arm takes a sample whenever no fault is left.
+            (Some(_), None) => break,
+        };
+        let mark = match (alarm != prev, alarm) {
             (true, true) => "  <- alarm ON",
             (true, false) => "  <- alarm OFF",
             _ => "",
         };
-        prev = s.alarm;
+        prev = alarm;
         let _ = writeln!(
             out,
-            "speed {:>6.1} rpm: force margin {:>9.4} lb, speed margin {:>8.2} rpm, timing rise50 {:+.4} return50 {:+.4} deg, alarm {}{}",
-            s.rpm.0,
-            s.force_margin_lb.0,
-            s.speed_margin_rpm.0,
-            s.timing_deg[1].0,
-            s.timing_deg[4].0,
-            if s.alarm { "on" } else { "off" },
-            mark
+            "{line}, alarm {}{mark}",
+            if alarm { "on" } else { "off" }
         );
     }
     out
@@ -575,7 +664,7 @@ pub fn run(args: Args) -> Result<()> {
             let log = std::fs::read_to_string(path)
                 .with_context(|| format!("reading {}", path.display()))?;
             let n = check_parity(&log, &parity_lines(&p))?;
-            println!("parity OK: {n} lines (table, jump onset, interpolation checks, every sample) bit-identical");
+            println!("parity OK: {n} lines (table, jump onset, interpolation checks, every reading of the scripted machine) bit-identical");
             return Ok(());
         }
         report(&p, true, &design)
