@@ -1,13 +1,13 @@
-//! The cam-timing and jump predictor: what a machine feeds it ([`SpeedSource`]), the
-//! alarm it drives ([`JumpAlarm`]), the steady-state observer ([`SteadyStateObserver`],
+//! The cam-timing and jump predictor: the alarm it drives ([`JumpAlarm`]), the steady-state observer ([`SteadyStateObserver`],
 //! [`steady_state_at`]) and the boot-time table ([`PredictionTable`]) with its jump-onset
 //! search ([`OnsetSearch`] over [`steady_state_at`]).
 //!
-//! Hardware stays out of the core: a board adapts its timer capture or controller
-//! link to [`SpeedSource`], and its alarm pin to the boolean that [`JumpAlarm`]
-//! returns. The same code runs on the host (`camsim predict`) and on the chip; the chip's
-//! product configuration (scene, grid, thresholds, scripted profile) is the
-//! `camsim-chip` crate.
+//! Hardware stays out of the core: a board adapts its timer capture to
+//! [`crate::CaptureTimer`] (read by [`crate::IndexPulse`], which turns index pulses into
+//! vouched speeds), and its alarm pin to the boolean that [`JumpAlarm`] returns. The same
+//! code runs on the host (`camsim predict`) and on the chip; the chip's product
+//! configuration (scene, grid, thresholds, the scripted machine) is the `camsim-chip`
+//! crate.
 
 use core::ops::ControlFlow;
 
@@ -15,12 +15,6 @@ use crate::{
     simulate, CamModel, Design, Observer, OnsetSearch, Real, Result, Sample, Scene, SegmentKind,
     SolverSettings,
 };
-
-/// A source of measured cam speed samples (rpm), e.g. from a once-per-revolution index pulse.
-pub trait SpeedSource<T> {
-    /// The next speed sample in rpm, or `None` when the source has no new sample (or has ended).
-    fn next_rpm(&mut self) -> Option<T>;
-}
 
 /// Jump alarm with hysteresis: turns on when the speed margin to jump falls to
 /// `on_margin_rpm` or below, and off only once it exceeds `off_margin_rpm`.

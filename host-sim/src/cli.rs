@@ -36,7 +36,7 @@ pub enum Command {
     Scene(cmd::scene::Args),
     /// Run time against error: tolerance ladder and reduced scenes against a tight reference.
     Bench(cmd::bench::Args),
-    /// The firmware's jump/timing predictor on the host (same scene and profile); --check-log for parity.
+    /// The firmware's jump/timing predictor on the host (same scene and scripted machine); --check-log for parity.
     Predict(cmd::predict::Args),
 }
 
