@@ -1,6 +1,7 @@
 //! The camsim harness as a library: every command is a module of [`cmd`], so the
 //! integration tests can call the same code the binary runs, and [`cli`] is the binary.
 
+pub mod actual;
 pub mod args;
 pub mod cli;
 pub mod cmd;
