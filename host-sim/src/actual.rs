@@ -17,7 +17,9 @@
 //!   once, and the roller centre placed by exact contact with the splined contour.
 
 use anyhow::{bail, Context, Result};
-use camsim_core::{choose_interval, Design, DeviatedLift, NormalMethod, RandomStream, Tolerances};
+use camsim_core::{
+    choose_interval, ActualCam, Design, DeviatedLift, NormalMethod, RandomStream, Tolerances,
+};
 use clap::ValueEnum;
 use serde::Serialize;
 
@@ -193,6 +195,21 @@ pub struct ProfileStats {
     /// Waviness frequency per revolution (VI.4.1): local extrema of the velocity
     /// deviation `de/dθ` over one revolution (see [`FPR_SAMPLES`], [`FPR_THRESHOLD`]).
     pub fpr: usize,
+    /// Knots of the deviation spline over one revolution (`intervals` for the thesis's
+    /// method, [`envelope_knots`] for the envelope).
+    pub deviation_knots: usize,
+    /// The envelope's actual roller radius, in (None for the thesis's method).
+    pub roller_radius_in: Option<f64>,
+    /// The envelope's rotation-centre offset (x, y) in the cam frame, in (None for the
+    /// thesis's method).
+    pub centre_offset_in: Option<[f64; 2]>,
+}
+
+/// Points of the envelope's deviation spline for a contour of `intervals` setting
+/// points: 8 a setting interval (the contact jumps between the bumps of the contour,
+/// which are about a setting interval apart), at most `PROFILE_KNOTS − 1` (0.1°).
+pub fn envelope_knots(intervals: usize) -> usize {
+    intervals.saturating_mul(8).clamp(3, PROFILE_KNOTS - 1)
 }
 
 /// Samples of one revolution at which the statistics are taken (0.05°).
@@ -270,11 +287,20 @@ pub fn build_profile(
     let (intervals, source) = intervals_for(design, args)?;
     let seed = args.seed();
     let mut rng = RandomStream::<f64>::for_sample(seed, sample, args.normal.into());
-    let dev: HostDeviation = match args.profile_method {
-        ProfileMethod::Thesis => {
-            DeviatedLift::thesis(&design.program, &design.geometry, &tol, intervals, &mut rng)?
+    let (program, geometry) = (&design.program, &design.geometry);
+    let (dev, cam_parts): (HostDeviation, _) = match args.profile_method {
+        ProfileMethod::Thesis => (
+            DeviatedLift::thesis(program, geometry, &tol, intervals, &mut rng)?,
+            None,
+        ),
+        ProfileMethod::Envelope => {
+            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
+                program, geometry, &tol, intervals, &mut rng,
+            )?);
+            let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
+                .context("the roller's envelope on the actual contour")?;
+            (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
         }
-        ProfileMethod::Envelope => bail!("--profile-method envelope is not implemented yet"),
     };
     let (rms, max, fpr) = deviation_stats(&dev).context("profile statistics")?;
     let stats = ProfileStats {
@@ -291,6 +317,9 @@ pub fn build_profile(
         rms_deviation_in: rms,
         max_abs_deviation_in: max,
         fpr,
+        deviation_knots: dev.spline().len().saturating_sub(1),
+        roller_radius_in: cam_parts.map(|c| c.0),
+        centre_offset_in: cam_parts.map(|c| c.1),
     };
     Ok((dev, stats))
 }
