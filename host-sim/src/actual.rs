@@ -38,6 +38,16 @@ pub enum ProfileMethod {
     Envelope,
 }
 
+impl ProfileMethod {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ProfileMethod::Thesis => "thesis",
+            ProfileMethod::Envelope => "envelope",
+        }
+    }
+}
+
 /// How the normal deviates are made (`--normal`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
 pub enum NormalArg {
@@ -165,6 +175,16 @@ pub enum IntervalSource {
     Criteria,
 }
 
+impl IntervalSource {
+    /// How a report says it.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntervalSource::Given => "given",
+            IntervalSource::Criteria => "by the criteria of IV.2.3",
+        }
+    }
+}
+
 /// What a profile is and how it came about (the JSON `profile` of `camsim run --actual`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ProfileStats {
@@ -216,8 +236,14 @@ pub fn envelope_knots(intervals: usize) -> usize {
 pub const FPR_SAMPLES: usize = 7200;
 
 /// The FPR's hysteresis, as a fraction of the velocity deviation's peak-to-peak range
-/// (ripples smaller than that are not counted; a zero deviation has FPR 0).
+/// (ripples smaller than that are not counted; a zero deviation has FPR 0), but at
+/// least [`FPR_FLOOR`].
 pub const FPR_THRESHOLD: f64 = 0.01;
+
+/// The smallest FPR hysteresis, in/rad: ripples of the velocity deviation below it
+/// (a lift ripple of 1e-6 in/rad × 1° ≈ 2e-8 in, far below any tolerance) are the
+/// interpolation noise of a perfect profile, not waviness.
+pub const FPR_FLOOR: f64 = 1e-6;
 
 /// Statistics of a deviation over one revolution: `(rms, max |e|, fpr)`.
 pub fn deviation_stats(dev: &HostDeviation) -> Result<(f64, f64, usize)> {
@@ -231,11 +257,7 @@ pub fn deviation_stats(dev: &HostDeviation) -> Result<(f64, f64, usize)> {
         lo = lo.min(e.dy);
         hi = hi.max(e.dy);
     }
-    let threshold = if hi > lo {
-        FPR_THRESHOLD * (hi - lo)
-    } else {
-        0.0
-    };
+    let threshold = (FPR_THRESHOLD * (hi - lo)).max(FPR_FLOOR);
     let fpr = camsim_core::waviness_fpr_of(FPR_SAMPLES, threshold, |k| {
         dev.deviation(k as f64 * step).dy
     })?;

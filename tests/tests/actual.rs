@@ -163,3 +163,235 @@ fn envelope_runs_in_f32() {
         assert!(worst < 2e-5, "{worst}");
     });
 }
+
+// ---- camsim run --actual / --measured -------------------------------------------
+
+use camsim::cli::{self, Command as Cmd};
+use camsim::cmd::run;
+
+/// `camsim run ARGS` as the binary parses and runs it: the report, or the error on one
+/// line.
+fn run_cli(args: &[&str]) -> Result<run::RunReport, String> {
+    let argv = ["camsim", "run"].iter().chain(args).copied();
+    let a = match cli::parse_from(argv) {
+        Ok(c) => match c.command {
+            Cmd::Run(a) => a,
+            other => panic!("not run: {other:?}"),
+        },
+        Err(e) => return Err(cli::usage_line(&e)),
+    };
+    run::report(&a).map_err(|e| format!("{e:#}"))
+}
+
+/// A quick run: 500 rpm from static equilibrium, 2 revolutions.
+const QUICK: [&str; 6] = ["--rpm", "500", "--start", "static", "--revolutions", "2"];
+
+fn quick(extra: &[&str]) -> Vec<String> {
+    QUICK.iter().chain(extra).map(|s| s.to_string()).collect()
+}
+
+fn strs(v: &[String]) -> Vec<&str> {
+    v.iter().map(String::as_str).collect()
+}
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("camsim-actual-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The per-period table as JSON (every statistic, bit for bit).
+fn table(r: &run::RunReport) -> String {
+    serde_json::to_string(&r.per_period).unwrap()
+}
+
+#[test]
+fn a_measured_theoretical_cam_gives_back_the_theoretical_run() {
+    let d = scratch("theory");
+    let design = Design::<f64>::reference();
+    let p = &design.program;
+    let theory = run_cli(&strs(&quick(&[]))).unwrap();
+    assert!(theory.profile.is_none() && theory.fpr.is_none());
+    // Deviation 0 at every degree: the deviation spline is zero, the run bit-identical.
+    let zero = d.join("zero.csv");
+    let mut text = String::from("# a perfect cam\nangle_deg,deviation_in\n");
+    for k in 0..360 {
+        text += &format!("{k},0\n");
+    }
+    std::fs::write(&zero, &text).unwrap();
+    let r = run_cli(&strs(&quick(&["--measured", zero.to_str().unwrap()]))).unwrap();
+    assert_eq!(table(&r), table(&theory));
+    assert_eq!(r.fpr, Some(0));
+    // The lift itself, written with Rust's shortest round-trip digits: the deviation at
+    // every row is exactly zero again, closed at 360.
+    let lift = d.join("lift.csv");
+    let mut text = String::from("angle_deg,lift_in\n");
+    for k in 0..=360 {
+        text += &format!("{k},{}\n", p.follower((k as f64).to_radians()).y);
+    }
+    std::fs::write(&lift, &text).unwrap();
+    let r = run_cli(&strs(&quick(&["--measured", lift.to_str().unwrap()]))).unwrap();
+    assert_eq!(table(&r), table(&theory));
+    // The surface's polar radius every 0.5° of cam angle (the surface points of Eq. E.6
+    // in polar form, their angles uneven): the roller's envelope gives the lift back
+    // within the contour spline's error (a few 1e-7 in, see
+    // perfect_cam_gives_the_theoretical_lift), so the table agrees to that order.
+    let radius = d.join("radius.csv");
+    let g = &design.geometry;
+    let mut text = String::from("angle_deg,radius_in\n");
+    for k in 0..720 {
+        let th = (k as f64 * 0.5).to_radians();
+        let f = p.follower(th);
+        let (x, y) = g.surface_point(th, f.y, f.dy);
+        let psi = x.atan2(y).to_degrees().rem_euclid(360.0);
+        text += &format!("{psi},{}\n", x.hypot(y));
+    }
+    std::fs::write(&radius, &text).unwrap();
+    let r = run_cli(&strs(&quick(&["--measured", radius.to_str().unwrap()]))).unwrap();
+    let Some(run::ProfileReport::Measured(m)) = &r.profile else {
+        panic!("{:?}", r.profile)
+    };
+    assert_eq!(
+        (m.points, m.deviation_knots, m.fpr),
+        (720, 3600, 0),
+        "{m:?}"
+    );
+    assert!(m.max_abs_deviation_in < 1e-8, "{m:?}");
+    let scale = |f: fn(&camsim::sim::PeriodRow) -> f64| {
+        theory
+            .per_period
+            .iter()
+            .map(|r| f(r).abs())
+            .fold(0.0, f64::max)
+    };
+    let (sa, sf) = (
+        scale(|r| r.rms_acceleration),
+        scale(|r| r.contact_force_max),
+    );
+    assert_eq!(r.per_period.len(), theory.per_period.len());
+    for (a, b) in r.per_period.iter().zip(&theory.per_period) {
+        let at = format!("{} {}", a.revolution, a.period);
+        assert!(
+            (a.rms_displacement - b.rms_displacement).abs() < 1e-6,
+            "{at}"
+        );
+        assert!(
+            (a.rms_acceleration - b.rms_acceleration).abs() < 1e-3 * sa,
+            "{at}"
+        );
+        assert!(
+            (a.contact_force_max - b.contact_force_max).abs() < 1e-3 * sf,
+            "{at}"
+        );
+        assert_eq!(a.jump, b.jump, "{at}");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn bad_measured_files_are_refused_on_one_line_naming_it() {
+    let d = scratch("bad");
+    let f = d.join("m.csv");
+    let p = f.to_str().unwrap();
+    for (text, want) in [
+        (
+            "angle_deg,deviation_in\n0,0\n90,0\n45,0\n",
+            "line 4: angle 45 deg does not increase",
+        ),
+        (
+            "angle_deg,deviation_in\n0,0\n90,x\n",
+            "line 3: deviation_in \"x\" is not a number",
+        ),
+        ("angle,dev\n", "line 1: the header must be"),
+        (
+            "angle_deg,deviation_in\n0,0\n90,0\n180,0\n",
+            "line 4: at least 4 rows",
+        ),
+    ] {
+        std::fs::write(&f, text).unwrap();
+        let e = run_cli(&["--measured", p, "--revolutions", "1"]).unwrap_err();
+        assert!(!e.contains('\n'), "{e}");
+        assert!(e.starts_with(&format!("--measured {p}: {want}")), "{e}");
+    }
+    let e = run_cli(&["--measured", "/nonexistent/m.csv"]).unwrap_err();
+    assert!(
+        e.starts_with("cannot read --measured /nonexistent/m.csv"),
+        "{e}"
+    );
+    // --measured and --actual exclude each other; the profile options need --actual.
+    assert!(run_cli(&["--measured", p, "--actual"])
+        .unwrap_err()
+        .contains("cannot be used with"));
+    let e = run_cli(&["--seed", "3"]).unwrap_err();
+    assert!(e.contains("need --actual"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn run_actual_reports_the_profile_and_is_reproducible() {
+    let args = quick(&["--actual", "--seed", "7", "--interval-deg", "5"]);
+    let a = run_cli(&strs(&args)).unwrap();
+    let b = run_cli(&strs(&args)).unwrap();
+    assert_eq!(table(&a), table(&b));
+    let Some(run::ProfileReport::Actual(p)) = &a.profile else {
+        panic!("{:?}", a.profile)
+    };
+    assert_eq!(
+        (p.seed, p.sample, p.intervals, p.deviation_knots),
+        (7, 0, 72, 72)
+    );
+    assert_eq!(a.fpr, Some(p.fpr));
+    // The profile is camsim::actual::build_profile's sample 0.
+    let design = Design::<f64>::reference();
+    let argv = [
+        "camsim",
+        "run",
+        "--actual",
+        "--seed",
+        "7",
+        "--interval-deg",
+        "5",
+    ];
+    let Cmd::Run(parsed) = cli::parse_from(argv).unwrap().command else {
+        unreachable!()
+    };
+    let (_, stats) = camsim::actual::build_profile(&design, &parsed.actual, 0).unwrap();
+    assert_eq!(&stats, p);
+    // Another seed, another cam.
+    let c = run_cli(&strs(&quick(&[
+        "--actual",
+        "--seed",
+        "8",
+        "--interval-deg",
+        "5",
+    ])))
+    .unwrap();
+    assert_ne!(table(&a), table(&c));
+    // JSON: fpr at the top, the profile's statistics under "profile".
+    let json: serde_json::Value =
+        serde_json::from_str(&camsim::report::Report::json(&a).unwrap()).unwrap();
+    assert_eq!(json["fpr"], serde_json::json!(p.fpr));
+    for key in [
+        "rms_deviation_in",
+        "max_abs_deviation_in",
+        "intervals",
+        "method",
+        "seed",
+    ] {
+        assert!(json["profile"].get(key).is_some(), "{key}");
+    }
+    assert_eq!(json["profile"]["method"], "thesis");
+    // --plot adds the profile deviation against cam angle.
+    let d = scratch("plot");
+    let dir = d.join("plots");
+    let args = quick(&["--actual", "--plot", dir.to_str().unwrap()]);
+    run_cli(&strs(&args)).unwrap();
+    let png = std::fs::read(dir.join(camsim::plot::PROFILE_FILE)).unwrap();
+    assert!(png.starts_with(b"\x89PNG"));
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        camsim::plot::FILES_WITH_PROFILE.len()
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}
