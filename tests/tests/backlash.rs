@@ -8,6 +8,9 @@ use camsim_core::{
     simulate, CamModel, Design, RegulatedVertical, Sample, Scene, SolverSettings, Start,
 };
 
+/// One per-period statistic.
+type Stat = fn(&sim::PeriodRow) -> f64;
+
 type Model = CamModel<f64, RegulatedVertical, { <RegulatedVertical as Scene>::N }>;
 
 #[test]
@@ -37,8 +40,8 @@ fn a_vanishing_free_play_gives_the_rigid_coupling() {
         sim::period_rows(&spec.design, &play.stats),
     );
     assert_eq!(a.len(), b.len());
-    let scale = |f: fn(&sim::PeriodRow) -> f64| a.iter().map(|r| f(r).abs()).fold(0.0, f64::max);
-    let checks: [(&str, fn(&sim::PeriodRow) -> f64); 5] = [
+    let scale = |f: Stat| a.iter().map(|r| f(r).abs()).fold(0.0, f64::max);
+    let checks: [(&str, Stat); 5] = [
         ("rms_acceleration", |r| r.rms_acceleration),
         ("torque_avg", |r| r.torque_avg),
         ("torque_max", |r| r.torque_max),
