@@ -62,6 +62,16 @@ pub enum NormalArg {
     Polar,
 }
 
+impl NormalArg {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            NormalArg::Sum12 => "sum12",
+            NormalArg::Polar => "polar",
+        }
+    }
+}
+
 impl From<NormalArg> for NormalMethod {
     fn from(n: NormalArg) -> Self {
         match n {
@@ -210,8 +220,12 @@ pub struct ProfileStats {
     pub interval_source: IntervalSource,
     /// RMS of the lift deviation over one revolution, in.
     pub rms_deviation_in: f64,
+    /// Mean of the lift deviation, in.
+    pub mean_deviation_in: f64,
     /// Largest |lift deviation|, in.
     pub max_abs_deviation_in: f64,
+    /// RMS of the deviation's second derivative d²e/dθ², in/rad².
+    pub rms_curvature_in_per_rad2: f64,
     /// Waviness frequency per revolution (VI.4.1): local extrema of the velocity
     /// deviation `de/dθ` over one revolution (see [`FPR_SAMPLES`], [`FPR_THRESHOLD`]).
     pub fpr: usize,
@@ -245,14 +259,33 @@ pub const FPR_THRESHOLD: f64 = 0.01;
 /// interpolation noise of a perfect profile, not waviness.
 pub const FPR_FLOOR: f64 = 1e-6;
 
-/// Statistics of a deviation over one revolution: `(rms, max |e|, fpr)`.
-pub fn deviation_stats(dev: &HostDeviation) -> Result<(f64, f64, usize)> {
+/// Statistics of a lift deviation `e(θ)` over one revolution, from [`FPR_SAMPLES`]
+/// equal steps.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DeviationStats {
+    /// RMS of `e`, in.
+    pub rms_deviation_in: f64,
+    /// Mean of `e`, in (a roller riding on the crests of a wavy contour sits high).
+    pub mean_deviation_in: f64,
+    /// Largest `|e|`, in.
+    pub max_abs_deviation_in: f64,
+    /// RMS of `d²e/dθ²`, in/rad² (what the waviness adds to the follower's
+    /// acceleration, times ω²).
+    pub rms_curvature_in_per_rad2: f64,
+    /// Local extrema of `de/dθ` (VI.4.1, see [`FPR_THRESHOLD`]).
+    pub fpr: usize,
+}
+
+/// The statistics of a deviation (see [`DeviationStats`]).
+pub fn deviation_stats(dev: &HostDeviation) -> Result<DeviationStats> {
     let step = 2.0 * std::f64::consts::PI / FPR_SAMPLES as f64;
-    let (mut sq, mut max) = (0.0f64, 0.0f64);
+    let (mut sum, mut sq, mut sq2, mut max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for k in 0..FPR_SAMPLES {
         let e = dev.deviation(k as f64 * step);
+        sum += e.y;
         sq += e.y * e.y;
+        sq2 += e.d2y * e.d2y;
         max = max.max(e.y.abs());
         lo = lo.min(e.dy);
         hi = hi.max(e.dy);
@@ -261,7 +294,14 @@ pub fn deviation_stats(dev: &HostDeviation) -> Result<(f64, f64, usize)> {
     let fpr = camsim_core::waviness_fpr_of(FPR_SAMPLES, threshold, |k| {
         dev.deviation(k as f64 * step).dy
     })?;
-    Ok(((sq / FPR_SAMPLES as f64).sqrt(), max, fpr))
+    let n = FPR_SAMPLES as f64;
+    Ok(DeviationStats {
+        rms_deviation_in: (sq / n).sqrt(),
+        mean_deviation_in: sum / n,
+        max_abs_deviation_in: max,
+        rms_curvature_in_per_rad2: (sq2 / n).sqrt(),
+        fpr,
+    })
 }
 
 /// Intervals per revolution for `args` on `design`: `--interval-deg`, or the smallest
@@ -324,7 +364,7 @@ pub fn build_profile(
             (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
         }
     };
-    let (rms, max, fpr) = deviation_stats(&dev).context("profile statistics")?;
+    let ds = deviation_stats(&dev).context("profile statistics")?;
     let stats = ProfileStats {
         method: args.profile_method,
         normal: args.normal,
@@ -336,9 +376,11 @@ pub fn build_profile(
         intervals,
         interval_deg: 360.0 / intervals as f64,
         interval_source: source,
-        rms_deviation_in: rms,
-        max_abs_deviation_in: max,
-        fpr,
+        rms_deviation_in: ds.rms_deviation_in,
+        mean_deviation_in: ds.mean_deviation_in,
+        max_abs_deviation_in: ds.max_abs_deviation_in,
+        rms_curvature_in_per_rad2: ds.rms_curvature_in_per_rad2,
+        fpr: ds.fpr,
         deviation_knots: dev.spline().len().saturating_sub(1),
         roller_radius_in: cam_parts.map(|c| c.0),
         centre_offset_in: cam_parts.map(|c| c.1),

@@ -298,8 +298,12 @@ pub struct MeasuredStats {
     pub deviation_knots: usize,
     /// RMS of the lift deviation over one revolution, in.
     pub rms_deviation_in: f64,
+    /// Mean of the lift deviation, in.
+    pub mean_deviation_in: f64,
     /// Largest |lift deviation|, in.
     pub max_abs_deviation_in: f64,
+    /// RMS of the deviation's second derivative d²e/dθ², in/rad².
+    pub rms_curvature_in_per_rad2: f64,
     /// Waviness frequency per revolution (as for `--actual`).
     pub fpr: usize,
 }
@@ -356,7 +360,7 @@ impl Measured {
                     .context("the roller's envelope on the measured contour")?
             }
         };
-        let (rms, max, fpr) = deviation_stats(&dev)?;
+        let ds = deviation_stats(&dev)?;
         let knots = dev.spline().len().saturating_sub(1);
         Ok((
             dev,
@@ -365,9 +369,11 @@ impl Measured {
                 column: self.column,
                 points: self.angles_deg.len(),
                 deviation_knots: knots,
-                rms_deviation_in: rms,
-                max_abs_deviation_in: max,
-                fpr,
+                rms_deviation_in: ds.rms_deviation_in,
+                mean_deviation_in: ds.mean_deviation_in,
+                max_abs_deviation_in: ds.max_abs_deviation_in,
+                rms_curvature_in_per_rad2: ds.rms_curvature_in_per_rad2,
+                fpr: ds.fpr,
             },
         ))
     }

@@ -395,3 +395,18 @@ fn run_actual_reports_the_profile_and_is_reproducible() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn what_a_measured_profile_costs_the_firmware() {
+    // A DeviatedLift<f32, K> is one CubicSpline<f32, K>: knots, values and second
+    // derivatives (3 K f32 = 12 K B) plus the point count (usize), 1/h̄ (f32) and the
+    // periodic flag, rounded up to the alignment: 12 K + 9 B rounded to 4 on the chip
+    // (usize 4 B: 4 344 B at 1°, K = 361; 8 664 B at 0.5°, K = 721; checked by a const
+    // assertion built for thumbv7em-none-eabihf) and 12 K + 13 B rounded to 8 here.
+    use std::mem::size_of;
+    let host = |k: usize| (12 * k + 13).div_ceil(8) * 8;
+    assert_eq!(size_of::<DeviatedLift<f32, 361>>(), host(361)); // 4 352 B
+    assert_eq!(size_of::<DeviatedLift<f32, 721>>(), host(721)); // 8 672 B
+                                                                // The host's f64 spline: 24 K + 17 B rounded to 8.
+    assert_eq!(size_of::<DeviatedLift<f64, 3601>>(), 86_448);
+}

@@ -364,14 +364,18 @@ impl Report for RunReport {
             "camsim run: {} revolutions at {:.1} rpm, {} DOF model, preload F_p = {:.3} lb",
             self.revolutions, self.rpm, self.dofs, self.preload_lb
         );
+        let deviation = |rms: f64, mean: f64, max: f64, curv: f64, fpr: usize| {
+            format!(
+                "  lift deviation: rms {rms:.3e} in, mean {mean:.3e} in, max |e| {max:.3e} in, rms d2e/dtheta2 {curv:.3e} in/rad^2; FPR {fpr}"
+            )
+        };
         match &self.profile {
             Some(ProfileReport::Actual(p)) => {
                 let _ = writeln!(
                     out,
-                    "actual cam ({} method, seed {}, sample {}): tolerances cam {} in, roller {} in, eccentricity {} in; {} points every {} deg ({}); deviation rms {:.3e} in, max {:.3e} in; FPR {}",
-                    p.method.name(), p.seed, p.sample, p.cam_tolerance_in, p.roller_tolerance_in,
+                    "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} in, roller {} in, eccentricity {} in; {} points every {} deg ({})",
+                    p.method.name(), p.seed, p.sample, p.normal.name(), p.cam_tolerance_in, p.roller_tolerance_in,
                     p.eccentricity_tolerance_in, p.intervals, p.interval_deg, p.interval_source.name(),
-                    p.rms_deviation_in, p.max_abs_deviation_in, p.fpr
                 );
                 if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
                     let _ = writeln!(
@@ -380,13 +384,36 @@ impl Report for RunReport {
                         c[0], c[1], p.deviation_knots
                     );
                 }
+                let _ = writeln!(
+                    out,
+                    "{}",
+                    deviation(
+                        p.rms_deviation_in,
+                        p.mean_deviation_in,
+                        p.max_abs_deviation_in,
+                        p.rms_curvature_in_per_rad2,
+                        p.fpr
+                    )
+                );
             }
             Some(ProfileReport::Measured(p)) => {
                 let _ = writeln!(
                     out,
-                    "measured cam ({}, {} points, {} deviation knots): deviation rms {:.3e} in, max {:.3e} in; FPR {}",
-                    p.column.name(), p.points, p.deviation_knots, p.rms_deviation_in,
-                    p.max_abs_deviation_in, p.fpr
+                    "measured cam: column {}, {} points, {} deviation knots",
+                    p.column.name(),
+                    p.points,
+                    p.deviation_knots
+                );
+                let _ = writeln!(
+                    out,
+                    "{}",
+                    deviation(
+                        p.rms_deviation_in,
+                        p.mean_deviation_in,
+                        p.max_abs_deviation_in,
+                        p.rms_curvature_in_per_rad2,
+                        p.fpr
+                    )
                 );
             }
             None => {}
