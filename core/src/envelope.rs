@@ -1,5 +1,5 @@
 //! The exact envelope (beyond the thesis): the roller centre's displacement on an actual
-//! cam contour by exact contact of the roller circle (docs/MODEL.md §8.3).
+//! cam contour by exact contact of the roller circle (docs/MODEL.md §8.4).
 //!
 //! The thesis (IV.2.3) draws the follower's lift directly, point by point, within a
 //! linearised tolerance band; it argues that waviness shorter than the roller cannot be

@@ -16,7 +16,7 @@
 //!   probe (a CMM or a dial on a dividing head); angle 0 is where the follower axis
 //!   points at cam angle 0 and angles grow the way the cam angle does. The roller's
 //!   lift follows by the exact envelope of the design's roller circle on that contour
-//!   (camsim-core's `envelope` module, docs/MODEL.md §8.3).
+//!   (camsim-core's `envelope` module, docs/MODEL.md §8.4).
 //!
 //! The rows must have finite numbers, angles strictly increasing from a first angle in
 //! `[0, 360)`, and cover one revolution: either a last row at exactly first + 360 deg
