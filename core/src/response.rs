@@ -302,11 +302,10 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         } else {
             0
         };
-        // The theoretical response is the perfect cam's (the program's lift; VI.4: "a
-        // theoretically perfect cam, i.e. one with no manufacturing errors and no
-        // compliance"), also on an actual cam, whose deviation then counts in the
-        // statistics (docs/MODEL.md §8.1). On the theoretical cam it is p.lift itself.
-        let theory = self.theoretical(p.theta_c);
+        let w = d.omega0;
+        // The perfect cam's response (VI.4), not the lift the roller rides on: on an
+        // actual cam the deviation from it includes the profile's own error.
+        let theory = Theoretical::of(&d.program.follower(p.theta_c), w);
         let contact_stress = if stress && p.in_contact {
             // Roller diameter and the signed diameter of the cam surface at the contact.
             d.hertz.max_stress(
