@@ -1,10 +1,12 @@
 //! The camsim harness as a library: every command is a module of [`cmd`], so the
 //! integration tests can call the same code the binary runs, and [`cli`] is the binary.
 
+pub mod actual;
 pub mod args;
 pub mod cli;
 pub mod cmd;
 pub mod csv;
+pub mod measured;
 pub mod output;
 pub mod plot;
 pub mod report;

@@ -5,7 +5,7 @@
 use std::ops::ControlFlow;
 
 use camsim_core::{
-    simulate, CamModel, DeviatedLift, Design, LiftProfile, RegulatedVertical, Sample, Scene,
+    simulate, CamModel, Design, DeviatedLift, LiftProfile, RegulatedVertical, Sample, Scene,
     SolverSettings,
 };
 
@@ -15,8 +15,14 @@ const STEP: f64 = 2.0 * std::f64::consts::PI / 360.0;
 /// Every sample's contact force and load acceleration over one revolution.
 fn trace<P: LiftProfile<f64>>(m: &Model<P>) -> Vec<(f64, f64, f64)> {
     let mut out = Vec::new();
-    simulate(m, &SolverSettings::reference(), 1, &mut |s: &Sample<f64>| {
-        out.push((s.point.t, s.point.contact_force, s.point.load_acceleration()));
+    simulate(m, &SolverSettings::reference(), 1, &mut |s: &Sample<
+        f64,
+    >| {
+        out.push((
+            s.point.t,
+            s.point.contact_force,
+            s.point.load_acceleration(),
+        ));
         ControlFlow::Continue(())
     })
     .unwrap();
@@ -42,7 +48,11 @@ fn constant_deviation_shifts_the_lift_only() {
         let th = k as f64 * 0.5f64.to_radians() - 1.0;
         let (t, a) = (d.program.follower(th), dev.follower(&d.program, th));
         assert!((a.y - t.y - e).abs() < 1e-15, "y at {th}");
-        assert_eq!((a.dy, a.d2y, a.d3y), (t.dy, t.d2y, t.d3y), "derivatives at {th}");
+        assert_eq!(
+            (a.dy, a.d2y, a.d3y),
+            (t.dy, t.d2y, t.d3y),
+            "derivatives at {th}"
+        );
     }
     // A deviation over anything but one revolution is refused.
     assert!(DeviatedLift::<f64, 400>::uniform(STEP, 180, |_| 0.0).is_err());
