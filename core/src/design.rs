@@ -5,6 +5,7 @@
 //! each with its reason (docs/MODEL.md §5, §6). Nothing here is tuned to
 //! reproduce a published figure.
 
+use crate::keys::{segment_key, SegmentField};
 use crate::{
     non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real, Result,
 };
@@ -346,9 +347,87 @@ impl<T: Real> Design<T> {
         Ok(crate::return_spring_preload(k_t, self.k_rs, self.delta_rs)?.force)
     }
 
+    /// Every numeric scene key of the design (but the program's) with its value, in the
+    /// order of [`crate::key::DESIGN_KEYS`]; the regulated drive's four only with that drive.
+    fn scalars(&self) -> impl Iterator<Item = (&'static str, T)> {
+        use crate::key as k;
+        let g = &self.geometry;
+        let h = &self.hertz;
+        let drive = match self.drive {
+            DriveLaw::Regulated {
+                omega_ref,
+                t_steady,
+                k_p,
+                t_max,
+            } => Some([
+                (k::DRIVE_OMEGA_REF, omega_ref),
+                (k::DRIVE_T_STEADY, t_steady),
+                (k::DRIVE_K_P, k_p),
+                (k::DRIVE_T_MAX, t_max),
+            ]),
+            _ => None,
+        };
+        [
+            (k::I_M, self.i_m),
+            (k::I_CP, self.i_cp),
+            (k::I_C, self.i_c),
+            (k::C_MB, self.c_mb),
+            (k::C_S1, self.c_s1),
+            (k::C_S2, self.c_s2),
+            (k::C_CC, self.c_cc),
+            (k::K_S1, self.k_s1),
+            (k::K_S2, self.k_s2),
+            (k::OMEGA0, self.omega0),
+            (k::M_C, self.m_c),
+            (k::K_VS, self.k_vs),
+            (k::C_VS, self.c_vs),
+            (k::K_HS, self.k_hs),
+            (k::C_HS, self.c_hs),
+            (k::M_R, self.m_r),
+            (k::K_RB, self.k_rb),
+            (
+                k::ROLLER_BEARING_DAMPING_RATIO,
+                self.roller_bearing_damping_ratio,
+            ),
+            (k::CONTACT_DAMPING_RATIO, self.contact_damping_ratio),
+            (k::RHO, self.rho),
+            (k::YOUNGS, self.youngs),
+            (k::AREA, self.area),
+            (k::INERTIA_MOMENT, self.inertia_moment),
+            (k::E1, self.e1),
+            (k::E2, self.e2),
+            (k::BEARING_A, self.bearing_a),
+            (k::BEARING_B, self.bearing_b),
+            (k::MU, self.mu),
+            (k::FRICTION_SMOOTHING, self.friction_smoothing),
+            (k::DAMPING_RATIO_F1, self.damping_ratio_f1),
+            (k::M_L, self.m_l),
+            (k::M_SPRING, self.m_spring),
+            (k::K_RS, self.k_rs),
+            (k::DELTA_RS, self.delta_rs),
+            (k::K_RS_MODAL, self.k_rs_modal),
+            (k::BASE_RADIUS, g.base_radius),
+            (k::ROLLER_RADIUS, g.roller_radius),
+            (k::THICKNESS, g.thickness),
+            (k::ROLLER_YOUNGS, h.youngs_1),
+            (k::ROLLER_POISSON, h.poisson_1),
+            (k::CAM_YOUNGS, h.youngs_2),
+            (k::CAM_POISSON, h.poisson_2),
+            (k::CONTACT_LENGTH, h.thickness),
+        ]
+        .into_iter()
+        .chain(drive.into_iter().flatten())
+    }
+
     /// Checks every parameter, the geometry, the contact data and the drive, and that
     /// the roller fits the profile. The error names the scene key ([`crate::key`]),
     /// the value and the rule it broke.
+    ///
+    /// In this order: signs and finiteness (`must be positive and finite`), the
+    /// physical plausibility range of every key ([`crate::key::RANGES`], docs/MODEL.md
+    /// §5.16), then what the keys must satisfy together: no undercut, the cantilever
+    /// longer than the lift by more than the roller radius, a Hertz stiffness on the base
+    /// circle and a preload.
     pub fn validate(&self) -> Result<()> {
         use crate::key as k;
         for (field, v) in [
@@ -400,13 +479,14 @@ impl<T: Real> Design<T> {
         self.geometry.validate()?;
         self.hertz.validate()?;
         self.drive.validate()?;
-        let lift = self.program.max_lift();
-        if self.e2 <= lift {
-            return Err(Error::InvalidParameter {
-                field: k::E2,
-                rule: "cantilever length must exceed the program's maximum lift",
-                value: self.e2.to_f64(),
-            });
+        // Physical plausibility (every key has its range; the table's test checks it).
+        for (field, v) in self.scalars() {
+            if let Some(r) = k::range(field) {
+                r.check(field, v)?;
+            }
+        }
+        for (i, s) in self.program.segments().iter().enumerate() {
+            k::LENGTH_OR_ZERO.check(segment_key(SegmentField::LiftIn, i), s.lift)?;
         }
         // The roller must fit the profile: no undercut (a convex pitch radius below r_r).
         let u = self.geometry.undercut(&self.program, 3600)?;
@@ -417,24 +497,55 @@ impl<T: Real> Design<T> {
                 value: self.geometry.roller_radius.to_f64(),
             });
         }
+        // At full lift the roller (radius r_r, at the cantilever's end) must clear the
+        // slide bearing: e2 - lift > r_r (docs/MODEL.md §3.20, the bound the run checks).
+        let lift = self.program.max_lift();
+        if self.e2 - lift <= self.geometry.roller_radius {
+            return Err(Error::InvalidParameter {
+                field: k::E2,
+                rule: "cantilever length must exceed the program's largest lift by more than the roller radius (the roller would reach the slide bearing)",
+                value: self.e2.to_f64(),
+            });
+        }
         // K_h on the base circle: the roller and base radii must carry a line contact.
         self.k_h_base().map_err(|e| match e {
-            Error::InvalidParameter { field, rule, .. } => Error::InvalidParameter {
-                field: if field == "r2" {
-                    k::BASE_RADIUS
-                } else {
-                    k::ROLLER_RADIUS
-                },
+            Error::InvalidParameter {
+                field: "r2", rule, ..
+            } => Error::InvalidParameter {
+                field: k::BASE_RADIUS,
                 rule,
-                value: if field == "r2" {
-                    self.geometry.base_radius.to_f64()
-                } else {
-                    self.geometry.roller_radius.to_f64()
-                },
+                value: self.geometry.base_radius.to_f64(),
+            },
+            Error::InvalidParameter {
+                field: "r1", rule, ..
+            } => Error::InvalidParameter {
+                field: k::ROLLER_RADIUS,
+                rule,
+                value: self.geometry.roller_radius.to_f64(),
+            },
+            _ => Error::Inconsistent {
+                field: "hertz",
+                rule: "the contact data give no unit-load Hertz stiffness on the base circle",
+            },
+        })?;
+        // The preload's own checks name its inputs by their symbols: name the keys.
+        self.preload().map_err(|e| match e {
+            Error::InvalidParameter {
+                field: "delta_rs",
+                rule,
+                value,
+            } => Error::InvalidParameter {
+                field: k::DELTA_RS,
+                rule,
+                value,
+            },
+            Error::InvalidParameter { rule, value, .. } => Error::InvalidParameter {
+                field: k::K_RS,
+                rule,
+                value,
             },
             other => other,
         })?;
-        self.preload()?;
         Ok(())
     }
 }
@@ -449,9 +560,12 @@ impl<T: Real> Default for Design<T> {
 impl<T: Real> Design<T> {
     /// Moves the design to a new cam speed (rpm): ω0 and the drive's reference speed.
     ///
-    /// The error names `rpm` (the host's scene key is `run.rpm`, its flag `--rpm`).
+    /// The error names `rpm` ([`crate::key::RPM`]; the host's scene key is `run.rpm`, its
+    /// flag `--rpm`): it must be positive and finite and lie in
+    /// [`crate::key::SPEED_RPM`] (1-10 000 rpm).
     pub fn set_speed_rpm(&mut self, rpm: T) -> Result<()> {
-        positive("rpm", rpm)?;
+        positive(crate::key::RPM, rpm)?;
+        crate::key::SPEED_RPM.check(crate::key::RPM, rpm)?;
         let w = crate::rpm_to_rad_per_s(rpm);
         self.omega0 = w;
         self.drive = self.drive.at_speed(w);
@@ -648,18 +762,20 @@ mod cast_tests {
     }
 
     #[test]
-    fn cast_does_not_validate_and_a_tiny_value_can_vanish_in_f32() {
+    fn cast_does_not_validate_and_a_derived_rule_can_fail_in_f32() {
         let mut d = distinct();
         d.k_rb = -1.0;
         assert_eq!(d.cast::<f32>().unwrap().k_rb, -1.0f32);
-        // Positive in f64, zero in f32: validation in the new precision refuses it.
-        let mut tiny = Design::<f64>::reference();
-        tiny.friction_smoothing = 1e-50;
-        tiny.validate().unwrap();
-        let e = tiny.cast::<f32>().unwrap().validate().unwrap_err();
+        // The ranges hold in both precisions (rounding is monotone and the bounds are
+        // f32 numbers), but a rule between keys can fail in f32 alone: e2 just above
+        // lift + r_r = 1.875 in rounds to 1.875 in f32.
+        let mut tight = Design::<f64>::reference();
+        tight.e2 = 1.875 + 1e-9;
+        tight.validate().unwrap();
+        let e = tight.cast::<f32>().unwrap().validate().unwrap_err();
         assert!(matches!(
             e,
-            Error::InvalidParameter { field: "friction_smoothing_in_per_s", value, .. } if value == 0.0
+            Error::InvalidParameter { field: "e2_in", value, .. } if value == 1.875
         ));
         let _: String = std::format!("{e}");
     }

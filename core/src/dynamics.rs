@@ -11,9 +11,82 @@ use core::marker::PhantomData;
 
 use crate::{
     coulomb_friction, damped_contact_force, BearingLevers, Design, DriveKind, Error, FollowerLift,
-    OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof, RELATIVE_TO_LIFT,
-    TRANS_DOFS,
+    ModelLimit, OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TransDof,
+    RELATIVE_TO_LIFT, TRANS_DOFS,
 };
+
+/// The bounds of what the model represents (docs/MODEL.md §3.20), from a design: a
+/// simulation whose state crosses one ends with [`Error::OutOfModel`]
+/// ([`CamModel::check_validity`], called on every accepted state by [`crate::simulate`]).
+///
+/// Each bound follows from an assumption of the model, not from a fit: the Hertz line
+/// contact holds for a penetration small against the radii; the linear supports and the
+/// contact geometry (evaluated at the undeflected positions) for deflections small
+/// against the roller; the cantilever and the rod only while they have a length; linear
+/// torsion only for small twists; the program only for a cam that turns forward.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ValidityBounds<T> {
+    /// Largest contact penetration y + y1 - y2, in: min(r_r, R_b) / 100 (the contact's
+    /// half-width, about √(δ R), then stays near a tenth of the radius, Hertz's limit).
+    pub penetration: T,
+    /// Largest elastic deflection, in: r_r / 10 (cam shaft y1 and x1, roller bearing
+    /// y2 - y3 and x2 - x3, cantilever bending x3, cantilever compression y4 - y3 and rod
+    /// stretch y5 - y4).
+    pub deflection: T,
+    /// Shortest cantilever e2 - y3 and follower e1 + y3, in: r_r (the roller, of radius
+    /// r_r, at the cantilever's end would reach the slide bearing).
+    pub length: T,
+    /// Largest shaft twist θ_cp - θ_c and θ_m - θ_cp, rad: 0.1 (5.7°, linear torsion).
+    pub twist: T,
+}
+
+impl<T: Real> ValidityBounds<T> {
+    /// The bounds for `design` (docs/MODEL.md §3.20).
+    pub fn of(design: &Design<T>) -> Self {
+        let r_r = design.geometry.roller_radius;
+        let r_min = r_r.min(design.geometry.base_radius);
+        ValidityBounds {
+            penetration: r_min * T::from_f64(0.01),
+            deflection: r_r * T::from_f64(0.1),
+            length: r_r,
+            twist: T::from_f64(0.1),
+        }
+    }
+}
+
+/// The name of a state quantity in error messages (`"load y5 velocity"`).
+pub fn state_quantity_name(var: StateVar) -> &'static str {
+    let position = |d: TransDof| match d {
+        TransDof::CamY => "cam y1 displacement",
+        TransDof::CamX => "cam x1 displacement",
+        TransDof::RollerY => "roller y2 displacement",
+        TransDof::RollerX => "roller x2 displacement",
+        TransDof::CantileverY => "cantilever y3 displacement",
+        TransDof::CantileverX => "cantilever x3 displacement",
+        TransDof::Follower => "follower y4 displacement",
+        TransDof::Load => "load y5 displacement",
+    };
+    let velocity = |d: TransDof| match d {
+        TransDof::CamY => "cam y1 velocity",
+        TransDof::CamX => "cam x1 velocity",
+        TransDof::RollerY => "roller y2 velocity",
+        TransDof::RollerX => "roller x2 velocity",
+        TransDof::CantileverY => "cantilever y3 velocity",
+        TransDof::CantileverX => "cantilever x3 velocity",
+        TransDof::Follower => "follower y4 velocity",
+        TransDof::Load => "load y5 velocity",
+    };
+    match var {
+        StateVar::CamAngle => "cam angle",
+        StateVar::CouplingCamTwist => "coupling-cam shaft twist",
+        StateVar::MotorCouplingTwist => "motor-coupling shaft twist",
+        StateVar::CamSpeed => "cam speed",
+        StateVar::CouplingSpeed => "coupling speed",
+        StateVar::MotorSpeed => "motor speed",
+        StateVar::Position(d) => position(d),
+        StateVar::Velocity(d) => velocity(d),
+    }
+}
 
 /// Every quantity of the model at one instant (what an observer receives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -128,6 +201,7 @@ pub struct CamModel<T, S, const N: usize> {
     inv_m_l: T,
     c_rb: T,
     levers: BearingLevers<T>,
+    bounds: ValidityBounds<T>,
     scene: PhantomData<S>,
 }
 
@@ -157,6 +231,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
             inv_m_l: T::ONE / design.m_l,
             c_rb: design.c_rb(),
             levers: BearingLevers::new(design.bearing_a, design.bearing_b),
+            bounds: ValidityBounds::of(&design),
             d: design,
             scene: PhantomData,
         })
@@ -169,6 +244,76 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     /// The return-spring preload F_p (Eq. V.18), lb.
     pub fn preload(&self) -> T {
         self.preload
+    }
+    /// The bounds of what the model represents for this design (docs/MODEL.md §3.20).
+    pub fn validity_bounds(&self) -> &ValidityBounds<T> {
+        &self.bounds
+    }
+
+    /// Whether the evaluated point `p` lies within what the model represents
+    /// ([`ValidityBounds`]); otherwise the first bound it crosses, the quantity's value
+    /// and the bound. A few comparisons: [`crate::simulate`] calls it on every sample
+    /// (the midpoint and the end of each accepted step), not in the right-hand side.
+    pub fn check_validity(
+        &self,
+        p: &ModelPoint<T>,
+    ) -> core::result::Result<(), (ModelLimit, T, T)> {
+        let b = &self.bounds;
+        let [y1, x1, y2, x2, y3, x3, y4, y5] = p.pos;
+        // Positive while the roller presses into the cam (Eq. V.19's y + y1 - y2).
+        let penetration = p.lift.y + y1 - y2;
+        if penetration > b.penetration {
+            return Err((ModelLimit::Penetration, penetration, b.penetration));
+        }
+        let cantilever = self.d.e2 - y3;
+        if cantilever < b.length {
+            return Err((ModelLimit::CantileverLength, cantilever, b.length));
+        }
+        let follower = self.d.e1 + y3;
+        if follower < b.length {
+            return Err((ModelLimit::FollowerLength, follower, b.length));
+        }
+        for (what, v) in [
+            ("cam-shaft deflection y1", y1),
+            ("cam-shaft deflection x1", x1),
+            ("roller-bearing deflection y2 - y3", y2 - y3),
+            ("roller-bearing deflection x2 - x3", x2 - x3),
+            ("cantilever bending x3", x3),
+            ("cantilever compression y4 - y3", y4 - y3),
+            ("follower-rod stretch y5 - y4", y5 - y4),
+        ] {
+            if v.abs() > b.deflection {
+                return Err((ModelLimit::Deflection(what), v, b.deflection));
+            }
+        }
+        for (what, v) in [
+            ("coupling-cam shaft twist", p.theta_cp - p.theta_c),
+            ("motor-coupling shaft twist", p.theta_m - p.theta_cp),
+        ] {
+            if v.abs() > b.twist {
+                return Err((ModelLimit::Twist(what), v, b.twist));
+            }
+        }
+        if p.omega_c <= T::ZERO {
+            return Err((ModelLimit::CamSpeed, p.omega_c, T::ZERO));
+        }
+        Ok(())
+    }
+
+    /// The name of state component `i` of this scene in error messages
+    /// ([`state_quantity_name`]; `"state"` for an index the scene does not have).
+    pub fn state_quantity(&self, i: usize) -> &'static str {
+        let vars = StateVar::ROTATIONAL.into_iter().chain(
+            TransDof::ALL
+                .into_iter()
+                .flat_map(|d| [StateVar::Position(d), StateVar::Velocity(d)]),
+        );
+        for var in vars {
+            if S::LAYOUT.index(var) == Some(i) {
+                return state_quantity_name(var);
+            }
+        }
+        "state"
     }
     /// Named read access to a state of this model.
     #[inline(always)]

@@ -12,7 +12,7 @@ use core::ops::ControlFlow;
 
 use crate::{
     CamModel, England, EnglandConfig, Error, ModelPoint, Real, Result, Scene, SegmentKind,
-    SolverStats, StateMut, StateVar, Tolerance, TransDof,
+    SimFailure, SolverStats, StateMut, StateVar, Tolerance, TransDof,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -155,7 +155,8 @@ impl<T: Real> SolverSettings<T> {
 
     /// Checks the settings; errors name the scene key relative to `[solver]`
     /// ([`crate::key::RTOL`], ...): `rtol` in (0, 1), `atol_in` positive,
-    /// `max_step_fraction_rev` in (0, 0.25], `max_steps_per_rev` at least 1.
+    /// `max_step_fraction_rev` in (0, 0.25], `max_steps_per_rev` at least 1, then each
+    /// within its plausibility range ([`crate::key::RANGES`], docs/MODEL.md §5.16).
     pub fn validate(&self) -> Result<()> {
         use crate::key;
         crate::positive(key::RTOL, self.rtol)?;
@@ -182,6 +183,18 @@ impl<T: Real> SolverSettings<T> {
                 value: 0.0,
             });
         }
+        key::RTOL_RANGE.check(key::RTOL, self.rtol)?;
+        key::ATOL_RANGE.check(key::ATOL, self.atol)?;
+        key::STEP_FRACTION.check(key::MAX_STEP_FRACTION, self.max_step_fraction)?;
+        // A count: compared as an integer (the range's bounds are whole numbers).
+        const MAX_STEPS: u32 = key::STEPS_PER_REV.max as u32;
+        if self.max_steps_per_rev > MAX_STEPS {
+            return Err(crate::Error::InvalidParameter {
+                field: key::MAX_STEPS_PER_REV,
+                rule: key::STEPS_PER_REV.rule,
+                value: f64::from(self.max_steps_per_rev),
+            });
+        }
         Ok(())
     }
 }
@@ -202,9 +215,9 @@ pub fn solver_config<T: Real, S: Scene, const N: usize>(
     s: &SolverSettings<T>,
     revolutions: u32,
 ) -> Result<EnglandConfig<T, N>> {
-    crate::positive("rtol", s.rtol)?;
-    crate::positive("atol", s.atol)?;
-    crate::positive("max_step_fraction", s.max_step_fraction)?;
+    crate::positive(crate::key::RTOL, s.rtol)?;
+    crate::positive(crate::key::ATOL, s.atol)?;
+    crate::positive(crate::key::MAX_STEP_FRACTION, s.max_step_fraction)?;
     let d = model.design();
     let w0 = d.omega0;
     let ra = d.geometry.prime_radius();
@@ -237,6 +250,14 @@ pub fn solver_config<T: Real, S: Scene, const N: usize>(
 /// Simulates `revolutions` cam revolutions from the initial state `settings.start` selects
 /// (the thesis's VI.1 start or static equilibrium, docs/MODEL.md §5.11), feeding every
 /// sample to `observer`. Returns the solver's statistics.
+///
+/// Every sample (the midpoint and the end of each accepted step) is checked against the
+/// model's validity bounds first ([`CamModel::check_validity`], docs/MODEL.md §3.20): a
+/// state outside them ends the run with [`Error::OutOfModel`] (the observer has seen
+/// every sample before it). The solver's failures come back as
+/// [`Error::SimulationFailed`] with the cam angle of the last accepted sample and the
+/// quantity (not the state index) that became non-finite, or the scene key that raises
+/// the step budget.
 pub fn simulate<T: Real, S: Scene, const N: usize, O: Observer<T>>(
     model: &CamModel<T, S, N>,
     settings: &SolverSettings<T>,
@@ -264,8 +285,22 @@ pub fn simulate<T: Real, S: Scene, const N: usize, O: Observer<T>>(
     let stress = observer.needs_stress();
     let mut done = false;
     let mut stopped = false;
-    let stats = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
+    // Where the last accepted sample was (revolution, degrees, time), for the errors.
+    let mut last = (1u32, T::ZERO, T::ZERO);
+    let mut left: Option<Error> = None;
+    let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
         let sample = model.sample(t, y, stress);
+        if let Err((limit, value, bound)) = model.check_validity(&sample.point) {
+            left = Some(Error::OutOfModel {
+                limit,
+                value: value.to_f64(),
+                bound: bound.to_f64(),
+                revolution: sample.revolution,
+                cam_deg: sample.angle_deg.to_f64(),
+            });
+            return ControlFlow::Break(());
+        }
+        last = (sample.revolution, sample.angle_deg, t);
         if sample.point.theta_c >= target {
             done = true;
             return ControlFlow::Break(());
@@ -273,12 +308,30 @@ pub fn simulate<T: Real, S: Scene, const N: usize, O: Observer<T>>(
         let flow = observer.observe(&sample);
         stopped = flow.is_break();
         flow
+    });
+    if let Some(e) = left {
+        return Err(e);
+    }
+    let (revolution, cam_deg, t_last) = (last.0, last.1.to_f64(), last.2.to_f64());
+    let failed = |failure| Error::SimulationFailed {
+        failure,
+        revolution,
+        cam_deg,
+        t: t_last,
+    };
+    let stats = result.map_err(|e| match e {
+        Error::StepSizeUnderflow { h, .. } => failed(SimFailure::StepSizeUnderflow { h }),
+        Error::NonFinite { component, .. } => failed(SimFailure::NonFinite {
+            quantity: model.state_quantity(component),
+        }),
+        Error::StepBudgetExceeded { steps, .. } => failed(SimFailure::StepBudget {
+            steps,
+            per_revolution: settings.max_steps_per_rev,
+        }),
+        other => other,
     })?;
     if !done && !stopped {
-        return Err(Error::NoConvergence {
-            what: "cam revolutions (the drive stalled: the cam did not turn far enough in 4x the nominal time)",
-            iterations: stats.accepted,
-        });
+        return Err(failed(SimFailure::Stalled));
     }
     Ok(stats)
 }
