@@ -86,8 +86,36 @@ pub fn usage_line(e: &clap::Error) -> String {
     }
 }
 
+/// The one-line message of a usage error: clap's ([`usage_line`]), except that a missing
+/// command (bare `camsim`) says so and lists the commands instead of printing the tool's
+/// description as if it were the error.
+pub fn usage_message(e: &clap::Error) -> String {
+    use clap::CommandFactory;
+    if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        let cmd = Cli::command();
+        let names: Vec<&str> = cmd.get_subcommands().map(|c| c.get_name()).collect();
+        return format!("a command is required: {}", names.join(", "));
+    }
+    usage_line(e)
+}
+
+/// Whether `e` comes from writing to a closed pipe (`camsim ... | head`): the reader has
+/// what it wanted, which is not an error.
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// Writes one line to standard error (a closed standard error is not worth a panic).
+fn report_error(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
 /// The binary: parse, run, print any error on one line (exit 2 for usage errors, 1 for
-/// failures).
+/// failures; a closed standard output ends the run quietly with 0).
 pub fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(c) => c,
@@ -97,15 +125,22 @@ pub fn main() -> ExitCode {
                 let _ = e.print();
                 return ExitCode::SUCCESS;
             }
-            eprintln!("camsim: error: {} (see camsim --help)", usage_line(&e));
+            report_error(&format!(
+                "camsim: error: {} (see camsim --help)",
+                usage_message(&e)
+            ));
             return ExitCode::from(2);
         }
     };
     match execute(cli) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             // One line, no backtrace.
-            eprintln!("camsim: error: {}", format!("{e:#}").replace('\n', " "));
+            report_error(&format!(
+                "camsim: error: {}",
+                format!("{e:#}").replace('\n', " ")
+            ));
             ExitCode::FAILURE
         }
     }

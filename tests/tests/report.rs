@@ -109,14 +109,20 @@ fn a_refused_or_failed_run_never_creates_or_touches_the_csv() {
 
     // Refused by clap: one line naming the option, the value and the rule.
     for (bad, option, rule) in [
-        (["--rpm", "-5"], "--rpm", "must be positive and finite"),
+        (["--rpm", "-5"], "--rpm", "must lie in [1, 10000] rpm"),
+        (["--rpm", "1e300"], "--rpm", "must lie in [1, 10000] rpm"),
         (
             ["--rise", "nope"],
             "--rise",
             "possible values: straight-line",
         ),
         (["--revolutions", "0"], "--revolutions", "not in 1..=16"),
-        (["--rtol", "1"], "--rtol", "must be in (0, 1)"),
+        (["--rtol", "1"], "--rtol", "must lie in [1e-13, 0.1]"),
+        (
+            ["--spring-rate", "1e300"],
+            "--spring-rate",
+            "must lie in [0.01, 1e6] lb/in",
+        ),
         (
             ["--start", "cold"],
             "--start",
@@ -168,6 +174,8 @@ fn a_refused_or_failed_run_never_creates_or_touches_the_csv() {
     for csv in [new, old] {
         let e = run_cli(&[budget, "--csv", csv, "--force", "--plot", new_plots]).unwrap_err();
         assert!(e.contains("step budget"), "{e}");
+        // The message names the scene key that raises the budget.
+        assert!(e.contains("solver.max_steps_per_rev"), "{e}");
         assert_eq!(listing(&d), expect);
         let e = run_cli(&[budget, "--csv", csv, "--force", "--plot", plot_dir]).unwrap_err();
         assert!(e.contains("step budget"), "{e}");

@@ -5,7 +5,6 @@ use anyhow::{bail, Context};
 use camsim_core::HertzContact;
 use serde::Serialize;
 
-use crate::args::positive_finite;
 use crate::report::Report;
 
 /// Reference roller diameter d1 (in, VI.1).
@@ -18,8 +17,8 @@ pub const CAM_THICKNESS_IN: f64 = 0.25;
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Contact force in pounds (positive, finite).
-    #[arg(long, value_name = "LB", allow_negative_numbers = true, value_parser = positive_finite)]
+    /// Contact force in pounds (positive, up to 1e7).
+    #[arg(long, value_name = "LB", allow_negative_numbers = true, value_parser = crate::args::force)]
     pub force: f64,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -49,6 +48,9 @@ const FORCE_RULE: &str = "--force must be a positive, finite number of pounds";
 pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
     if !(force.is_finite() && force > 0.0) {
         bail!("{FORCE_RULE} (got {force})");
+    }
+    if force > crate::args::MAX_FORCE_LB {
+        bail!("--force {force:e}: {}", crate::args::FORCE_RANGE_RULE);
     }
     let hertz = HertzContact::<f64>::steel(CAM_THICKNESS_IN);
     let (r1, r2) = (ROLLER_DIAMETER_IN / 2.0, BASE_CIRCLE_DIAMETER_IN / 2.0);
