@@ -347,10 +347,10 @@ impl<T: Real> Design<T> {
         Ok(crate::return_spring_preload(k_t, self.k_rs, self.delta_rs)?.force)
     }
 
-    /// Every numeric scene key of the design (but the program's) with its value, in the
-    /// order of [`crate::key::DESIGN_KEYS`]; the regulated drive's four only with that drive.
-    fn scalars(&self) -> impl Iterator<Item = (&'static str, T)> {
-        use crate::key as k;
+    /// The value of every numeric scene key of the design (but the program's), in the
+    /// order of [`crate::key::DESIGN_KEYS`] and of [`crate::key::RANGES`]'s first entries;
+    /// the regulated drive's four (the last of them) only with that drive.
+    fn scalars(&self) -> impl Iterator<Item = T> {
         let g = &self.geometry;
         let h = &self.hertz;
         let drive = match self.drive {
@@ -359,61 +359,53 @@ impl<T: Real> Design<T> {
                 t_steady,
                 k_p,
                 t_max,
-            } => Some([
-                (k::DRIVE_OMEGA_REF, omega_ref),
-                (k::DRIVE_T_STEADY, t_steady),
-                (k::DRIVE_K_P, k_p),
-                (k::DRIVE_T_MAX, t_max),
-            ]),
+            } => Some([omega_ref, t_steady, k_p, t_max]),
             _ => None,
         };
         [
-            (k::I_M, self.i_m),
-            (k::I_CP, self.i_cp),
-            (k::I_C, self.i_c),
-            (k::C_MB, self.c_mb),
-            (k::C_S1, self.c_s1),
-            (k::C_S2, self.c_s2),
-            (k::C_CC, self.c_cc),
-            (k::K_S1, self.k_s1),
-            (k::K_S2, self.k_s2),
-            (k::OMEGA0, self.omega0),
-            (k::M_C, self.m_c),
-            (k::K_VS, self.k_vs),
-            (k::C_VS, self.c_vs),
-            (k::K_HS, self.k_hs),
-            (k::C_HS, self.c_hs),
-            (k::M_R, self.m_r),
-            (k::K_RB, self.k_rb),
-            (
-                k::ROLLER_BEARING_DAMPING_RATIO,
-                self.roller_bearing_damping_ratio,
-            ),
-            (k::CONTACT_DAMPING_RATIO, self.contact_damping_ratio),
-            (k::RHO, self.rho),
-            (k::YOUNGS, self.youngs),
-            (k::AREA, self.area),
-            (k::INERTIA_MOMENT, self.inertia_moment),
-            (k::E1, self.e1),
-            (k::E2, self.e2),
-            (k::BEARING_A, self.bearing_a),
-            (k::BEARING_B, self.bearing_b),
-            (k::MU, self.mu),
-            (k::FRICTION_SMOOTHING, self.friction_smoothing),
-            (k::DAMPING_RATIO_F1, self.damping_ratio_f1),
-            (k::M_L, self.m_l),
-            (k::M_SPRING, self.m_spring),
-            (k::K_RS, self.k_rs),
-            (k::DELTA_RS, self.delta_rs),
-            (k::K_RS_MODAL, self.k_rs_modal),
-            (k::BASE_RADIUS, g.base_radius),
-            (k::ROLLER_RADIUS, g.roller_radius),
-            (k::THICKNESS, g.thickness),
-            (k::ROLLER_YOUNGS, h.youngs_1),
-            (k::ROLLER_POISSON, h.poisson_1),
-            (k::CAM_YOUNGS, h.youngs_2),
-            (k::CAM_POISSON, h.poisson_2),
-            (k::CONTACT_LENGTH, h.thickness),
+            self.i_m,
+            self.i_cp,
+            self.i_c,
+            self.c_mb,
+            self.c_s1,
+            self.c_s2,
+            self.c_cc,
+            self.k_s1,
+            self.k_s2,
+            self.omega0,
+            self.m_c,
+            self.k_vs,
+            self.c_vs,
+            self.k_hs,
+            self.c_hs,
+            self.m_r,
+            self.k_rb,
+            self.roller_bearing_damping_ratio,
+            self.contact_damping_ratio,
+            self.rho,
+            self.youngs,
+            self.area,
+            self.inertia_moment,
+            self.e1,
+            self.e2,
+            self.bearing_a,
+            self.bearing_b,
+            self.mu,
+            self.friction_smoothing,
+            self.damping_ratio_f1,
+            self.m_l,
+            self.m_spring,
+            self.k_rs,
+            self.delta_rs,
+            self.k_rs_modal,
+            g.base_radius,
+            g.roller_radius,
+            g.thickness,
+            h.youngs_1,
+            h.poisson_1,
+            h.youngs_2,
+            h.poisson_2,
+            h.thickness,
         ]
         .into_iter()
         .chain(drive.into_iter().flatten())
@@ -428,6 +420,10 @@ impl<T: Real> Design<T> {
     /// §5.16), then what the keys must satisfy together: no undercut, the cantilever
     /// longer than the lift by more than the roller radius, a Hertz stiffness on the base
     /// circle and a preload.
+    ///
+    /// One copy, not inlined where it is called (on the chip: at boot and in every
+    /// steady-state run), which would cost flash for no time worth saving.
+    #[inline(never)]
     pub fn validate(&self) -> Result<()> {
         use crate::key as k;
         for (field, v) in [
@@ -479,11 +475,10 @@ impl<T: Real> Design<T> {
         self.geometry.validate()?;
         self.hertz.validate()?;
         self.drive.validate()?;
-        // Physical plausibility (every key has its range; the table's test checks it).
-        for (field, v) in self.scalars() {
-            if let Some(r) = k::range(field) {
-                r.check(field, v)?;
-            }
+        // Physical plausibility: the table's design entries, in the order of `scalars`
+        // (the test `range_table_follows_the_design_keys` holds the two in step).
+        for ((field, range), v) in k::RANGES.iter().zip(self.scalars()) {
+            range.check(field, v)?;
         }
         for (i, s) in self.program.segments().iter().enumerate() {
             k::LENGTH_OR_ZERO.check(segment_key(SegmentField::LiftIn, i), s.lift)?;
@@ -625,6 +620,67 @@ impl<T: Real> Design<T> {
             hertz: self.hertz.cast(),
             program: self.program.cast()?,
         })
+    }
+}
+
+#[cfg(test)]
+mod range_tests {
+    use super::*;
+    use crate::key;
+
+    /// `validate` pairs `scalars` with the range table by position: the table's first
+    /// entries are the design keys in `DESIGN_KEYS` order, the drive's last, and
+    /// `scalars` yields one value per key (the drive's only with the regulated drive).
+    #[test]
+    fn range_table_follows_the_design_keys() {
+        let table: std::vec::Vec<&str> = key::RANGES.iter().map(|(k, _)| *k).collect();
+        let design: std::vec::Vec<&str> = key::DESIGN_KEYS.iter().map(|(k, _)| *k).collect();
+        assert_eq!(table.get(..design.len()), Some(design.as_slice()));
+        assert_eq!(
+            design.get(design.len() - 4..),
+            Some(
+                &[
+                    key::DRIVE_OMEGA_REF,
+                    key::DRIVE_T_STEADY,
+                    key::DRIVE_K_P,
+                    key::DRIVE_T_MAX
+                ][..]
+            )
+        );
+        let d = Design::<f64>::reference();
+        assert_eq!(d.scalars().count(), design.len());
+        let mut ideal = d.clone();
+        ideal.drive = DriveLaw::ConstantCamSpeed;
+        assert_eq!(ideal.scalars().count(), design.len() - 4);
+        // Each value is its key's: spot checks by a distinct value per key.
+        let vals: std::vec::Vec<f64> = d.scalars().collect();
+        assert_eq!(vals[0], d.i_m);
+        assert_eq!(
+            vals[table.iter().position(|k| *k == key::E2).unwrap()],
+            d.e2
+        );
+        assert_eq!(
+            vals[table
+                .iter()
+                .position(|k| *k == key::CONTACT_LENGTH)
+                .unwrap()],
+            d.hertz.thickness
+        );
+        assert_eq!(
+            vals[table.iter().position(|k| *k == key::ROLLER_RADIUS).unwrap()],
+            d.geometry.roller_radius
+        );
+        // Out of range by a key: refused under that key with its rule.
+        let mut bad = d.clone();
+        bad.hertz.youngs_2 = 2e10;
+        assert_eq!(
+            bad.validate(),
+            Err(Error::InvalidParameter {
+                field: key::CAM_YOUNGS,
+                rule: key::MODULUS.rule,
+                value: 2e10
+            })
+        );
     }
 }
 

@@ -253,7 +253,9 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
     /// Whether the evaluated point `p` lies within what the model represents
     /// ([`ValidityBounds`]); otherwise the first bound it crosses, the quantity's value
     /// and the bound. A few comparisons: [`crate::simulate`] calls it on every sample
-    /// (the midpoint and the end of each accepted step), not in the right-hand side.
+    /// (the midpoint and the end of each accepted step), not in the right-hand side. One
+    /// copy, not inlined into every caller (it costs the chip's flash, not its time).
+    #[inline(never)]
     pub fn check_validity(
         &self,
         p: &ModelPoint<T>,
@@ -302,6 +304,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
 
     /// The name of state component `i` of this scene in error messages
     /// ([`state_quantity_name`]; `"state"` for an index the scene does not have).
+    #[inline(never)]
     pub fn state_quantity(&self, i: usize) -> &'static str {
         let vars = StateVar::ROTATIONAL.into_iter().chain(
             TransDof::ALL
@@ -616,5 +619,84 @@ impl<T: Real, S: Scene, const N: usize> OdeSystem<T, N> for CamModel<T, S, N> {
     fn rhs(&self, t: T, y: &[T; N], dydt: &mut [T; N]) {
         let p = self.evaluate_with(t, y, false);
         self.derivative(&p, dydt);
+    }
+}
+
+#[cfg(test)]
+mod validity_tests {
+    use super::*;
+    use crate::{RegulatedFull, RegulatedFullModel};
+
+    #[test]
+    fn bounds_follow_from_the_roller_and_base_radii() {
+        let d = Design::<f64>::reference();
+        let b = ValidityBounds::of(&d);
+        // r_r = 0.375 in, R_b = 1.5 in: r_min = r_r.
+        assert!((b.penetration - 0.375 / 100.0).abs() < 1e-18);
+        assert!((b.deflection - 0.0375).abs() < 1e-17);
+        assert_eq!((b.length, b.twist), (0.375, 0.1));
+        // A roller larger than the base circle: the base circle sets the penetration.
+        let mut big = d.clone();
+        big.geometry.roller_radius = 2.0;
+        assert!((ValidityBounds::of(&big).penetration - 0.015).abs() < 1e-17);
+    }
+
+    #[test]
+    fn each_bound_is_found_at_its_quantity() {
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let y = m.static_state();
+        let p = m.evaluate(0.0, &y);
+        assert_eq!(m.check_validity(&p), Ok(()));
+        // The follower thrown up to within 0.3 in of the slide bearing: e2 - y3 = 0.3.
+        let mut q = p;
+        q.pos[TransDof::CantileverY as usize] = 1.7;
+        let Err((limit, value, bound)) = m.check_validity(&q) else {
+            panic!("not refused")
+        };
+        assert_eq!(limit, ModelLimit::CantileverLength);
+        assert!((value - 0.3).abs() < 1e-15 && bound == 0.375);
+        // The cam shaft bent by 0.05 in > 0.0375.
+        let mut q = p;
+        q.pos[TransDof::CamX as usize] = -0.05;
+        let d = m.validity_bounds().deflection;
+        assert_eq!(
+            m.check_validity(&q),
+            Err((ModelLimit::Deflection("cam-shaft deflection x1"), -0.05, d))
+        );
+        // The roller 0.01 in into the cam (y + y1 - y2 = 0.01 > 0.00375).
+        let mut q = p;
+        q.pos[TransDof::RollerY as usize] = q.lift.y + q.pos[0] - 0.01;
+        let r = m.check_validity(&q);
+        assert!(
+            matches!(r, Err((ModelLimit::Penetration, v, _)) if (v - 0.01).abs() < 1e-12),
+            "{r:?}"
+        );
+        // A twisted coupling-cam shaft, a stopped cam.
+        let mut q = p;
+        q.theta_cp = q.theta_c + 0.2;
+        q.theta_m = q.theta_cp;
+        assert!(matches!(
+            m.check_validity(&q),
+            Err((ModelLimit::Twist("coupling-cam shaft twist"), _, _))
+        ));
+        let mut q = p;
+        q.omega_c = -1.0;
+        assert_eq!(m.check_validity(&q), Err((ModelLimit::CamSpeed, -1.0, 0.0)));
+    }
+
+    #[test]
+    fn every_state_component_has_a_name() {
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let names: std::vec::Vec<&str> = (0..<RegulatedFull as Scene>::N)
+            .map(|i| m.state_quantity(i))
+            .collect();
+        assert_eq!(names[0], "cam angle");
+        assert_eq!(names[21], "load y5 velocity");
+        let mut unique = names.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), names.len());
+        assert!(!names.contains(&"state"));
+        assert_eq!(m.state_quantity(22), "state");
     }
 }

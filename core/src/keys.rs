@@ -9,6 +9,11 @@
 //! Serde's `rename` takes only literals, so the literals in the derives repeat these
 //! strings; the host's tests check that every key here names a value of the serialized
 //! reference design and that every serialized value has a key here.
+//!
+//! Every numeric key has a physical plausibility range ([`key::RANGES`], [`key::Range`]),
+//! each with its reason at its constant and in docs/MODEL.md §5.16: the one table that
+//! [`crate::Design::validate`], [`crate::SolverSettings::validate`] and the host's option
+//! parsers check.
 
 /// Scene key constants (see the module documentation).
 pub mod key {
@@ -245,6 +250,9 @@ pub mod key {
 
         /// `value` if it is finite and within the range (compared in `T`: the bounds
         /// are converted with [`crate::Real::from_f64`]), else the refusal naming `field`.
+        /// One copy (a validation checks some fifty keys: inlined, they cost the chip
+        /// kilobytes of flash).
+        #[inline(never)]
         pub fn check<T: crate::Real>(&self, field: &'static str, value: T) -> crate::Result<T> {
             if value.is_finite() && value >= T::from_f64(self.min) && value <= T::from_f64(self.max)
             {
@@ -440,12 +448,13 @@ pub mod key {
         max: 0.25,
         rule: "must lie in [1e-6, 0.25] revolution",
     };
-    /// Step budget per revolution: 1 to 1e8 (9e8 right-hand sides, minutes per
-    /// revolution on a PC: a run stays bounded).
+    /// Step budget per revolution: 1 to 1e7 (five times the default: 9e7 right-hand
+    /// sides, about half a minute a revolution on a PC, so a run of 16 stays bounded; a
+    /// step of 1e-6 revolution, the smallest cap, needs 1e6).
     pub const STEPS_PER_REV: Range = Range {
         min: 1.0,
-        max: 1e8,
-        rule: "must lie in [1, 1e8] (a run stays bounded)",
+        max: 1e7,
+        rule: "must lie in [1, 1e7] (a run stays bounded)",
     };
 
     /// The plausibility range of every numeric scene key of a design
