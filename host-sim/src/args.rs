@@ -154,6 +154,15 @@ pub const MAX_FORCE_LB: f64 = 1e7;
 /// The rule of a force above [`MAX_FORCE_LB`].
 pub const FORCE_RANGE_RULE: &str = "must be at most 1e7 lb (far beyond any cam contact)";
 
+/// A speed resolution, rpm: positive, at most the whole speed range (10 000 rpm); below
+/// the numbers' spacing the bisection ends on neighbouring speeds.
+pub fn resolution_rpm(s: &str) -> Result<f64, String> {
+    match positive_finite(s)? {
+        x if x <= camsim_core::key::SPEED_RPM.max => Ok(x),
+        _ => Err("must be at most 10000 rpm (the whole speed range)".into()),
+    }
+}
+
 /// A whole number of megabytes, at least 1 (size limits).
 pub fn megabytes(s: &str) -> Result<u64, String> {
     match s.trim().parse::<u64>() {

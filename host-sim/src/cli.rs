@@ -108,6 +108,12 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
+/// The one line the binary prints (after `camsim: error: `) for a failed command: the
+/// error and its causes, joined.
+pub fn error_line(e: &anyhow::Error) -> String {
+    format!("{e:#}").replace('\n', " ")
+}
+
 /// Writes one line to standard error (a closed standard error is not worth a panic).
 fn report_error(line: &str) {
     use std::io::Write;
@@ -117,31 +123,38 @@ fn report_error(line: &str) {
 /// The binary: parse, run, print any error on one line (exit 2 for usage errors, 1 for
 /// failures; a closed standard output ends the run quietly with 0).
 pub fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    ExitCode::from(main_from(std::env::args_os()))
+}
+
+/// [`main`] for a given command line (the first item is the program name), returning the
+/// exit status: what the binary does, callable from tests.
+pub fn main_from<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,
         Err(e) => {
             // --help and --version are not errors.
             if !e.use_stderr() {
                 let _ = e.print();
-                return ExitCode::SUCCESS;
+                return 0;
             }
             report_error(&format!(
                 "camsim: error: {} (see camsim --help)",
                 usage_message(&e)
             ));
-            return ExitCode::from(2);
+            return 2;
         }
     };
     match execute(cli) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Ok(()) => 0,
+        Err(e) if is_broken_pipe(&e) => 0,
         Err(e) => {
             // One line, no backtrace.
-            report_error(&format!(
-                "camsim: error: {}",
-                format!("{e:#}").replace('\n', " ")
-            ));
-            ExitCode::FAILURE
+            report_error(&format!("camsim: error: {}", error_line(&e)));
+            1
         }
     }
 }

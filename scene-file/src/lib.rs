@@ -194,7 +194,7 @@ pub fn refusal(section: &str, error: camsim_core::Error) -> Error {
 /// One line for a TOML or serde error: line, column, the key there, the message. A
 /// program refused as it is read (by the core's `CamProgram::new`) names its own key.
 fn toml_error(text: &str, e: &toml::de::Error) -> Error {
-    let msg = e.message().trim().replace('\n', " ");
+    let msg = short_numbers(&e.message().trim().replace('\n', " "));
     if msg.starts_with(key::PROGRAM_SEGMENT) {
         return located(text, &format!("design.{msg}"));
     }
@@ -220,6 +220,22 @@ fn toml_error(text: &str, e: &toml::de::Error) -> Error {
             None => format!("line {line}, column {col}: {msg}"),
         },
     )
+}
+
+/// `msg` with every long number it quotes in backticks written in short scientific form:
+/// serde's type errors print a float with all its digits (1e300 as 301 of them).
+fn short_numbers(msg: &str) -> String {
+    let mut out = String::with_capacity(msg.len());
+    for (i, part) in msg.split('`').enumerate() {
+        if i > 0 {
+            out.push('`');
+        }
+        match part.parse::<f64>() {
+            Ok(v) if i % 2 == 1 && part.len() > 17 => out.push_str(&format!("{v:e}")),
+            _ => out.push_str(part),
+        }
+    }
+    out
 }
 
 /// `msg` (starting with a key path) prefixed with the line that sets the key, or the
@@ -349,6 +365,21 @@ mod tests {
         want.set_speed_rpm(1000.0).unwrap();
         assert_eq!(fast.design, want);
         assert_eq!(fast.design.omega0, 1000.0 * std::f64::consts::PI / 30.0);
+    }
+
+    #[test]
+    fn long_numbers_in_type_errors_are_written_short() {
+        let e = parse("[run]\nrevolutions = 1e300\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("floating point `1e300`, expected u32"), "{e}");
+        let e = parse("[run]\nrevolutions = 1e-300\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`1e-300`"), "{e}");
+        // Short ones stay as they are.
+        let e = parse("[run]\nrevolutions = 2.5\n").unwrap_err().to_string();
+        assert!(e.contains("`2.5`"), "{e}");
     }
 
     #[test]

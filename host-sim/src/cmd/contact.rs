@@ -18,7 +18,7 @@ pub const CAM_THICKNESS_IN: f64 = 0.25;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Contact force in pounds (positive, up to 1e7).
-    #[arg(long, value_name = "LB", allow_negative_numbers = true, value_parser = crate::args::force)]
+    #[arg(long, value_name = "LB", allow_hyphen_values = true, value_parser = crate::args::force)]
     pub force: f64,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -59,7 +59,13 @@ pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
         .context("unit-force Hertz stiffness")?;
     let k_at = hertz
         .stiffness_at(force, r1, r2)
-        .with_context(|| format!("Hertz stiffness at --force {force}"))?;
+        .map_err(|e| match e {
+            // The core names the radii by their symbols (r1, r2): say which they are here.
+            camsim_core::Error::InvalidParameter { rule, .. } => anyhow::anyhow!(
+                "--force {force:e}: the Hertz stiffness of the reference pair (roller radius {r1} in, base circle radius {r2} in) at this force: {rule} (the force is beyond Hertz's theory for this pair)"
+            ),
+            other => anyhow::anyhow!("--force {force:e}: {other}"),
+        })?;
     Ok(ContactReport {
         force_lb: force,
         k_h_lb_per_in: k_h,

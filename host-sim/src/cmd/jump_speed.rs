@@ -17,12 +17,12 @@ pub struct Args {
     /// The scene and its overrides (`--start` defaults to "static" here).
     #[command(flatten)]
     pub scene: run_cmd::SceneArgs,
-    /// Bisection resolution, rpm (positive; below the numbers' spacing the bisection
-    /// ends on neighbouring speeds).
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true, value_parser = crate::args::positive_finite)]
+    /// Bisection resolution, rpm (positive, at most 10 000; below the numbers' spacing
+    /// the bisection ends on neighbouring speeds).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::resolution_rpm)]
     pub resolution: f64,
     /// Highest speed searched, rpm (at most 10 000, the plausibility range of a cam speed).
-    #[arg(long, default_value_t = MAX_RPM, allow_negative_numbers = true, value_parser = crate::args::rpm)]
+    #[arg(long, default_value_t = MAX_RPM, allow_hyphen_values = true, value_parser = crate::args::rpm)]
     pub max_rpm: f64,
     /// Print JSON.
     #[arg(long)]

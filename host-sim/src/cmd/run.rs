@@ -21,7 +21,7 @@ pub struct SceneArgs {
     /// Scene file (TOML, see `camsim scene --default`); the reference design if omitted.
     pub scene: Option<PathBuf>,
     /// Cam speed, rpm, 1-10 000 (default 800).
-    #[arg(long, allow_negative_numbers = true, value_parser = args::rpm)]
+    #[arg(long, allow_hyphen_values = true, value_parser = args::rpm)]
     pub rpm: Option<f64>,
     /// Motion law of the rise(s) (names as in `camsim laws`).
     #[arg(long = "rise", value_name = "LAW", ignore_case = true)]
@@ -30,20 +30,20 @@ pub struct SceneArgs {
     #[arg(long = "return", value_name = "LAW", ignore_case = true)]
     pub ret: Option<Law>,
     /// Return spring rate K_rs, lb/in (0.01-1e6).
-    #[arg(long, value_name = "LB_PER_IN", allow_negative_numbers = true, value_parser = args::spring_rate)]
+    #[arg(long, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = args::spring_rate)]
     pub spring_rate: Option<f64>,
     /// Spring length compressed at assembly δ_rs, in (0-100).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = args::preload_length)]
+    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::preload_length)]
     pub preload_length: Option<f64>,
     /// Initial state (default: "thesis" for `run`, "static" for `jump-speed`, whose
     /// steady state the thesis start's impact would pollute).
     #[arg(long, value_enum)]
     pub start: Option<StartArg>,
     /// Solver relative tolerance (1e-13 to 0.1).
-    #[arg(long, allow_negative_numbers = true, value_parser = args::rtol)]
+    #[arg(long, allow_hyphen_values = true, value_parser = args::rtol)]
     pub rtol: Option<f64>,
     /// Solver absolute tolerance for displacements, in (1e-15 to 1e-3).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = args::atol)]
+    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::atol)]
     pub atol: Option<f64>,
 }
 
@@ -57,7 +57,7 @@ pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Revolutions to simulate, 1-16 (default 3, or the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub revolutions: Option<u32>,
     /// Write one CSV row per sample to FILE (written whole at the end of a successful
     /// run; an existing FILE needs --force).
@@ -66,7 +66,7 @@ pub struct Args {
     /// Largest --csv file, MB (10^6 bytes; the default is 1 GB). The size is estimated
     /// before the run (about 850 B a row, 120 000 rows a revolution at rtol 1e-6) and a
     /// larger one is refused; a run that writes more stops with an error and leaves no file.
-    #[arg(long, value_name = "MB", default_value_t = DEFAULT_MAX_CSV_MB, value_parser = megabytes)]
+    #[arg(long, value_name = "MB", default_value_t = DEFAULT_MAX_CSV_MB, allow_hyphen_values = true, value_parser = megabytes)]
     pub max_csv_mb: u64,
     /// Write PNG plots against cam angle into DIR (created if missing; its parent must
     /// exist; existing plots need --force).
