@@ -427,3 +427,16 @@ fn postcard_round_trips_the_design_and_refuses_a_bad_program() {
     let b = postcard::to_allocvec(&open).unwrap();
     assert!(postcard::from_bytes::<CamProgram<f32>>(&b).is_err());
 }
+
+/// A segment that does end after its start, but by less than the angle tolerance, is told
+/// so: not "must exceed the segment's start_deg" as if it did not.
+#[test]
+fn a_sliver_of_a_segment_is_refused_by_the_tolerance_it_misses() {
+    let text = "[[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 0\nend_deg = 30\n\
+        [[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 30\nend_deg = 30.0000001\n\
+        [[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 30.0000001\nend_deg = 360\n";
+    assert_eq!(
+        err(text),
+        "line 8: design.program.segment[1].end_deg = 30.0000001: must exceed the segment's start_deg by more than the angle tolerance (1e-6 deg; 3.4e-4 deg in f32)"
+    );
+}

@@ -284,13 +284,17 @@ pub fn report(args: &Args) -> Result<RunReport> {
         }
         _ => None,
     };
+    // A result with a number that is not finite is no success: refused before any
+    // output is committed (the temporaries go with it).
+    let report = RunReport::new(&spec, &result);
+    crate::report::ensure_finite(&report)?;
     if let Some(f) = csv_file {
         f.commit()?;
     }
     if let Some(p) = plots {
         p.commit()?;
     }
-    Ok(RunReport::new(&spec, &result))
+    Ok(report)
 }
 
 /// Runs the command.
