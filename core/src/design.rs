@@ -5,6 +5,7 @@
 //! each with its reason (docs/MODEL.md §5, §6). Nothing here is tuned to
 //! reproduce a published figure.
 
+use crate::keys::{segment_key, SegmentField};
 use crate::{
     non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real, Result,
 };
@@ -353,9 +354,83 @@ impl<T: Real> Design<T> {
         Ok(crate::return_spring_preload(k_t, self.k_rs, self.delta_rs)?.force)
     }
 
+    /// The value of every numeric scene key of the design (but the program's), in the
+    /// order of [`crate::key::DESIGN_KEYS`] and of [`crate::key::RANGES`]'s first entries;
+    /// the regulated drive's four (the last of them) only with that drive.
+    fn scalars(&self) -> impl Iterator<Item = T> {
+        let g = &self.geometry;
+        let h = &self.hertz;
+        let drive = match self.drive {
+            DriveLaw::Regulated {
+                omega_ref,
+                t_steady,
+                k_p,
+                t_max,
+            } => Some([omega_ref, t_steady, k_p, t_max]),
+            _ => None,
+        };
+        [
+            self.i_m,
+            self.i_cp,
+            self.i_c,
+            self.c_mb,
+            self.c_s1,
+            self.c_s2,
+            self.c_cc,
+            self.k_s1,
+            self.k_s2,
+            self.omega0,
+            self.m_c,
+            self.k_vs,
+            self.c_vs,
+            self.k_hs,
+            self.c_hs,
+            self.m_r,
+            self.k_rb,
+            self.roller_bearing_damping_ratio,
+            self.contact_damping_ratio,
+            self.rho,
+            self.youngs,
+            self.area,
+            self.inertia_moment,
+            self.e1,
+            self.e2,
+            self.bearing_a,
+            self.bearing_b,
+            self.mu,
+            self.friction_smoothing,
+            self.damping_ratio_f1,
+            self.m_l,
+            self.m_spring,
+            self.k_rs,
+            self.delta_rs,
+            self.k_rs_modal,
+            g.base_radius,
+            g.roller_radius,
+            g.thickness,
+            h.youngs_1,
+            h.poisson_1,
+            h.youngs_2,
+            h.poisson_2,
+            h.thickness,
+        ]
+        .into_iter()
+        .chain(drive.into_iter().flatten())
+    }
+
     /// Checks every parameter, the geometry, the contact data and the drive, and that
     /// the roller fits the profile. The error names the scene key ([`crate::key`]),
     /// the value and the rule it broke.
+    ///
+    /// In this order: signs and finiteness (`must be positive and finite`), the
+    /// physical plausibility range of every key ([`crate::key::RANGES`], docs/MODEL.md
+    /// §5.16), then what the keys must satisfy together: no undercut, the cantilever
+    /// longer than the lift by more than the roller radius, a Hertz stiffness on the base
+    /// circle and a preload.
+    ///
+    /// One copy, not inlined where it is called (on the chip: at boot and in every
+    /// steady-state run), which would cost flash for no time worth saving.
+    #[inline(never)]
     pub fn validate(&self) -> Result<()> {
         use crate::key as k;
         for (field, v) in [
@@ -408,13 +483,13 @@ impl<T: Real> Design<T> {
         self.geometry.validate()?;
         self.hertz.validate()?;
         self.drive.validate()?;
-        let lift = self.program.max_lift();
-        if self.e2 <= lift {
-            return Err(Error::InvalidParameter {
-                field: k::E2,
-                rule: "cantilever length must exceed the program's maximum lift",
-                value: self.e2.to_f64(),
-            });
+        // Physical plausibility: the table's design entries, in the order of `scalars`
+        // (the test `range_table_follows_the_design_keys` holds the two in step).
+        for ((field, range), v) in k::RANGES.iter().zip(self.scalars()) {
+            range.check(field, v)?;
+        }
+        for (i, s) in self.program.segments().iter().enumerate() {
+            k::LENGTH_OR_ZERO.check(segment_key(SegmentField::LiftIn, i), s.lift)?;
         }
         // The roller must fit the profile: no undercut (a convex pitch radius below r_r).
         let u = self.geometry.undercut(&self.program, 3600)?;
@@ -425,24 +500,55 @@ impl<T: Real> Design<T> {
                 value: self.geometry.roller_radius.to_f64(),
             });
         }
+        // At full lift the roller (radius r_r, at the cantilever's end) must clear the
+        // slide bearing: e2 - lift > r_r (docs/MODEL.md §3.20, the bound the run checks).
+        let lift = self.program.max_lift();
+        if self.e2 - lift <= self.geometry.roller_radius {
+            return Err(Error::InvalidParameter {
+                field: k::E2,
+                rule: "cantilever length must exceed the program's largest lift by more than the roller radius (the roller would reach the slide bearing)",
+                value: self.e2.to_f64(),
+            });
+        }
         // K_h on the base circle: the roller and base radii must carry a line contact.
         self.k_h_base().map_err(|e| match e {
-            Error::InvalidParameter { field, rule, .. } => Error::InvalidParameter {
-                field: if field == "r2" {
-                    k::BASE_RADIUS
-                } else {
-                    k::ROLLER_RADIUS
-                },
+            Error::InvalidParameter {
+                field: "r2", rule, ..
+            } => Error::InvalidParameter {
+                field: k::BASE_RADIUS,
                 rule,
-                value: if field == "r2" {
-                    self.geometry.base_radius.to_f64()
-                } else {
-                    self.geometry.roller_radius.to_f64()
-                },
+                value: self.geometry.base_radius.to_f64(),
+            },
+            Error::InvalidParameter {
+                field: "r1", rule, ..
+            } => Error::InvalidParameter {
+                field: k::ROLLER_RADIUS,
+                rule,
+                value: self.geometry.roller_radius.to_f64(),
+            },
+            _ => Error::Inconsistent {
+                field: "hertz",
+                rule: "the contact data give no unit-load Hertz stiffness on the base circle",
+            },
+        })?;
+        // The preload's own checks name its inputs by their symbols: name the keys.
+        self.preload().map_err(|e| match e {
+            Error::InvalidParameter {
+                field: "delta_rs",
+                rule,
+                value,
+            } => Error::InvalidParameter {
+                field: k::DELTA_RS,
+                rule,
+                value,
+            },
+            Error::InvalidParameter { rule, value, .. } => Error::InvalidParameter {
+                field: k::K_RS,
+                rule,
+                value,
             },
             other => other,
         })?;
-        self.preload()?;
         Ok(())
     }
 }
@@ -457,9 +563,12 @@ impl<T: Real> Default for Design<T> {
 impl<T: Real> Design<T> {
     /// Moves the design to a new cam speed (rpm): ω0 and the drive's reference speed.
     ///
-    /// The error names `rpm` (the host's scene key is `run.rpm`, its flag `--rpm`).
+    /// The error names `rpm` ([`crate::key::RPM`]; the host's scene key is `run.rpm`, its
+    /// flag `--rpm`): it must be positive and finite and lie in
+    /// [`crate::key::SPEED_RPM`] (1-10 000 rpm).
     pub fn set_speed_rpm(&mut self, rpm: T) -> Result<()> {
-        positive("rpm", rpm)?;
+        positive(crate::key::RPM, rpm)?;
+        crate::key::SPEED_RPM.check(crate::key::RPM, rpm)?;
         let w = crate::rpm_to_rad_per_s(rpm);
         self.omega0 = w;
         self.drive = self.drive.at_speed(w);
@@ -520,6 +629,67 @@ impl<T: Real> Design<T> {
             hertz: self.hertz.cast(),
             program: self.program.cast()?,
         })
+    }
+}
+
+#[cfg(test)]
+mod range_tests {
+    use super::*;
+    use crate::key;
+
+    /// `validate` pairs `scalars` with the range table by position: the table's first
+    /// entries are the design keys in `DESIGN_KEYS` order, the drive's last, and
+    /// `scalars` yields one value per key (the drive's only with the regulated drive).
+    #[test]
+    fn range_table_follows_the_design_keys() {
+        let table: std::vec::Vec<&str> = key::RANGES.iter().map(|(k, _)| *k).collect();
+        let design: std::vec::Vec<&str> = key::DESIGN_KEYS.iter().map(|(k, _)| *k).collect();
+        assert_eq!(table.get(..design.len()), Some(design.as_slice()));
+        assert_eq!(
+            design.get(design.len() - 4..),
+            Some(
+                &[
+                    key::DRIVE_OMEGA_REF,
+                    key::DRIVE_T_STEADY,
+                    key::DRIVE_K_P,
+                    key::DRIVE_T_MAX
+                ][..]
+            )
+        );
+        let d = Design::<f64>::reference();
+        assert_eq!(d.scalars().count(), design.len());
+        let mut ideal = d.clone();
+        ideal.drive = DriveLaw::ConstantCamSpeed;
+        assert_eq!(ideal.scalars().count(), design.len() - 4);
+        // Each value is its key's: spot checks by a distinct value per key.
+        let vals: std::vec::Vec<f64> = d.scalars().collect();
+        assert_eq!(vals[0], d.i_m);
+        assert_eq!(
+            vals[table.iter().position(|k| *k == key::E2).unwrap()],
+            d.e2
+        );
+        assert_eq!(
+            vals[table
+                .iter()
+                .position(|k| *k == key::CONTACT_LENGTH)
+                .unwrap()],
+            d.hertz.thickness
+        );
+        assert_eq!(
+            vals[table.iter().position(|k| *k == key::ROLLER_RADIUS).unwrap()],
+            d.geometry.roller_radius
+        );
+        // Out of range by a key: refused under that key with its rule.
+        let mut bad = d.clone();
+        bad.hertz.youngs_2 = 2e10;
+        assert_eq!(
+            bad.validate(),
+            Err(Error::InvalidParameter {
+                field: key::CAM_YOUNGS,
+                rule: key::MODULUS.rule,
+                value: 2e10
+            })
+        );
     }
 }
 
@@ -658,18 +828,20 @@ mod cast_tests {
     }
 
     #[test]
-    fn cast_does_not_validate_and_a_tiny_value_can_vanish_in_f32() {
+    fn cast_does_not_validate_and_a_derived_rule_can_fail_in_f32() {
         let mut d = distinct();
         d.k_rb = -1.0;
         assert_eq!(d.cast::<f32>().unwrap().k_rb, -1.0f32);
-        // Positive in f64, zero in f32: validation in the new precision refuses it.
-        let mut tiny = Design::<f64>::reference();
-        tiny.friction_smoothing = 1e-50;
-        tiny.validate().unwrap();
-        let e = tiny.cast::<f32>().unwrap().validate().unwrap_err();
+        // The ranges hold in both precisions (rounding is monotone and the bounds are
+        // f32 numbers), but a rule between keys can fail in f32 alone: e2 just above
+        // lift + r_r = 1.875 in rounds to 1.875 in f32.
+        let mut tight = Design::<f64>::reference();
+        tight.e2 = 1.875 + 1e-9;
+        tight.validate().unwrap();
+        let e = tight.cast::<f32>().unwrap().validate().unwrap_err();
         assert!(matches!(
             e,
-            Error::InvalidParameter { field: "friction_smoothing_in_per_s", value, .. } if value == 0.0
+            Error::InvalidParameter { field: "e2_in", value, .. } if value == 1.875
         ));
         let _: String = std::format!("{e}");
     }

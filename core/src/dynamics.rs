@@ -11,9 +11,82 @@ use core::marker::PhantomData;
 
 use crate::{
     coulomb_friction, damped_contact_force, BearingLevers, Design, DriveKind, Error, FollowerLift,
-    LiftProfile, OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar, TheoreticalLift,
-    TransDof, RELATIVE_TO_LIFT, TRANS_DOFS,
+    LiftProfile, ModelLimit, OdeSystem, Real, Result, Scene, StateMut, StateRef, StateVar,
+    TheoreticalLift, TransDof, RELATIVE_TO_LIFT, TRANS_DOFS,
 };
+
+/// The bounds of what the model represents (docs/MODEL.md §3.20), from a design: a
+/// simulation whose state crosses one ends with [`Error::OutOfModel`]
+/// ([`CamModel::check_validity`], called on every accepted state by [`crate::simulate`]).
+///
+/// Each bound follows from an assumption of the model, not from a fit: the Hertz line
+/// contact holds for a penetration small against the radii; the linear supports and the
+/// contact geometry (evaluated at the undeflected positions) for deflections small
+/// against the roller; the cantilever and the rod only while they have a length; linear
+/// torsion only for small twists; the program only for a cam that turns forward.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ValidityBounds<T> {
+    /// Largest contact penetration y + y1 - y2, in: min(r_r, R_b) / 100 (the contact's
+    /// half-width, about √(δ R), then stays near a tenth of the radius, Hertz's limit).
+    pub penetration: T,
+    /// Largest elastic deflection, in: r_r / 10 (cam shaft y1 and x1, roller bearing
+    /// y2 - y3 and x2 - x3, cantilever bending x3, cantilever compression y4 - y3 and rod
+    /// stretch y5 - y4).
+    pub deflection: T,
+    /// Shortest cantilever e2 - y3 and follower e1 + y3, in: r_r (the roller, of radius
+    /// r_r, at the cantilever's end would reach the slide bearing).
+    pub length: T,
+    /// Largest shaft twist θ_cp - θ_c and θ_m - θ_cp, rad: 0.1 (5.7°, linear torsion).
+    pub twist: T,
+}
+
+impl<T: Real> ValidityBounds<T> {
+    /// The bounds for `design` (docs/MODEL.md §3.20).
+    pub fn of(design: &Design<T>) -> Self {
+        let r_r = design.geometry.roller_radius;
+        let r_min = r_r.min(design.geometry.base_radius);
+        ValidityBounds {
+            penetration: r_min * T::from_f64(0.01),
+            deflection: r_r * T::from_f64(0.1),
+            length: r_r,
+            twist: T::from_f64(0.1),
+        }
+    }
+}
+
+/// The name of a state quantity in error messages (`"load y5 velocity"`).
+pub fn state_quantity_name(var: StateVar) -> &'static str {
+    let position = |d: TransDof| match d {
+        TransDof::CamY => "cam y1 displacement",
+        TransDof::CamX => "cam x1 displacement",
+        TransDof::RollerY => "roller y2 displacement",
+        TransDof::RollerX => "roller x2 displacement",
+        TransDof::CantileverY => "cantilever y3 displacement",
+        TransDof::CantileverX => "cantilever x3 displacement",
+        TransDof::Follower => "follower y4 displacement",
+        TransDof::Load => "load y5 displacement",
+    };
+    let velocity = |d: TransDof| match d {
+        TransDof::CamY => "cam y1 velocity",
+        TransDof::CamX => "cam x1 velocity",
+        TransDof::RollerY => "roller y2 velocity",
+        TransDof::RollerX => "roller x2 velocity",
+        TransDof::CantileverY => "cantilever y3 velocity",
+        TransDof::CantileverX => "cantilever x3 velocity",
+        TransDof::Follower => "follower y4 velocity",
+        TransDof::Load => "load y5 velocity",
+    };
+    match var {
+        StateVar::CamAngle => "cam angle",
+        StateVar::CouplingCamTwist => "coupling-cam shaft twist",
+        StateVar::MotorCouplingTwist => "motor-coupling shaft twist",
+        StateVar::CamSpeed => "cam speed",
+        StateVar::CouplingSpeed => "coupling speed",
+        StateVar::MotorSpeed => "motor speed",
+        StateVar::Position(d) => position(d),
+        StateVar::Velocity(d) => velocity(d),
+    }
+}
 
 /// Every quantity of the model at one instant (what an observer receives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -133,6 +206,7 @@ pub struct CamModel<T, S, const N: usize, P = TheoreticalLift> {
     inv_m_l: T,
     c_rb: T,
     levers: BearingLevers<T>,
+    bounds: ValidityBounds<T>,
     scene: PhantomData<S>,
 }
 
@@ -169,6 +243,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             inv_m_l: T::ONE / design.m_l,
             c_rb: design.c_rb(),
             levers: BearingLevers::new(design.bearing_a, design.bearing_b),
+            bounds: ValidityBounds::of(&design),
             d: design,
             profile,
             scene: PhantomData,
@@ -192,6 +267,79 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// The return-spring preload F_p (Eq. V.18), lb.
     pub fn preload(&self) -> T {
         self.preload
+    }
+    /// The bounds of what the model represents for this design (docs/MODEL.md §3.20).
+    pub fn validity_bounds(&self) -> &ValidityBounds<T> {
+        &self.bounds
+    }
+
+    /// Whether the evaluated point `p` lies within what the model represents
+    /// ([`ValidityBounds`]); otherwise the first bound it crosses, the quantity's value
+    /// and the bound. A few comparisons: [`crate::simulate`] calls it on every sample
+    /// (the midpoint and the end of each accepted step), not in the right-hand side. One
+    /// copy, not inlined into every caller (it costs the chip's flash, not its time).
+    #[inline(never)]
+    pub fn check_validity(
+        &self,
+        p: &ModelPoint<T>,
+    ) -> core::result::Result<(), (ModelLimit, T, T)> {
+        let b = &self.bounds;
+        let [y1, x1, y2, x2, y3, x3, y4, y5] = p.pos;
+        // Positive while the roller presses into the cam (Eq. V.19's y + y1 - y2).
+        let penetration = p.lift.y + y1 - y2;
+        if penetration > b.penetration {
+            return Err((ModelLimit::Penetration, penetration, b.penetration));
+        }
+        let cantilever = self.d.e2 - y3;
+        if cantilever < b.length {
+            return Err((ModelLimit::CantileverLength, cantilever, b.length));
+        }
+        let follower = self.d.e1 + y3;
+        if follower < b.length {
+            return Err((ModelLimit::FollowerLength, follower, b.length));
+        }
+        for (what, v) in [
+            ("cam-shaft deflection y1", y1),
+            ("cam-shaft deflection x1", x1),
+            ("roller-bearing deflection y2 - y3", y2 - y3),
+            ("roller-bearing deflection x2 - x3", x2 - x3),
+            ("cantilever bending x3", x3),
+            ("cantilever compression y4 - y3", y4 - y3),
+            ("follower-rod stretch y5 - y4", y5 - y4),
+        ] {
+            if v.abs() > b.deflection {
+                return Err((ModelLimit::Deflection(what), v, b.deflection));
+            }
+        }
+        for (what, v) in [
+            ("coupling-cam shaft twist", p.theta_cp - p.theta_c),
+            ("motor-coupling shaft twist", p.theta_m - p.theta_cp),
+        ] {
+            if v.abs() > b.twist {
+                return Err((ModelLimit::Twist(what), v, b.twist));
+            }
+        }
+        if p.omega_c <= T::ZERO {
+            return Err((ModelLimit::CamSpeed, p.omega_c, T::ZERO));
+        }
+        Ok(())
+    }
+
+    /// The name of state component `i` of this scene in error messages
+    /// ([`state_quantity_name`]; `"state"` for an index the scene does not have).
+    #[inline(never)]
+    pub fn state_quantity(&self, i: usize) -> &'static str {
+        let vars = StateVar::ROTATIONAL.into_iter().chain(
+            TransDof::ALL
+                .into_iter()
+                .flat_map(|d| [StateVar::Position(d), StateVar::Velocity(d)]),
+        );
+        for var in vars {
+            if S::LAYOUT.index(var) == Some(i) {
+                return state_quantity_name(var);
+            }
+        }
+        "state"
     }
     /// Named read access to a state of this model.
     #[inline(always)]
@@ -511,5 +659,84 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> OdeSystem<T, N>
     fn rhs(&self, t: T, y: &[T; N], dydt: &mut [T; N]) {
         let p = self.evaluate_with(t, y, false);
         self.derivative(&p, dydt);
+    }
+}
+
+#[cfg(test)]
+mod validity_tests {
+    use super::*;
+    use crate::{RegulatedFull, RegulatedFullModel};
+
+    #[test]
+    fn bounds_follow_from_the_roller_and_base_radii() {
+        let d = Design::<f64>::reference();
+        let b = ValidityBounds::of(&d);
+        // r_r = 0.375 in, R_b = 1.5 in: r_min = r_r.
+        assert!((b.penetration - 0.375 / 100.0).abs() < 1e-18);
+        assert!((b.deflection - 0.0375).abs() < 1e-17);
+        assert_eq!((b.length, b.twist), (0.375, 0.1));
+        // A roller larger than the base circle: the base circle sets the penetration.
+        let mut big = d.clone();
+        big.geometry.roller_radius = 2.0;
+        assert!((ValidityBounds::of(&big).penetration - 0.015).abs() < 1e-17);
+    }
+
+    #[test]
+    fn each_bound_is_found_at_its_quantity() {
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let y = m.static_state();
+        let p = m.evaluate(0.0, &y);
+        assert_eq!(m.check_validity(&p), Ok(()));
+        // The follower thrown up to within 0.3 in of the slide bearing: e2 - y3 = 0.3.
+        let mut q = p;
+        q.pos[TransDof::CantileverY as usize] = 1.7;
+        let Err((limit, value, bound)) = m.check_validity(&q) else {
+            panic!("not refused")
+        };
+        assert_eq!(limit, ModelLimit::CantileverLength);
+        assert!((value - 0.3).abs() < 1e-15 && bound == 0.375);
+        // The cam shaft bent by 0.05 in > 0.0375.
+        let mut q = p;
+        q.pos[TransDof::CamX as usize] = -0.05;
+        let d = m.validity_bounds().deflection;
+        assert_eq!(
+            m.check_validity(&q),
+            Err((ModelLimit::Deflection("cam-shaft deflection x1"), -0.05, d))
+        );
+        // The roller 0.01 in into the cam (y + y1 - y2 = 0.01 > 0.00375).
+        let mut q = p;
+        q.pos[TransDof::RollerY as usize] = q.lift.y + q.pos[0] - 0.01;
+        let r = m.check_validity(&q);
+        assert!(
+            matches!(r, Err((ModelLimit::Penetration, v, _)) if (v - 0.01).abs() < 1e-12),
+            "{r:?}"
+        );
+        // A twisted coupling-cam shaft, a stopped cam.
+        let mut q = p;
+        q.theta_cp = q.theta_c + 0.2;
+        q.theta_m = q.theta_cp;
+        assert!(matches!(
+            m.check_validity(&q),
+            Err((ModelLimit::Twist("coupling-cam shaft twist"), _, _))
+        ));
+        let mut q = p;
+        q.omega_c = -1.0;
+        assert_eq!(m.check_validity(&q), Err((ModelLimit::CamSpeed, -1.0, 0.0)));
+    }
+
+    #[test]
+    fn every_state_component_has_a_name() {
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let names: std::vec::Vec<&str> = (0..<RegulatedFull as Scene>::N)
+            .map(|i| m.state_quantity(i))
+            .collect();
+        assert_eq!(names[0], "cam angle");
+        assert_eq!(names[21], "load y5 velocity");
+        let mut unique = names.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), names.len());
+        assert!(!names.contains(&"state"));
+        assert_eq!(m.state_quantity(22), "state");
     }
 }

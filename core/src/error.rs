@@ -66,6 +66,120 @@ pub enum Error {
         /// Which matrix.
         what: &'static str,
     },
+    /// A simulation reached a state outside what the model represents (docs/MODEL.md
+    /// §3.20): the run ends there instead of integrating on into a state whose numbers
+    /// mean nothing.
+    OutOfModel {
+        /// Which bound was crossed (the physical quantity and why it is bounded).
+        limit: ModelLimit,
+        /// The quantity's value.
+        value: f64,
+        /// Its bound (an upper bound of a magnitude, or a lower bound: see [`ModelLimit`]).
+        bound: f64,
+        /// Revolution of the state, from 1.
+        revolution: u32,
+        /// Cam angle of the state within its revolution, degrees.
+        cam_deg: f64,
+    },
+    /// A simulation's solver could not continue, at a cam angle.
+    SimulationFailed {
+        /// Why.
+        failure: SimFailure,
+        /// Revolution of the last accepted state, from 1.
+        revolution: u32,
+        /// Cam angle of the last accepted state within its revolution, degrees.
+        cam_deg: f64,
+        /// Time of the last accepted state, s.
+        t: f64,
+    },
+}
+
+/// A bound of what the eleven-degree-of-freedom model represents, checked on every
+/// accepted state of a simulation (docs/MODEL.md §3.20; the bounds follow from the
+/// design: [`crate::ValidityBounds`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelLimit {
+    /// The contact penetration y + y1 - y2 above r_min / 100 (r_min the smaller of the
+    /// roller and base radii): beyond Hertz's small-contact theory.
+    Penetration,
+    /// The cantilever e2 - y3 shorter than the roller radius: the roller reaches the
+    /// slide bearing (the follower was thrown off the cam).
+    CantileverLength,
+    /// The follower e1 + y3 between load and slide bearing shorter than the roller
+    /// radius: the follower was driven down through its bearing.
+    FollowerLength,
+    /// An elastic deflection (named) above r_r / 10: the linear supports and the contact
+    /// geometry at the undeflected positions no longer hold.
+    Deflection(&'static str),
+    /// A shaft twist (named) above 0.1 rad: beyond linear torsion.
+    Twist(&'static str),
+    /// The cam speed at or below zero: the cam stopped or turned backwards.
+    CamSpeed,
+}
+
+impl ModelLimit {
+    /// The quantity, its unit, whether the bound is a lower one (else an upper bound of
+    /// the magnitude) and what crossing it means.
+    pub fn describe(&self) -> (&'static str, &'static str, bool, &'static str) {
+        match *self {
+            ModelLimit::Penetration => (
+                "contact penetration y + y1 - y2",
+                "in",
+                false,
+                "beyond Hertz's small-contact theory",
+            ),
+            ModelLimit::CantileverLength => (
+                "cantilever length e2 - y3",
+                "in",
+                true,
+                "the roller reaches the slide bearing: the follower was thrown off the cam",
+            ),
+            ModelLimit::FollowerLength => (
+                "follower length e1 + y3",
+                "in",
+                true,
+                "the follower was driven down through its slide bearing",
+            ),
+            ModelLimit::Deflection(what) => (
+                what,
+                "in",
+                false,
+                "beyond the small deflections of the linear supports and the contact geometry",
+            ),
+            ModelLimit::Twist(what) => (what, "rad", false, "beyond linear torsion"),
+            ModelLimit::CamSpeed => (
+                "cam speed",
+                "rad/s",
+                true,
+                "the cam stopped or turned backwards: the drive stalled",
+            ),
+        }
+    }
+}
+
+/// Why a simulation's solver could not continue ([`Error::SimulationFailed`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SimFailure {
+    /// The step size fell to its floor (a fixed fraction of a revolution) and was still
+    /// rejected.
+    StepSizeUnderflow {
+        /// The rejected double step, s.
+        h: f64,
+    },
+    /// A quantity of the state or its rate became NaN or infinite.
+    NonFinite {
+        /// The quantity (`"load y5 velocity"`).
+        quantity: &'static str,
+    },
+    /// The step budget ran out.
+    StepBudget {
+        /// Steps taken (accepted and rejected).
+        steps: u32,
+        /// The budget per revolution, the scene key `solver.max_steps_per_rev`.
+        per_revolution: u32,
+    },
+    /// The cam did not turn far enough within four times the nominal time.
+    Stalled,
 }
 
 impl fmt::Display for Error {
@@ -86,7 +200,7 @@ impl fmt::Display for Error {
             }
             Error::StepSizeUnderflow { t, h } => write!(
                 f,
-                "step size underflow at t = {t:e} s (h = {h:e} s): tolerance too tight or the system too stiff"
+                "step size underflow at t = {t:e} s (h = {h:e} s): the solution changes faster than the smallest step follows"
             ),
             Error::NonFinite { t, component } => {
                 write!(f, "state component {component} became non-finite at t = {t:e} s")
@@ -100,6 +214,82 @@ impl fmt::Display for Error {
             Error::NotPositiveDefinite { what } => {
                 write!(f, "{what} is not positive definite")
             }
+            Error::OutOfModel {
+                limit,
+                value,
+                bound,
+                revolution,
+                cam_deg,
+            } => {
+                let (what, unit, lower, why) = limit.describe();
+                write!(
+                    f,
+                    "the model left its valid range at cam angle {cam_deg:.2} deg of revolution {revolution}: {what} = {value:.3e} {unit}, {} its bound {bound:.3e} {unit} ({why})",
+                    if lower { "below" } else { "beyond" }
+                )
+            }
+            Error::SimulationFailed {
+                failure,
+                revolution,
+                cam_deg,
+                t,
+            } => {
+                let at = |f: &mut fmt::Formatter<'_>| {
+                    write!(
+                        f,
+                        "at cam angle {cam_deg:.2} deg of revolution {revolution} (t = {t:.6e} s)"
+                    )
+                };
+                match failure {
+                    SimFailure::StepSizeUnderflow { h } => {
+                        write!(f, "the solver could not continue ")?;
+                        at(f)?;
+                        write!(
+                            f,
+                            ": its step fell to {h:.3e} s, its floor (1e-13 of a revolution), and was still rejected: the state changes faster than any step follows"
+                        )
+                    }
+                    SimFailure::NonFinite { quantity } => {
+                        write!(f, "the {quantity} became NaN or infinite ")?;
+                        at(f)
+                    }
+                    SimFailure::StepBudget {
+                        steps,
+                        per_revolution,
+                    } => {
+                        write!(f, "the step budget ({steps} steps, {per_revolution} a revolution) ran out ")?;
+                        at(f)?;
+                        write!(f, ": raise solver.max_steps_per_rev")
+                    }
+                    SimFailure::Stalled => {
+                        write!(f, "the cam did not finish its revolutions in four times the nominal time: the drive stalled; last state ")?;
+                        at(f)
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Error {
+    /// A short name of the error (no formatting: for logs that cannot afford
+    /// `core::fmt`): the key of a parameter, the quantity of a model limit, or the kind.
+    pub fn summary(&self) -> &'static str {
+        match *self {
+            Error::InvalidParameter { field, .. } | Error::Inconsistent { field, .. } => field,
+            Error::Capacity { what, .. }
+            | Error::NoConvergence { what, .. }
+            | Error::NotPositiveDefinite { what } => what,
+            Error::StepSizeUnderflow { .. } => "step size underflow",
+            Error::NonFinite { .. } => "non-finite state",
+            Error::StepBudgetExceeded { .. } => "step budget exceeded",
+            Error::OutOfModel { limit, .. } => limit.describe().0,
+            Error::SimulationFailed { failure, .. } => match failure {
+                SimFailure::StepSizeUnderflow { .. } => "step size underflow",
+                SimFailure::NonFinite { quantity } => quantity,
+                SimFailure::StepBudget { .. } => "step budget exceeded",
+                SimFailure::Stalled => "drive stalled",
+            },
         }
     }
 }

@@ -9,6 +9,11 @@
 //! Serde's `rename` takes only literals, so the literals in the derives repeat these
 //! strings; the host's tests check that every key here names a value of the serialized
 //! reference design and that every serialized value has a key here.
+//!
+//! Every numeric key has a physical plausibility range ([`key::RANGES`], [`key::Range`]),
+//! each with its reason at its constant and in docs/MODEL.md §5.16: the one table that
+//! [`crate::Design::validate`], [`crate::SolverSettings::validate`] and the host's option
+//! parsers check.
 
 /// Scene key constants (see the module documentation).
 pub mod key {
@@ -217,6 +222,311 @@ pub mod key {
     pub const START: &str = "start";
     /// Every solver key.
     pub const SOLVER_KEYS: &[&str] = &[RTOL, ATOL, MAX_STEP_FRACTION, MAX_STEPS_PER_REV, START];
+
+    /// The cam speed in rpm: the name [`crate::Design::set_speed_rpm`]'s refusals use (the
+    /// host's scene key `run.rpm`, its option `--rpm`).
+    pub const RPM: &str = "rpm";
+
+    // --- plausibility ranges ---
+
+    /// A physical plausibility range: a value must be finite and lie in `[min, max]`
+    /// (in the key's unit). `rule` is the refusal's text; the reason for each range is
+    /// given at its constant below and in docs/MODEL.md §5.16.
+    ///
+    /// The ranges are wide (most span several decades around the reference value): they
+    /// refuse what no cam mechanism has (a 1e300 in base circle, a 1e-300 psi modulus),
+    /// so that nothing the model cannot mean runs to a "successful" result, and keep
+    /// every derived quantity (frequencies, step sizes, the step budget) within what
+    /// the solver handles in `f32` as in `f64`.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct Range {
+        /// Smallest plausible value.
+        pub min: f64,
+        /// Largest plausible value.
+        pub max: f64,
+        /// The rule a refusal states (`must lie in [0.01, 100] in (...)`).
+        pub rule: &'static str,
+    }
+
+    impl Range {
+        /// Whether `value` is finite and within `[min, max]`.
+        pub fn contains(&self, value: f64) -> bool {
+            value.is_finite() && value >= self.min && value <= self.max
+        }
+
+        /// `value` if it is finite and within the range (compared in `T`: the bounds
+        /// are converted with [`crate::Real::from_f64`]), else the refusal naming `field`.
+        /// One copy (a validation checks some fifty keys: inlined, they cost the chip
+        /// kilobytes of flash).
+        #[inline(never)]
+        pub fn check<T: crate::Real>(&self, field: &'static str, value: T) -> crate::Result<T> {
+            if value.is_finite() && value >= T::from_f64(self.min) && value <= T::from_f64(self.max)
+            {
+                Ok(value)
+            } else {
+                Err(crate::Error::InvalidParameter {
+                    field,
+                    rule: self.rule,
+                    value: value.to_f64(),
+                })
+            }
+        }
+    }
+
+    /// Polar moments of inertia, lb·in·s²: 1e-6 (a steel disc 1 in across and 0.1 in
+    /// thick, 7e-6) to 1e5 (a press flywheel 80 in across, 1.5e4).
+    pub const INERTIA: Range = Range {
+        min: 1e-6,
+        max: 1e5,
+        rule: "must lie in [1e-6, 1e5] lb in s^2 (a small disc to a press flywheel)",
+    };
+    /// Torsional viscous damping, lb·in·s/rad: 0 (none) to 1e4, which at 1 rad/s of
+    /// slip already takes 1e4 lb·in, more than the reference drive's breakdown torque
+    /// (345 lb·in) 30 times over.
+    pub const TORSIONAL_DAMPING: Range = Range {
+        min: 0.0,
+        max: 1e4,
+        rule: "must lie in [0, 1e4] lb in s/rad (none to far beyond any bearing drag)",
+    };
+    /// Torsional shaft stiffness, lb·in/rad: 1e2 (a steel shaft 0.25 in across and
+    /// 10 in long, G J / L = 440) to 1e10 (10 in across and 1 in long, 1.1e10).
+    pub const TORSIONAL_STIFFNESS: Range = Range {
+        min: 1e2,
+        max: 1e10,
+        rule: "must lie in [1e2, 1e10] lb in/rad (a thin long shaft to a short massive one)",
+    };
+    /// Cam speed, rpm: 1 (a cam that turns once a minute) to 10 000 (above any cam
+    /// drive: automotive valve trains turn their cams at up to about 4 000 rpm).
+    pub const SPEED_RPM: Range = Range {
+        min: 1.0,
+        max: 10_000.0,
+        rule: "must lie in [1, 10000] rpm (once a minute to above any cam drive)",
+    };
+    /// Cam speed, rad/s: [`SPEED_RPM`] in rad/s, 2π/60 to 2π·10 000/60 (rounded out).
+    pub const SPEED_RAD_PER_S: Range = Range {
+        min: 0.1047,
+        max: 1047.2,
+        rule: "must lie in [0.1047, 1047.2] rad/s (1 to 10000 rpm)",
+    };
+    /// Masses, lb·s²/in: 1e-6 (0.4 g) to 10 (a 3 860 lb slide).
+    pub const MASS: Range = Range {
+        min: 1e-6,
+        max: 10.0,
+        rule: "must lie in [1e-6, 10] lb s^2/in (0.4 g to 3860 lb)",
+    };
+    /// The return spring's mass, lb·s²/in: [`MASS`]'s upper end, and 0 (a massless
+    /// spring, as the printed model without F.1).
+    pub const SPRING_MASS: Range = Range {
+        min: 0.0,
+        max: 10.0,
+        rule: "must lie in [0, 10] lb s^2/in (massless to 3860 lb)",
+    };
+    /// Translational stiffness, lb/in: 1e2 (a soft mount) to 1e10 (beyond the stiffest
+    /// steel shafts and bearings; the reference's are 1.5e6, its Hertz contact 6.5e6).
+    pub const STIFFNESS: Range = Range {
+        min: 1e2,
+        max: 1e10,
+        rule: "must lie in [1e2, 1e10] lb/in (a soft mount to beyond a massive steel shaft)",
+    };
+    /// Translational viscous damping, lb·s/in: 0 to 1e5 (above critical damping of
+    /// the reference's supports, 2√(K_vs M_c) ≈ 400 lb·s/in).
+    pub const DAMPING: Range = Range {
+        min: 0.0,
+        max: 1e5,
+        rule: "must lie in [0, 1e5] lb s/in (none to far beyond critical damping)",
+    };
+    /// Damping ratios: 0 (undamped, the printed model) to 1 (critical damping; a
+    /// structural or bearing damping ratio is a few hundredths, V.14).
+    pub const DAMPING_RATIO: Range = Range {
+        min: 0.0,
+        max: 1.0,
+        rule: "must lie in [0, 1] (undamped to critically damped)",
+    };
+    /// Densities, lb·s²/in⁴: 1e-5 (a foamed polymer, 0.004 lb/in³) to 3e-3 (above
+    /// tungsten alloys, 1.8e-3); steel is 7.3e-4.
+    pub const DENSITY: Range = Range {
+        min: 1e-5,
+        max: 3e-3,
+        rule: "must lie in [1e-5, 3e-3] lb s^2/in^4 (a foamed polymer to tungsten)",
+    };
+    /// Young's moduli, psi: 1e5 (a soft engineering polymer) to 1e10 (sixty times
+    /// diamond's 1.7e8: the near-rigid limit a study may take, steel's 3e7 scaled by
+    /// 100 and more).
+    pub const MODULUS: Range = Range {
+        min: 1e5,
+        max: 1e10,
+        rule: "must lie in [1e5, 1e10] psi (a soft polymer to a near-rigid limit)",
+    };
+    /// Poisson's ratios: 0 to 0.5 (the incompressible limit; the contact data refuse
+    /// 0.5 itself).
+    pub const POISSON: Range = Range {
+        min: 0.0,
+        max: 0.5,
+        rule: "must be in [0, 0.5)",
+    };
+    /// Cross-sections, in²: 1e-4 (a rod 0.011 in across) to 1e3 (36 in across).
+    pub const CROSS_SECTION: Range = Range {
+        min: 1e-4,
+        max: 1e3,
+        rule: "must lie in [1e-4, 1e3] in^2 (a wire to a 36 in column)",
+    };
+    /// Second moments of area, in⁴: 1e-9 (a round rod 0.012 in across) to 1e6.
+    pub const SECOND_MOMENT: Range = Range {
+        min: 1e-9,
+        max: 1e6,
+        rule: "must lie in [1e-9, 1e6] in^4 (a wire to a 36 in column)",
+    };
+    /// Lengths and radii, in: 0.01 (a watch part) to 100 (an 8 ft machine part).
+    pub const LENGTH: Range = Range {
+        min: 0.01,
+        max: 100.0,
+        rule: "must lie in [0.01, 100] in (a watch part to an 8 ft machine part)",
+    };
+    /// Lengths that may vanish (a lever, an assembly compression, a dwell's lift), in:
+    /// 0 to 100.
+    pub const LENGTH_OR_ZERO: Range = Range {
+        min: 0.0,
+        max: 100.0,
+        rule: "must lie in [0, 100] in (none to an 8 ft machine part)",
+    };
+    /// Friction coefficients: 0 (frictionless) to 1 (dry clean steel on steel is about
+    /// 0.8; a lubricated slide bearing 0.05-0.1, VI.1's 0.08).
+    pub const FRICTION: Range = Range {
+        min: 0.0,
+        max: 1.0,
+        rule: "must lie in [0, 1] (frictionless to dry clean steel)",
+    };
+    /// The friction's smoothing speed v_s, in/s: 1e-6 to 10, small against the
+    /// follower's speeds (about 100 in/s at the reference's 800 rpm) so that the
+    /// tanh law is Coulomb's wherever the follower moves, and not so small that the
+    /// solver must resolve a step in force at every reversal (docs/MODEL.md §5.7).
+    pub const SMOOTHING: Range = Range {
+        min: 1e-6,
+        max: 10.0,
+        rule: "must lie in [1e-6, 10] in/s (small against the follower's speeds, large enough to resolve)",
+    };
+    /// Return-spring rates, lb/in: 1e-2 to 1e6 (the reference's 100; a valve spring
+    /// is a few hundred).
+    pub const SPRING_RATE: Range = Range {
+        min: 1e-2,
+        max: 1e6,
+        rule: "must lie in [0.01, 1e6] lb/in (a hair spring to a die spring stack)",
+    };
+    /// Motor torques, lb·in: magnitudes up to 1e6 (a 1 000 hp drive at 60 rpm is 1.05e6);
+    /// the torque limit at least 1e-2.
+    pub const TORQUE_LIMIT: Range = Range {
+        min: 1e-2,
+        max: 1e6,
+        rule: "must lie in [0.01, 1e6] lb in (a fractional to a 1000 hp drive)",
+    };
+    /// The regulated drive's feed-forward torque, lb·in: -1e6 to 1e6 (as
+    /// [`TORQUE_LIMIT`], either sign).
+    pub const TORQUE: Range = Range {
+        min: -1e6,
+        max: 1e6,
+        rule: "must lie in [-1e6, 1e6] lb in (up to a 1000 hp drive)",
+    };
+    /// The regulated drive's proportional gain, lb·in·s/rad: 0 (open loop) to 1e6
+    /// (the reference's 41: 1e6 holds a 1 000 hp drive within 1 rad/s).
+    pub const GAIN: Range = Range {
+        min: 0.0,
+        max: 1e6,
+        rule: "must lie in [0, 1e6] lb in s/rad (open loop to a 1000 hp drive held within 1 rad/s)",
+    };
+    /// Relative tolerance: 1e-13 (f64 arithmetic, 2.2e-16 a rounding, cannot meet less
+    /// over the steps of a revolution) to 0.1 (the thesis ran at 2 %).
+    pub const RTOL_RANGE: Range = Range {
+        min: 1e-13,
+        max: 0.1,
+        rule: "must lie in [1e-13, 0.1] (what f64 arithmetic resolves to 10 %)",
+    };
+    /// Absolute displacement tolerance, in: 1e-15 to 1e-3 (the deflections the model
+    /// resolves are 1e-5 to 1e-3 in: a looser tolerance resolves none of them).
+    pub const ATOL_RANGE: Range = Range {
+        min: 1e-15,
+        max: 1e-3,
+        rule: "must lie in [1e-15, 1e-3] in (a looser tolerance resolves no deflection)",
+    };
+    /// Largest double step, revolutions: 1e-6 (finer needs a million steps a revolution,
+    /// half the default budget) to 0.25 (coarser misses the program's periods).
+    pub const STEP_FRACTION: Range = Range {
+        min: 1e-6,
+        max: 0.25,
+        rule: "must lie in [1e-6, 0.25] revolution",
+    };
+    /// Step budget per revolution: 1 to 1e7 (five times the default: 9e7 right-hand
+    /// sides, about half a minute a revolution on a PC, so a run of 16 stays bounded; a
+    /// step of 1e-6 revolution, the smallest cap, needs 1e6).
+    pub const STEPS_PER_REV: Range = Range {
+        min: 1.0,
+        max: 1e7,
+        rule: "must lie in [1, 1e7] (a run stays bounded)",
+    };
+
+    /// The plausibility range of every numeric scene key of a design
+    /// ([`DESIGN_KEYS`]), of the solver ([`SOLVER_KEYS`] but `start`) and of [`RPM`];
+    /// a segment's `lift_in` takes [`LENGTH_OR_ZERO`]. [`crate::Design::validate`],
+    /// [`crate::SolverSettings::validate`] and [`crate::Design::set_speed_rpm`] check
+    /// these, and the host's option parsers check the same ranges.
+    pub const RANGES: &[(&str, Range)] = &[
+        (I_M, INERTIA),
+        (I_CP, INERTIA),
+        (I_C, INERTIA),
+        (C_MB, TORSIONAL_DAMPING),
+        (C_S1, TORSIONAL_DAMPING),
+        (C_S2, TORSIONAL_DAMPING),
+        (C_CC, TORSIONAL_DAMPING),
+        (K_S1, TORSIONAL_STIFFNESS),
+        (K_S2, TORSIONAL_STIFFNESS),
+        (OMEGA0, SPEED_RAD_PER_S),
+        (M_C, MASS),
+        (K_VS, STIFFNESS),
+        (C_VS, DAMPING),
+        (K_HS, STIFFNESS),
+        (C_HS, DAMPING),
+        (M_R, MASS),
+        (K_RB, STIFFNESS),
+        (ROLLER_BEARING_DAMPING_RATIO, DAMPING_RATIO),
+        (CONTACT_DAMPING_RATIO, DAMPING_RATIO),
+        (RHO, DENSITY),
+        (YOUNGS, MODULUS),
+        (AREA, CROSS_SECTION),
+        (INERTIA_MOMENT, SECOND_MOMENT),
+        (E1, LENGTH),
+        (E2, LENGTH),
+        (BEARING_A, LENGTH_OR_ZERO),
+        (BEARING_B, LENGTH),
+        (MU, FRICTION),
+        (FRICTION_SMOOTHING, SMOOTHING),
+        (DAMPING_RATIO_F1, DAMPING_RATIO),
+        (M_L, MASS),
+        (M_SPRING, SPRING_MASS),
+        (K_RS, SPRING_RATE),
+        (DELTA_RS, LENGTH_OR_ZERO),
+        (K_RS_MODAL, SPRING_RATE),
+        (BASE_RADIUS, LENGTH),
+        (ROLLER_RADIUS, LENGTH),
+        (THICKNESS, LENGTH),
+        (ROLLER_YOUNGS, MODULUS),
+        (ROLLER_POISSON, POISSON),
+        (CAM_YOUNGS, MODULUS),
+        (CAM_POISSON, POISSON),
+        (CONTACT_LENGTH, LENGTH),
+        (DRIVE_OMEGA_REF, SPEED_RAD_PER_S),
+        (DRIVE_T_STEADY, TORQUE),
+        (DRIVE_K_P, GAIN),
+        (DRIVE_T_MAX, TORQUE_LIMIT),
+        (RTOL, RTOL_RANGE),
+        (ATOL, ATOL_RANGE),
+        (MAX_STEP_FRACTION, STEP_FRACTION),
+        (MAX_STEPS_PER_REV, STEPS_PER_REV),
+        (RPM, SPEED_RPM),
+    ];
+
+    /// The plausibility range of `key` (a key of [`RANGES`]).
+    pub fn range(key: &str) -> Option<Range> {
+        RANGES.iter().find(|(k, _)| *k == key).map(|(_, r)| *r)
+    }
 }
 
 /// `program.segment[i].<field>` as a `&'static str` (no allocation): indices above 15

@@ -346,7 +346,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
             if s.end_deg - s.start_deg <= tol_deg {
                 return Err(invalid(
                     segment_key(SegmentField::EndDeg, i),
-                    "must exceed the segment's start_deg",
+                    "must exceed the segment's start_deg by more than the angle tolerance (1e-6 deg; 3.4e-4 deg in f32)",
                     s.end_deg,
                 ));
             }

@@ -12,7 +12,7 @@ use core::ops::ControlFlow;
 
 use crate::{
     CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
-    SegmentKind, SolverStats, StateMut, StateVar, Tolerance, TransDof,
+    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, Tolerance, TransDof,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -154,32 +154,26 @@ impl<T: Real> SolverSettings<T> {
     }
 
     /// Checks the settings; errors name the scene key relative to `[solver]`
-    /// ([`crate::key::RTOL`], ...): `rtol` in (0, 1), `atol_in` positive,
-    /// `max_step_fraction_rev` in (0, 0.25], `max_steps_per_rev` at least 1.
+    /// ([`crate::key::RTOL`], ...): `rtol`, `atol_in` and `max_step_fraction_rev` positive
+    /// and finite, then each within its plausibility range ([`crate::key::RANGES`],
+    /// docs/MODEL.md §5.16: `rtol` 1e-13 to 0.1, `atol_in` 1e-15 to 1e-3 in,
+    /// `max_step_fraction_rev` 1e-6 to 0.25, `max_steps_per_rev` 1 to 1e7).
     pub fn validate(&self) -> Result<()> {
         use crate::key;
         crate::positive(key::RTOL, self.rtol)?;
-        if self.rtol >= T::ONE {
-            return Err(crate::Error::InvalidParameter {
-                field: key::RTOL,
-                rule: "must be below 1",
-                value: self.rtol.to_f64(),
-            });
-        }
         crate::positive(key::ATOL, self.atol)?;
         crate::positive(key::MAX_STEP_FRACTION, self.max_step_fraction)?;
-        if self.max_step_fraction > T::from_f64(0.25) {
-            return Err(crate::Error::InvalidParameter {
-                field: key::MAX_STEP_FRACTION,
-                rule: "must be at most 0.25",
-                value: self.max_step_fraction.to_f64(),
-            });
-        }
-        if self.max_steps_per_rev == 0 {
+        key::RTOL_RANGE.check(key::RTOL, self.rtol)?;
+        key::ATOL_RANGE.check(key::ATOL, self.atol)?;
+        key::STEP_FRACTION.check(key::MAX_STEP_FRACTION, self.max_step_fraction)?;
+        // A count: compared as an integer (the range's bounds are whole numbers).
+        const MIN_STEPS: u32 = key::STEPS_PER_REV.min as u32;
+        const MAX_STEPS: u32 = key::STEPS_PER_REV.max as u32;
+        if !(MIN_STEPS..=MAX_STEPS).contains(&self.max_steps_per_rev) {
             return Err(crate::Error::InvalidParameter {
                 field: key::MAX_STEPS_PER_REV,
-                rule: "must be at least 1",
-                value: 0.0,
+                rule: key::STEPS_PER_REV.rule,
+                value: f64::from(self.max_steps_per_rev),
             });
         }
         Ok(())
@@ -202,9 +196,9 @@ pub fn solver_config<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
     s: &SolverSettings<T>,
     revolutions: u32,
 ) -> Result<EnglandConfig<T, N>> {
-    crate::positive("rtol", s.rtol)?;
-    crate::positive("atol", s.atol)?;
-    crate::positive("max_step_fraction", s.max_step_fraction)?;
+    crate::positive(crate::key::RTOL, s.rtol)?;
+    crate::positive(crate::key::ATOL, s.atol)?;
+    crate::positive(crate::key::MAX_STEP_FRACTION, s.max_step_fraction)?;
     let d = model.design();
     let w0 = d.omega0;
     let ra = d.geometry.prime_radius();
@@ -237,6 +231,14 @@ pub fn solver_config<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
 /// Simulates `revolutions` cam revolutions from the initial state `settings.start` selects
 /// (the thesis's VI.1 start or static equilibrium, docs/MODEL.md §5.11), feeding every
 /// sample to `observer`. Returns the solver's statistics.
+///
+/// Every sample (the midpoint and the end of each accepted step) is checked against the
+/// model's validity bounds first ([`CamModel::check_validity`], docs/MODEL.md §3.20): a
+/// state outside them ends the run with [`Error::OutOfModel`] (the observer has seen
+/// every sample before it). The solver's failures come back as
+/// [`Error::SimulationFailed`] with the cam angle of the last accepted sample and the
+/// quantity (not the state index) that became non-finite, or the scene key that raises
+/// the step budget.
 pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>>(
     model: &CamModel<T, S, N, P>,
     settings: &SolverSettings<T>,
@@ -251,7 +253,21 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
         });
     }
     let config = solver_config(model, settings, revolutions)?;
-    let mut solver = England::new(config)?;
+    // The solver's own names for what the settings derive (h_max, h_init, max_steps) are
+    // not scene keys: name the key that sets each (unreachable with validated settings).
+    let mut solver = England::new(config).map_err(|e| match e {
+        Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
+            field: match field {
+                "max_steps" => crate::key::MAX_STEPS_PER_REV,
+                "rtol" => crate::key::RTOL,
+                "atol" => crate::key::ATOL,
+                _ => crate::key::MAX_STEP_FRACTION,
+            },
+            rule,
+            value,
+        },
+        other => other,
+    })?;
     let d = model.design();
     let two_pi = T::TWO * T::PI;
     let target = two_pi * T::from_usize(revolutions as usize);
@@ -264,8 +280,22 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
     let stress = observer.needs_stress();
     let mut done = false;
     let mut stopped = false;
-    let stats = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
+    // Where the last accepted sample was (revolution, degrees, time), for the errors.
+    let mut last = (1u32, T::ZERO, T::ZERO);
+    let mut left: Option<Error> = None;
+    let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
         let sample = model.sample(t, y, stress);
+        if let Err((limit, value, bound)) = model.check_validity(&sample.point) {
+            left = Some(Error::OutOfModel {
+                limit,
+                value: value.to_f64(),
+                bound: bound.to_f64(),
+                revolution: sample.revolution,
+                cam_deg: sample.angle_deg.to_f64(),
+            });
+            return ControlFlow::Break(());
+        }
+        last = (sample.revolution, sample.angle_deg, t);
         if sample.point.theta_c >= target {
             done = true;
             return ControlFlow::Break(());
@@ -273,12 +303,30 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
         let flow = observer.observe(&sample);
         stopped = flow.is_break();
         flow
+    });
+    if let Some(e) = left {
+        return Err(e);
+    }
+    let (revolution, cam_deg, t_last) = (last.0, last.1.to_f64(), last.2.to_f64());
+    let failed = |failure| Error::SimulationFailed {
+        failure,
+        revolution,
+        cam_deg,
+        t: t_last,
+    };
+    let stats = result.map_err(|e| match e {
+        Error::StepSizeUnderflow { h, .. } => failed(SimFailure::StepSizeUnderflow { h }),
+        Error::NonFinite { component, .. } => failed(SimFailure::NonFinite {
+            quantity: model.state_quantity(component),
+        }),
+        Error::StepBudgetExceeded { steps, .. } => failed(SimFailure::StepBudget {
+            steps,
+            per_revolution: settings.max_steps_per_rev,
+        }),
+        other => other,
     })?;
     if !done && !stopped {
-        return Err(Error::NoConvergence {
-            what: "cam revolutions (the drive stalled: the cam did not turn far enough in 4x the nominal time)",
-            iterations: stats.accepted,
-        });
+        return Err(failed(SimFailure::Stalled));
     }
     Ok(stats)
 }
@@ -579,5 +627,123 @@ pub fn period_name(kind: SegmentKind, level_before: bool) -> &'static str {
         SegmentKind::Dwell => "dwell_low",
         SegmentKind::Rise(_) => "rise",
         SegmentKind::Return(_) => "return",
+    }
+}
+
+#[cfg(test)]
+mod run_error_tests {
+    use super::*;
+    use crate::{Design, ModelLimit, RegulatedFullModel, SimFailure};
+    use std::string::ToString;
+
+    #[test]
+    fn a_thrown_follower_ends_the_run_with_the_cause_and_the_cam_angle() {
+        // 1600 rpm, far above the onset (902 rpm): the follower leaves the cam on the rise
+        // and flies into its slide bearing before the revolution ends.
+        let mut d = Design::<f64>::reference();
+        d.set_speed_rpm(1600.0).unwrap();
+        let m = RegulatedFullModel::<f64>::new(d).unwrap();
+        let mut s = SolverSettings::reference();
+        s.start = Start::Static;
+        let mut seen = 0u32;
+        let mut count = |_: &Sample<f64>| {
+            seen += 1;
+            ControlFlow::Continue(())
+        };
+        let e = simulate(&m, &s, 2, &mut count).unwrap_err();
+        let Error::OutOfModel {
+            limit,
+            value,
+            bound,
+            revolution,
+            cam_deg,
+        } = e
+        else {
+            panic!("{e:?}")
+        };
+        assert_eq!(limit, ModelLimit::CantileverLength);
+        assert!(value < bound && bound == 0.375 && value > 0.3, "{value}");
+        // On the rise (30-180 deg) or just after it, of revolution 1.
+        assert_eq!(revolution, 1);
+        assert!(cam_deg > 90.0 && cam_deg < 210.0, "{cam_deg}");
+        assert!(seen > 100);
+        let text = e.to_string();
+        assert!(
+            text.starts_with(&std::format!(
+                "the model left its valid range at cam angle {cam_deg:.2} deg of revolution 1: cantilever length e2 - y3 = "
+            )),
+            "{text}"
+        );
+        assert!(text.contains("below its bound 3.750e-1 in"), "{text}");
+        assert_eq!(e.summary(), "cantilever length e2 - y3");
+    }
+
+    #[test]
+    fn a_spent_step_budget_names_the_key_that_raises_it() {
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let mut s = SolverSettings::reference();
+        s.max_steps_per_rev = 50;
+        let mut nothing = |_: &Sample<f64>| ControlFlow::Continue(());
+        let e = simulate(&m, &s, 2, &mut nothing).unwrap_err();
+        let Error::SimulationFailed {
+            failure,
+            revolution,
+            cam_deg,
+            t,
+        } = e
+        else {
+            panic!("{e:?}")
+        };
+        // 50 a revolution over 2 revolutions: 100 steps, at most 1/2000 revolution each.
+        assert_eq!(
+            failure,
+            SimFailure::StepBudget {
+                steps: 100,
+                per_revolution: 50
+            }
+        );
+        assert_eq!(revolution, 1);
+        assert!(
+            cam_deg > 0.0 && cam_deg < 100.0 * 360.0 / 2000.0 + 1e-9,
+            "{cam_deg}"
+        );
+        assert!(t > 0.0);
+        let text = e.to_string();
+        assert!(text.contains("(100 steps, 50 a revolution)"), "{text}");
+        assert!(text.ends_with(": raise solver.max_steps_per_rev"), "{text}");
+    }
+
+    #[test]
+    fn the_settings_refuse_values_outside_their_ranges_by_key() {
+        let field = |s: SolverSettings<f64>| match s.validate() {
+            Err(Error::InvalidParameter { field, .. }) => field,
+            _ => "",
+        };
+        let r = SolverSettings::<f64>::reference();
+        assert_eq!(field(r), "");
+        assert_eq!(field(SolverSettings { rtol: 0.5, ..r }), "rtol");
+        assert_eq!(field(SolverSettings { rtol: 1e-300, ..r }), "rtol");
+        assert_eq!(field(SolverSettings { atol: 1.0, ..r }), "atol_in");
+        assert_eq!(
+            field(SolverSettings {
+                max_step_fraction: 1e-9,
+                ..r
+            }),
+            "max_step_fraction_rev"
+        );
+        assert_eq!(
+            field(SolverSettings {
+                max_steps_per_rev: 0,
+                ..r
+            }),
+            "max_steps_per_rev"
+        );
+        assert_eq!(
+            field(SolverSettings {
+                max_steps_per_rev: u32::MAX,
+                ..r
+            }),
+            "max_steps_per_rev"
+        );
     }
 }

@@ -1,7 +1,10 @@
 //! Values of the command line that clap checks: the motion laws and the initial state
 //! as [`ValueEnum`]s, and the numeric rules as value parsers. A refused value is a clap
 //! error, one line naming the option, the value and the rule
-//! (`invalid value '-5' for '--rpm <RPM>': must be positive and finite`).
+//! (`invalid value '-5' for '--rpm <RPM>': must lie in [1, 10000] rpm (...)`). An option
+//! that sets a scene key is checked against that key's plausibility range (core's
+//! [`camsim_core::key::RANGES`]); the numeric options take values with a leading hyphen
+//! (`allow_hyphen_values`), so `-1` and `-inf` are refused by the rule, not taken for flags.
 
 use camsim_core::{MotionLaw, Start};
 use clap::builder::PossibleValue;
@@ -97,6 +100,70 @@ pub fn unit_interval(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A number within the plausibility range of scene key `key` (core's
+/// [`camsim_core::key::RANGES`], the ranges [`camsim_core::Design::validate`] checks):
+/// the option and its scene key are judged by one rule.
+fn in_range(s: &str, key: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    let Some(r) = camsim_core::key::range(key) else {
+        return Err(format!("no range for {key}"));
+    };
+    if r.contains(x) {
+        Ok(x)
+    } else {
+        Err(r.rule.to_string())
+    }
+}
+
+/// A cam speed, rpm: [`camsim_core::key::SPEED_RPM`] (1-10 000 rpm).
+pub fn rpm(s: &str) -> Result<f64, String> {
+    in_range(s, camsim_core::key::RPM)
+}
+
+/// A return-spring rate, lb/in: the range of `design.spring_rate_lb_per_in`.
+pub fn spring_rate(s: &str) -> Result<f64, String> {
+    in_range(s, camsim_core::key::K_RS)
+}
+
+/// A spring compression at assembly, in: the range of `design.spring_preload_length_in`.
+pub fn preload_length(s: &str) -> Result<f64, String> {
+    in_range(s, camsim_core::key::DELTA_RS)
+}
+
+/// A relative tolerance: the range of `solver.rtol`.
+pub fn rtol(s: &str) -> Result<f64, String> {
+    in_range(s, camsim_core::key::RTOL)
+}
+
+/// An absolute displacement tolerance, in: the range of `solver.atol_in`.
+pub fn atol(s: &str) -> Result<f64, String> {
+    in_range(s, camsim_core::key::ATOL)
+}
+
+/// A contact force, lb: positive and at most 1e7 lb (beyond any cam contact: the
+/// reference's is about 50 lb, and 1e7 lb on the reference pair is a Hertz stress of
+/// 3e7 psi, a hundred times steel's yield).
+pub fn force(s: &str) -> Result<f64, String> {
+    match positive_finite(s)? {
+        x if x <= MAX_FORCE_LB => Ok(x),
+        _ => Err(FORCE_RANGE_RULE.into()),
+    }
+}
+
+/// The largest contact force `--force` takes, lb ([`force`]).
+pub const MAX_FORCE_LB: f64 = 1e7;
+/// The rule of a force above [`MAX_FORCE_LB`].
+pub const FORCE_RANGE_RULE: &str = "must be at most 1e7 lb (far beyond any cam contact)";
+
+/// A speed resolution, rpm: positive, at most the whole speed range (10 000 rpm); below
+/// the numbers' spacing the bisection ends on neighbouring speeds.
+pub fn resolution_rpm(s: &str) -> Result<f64, String> {
+    match positive_finite(s)? {
+        x if x <= camsim_core::key::SPEED_RPM.max => Ok(x),
+        _ => Err("must be at most 10000 rpm (the whole speed range)".into()),
+    }
+}
+
 /// A whole number of megabytes, at least 1 (size limits).
 pub fn megabytes(s: &str) -> Result<u64, String> {
     match s.trim().parse::<u64>() {
@@ -134,6 +201,26 @@ mod tests {
             let toml = toml::to_string(&std::collections::BTreeMap::from([("start", s)])).unwrap();
             assert_eq!(toml.trim(), format!("start = \"{name}\""));
         }
+    }
+
+    #[test]
+    fn range_rules_are_the_scene_keys() {
+        assert_eq!(rpm("800"), Ok(800.0));
+        assert_eq!(rpm("10000"), Ok(10000.0));
+        for bad in ["0", "-1", "0.5", "10001", "1e300", "nan", "inf"] {
+            let e = rpm(bad).unwrap_err();
+            assert!(e.contains("[1, 10000] rpm"), "{bad}: {e}");
+        }
+        assert_eq!(spring_rate("60"), Ok(60.0));
+        assert!(spring_rate("1e300").is_err() && spring_rate("0").is_err());
+        assert_eq!(preload_length("0"), Ok(0.0));
+        assert!(preload_length("-0.1").is_err() && preload_length("1e3").is_err());
+        assert_eq!(rtol("1e-6"), Ok(1e-6));
+        assert!(rtol("1e-300").is_err() && rtol("0.5").is_err());
+        assert_eq!(atol("1e-8"), Ok(1e-8));
+        assert!(atol("1").is_err());
+        assert_eq!(force("50"), Ok(50.0));
+        assert!(force("1e300").is_err() && force("0").is_err());
     }
 
     #[test]

@@ -86,27 +86,75 @@ pub fn usage_line(e: &clap::Error) -> String {
     }
 }
 
+/// The one-line message of a usage error: clap's ([`usage_line`]), except that a missing
+/// command (bare `camsim`) says so and lists the commands instead of printing the tool's
+/// description as if it were the error.
+pub fn usage_message(e: &clap::Error) -> String {
+    use clap::CommandFactory;
+    if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        let cmd = Cli::command();
+        let names: Vec<&str> = cmd.get_subcommands().map(|c| c.get_name()).collect();
+        return format!("a command is required: {}", names.join(", "));
+    }
+    usage_line(e)
+}
+
+/// Whether `e` comes from writing to a closed pipe (`camsim ... | head`): the reader has
+/// what it wanted, which is not an error.
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// The one line the binary prints (after `camsim: error: `) for a failed command: the
+/// error and its causes, joined.
+pub fn error_line(e: &anyhow::Error) -> String {
+    format!("{e:#}").replace('\n', " ")
+}
+
+/// Writes one line to standard error (a closed standard error is not worth a panic).
+fn report_error(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}
+
 /// The binary: parse, run, print any error on one line (exit 2 for usage errors, 1 for
-/// failures).
+/// failures; a closed standard output ends the run quietly with 0).
 pub fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    ExitCode::from(main_from(std::env::args_os()))
+}
+
+/// [`main`] for a given command line (the first item is the program name), returning the
+/// exit status: what the binary does, callable from tests.
+pub fn main_from<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,
         Err(e) => {
             // --help and --version are not errors.
             if !e.use_stderr() {
                 let _ = e.print();
-                return ExitCode::SUCCESS;
+                return 0;
             }
-            eprintln!("camsim: error: {} (see camsim --help)", usage_line(&e));
-            return ExitCode::from(2);
+            report_error(&format!(
+                "camsim: error: {} (see camsim --help)",
+                usage_message(&e)
+            ));
+            return 2;
         }
     };
     match execute(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => 0,
+        Err(e) if is_broken_pipe(&e) => 0,
         Err(e) => {
             // One line, no backtrace.
-            eprintln!("camsim: error: {}", format!("{e:#}").replace('\n', " "));
-            ExitCode::FAILURE
+            report_error(&format!("camsim: error: {}", error_line(&e)));
+            1
         }
     }
 }

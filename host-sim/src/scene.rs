@@ -12,7 +12,7 @@ use std::path::Path;
 
 use anyhow::Result;
 use camsim_core::key;
-pub use camsim_scene_file::{CheckedScene, RunOptions, SceneFile};
+pub use camsim_scene_file::{CheckedScene, RunOptions, SceneFile, MAX_SCENE_BYTES};
 
 use crate::sim::{Dofs, RunSpec};
 

@@ -293,6 +293,13 @@ pub fn period_rows(design: &Design<f64>, stats: &Stats) -> Vec<PeriodRow> {
 /// Whether the follower separates from the cam in steady state (revolution >= 2) at `rpm`.
 /// A simulation that fails after the follower has left the cam counts as separating; one
 /// that fails with the follower on the cam is an error.
+///
+/// "Fails" includes the model leaving its valid range ([`camsim_core::Error::OutOfModel`],
+/// docs/MODEL.md §3.20): far above the onset the follower leaves the cam in revolution 1
+/// and is thrown into its slide bearing, or lands with a penetration Hertz's theory does
+/// not cover; that is separation. The same error before any separation (a shaft twisted
+/// beyond linear torsion with the follower on the cam, say) ends the search: the model
+/// cannot say whether the follower would separate there.
 pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
     let mut s = spec.clone();
     s.design.set_speed_rpm(rpm)?;
@@ -327,7 +334,8 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
                 Ok(_) => Ok(watch.0),
                 // Far above the onset the follower leaves the cam in revolution 1 and the
                 // free flight and impact that follow drive the model out of the range it
-                // represents (the solver then fails): the follower did not hold contact.
+                // represents (its validity check or the solver stops the run): the
+                // follower did not hold contact.
                 Err(_) if watch.1 => Ok(true),
                 Err(e) => Err(e).with_context(|| format!("simulation at {rpm:.1} rpm failed")),
             }

@@ -107,14 +107,48 @@ impl fmt::Display for Error {
 
 impl std::error::Error for Error {}
 
-/// Reads and checks a scene file (errors start with the file's name).
-pub fn load(path: &Path) -> Result<CheckedScene, Error> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+/// The largest scene file read, bytes: 1 MB (the reference scene with its comments is
+/// 5 kB; a larger file is not a scene, and a device such as `/dev/zero` is not read
+/// without end).
+pub const MAX_SCENE_BYTES: u64 = 1_000_000;
+
+/// The most segments a program holds (core's `CamProgram` capacity).
+pub const PROGRAM_CAPACITY: usize = 8;
+
+/// Reads at most `max` bytes of UTF-8 text from `path`: `what` names the file in the
+/// refusals (`the scene file`), which are one line each: unreadable, larger than `max`,
+/// or not UTF-8 (with the line of the first invalid byte).
+pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
+    use std::io::Read;
+    let name = path.display();
+    let file = std::fs::File::open(path)
+        .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
+    let mut bytes = Vec::new();
+    file.take(max.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
+    if bytes.len() as u64 > max {
+        return Err(Error::new(format!(
+            "{name}: {what} is larger than {max} bytes: not a scene"
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let good = e.utf8_error().valid_up_to();
+        let line = e
+            .as_bytes()
+            .get(..good)
+            .map_or(0, |b| b.iter().filter(|c| **c == b'\n').count())
+            + 1;
         Error::new(format!(
-            "{}: cannot read the scene file: {e}",
-            path.display()
+            "{name}: line {line}: {what} is not UTF-8 text (its byte {good} is not): a binary file?"
         ))
-    })?;
+    })
+}
+
+/// Reads and checks a scene file (errors start with the file's name; at most
+/// [`MAX_SCENE_BYTES`] are read).
+pub fn load(path: &Path) -> Result<CheckedScene, Error> {
+    let text = read_text(path, MAX_SCENE_BYTES, "the scene file")?;
     parse(&text).map_err(|e| Error::new(format!("{}: {e}", path.display())))
 }
 
@@ -160,7 +194,7 @@ pub fn refusal(section: &str, error: camsim_core::Error) -> Error {
 /// One line for a TOML or serde error: line, column, the key there, the message. A
 /// program refused as it is read (by the core's `CamProgram::new`) names its own key.
 fn toml_error(text: &str, e: &toml::de::Error) -> Error {
-    let msg = e.message().trim().replace('\n', " ");
+    let msg = short_numbers(&e.message().trim().replace('\n', " "));
     if msg.starts_with(key::PROGRAM_SEGMENT) {
         return located(text, &format!("design.{msg}"));
     }
@@ -168,12 +202,40 @@ fn toml_error(text: &str, e: &toml::de::Error) -> Error {
         return Error::new(msg);
     };
     let (line, col) = line_col(text, span.start);
+    // A program longer than its capacity: the sequence's own message ("invalid length 9,
+    // expected a sequence", at the first segment) says neither the key nor the limit.
+    if msg.starts_with("invalid length")
+        && line_paths(text)
+            .get(line - 1)
+            .is_some_and(|k| k.starts_with("design.program.segment"))
+    {
+        return Error::new(format!(
+            "design.{}: more than {PROGRAM_CAPACITY} segments (a program holds at most {PROGRAM_CAPACITY})",
+            key::PROGRAM_SEGMENT
+        ));
+    }
     Error::new(
         match line_paths(text).get(line - 1).filter(|k| !k.is_empty()) {
             Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
             None => format!("line {line}, column {col}: {msg}"),
         },
     )
+}
+
+/// `msg` with every long number it quotes in backticks written in short scientific form:
+/// serde's type errors print a float with all its digits (1e300 as 301 of them).
+fn short_numbers(msg: &str) -> String {
+    let mut out = String::with_capacity(msg.len());
+    for (i, part) in msg.split('`').enumerate() {
+        if i > 0 {
+            out.push('`');
+        }
+        match part.parse::<f64>() {
+            Ok(v) if i % 2 == 1 && part.len() > 17 => out.push_str(&format!("{v:e}")),
+            _ => out.push_str(part),
+        }
+    }
+    out
 }
 
 /// `msg` (starting with a key path) prefixed with the line that sets the key, or the
@@ -262,14 +324,19 @@ impl SceneFile {
             .map_err(|error| refusal("solver", error))?;
         let mut design = self.design.clone();
         if let Some(rpm) = self.run.rpm {
-            if !(rpm.is_finite() && rpm > 0.0) {
-                return Err(Error::new(format!(
-                    "run.rpm = {rpm}: must be positive and finite"
-                )));
-            }
-            design
-                .set_speed_rpm(rpm)
-                .map_err(|e| Error::new(format!("run.rpm = {rpm}: {e}")))?;
+            // The core's rules for a speed in rpm (positive, finite, 1-10 000 rpm), its
+            // refusal under the scene key.
+            design.set_speed_rpm(rpm).map_err(|e| match e {
+                camsim_core::Error::InvalidParameter { rule, value, .. } => refusal(
+                    "run",
+                    camsim_core::Error::InvalidParameter {
+                        field: key::RPM,
+                        rule,
+                        value,
+                    },
+                ),
+                other => refusal("run", other),
+            })?;
         }
         design
             .validate()
@@ -298,6 +365,21 @@ mod tests {
         want.set_speed_rpm(1000.0).unwrap();
         assert_eq!(fast.design, want);
         assert_eq!(fast.design.omega0, 1000.0 * std::f64::consts::PI / 30.0);
+    }
+
+    #[test]
+    fn long_numbers_in_type_errors_are_written_short() {
+        let e = parse("[run]\nrevolutions = 1e300\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("floating point `1e300`, expected u32"), "{e}");
+        let e = parse("[run]\nrevolutions = 1e-300\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`1e-300`"), "{e}");
+        // Short ones stay as they are.
+        let e = parse("[run]\nrevolutions = 2.5\n").unwrap_err().to_string();
+        assert!(e.contains("`2.5`"), "{e}");
     }
 
     #[test]

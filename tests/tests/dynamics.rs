@@ -57,9 +57,10 @@ fn statics_contact_force_equals_the_preload() {
     assert!((f_p - 49.9925).abs() < 1e-4, "{f_p}");
 
     let expect = f_p / (1.0 + 100.0 * k_h * (1.0 / 1.48e6 + 1.0 / 1.5e6) / (100.0 + k_h));
-    // The cam at rest: a negligible speed, so the cam stays on the base circle.
+    // The cam at rest: a slow speed (the slowest plausible, 1 rpm), so the cam stays on
+    // the base circle.
     let mut slow = d.clone();
-    slow.set_speed_rpm(1e-9).unwrap();
+    slow.set_speed_rpm(1.0).unwrap(); // the slowest plausible speed (key::SPEED_RPM)
     let m = RegulatedFullModel::new(slow).unwrap();
     let y = m.static_state();
     let p = m.evaluate(0.0, &y);
@@ -748,7 +749,7 @@ fn contact_damping_decays_the_roller_ring() {
         ),
         (0.05, 0.05, 0.03)
     );
-    d.set_speed_rpm(1e-9).unwrap(); // the cam stays on the base circle
+    d.set_speed_rpm(1.0).unwrap(); // the slowest plausible speed: the cam stays on the base circle
     d.drive = DriveLaw::ConstantCamSpeed;
     let k_h = d.k_h_base().unwrap();
     let duration = 2e-4;
@@ -924,8 +925,8 @@ fn jump_follows_the_quasi_static_estimate() {
     );
     let (low, _) = steady_jumps(0.75 * est);
     assert!(!low, "no separation expected at {} rpm", 0.75 * est);
-    let (high, intervals) = steady_jumps(1.25 * est);
-    assert!(high, "separation expected at {} rpm", 1.25 * est);
+    let (high, intervals) = steady_jumps(1.1 * est);
+    assert!(high, "separation expected at {} rpm", 1.1 * est);
     // The separation starts in the return's decelerating first part (210°-285°), where
     // the quasi-static estimate puts it, and every interval closes.
     // (Earlier intervals of a revolution can be the bouncing that follows the previous

@@ -90,7 +90,10 @@ fn bad_scenes_are_refused_with_the_key_and_the_rule() {
             "[run]\nrpm = \"fast\"\n",
             "line 2, column 7: run.rpm: invalid type",
         ),
-        ("[solver]\nrtol = 2\n", "solver.rtol = 2: must be below 1"),
+        (
+            "[solver]\nrtol = 2\n",
+            "solver.rtol = 2: must lie in [1e-13, 0.1]",
+        ),
         (
             "[run]\nrpm = 900\n[design]\nomega0_rad_per_s = 90\n",
             "run.rpm and design.omega0_rad_per_s both set the cam speed",

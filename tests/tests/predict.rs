@@ -279,16 +279,17 @@ fn report_names_its_scene_and_feeds_text_and_json() {
 
 #[test]
 fn a_scene_is_checked_in_the_precision_it_runs_in() {
-    // Positive in f64 (the scene file is valid), zero in f32: the f32 run refuses the
-    // scene with its key, as the firmware's build refuses it; the f64 conversion is the
-    // scene's own design (identity).
+    // Valid in f64 (the scene file is valid), refused in f32: e2 just above the largest
+    // lift plus the roller radius (1.875 in) rounds to 1.875 in f32. The f32 run refuses
+    // the scene with its key, as the firmware's build refuses it; the f64 conversion is
+    // the scene's own design (identity).
     let mut d = camsim_core::Design::<f64>::reference();
-    d.friction_smoothing = 1e-50;
+    d.e2 = 1.875 + 1e-9;
     d.validate().unwrap();
     let e = format!("{:#}", compute::<f32>(Some(&d)).unwrap_err());
     assert_eq!(
         e,
-        "scene in f32: design.friction_smoothing_in_per_s = 0: must be positive and finite"
+        "scene in f32: design.e2_in = 1.875: cantilever length must exceed the program's largest lift by more than the roller radius (the roller would reach the slide bearing)"
     );
     assert_eq!(camsim_chip::chip_design_from::<f64>(&d).unwrap(), d);
     let r = camsim_core::Design::<f64>::reference();

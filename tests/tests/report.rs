@@ -109,14 +109,20 @@ fn a_refused_or_failed_run_never_creates_or_touches_the_csv() {
 
     // Refused by clap: one line naming the option, the value and the rule.
     for (bad, option, rule) in [
-        (["--rpm", "-5"], "--rpm", "must be positive and finite"),
+        (["--rpm", "-5"], "--rpm", "must lie in [1, 10000] rpm"),
+        (["--rpm", "1e300"], "--rpm", "must lie in [1, 10000] rpm"),
         (
             ["--rise", "nope"],
             "--rise",
             "possible values: straight-line",
         ),
         (["--revolutions", "0"], "--revolutions", "not in 1..=16"),
-        (["--rtol", "1"], "--rtol", "must be in (0, 1)"),
+        (["--rtol", "1"], "--rtol", "must lie in [1e-13, 0.1]"),
+        (
+            ["--spring-rate", "1e300"],
+            "--spring-rate",
+            "must lie in [0.01, 1e6] lb/in",
+        ),
         (
             ["--start", "cold"],
             "--start",
@@ -168,6 +174,8 @@ fn a_refused_or_failed_run_never_creates_or_touches_the_csv() {
     for csv in [new, old] {
         let e = run_cli(&[budget, "--csv", csv, "--force", "--plot", new_plots]).unwrap_err();
         assert!(e.contains("step budget"), "{e}");
+        // The message names the scene key that raises the budget.
+        assert!(e.contains("solver.max_steps_per_rev"), "{e}");
         assert_eq!(listing(&d), expect);
         let e = run_cli(&[budget, "--csv", csv, "--force", "--plot", plot_dir]).unwrap_err();
         assert!(e.contains("step budget"), "{e}");
@@ -394,4 +402,113 @@ fn an_interrupted_run_leaves_nothing_behind() {
     assert_eq!(listing(&d), ["old.csv"]);
     assert_eq!(fs::read(&old).unwrap(), b"keep me");
     fs::remove_dir_all(&d).unwrap();
+}
+
+const ENV_CLI: &str = "CAMSIM_REPORT_CHILD_CLI";
+
+/// The child of the command-line tests: prints READY (so the parent may close standard
+/// output after the test harness's own header), waits a little, then does what the
+/// binary does with the arguments in the environment (unit-separated) and exits with its
+/// status.
+#[test]
+#[ignore = "child mode of the command-line tests"]
+fn child_cli() {
+    use std::io::Write;
+    let Ok(args) = std::env::var(ENV_CLI) else {
+        return;
+    };
+    {
+        let mut out = std::io::stdout().lock();
+        let _ = writeln!(out, "READY");
+        let _ = out.flush();
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let argv = std::iter::once("camsim").chain(args.split('\x1f').filter(|a| !a.is_empty()));
+    std::process::exit(i32::from(cli::main_from(argv)));
+}
+
+/// Runs the binary's `main` on `args` in a child; `close_stdout` closes the reading end
+/// of its standard output before it writes. Returns the exit code and standard error.
+fn binary(args: &[&str], close_stdout: bool) -> (Option<i32>, String) {
+    use std::io::{BufRead, Read};
+    let mut child = Command::new(std::env::current_exe().unwrap())
+        .args(["child_cli", "--exact", "--ignored", "--test-threads=1"])
+        .env(ENV_CLI, args.join("\x1f"))
+        .env_remove("RUST_BACKTRACE")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    while stdout.read_line(&mut line).unwrap() > 0 && !line.contains("READY") {
+        line.clear();
+    }
+    if close_stdout {
+        drop(stdout);
+    } else {
+        std::thread::spawn(move || {
+            let mut rest = Vec::new();
+            let _ = stdout.read_to_end(&mut rest);
+        });
+    }
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    (child.wait().unwrap().code(), err)
+}
+
+#[test]
+fn the_binary_fails_on_one_line_and_ends_quietly_on_a_closed_pipe() {
+    // Bare camsim: a usage error that names the commands, not the tool's description.
+    let (code, err) = binary(&[], false);
+    assert_eq!(code, Some(2));
+    assert_eq!(
+        err,
+        "camsim: error: a command is required: laws, modal, contact, run, jump-speed, scene, bench, predict (see camsim --help)\n"
+    );
+    // Speeds of 1e300 rpm: refused by the range, before anything runs.
+    for cmd in ["run", "bench", "jump-speed"] {
+        let (code, err) = binary(&[cmd, "--rpm", "1e300"], false);
+        assert_eq!(code, Some(2), "{cmd}: {err}");
+        assert_eq!(
+            err,
+            "camsim: error: invalid value '1e300' for '--rpm <RPM>': must lie in [1, 10000] rpm (once a minute to above any cam drive) (see camsim --help)\n",
+            "{cmd}"
+        );
+    }
+    // A run that leaves the model's range: one line with the cause and the cam angle.
+    let (code, err) = binary(&["run", "--rpm", "1600", "--revolutions", "1"], false);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.starts_with(
+            "camsim: error: simulation failed: the model left its valid range at cam angle "
+        ),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1);
+    // Standard output closed by its reader (`| head`): no error, status 0.
+    for args in [&["scene", "--default"][..], &["laws"], &["modal", "--json"]] {
+        let (code, err) = binary(args, true);
+        assert_eq!((code, err.as_str()), (Some(0), ""), "{args:?}");
+    }
+    // Only the closed pipe is quiet: a command that fails still reports its error when
+    // standard output is closed.
+    let (code, err) = binary(&["run", "/nonexistent.toml"], true);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("cannot read the scene file"), "{err}");
+}
+
+#[test]
+fn a_broken_pipe_is_recognised_through_the_context() {
+    let e = anyhow::Error::from(std::io::Error::from(std::io::ErrorKind::BrokenPipe))
+        .context("writing");
+    assert!(cli::is_broken_pipe(&e));
+    let other = anyhow::Error::from(std::io::Error::from(std::io::ErrorKind::NotFound));
+    assert!(!cli::is_broken_pipe(&other));
+    assert!(!cli::is_broken_pipe(&anyhow::anyhow!("broken pipe")));
 }

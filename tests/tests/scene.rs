@@ -173,6 +173,89 @@ fn every_design_key_refuses_nan_infinity_and_negatives_under_its_own_name() {
     }
 }
 
+/// Every numeric key has a plausibility range: the design's, the solver's (not `start`)
+/// and the speed in rpm; the reference design, the solver's reference settings and the
+/// chip's lie inside; every bound is an `f32` number that keeps its sign.
+#[test]
+fn every_numeric_key_has_a_range_and_the_references_lie_inside() {
+    let mut want: Vec<&str> = key::DESIGN_KEYS.iter().map(|(k, _)| *k).collect();
+    want.extend(key::SOLVER_KEYS.iter().filter(|k| **k != key::START));
+    want.push(key::RPM);
+    let mut have: Vec<&str> = key::RANGES.iter().map(|(k, _)| *k).collect();
+    want.sort_unstable();
+    have.sort_unstable();
+    assert_eq!(have, want);
+    for (k, r) in key::RANGES {
+        assert!(
+            r.min <= r.max && r.min.is_finite() && r.max.is_finite(),
+            "{k}"
+        );
+        assert_eq!(r.min == 0.0, r.min as f32 == 0.0, "{k}");
+        assert!((r.max as f32).is_finite(), "{k}");
+        assert!(r.rule.starts_with("must "), "{k}");
+        assert_eq!(key::range(k), Some(*r));
+    }
+    let d: toml::Table = toml::Table::try_from(Design::<f64>::reference()).unwrap();
+    for (k, _) in key::DESIGN_KEYS {
+        let v = at(&d, k).unwrap().as_float().unwrap();
+        assert!(key::range(k).unwrap().contains(v), "{k} = {v}");
+    }
+    for s in [
+        SolverSettings::<f64>::reference(),
+        camsim_chip::chip_solver_settings(),
+    ] {
+        for (k, v) in [
+            (key::RTOL, s.rtol),
+            (key::ATOL, s.atol),
+            (key::MAX_STEP_FRACTION, s.max_step_fraction),
+            (key::MAX_STEPS_PER_REV, f64::from(s.max_steps_per_rev)),
+        ] {
+            assert!(key::range(k).unwrap().contains(v), "{k} = {v}");
+        }
+    }
+    for rpm in camsim_chip::CHIP_GRID_RPM {
+        assert!(key::SPEED_RPM.contains(rpm));
+    }
+}
+
+/// Just outside its range, every key is refused under its own name with its range's rule,
+/// from a scene file (the line, the key, the value) and, for the speed, from `run.rpm`.
+#[test]
+fn every_key_is_refused_just_outside_its_range_under_its_own_name() {
+    for (k, r) in key::RANGES {
+        let mut outside = vec![r.max * (1.0 + 1e-9)];
+        if r.min > 0.0 {
+            outside.push(r.min * (1.0 - 1e-9));
+        }
+        for v in outside {
+            let (text, name) = if *k == key::RPM {
+                (format!("[run]\nrpm = {v:?}\n"), "run.rpm".to_string())
+            } else if key::SOLVER_KEYS.contains(k) {
+                // A count: the whole number just outside.
+                let v = if *k == key::MAX_STEPS_PER_REV {
+                    let n = if v > r.max { r.max + 1.0 } else { r.min - 1.0 };
+                    format!("{}", n as u64)
+                } else {
+                    format!("{v:?}")
+                };
+                (format!("[solver]\n{k} = {v}\n"), format!("solver.{k}"))
+            } else {
+                (design_scene(k, &format!("{v:?}")), format!("design.{k}"))
+            };
+            // A drive key needs the regulated drive, which the reference has.
+            let e = err(&text);
+            assert!(
+                e.starts_with(&format!("line 2: {name} = ")) && e.ends_with(r.rule),
+                "{text:?}: {e}"
+            );
+        }
+    }
+    // Inside by a hair at the ends a range may be met exactly (a bound is a value).
+    assert!(parse("[design]\nfriction_coefficient = 1.0\n").is_ok());
+    assert!(parse("[design]\nfriction_coefficient = 0.0\n").is_ok());
+    assert!(parse("[run]\nrpm = 10000\n").is_ok());
+}
+
 #[test]
 fn refusals_name_the_key_and_the_rule() {
     let seg = |kind: &str, law: Option<&str>, a: f64, b: f64, lift: f64| {
@@ -343,4 +426,17 @@ fn postcard_round_trips_the_design_and_refuses_a_bad_program() {
     };
     let b = postcard::to_allocvec(&open).unwrap();
     assert!(postcard::from_bytes::<CamProgram<f32>>(&b).is_err());
+}
+
+/// A segment that does end after its start, but by less than the angle tolerance, is told
+/// so: not "must exceed the segment's start_deg" as if it did not.
+#[test]
+fn a_sliver_of_a_segment_is_refused_by_the_tolerance_it_misses() {
+    let text = "[[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 0\nend_deg = 30\n\
+        [[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 30\nend_deg = 30.0000001\n\
+        [[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 30.0000001\nend_deg = 360\n";
+    assert_eq!(
+        err(text),
+        "line 8: design.program.segment[1].end_deg = 30.0000001: must exceed the segment's start_deg by more than the angle tolerance (1e-6 deg; 3.4e-4 deg in f32)"
+    );
 }

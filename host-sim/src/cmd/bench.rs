@@ -9,7 +9,6 @@ use anyhow::Result;
 use camsim_core::{DriveLaw, Start};
 use serde::Serialize;
 
-use crate::args::positive_finite;
 use crate::report::{sorted_pretty_json, Report};
 use crate::sim::{self, Dofs, Nothing, RunSpec};
 
@@ -18,10 +17,10 @@ use crate::sim::{self, Dofs, Nothing, RunSpec};
 pub struct Args {
     /// Cam speed, rpm (500: the reference holds contact, so the statistics converge;
     /// at 800 it jumps and the impacts make them chaotic).
-    #[arg(long, default_value_t = 500.0, allow_negative_numbers = true, value_parser = positive_finite)]
+    #[arg(long, default_value_t = 500.0, allow_hyphen_values = true, value_parser = crate::args::rpm)]
     pub rpm: f64,
-    /// Repetitions of each timing (the fastest is reported).
-    #[arg(long, default_value_t = 3)]
+    /// Repetitions of each timing, 1-100 (the fastest is reported).
+    #[arg(long, default_value_t = 3, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeat: u32,
     /// Print JSON.
     #[arg(long)]

@@ -5,7 +5,6 @@ use anyhow::{bail, Context};
 use camsim_core::HertzContact;
 use serde::Serialize;
 
-use crate::args::positive_finite;
 use crate::report::Report;
 
 /// Reference roller diameter d1 (in, VI.1).
@@ -18,8 +17,8 @@ pub const CAM_THICKNESS_IN: f64 = 0.25;
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Contact force in pounds (positive, finite).
-    #[arg(long, value_name = "LB", allow_negative_numbers = true, value_parser = positive_finite)]
+    /// Contact force in pounds (positive, up to 1e7).
+    #[arg(long, value_name = "LB", allow_hyphen_values = true, value_parser = crate::args::force)]
     pub force: f64,
     /// Print JSON instead of a table.
     #[arg(long)]
@@ -50,6 +49,9 @@ pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
     if !(force.is_finite() && force > 0.0) {
         bail!("{FORCE_RULE} (got {force})");
     }
+    if force > crate::args::MAX_FORCE_LB {
+        bail!("--force {force:e}: {}", crate::args::FORCE_RANGE_RULE);
+    }
     let hertz = HertzContact::<f64>::steel(CAM_THICKNESS_IN);
     let (r1, r2) = (ROLLER_DIAMETER_IN / 2.0, BASE_CIRCLE_DIAMETER_IN / 2.0);
     let k_h = hertz
@@ -57,7 +59,13 @@ pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
         .context("unit-force Hertz stiffness")?;
     let k_at = hertz
         .stiffness_at(force, r1, r2)
-        .with_context(|| format!("Hertz stiffness at --force {force}"))?;
+        .map_err(|e| match e {
+            // The core names the radii by their symbols (r1, r2): say which they are here.
+            camsim_core::Error::InvalidParameter { rule, .. } => anyhow::anyhow!(
+                "--force {force:e}: the Hertz stiffness of the reference pair (roller radius {r1} in, base circle radius {r2} in) at this force: {rule} (the force is beyond Hertz's theory for this pair)"
+            ),
+            other => anyhow::anyhow!("--force {force:e}: {other}"),
+        })?;
     Ok(ContactReport {
         force_lb: force,
         k_h_lb_per_in: k_h,

@@ -8,6 +8,7 @@ use serde::Serialize;
 use camsim_core::{Onset, OnsetSearch};
 
 use crate::cmd::run as run_cmd;
+use crate::report::Report;
 use crate::sim;
 
 /// Command-line options of `camsim jump-speed`.
@@ -16,11 +17,12 @@ pub struct Args {
     /// The scene and its overrides (`--start` defaults to "static" here).
     #[command(flatten)]
     pub scene: run_cmd::SceneArgs,
-    /// Bisection resolution, rpm.
-    #[arg(long, default_value_t = 1.0)]
+    /// Bisection resolution, rpm (positive, at most 10 000; below the numbers' spacing
+    /// the bisection ends on neighbouring speeds).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::resolution_rpm)]
     pub resolution: f64,
-    /// Highest speed searched, rpm.
-    #[arg(long, default_value_t = 20000.0)]
+    /// Highest speed searched, rpm (at most 10 000, the plausibility range of a cam speed).
+    #[arg(long, default_value_t = MAX_RPM, allow_hyphen_values = true, value_parser = crate::args::rpm)]
     pub max_rpm: f64,
     /// Print JSON.
     #[arg(long)]
@@ -42,9 +44,18 @@ pub struct JumpSpeed {
 /// enough that contact must hold there.
 pub const START_RPM: f64 = 50.0;
 
+/// The default and largest `--max-rpm`: the top of a cam speed's plausibility range
+/// ([`camsim_core::key::SPEED_RPM`]).
+pub const MAX_RPM: f64 = camsim_core::key::SPEED_RPM.max;
+
 /// The jump speed of `spec` to `resolution` rpm, up to `max_rpm`: core's [`OnsetSearch`]
 /// (doubling from [`START_RPM`], then bisection) with [`sim::jumps_at`] (two revolutions,
 /// stopped at the first separation in the second) as the predicate.
+///
+/// A simulation that ends in an error after the follower has left the cam (the model
+/// leaving its valid range, [`camsim_core::Error::OutOfModel`], or the solver failing)
+/// counts as separation: the follower did not hold contact at that speed. One that ends
+/// in an error with the follower on the cam ends the search with that error.
 pub fn find(spec: &sim::RunSpec, resolution: f64, max_rpm: f64) -> Result<JumpSpeed> {
     let mut spec = spec.clone();
     spec.revolutions = 2;
@@ -60,8 +71,12 @@ pub fn find_with(
     if !(resolution.is_finite() && resolution > 0.0) {
         bail!("--resolution {resolution}: must be positive and finite (rpm)");
     }
-    if !(max_rpm.is_finite() && max_rpm > 0.0) {
-        bail!("--max-rpm {max_rpm}: must be positive and finite");
+    if !camsim_core::key::SPEED_RPM.contains(max_rpm) {
+        bail!("--max-rpm {max_rpm}: {}", camsim_core::key::SPEED_RPM.rule);
+    }
+    let lowest = camsim_core::key::SPEED_RPM.min;
+    if max_rpm < 2.0 * lowest {
+        bail!("--max-rpm {max_rpm}: must be at least {} rpm (the search starts below it, at no less than {lowest} rpm)", 2.0 * lowest);
     }
     let search = OnsetSearch::new(START_RPM.min(max_rpm / 2.0), Some(2.0), max_rpm, resolution)?;
     let mut simulations = 0;
@@ -89,15 +104,18 @@ pub fn find_with(
 /// What `camsim jump-speed` prints: the text output and `--json` are both this report.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct JumpSpeedReport {
-    /// Lowest speed with steady-state separation, rpm (null: none up to `--max-rpm`).
+    /// Lowest speed with steady-state separation, rpm (absent: none up to `--max-rpm`).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub jump_rpm: Option<f64>,
     /// Highest speed checked without separation, rpm.
     pub no_jump_rpm: f64,
     /// The scene's operating speed, rpm.
     pub operating_rpm: f64,
-    /// Jump speed minus operating speed, rpm.
+    /// Jump speed minus operating speed, rpm (absent without a jump speed).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub margin_rpm: Option<f64>,
-    /// The margin in percent of the operating speed.
+    /// The margin in percent of the operating speed (absent without a jump speed).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub margin_percent: Option<f64>,
     /// Bisection resolution asked for, rpm.
     pub resolution_rpm: f64,
@@ -158,6 +176,15 @@ pub fn render_text(r: &JumpSpeedReport) -> String {
     out
 }
 
+impl Report for JumpSpeedReport {
+    fn text(&self) -> String {
+        render_text(self)
+    }
+    fn json(&self) -> serde_json::Result<String> {
+        serde_json::to_string(self)
+    }
+}
+
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     let mut scene = args.scene.clone();
@@ -168,10 +195,5 @@ pub fn run(args: Args) -> Result<()> {
     let r = find(&spec, args.resolution, args.max_rpm)?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     let report = JumpSpeedReport::new(&r, op_rpm, args.resolution, wall_ms);
-    if args.json {
-        println!("{}", serde_json::to_string(&report)?);
-    } else {
-        print!("{}", render_text(&report));
-    }
-    Ok(())
+    crate::report::print(&report, args.json)
 }

@@ -77,13 +77,13 @@ pub fn compute<T: Real>(scene: Option<&Design<f64>>) -> Result<Prediction<T>> {
         })?,
         None => chip_design::<T>(),
     };
-    let table =
-        chip_prediction_table(&design).map_err(|e| anyhow::anyhow!("table build: {e:?}"))?;
+    let table = chip_prediction_table(&design)
+        .map_err(|e| anyhow::anyhow!("the predictor's table (at boot on the chip): {e}"))?;
     let mut checks = Vec::new();
     for r in CHIP_CHECK_RPM {
         let rpm = T::from_f64(r);
         let direct = chip_steady_state(&design, rpm)
-            .map_err(|e| anyhow::anyhow!("direct run at {r} rpm: {e:?}"))?;
+            .map_err(|e| anyhow::anyhow!("the interpolation check's direct run at {r} rpm: {e}"))?;
         checks.push(InterpCheck {
             rpm,
             interpolated: table.predict(rpm),
@@ -92,7 +92,7 @@ pub fn compute<T: Real>(scene: Option<&Design<f64>>) -> Result<Prediction<T>> {
     }
     // The firmware's loop (src/bin/predictor.rs): the same train, monitor and steps.
     let mut monitor =
-        ChipMonitor::<T>::new(CHIP_TICK_HZ).map_err(|e| anyhow::anyhow!("monitor: {e:?}"))?;
+        ChipMonitor::<T>::new(CHIP_TICK_HZ).map_err(|e| anyhow::anyhow!("the monitor: {e}"))?;
     let mut train = ScriptedPulseTrain::chip();
     let mut samples = Vec::new();
     while !train.finished() {
@@ -381,9 +381,11 @@ pub struct PredictReport {
     pub precision: &'static str,
     /// The scene run and the chip's configuration.
     pub scene: SceneReport,
-    /// Jump-onset speed, rpm (null: none up to the search limit).
+    /// Jump-onset speed, rpm (absent: none up to the search limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub jump_rpm: Option<Num>,
-    /// Its raw bits.
+    /// Its raw bits (absent with it).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub jump_rpm_bits: Option<String>,
     /// The boot-time table.
     pub table: Vec<TableRow>,
@@ -664,17 +666,20 @@ pub fn run(args: Args) -> Result<()> {
             let log = std::fs::read_to_string(path)
                 .with_context(|| format!("reading {}", path.display()))?;
             let n = check_parity(&log, &parity_lines(&p))?;
-            println!("parity OK: {n} lines (table, jump onset, interpolation checks, every reading of the scripted machine) bit-identical");
-            return Ok(());
+            return crate::report::out(&format!("parity OK: {n} lines (table, jump onset, interpolation checks, every reading of the scripted machine) bit-identical\n"));
         }
         report(&p, true, &design)
     } else {
         report(&compute::<f64>(scene.as_ref())?, false, &design)
     };
-    if args.json {
-        println!("{}", serde_json::to_string(&report)?);
-    } else {
-        print!("{}", render_text(&report));
+    crate::report::print(&report, args.json)
+}
+
+impl crate::report::Report for PredictReport {
+    fn text(&self) -> String {
+        render_text(self)
     }
-    Ok(())
+    fn json(&self) -> serde_json::Result<String> {
+        serde_json::to_string(self)
+    }
 }

@@ -9,7 +9,7 @@ use camsim_core::SegmentKind;
 use serde::Serialize;
 
 use crate::actual::{ActualArgs, ProfileStats};
-use crate::args::{megabytes, non_negative_finite, positive_finite, unit_interval, Law, StartArg};
+use crate::args::{self, megabytes, Law, StartArg};
 use crate::csv::{self, CsvOut};
 use crate::measured::MeasuredStats;
 use crate::output::Plan;
@@ -22,8 +22,8 @@ use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
 pub struct SceneArgs {
     /// Scene file (TOML, see `camsim scene --default`); the reference design if omitted.
     pub scene: Option<PathBuf>,
-    /// Cam speed, rpm (default 800).
-    #[arg(long, allow_negative_numbers = true, value_parser = positive_finite)]
+    /// Cam speed, rpm, 1-10 000 (default 800).
+    #[arg(long, allow_hyphen_values = true, value_parser = args::rpm)]
     pub rpm: Option<f64>,
     /// Motion law of the rise(s) (names as in `camsim laws`).
     #[arg(long = "rise", value_name = "LAW", ignore_case = true)]
@@ -31,21 +31,21 @@ pub struct SceneArgs {
     /// Motion law of the return(s).
     #[arg(long = "return", value_name = "LAW", ignore_case = true)]
     pub ret: Option<Law>,
-    /// Return spring rate K_rs, lb/in.
-    #[arg(long, value_name = "LB_PER_IN", allow_negative_numbers = true, value_parser = positive_finite)]
+    /// Return spring rate K_rs, lb/in (0.01-1e6).
+    #[arg(long, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = args::spring_rate)]
     pub spring_rate: Option<f64>,
-    /// Spring length compressed at assembly δ_rs, in.
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
+    /// Spring length compressed at assembly δ_rs, in (0-100).
+    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::preload_length)]
     pub preload_length: Option<f64>,
     /// Initial state (default: "thesis" for `run`, "static" for `jump-speed`, whose
     /// steady state the thesis start's impact would pollute).
     #[arg(long, value_enum)]
     pub start: Option<StartArg>,
-    /// Solver relative tolerance.
-    #[arg(long, allow_negative_numbers = true, value_parser = unit_interval)]
+    /// Solver relative tolerance (1e-13 to 0.1).
+    #[arg(long, allow_hyphen_values = true, value_parser = args::rtol)]
     pub rtol: Option<f64>,
-    /// Solver absolute tolerance for displacements, in.
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = positive_finite)]
+    /// Solver absolute tolerance for displacements, in (1e-15 to 1e-3).
+    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::atol)]
     pub atol: Option<f64>,
 }
 
@@ -59,7 +59,7 @@ pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Revolutions to simulate, 1-16 (default 3, or the scene's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub revolutions: Option<u32>,
     /// Write one CSV row per sample to FILE (written whole at the end of a successful
     /// run; an existing FILE needs --force).
@@ -68,7 +68,7 @@ pub struct Args {
     /// Largest --csv file, MB (10^6 bytes; the default is 1 GB). The size is estimated
     /// before the run (about 850 B a row, 120 000 rows a revolution at rtol 1e-6) and a
     /// larger one is refused; a run that writes more stops with an error and leaves no file.
-    #[arg(long, value_name = "MB", default_value_t = DEFAULT_MAX_CSV_MB, value_parser = megabytes)]
+    #[arg(long, value_name = "MB", default_value_t = DEFAULT_MAX_CSV_MB, allow_hyphen_values = true, value_parser = megabytes)]
     pub max_csv_mb: u64,
     /// Write PNG plots against cam angle into DIR (created if missing; its parent must
     /// exist; existing plots need --force).
@@ -114,7 +114,12 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
         None => RunSpec::reference(),
     };
     if let Some(r) = args.rpm {
-        spec.design.set_speed_rpm(r)?;
+        spec.design.set_speed_rpm(r).map_err(|e| match e {
+            camsim_core::Error::InvalidParameter { rule, .. } => {
+                anyhow::anyhow!("--rpm {r}: {rule}")
+            }
+            other => other.into(),
+        })?;
     }
     if args.rise.is_some() || args.ret.is_some() {
         let mut segs: Vec<_> = spec.design.program.segments().to_vec();
@@ -125,7 +130,8 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
                 _ => {}
             }
         }
-        spec.design.program = camsim_core::CamProgram::new(&segs)?;
+        spec.design.program = camsim_core::CamProgram::new(&segs)
+            .map_err(|e| camsim_scene_file::refusal("design", e))?;
     }
     if let Some(k) = args.spring_rate {
         spec.design.k_rs = k;
@@ -142,8 +148,13 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     if let Some(x) = args.atol {
         spec.solver.atol = x;
     }
-    spec.solver.validate()?;
-    spec.design.validate()?;
+    // The core's one validation, its refusals under the scene keys (`design.KEY`).
+    spec.solver
+        .validate()
+        .map_err(|e| camsim_scene_file::refusal("solver", e))?;
+    spec.design
+        .validate()
+        .map_err(|e| camsim_scene_file::refusal("design", e))?;
     Ok(spec)
 }
 
@@ -204,7 +215,8 @@ pub struct RunReport {
     pub rhs_evals: u32,
     /// Separation intervals not recorded (past the statistics' capacity).
     pub jumps_dropped: u32,
-    /// The last two revolutions compared (None with one revolution).
+    /// The last two revolutions compared (absent with one revolution).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub steady_state: Option<SteadyCheck>,
     /// Wall-clock time of the simulation, ms.
     pub wall_ms: f64,
@@ -334,15 +346,18 @@ pub fn report(args: &Args) -> Result<RunReport> {
         }
         _ => None,
     };
+    // A result with a number that is not finite is no success: refused before any
+    // output is committed (the temporaries go with it).
+    let mut report = RunReport::new(&spec, &result);
+    report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
+    report.profile = profile_report;
+    crate::report::ensure_finite(&report)?;
     if let Some(f) = csv_file {
         f.commit()?;
     }
     if let Some(p) = plots {
         p.commit()?;
     }
-    let mut report = RunReport::new(&spec, &result);
-    report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
-    report.profile = profile_report;
     Ok(report)
 }
 

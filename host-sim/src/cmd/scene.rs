@@ -19,12 +19,10 @@ pub struct Args {
 pub fn run(args: Args) -> Result<()> {
     if let Some(p) = args.check {
         let spec = crate::scene::load(&p)?;
-        print!("{}", crate::scene::spec_text(&spec)?);
-        return Ok(());
+        return crate::report::out(&crate::scene::spec_text(&spec)?);
     }
     if !args.default {
         anyhow::bail!("camsim scene: give --default (print the reference scene) or --check FILE");
     }
-    print!("{}", crate::scene::default_text()?);
-    Ok(())
+    crate::report::out(&crate::scene::default_text()?)
 }
