@@ -379,6 +379,7 @@ impl<T: Real> Design<T> {
             self.c_cc,
             self.k_s1,
             self.k_s2,
+            self.coupling_backlash,
             self.omega0,
             self.m_c,
             self.k_vs,

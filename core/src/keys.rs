@@ -295,6 +295,14 @@ pub mod key {
         max: 1e10,
         rule: "must lie in [1e2, 1e10] lb in/rad (a thin long shaft to a short massive one)",
     };
+    /// Free play of the coupling-cam connection, rad: 0 (none, the reference) to π (half
+    /// a turn: a connection looser than that no longer couples; worn keyways and gear
+    /// pairs have milliradians).
+    pub const BACKLASH: Range = Range {
+        min: 0.0,
+        max: core::f64::consts::PI,
+        rule: "must lie in [0, 3.14] rad (none to half a turn of free play)",
+    };
     /// Cam speed, rpm: 1 (a cam that turns once a minute) to 10 000 (above any cam
     /// drive: automotive valve trains turn their cams at up to about 4 000 rpm).
     pub const SPEED_RPM: Range = Range {
@@ -478,6 +486,7 @@ pub mod key {
         (C_CC, TORSIONAL_DAMPING),
         (K_S1, TORSIONAL_STIFFNESS),
         (K_S2, TORSIONAL_STIFFNESS),
+        (COUPLING_BACKLASH, BACKLASH),
         (OMEGA0, SPEED_RAD_PER_S),
         (M_C, MASS),
         (K_VS, STIFFNESS),

@@ -233,9 +233,11 @@ pub struct ProfileStats {
     /// method, [`envelope_knots`] for the envelope).
     pub deviation_knots: usize,
     /// The envelope's actual roller radius, in (None for the thesis's method).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub roller_radius_in: Option<f64>,
     /// The envelope's rotation-centre offset (x, y) in the cam frame, in (None for the
     /// thesis's method).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub centre_offset_in: Option<[f64; 2]>,
 }
 
