@@ -2,6 +2,7 @@
 //! integration tests can call the same code the binary runs, and [`cli`] is the binary.
 
 pub mod args;
+pub mod bench;
 pub mod cli;
 pub mod cmd;
 pub mod csv;
