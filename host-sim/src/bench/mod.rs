@@ -866,3 +866,147 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
         memory: Memory::of_this_build(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cost_at_error_interpolates_along_the_front() {
+        // err = 1e4 · evals^-4: exact in log-log between any two points.
+        let pts: Vec<(f64, f64)> = [10.0, 20.0, 40.0, 80.0]
+            .iter()
+            .map(|&c: &f64| (c, 1e4 * c.powi(-4)))
+            .collect();
+        let c = cost_at_error(&pts, 1e4 * 30f64.powi(-4)).unwrap();
+        assert!((c - 30.0).abs() < 1e-9, "{c}");
+        // Outside the front's errors: no answer.
+        assert!(cost_at_error(&pts, 1e4).is_none());
+        assert!(cost_at_error(&pts, 1e-9).is_none());
+        // A dearer, less accurate point is not on the front and changes nothing.
+        let mut with = pts.clone();
+        with.push((35.0, 1.0));
+        assert_eq!(cost_at_error(&with, 1e4 * 30f64.powi(-4)), Some(c));
+    }
+
+    fn no_nulls(v: &serde_json::Value, path: &str) {
+        match v {
+            serde_json::Value::Null => panic!("null at {path}"),
+            serde_json::Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    no_nulls(x, &format!("{path}[{i}]"));
+                }
+            }
+            serde_json::Value::Object(o) => {
+                for (k, x) in o {
+                    no_nulls(x, &format!("{path}.{k}"));
+                }
+            }
+            serde_json::Value::Number(n) => {
+                assert!(n.as_f64().is_some_and(f64::is_finite), "{path}")
+            }
+            _ => {}
+        }
+    }
+
+    fn row_of(method: Method, rtol: f64, evals: u64, err: f64) -> RunRow {
+        let mut m = Measured {
+            work: Work {
+                accepted: evals / 9,
+                rejected: 3,
+                evals,
+            },
+            rev2: Work {
+                accepted: evals / 18,
+                rejected: 1,
+                evals: evals / 2,
+            },
+            samples: Samples {
+                acc: vec![err, -err],
+                disp: vec![1.0, 1.0],
+                force: vec![50.0, 51.0],
+                ..Samples::default()
+            },
+            wall_ms: vec![3.0, 1.0, 2.0],
+            cpu_ms: vec![],
+        };
+        let reference = Samples {
+            acc: vec![0.0, 0.0],
+            disp: vec![1.0, 1.0],
+            force: vec![50.0, 51.0],
+            ..Samples::default()
+        };
+        let refs = ReferenceSamples {
+            samples: &reference,
+            agree: (1e-9, 1e-16),
+        };
+        row(
+            method,
+            "full_11dof",
+            "f64",
+            "libm",
+            rtol,
+            &mut m,
+            &refs,
+            Some(1000.0),
+        )
+    }
+
+    #[test]
+    fn json_runs_have_every_required_number_and_no_null() {
+        let runs = vec![
+            row_of(Method::England, 1e-4, 90_000, 1e-2),
+            row_of(
+                Method::Rk4 {
+                    steps_per_rev: 16_000,
+                },
+                0.0,
+                64_000,
+                1e-3,
+            ),
+            row_of(Method::Dopri5, 1e-6, 200_000, 1e-2),
+        ];
+        assert_eq!(runs[0].wall_ms, 2.0); // the median of 3, 1, 2
+        assert_eq!(runs[0].err_acc_rms, 1e-2);
+        assert!(runs[0].cpu_ms.is_none());
+        let v = serde_json::to_value(serde_json::json!({
+            "runs": runs,
+            "failed": [FailedRun {
+                method: "dopri5_ode_solvers".into(),
+                scene: "full_11dof".into(),
+                precision: "f32".into(),
+                math: "libm".into(),
+                rtol: 1e-8,
+                fixed_steps_per_rev: None,
+                status: "failed: step size underflow".into(),
+            }],
+        }))
+        .unwrap();
+        no_nulls(&v, "");
+        for r in v["runs"].as_array().unwrap() {
+            for key in [
+                "method",
+                "scene",
+                "precision",
+                "math",
+                "rtol",
+                "steps",
+                "rejected",
+                "rhs_evals",
+                "wall_ms",
+                "err_disp_rms",
+                "err_acc_rms",
+            ] {
+                assert!(r.get(key).is_some(), "{key} missing in {r}");
+            }
+            let m = r["method"].as_str().unwrap();
+            assert!(["england", "rk4", "dopri5"].iter().any(|k| m.contains(k)));
+        }
+        assert_eq!(v["runs"][1]["rtol"], 0.0);
+        assert_eq!(v["runs"][1]["fixed_steps_per_rev"], 16_000);
+        assert!(v["runs"][0].get("fixed_steps_per_rev").is_none());
+        assert!(v["failed"][0].get("rhs_evals").is_none());
+        // One run per method: no front to interpolate along, so no equal-error row.
+        assert!(equal_error(&runs).is_empty());
+    }
+}

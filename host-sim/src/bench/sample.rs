@@ -330,3 +330,121 @@ impl<T: Real, const N: usize> NodeHermite<T, N> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::methods::{run, Method};
+    use camsim_core::{Design, RegulatedFull, RegulatedFullModel, SolverSettings, Start};
+
+    fn settings(rtol: f64) -> SolverSettings<f64> {
+        SolverSettings {
+            rtol,
+            atol: 1e-3 * rtol,
+            start: Start::Static,
+            ..SolverSettings::reference()
+        }
+    }
+
+    /// Every sample sits at its cam angle (the Newton iteration on the interpolant
+    /// converged) and the run stops at the end of revolution 2.
+    fn samples_at_their_angles(method: Method) {
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let mut s = Sampler::new(&m, 2, Some(2)).keep_states();
+        run(method, &m, &settings(1e-6), 2, &mut s).unwrap();
+        assert!(s.done && s.complete());
+        assert_eq!(s.samples.len(), SAMPLES_PER_REV);
+        let two_pi = 2.0 * std::f64::consts::PI;
+        for (k, (t, y)) in s.samples.t.iter().zip(&s.samples.states).enumerate() {
+            let y: [f64; RegulatedFull::N] = y.as_slice().try_into().unwrap();
+            let theta = m.cam_angle(*t, &y);
+            let target = two_pi * (1.0 + k as f64 / SAMPLES_PER_REV as f64);
+            assert!(
+                (theta - target).abs() < 1e-13 * target,
+                "{method:?} sample {k}: {theta} against {target}"
+            );
+        }
+        assert!(s.samples.t.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    #[test]
+    fn england_dense_samples_sit_at_their_angles() {
+        samples_at_their_angles(Method::England);
+    }
+
+    #[test]
+    fn hermite_samples_of_rk4_and_dopri5_sit_at_their_angles() {
+        samples_at_their_angles(Method::Rk4 {
+            steps_per_rev: 20_000,
+        });
+        samples_at_their_angles(Method::Dopri5);
+    }
+
+    #[test]
+    fn counted_evaluations_are_englands_own_count() {
+        // England's dense output costs 9 per accepted and 7 per rejected double step
+        // plus the end point's derivative (England::integrate_dense's documentation).
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let mut s = Sampler::new(&m, 1, None);
+        let w = run(Method::England, &m, &settings(1e-4), 1, &mut s).unwrap();
+        assert!(w.rejected > 0 && w.accepted > 1000, "{w:?}");
+        assert_eq!(w.evals, 9 * w.accepted + 7 * w.rejected + 1);
+        // RK4: 4 per step plus the first node's derivative.
+        let mut s = Sampler::new(&m, 1, None);
+        let w = run(
+            Method::Rk4 {
+                steps_per_rev: 17_000,
+            },
+            &m,
+            &settings(1e-4),
+            1,
+            &mut s,
+        )
+        .unwrap();
+        assert_eq!(w.evals, 4 * w.accepted + 1);
+        assert!(w.accepted >= 17_000 && w.accepted < 17_100, "{w:?}");
+    }
+
+    #[test]
+    fn two_methods_and_two_interpolants_agree_far_below_the_benchs_errors() {
+        // England at rtol 1e-10 through its dense output against RK4 at 4x its fixed-step
+        // limit through the node Hermite: the bench measures errors of 1e-5 to 1e1 in/s²
+        // at these settings' neighbours, so both must agree to well below 1e-4.
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let mut a = Sampler::new(&m, 2, Some(2));
+        run(Method::England, &m, &settings(1e-10), 2, &mut a).unwrap();
+        let mut b = Sampler::new(&m, 2, Some(2));
+        run(
+            Method::Rk4 {
+                steps_per_rev: 60_800,
+            },
+            &m,
+            &settings(1e-10),
+            2,
+            &mut b,
+        )
+        .unwrap();
+        let acc = Samples::rms_diff(&a.samples.acc, &b.samples.acc);
+        let disp = Samples::rms_diff(&a.samples.disp, &b.samples.disp);
+        assert!(acc < 5e-5, "{acc}");
+        assert!(disp < 1e-12, "{disp}");
+        // And the signal itself is large: 2.6e3 in/s² RMS.
+        assert!(Samples::rms(&a.samples.acc) > 1e3);
+    }
+
+    #[test]
+    fn watch_stops_at_a_separation_in_the_sampled_revolution() {
+        // Far above the jump onset (about 902 rpm) the follower leaves the cam.
+        let mut d = Design::reference();
+        d.set_speed_rpm(1200.0).unwrap();
+        let m = RegulatedFullModel::<f64>::new(d).unwrap();
+        let mut s = Sampler::new(&m, 2, Some(2)).watch_contact();
+        let _ = run(Method::England, &m, &settings(1e-6), 2, &mut s);
+        assert!(s.separated && s.separated_in_sampled);
+        // At 500 rpm it never does.
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let mut s = Sampler::new(&m, 2, Some(2)).watch_contact();
+        run(Method::England, &m, &settings(1e-6), 2, &mut s).unwrap();
+        assert!(!s.separated && s.done);
+    }
+}

@@ -315,3 +315,55 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+mod model_tests {
+    use super::*;
+    use crate::bench::methods::{run, Method};
+    use crate::bench::sample::Sampler;
+    use camsim_core::{Design, RegulatedFullModel, Start};
+
+    #[test]
+    fn the_jacobians_eigenvalues_and_the_caps_power_iteration_agree_on_the_model() {
+        // Two independent estimates of the spectral radius along revolution 2: nalgebra's
+        // Schur decomposition of a central-difference Jacobian, and the stiffness cap's
+        // Arnoldi-type power iteration on one-sided products (cold-started 24 samples
+        // apart here, so within a few per cent; the bench's neighbouring samples agree to 1 %).
+        // The reference design (800 rpm).
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let s = SolverSettings {
+            rtol: 1e-8,
+            atol: 1e-11,
+            start: Start::Static,
+            ..SolverSettings::reference()
+        };
+        let mut sampler = Sampler::new(&m, 2, Some(2)).keep_states();
+        run(Method::England, &m, &s, 2, &mut sampler).unwrap();
+        let l = analyse(
+            &m,
+            &SolverSettings::reference(),
+            &sampler.samples.t,
+            &sampler.samples.states,
+            24,
+        )
+        .unwrap();
+        assert_eq!(l.points, 31);
+        assert!(
+            l.power_over_eig_min > 0.97 && l.power_over_eig_max < 1.03,
+            "{l:?}"
+        );
+        // The stiffest mode is lightly damped (almost on the imaginary axis) ...
+        assert!(l.stiffest_damping_ratio > 0.0 && l.stiffest_damping_ratio < 0.05);
+        // ... so the boundaries along it are close to the imaginary axis's for RK4, and
+        // England's double step is two RK4 steps: half RK4's steps at a variable step.
+        assert!((l.rk4_boundary_at_stiffest / 8f64.sqrt() - 1.0).abs() < 0.02);
+        assert!((l.rk4_steps_per_rev / l.england_double_steps_per_rev - 2.0).abs() < 1e-12);
+        // A fixed step must be below the smallest limit: more steps than a variable one.
+        assert!(l.rk4_fixed_steps_per_rev > l.rk4_steps_per_rev);
+        // ρ between the smallest and the largest bound the fixed and variable limits.
+        let period = 2.0 * std::f64::consts::PI / m.design().omega0;
+        let boundary = l.rk4_boundary_at_stiffest;
+        assert!(l.rk4_fixed_steps_per_rev <= 1.02 * period * l.rho_max / boundary);
+        assert!(l.rk4_steps_per_rev >= 0.98 * period * l.rho_min / 8f64.sqrt());
+    }
+}
