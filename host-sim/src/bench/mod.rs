@@ -270,6 +270,9 @@ pub struct EqualError {
     /// front in wall time reaches that error.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wall_ratio: Option<f64>,
+    /// Method over peer, median CPU time, the same way.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cpu_ratio: Option<f64>,
 }
 
 /// `cost` at error `err` along the Pareto front of `(cost, err)` points (log-log
@@ -314,6 +317,10 @@ fn equal_error(runs: &[RunRow]) -> Vec<EqualError> {
             .map(|r| (r.rhs_evals as f64, r.err_acc_rms))
             .collect();
         let by_wall: Vec<(f64, f64)> = mine.iter().map(|r| (r.wall_ms, r.err_acc_rms)).collect();
+        let by_cpu: Vec<(f64, f64)> = mine
+            .iter()
+            .filter_map(|r| r.cpu_ms.map(|c| (c, r.err_acc_rms)))
+            .collect();
         for peer in runs
             .iter()
             .filter(full)
@@ -330,6 +337,10 @@ fn equal_error(runs: &[RunRow]) -> Vec<EqualError> {
                 rhs_evals: evals,
                 evals_ratio: evals / peer.rhs_evals as f64,
                 wall_ratio: cost_at_error(&by_wall, peer.err_acc_rms).map(|w| w / peer.wall_ms),
+                cpu_ratio: match (cost_at_error(&by_cpu, peer.err_acc_rms), peer.cpu_ms) {
+                    (Some(c), Some(p)) => Some(c / p),
+                    _ => None,
+                },
             });
         }
     }
@@ -950,6 +961,40 @@ mod tests {
             &refs,
             Some(1000.0),
         )
+    }
+
+    #[test]
+    fn plots_are_written_as_png_of_their_size() {
+        use crate::output::Plan;
+        let dir = std::env::temp_dir().join(format!("camsim-bench-plot-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut runs = Vec::new();
+        for (rtol, evals, err) in [
+            (1e-3, 100_000, 1e-1),
+            (1e-5, 150_000, 1e-3),
+            (1e-7, 300_000, 1e-5),
+        ] {
+            runs.push(row_of(Method::England, rtol, evals, err));
+            let mut r = row_of(Method::Dopri5, rtol, 2 * evals, 3.0 * err);
+            r.cpu_ms = Some(1.5);
+            runs.push(r);
+        }
+        let mut out = Plan::new(true)
+            .dir("--plot", &dir, &plot::FILES)
+            .unwrap()
+            .open()
+            .unwrap();
+        plot::draw_runs(&mut out, &runs, 500.0, (1e-9, 1e-16)).unwrap();
+        out.commit().unwrap();
+        for f in plot::FILES {
+            let b = std::fs::read(dir.join(f)).unwrap();
+            assert_eq!(&b[1..4], b"PNG", "{f}");
+            let w = u32::from_be_bytes(b[16..20].try_into().unwrap());
+            let h = u32::from_be_bytes(b[20..24].try_into().unwrap());
+            assert_eq!((w, h), plot::SIZE, "{f}");
+            assert!(b.len() > 10_000, "{f}: {} bytes", b.len());
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! Log-log plots of the bench (`camsim bench --plot DIR`): the error of revolution 2
-//! against right-hand-side evaluations and against wall time, one line per method and
+//! against right-hand-side evaluations, against wall time and against the bench thread's
+//! CPU time (what a run cost on a machine shared with other work), one line per method and
 //! precision (f32 dashed), the acceleration's error above, the displacement's below. A
 //! point whose error is within 10× of the two references' own disagreement is left out
 //! (it would measure the reference), and the disagreement is drawn as a grey line.
@@ -13,7 +14,11 @@ use crate::output::AtomicDir;
 use crate::plot::{ensure_font, FONT};
 
 /// The files `--plot DIR` writes.
-pub const FILES: [&str; 2] = ["error_vs_evals.png", "error_vs_time.png"];
+pub const FILES: [&str; 3] = [
+    "error_vs_evals.png",
+    "error_vs_time.png",
+    "error_vs_cpu_time.png",
+];
 
 /// Size of each plot, pixels.
 pub const SIZE: (u32, u32) = (1200, 1000);
@@ -30,7 +35,7 @@ fn color(method: &str) -> RGBColor {
     }
 }
 
-/// One line: its label, whether dashed, and its points (x, y) sorted by x.
+/// One line: its label, whether dashed, and its points (x, y) in the order of the tolerance.
 struct Line {
     label: String,
     color: RGBColor,
@@ -49,18 +54,27 @@ fn lines(runs: &[RunRow], x: fn(&RunRow) -> f64, y: fn(&RunRow) -> f64, floor: f
     }
     let mut out = Vec::new();
     for (method, precision, math) in keys {
-        let mut points: Vec<(f64, f64)> = runs
+        // In the order of the tolerance (loosest first; RK4: fewest steps first), the
+        // path the method takes as it is asked for more accuracy.
+        let mut mine: Vec<&RunRow> = runs
             .iter()
             .filter(|r| {
                 r.scene == SCENE && r.method == method && r.precision == precision && r.math == math
             })
+            .collect();
+        mine.sort_by(|a, b| {
+            b.rtol
+                .total_cmp(&a.rtol)
+                .then(a.fixed_steps_per_rev.cmp(&b.fixed_steps_per_rev))
+        });
+        let points: Vec<(f64, f64)> = mine
+            .iter()
             .map(|r| (x(r), y(r)))
             .filter(|(a, b)| a.is_finite() && *a > 0.0 && b.is_finite() && *b > 10.0 * floor)
             .collect();
         if points.is_empty() {
             continue;
         }
-        points.sort_by(|a, b| a.0.total_cmp(&b.0));
         let label = if precision == "f64" {
             method.clone()
         } else {
@@ -177,31 +191,33 @@ fn draw<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Draws [`FILES`] into the directory output `out` (the caller commits it).
+/// Draws [`FILES`] of `report` into the directory output `out` (the caller commits it).
 pub fn draw_all(out: &mut AtomicDir, report: &BenchReport) -> Result<()> {
+    let r = &report.reference;
+    draw_runs(
+        out,
+        &report.runs,
+        report.rpm,
+        (r.agree_acc_rms, r.agree_disp_rms),
+    )
+}
+
+/// Draws [`FILES`] for `runs` at `rpm`; `floor`: the references' (acceleration,
+/// displacement) disagreement.
+pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f64)) -> Result<()> {
     ensure_font()?;
     let title = |what: &str| {
-        format!(
-            "Error of revolution 2 against {what}: reference design, {} rpm, full 11-DOF",
-            report.rpm
-        )
+        format!("Error of revolution 2 against {what}: reference design, {rpm} rpm, full 11-DOF")
     };
     let acc: fn(&RunRow) -> f64 = |r| r.err_acc_rms;
     let disp: fn(&RunRow) -> f64 = |r| r.err_disp_rms;
     let panels: [Panel<'_>; 2] = [
-        (
-            "load acceleration RMS error (in/s²)",
-            acc,
-            report.reference.agree_acc_rms,
-        ),
-        (
-            "load displacement RMS error (in)",
-            disp,
-            report.reference.agree_disp_rms,
-        ),
+        ("load acceleration RMS error (in/s²)", acc, floor.0),
+        ("load displacement RMS error (in)", disp, floor.1),
     ];
     let evals: fn(&RunRow) -> f64 = |r| r.rhs_evals as f64;
     let wall: fn(&RunRow) -> f64 = |r| r.wall_ms;
+    let cpu: fn(&RunRow) -> f64 = |r| r.cpu_ms.unwrap_or(f64::NAN);
     for (file, what, x_desc, x) in [
         (
             FILES[0],
@@ -215,11 +231,17 @@ pub fn draw_all(out: &mut AtomicDir, report: &BenchReport) -> Result<()> {
             "wall time, ms (2 revolutions, median)",
             wall,
         ),
+        (
+            FILES[2],
+            "CPU time",
+            "CPU time of the bench's thread, ms (2 revolutions, median)",
+            cpu,
+        ),
     ] {
         let mut buf = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
         {
             let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
-            draw(&root, &title(what), x_desc, x, &panels, &report.runs)
+            draw(&root, &title(what), x_desc, x, &panels, runs)
                 .map_err(|e| anyhow!("cannot draw plot {file}: {e}"))?;
             root.present()
                 .map_err(|e| anyhow!("cannot draw plot {file}: {e}"))?;

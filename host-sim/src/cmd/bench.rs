@@ -26,8 +26,8 @@ pub struct Args {
     /// Print JSON: {"runs": [...], ...}.
     #[arg(long)]
     pub json: bool,
-    /// Write error_vs_evals.png and error_vs_time.png (log-log) into DIR (created if
-    /// missing; its parent must exist; existing plots need --force).
+    /// Write error_vs_evals.png, error_vs_time.png and error_vs_cpu_time.png (log-log)
+    /// into DIR (created if missing; its parent must exist; existing plots need --force).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
     /// Replace existing --plot files.
@@ -223,14 +223,15 @@ impl Report for BenchReport {
             for e in &self.equal_error {
                 let _ = writeln!(
                     s,
-                    "  {:<19} {:>9.0e} {:>10} {:>12} {:>12.0} {:>11.3} {:>10}",
+                    "  {:<19} {:>9.0e} {:>10} {:>12} {:>12.0} {:>11.3} {:>10} {:>9}",
                     e.method,
                     e.peer_rtol,
                     e3(e.err_acc_rms),
                     e.peer_rhs_evals,
                     e.rhs_evals,
                     e.evals_ratio,
-                    e.wall_ratio.map_or("-".to_string(), |w| format!("{w:.3}"))
+                    e.wall_ratio.map_or("-".to_string(), |w| format!("{w:.3}")),
+                    e.cpu_ratio.map_or("-".to_string(), |w| format!("{w:.3}"))
                 );
             }
         }
