@@ -211,14 +211,15 @@ impl Report for BenchReport {
             );
             let _ = writeln!(
                 s,
-                "  {:<19} {:>9} {:>10} {:>12} {:>12} {:>11} {:>10}",
+                "  {:<19} {:>9} {:>10} {:>12} {:>12} {:>11} {:>10} {:>9}",
                 "method",
                 "peer rtol",
                 "acc err",
                 "peer evals",
                 "evals",
                 "evals ratio",
-                "wall ratio"
+                "wall ratio",
+                "cpu ratio"
             );
             for e in &self.equal_error {
                 let _ = writeln!(
