@@ -271,10 +271,10 @@ fn damping_near_zero() {
 fn a_spring_so_weak_the_follower_leaves_the_cam_every_revolution() {
     // 30 lb/in instead of 100: the preload falls to 15 lb and the onset speed to about
     // 902 rpm · √0.3 = 494 rpm (the onset goes with the square root of the spring's force
-    // over the inertia force), at 500 rpm. (A 10 lb/in spring throws the follower so far
-    // that the cantilever's free length e2 - y3 closes and K_hc = 3EI/(e2 - y3)³ diverges:
-    // the model leaves its range and the run ends in a step-size underflow, as far
-    // above the onset at 1500-3000 rpm with the reference spring.)
+    // over the inertia force), at 500 rpm. (Far above the onset, at 1500-3000 rpm with the
+    // reference spring, the follower flies up until the cantilever's free length e2 - y3
+    // closes and K_hc = 3EI/(e2 - y3)³ diverges: the model leaves its range and the run
+    // ends in a step-size underflow; a 10 lb/in spring at 500 rpm ends in one too.)
     let mut d = design(500.0);
     d.k_rs = 30.0;
     d.k_rs_modal = 30.0;
