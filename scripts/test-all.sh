@@ -53,6 +53,9 @@ step "workspace tests"
 cargo test --workspace
 cargo test -p camsim-core --features micromath
 
+step "bench --quick (run time against error, a few points; full runs in BENCHMARKS.md)"
+cargo run --release -q -p camsim -- bench --quick
+
 if [ -x scripts/firmware-ci.sh ]; then
     step "firmware under QEMU"
     scripts/firmware-ci.sh

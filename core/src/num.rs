@@ -441,7 +441,14 @@ impl Real for f32 {
     }
     #[inline(always)]
     fn exp(self) -> Self {
-        micromath::F32Ext::exp(self)
+        // micromath's exp returns NaN for arguments in [88.7233, 89.416] (and its debug
+        // build panics there) instead of overflowing: past ln(f32::MAX) = 88.722839 the
+        // result is +inf, as libm's. `coulomb_friction`'s tanh reaches such arguments.
+        if self >= 88.722_84 {
+            f32::INFINITY
+        } else {
+            micromath::F32Ext::exp(self)
+        }
     }
     #[inline(always)]
     fn ln(self) -> Self {
@@ -486,6 +493,22 @@ mod tests {
     fn generic_identity<T: Real>(x: T) -> T {
         let (s, c) = x.sin_cos();
         s.sq() + c.sq()
+    }
+
+    #[test]
+    fn single_precision_exp_overflows_to_infinity_never_nan() {
+        // Just below ln(f32::MAX) = 88.722839 the result is finite, from there on +inf
+        // (micromath's own exp gave NaN on [88.7233, 89.416]).
+        assert!(Real::exp(88.722_83f32).is_finite());
+        let mut x = 88.0f32;
+        while x < 100.0 {
+            let e = Real::exp(x);
+            assert!(!e.is_nan(), "exp({x}) is NaN");
+            assert!(e.is_finite() || x >= 88.722_84, "exp({x}) = {e}");
+            x += 1e-4;
+        }
+        assert_eq!(Real::exp(f32::INFINITY), f32::INFINITY);
+        assert_eq!(Real::exp(-200.0f32), 0.0);
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 pub mod actual;
 pub mod args;
+pub mod bench;
 pub mod cli;
 pub mod cmd;
 pub mod csv;

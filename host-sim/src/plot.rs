@@ -27,7 +27,7 @@ use crate::sim::HostDeviation;
 /// DejaVu Sans (Bitstream Vera licence, see `host-sim/assets/DejaVuSans-LICENSE.txt`).
 static FONT_TTF: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 /// The family name the embedded font is registered under.
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 
 /// Size of a single-panel plot, pixels.
 pub const PLOT_SIZE: (u32, u32) = (1200, 600);
@@ -44,7 +44,7 @@ const REV_LINE: RGBColor = RGBColor(90, 90, 90);
 const PERIOD_LINE: RGBColor = RGBColor(170, 170, 170);
 
 /// Registers the embedded font with plotters once per process.
-fn ensure_font() -> Result<()> {
+pub(crate) fn ensure_font() -> Result<()> {
     static OK: OnceLock<bool> = OnceLock::new();
     let ok = *OK
         .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_TTF).is_ok());

@@ -1,0 +1,261 @@
+//! Log-log plots of the bench (`camsim bench --plot DIR`): the error of revolution 2
+//! against right-hand-side evaluations, against wall time and against the bench thread's
+//! CPU time (what a run cost on a machine shared with other work), one line per method and
+//! precision (f32 dashed), the acceleration's error above, the displacement's below. A
+//! point whose error is within 10× of the two references' own disagreement is left out
+//! (it would measure the reference), and the disagreement is drawn as a grey line.
+
+use anyhow::{anyhow, Result};
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+
+use super::{BenchReport, RunRow};
+use crate::output::AtomicDir;
+use crate::plot::{ensure_font, FONT};
+
+/// The files `--plot DIR` writes.
+pub const FILES: [&str; 3] = [
+    "error_vs_evals.png",
+    "error_vs_time.png",
+    "error_vs_cpu_time.png",
+];
+
+/// Size of each plot, pixels.
+pub const SIZE: (u32, u32) = (1200, 1000);
+
+/// The scene the plots compare.
+const SCENE: &str = "full_11dof";
+
+fn color(method: &str) -> RGBColor {
+    match method {
+        "england" => RGBColor(31, 119, 180),
+        "england_pi_capped" => RGBColor(44, 160, 44),
+        "rk4_fixed" => RGBColor(255, 127, 14),
+        _ => RGBColor(214, 39, 40),
+    }
+}
+
+/// One line: its label, whether dashed, and its points (x, y) in the order of the tolerance.
+struct Line {
+    label: String,
+    color: RGBColor,
+    dashed: bool,
+    points: Vec<(f64, f64)>,
+}
+
+/// The lines of one panel.
+fn lines(runs: &[RunRow], x: fn(&RunRow) -> f64, y: fn(&RunRow) -> f64, floor: f64) -> Vec<Line> {
+    let mut keys: Vec<(String, String, String)> = Vec::new();
+    for r in runs.iter().filter(|r| r.scene == SCENE) {
+        let k = (r.method.clone(), r.precision.clone(), r.math.clone());
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    let mut out = Vec::new();
+    for (method, precision, math) in keys {
+        // In the order of the tolerance (loosest first; RK4: fewest steps first), the
+        // path the method takes as it is asked for more accuracy.
+        let mut mine: Vec<&RunRow> = runs
+            .iter()
+            .filter(|r| {
+                r.scene == SCENE && r.method == method && r.precision == precision && r.math == math
+            })
+            .collect();
+        mine.sort_by(|a, b| {
+            b.rtol
+                .total_cmp(&a.rtol)
+                .then(a.fixed_steps_per_rev.cmp(&b.fixed_steps_per_rev))
+        });
+        let points: Vec<(f64, f64)> = mine
+            .iter()
+            .map(|r| (x(r), y(r)))
+            .filter(|(a, b)| a.is_finite() && *a > 0.0 && b.is_finite() && *b > 10.0 * floor)
+            .collect();
+        if points.is_empty() {
+            continue;
+        }
+        let label = if precision == "f64" {
+            method.clone()
+        } else {
+            format!("{method} ({precision}, {math})")
+        };
+        out.push(Line {
+            label,
+            color: color(&method),
+            dashed: precision != "f64",
+            points,
+        });
+    }
+    out
+}
+
+/// Decade bounds around the values.
+fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = v
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    if !(lo.is_finite() && hi > 0.0) {
+        return (1.0, 10.0);
+    }
+    (
+        10f64.powf(lo.log10().floor()),
+        10f64.powf(hi.log10().ceil().max(lo.log10().floor() + 1.0)),
+    )
+}
+
+type Panel<'a> = (&'a str, fn(&RunRow) -> f64, f64);
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    x_desc: &str,
+    x: fn(&RunRow) -> f64,
+    panels: &[Panel<'_>],
+    runs: &[RunRow],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let (title_area, body) = root.split_vertically(48);
+    title_area.titled(title, (FONT, 24))?;
+    let areas = body.split_evenly((panels.len(), 1));
+    for (area, (y_desc, y, floor)) in areas.iter().zip(panels) {
+        let ls = lines(runs, x, *y, *floor);
+        let (x0, x1) = log_bounds(ls.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
+        let (y0, y1) = log_bounds(
+            ls.iter()
+                .flat_map(|l| l.points.iter().map(|p| p.1))
+                .chain(std::iter::once(*floor)),
+        );
+        let mut chart = ChartBuilder::on(area)
+            .margin(12)
+            .x_label_area_size(50)
+            .y_label_area_size(90)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc(x_desc)
+            .y_desc(*y_desc)
+            .x_label_formatter(&|v| format!("{v:.0e}"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style((FONT, 16))
+            .axis_desc_style((FONT, 18))
+            .bold_line_style(RGBColor(215, 215, 215))
+            .light_line_style(RGBColor(240, 240, 240))
+            .draw()?;
+        if *floor > 0.0 && floor.is_finite() {
+            let grey = RGBColor(120, 120, 120);
+            chart
+                .draw_series(DashedLineSeries::new(
+                    vec![(x0, *floor), (x1, *floor)],
+                    8,
+                    6,
+                    grey.stroke_width(1),
+                ))?
+                .label("the two references differ by")
+                .legend(move |(a, b)| {
+                    DashedPathElement::new(vec![(a, b), (a + 26, b)], 7, 5, grey.stroke_width(2))
+                });
+        }
+        for l in &ls {
+            let c = l.color;
+            let style = c.stroke_width(2);
+            let ann = if l.dashed {
+                chart.draw_series(DashedLineSeries::new(l.points.clone(), 10, 6, style))?
+            } else {
+                chart.draw_series(LineSeries::new(l.points.clone(), style))?
+            };
+            let dashed = l.dashed;
+            ann.label(l.label.as_str()).legend(move |(a, b)| {
+                if dashed {
+                    DashedPathElement::new(vec![(a, b), (a + 26, b)], 7, 5, c.stroke_width(2))
+                        .into_dyn()
+                } else {
+                    PathElement::new(vec![(a, b), (a + 26, b)], c.stroke_width(2)).into_dyn()
+                }
+            });
+            chart.draw_series(
+                l.points
+                    .iter()
+                    .map(|p| Circle::new(*p, 4, if dashed { c.into() } else { c.filled() })),
+            )?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .margin(8)
+            .label_font((FONT, 15))
+            .background_style(WHITE.filled())
+            .border_style(RGBColor(160, 160, 160))
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// Draws [`FILES`] of `report` into the directory output `out` (the caller commits it).
+pub fn draw_all(out: &mut AtomicDir, report: &BenchReport) -> Result<()> {
+    let r = &report.reference;
+    draw_runs(
+        out,
+        &report.runs,
+        report.rpm,
+        (r.agree_acc_rms, r.agree_disp_rms),
+    )
+}
+
+/// Draws [`FILES`] for `runs` at `rpm`; `floor`: the references' (acceleration,
+/// displacement) disagreement.
+pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f64)) -> Result<()> {
+    ensure_font()?;
+    let title = |what: &str| {
+        format!("Error of revolution 2 against {what}: reference design, {rpm} rpm, full 11-DOF")
+    };
+    let acc: fn(&RunRow) -> f64 = |r| r.err_acc_rms;
+    let disp: fn(&RunRow) -> f64 = |r| r.err_disp_rms;
+    let panels: [Panel<'_>; 2] = [
+        ("load acceleration RMS error (in/s²)", acc, floor.0),
+        ("load displacement RMS error (in)", disp, floor.1),
+    ];
+    let evals: fn(&RunRow) -> f64 = |r| r.rhs_evals as f64;
+    let wall: fn(&RunRow) -> f64 = |r| r.wall_ms;
+    let cpu: fn(&RunRow) -> f64 = |r| r.cpu_ms.unwrap_or(f64::NAN);
+    for (file, what, x_desc, x) in [
+        (
+            FILES[0],
+            "right-hand-side evaluations",
+            "right-hand-side evaluations (2 revolutions)",
+            evals,
+        ),
+        (
+            FILES[1],
+            "wall time",
+            "wall time, ms (2 revolutions, median)",
+            wall,
+        ),
+        (
+            FILES[2],
+            "CPU time",
+            "CPU time of the bench's thread, ms (2 revolutions, median)",
+            cpu,
+        ),
+    ] {
+        let mut buf = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
+            draw(&root, &title(what), x_desc, x, &panels, runs)
+                .map_err(|e| anyhow!("cannot draw plot {file}: {e}"))?;
+            root.present()
+                .map_err(|e| anyhow!("cannot draw plot {file}: {e}"))?;
+        }
+        let path = out.path(file)?;
+        image::save_buffer_with_format(
+            &path,
+            &buf,
+            SIZE.0,
+            SIZE.1,
+            image::ColorType::Rgb8,
+            image::ImageFormat::Png,
+        )
+        .map_err(|e| anyhow!("cannot write plot {}: {e}", out.dir().join(file).display()))?;
+    }
+    Ok(())
+}
