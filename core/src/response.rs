@@ -303,7 +303,9 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             0
         };
         let w = d.omega0;
-        let theory = Theoretical::of(&p.lift, w);
+        // The perfect cam's response (VI.4), not the lift the roller rides on: on an
+        // actual cam the deviation from it includes the profile's own error.
+        let theory = Theoretical::of(&d.program.follower(p.theta_c), w);
         let contact_stress = if stress && p.in_contact {
             // Roller diameter and the signed diameter of the cam surface at the contact.
             d.hertz.max_stress(
