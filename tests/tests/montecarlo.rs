@@ -71,11 +71,11 @@ fn bit_identical_for_any_thread_count_and_sample_order() {
     assert_ne!(one[0].rms_deviation_in, one[1].rms_deviation_in);
     assert_ne!(one[0].periods[1].values, one[1].periods[1].values);
     let reference = bits(&one);
-    let summary = serde_json::to_string(&montecarlo::summarize(&one).unwrap()).unwrap();
+    let summary = serde_json::to_string(&montecarlo::summarize(&one, 2).unwrap()).unwrap();
     for threads in [2, 3] {
         let r = s.run(&all, threads, false).unwrap();
         assert_eq!(bits(&r), reference, "{threads} threads");
-        let sm = serde_json::to_string(&montecarlo::summarize(&r).unwrap()).unwrap();
+        let sm = serde_json::to_string(&montecarlo::summarize(&r, 2).unwrap()).unwrap();
         assert_eq!(sm, summary, "{threads} threads");
     }
     // Sample 4 alone, after others in reverse order: the same record.
@@ -304,11 +304,7 @@ fn ranks_are_a_permutation_that_follows_the_values() {
     for (l, law) in r.laws.iter().zip(camsim_core::MotionLaw::ALL) {
         assert_eq!(l.name, law.name());
     }
-    let columns = RANKED
-        .iter()
-        .copied()
-        .chain(std::iter::once(("overall", true)));
-    for (col, smaller_better) in columns {
+    for (col, smaller_better) in RANKED.iter().copied() {
         let mut ranks: Vec<usize> = r.laws.iter().map(|l| l.ranks.get(col).unwrap()).collect();
         ranks.sort_unstable();
         assert_eq!(ranks, (1..=n).collect::<Vec<_>>(), "{col}: a permutation");
@@ -324,6 +320,19 @@ fn ranks_are_a_permutation_that_follows_the_values() {
                         a.name, b.name
                     );
                 }
+            }
+        }
+    }
+    // Overall: every law that holds contact on the theoretical cam before every law that
+    // separates, each group ordered by the sum of its ranks.
+    let mut overall: Vec<usize> = r.laws.iter().map(|l| l.ranks.overall).collect();
+    overall.sort_unstable();
+    assert_eq!(overall, (1..=n).collect::<Vec<_>>());
+    for a in &r.laws {
+        for b in &r.laws {
+            if a.ranks.overall < b.ranks.overall {
+                let key = |l: &compare::LawStudy| (l.flexibility.jump, l.values.overall);
+                assert!(key(a) <= key(b), "overall: {} before {}", a.name, b.name);
             }
         }
     }

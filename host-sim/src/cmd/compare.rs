@@ -149,8 +149,8 @@ pub struct LawStudy {
     pub jump_return: bool,
     /// The value of every ranked column ([`RANKED`]).
     pub values: Ranks<f64>,
-    /// The law's rank (1 best) in every ranked column, and overall (by the sum of its
-    /// ranks).
+    /// The law's rank (1 best) in every ranked column, and overall (the laws that hold
+    /// contact on the theoretical cam first, then by the sum of the ranks).
     pub ranks: Ranks<usize>,
 }
 
@@ -173,7 +173,7 @@ pub struct Ranks<T> {
     pub contact_force_max: T,
     /// Largest contact stress.
     pub contact_stress_max: T,
-    /// Overall: the sum of the ranks above (ranks) or itself (values).
+    /// Overall: the rank (ranks) or the sum of the ranks above (values).
     pub overall: T,
 }
 
@@ -491,8 +491,9 @@ pub fn report(args: &Args) -> Result<CompareReport> {
     })
 }
 
-/// Ranks every law in every column of [`RANKED`], then overall by the sum of those
-/// ranks (ties in the laws' order).
+/// Ranks every law in every column of [`RANKED`], then overall: the laws that hold
+/// contact on the theoretical cam in cycle II before those that separate, each group by
+/// the sum of its ranks (ties in the laws' order).
 pub fn fill_ranks(laws: &mut [LawStudy]) {
     let mut sums = vec![0.0; laws.len()];
     for (col, smaller) in RANKED {
@@ -505,7 +506,13 @@ pub fn fill_ranks(laws: &mut [LawStudy]) {
             sums[i] += r as f64;
         }
     }
-    for (i, r) in rank(&sums, true).into_iter().enumerate() {
+    // The sum is at most 8 · 12 = 96: a separating law's key is above every other's.
+    let keys: Vec<f64> = laws
+        .iter()
+        .zip(&sums)
+        .map(|(l, s)| s + if l.flexibility.jump { 1000.0 } else { 0.0 })
+        .collect();
+    for (i, r) in rank(&keys, true).into_iter().enumerate() {
         laws[i].values.overall = sums[i];
         laws[i].ranks.overall = r;
     }
@@ -634,7 +641,8 @@ impl Report for CompareReport {
         }
         let _ = writeln!(
             out,
-            "ranks (1 = best; S_tol and the jumps on the actual cam, the rest on the theoretical cam; Fc_min larger is better)"
+            "ranks (1 = best; S_tol and the jumps on the actual cam, the rest on the theoretical cam; Fc_min larger is better;\n\
+             overall: the laws holding contact on the theoretical cam first, then by the sum of the ranks)"
         );
         let _ = write!(out, "{:<21}", "law");
         for (_, h) in HEADERS {

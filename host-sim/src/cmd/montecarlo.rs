@@ -3,8 +3,9 @@
 //! Sample `i` of a study with master seed `S` is the actual cam of
 //! [`crate::actual::build_profile`]`(design, args, i)`, whose random numbers come from
 //! `RandomStream::for_sample(S, i, method)` alone; it is simulated for
-//! `--revolutions` (default 2) and its revolution-2 (cycle II) per-period statistics,
-//! the columns of `camsim run`'s table, are kept as one [`SampleRecord`]. The records
+//! `--revolutions` (default 2) and the per-period statistics of its revolution 2 (cycle
+//! II; revolution 1 in a reduced study of one revolution), the columns of `camsim run`'s
+//! table, are kept as one [`SampleRecord`]. The records
 //! are collected by index and reduced in index order (never in the order the threads
 //! finish), so the [`Summary`] is the same bit for bit for any `--threads`, and for any
 //! split into shards (`--shard K/N`, then `camsim montecarlo merge`).
@@ -42,8 +43,14 @@ use crate::output::{AtomicDir, Plan};
 use crate::report::Report;
 use crate::sim::{self, Nothing, PeriodRow, RunSpec};
 
-/// The revolution whose statistics a study keeps (the thesis's cycle II, steady state).
+/// The revolution whose statistics a study keeps (the thesis's cycle II, steady state),
+/// unless it simulates only one (`--revolutions 1`, a reduced study: revolution 1).
 pub const REVOLUTION: u32 = 2;
+
+/// The revolution a study of `revolutions` revolutions measures: 2, or 1 if it runs one.
+pub fn measured_revolution(revolutions: u32) -> u32 {
+    revolutions.clamp(1, REVOLUTION)
+}
 
 /// The shard file's `format` tag.
 pub const SHARD_FORMAT: &str = "camsim-montecarlo-shard";
@@ -117,8 +124,9 @@ pub struct StudyArgs {
     /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Revolutions to simulate, 2-16 (default 2: the statistics are revolution 2's).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=16))]
+    /// Revolutions to simulate, 1-16 (default 2: the statistics are revolution 2's;
+    /// with 1, a reduced study, revolution 1's: give it --start static).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub revolutions: Option<u32>,
     /// Reduced model: drop the horizontal motion (x1, x2, x3).
     #[arg(long)]
@@ -331,8 +339,8 @@ impl Study {
     /// A study of `samples` actual cams made by `actual` on the scene `spec`.
     pub fn from_spec(spec: RunSpec, actual: &ActualArgs, samples: u64) -> Result<Self> {
         anyhow::ensure!(
-            spec.revolutions >= REVOLUTION,
-            "a study needs at least {REVOLUTION} revolutions (its statistics are revolution {REVOLUTION}'s)"
+            spec.revolutions >= 1,
+            "a study needs at least one revolution"
         );
         anyhow::ensure!(samples >= 1, "--samples must be at least 1");
         let tol = actual.tolerances()?;
@@ -367,21 +375,28 @@ impl Study {
         })
     }
 
-    /// Runs sample `index`: its profile, its simulation, its revolution-2 record.
+    /// The revolution the study measures ([`measured_revolution`]).
+    pub fn revolution(&self) -> u32 {
+        measured_revolution(self.spec.revolutions)
+    }
+
+    /// Runs sample `index`: its profile, its simulation, its record of the measured
+    /// revolution.
     pub fn sample(&self, index: u64) -> Result<SampleRecord> {
+        let rev = self.revolution();
         let (dev, stats) = actual::build_profile(&self.spec.design, &self.actual, index)?;
         let mut spec = self.spec.clone();
         spec.profile = Some(Arc::new(dev));
         let r = sim::run(&spec, &mut Nothing)?;
         let periods: Vec<PeriodValues> = sim::period_rows(&spec.design, &r.stats)
             .iter()
-            .filter(|p| p.revolution == REVOLUTION)
+            .filter(|p| p.revolution == rev)
             .map(PeriodValues::of)
             .collect();
         let names = sim::period_names(&spec.design);
         anyhow::ensure!(
             periods.len() == names.len(),
-            "revolution {REVOLUTION} has {} of the program's {} periods",
+            "revolution {rev} has {} of the program's {} periods",
             periods.len(),
             names.len()
         );
@@ -641,8 +656,9 @@ pub struct Summary {
     pub steps: Moments,
 }
 
-/// Reduces records (sorted by index, every index of the study once) in index order.
-pub fn summarize(records: &[SampleRecord]) -> Result<Summary> {
+/// Reduces records of `revolution` (sorted by index, every index of the study once)
+/// in index order.
+pub fn summarize(records: &[SampleRecord], revolution: u32) -> Result<Summary> {
     let first = records
         .first()
         .ok_or_else(|| anyhow!("no samples to summarize"))?;
@@ -681,7 +697,7 @@ pub fn summarize(records: &[SampleRecord]) -> Result<Summary> {
     let steps: Vec<f64> = records.iter().map(|r| f64::from(r.steps)).collect();
     Ok(Summary {
         samples: n,
-        revolution: REVOLUTION,
+        revolution,
         periods,
         whole_revolution: Columns(whole),
         jump: Probability::of(records.iter().filter(|r| r.jump()).count() as u64, n),
@@ -801,14 +817,14 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         samples_per_s_per_thread: records.len() as f64 / wall_s / threads as f64,
     };
     let summary = if args.shard.is_none() {
-        Some(summarize(&records)?)
+        Some(summarize(&records, study.revolution())?)
     } else {
         None
     };
     let mut plots = match (plot_target, &summary) {
         (Some(t), Some(_)) => {
             let mut dir = t.open()?;
-            draw(&mut dir, &records)?;
+            draw(&mut dir, &records, study.revolution())?;
             Some(dir)
         }
         _ => None,
@@ -957,10 +973,11 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
         );
     }
     records.sort_by_key(|r| r.index);
-    let summary = summarize(&records)?;
+    let revolution = measured_revolution(study.revolutions);
+    let summary = summarize(&records, revolution)?;
     if let Some(t) = plot_target {
         let mut dir = t.open()?;
-        draw(&mut dir, &records)?;
+        draw(&mut dir, &records, revolution)?;
         dir.commit()?;
     }
     Ok(MonteCarloReport {
@@ -1118,13 +1135,13 @@ impl Report for MonteCarloReport {
 pub const PLOT_FILES: [&str; 2] = ["histograms.png", "period_histograms.png"];
 
 /// Draws the histograms of a study's records into `dir`.
-fn draw(dir: &mut AtomicDir, records: &[SampleRecord]) -> Result<()> {
+fn draw(dir: &mut AtomicDir, records: &[SampleRecord], revolution: u32) -> Result<()> {
     let n = records.len();
     let mut panels: Vec<(String, Vec<f64>)> = REVOLUTION_COLUMNS
         .iter()
         .map(|c| {
             (
-                format!("revolution {REVOLUTION}: {}", label(c)),
+                format!("revolution {revolution}: {}", label(c)),
                 records.iter().map(|r| revolution_value(r, c)).collect(),
             )
         })
@@ -1141,7 +1158,7 @@ fn draw(dir: &mut AtomicDir, records: &[SampleRecord]) -> Result<()> {
     plots::histograms(
         dir,
         PLOT_FILES[0],
-        &format!("{n} actual cams: revolution {REVOLUTION}, {jumps} with a jump"),
+        &format!("{n} actual cams: revolution {revolution}, {jumps} with a jump"),
         &panels,
         4,
     )?;
@@ -1169,7 +1186,7 @@ fn draw(dir: &mut AtomicDir, records: &[SampleRecord]) -> Result<()> {
     plots::histograms(
         dir,
         PLOT_FILES[1],
-        &format!("{n} actual cams: revolution {REVOLUTION} by period"),
+        &format!("{n} actual cams: revolution {revolution} by period"),
         &panels,
         names.len().max(1),
     )

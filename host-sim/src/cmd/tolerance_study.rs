@@ -172,7 +172,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
         };
         let study = Study::from_spec(spec.clone(), &actual, n)?;
         let indices: Vec<u64> = (0..n).collect();
-        montecarlo::summarize(&study.run(&indices, threads, false)?)
+        montecarlo::summarize(&study.run(&indices, threads, false)?, study.revolution())
     };
     let theoretical = Cell {
         cam_tolerance_in: 0.0,
