@@ -26,6 +26,18 @@ show jump-speed scenes/stable-4567-rise.toml
 show jump-speed scenes/listed-spring-60.toml
 show jump-speed scenes/undamped-printed.toml
 show run scenes/undamped-printed.toml
+show run --actual --seed 1
+show run --actual --seed 1 --profile-method envelope
+# docs/MODEL.md §8.4: the thesis's method against the envelope, same seed.
+for d in 2 0.5 0.25 0.1; do
+    for tol in "" "--roller-tolerance 0 --eccentricity-tolerance 0"; do
+        for m in thesis envelope; do
+            # shellcheck disable=SC2086
+            printf '%s deg, %s, [%s]: %s\n' "$d" "$m" "$tol" "$("$C" run --revolutions 1 --actual --seed 1 \
+                --interval-deg "$d" --profile-method "$m" $tol | grep 'lift deviation')"
+        done
+    done
+done
 show laws
 show modal
 show contact --force 100

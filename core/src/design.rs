@@ -113,6 +113,12 @@ pub struct Design<T> {
     /// K_s2: shaft stiffness coupling-cam (VI.1: 2e5).
     #[cfg_attr(feature = "serde", serde(rename = "k_s2_lb_in_per_rad"))]
     pub k_s2: T,
+    /// Total angular free play (backlash) between the coupling and the cam shaft, rad:
+    /// an impact pair (Appendix G.1) in series with K_s2, C_s2 ([`crate::backlash_torque`]).
+    /// Not in the thesis's model (its coupling is rigid, IV.1); 0, the reference, gives
+    /// the rigid coupling bit for bit. docs/MODEL.md §8.5.
+    #[cfg_attr(feature = "serde", serde(rename = "coupling_backlash_rad"))]
+    pub coupling_backlash: T,
     /// The motor law T_i(θ̇_m) (not in the thesis; see [`DriveLaw`]).
     pub drive: DriveLaw<T>,
     /// Initial and reference cam speed, rad/s (VI.1: 800 rpm = 83.776 rad/s).
@@ -249,6 +255,7 @@ impl<T: Real> Design<T> {
             c_cc: f(1.0),
             k_s1: f(2.0e5),
             k_s2: f(2.0e5),
+            coupling_backlash: T::ZERO,
             drive: DriveLaw::reference(omega0, f(0.8), f(1.0)),
             omega0,
             m_c: f(0.0291),
@@ -385,6 +392,7 @@ impl<T: Real> Design<T> {
             (k::C_VS, self.c_vs),
             (k::C_HS, self.c_hs),
             (k::BEARING_A, self.bearing_a),
+            (k::COUPLING_BACKLASH, self.coupling_backlash),
             (k::MU, self.mu),
             (k::DAMPING_RATIO_F1, self.damping_ratio_f1),
             (k::CONTACT_DAMPING_RATIO, self.contact_damping_ratio),
@@ -480,6 +488,7 @@ impl<T: Real> Design<T> {
             c_cc: c(self.c_cc),
             k_s1: c(self.k_s1),
             k_s2: c(self.k_s2),
+            coupling_backlash: c(self.coupling_backlash),
             drive: self.drive.cast(),
             omega0: c(self.omega0),
             m_c: c(self.m_c),
@@ -571,6 +580,7 @@ mod cast_tests {
         d.k_hs = 1.4e6;
         d.c_hs = 4.1;
         d.bearing_a = 2.2;
+        d.coupling_backlash = 0.003;
         d.contact_damping_ratio = 0.051;
         d.roller_bearing_damping_ratio = 0.052;
         d.k_rb = 1.0 / 3.0 * 4.5e6;
@@ -612,13 +622,13 @@ mod cast_tests {
             let d32 = d.cast::<f32>().unwrap();
             let wide: Vec<f64> = numbers(&std::format!("{d:?}"));
             let narrow: Vec<f32> = numbers(&std::format!("{d32:?}"));
-            // 35 scalar fields, 3 of the geometry, 5 of the contact; 4 of a regulated drive.
+            // 36 scalar fields, 3 of the geometry, 5 of the contact; 4 of a regulated drive.
             let drive_numbers = if d.drive.kind() == crate::DriveKind::Regulated {
                 4
             } else {
                 0
             };
-            assert_eq!(wide.len(), 43 + drive_numbers);
+            assert_eq!(wide.len(), 44 + drive_numbers);
             assert_eq!(narrow.len(), wide.len());
             for (k, (w, n)) in wide.iter().zip(&narrow).enumerate() {
                 assert_eq!(n.to_bits(), (*w as f32).to_bits(), "number {k}: {w}");

@@ -224,9 +224,52 @@ impl<T: Real> DriveLaw<T> {
     }
 }
 
+/// The torque a shaft passes through a connection with free play (backlash): the impact
+/// pair of Appendix G.1 in series with the shaft's stiffness `k` and damping `c`.
+///
+/// `twist` is the relative rotation of the two sides (the shaft's elastic twist plus the
+/// position within the free play), `rate` its rate, `free_play` the total angular play
+/// (≥ 0). Within `|twist| < free_play/2` the sides do not touch and no torque passes (G.1
+/// "no contact"); beyond it the shaft is twisted by `|twist| − free_play/2` and passes
+/// `k (twist ∓ free_play/2) + c·rate`, which is never allowed to pull the sides apart
+/// (clamped to the side in contact, as the contact force is). With no play the clamp
+/// would still act: the model calls this only for `free_play > 0` and keeps the linear
+/// `k·twist + c·rate` of the rigid coupling otherwise (docs/MODEL.md §8.5).
+#[inline(always)]
+pub fn backlash_torque<T: Real>(k: T, c: T, free_play: T, twist: T, rate: T) -> T {
+    let half = free_play * T::HALF;
+    if twist > half {
+        (k * (twist - half) + c * rate).max(T::ZERO)
+    } else if twist < -half {
+        (k * (twist + half) + c * rate).min(T::ZERO)
+    } else {
+        T::ZERO
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn backlash_is_a_dead_zone_that_never_pulls() {
+        let (k, c, b) = (2.0e5, 0.12, 0.01);
+        // Free within ±b/2, whatever the rate.
+        for tw in [-0.005, -0.002, 0.0, 0.004999] {
+            assert_eq!(backlash_torque(k, c, b, tw, 30.0), 0.0, "{tw}");
+        }
+        // In contact: the shaft twisted by |tw| − b/2.
+        assert_eq!(backlash_torque(k, c, b, 0.006, 0.0), k * (0.006 - 0.005));
+        assert_eq!(
+            backlash_torque(k, c, b, -0.007, 1.0),
+            k * (-0.007 + 0.005) + c
+        );
+        // Separating fast: the damping would pull; the torque stops at zero.
+        assert_eq!(backlash_torque(k, c, b, 0.0050001, -1e3), 0.0);
+        assert_eq!(backlash_torque(k, c, b, -0.0050001, 1e3), 0.0);
+        // No play, pushing: the rigid coupling's torque.
+        assert_eq!(backlash_torque(k, c, 0.0, 1e-4, 2.0), k * 1e-4 + c * 2.0);
+    }
 
     #[test]
     fn reference_gain_from_rated_slip() {

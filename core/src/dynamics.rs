@@ -245,7 +245,11 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         let mut y = self.state_from(T::ZERO, &pos, &[T::ZERO; TRANS_DOFS]);
         let drag = d.c_cc * d.omega0;
         let mut s = StateMut::<T, S, N>::new(&mut y);
-        s.set(StateVar::CouplingCamTwist, drag / d.k_s2);
+        // With free play the coupling drives the cam across it: half the play further.
+        s.set(
+            StateVar::CouplingCamTwist,
+            drag / d.k_s2 + d.coupling_backlash * T::HALF,
+        );
         // The motor shaft's twist is a state under the regulated drive and under the
         // constant motor speed, but only the regulated drive starts it twisted: under the
         // constant motor speed the coupling starts out of balance by C_cc ω0 (as before
@@ -441,7 +445,18 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         // --- rotational system (Eq. IV.1), T_o = F_c cos φ dy/dθ (docs/MODEL.md §4.2) ---
         let t_o = f_v * lift.dy;
         p.torque_out = t_o;
-        let shaft2 = d.c_s2 * (p.omega_cp - p.omega_c) + d.k_s2 * tw2;
+        // The coupling-cam connection: rigid, or with free play (Appendix G.1).
+        let shaft2 = if d.coupling_backlash > T::ZERO {
+            crate::backlash_torque(
+                d.k_s2,
+                d.c_s2,
+                d.coupling_backlash,
+                tw2,
+                p.omega_cp - p.omega_c,
+            )
+        } else {
+            d.c_s2 * (p.omega_cp - p.omega_c) + d.k_s2 * tw2
+        };
         let shaft1 = d.c_s1 * (p.omega_m - p.omega_cp) + d.k_s1 * tw1;
         match S::DRIVE {
             DriveKind::ConstantCamSpeed => {

@@ -33,6 +33,8 @@ pub mod key {
     pub const K_S2: &str = "k_s2_lb_in_per_rad";
     /// [`crate::Design::omega0`].
     pub const OMEGA0: &str = "omega0_rad_per_s";
+    /// [`crate::Design::coupling_backlash`].
+    pub const COUPLING_BACKLASH: &str = "coupling_backlash_rad";
 
     // --- cam and shaft ---
     /// [`crate::Design::m_c`].
@@ -143,6 +145,10 @@ pub mod key {
         (C_CC, "C_cc, cam shaft bearing and air damping"),
         (K_S1, "K_s1, shaft stiffness motor-coupling"),
         (K_S2, "K_s2, shaft stiffness coupling-cam"),
+        (
+            COUPLING_BACKLASH,
+            "free play of the coupling-cam connection (Appendix G.1; 0 = none)",
+        ),
         (OMEGA0, "initial cam speed (rad/s; run.rpm sets it in rpm)"),
         (M_C, "M_c, mass of cam and shaft"),
         (K_VS, "K_vs, vertical cam shaft stiffness"),

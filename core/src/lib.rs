@@ -67,6 +67,9 @@ mod waviness;
 pub use waviness::*;
 mod profile;
 pub use profile::*;
+// The exact envelope of the roller circle on an actual contour (beyond the thesis).
+mod envelope;
+pub use envelope::*;
 // The lift the model's roller rides on: the program, or the program plus a deviation.
 mod lift;
 pub use lift::*;

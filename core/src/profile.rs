@@ -330,6 +330,45 @@ impl<T: Real, const N: usize> ActualContour<T, N> {
         Ok(ActualContour { x, y })
     }
 
+    /// The contour through the points `point(k)` (in, cam-fixed frame) at the setting
+    /// angles `θ_k = 2πk/intervals`, `k < intervals`, closed periodically (`point` is
+    /// called twice for each `k`: once for the x spline, once for the y spline). A
+    /// measured or synthetic contour. Needs `3 ≤ intervals < N`.
+    pub fn from_fn(intervals: usize, point: impl Fn(usize) -> (T, T)) -> Result<Self> {
+        let step = interval_rad::<T, N>(intervals)?;
+        let axis = |pick: fn((T, T)) -> T| {
+            CubicSpline::uniform_from_fn(T::ZERO, step, intervals + 1, SplineEnds::Periodic, |k| {
+                pick(point(k % intervals))
+            })
+        };
+        Ok(ActualContour {
+            x: axis(|p| p.0)?,
+            y: axis(|p| p.1)?,
+        })
+    }
+
+    /// The contour of two periodic splines `X(φ)`, `Y(φ)` (in) over one revolution
+    /// of the same parameter (a measured contour: `φ` any angle that grows once around
+    /// the cam, such as the polar angle of the measured points). Refused unless both
+    /// are periodic over the same knots spanning `2π` (within 1e-9 rad).
+    pub fn from_splines(x: CubicSpline<T, N>, y: CubicSpline<T, N>) -> Result<Self> {
+        let (a, b) = x.range();
+        let span_ok = (b - a - T::TWO * T::PI).abs() <= T::from_f64(1e-9) * (T::ONE + b.abs());
+        if !(x.is_periodic() && y.is_periodic() && span_ok && x.knots() == y.knots()) {
+            return Err(Error::InvalidParameter {
+                field: "contour",
+                rule: "X and Y must be periodic splines over the same knots, one revolution",
+                value: (b - a).to_f64().to_degrees(),
+            });
+        }
+        Ok(ActualContour { x, y })
+    }
+
+    /// Setting points (periodic splines' knots) per revolution.
+    pub fn intervals(&self) -> usize {
+        self.x.len().saturating_sub(1)
+    }
+
     /// The contour point at setting angle `theta` (rad, any real).
     #[inline]
     pub fn point(&self, theta: T) -> ContourPoint<T> {

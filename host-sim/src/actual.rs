@@ -17,7 +17,9 @@
 //!   once, and the roller centre placed by exact contact with the splined contour.
 
 use anyhow::{bail, Context, Result};
-use camsim_core::{choose_interval, Design, DeviatedLift, NormalMethod, RandomStream, Tolerances};
+use camsim_core::{
+    choose_interval, ActualCam, Design, DeviatedLift, NormalMethod, RandomStream, Tolerances,
+};
 use clap::ValueEnum;
 use serde::Serialize;
 
@@ -36,6 +38,16 @@ pub enum ProfileMethod {
     Envelope,
 }
 
+impl ProfileMethod {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ProfileMethod::Thesis => "thesis",
+            ProfileMethod::Envelope => "envelope",
+        }
+    }
+}
+
 /// How the normal deviates are made (`--normal`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
 pub enum NormalArg {
@@ -48,6 +60,16 @@ pub enum NormalArg {
     #[value(name = "polar", alias = "exact")]
     #[serde(rename = "polar")]
     Polar,
+}
+
+impl NormalArg {
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            NormalArg::Sum12 => "sum12",
+            NormalArg::Polar => "polar",
+        }
+    }
 }
 
 impl From<NormalArg> for NormalMethod {
@@ -163,6 +185,16 @@ pub enum IntervalSource {
     Criteria,
 }
 
+impl IntervalSource {
+    /// How a report says it.
+    pub fn name(self) -> &'static str {
+        match self {
+            IntervalSource::Given => "given",
+            IntervalSource::Criteria => "by the criteria of IV.2.3",
+        }
+    }
+}
+
 /// What a profile is and how it came about (the JSON `profile` of `camsim run --actual`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ProfileStats {
@@ -188,41 +220,88 @@ pub struct ProfileStats {
     pub interval_source: IntervalSource,
     /// RMS of the lift deviation over one revolution, in.
     pub rms_deviation_in: f64,
+    /// Mean of the lift deviation, in.
+    pub mean_deviation_in: f64,
     /// Largest |lift deviation|, in.
     pub max_abs_deviation_in: f64,
+    /// RMS of the deviation's second derivative d²e/dθ², in/rad².
+    pub rms_curvature_in_per_rad2: f64,
     /// Waviness frequency per revolution (VI.4.1): local extrema of the velocity
     /// deviation `de/dθ` over one revolution (see [`FPR_SAMPLES`], [`FPR_THRESHOLD`]).
     pub fpr: usize,
+    /// Knots of the deviation spline over one revolution (`intervals` for the thesis's
+    /// method, [`envelope_knots`] for the envelope).
+    pub deviation_knots: usize,
+    /// The envelope's actual roller radius, in (None for the thesis's method).
+    pub roller_radius_in: Option<f64>,
+    /// The envelope's rotation-centre offset (x, y) in the cam frame, in (None for the
+    /// thesis's method).
+    pub centre_offset_in: Option<[f64; 2]>,
+}
+
+/// Points of the envelope's deviation spline for a contour of `intervals` setting
+/// points: 8 a setting interval (the contact jumps between the bumps of the contour,
+/// which are about a setting interval apart), at most `PROFILE_KNOTS − 1` (0.1°).
+pub fn envelope_knots(intervals: usize) -> usize {
+    intervals.saturating_mul(8).clamp(3, PROFILE_KNOTS - 1)
 }
 
 /// Samples of one revolution at which the statistics are taken (0.05°).
 pub const FPR_SAMPLES: usize = 7200;
 
 /// The FPR's hysteresis, as a fraction of the velocity deviation's peak-to-peak range
-/// (ripples smaller than that are not counted; a zero deviation has FPR 0).
+/// (ripples smaller than that are not counted; a zero deviation has FPR 0), but at
+/// least [`FPR_FLOOR`].
 pub const FPR_THRESHOLD: f64 = 0.01;
 
-/// Statistics of a deviation over one revolution: `(rms, max |e|, fpr)`.
-pub fn deviation_stats(dev: &HostDeviation) -> Result<(f64, f64, usize)> {
+/// The smallest FPR hysteresis, in/rad: ripples of the velocity deviation below it
+/// (a lift ripple of 1e-6 in/rad × 1° ≈ 2e-8 in, far below any tolerance) are the
+/// interpolation noise of a perfect profile, not waviness.
+pub const FPR_FLOOR: f64 = 1e-6;
+
+/// Statistics of a lift deviation `e(θ)` over one revolution, from [`FPR_SAMPLES`]
+/// equal steps.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DeviationStats {
+    /// RMS of `e`, in.
+    pub rms_deviation_in: f64,
+    /// Mean of `e`, in (a roller riding on the crests of a wavy contour sits high).
+    pub mean_deviation_in: f64,
+    /// Largest `|e|`, in.
+    pub max_abs_deviation_in: f64,
+    /// RMS of `d²e/dθ²`, in/rad² (what the waviness adds to the follower's
+    /// acceleration, times ω²).
+    pub rms_curvature_in_per_rad2: f64,
+    /// Local extrema of `de/dθ` (VI.4.1, see [`FPR_THRESHOLD`]).
+    pub fpr: usize,
+}
+
+/// The statistics of a deviation (see [`DeviationStats`]).
+pub fn deviation_stats(dev: &HostDeviation) -> Result<DeviationStats> {
     let step = 2.0 * std::f64::consts::PI / FPR_SAMPLES as f64;
-    let (mut sq, mut max) = (0.0f64, 0.0f64);
+    let (mut sum, mut sq, mut sq2, mut max) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for k in 0..FPR_SAMPLES {
         let e = dev.deviation(k as f64 * step);
+        sum += e.y;
         sq += e.y * e.y;
+        sq2 += e.d2y * e.d2y;
         max = max.max(e.y.abs());
         lo = lo.min(e.dy);
         hi = hi.max(e.dy);
     }
-    let threshold = if hi > lo {
-        FPR_THRESHOLD * (hi - lo)
-    } else {
-        0.0
-    };
+    let threshold = (FPR_THRESHOLD * (hi - lo)).max(FPR_FLOOR);
     let fpr = camsim_core::waviness_fpr_of(FPR_SAMPLES, threshold, |k| {
         dev.deviation(k as f64 * step).dy
     })?;
-    Ok(((sq / FPR_SAMPLES as f64).sqrt(), max, fpr))
+    let n = FPR_SAMPLES as f64;
+    Ok(DeviationStats {
+        rms_deviation_in: (sq / n).sqrt(),
+        mean_deviation_in: sum / n,
+        max_abs_deviation_in: max,
+        rms_curvature_in_per_rad2: (sq2 / n).sqrt(),
+        fpr,
+    })
 }
 
 /// Intervals per revolution for `args` on `design`: `--interval-deg`, or the smallest
@@ -270,13 +349,22 @@ pub fn build_profile(
     let (intervals, source) = intervals_for(design, args)?;
     let seed = args.seed();
     let mut rng = RandomStream::<f64>::for_sample(seed, sample, args.normal.into());
-    let dev: HostDeviation = match args.profile_method {
-        ProfileMethod::Thesis => {
-            DeviatedLift::thesis(&design.program, &design.geometry, &tol, intervals, &mut rng)?
+    let (program, geometry) = (&design.program, &design.geometry);
+    let (dev, cam_parts): (HostDeviation, _) = match args.profile_method {
+        ProfileMethod::Thesis => (
+            DeviatedLift::thesis(program, geometry, &tol, intervals, &mut rng)?,
+            None,
+        ),
+        ProfileMethod::Envelope => {
+            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
+                program, geometry, &tol, intervals, &mut rng,
+            )?);
+            let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
+                .context("the roller's envelope on the actual contour")?;
+            (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
         }
-        ProfileMethod::Envelope => bail!("--profile-method envelope is not implemented yet"),
     };
-    let (rms, max, fpr) = deviation_stats(&dev).context("profile statistics")?;
+    let ds = deviation_stats(&dev).context("profile statistics")?;
     let stats = ProfileStats {
         method: args.profile_method,
         normal: args.normal,
@@ -288,9 +376,14 @@ pub fn build_profile(
         intervals,
         interval_deg: 360.0 / intervals as f64,
         interval_source: source,
-        rms_deviation_in: rms,
-        max_abs_deviation_in: max,
-        fpr,
+        rms_deviation_in: ds.rms_deviation_in,
+        mean_deviation_in: ds.mean_deviation_in,
+        max_abs_deviation_in: ds.max_abs_deviation_in,
+        rms_curvature_in_per_rad2: ds.rms_curvature_in_per_rad2,
+        fpr: ds.fpr,
+        deviation_knots: dev.spline().len().saturating_sub(1),
+        roller_radius_in: cam_parts.map(|c| c.0),
+        centre_offset_in: cam_parts.map(|c| c.1),
     };
     Ok((dev, stats))
 }

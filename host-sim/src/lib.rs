@@ -6,6 +6,7 @@ pub mod args;
 pub mod cli;
 pub mod cmd;
 pub mod csv;
+pub mod measured;
 pub mod output;
 pub mod plot;
 pub mod report;

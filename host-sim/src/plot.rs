@@ -22,6 +22,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use crate::output::AtomicDir;
+use crate::sim::HostDeviation;
 
 /// DejaVu Sans (Bitstream Vera licence, see `host-sim/assets/DejaVuSans-LICENSE.txt`).
 static FONT_TTF: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
@@ -849,6 +850,92 @@ pub const FILES: [&str; 8] = [
     "contact_stress.png",
     "torque.png",
 ];
+
+/// The file of the profile deviation plot (actual and measured cams).
+pub const PROFILE_FILE: &str = "profile_deviation.png";
+
+/// The files `--plot DIR` writes for an actual or measured cam: [`FILES`] and
+/// [`PROFILE_FILE`].
+pub const FILES_WITH_PROFILE: [&str; 9] = [
+    FILES[0],
+    FILES[1],
+    FILES[2],
+    FILES[3],
+    FILES[4],
+    FILES[5],
+    FILES[6],
+    FILES[7],
+    PROFILE_FILE,
+];
+
+/// Points of the profile plot over one revolution (0.05°).
+const PROFILE_SAMPLES: usize = 7200;
+
+/// The profile deviation figure: the lift deviation `e(θ)` over one revolution and,
+/// below it, its slope `de/dθ` (whose local extrema FPR counts), with the run's period
+/// starts of the first revolution marked.
+fn profile_figure(dev: &HostDeviation) -> (Figure, PlotData) {
+    let step = 360.0 / PROFILE_SAMPLES as f64;
+    let mut axis_data = PlotData::default();
+    let (mut e, mut de) = (Vec::new(), Vec::new());
+    for k in 0..=PROFILE_SAMPLES {
+        let deg = k as f64 * step;
+        let p = dev.deviation(deg.to_radians());
+        axis_data.angle_deg.push(deg);
+        e.push(p.y);
+        de.push(p.dy);
+    }
+    let fig = Figure {
+        file: PROFILE_FILE,
+        title: "Profile deviation of the actual cam (lift − program)",
+        panels: vec![
+            Panel {
+                y_desc: "lift deviation e (in)",
+                curves: vec![Curve::new("e(θ)", &e, SIMULATED, Stroke::Solid(1))],
+            },
+            Panel {
+                y_desc: "de/dθ (in/rad)",
+                curves: vec![Curve::new(
+                    "de/dθ (FPR counts its extrema)",
+                    &de,
+                    SECOND,
+                    Stroke::Solid(1),
+                )],
+            },
+        ],
+    };
+    (fig, axis_data)
+}
+
+/// Draws the profile deviation plot ([`PROFILE_FILE`]) into `out`; `data` gives the
+/// period starts of the run's first revolution.
+pub fn draw_profile(out: &mut AtomicDir, data: &PlotData, dev: &HostDeviation) -> Result<()> {
+    ensure_font()?;
+    let (fig, mut axis_data) = profile_figure(dev);
+    axis_data.period_starts_deg = data
+        .period_starts_deg
+        .iter()
+        .copied()
+        .filter(|p| *p > 0.0 && *p < 360.0)
+        .collect();
+    let axis = AngleAxis::new(&axis_data, &[]);
+    let (buf, (w, h), _) = render(&fig, &axis, &axis_data)?;
+    let path = out.path(fig.file)?;
+    image::save_buffer_with_format(
+        &path,
+        &buf,
+        w,
+        h,
+        image::ColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| {
+        anyhow!(
+            "cannot write plot {}: {e}",
+            out.dir().join(fig.file).display()
+        )
+    })
+}
 
 /// Draws every plot of a run ([`FILES`]) as PNG into the directory output `out` (each
 /// file to its temporary: the caller commits `out`).

@@ -8,8 +8,10 @@ use anyhow::Result;
 use camsim_core::SegmentKind;
 use serde::Serialize;
 
+use crate::actual::{ActualArgs, ProfileStats};
 use crate::args::{megabytes, non_negative_finite, positive_finite, unit_interval, Law, StartArg};
 use crate::csv::{self, CsvOut};
+use crate::measured::MeasuredStats;
 use crate::output::Plan;
 use crate::plot;
 use crate::report::{sorted_pretty_json, Report};
@@ -78,11 +80,21 @@ pub struct Args {
     /// Print JSON instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// An actual cam drawn from tolerances (`--actual` and its options).
+    #[command(flatten)]
+    pub actual: ActualArgs,
+    /// Simulate a measured profile: a CSV with the header `angle_deg,deviation_in`
+    /// (lift deviation), `angle_deg,lift_in` (lift) or `angle_deg,radius_in` (cam
+    /// surface polar radius, followed by the roller's exact envelope); see the README.
+    #[arg(long, value_name = "FILE.csv", conflicts_with = "actual")]
+    pub measured: Option<PathBuf>,
 }
 
 impl Default for Args {
     fn default() -> Self {
         Args {
+            actual: ActualArgs::default(),
+            measured: None,
             scene: SceneArgs::default(),
             revolutions: None,
             csv: None,
@@ -149,10 +161,37 @@ pub struct JumpRow {
     pub period: usize,
 }
 
+/// What an actual or measured cam's profile is (the JSON `profile`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum ProfileReport {
+    /// `--actual`: drawn from tolerances.
+    Actual(ProfileStats),
+    /// `--measured FILE`.
+    Measured(MeasuredStats),
+}
+
+impl ProfileReport {
+    /// The waviness frequency per revolution.
+    pub fn fpr(&self) -> usize {
+        match self {
+            ProfileReport::Actual(s) => s.fpr,
+            ProfileReport::Measured(s) => s.fpr,
+        }
+    }
+}
+
 /// Everything `camsim run` prints (`--json`: keys sorted, as before the report was a
-/// struct; `wall_ms` is a timing).
+/// struct; `wall_ms` is a timing; `fpr` and `profile` only for an actual or measured cam).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunReport {
+    /// Waviness frequency per revolution of the profile (VI.4.1; actual and measured
+    /// cams only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fpr: Option<usize>,
+    /// The actual or measured profile (None: the theoretical cam).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profile: Option<ProfileReport>,
     /// Per-period statistics of every revolution.
     pub per_period: Vec<PeriodRow>,
     /// Every recorded separation interval.
@@ -206,6 +245,8 @@ impl RunReport {
             })
             .collect();
         RunReport {
+            fpr: None,
+            profile: None,
             per_period,
             jumps,
             steps: result.solver.accepted,
@@ -233,6 +274,21 @@ pub fn report(args: &Args) -> Result<RunReport> {
     if let Some(n) = args.revolutions {
         spec.revolutions = n;
     }
+    anyhow::ensure!(
+        args.actual.actual || !args.actual.any_profile_option(),
+        "the profile options (--cam-tolerance, --seed, --profile-method, ...) need --actual"
+    );
+    let profile = if let Some(path) = &args.measured {
+        let (dev, stats) = crate::measured::load(path)?.profile(&spec.design)?;
+        Some((dev, ProfileReport::Measured(stats)))
+    } else if args.actual.actual {
+        let (dev, stats) = crate::actual::build_profile(&spec.design, &args.actual, 0)?;
+        Some((dev, ProfileReport::Actual(stats)))
+    } else {
+        None
+    };
+    let profile_report = profile.as_ref().map(|p| p.1.clone());
+    spec.profile = profile.map(|p| std::sync::Arc::new(p.0));
     let mut plan = Plan::new(args.force);
     let csv_target = match &args.csv {
         Some(p) => Some(plan.file("--csv", p)?.limit(
@@ -243,6 +299,9 @@ pub fn report(args: &Args) -> Result<RunReport> {
         None => None,
     };
     let plot_target = match &args.plot {
+        Some(dir) if spec.profile.is_some() => {
+            Some(plan.dir("--plot", dir, &plot::FILES_WITH_PROFILE)?)
+        }
         Some(dir) => Some(plan.dir("--plot", dir, &plot::FILES)?),
         None => None,
     };
@@ -268,6 +327,9 @@ pub fn report(args: &Args) -> Result<RunReport> {
         (Some(t), Some(data)) => {
             let mut out = t.open()?;
             plot::draw_all(&mut out, &data, &result.stats.jumps())?;
+            if let Some(dev) = &spec.profile {
+                plot::draw_profile(&mut out, &data, dev)?;
+            }
             Some(out)
         }
         _ => None,
@@ -278,7 +340,10 @@ pub fn report(args: &Args) -> Result<RunReport> {
     if let Some(p) = plots {
         p.commit()?;
     }
-    Ok(RunReport::new(&spec, &result))
+    let mut report = RunReport::new(&spec, &result);
+    report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
+    report.profile = profile_report;
+    Ok(report)
 }
 
 /// Runs the command.
@@ -299,6 +364,60 @@ impl Report for RunReport {
             "camsim run: {} revolutions at {:.1} rpm, {} DOF model, preload F_p = {:.3} lb",
             self.revolutions, self.rpm, self.dofs, self.preload_lb
         );
+        let deviation = |rms: f64, mean: f64, max: f64, curv: f64, fpr: usize| {
+            format!(
+                "  lift deviation: rms {rms:.3e} in, mean {mean:.3e} in, max |e| {max:.3e} in, rms d2e/dtheta2 {curv:.3e} in/rad^2; FPR {fpr}"
+            )
+        };
+        match &self.profile {
+            Some(ProfileReport::Actual(p)) => {
+                let _ = writeln!(
+                    out,
+                    "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} in, roller {} in, eccentricity {} in; {} points every {} deg ({})",
+                    p.method.name(), p.seed, p.sample, p.normal.name(), p.cam_tolerance_in, p.roller_tolerance_in,
+                    p.eccentricity_tolerance_in, p.intervals, p.interval_deg, p.interval_source.name(),
+                );
+                if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
+                    let _ = writeln!(
+                        out,
+                        "  envelope: roller radius {r:.6} in, rotation centre offset ({:.2e}, {:.2e}) in, {} deviation knots",
+                        c[0], c[1], p.deviation_knots
+                    );
+                }
+                let _ = writeln!(
+                    out,
+                    "{}",
+                    deviation(
+                        p.rms_deviation_in,
+                        p.mean_deviation_in,
+                        p.max_abs_deviation_in,
+                        p.rms_curvature_in_per_rad2,
+                        p.fpr
+                    )
+                );
+            }
+            Some(ProfileReport::Measured(p)) => {
+                let _ = writeln!(
+                    out,
+                    "measured cam: column {}, {} points, {} deviation knots",
+                    p.column.name(),
+                    p.points,
+                    p.deviation_knots
+                );
+                let _ = writeln!(
+                    out,
+                    "{}",
+                    deviation(
+                        p.rms_deviation_in,
+                        p.mean_deviation_in,
+                        p.max_abs_deviation_in,
+                        p.rms_curvature_in_per_rad2,
+                        p.fpr
+                    )
+                );
+            }
+            None => {}
+        }
         let _ = writeln!(
             out,
             "units: in, lb, s; torque lb in; stress psi; AORD = mean (omega - omega0)/omega0"
