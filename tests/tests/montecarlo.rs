@@ -193,6 +193,9 @@ fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
     std::fs::write(&junk, text.replace("\"steps\":", "\"stepz\":")).unwrap();
     let e = merge_err(&[&junk]);
     assert!(e.contains("bad shard file") && e.contains("stepz"), "{e}");
+    if let Some(dir) = junk.parent() {
+        let _ = std::fs::remove_dir_all(dir);
+    }
 }
 
 #[test]
