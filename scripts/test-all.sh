@@ -55,6 +55,19 @@ cargo test -p camsim-core --features micromath
 
 step "bench --quick (run time against error, a few points; full runs in BENCHMARKS.md)"
 cargo run --release -q -p camsim -- bench --quick
+step "studies in release: a small Monte Carlo and compare --quick (exit status, JSON)"
+cargo build --release -p camsim
+studies=$(mktemp -d)
+./target/release/camsim montecarlo --samples 8 --json > "$studies/montecarlo.json"
+./target/release/camsim compare --quick --json > "$studies/compare.json"
+if command -v jq >/dev/null 2>&1; then
+    jq -e '.summary.samples == 8 and (.summary.jump.p | type == "number")' "$studies/montecarlo.json" >/dev/null
+    jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.json" >/dev/null
+else
+    python3 -m json.tool "$studies/montecarlo.json" >/dev/null
+    python3 -m json.tool "$studies/compare.json" >/dev/null
+fi
+rm -rf "$studies"
 
 if [ -x scripts/firmware-ci.sh ]; then
     step "firmware under QEMU"

@@ -38,6 +38,12 @@ pub enum Command {
     Bench(cmd::bench::Args),
     /// The firmware's jump/timing predictor on the host (same scene and scripted machine); --check-log for parity.
     Predict(cmd::predict::Args),
+    /// Many actual cams in parallel: statistics of every per-period column and the jump probability.
+    Montecarlo(cmd::montecarlo::Args),
+    /// Every motion law on the theoretical and on an actual cam: the study of VI.4.2, ranked.
+    Compare(cmd::compare::Args),
+    /// The tolerance and waviness grid of VI.4.1 on the more stable program.
+    ToleranceStudy(cmd::tolerance_study::Args),
 }
 
 /// Parses a command line (the first item is the program name).
@@ -60,6 +66,9 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Scene(a) => cmd::scene::run(a),
         Command::Bench(a) => cmd::bench::run(a),
         Command::Predict(a) => cmd::predict::run(a),
+        Command::Montecarlo(a) => cmd::montecarlo::run(a),
+        Command::Compare(a) => cmd::compare::run(a),
+        Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
     }
 }
 

@@ -43,8 +43,8 @@ const JUMP_ALPHA: f64 = 0.45;
 const REV_LINE: RGBColor = RGBColor(90, 90, 90);
 const PERIOD_LINE: RGBColor = RGBColor(170, 170, 170);
 
-/// Registers the embedded font with plotters once per process.
-pub(crate) fn ensure_font() -> Result<()> {
+/// Registers the embedded font with plotters once per process (the study plots use it too).
+pub fn ensure_font() -> Result<()> {
     static OK: OnceLock<bool> = OnceLock::new();
     let ok = *OK
         .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_TTF).is_ok());

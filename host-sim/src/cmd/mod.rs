@@ -1,10 +1,13 @@
 //! One module per `camsim` subcommand.
 
 pub mod bench;
+pub mod compare;
 pub mod contact;
 pub mod jump_speed;
 pub mod laws;
 pub mod modal;
+pub mod montecarlo;
 pub mod predict;
 pub mod run;
 pub mod scene;
+pub mod tolerance_study;

@@ -1,0 +1,874 @@
+//! `camsim compare`: the study of VI.4.2. Every motion law (the same law for every
+//! rise and return, the scene otherwise unchanged) runs on the theoretical cam with
+//! the system's flexibility, and on one actual cam (sample 0 of `--seed`, the same
+//! interval for every law); cycle I (revolution 1, from the thesis's start) and cycle
+//! II (revolution 2) are measured as docs/MODEL.md §9 defines, and every law is ranked
+//! in every column.
+//!
+//! The runs are independent and run in parallel; each is deterministic, so the
+//! result does not depend on `--threads`.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::{anyhow, Context, Result};
+use camsim_core::{MotionLaw, Sample, SegmentKind, Start};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::actual::{self, ActualArgs, ProfileStats};
+use crate::args::positive_finite;
+use crate::cmd::montecarlo::plots;
+use crate::output::{AtomicDir, Plan};
+use crate::report::Report;
+use crate::sim::{self, PeriodRow, RunSpec};
+
+/// Command-line options of `camsim compare`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct Args {
+    /// Scene file whose program's rises and returns take each law in turn (the
+    /// reference design if omitted).
+    pub scene: Option<PathBuf>,
+    /// Cam speed, rpm (default: the scene's, 800 for the reference).
+    #[arg(long, allow_negative_numbers = true, value_parser = positive_finite)]
+    pub rpm: Option<f64>,
+    /// Quick mode for CI: the vertical scene (the horizontal motion does not feed back
+    /// into the vertical chain or the drive; docs/MODEL.md §9).
+    #[arg(long)]
+    pub quick: bool,
+    /// Worker threads (default: every core). The result does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Print JSON instead of tables.
+    #[arg(long)]
+    pub json: bool,
+    /// Write PNG plots (the rankings, and the responses of a few laws) into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Replace existing --plot files.
+    #[arg(long)]
+    pub force: bool,
+    /// The actual cam (sample 0 of --seed; --actual is implied).
+    #[command(flatten)]
+    pub actual: ActualArgs,
+}
+
+/// One period of one cam: cycle I and cycle II acceleration RMS, cycle II's inertial
+/// responses and jump.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LawPeriod {
+    /// Period name.
+    pub period: String,
+    /// Acceleration RMS deviation from the theoretical (perfect, rigid) response in
+    /// cycle I (revolution 1), in/s².
+    pub acc_rms_cycle1: f64,
+    /// The same in cycle II (revolution 2), in/s².
+    pub acc_rms_cycle2: f64,
+    /// Cycle II: average output torque, lb·in.
+    pub torque_avg: f64,
+    /// Cycle II: largest output torque, lb·in.
+    pub torque_max: f64,
+    /// Cycle II: smallest output torque, lb·in.
+    pub torque_min: f64,
+    /// Cycle II: smallest contact force, lb.
+    pub contact_force_min: f64,
+    /// Cycle II: largest contact force, lb.
+    pub contact_force_max: f64,
+    /// Cycle II: largest Hertz stress, psi.
+    pub contact_stress_max: f64,
+    /// Cycle II: whether the follower separated.
+    pub jump: bool,
+}
+
+/// One law on one cam (docs/MODEL.md §9).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CamStudy {
+    /// Every period.
+    pub per_period: Vec<LawPeriod>,
+    /// Σ over the periods of the cycle-II acceleration RMS, in/s² (on the theoretical
+    /// cam: the sensitivity to flexibility).
+    pub sensitivity: f64,
+    /// Σ over the rises and returns of (RMS_I − RMS_II)/RMS_I (VI.4.2).
+    pub shock_index: f64,
+    /// Cycle II: average output torque over the rise(s) (the largest), lb·in.
+    pub torque_avg_rise: f64,
+    /// Cycle II: average output torque over the return(s) (the most negative: the
+    /// power fed back), lb·in.
+    pub torque_avg_return: f64,
+    /// Cycle II: largest |output torque|, lb·in.
+    pub torque_max: f64,
+    /// Cycle II: smallest contact force, lb.
+    pub contact_force_min: f64,
+    /// Cycle II: largest contact force, lb.
+    pub contact_force_max: f64,
+    /// Cycle II: largest Hertz stress, psi.
+    pub contact_stress_max: f64,
+    /// Cycle II: whether the follower separated anywhere.
+    pub jump: bool,
+    /// Accepted solver steps.
+    pub steps: u32,
+}
+
+/// The actual cam's study of one law.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ActualStudy {
+    /// The same measures as on the theoretical cam.
+    #[serde(flatten)]
+    pub cam: CamStudy,
+    /// Sensitivity to tolerance: the actual cam's Σ cycle-II acceleration RMS minus the
+    /// theoretical cam's, in/s².
+    pub sensitivity_to_tolerance: f64,
+    /// The actual cam's profile.
+    pub profile: ProfileStats,
+}
+
+/// The columns every law is ranked in, and whether a smaller value ranks better.
+pub const RANKED: [(&str, bool); 8] = [
+    ("sensitivity_to_flexibility", true),
+    ("sensitivity_to_tolerance", true),
+    ("shock_index", true),
+    ("torque_avg", true),
+    ("torque_max", true),
+    ("contact_force_min", false),
+    ("contact_force_max", true),
+    ("contact_stress_max", true),
+];
+
+/// One law's study.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LawStudy {
+    /// The law's name (as `camsim laws` prints it).
+    pub name: String,
+    /// On the theoretical cam (flexibility alone).
+    pub flexibility: CamStudy,
+    /// On the actual cam (flexibility and tolerance).
+    pub actual: ActualStudy,
+    /// The actual cam separates during a rise of cycle II.
+    pub jump_rise: bool,
+    /// The actual cam separates during a return of cycle II.
+    pub jump_return: bool,
+    /// The value of every ranked column ([`RANKED`]).
+    pub values: Ranks<f64>,
+    /// The law's rank (1 best) in every ranked column, and overall (the laws that hold
+    /// contact on the theoretical cam first, then by the sum of the ranks).
+    pub ranks: Ranks<usize>,
+}
+
+/// One value per ranked column ([`RANKED`]) and an overall one.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Ranks<T> {
+    /// Sensitivity to flexibility.
+    pub sensitivity_to_flexibility: T,
+    /// Sensitivity to tolerance.
+    pub sensitivity_to_tolerance: T,
+    /// Shock index.
+    pub shock_index: T,
+    /// Average torque of the rise.
+    pub torque_avg: T,
+    /// Largest |torque|.
+    pub torque_max: T,
+    /// Smallest contact force (larger is better).
+    pub contact_force_min: T,
+    /// Largest contact force.
+    pub contact_force_max: T,
+    /// Largest contact stress.
+    pub contact_stress_max: T,
+    /// Overall: the rank (ranks) or the sum of the ranks above (values).
+    pub overall: T,
+}
+
+impl<T: Copy> Ranks<T> {
+    /// The value of column `name` ([`RANKED`] or `overall`).
+    pub fn get(&self, name: &str) -> Option<T> {
+        Some(match name {
+            "sensitivity_to_flexibility" => self.sensitivity_to_flexibility,
+            "sensitivity_to_tolerance" => self.sensitivity_to_tolerance,
+            "shock_index" => self.shock_index,
+            "torque_avg" => self.torque_avg,
+            "torque_max" => self.torque_max,
+            "contact_force_min" => self.contact_force_min,
+            "contact_force_max" => self.contact_force_max,
+            "contact_stress_max" => self.contact_stress_max,
+            "overall" => self.overall,
+            _ => return None,
+        })
+    }
+
+    fn set(&mut self, name: &str, v: T) {
+        match name {
+            "sensitivity_to_flexibility" => self.sensitivity_to_flexibility = v,
+            "sensitivity_to_tolerance" => self.sensitivity_to_tolerance = v,
+            "shock_index" => self.shock_index = v,
+            "torque_avg" => self.torque_avg = v,
+            "torque_max" => self.torque_max = v,
+            "contact_force_min" => self.contact_force_min = v,
+            "contact_force_max" => self.contact_force_max = v,
+            "contact_stress_max" => self.contact_stress_max = v,
+            _ => self.overall = v,
+        }
+    }
+}
+
+/// What `camsim compare` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct CompareReport {
+    /// Every law, in the order of `camsim laws`.
+    pub laws: Vec<LawStudy>,
+    /// Cam speed, rpm.
+    pub rpm: f64,
+    /// Whether the vertical scene ran (--quick).
+    pub quick: bool,
+    /// Master seed of the actual cam (sample 0).
+    pub seed: u64,
+    /// Profile intervals per revolution (the same for every law).
+    pub intervals: usize,
+    /// Wall-clock time, s.
+    pub wall_s: f64,
+}
+
+/// Ranks `values` (one per law) from 1: ascending when `smaller_better`, else
+/// descending; ties keep the laws' order, so the ranks are always a permutation.
+pub fn rank(values: &[f64], smaller_better: bool) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&a, &b| {
+        let o = values[a].total_cmp(&values[b]);
+        let o = if smaller_better { o } else { o.reverse() };
+        o.then(a.cmp(&b))
+    });
+    let mut ranks = vec![0; values.len()];
+    for (r, &i) in order.iter().enumerate() {
+        ranks[i] = r + 1;
+    }
+    ranks
+}
+
+/// The scene with `law` for every rise and return.
+fn with_law(base: &RunSpec, law: MotionLaw) -> Result<RunSpec> {
+    let mut spec = base.clone();
+    let mut segs: Vec<_> = spec.design.program.segments().to_vec();
+    for s in &mut segs {
+        match &mut s.kind {
+            SegmentKind::Rise(l) | SegmentKind::Return(l) => *l = law,
+            SegmentKind::Dwell => {}
+        }
+    }
+    spec.design.program = camsim_core::CamProgram::new(&segs)?;
+    spec.design.validate()?;
+    Ok(spec)
+}
+
+/// The measures of one run's revolutions 1 and 2.
+fn cam_study(spec: &RunSpec, rows: &[PeriodRow], steps: u32) -> Result<CamStudy> {
+    let names = sim::period_names(&spec.design);
+    let kinds: Vec<SegmentKind> = spec
+        .design
+        .program
+        .segments()
+        .iter()
+        .map(|s| s.kind)
+        .collect();
+    let row = |rev: u32, k: usize| {
+        rows.iter()
+            .filter(|r| r.revolution == rev)
+            .nth(k)
+            .filter(|r| r.period == names[k])
+            .ok_or_else(|| anyhow!("revolution {rev} has no {} period", names[k]))
+    };
+    let mut per_period = Vec::new();
+    let (mut sens, mut shock) = (0.0, 0.0);
+    let (mut t_rise, mut t_return) = (f64::NEG_INFINITY, f64::INFINITY);
+    let (mut t_max, mut f_min, mut f_max, mut s_max) =
+        (0.0f64, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let mut jump = false;
+    for (k, name) in names.iter().enumerate() {
+        let (one, two) = (row(1, k)?, row(2, k)?);
+        sens += two.rms_acceleration;
+        match kinds[k] {
+            SegmentKind::Rise(_) => {
+                shock += (one.rms_acceleration - two.rms_acceleration) / one.rms_acceleration;
+                t_rise = t_rise.max(two.torque_avg);
+            }
+            SegmentKind::Return(_) => {
+                shock += (one.rms_acceleration - two.rms_acceleration) / one.rms_acceleration;
+                t_return = t_return.min(two.torque_avg);
+            }
+            SegmentKind::Dwell => {}
+        }
+        t_max = t_max.max(two.torque_max.abs()).max(two.torque_min.abs());
+        f_min = f_min.min(two.contact_force_min);
+        f_max = f_max.max(two.contact_force_max);
+        s_max = s_max.max(two.contact_stress_max);
+        jump |= two.jump;
+        per_period.push(LawPeriod {
+            period: name.to_string(),
+            acc_rms_cycle1: one.rms_acceleration,
+            acc_rms_cycle2: two.rms_acceleration,
+            torque_avg: two.torque_avg,
+            torque_max: two.torque_max,
+            torque_min: two.torque_min,
+            contact_force_min: two.contact_force_min,
+            contact_force_max: two.contact_force_max,
+            contact_stress_max: two.contact_stress_max,
+            jump: two.jump,
+        });
+    }
+    let s = CamStudy {
+        per_period,
+        sensitivity: sens,
+        shock_index: shock,
+        torque_avg_rise: t_rise,
+        torque_avg_return: t_return,
+        torque_max: t_max,
+        contact_force_min: f_min,
+        contact_force_max: f_max,
+        contact_stress_max: s_max,
+        jump,
+        steps,
+    };
+    for (what, v) in [
+        ("sensitivity", s.sensitivity),
+        ("shock index", s.shock_index),
+        ("rise torque", s.torque_avg_rise),
+        ("return torque", s.torque_avg_return),
+        ("largest torque", s.torque_max),
+        ("smallest contact force", s.contact_force_min),
+        ("largest contact force", s.contact_force_max),
+        ("largest contact stress", s.contact_stress_max),
+    ] {
+        anyhow::ensure!(v.is_finite(), "the {what} is {v}");
+    }
+    Ok(s)
+}
+
+/// Simulates `spec` (two revolutions) and measures it.
+fn simulate(spec: &RunSpec) -> Result<CamStudy> {
+    let r = sim::run(spec, &mut sim::Nothing)?;
+    cam_study(
+        spec,
+        &sim::period_rows(&spec.design, &r.stats),
+        r.solver.accepted,
+    )
+}
+
+/// The scene every law starts from.
+fn base_spec(args: &Args) -> Result<RunSpec> {
+    let mut spec = match &args.scene {
+        Some(p) => crate::scene::load(p)?,
+        None => RunSpec::reference(),
+    };
+    if let Some(r) = args.rpm {
+        spec.design.set_speed_rpm(r)?;
+    }
+    // Cycle I is measured from the thesis's start (its start-up shock).
+    spec.solver.start = Start::Thesis;
+    spec.revolutions = 2;
+    if args.quick {
+        spec.dofs.horizontal = false;
+    }
+    Ok(spec)
+}
+
+/// Runs the study `args` ask for (the plots too, if asked).
+pub fn report(args: &Args) -> Result<CompareReport> {
+    let t0 = std::time::Instant::now();
+    let base = base_spec(args)?;
+    let mut plan = Plan::new(args.force);
+    let plot_target = match &args.plot {
+        Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
+        None => None,
+    };
+    // One interval for every law: the one the scene's own program gets.
+    let (intervals, _) = actual::intervals_for(&base.design, &args.actual)?;
+    let mut actual_args = args.actual.clone();
+    actual_args.actual = true;
+    actual_args.interval_deg = Some(360.0 / intervals as f64);
+    let specs: Vec<(MotionLaw, RunSpec)> = MotionLaw::ALL
+        .iter()
+        .map(|&l| with_law(&base, l).map(|s| (l, s)))
+        .collect::<Result<_>>()?;
+    // Every (law, cam) pair, in order: law 0 theoretical, law 0 actual, law 1 ...
+    let jobs: Vec<(usize, bool)> = (0..specs.len())
+        .flat_map(|i| [(i, false), (i, true)])
+        .collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(crate::cmd::montecarlo::threads(args.threads))
+        .stack_size(16 << 20)
+        .build()
+        .context("cannot start the worker threads")?;
+    type Job = Result<(CamStudy, Option<ProfileStats>)>;
+    let results: Vec<Job> = pool.install(|| {
+        jobs.par_iter()
+            .map(|&(i, is_actual)| {
+                let (law, spec) = &specs[i];
+                let run = || -> Job {
+                    if !is_actual {
+                        return Ok((simulate(spec)?, None));
+                    }
+                    let (dev, stats) = actual::build_profile(&spec.design, &actual_args, 0)?;
+                    let mut s = spec.clone();
+                    s.profile = Some(Arc::new(dev));
+                    Ok((simulate(&s)?, Some(stats)))
+                };
+                run().with_context(|| {
+                    format!(
+                        "{} on the {} cam",
+                        law.name(),
+                        if is_actual { "actual" } else { "theoretical" }
+                    )
+                })
+            })
+            .collect()
+    });
+    let mut it = results.into_iter();
+    let mut laws = Vec::new();
+    for (law, _) in &specs {
+        let (flex, _) = it.next().ok_or_else(|| anyhow!("missing run"))??;
+        let (cam, profile) = it.next().ok_or_else(|| anyhow!("missing run"))??;
+        let profile = profile.ok_or_else(|| anyhow!("missing profile"))?;
+        let names = sim::period_names(&base.design);
+        let kinds: Vec<SegmentKind> = base
+            .design
+            .program
+            .segments()
+            .iter()
+            .map(|s| s.kind)
+            .collect();
+        let jump_in = |rise: bool| {
+            cam.per_period.iter().zip(&kinds).any(|(p, k)| {
+                p.jump
+                    && matches!(
+                        (k, rise),
+                        (SegmentKind::Rise(_), true) | (SegmentKind::Return(_), false)
+                    )
+            })
+        };
+        debug_assert_eq!(names.len(), cam.per_period.len());
+        let sensitivity_to_tolerance = cam.sensitivity - flex.sensitivity;
+        anyhow::ensure!(
+            sensitivity_to_tolerance.is_finite(),
+            "{}: the sensitivity to tolerance is not finite",
+            law.name()
+        );
+        let values = Ranks {
+            sensitivity_to_flexibility: flex.sensitivity,
+            sensitivity_to_tolerance,
+            shock_index: flex.shock_index,
+            torque_avg: flex.torque_avg_rise,
+            torque_max: flex.torque_max,
+            contact_force_min: flex.contact_force_min,
+            contact_force_max: flex.contact_force_max,
+            contact_stress_max: flex.contact_stress_max,
+            overall: 0.0,
+        };
+        laws.push(LawStudy {
+            name: law.name().to_string(),
+            jump_rise: jump_in(true),
+            jump_return: jump_in(false),
+            flexibility: flex,
+            actual: ActualStudy {
+                cam,
+                sensitivity_to_tolerance,
+                profile,
+            },
+            values,
+            ranks: Ranks::default(),
+        });
+    }
+    fill_ranks(&mut laws);
+    let rpm = camsim_core::rad_per_s_to_rpm(base.design.omega0);
+    if let Some(t) = plot_target {
+        let mut dir = t.open()?;
+        draw(&mut dir, &laws, &base, &actual_args)?;
+        dir.commit()?;
+    }
+    Ok(CompareReport {
+        laws,
+        rpm,
+        quick: args.quick,
+        seed: args.actual.seed(),
+        intervals,
+        wall_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// Ranks every law in every column of [`RANKED`], then overall: the laws that hold
+/// contact on the theoretical cam in cycle II before those that separate, each group by
+/// the sum of its ranks (ties in the laws' order).
+pub fn fill_ranks(laws: &mut [LawStudy]) {
+    let mut sums = vec![0.0; laws.len()];
+    for (col, smaller) in RANKED {
+        let v: Vec<f64> = laws
+            .iter()
+            .map(|l| l.values.get(col).unwrap_or(f64::NAN))
+            .collect();
+        for (i, r) in rank(&v, smaller).into_iter().enumerate() {
+            laws[i].ranks.set(col, r);
+            sums[i] += r as f64;
+        }
+    }
+    // The sum is at most 8 · 12 = 96: a separating law's key is above every other's.
+    let keys: Vec<f64> = laws
+        .iter()
+        .zip(&sums)
+        .map(|(l, s)| s + if l.flexibility.jump { 1000.0 } else { 0.0 })
+        .collect();
+    for (i, r) in rank(&keys, true).into_iter().enumerate() {
+        laws[i].values.overall = sums[i];
+        laws[i].ranks.overall = r;
+    }
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    crate::report::print(&report(&args)?, args.json)
+}
+
+/// Column headers of the ranking table.
+const HEADERS: [(&str, &str); 9] = [
+    ("sensitivity_to_flexibility", "S_flex"),
+    ("sensitivity_to_tolerance", "S_tol"),
+    ("shock_index", "shock"),
+    ("torque_avg", "T_avg"),
+    ("torque_max", "T_max"),
+    ("contact_force_min", "Fc_min"),
+    ("contact_force_max", "Fc_max"),
+    ("contact_stress_max", "stress"),
+    ("overall", "overall"),
+];
+
+impl Report for CompareReport {
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "camsim compare: every motion law for rise and return at {:.1} rpm, {} model; cycle I = revolution 1 \
+             (thesis start), cycle II = revolution 2",
+            self.rpm,
+            if self.quick { "vertical (--quick)" } else { "full 11-DOF" }
+        );
+        if let Some(l) = self.laws.first() {
+            let p = &l.actual.profile;
+            let _ = writeln!(
+                out,
+                "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals ({} deg)",
+                self.seed, p.cam_tolerance_in, p.roller_tolerance_in, p.eccentricity_tolerance_in, p.intervals, p.interval_deg
+            );
+        }
+        let _ = writeln!(
+            out,
+            "units: acceleration RMS in/s2, torque lb in, force lb, stress psi (docs/MODEL.md §9 defines each measure)\n"
+        );
+        let periods: Vec<String> = self
+            .laws
+            .first()
+            .map(|l| {
+                l.flexibility
+                    .per_period
+                    .iter()
+                    .map(|p| p.period.clone())
+                    .collect()
+            })
+            .unwrap_or_default();
+        for (title, actual) in [
+            ("theoretical cam (flexibility alone): acceleration RMS per period, cycle I / cycle II", false),
+            ("actual cam (flexibility and tolerance): acceleration RMS per period, cycle I / cycle II", true),
+        ] {
+            let _ = writeln!(out, "{title}");
+            let _ = write!(out, "{:<21}", "law");
+            for p in &periods {
+                let _ = write!(out, " {:>21}", p);
+            }
+            let _ = writeln!(
+                out,
+                " {:>10} {:>7} {:>6}",
+                if actual { "S_act" } else { "S_flex" },
+                "shock",
+                "jumps"
+            );
+            for l in &self.laws {
+                let c = if actual { &l.actual.cam } else { &l.flexibility };
+                let _ = write!(out, "{:<21}", l.name);
+                for p in &c.per_period {
+                    let _ = write!(
+                        out,
+                        " {:>10.1}/{:<10.1}",
+                        p.acc_rms_cycle1, p.acc_rms_cycle2
+                    );
+                }
+                let jumps: String = c
+                    .per_period
+                    .iter()
+                    .map(|p| if p.jump { 'J' } else { '-' })
+                    .collect();
+                let _ = writeln!(
+                    out,
+                    " {:>10.1} {:>7.3} {:>6}",
+                    c.sensitivity, c.shock_index, jumps
+                );
+            }
+            let _ = writeln!(out);
+        }
+        for (title, actual) in [
+            ("inertial responses, cycle II, theoretical cam", false),
+            ("inertial responses, cycle II, actual cam", true),
+        ] {
+            let _ = writeln!(out, "{title}");
+            let _ = writeln!(
+                out,
+                "{:<21} {:>9} {:>9} {:>9} {:>8} {:>8} {:>9}",
+                "law", "T_avg_r", "T_avg_ret", "|T|_max", "Fc_min", "Fc_max", "stress"
+            );
+            for l in &self.laws {
+                let c = if actual {
+                    &l.actual.cam
+                } else {
+                    &l.flexibility
+                };
+                let _ = writeln!(
+                    out,
+                    "{:<21} {:>9.2} {:>9.2} {:>9.2} {:>8.2} {:>8.2} {:>9.0}",
+                    l.name,
+                    c.torque_avg_rise,
+                    c.torque_avg_return,
+                    c.torque_max,
+                    c.contact_force_min,
+                    c.contact_force_max,
+                    c.contact_stress_max
+                );
+            }
+            let _ = writeln!(out);
+        }
+        let _ = writeln!(
+            out,
+            "ranks (1 = best; S_tol and the jumps on the actual cam, the rest on the theoretical cam; Fc_min larger is better;\n\
+             overall: the laws holding contact on the theoretical cam first, then by the sum of the ranks)"
+        );
+        let _ = write!(out, "{:<21}", "law");
+        for (_, h) in HEADERS {
+            let _ = write!(out, " {:>7}", h);
+        }
+        let _ = writeln!(out, " {:>11}", "jump r/ret");
+        let mut order: Vec<&LawStudy> = self.laws.iter().collect();
+        order.sort_by_key(|l| l.ranks.overall);
+        for l in order {
+            let _ = write!(out, "{:<21}", l.name);
+            for (c, _) in HEADERS {
+                let _ = write!(out, " {:>7}", l.ranks.get(c).unwrap_or(0));
+            }
+            let yn = |b: bool| if b { "yes" } else { "no" };
+            let _ = writeln!(
+                out,
+                " {:>11}",
+                format!("{}/{}", yn(l.jump_rise), yn(l.jump_return))
+            );
+        }
+        let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
+        out
+    }
+}
+
+/// The plots `--plot DIR` writes.
+pub const PLOT_FILES: [&str; 2] = ["rankings.png", "responses.png"];
+
+/// Revolution-2 samples of one run: (cam angle in degrees, acceleration deviation,
+/// contact force).
+type Trace = Vec<(f64, f64, f64)>;
+
+/// A law's name and its traces on the theoretical and on the actual cam.
+type LawTraces = (String, Trace, Trace);
+
+fn trace(spec: &RunSpec) -> Result<Trace> {
+    let mut out = Vec::new();
+    let mut obs = |s: &Sample<f64>| {
+        if s.revolution == 2 {
+            out.push((
+                s.angle_deg,
+                s.point.load_acceleration() - s.theory.a,
+                s.point.contact_force,
+            ));
+        }
+        std::ops::ControlFlow::Continue(())
+    };
+    sim::run(spec, &mut obs)?;
+    Ok(out)
+}
+
+fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualArgs) -> Result<()> {
+    use plotters::prelude::*;
+    // Rankings: one bar chart per ranked column, the laws' values, the best bar marked.
+    let names: Vec<&str> = laws.iter().map(|l| l.name.as_str()).collect();
+    let file = PLOT_FILES[0];
+    let cols = 3;
+    let rows = HEADERS.len().div_ceil(cols);
+    let e = |e: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {e}");
+    plots::png(dir, file, (1500, 420 * rows as u32 + 50), |root| {
+        let root = root
+            .titled(
+                "camsim compare: every law's value in each ranked column (bar of rank 1 in red)",
+                ("sans-serif", 22),
+            )
+            .map_err(|x| e(&x))?;
+        for ((col, head), area) in HEADERS.iter().zip(root.split_evenly((rows, cols)).iter()) {
+            let v: Vec<f64> = laws
+                .iter()
+                .map(|l| l.values.get(col).unwrap_or(0.0))
+                .collect();
+            let lo = v.iter().copied().fold(0.0f64, f64::min);
+            let hi = v.iter().copied().fold(0.0f64, f64::max);
+            let pad = 0.08 * (hi - lo).max(1e-12);
+            let mut chart = ChartBuilder::on(area)
+                .caption(*head, ("sans-serif", 16))
+                .margin(6)
+                .x_label_area_size(30)
+                .y_label_area_size(140)
+                .build_cartesian_2d((lo - pad)..(hi + pad), (0..laws.len()).into_segmented())
+                .map_err(|x| e(&x))?;
+            chart
+                .configure_mesh()
+                .disable_y_mesh()
+                .y_labels(laws.len())
+                .y_label_formatter(&|sv| match sv {
+                    SegmentValue::Exact(i) | SegmentValue::CenterOf(i) => {
+                        names.get(*i).map(|s| s.to_string()).unwrap_or_default()
+                    }
+                    SegmentValue::Last => String::new(),
+                })
+                .x_labels(5)
+                .x_label_formatter(&|x| format!("{x:.3e}"))
+                .label_style(("sans-serif", 12))
+                .draw()
+                .map_err(|x| e(&x))?;
+            chart
+                .draw_series(laws.iter().enumerate().map(|(i, l)| {
+                    let best = l.ranks.get(col) == Some(1);
+                    let color = if best {
+                        plots::PALETTE[1]
+                    } else {
+                        plots::PALETTE[0]
+                    };
+                    let mut r = Rectangle::new(
+                        [
+                            (0.0, SegmentValue::Exact(i)),
+                            (v[i], SegmentValue::Exact(i + 1)),
+                        ],
+                        color.filled(),
+                    );
+                    r.set_margin(3, 3, 0, 0);
+                    r
+                }))
+                .map_err(|x| e(&x))?;
+        }
+        Ok(())
+    })?;
+    // Responses: the two best laws overall and the reference program's two laws (the
+    // worst laws' impacts would swamp the scale).
+    let mut picks: Vec<usize> = Vec::new();
+    let by_rank = |r: usize| laws.iter().position(|l| l.ranks.overall == r);
+    for i in [by_rank(1), by_rank(2)].into_iter().flatten().chain(
+        ["modified-trapezoidal", "4-5-6-7"]
+            .iter()
+            .filter_map(|n| laws.iter().position(|l| l.name == *n)),
+    ) {
+        if !picks.contains(&i) {
+            picks.push(i);
+        }
+    }
+    let mut traces = Vec::new();
+    for &i in &picks {
+        let law = MotionLaw::from_name(&laws[i].name).ok_or_else(|| anyhow!("unknown law"))?;
+        let spec = with_law(base, law)?;
+        let theo = trace(&spec)?;
+        let (dev, _) = actual::build_profile(&spec.design, actual, 0)?;
+        let mut s = spec.clone();
+        s.profile = Some(Arc::new(dev));
+        traces.push((laws[i].name.clone(), theo, trace(&s)?));
+    }
+    let file = PLOT_FILES[1];
+    let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
+    plots::png(dir, file, (1400, 1000), |root| {
+        let root = root
+            .titled(
+                "cycle II responses: acceleration deviation from the theoretical, and contact force",
+                ("sans-serif", 22),
+            )
+            .map_err(|x| e(&x))?;
+        let panels = [
+            (
+                "theoretical cam: acceleration deviation, in/s2",
+                false,
+                true,
+            ),
+            ("actual cam: acceleration deviation, in/s2", true, true),
+            ("theoretical cam: contact force, lb", false, false),
+            ("actual cam: contact force, lb", true, false),
+        ];
+        for ((title, actual, acc), area) in panels.iter().zip(root.split_evenly((2, 2)).iter()) {
+            let pick = |t: &LawTraces| {
+                let v = if *actual { &t.2 } else { &t.1 };
+                v.iter()
+                    .map(|p| (p.0, if *acc { p.1 } else { p.2 }))
+                    .collect::<Vec<_>>()
+            };
+            let all: Vec<f64> = traces
+                .iter()
+                .flat_map(|t| pick(t).into_iter().map(|p| p.1))
+                .collect();
+            let lo = all
+                .iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold(f64::INFINITY, f64::min);
+            let hi = all
+                .iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .fold(f64::NEG_INFINITY, f64::max);
+            let (lo, hi) = if lo < hi { (lo, hi) } else { (-1.0, 1.0) };
+            let pad = 0.05 * (hi - lo);
+            let mut chart = ChartBuilder::on(area)
+                .caption(*title, ("sans-serif", 16))
+                .margin(8)
+                .x_label_area_size(30)
+                .y_label_area_size(60)
+                .build_cartesian_2d(0.0..360.0, (lo - pad)..(hi + pad))
+                .map_err(|x| e(&x))?;
+            chart
+                .configure_mesh()
+                .x_labels(13)
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&|v| format!("{v:.0}"))
+                .label_style(("sans-serif", 11))
+                .draw()
+                .map_err(|x| e(&x))?;
+            for (k, t) in traces.iter().enumerate() {
+                let color = plots::PALETTE[k % plots::PALETTE.len()];
+                let pts = pick(t);
+                let xs: Vec<f64> = pts.iter().map(|p| p.0).collect();
+                let ys: Vec<f64> = pts.iter().map(|p| p.1).collect();
+                for (j, run) in crate::plot::decimate(&xs, &ys, 0.0..360.0, 1400)
+                    .into_iter()
+                    .enumerate()
+                {
+                    let series = chart
+                        .draw_series(LineSeries::new(run, color.stroke_width(1)))
+                        .map_err(|x| e(&x))?;
+                    if j == 0 {
+                        series.label(t.0.clone()).legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
+                        });
+                    }
+                }
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 12))
+                .draw()
+                .map_err(|x| e(&x))?;
+        }
+        Ok(())
+    })?;
+    Ok(())
+}

@@ -1,0 +1,387 @@
+//! The studies: a Monte Carlo study is the same bit for bit for any thread count and
+//! for any split into shards merged back; the merge refuses files that are not one
+//! study's complete set; its statistics are the textbook ones; `compare` ranks every
+//! law as its column values order them; the statistics measure the deviation from
+//! the perfect cam.
+
+use std::path::{Path, PathBuf};
+
+use camsim::cli::{parse_from, Command};
+use camsim::cmd::compare::{self, CompareReport, RANKED};
+use camsim::cmd::montecarlo::{
+    self, execute, merge, Moments, Outcome, OutputArgs, Probability, SampleRecord, Study,
+};
+
+/// A cheap study: the vertical scene at constant cam speed (10 states), 2 revolutions,
+/// a coarse profile (no jumps, so the runs are short).
+const CHEAP: [&str; 6] = [
+    "--vertical",
+    "--constant-cam-speed",
+    "--interval-deg",
+    "10",
+    "--seed",
+    "7",
+];
+
+fn montecarlo_args(extra: &[&str]) -> montecarlo::Args {
+    let mut argv = vec!["camsim", "montecarlo"];
+    argv.extend_from_slice(extra);
+    match parse_from(argv).unwrap().command {
+        Command::Montecarlo(a) => a,
+        other => panic!("parsed as {other:?}"),
+    }
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("camsim-mc-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Every number of the records, as bits (so 0.0 and -0.0 differ, NaN equals itself).
+fn bits(records: &[SampleRecord]) -> Vec<u64> {
+    let mut out = Vec::new();
+    for r in records {
+        out.extend([
+            r.index,
+            r.fpr as u64,
+            r.rms_deviation_in.to_bits(),
+            r.steps as u64,
+        ]);
+        for p in &r.periods {
+            out.extend(p.values.iter().map(|v| v.to_bits()));
+            out.push(p.jump as u64);
+        }
+    }
+    out
+}
+
+fn study(samples: u64) -> Study {
+    let a = montecarlo_args(&[&["--samples", &samples.to_string()], &CHEAP[..]].concat());
+    Study::new(&a.study).unwrap()
+}
+
+#[test]
+fn bit_identical_for_any_thread_count_and_sample_order() {
+    let s = study(6);
+    let all: Vec<u64> = (0..6).collect();
+    let one = s.run(&all, 1, false).unwrap();
+    // The samples are different cams with different responses (a test that cannot fail
+    // otherwise).
+    assert_ne!(one[0].rms_deviation_in, one[1].rms_deviation_in);
+    assert_ne!(one[0].periods[1].values, one[1].periods[1].values);
+    let reference = bits(&one);
+    let summary = serde_json::to_string(&montecarlo::summarize(&one, 2).unwrap()).unwrap();
+    for threads in [2, 3] {
+        let r = s.run(&all, threads, false).unwrap();
+        assert_eq!(bits(&r), reference, "{threads} threads");
+        let sm = serde_json::to_string(&montecarlo::summarize(&r, 2).unwrap()).unwrap();
+        assert_eq!(sm, summary, "{threads} threads");
+    }
+    // Sample 4 alone, after others in reverse order: the same record.
+    let rev: Vec<u64> = all.iter().rev().copied().collect();
+    let back = s.run(&rev, 2, false).unwrap();
+    assert_eq!(bits(&back[1..2]), bits(&one[4..5]));
+    let alone = s.sample(4).unwrap();
+    assert_eq!(bits(&[alone]), bits(&one[4..5]));
+}
+
+fn shard(k: usize, n: usize, samples: u64, file: &Path, seed: &str) -> Outcome {
+    let shard = format!("{k}/{n}");
+    let samples = samples.to_string();
+    let out = file.to_str().unwrap();
+    let mut argv = vec![
+        "--samples",
+        &samples,
+        "--shard",
+        &shard,
+        "--out",
+        out,
+        "--force",
+    ];
+    argv.extend_from_slice(&CHEAP[..4]);
+    argv.extend_from_slice(&["--seed", seed, "--threads", "2"]);
+    execute(&montecarlo_args(&argv)).unwrap()
+}
+
+fn merge_err(files: &[&Path]) -> String {
+    let files: Vec<PathBuf> = files.iter().map(|p| p.to_path_buf()).collect();
+    let e = merge(&files, &OutputArgs::default()).unwrap_err();
+    let line = format!("{e:#}");
+    assert!(!line.contains('\n'), "one line: {line}");
+    line
+}
+
+#[test]
+fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
+    let n = 7u64;
+    let files: Vec<PathBuf> = (1..=3).map(|k| tmp(&format!("s{k}of3.json"))).collect();
+    for (k, f) in files.iter().enumerate() {
+        match shard(k + 1, 3, n, f, "7") {
+            Outcome::Shard(r) => {
+                // Strided: shard K holds the samples i ≡ K − 1 (mod 3).
+                let expect = (k as u64..n).step_by(3).count() as u64;
+                assert_eq!(r.samples, expect);
+            }
+            Outcome::Study(_) => panic!("a shard run printed a study"),
+        }
+        let file = montecarlo::read_shard(f).unwrap();
+        let idx: Vec<u64> = file.records.iter().map(|r| r.index).collect();
+        assert_eq!(idx, (k as u64..n).step_by(3).collect::<Vec<_>>());
+    }
+    // Merged in any order of the files.
+    let order = [files[2].clone(), files[0].clone(), files[1].clone()];
+    let merged = merge(&order, &OutputArgs::default()).unwrap();
+    let single = match execute(&montecarlo_args(
+        &[&["--samples", "7", "--threads", "3"], &CHEAP[..]].concat(),
+    ))
+    .unwrap()
+    {
+        Outcome::Study(r) => r,
+        Outcome::Shard(_) => panic!("not a shard run"),
+    };
+    assert_eq!(merged.study, single.study);
+    assert_eq!(
+        serde_json::to_string(&merged.summary).unwrap(),
+        serde_json::to_string(&single.summary).unwrap()
+    );
+    assert_eq!(merged.summary, single.summary);
+    // The shards' records are the single run's, read back bit for bit.
+    let mut recs: Vec<SampleRecord> = files
+        .iter()
+        .flat_map(|f| montecarlo::read_shard(f).unwrap().records)
+        .collect();
+    recs.sort_by_key(|r| r.index);
+    let s = study(7);
+    let direct = s.run(&(0..7).collect::<Vec<_>>(), 2, false).unwrap();
+    assert_eq!(bits(&recs), bits(&direct));
+
+    // Refusals, each one line.
+    let e = merge_err(&[&files[0], &files[1]]);
+    assert!(
+        e.contains("2 of the study's 7 samples are missing (first: 2, 5)"),
+        "{e}"
+    );
+    let e = merge_err(&[&files[0], &files[1], &files[2], &files[0]]);
+    assert!(e.contains("is given twice"), "{e}");
+    // A copy of a shard under another name: the same samples twice.
+    let copy = tmp("copy.json");
+    std::fs::copy(&files[1], &copy).unwrap();
+    let e = merge_err(&[&files[0], &files[1], &files[2], &copy]);
+    assert!(
+        e.contains("sample 1 is in") && e.contains("exactly one shard"),
+        "{e}"
+    );
+    // Another study: a different seed, or a different number of samples.
+    let other = tmp("other-seed.json");
+    shard(1, 3, n, &other, "8");
+    let e = merge_err(&[&files[0], &files[1], &other]);
+    assert!(
+        e.contains("belongs to another study") && e.contains("seed 8 vs 7"),
+        "{e}"
+    );
+    let other_n = tmp("other-n.json");
+    shard(3, 3, 8, &other_n, "7");
+    let e = merge_err(&[&files[0], &files[1], &other_n]);
+    assert!(e.contains("--samples 8 vs 7"), "{e}");
+    // Not a shard file at all, and a damaged one.
+    let junk = tmp("junk.json");
+    std::fs::write(&junk, "{\"laws\": []}").unwrap();
+    let e = merge_err(&[&junk]);
+    assert!(e.contains("not a camsim montecarlo shard file"), "{e}");
+    let text = std::fs::read_to_string(&files[0]).unwrap();
+    std::fs::write(&junk, text.replace("\"steps\":", "\"stepz\":")).unwrap();
+    let e = merge_err(&[&junk]);
+    assert!(e.contains("bad shard file") && e.contains("stepz"), "{e}");
+    if let Some(dir) = junk.parent() {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
+
+#[test]
+fn shard_and_option_errors_are_usage_errors() {
+    for (argv, what) in [
+        (vec!["--samples", "5", "--shard", "1/3"], "--out"),
+        (
+            vec!["--samples", "5", "--shard", "4/3", "--out", "x"],
+            "K/N",
+        ),
+        (
+            vec!["--samples", "5", "--shard", "0/3", "--out", "x"],
+            "K/N",
+        ),
+        (vec!["--samples", "0"], "samples"),
+        (vec!["--seed", "3"], "--samples"),
+    ] {
+        let mut full = vec!["camsim", "montecarlo"];
+        full.extend(argv.iter());
+        let e = parse_from(full).unwrap_err();
+        let line = camsim::cli::usage_line(&e);
+        assert!(line.contains(what), "{argv:?}: {line}");
+    }
+    // `merge` needs files.
+    assert!(parse_from(["camsim", "montecarlo", "merge"]).is_err());
+    assert!(parse_from(["camsim", "montecarlo", "merge", "a.json", "b.json"]).is_ok());
+}
+
+#[test]
+fn statistics_are_the_textbook_ones() {
+    // 1, 2, ..., 101: mean 51; sample variance n(n + 1)/12 = 858.5; type-7 percentiles
+    // at ranks 5, 50, 95 (from 0) are 6, 51, 96.
+    let v: Vec<f64> = (1..=101).map(f64::from).collect();
+    let m = Moments::of("x", &v).unwrap();
+    assert_eq!(
+        (m.mean, m.p5, m.p50, m.p95, m.min, m.max),
+        (51.0, 6.0, 51.0, 96.0, 1.0, 101.0)
+    );
+    assert!((m.sd - 858.5f64.sqrt()).abs() < 1e-12, "{}", m.sd);
+    // Interpolated: 0, 10 → p5 = 0.5, p95 = 9.5.
+    let m = Moments::of("x", &[10.0, 0.0]).unwrap();
+    assert_eq!((m.p5, m.p50, m.p95, m.sd), (0.5, 5.0, 9.5, 50f64.sqrt()));
+    // One sample: sd 0.
+    assert_eq!(Moments::of("x", &[3.0]).unwrap().sd, 0.0);
+    // Non-finite is an error, never a result.
+    for bad in [f64::NAN, f64::INFINITY] {
+        let e = Moments::of("rise.rms_acceleration", &[1.0, bad]).unwrap_err();
+        assert!(format!("{e}").contains("rise.rms_acceleration"), "{e}");
+    }
+    assert!(Moments::of("x", &[]).is_err());
+    // Binomial: 3 of 10 → p = 0.3, se = √(0.3 · 0.7 / 10).
+    let p = Probability::of(3, 10);
+    assert_eq!((p.count, p.p), (3, 0.3));
+    assert!((p.se - 0.021f64.sqrt()).abs() < 1e-15);
+    assert_eq!(Probability::of(0, 10).se, 0.0);
+}
+
+#[test]
+fn the_statistics_measure_the_deviation_from_the_perfect_cam() {
+    // An actual cam 2e-3 in larger everywhere (a constant deviation: same slope and
+    // curvature) lifts the follower by 2e-3 in. Against the perfect cam's response the
+    // low dwell's RMS displacement deviation is then 2e-3 in up to the theoretical
+    // cam's own deviation (7e-5 in) and the 0.2 lb more spring force; against the
+    // lift the roller rides on it would stay at the theoretical cam's 7e-5 in.
+    use camsim::sim::{self, HostDeviation, Nothing, RunSpec};
+    use std::sync::Arc;
+    let e = 2e-3;
+    let mut spec = RunSpec::reference();
+    spec.revolutions = 2;
+    spec.dofs.horizontal = false;
+    let dwell = |spec: &RunSpec| {
+        let r = sim::run(spec, &mut Nothing).unwrap();
+        sim::period_rows(&spec.design, &r.stats)
+            .into_iter()
+            .find(|p| p.revolution == 2 && p.period == "dwell_low")
+            .unwrap()
+            .rms_displacement
+    };
+    let perfect = dwell(&spec);
+    assert!(perfect > 0.0 && perfect < 2e-4, "{perfect}");
+    let step = 2.0 * std::f64::consts::PI / 36.0;
+    spec.profile = Some(Arc::new(HostDeviation::uniform(step, 36, |_| e).unwrap()));
+    let shifted = dwell(&spec);
+    assert!(
+        (shifted - e).abs() < 2.0 * perfect,
+        "{shifted} vs {e} ± {perfect}"
+    );
+}
+
+#[test]
+fn ranks_are_a_permutation_that_follows_the_values() {
+    // Ties keep the laws' order; larger-is-better reverses.
+    assert_eq!(compare::rank(&[3.0, 1.0, 2.0, 1.0], true), vec![4, 1, 3, 2]);
+    assert_eq!(
+        compare::rank(&[3.0, 1.0, 2.0, 1.0], false),
+        vec![1, 3, 2, 4]
+    );
+
+    let args = match parse_from(["camsim", "compare", "--quick", "--interval-deg", "30"])
+        .unwrap()
+        .command
+    {
+        Command::Compare(a) => a,
+        other => panic!("parsed as {other:?}"),
+    };
+    let r: CompareReport = compare::report(&args).unwrap();
+    let n = camsim_core::MotionLaw::ALL.len();
+    assert_eq!(r.laws.len(), n);
+    for (l, law) in r.laws.iter().zip(camsim_core::MotionLaw::ALL) {
+        assert_eq!(l.name, law.name());
+    }
+    for (col, smaller_better) in RANKED.iter().copied() {
+        let mut ranks: Vec<usize> = r.laws.iter().map(|l| l.ranks.get(col).unwrap()).collect();
+        ranks.sort_unstable();
+        assert_eq!(ranks, (1..=n).collect::<Vec<_>>(), "{col}: a permutation");
+        for a in &r.laws {
+            for b in &r.laws {
+                let (ra, rb) = (a.ranks.get(col).unwrap(), b.ranks.get(col).unwrap());
+                let (va, vb) = (a.values.get(col).unwrap(), b.values.get(col).unwrap());
+                if ra < rb {
+                    let ok = if smaller_better { va <= vb } else { va >= vb };
+                    assert!(
+                        ok,
+                        "{col}: {} rank {ra} ({va}) vs {} rank {rb} ({vb})",
+                        a.name, b.name
+                    );
+                }
+            }
+        }
+    }
+    // Overall: every law that holds contact on the theoretical cam before every law that
+    // separates, each group ordered by the sum of its ranks.
+    let mut overall: Vec<usize> = r.laws.iter().map(|l| l.ranks.overall).collect();
+    overall.sort_unstable();
+    assert_eq!(overall, (1..=n).collect::<Vec<_>>());
+    for a in &r.laws {
+        for b in &r.laws {
+            if a.ranks.overall < b.ranks.overall {
+                let key = |l: &compare::LawStudy| (l.flexibility.jump, l.values.overall);
+                assert!(key(a) <= key(b), "overall: {} before {}", a.name, b.name);
+            }
+        }
+    }
+    for l in &r.laws {
+        // The columns are what §9 defines, recomputed from the per-period values.
+        let sum = |p: &[compare::LawPeriod]| p.iter().map(|p| p.acc_rms_cycle2).sum::<f64>();
+        let f = &l.flexibility;
+        assert_eq!(f.sensitivity, sum(&f.per_period));
+        assert_eq!(l.actual.cam.sensitivity, sum(&l.actual.cam.per_period));
+        assert_eq!(
+            l.actual.sensitivity_to_tolerance,
+            l.actual.cam.sensitivity - f.sensitivity
+        );
+        let shock: f64 = f
+            .per_period
+            .iter()
+            .filter(|p| p.period == "rise" || p.period == "return")
+            .map(|p| (p.acc_rms_cycle1 - p.acc_rms_cycle2) / p.acc_rms_cycle1)
+            .sum();
+        assert_eq!(f.shock_index, shock);
+        let fmin = f
+            .per_period
+            .iter()
+            .map(|p| p.contact_force_min)
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(l.values.contact_force_min, fmin);
+        assert_eq!(l.values.sensitivity_to_flexibility, f.sensitivity);
+        let rank_sum: usize = RANKED.iter().map(|(c, _)| l.ranks.get(c).unwrap()).sum();
+        assert_eq!(l.values.overall, rank_sum as f64);
+        assert_eq!(
+            l.jump_rise,
+            l.actual
+                .cam
+                .per_period
+                .iter()
+                .any(|p| p.period == "rise" && p.jump)
+        );
+        assert_eq!(l.actual.profile.intervals, 12);
+    }
+    // The straight-line law's velocity steps at the ends of the rise and return are
+    // infinite accelerations: the follower must leave the cam, at any speed. The
+    // cycloidal law's acceleration is continuous and its peak coefficient (2π = 6.28)
+    // is below the 4-5-6-7's (7.51), whose return holds contact up to 902 rpm in the
+    // reference design: at 800 rpm the cycloidal cam keeps contact.
+    let by = |name: &str| r.laws.iter().find(|l| l.name == name).unwrap();
+    assert!(by("straight-line").flexibility.jump);
+    assert!(!by("cycloidal").flexibility.jump);
+    assert!(by("cycloidal").flexibility.contact_force_min > 0.0);
+}
