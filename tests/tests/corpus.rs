@@ -242,7 +242,9 @@ fn run_cli(command: Command, option: &str) -> Result<Outcome, String> {
             }
         }
         Command::Bench(a) => {
-            if camsim_core::key::SPEED_RPM.contains(a.rpm) && (1..=100).contains(&a.repeat) {
+            if camsim_core::key::SPEED_RPM.contains(a.rpm)
+                && a.repeat.is_none_or(|r| (1..=100).contains(&r))
+            {
                 Ok(Outcome::Finite)
             } else {
                 Err(format!("bench accepted {a:?}"))
