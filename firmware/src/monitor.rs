@@ -206,14 +206,5 @@ pub fn log_alarm_change(pin: &str, step: &ChipStep<f32>) {
 
 /// A short name of a core error for the log (core::fmt would cost ~20 KB of flash).
 pub fn error_name(e: &camsim_core::Error) -> &'static str {
-    use camsim_core::Error as E;
-    match e {
-        E::InvalidParameter { field, .. } => field,
-        E::Capacity { what, .. } => what,
-        E::StepSizeUnderflow { .. } => "step size underflow",
-        E::NonFinite { .. } => "non-finite state",
-        E::StepBudgetExceeded { .. } => "step budget exceeded",
-        E::NoConvergence { what, .. } => what,
-        _ => "other error",
-    }
+    e.summary()
 }
