@@ -42,7 +42,7 @@ show laws
 show modal
 show contact --force 100
 show predict --f32
-show bench
+show bench --quick
 
 if [ "${1:-}" = "--firmware" ]; then
     printf '\n$ bash scripts/firmware-ci.sh\n'
