@@ -35,10 +35,10 @@ step "gates: format, lints (warnings denied), docs"
 cargo fmt --all -- --check
 (cd firmware && cargo fmt -- --check)
 cargo clippy --workspace --all-targets -- -D warnings
-# core outside its tests: no unwrap, expect or panic on any input.
-cargo clippy -p camsim-core --lib -- -D warnings \
+# core outside its tests: no unwrap, expect, panic or unchecked indexing on any input.
+cargo clippy -p camsim-core --lib -- -D warnings -D clippy::indexing_slicing \
     -D clippy::unwrap_used -D clippy::expect_used -D clippy::panic
-cargo clippy -p camsim-core --lib --features micromath -- -D warnings \
+cargo clippy -p camsim-core --lib --features micromath -- -D warnings -D clippy::indexing_slicing \
     -D clippy::unwrap_used -D clippy::expect_used -D clippy::panic
 (cd firmware && cargo clippy --release -- -D warnings)
 # the real-board build (defmt over RTT, panic-probe); scripts/firmware-ci.sh builds it too

@@ -7,14 +7,61 @@
 //! Jacobi rotations, which are accurate for small matrices whatever their conditioning
 //! (the translational system mixes 100 lb/in and 1.5e6 lb/in springs).
 
-// Matrix code reads best with explicit indices; every index runs over 0..N of [_; N].
-#![allow(clippy::needless_range_loop)]
+// Indices come from iterators (rows, `zip`, `enumerate`); the few entries picked by
+// position are read with `get`, whose `None` cannot happen for indices below N.
 
 use crate::{Error, Real, Result};
 
 /// Cyclic sweeps allowed before [`Error::NoConvergence`]; Jacobi converges quadratically,
 /// so a handful suffice for the small matrices of Section VI.2.
 const JACOBI_MAX_SWEEPS: u32 = 64;
+
+/// The transpose of `a` (the columns of a matrix are the rows of its transpose).
+fn transpose<T: Copy, const N: usize>(a: &[[T; N]; N]) -> [[T; N]; N] {
+    let mut t = *a;
+    for (i, row) in a.iter().enumerate() {
+        // t[j][i] = a[i][j] for every j.
+        for (&v, t_row) in row.iter().zip(t.iter_mut()) {
+            if let Some(x) = t_row.get_mut(i) {
+                *x = v;
+            }
+        }
+    }
+    t
+}
+
+/// Entry `(i, j)` of `a`, if it has one.
+fn entry<T: Copy, const N: usize>(a: &[[T; N]; N], i: usize, j: usize) -> Option<T> {
+    a.get(i).and_then(|row| row.get(j)).copied()
+}
+
+/// Entries `p` and `q` of `s`, both mutable (`None` unless `p < q < s.len()`).
+fn pair_mut<T>(s: &mut [T], p: usize, q: usize) -> Option<(&mut T, &mut T)> {
+    let (lo, hi) = s.split_at_mut_checked(q)?;
+    Some((lo.get_mut(p)?, hi.first_mut()?))
+}
+
+/// Swaps entries `i < j` of `s` (nothing otherwise).
+fn swap_entries<T>(s: &mut [T], i: usize, j: usize) {
+    if let Some((a, b)) = pair_mut(s, i, j) {
+        core::mem::swap(a, b);
+    }
+}
+
+/// Index of the smallest of `x[i..]` (the first one on ties; `i` if it is out of range).
+fn argmin_from<T: Real>(x: &[T], i: usize) -> usize {
+    let Some(&first) = x.get(i) else {
+        return i;
+    };
+    let (mut best, mut best_v) = (i, first);
+    for (j, &v) in x.iter().enumerate().skip(i + 1) {
+        if v < best_v {
+            best = j;
+            best_v = v;
+        }
+    }
+    best
+}
 
 /// Checks that a matrix is finite and symmetric (relative to its largest entry).
 fn check_symmetric<T: Real, const N: usize>(a: &[[T; N]; N], field: &'static str) -> Result<T> {
@@ -32,9 +79,11 @@ fn check_symmetric<T: Real, const N: usize>(a: &[[T; N]; N], field: &'static str
         }
     }
     let tol = T::from_f64(64.0) * T::EPSILON * amax;
-    for i in 0..N {
-        for j in (i + 1)..N {
-            let d = a[i][j] - a[j][i];
+    let at = transpose(a);
+    for (i, (row, row_t)) in a.iter().zip(at.iter()).enumerate() {
+        // a[i][j] - a[j][i] for j > i.
+        for (&aij, &aji) in row.iter().zip(row_t.iter()).skip(i + 1) {
+            let d = aij - aji;
             if d.abs() > tol {
                 return Err(Error::InvalidParameter {
                     field,
@@ -47,57 +96,95 @@ fn check_symmetric<T: Real, const N: usize>(a: &[[T; N]; N], field: &'static str
     Ok(amax)
 }
 
-/// Lower Cholesky factor `L` of a symmetric positive-definite `m` (`m = L Lᵀ`).
+/// Lower Cholesky factor `L` of a symmetric positive-definite `m` (`m = L Lᵀ`), row by
+/// row (row `i` needs only the rows above it; the first pivot that fails is the same as
+/// column by column, and every entry is the same sum in the same order).
 fn cholesky<T: Real, const N: usize>(m: &[[T; N]; N]) -> Result<[[T; N]; N]> {
     let mut l = [[T::ZERO; N]; N];
     let rel = T::from_usize(N) * T::EPSILON;
-    for j in 0..N {
-        let mut d = m[j][j];
-        for k in 0..j {
-            d -= l[j][k].sq();
+    for (i, m_row) in m.iter().enumerate() {
+        let Some((done, rest)) = l.split_at_mut_checked(i) else {
+            break;
+        };
+        let Some(l_row) = rest.first_mut() else {
+            break;
+        };
+        // l[i][j] = (m[i][j] - Σ_{k<j} l[i][k] l[j][k]) / l[j][j], j < i.
+        for (j, (l_j, &mij)) in done.iter().zip(m_row.iter()).enumerate() {
+            let mut v = mij;
+            for (lik, ljk) in l_row.iter().zip(l_j.iter()).take(j) {
+                v -= *lik * *ljk;
+            }
+            if let (Some(&ljj), Some(lij)) = (l_j.get(j), l_row.get_mut(j)) {
+                *lij = v / ljj;
+            }
+        }
+        let Some(&mii) = m_row.get(i) else {
+            break;
+        };
+        let mut d = mii;
+        for lik in l_row.iter().take(i) {
+            d -= lik.sq();
         }
         // A pivot lost to rounding (relative to its diagonal entry) is singular in practice.
-        if !(d.is_finite() && d > rel * m[j][j].abs()) {
+        if !(d.is_finite() && d > rel * mii.abs()) {
             return Err(Error::NotPositiveDefinite {
                 what: "mass matrix m",
             });
         }
-        let ljj = d.sqrt();
-        l[j][j] = ljj;
-        for i in (j + 1)..N {
-            let mut v = m[i][j];
-            for k in 0..j {
-                v -= l[i][k] * l[j][k];
-            }
-            l[i][j] = v / ljj;
+        if let Some(lii) = l_row.get_mut(i) {
+            *lii = d.sqrt();
         }
     }
     Ok(l)
 }
 
-/// Solves `L x = b` in place for each column of `b` (forward substitution).
-fn forward_columns<T: Real, const N: usize>(l: &[[T; N]; N], b: &mut [[T; N]; N]) {
-    for c in 0..N {
-        for i in 0..N {
-            let mut v = b[i][c];
-            for k in 0..i {
-                v -= l[i][k] * b[k][c];
-            }
-            // Diagonal is positive (checked by `cholesky`).
-            b[i][c] = v / l[i][i];
+/// Solves `L x = b` in place (forward substitution; `L` from [`cholesky`]).
+fn forward<T: Real, const N: usize>(l: &[[T; N]; N], x: &mut [T; N]) {
+    for (i, l_row) in l.iter().enumerate() {
+        let Some((done, rest)) = x.split_at_mut_checked(i) else {
+            return;
+        };
+        let Some(xi) = rest.first_mut() else {
+            return;
+        };
+        let mut v = *xi;
+        for (lik, xk) in l_row.iter().zip(done.iter()) {
+            v -= *lik * *xk;
+        }
+        // Diagonal is positive (checked by `cholesky`).
+        if let Some(&lii) = l_row.get(i) {
+            *xi = v / lii;
         }
     }
 }
 
-/// Solves `Lᵀ x = b` in place for each column of `b` (back substitution).
-fn backward_columns_transposed<T: Real, const N: usize>(l: &[[T; N]; N], b: &mut [[T; N]; N]) {
-    for c in 0..N {
-        for i in (0..N).rev() {
-            let mut v = b[i][c];
-            for k in (i + 1)..N {
-                v -= l[k][i] * b[k][c];
-            }
-            b[i][c] = v / l[i][i];
+/// Solves `Lᵀ x = b` in place given `lt = Lᵀ` (back substitution).
+fn backward<T: Real, const N: usize>(lt: &[[T; N]; N], x: &mut [T; N]) {
+    for (i, lt_row) in lt.iter().enumerate().rev() {
+        let Some((head, later)) = x.split_at_mut_checked(i + 1) else {
+            return;
+        };
+        let Some(xi) = head.last_mut() else {
+            return;
+        };
+        let mut v = *xi;
+        for (lki, xk) in lt_row.iter().skip(i + 1).zip(later.iter()) {
+            v -= *lki * *xk;
+        }
+        if let Some(&lii) = lt_row.get(i) {
+            *xi = v / lii;
+        }
+    }
+}
+
+/// Applies the rotation `(c, s)` to columns `p < q` of `a`.
+fn rotate_columns<T: Real, const N: usize>(a: &mut [[T; N]; N], p: usize, q: usize, c: T, s: T) {
+    for row in a.iter_mut() {
+        if let Some((kp, kq)) = pair_mut(row, p, q) {
+            let (x, y) = (*kp, *kq);
+            *kp = c * x - s * y;
+            *kq = s * x + c * y;
         }
     }
 }
@@ -109,9 +196,10 @@ fn jacobi<T: Real, const N: usize>(
     v: &mut [[T; N]; N],
     max_sweeps: u32,
 ) -> Result<()> {
-    *v = [[T::ZERO; N]; N];
-    for i in 0..N {
-        v[i][i] = T::ONE;
+    for (i, row) in v.iter_mut().enumerate() {
+        for (j, x) in row.iter_mut().enumerate() {
+            *x = if i == j { T::ONE } else { T::ZERO };
+        }
     }
     let mut norm2 = T::ZERO;
     for row in a.iter() {
@@ -125,9 +213,9 @@ fn jacobi<T: Real, const N: usize>(
     let mut sweeps = 0;
     loop {
         let mut off = T::ZERO;
-        for p in 0..N {
-            for q in (p + 1)..N {
-                off += a[p][q].sq();
+        for (p, row) in a.iter().enumerate() {
+            for x in row.iter().skip(p + 1) {
+                off += x.sq();
             }
         }
         if off <= target || off == T::ZERO {
@@ -142,14 +230,18 @@ fn jacobi<T: Real, const N: usize>(
         sweeps += 1;
         for p in 0..N {
             for q in (p + 1)..N {
-                let apq = a[p][q];
+                let (Some(apq), Some(app), Some(aqq)) =
+                    (entry(a, p, q), entry(a, p, p), entry(a, q, q))
+                else {
+                    continue;
+                };
                 if apq == T::ZERO {
                     continue;
                 }
                 // Rotation zeroing a[p][q] (Golub & Van Loan, sym.Schur2). Only sqrt is used
                 // (exact on every build; micromath's hypot is an approximation), with the
                 // large-theta limit taken explicitly so theta^2 cannot overflow.
-                let theta = (a[q][q] - a[p][p]) / (T::TWO * apq);
+                let theta = (aqq - app) / (T::TWO * apq);
                 let t = if theta.abs() > big_theta {
                     T::HALF / theta
                 } else {
@@ -162,26 +254,19 @@ fn jacobi<T: Real, const N: usize>(
                 };
                 let c = T::ONE / (t.sq() + T::ONE).sqrt();
                 let s = t * c;
-                for k in 0..N {
-                    let akp = a[k][p];
-                    let akq = a[k][q];
-                    a[k][p] = c * akp - s * akq;
-                    a[k][q] = s * akp + c * akq;
+                rotate_columns(a, p, q, c, s);
+                if let Some((row_p, row_q)) = pair_mut(a, p, q) {
+                    for (apk, aqk) in row_p.iter_mut().zip(row_q.iter_mut()) {
+                        let (x, y) = (*apk, *aqk);
+                        *apk = c * x - s * y;
+                        *aqk = s * x + c * y;
+                    }
+                    if let (Some(x), Some(y)) = (row_p.get_mut(q), row_q.get_mut(p)) {
+                        *x = T::ZERO;
+                        *y = T::ZERO;
+                    }
                 }
-                for k in 0..N {
-                    let apk = a[p][k];
-                    let aqk = a[q][k];
-                    a[p][k] = c * apk - s * aqk;
-                    a[q][k] = s * apk + c * aqk;
-                }
-                a[p][q] = T::ZERO;
-                a[q][p] = T::ZERO;
-                for k in 0..N {
-                    let vkp = v[k][p];
-                    let vkq = v[k][q];
-                    v[k][p] = c * vkp - s * vkq;
-                    v[k][q] = s * vkp + c * vkq;
-                }
+                rotate_columns(v, p, q, c, s);
             }
         }
     }
@@ -202,48 +287,49 @@ pub fn generalized_eigen<T: Real, const N: usize>(
     check_symmetric(k, "k")?;
     check_symmetric(m, "m")?;
     let l = cholesky(m)?;
-    // A = L⁻¹ K L⁻ᵀ = L⁻¹ (L⁻¹ K)ᵀ since K is symmetric.
-    let mut b = *k;
-    forward_columns(&l, &mut b);
-    let mut a = [[T::ZERO; N]; N];
-    for i in 0..N {
-        for j in 0..N {
-            a[i][j] = b[j][i];
-        }
+    // A = L⁻¹ K L⁻ᵀ = L⁻¹ (L⁻¹ K)ᵀ since K is symmetric: L⁻¹ applied to the columns of K,
+    // then to the columns of the transpose of that. A matrix's columns are the rows of
+    // its transpose, so the solves run on rows: b_t = (L⁻¹ K)ᵀ, then a_t = (L⁻¹ b_t)ᵀ.
+    let mut b_t = transpose(k);
+    for row in b_t.iter_mut() {
+        forward(&l, row);
     }
-    forward_columns(&l, &mut a);
-    for i in 0..N {
-        for j in (i + 1)..N {
-            let s = T::HALF * (a[i][j] + a[j][i]);
-            a[i][j] = s;
-            a[j][i] = s;
+    let mut a_t = transpose(&b_t);
+    for row in a_t.iter_mut() {
+        forward(&l, row);
+    }
+    let mut a = transpose(&a_t);
+    for (i, (row, row_t)) in a.iter_mut().zip(a_t.iter()).enumerate() {
+        for (j, (aij, &aji)) in row.iter_mut().zip(row_t.iter()).enumerate() {
+            if i != j {
+                *aij = T::HALF * (*aij + aji);
+            }
         }
     }
     let mut z = [[T::ZERO; N]; N];
     jacobi(&mut a, &mut z, JACOBI_MAX_SWEEPS)?;
-    // Eigenvectors of the original problem: Φ = L⁻ᵀ Z.
-    backward_columns_transposed(&l, &mut z);
+    // Eigenvectors of the original problem: Φ = L⁻ᵀ Z, column by column (rows of z_t).
+    let l_t = transpose(&l);
+    let mut z_t = transpose(&z);
+    for row in z_t.iter_mut() {
+        backward(&l_t, row);
+    }
 
     let mut lambda = [T::ZERO; N];
-    for i in 0..N {
-        lambda[i] = a[i][i];
-    }
-    // Selection sort, ascending, swapping eigenvector columns along.
-    for i in 0..N {
-        let mut best = i;
-        for j in (i + 1)..N {
-            if lambda[j] < lambda[best] {
-                best = j;
-            }
+    for (i, (lam, row)) in lambda.iter_mut().zip(a.iter()).enumerate() {
+        if let Some(&d) = row.get(i) {
+            *lam = d;
         }
+    }
+    // Selection sort, ascending, swapping the eigenvectors along.
+    for i in 0..N {
+        let best = argmin_from(&lambda, i);
         if best != i {
-            lambda.swap(i, best);
-            for row in z.iter_mut() {
-                row.swap(i, best);
-            }
+            swap_entries(&mut lambda, i, best);
+            swap_entries(&mut z_t, i, best);
         }
     }
-    Ok((lambda, z))
+    Ok((lambda, transpose(&z_t)))
 }
 
 /// Natural frequencies, normalised modes and modal stiffness of `M x'' + K x = 0`
@@ -287,30 +373,36 @@ pub fn modal_analysis<T: Real, const N: usize>(
     let small = T::EPSILON.sqrt();
     let rigid_rel = T::from_usize(N) * T::EPSILON;
 
-    let mut out = ModalAnalysis {
-        omega: [T::ZERO; N],
-        modes: phi,
-        modal_stiffness: [T::ZERO; N],
-        modal_mass: [T::ZERO; N],
-        normalized_by: [0; N],
-    };
-    for j in 0..N {
-        // Normalise column j by its first row, or by its largest entry if that is ~0.
+    // Mode j is row j of the transposes.
+    let phi_t = transpose(&phi);
+    let mut modes_t = phi_t;
+    let mut omega = [T::ZERO; N];
+    let mut modal_stiffness = [T::ZERO; N];
+    let mut modal_mass = [T::ZERO; N];
+    let mut normalized_by = [0; N];
+    for (((((raw, p), om), ks), ms), by) in phi_t
+        .iter()
+        .zip(modes_t.iter_mut())
+        .zip(omega.iter_mut())
+        .zip(modal_stiffness.iter_mut())
+        .zip(modal_mass.iter_mut())
+        .zip(normalized_by.iter_mut())
+    {
+        // Normalise the mode by its first entry, or by its largest if that is ~0.
         let mut big = 0;
         let mut big_abs = T::ZERO;
-        for i in 0..N {
-            let a = phi[i][j].abs();
+        for (i, x) in raw.iter().enumerate() {
+            let a = x.abs();
             if a > big_abs {
                 big_abs = a;
                 big = i;
             }
         }
-        let row = if N > 0 && phi[0][j].abs() > small * big_abs {
-            0
-        } else {
-            big
+        let row = match raw.first() {
+            Some(first) if first.abs() > small * big_abs => 0,
+            _ => big,
         };
-        let pivot = phi[row][j];
+        let pivot = raw.get(row).copied().unwrap_or(T::ZERO);
         if !(pivot.is_finite() && pivot != T::ZERO) {
             // Unreachable for an M-orthonormal vector; keep the no-panic promise anyway.
             return Err(Error::NoConvergence {
@@ -318,22 +410,21 @@ pub fn modal_analysis<T: Real, const N: usize>(
                 iterations: 0,
             });
         }
-        for i in 0..N {
-            out.modes[i][j] = phi[i][j] / pivot;
+        for (x, &r) in p.iter_mut().zip(raw.iter()) {
+            *x = r / pivot;
         }
-        out.normalized_by[j] = row;
+        *by = row;
+        let p: &[T; N] = p;
 
         // Eq. VI.5: diag(Pᵀ K P) and diag(Pᵀ M P), with the rounding scale |p|ᵀ|K||p|.
         let (mut pk, mut pm, mut pk_abs) = (T::ZERO, T::ZERO, T::ZERO);
-        for r in 0..N {
+        for ((k_row, m_row), &pr) in k.iter().zip(m.iter()).zip(p.iter()) {
             let (mut kr, mut mr, mut kr_abs) = (T::ZERO, T::ZERO, T::ZERO);
-            for c in 0..N {
-                let pc = out.modes[c][j];
-                kr += k[r][c] * pc;
-                kr_abs += k[r][c].abs() * pc.abs();
-                mr += m[r][c] * pc;
+            for ((&krc, &mrc), &pc) in k_row.iter().zip(m_row.iter()).zip(p.iter()) {
+                kr += krc * pc;
+                kr_abs += krc.abs() * pc.abs();
+                mr += mrc * pc;
             }
-            let pr = out.modes[r][j];
             pk += pr * kr;
             pk_abs += pr.abs() * kr_abs;
             pm += pr * mr;
@@ -351,29 +442,28 @@ pub fn modal_analysis<T: Real, const N: usize>(
                 value: (pk / pm).to_f64(),
             });
         }
-        out.omega[j] = if rigid { T::ZERO } else { (pk / pm).sqrt() };
-        out.modal_stiffness[j] = if rigid { T::ZERO } else { pk };
-        out.modal_mass[j] = pm;
+        *om = if rigid { T::ZERO } else { (pk / pm).sqrt() };
+        *ks = if rigid { T::ZERO } else { pk };
+        *ms = pm;
     }
     // Keep ω ascending (rounding could swap nearly equal frequencies).
     for i in 0..N {
-        let mut best = i;
-        for j in (i + 1)..N {
-            if out.omega[j] < out.omega[best] {
-                best = j;
-            }
-        }
+        let best = argmin_from(&omega, i);
         if best != i {
-            out.omega.swap(i, best);
-            out.modal_stiffness.swap(i, best);
-            out.modal_mass.swap(i, best);
-            out.normalized_by.swap(i, best);
-            for row in out.modes.iter_mut() {
-                row.swap(i, best);
-            }
+            swap_entries(&mut omega, i, best);
+            swap_entries(&mut modal_stiffness, i, best);
+            swap_entries(&mut modal_mass, i, best);
+            swap_entries(&mut normalized_by, i, best);
+            swap_entries(&mut modes_t, i, best);
         }
     }
-    Ok(out)
+    Ok(ModalAnalysis {
+        omega,
+        modes: transpose(&modes_t),
+        modal_stiffness,
+        modal_mass,
+        normalized_by,
+    })
 }
 
 /// Stiffness and inertia matrices `(K, M)` of the rotational system, Eq. VI.7: motor
@@ -420,6 +510,8 @@ pub fn translational_system<T: Real>(
 
 #[cfg(test)]
 mod tests {
+    // Matrix test code reads best with explicit indices over 0..N.
+    #![allow(clippy::needless_range_loop)]
     use super::*;
 
     fn matmul<const N: usize>(a: &[[f64; N]; N], b: &[[f64; N]; N]) -> [[f64; N]; N] {

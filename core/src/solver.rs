@@ -672,16 +672,26 @@ impl<T: Real, const N: usize> England<T, N> {
                 &mut self.k7,
                 &mut self.stats.rhs_evals,
             )?;
-            for (i, a) in self.arg.iter_mut().enumerate() {
-                // Loops bounded by N index arrays of length N: no out-of-bounds path.
-                *a = y[i]
+            // Nine arrays of length N in step (zipped: no index, no bounds check).
+            for ((((((((a, y0), k1), k2), k3), k4), k5), k6), k7) in self
+                .arg
+                .iter_mut()
+                .zip(y.iter())
+                .zip(self.k1.iter())
+                .zip(self.k2.iter())
+                .zip(self.k3.iter())
+                .zip(self.k4.iter())
+                .zip(self.k5.iter())
+                .zip(self.k6.iter())
+                .zip(self.k7.iter())
+            {
+                *a = *y0
                     + sixth
-                        * (-self.k1[i] - T::from_f64(96.0) * self.k2[i]
-                            + T::from_f64(92.0) * self.k3[i]
-                            - T::from_f64(121.0) * self.k4[i]
-                            + T::from_f64(144.0) * self.k5[i]
-                            + T::from_f64(6.0) * self.k6[i]
-                            - T::from_f64(12.0) * self.k7[i]);
+                        * (-*k1 - T::from_f64(96.0) * *k2 + T::from_f64(92.0) * *k3
+                            - T::from_f64(121.0) * *k4
+                            + T::from_f64(144.0) * *k5
+                            + T::from_f64(6.0) * *k6
+                            - T::from_f64(12.0) * *k7);
             }
             stage(
                 sys,
@@ -694,17 +704,25 @@ impl<T: Real, const N: usize> England<T, N> {
 
             // Error ratio from E = (-k1 + 4k3 + 17k4 - 23k5 + 4k7 - k9)/90.
             let mut err = T::ZERO;
-            // Nine arrays in step: indices read better than a nine-way zip (i < N always).
-            #[allow(clippy::needless_range_loop)]
-            for i in 0..N {
+            for (i, ((((((((k1, k3), k4), k5), k7), k9), atol), y0), a)) in self
+                .k1
+                .iter()
+                .zip(self.k3.iter())
+                .zip(self.k4.iter())
+                .zip(self.k5.iter())
+                .zip(self.k7.iter())
+                .zip(self.k9.iter())
+                .zip(self.config.tol.atol.iter())
+                .zip(y.iter())
+                .zip(self.arg.iter())
+                .enumerate()
+            {
                 let e = c90
-                    * (-self.k1[i]
-                        + T::from_f64(4.0) * self.k3[i]
-                        + T::from_f64(17.0) * self.k4[i]
-                        - T::from_f64(23.0) * self.k5[i]
-                        + T::from_f64(4.0) * self.k7[i]
-                        - self.k9[i]);
-                let scale = self.config.tol.atol[i] + rtol * y[i].abs().max(self.arg[i].abs());
+                    * (-*k1 + T::from_f64(4.0) * *k3 + T::from_f64(17.0) * *k4
+                        - T::from_f64(23.0) * *k5
+                        + T::from_f64(4.0) * *k7
+                        - *k9);
+                let scale = *atol + rtol * y0.abs().max(a.abs());
                 if !e.is_finite() {
                     return Err(Error::NonFinite {
                         t: t_end_step.to_f64(),
@@ -1059,28 +1077,22 @@ impl<'a, T: Real, const N: usize> Dense<'a, T, N> {
             (a0 / (t1 - t0)) * (a2 / (t1 - t2)),
             (a0 / (t2 - t0)) * (a1 / (t2 - t1)),
         ];
-        let mut w = [T::ZERO; 6];
-        for j in 0..3 {
-            let (lj, aj, cj) = (l[j], a[j], self.c[j]);
+        // (H_j, K_j) of node j.
+        let hk = |lj: T, aj: T, cj: T| {
             let l2 = lj * lj;
-            w[j] = (T::ONE - T::TWO * cj * aj) * l2;
-            w[j + 3] = aj * l2;
-        }
-        w
+            ((T::ONE - T::TWO * cj * aj) * l2, aj * l2)
+        };
+        let [l0, l1, l2] = l;
+        let [c0, c1, c2] = self.c;
+        let (h0, k0) = hk(l0, a0, c0);
+        let (h1, k1) = hk(l1, a1, c1);
+        let (h2, k2) = hk(l2, a2, c2);
+        [h0, h1, h2, k0, k1, k2]
     }
 
     /// The interpolated state at `t`.
     pub fn eval(&self, t: T, out: &mut [T; N]) {
-        let w = self.weights(t);
-        let [y0, y1, y2] = self.y;
-        let [f0, f1, f2] = self.f;
-        for (i, o) in out.iter_mut().enumerate() {
-            // i < N: every array has length N.
-            *o = w[0] * y0[i]
-                + w[1] * y1[i]
-                + w[2] * y2[i]
-                + (w[3] * f0[i] + w[4] * f1[i] + w[5] * f2[i]);
-        }
+        combine(self.weights(t), self.y, self.f, out);
     }
 
     /// The interpolated derivative `dy/dt` at `t` (continuous across steps; equal to
@@ -1095,25 +1107,42 @@ impl<'a, T: Real, const N: usize> Dense<'a, T, N> {
             (t1 - t0) * (t1 - t2),
             (t2 - t0) * (t2 - t1),
         ];
-        let other = [(1, 2), (0, 2), (0, 1)];
-        let mut dw = [T::ZERO; 6];
-        for j in 0..3 {
-            let (k, m) = other[j];
-            let l = a[k] * a[m] / den[j];
-            let dl = (a[k] + a[m]) / den[j];
-            let (aj, cj) = (a[j], self.c[j]);
+        // (H_j', K_j') of node j, whose other two nodes are k and m.
+        let dhk = |aj: T, ak: T, am: T, den_j: T, cj: T| {
+            let l = ak * am / den_j;
+            let dl = (ak + am) / den_j;
             // H_j' = -2 c_j L² + (1 - 2 c_j a_j) 2 L L';  K_j' = L² + a_j 2 L L'.
-            dw[j] = -T::TWO * cj * l * l + (T::ONE - T::TWO * cj * aj) * T::TWO * l * dl;
-            dw[j + 3] = l * l + aj * T::TWO * l * dl;
-        }
-        let [y0, y1, y2] = self.y;
-        let [f0, f1, f2] = self.f;
-        for (i, o) in out.iter_mut().enumerate() {
-            *o = dw[0] * y0[i]
-                + dw[1] * y1[i]
-                + dw[2] * y2[i]
-                + (dw[3] * f0[i] + dw[4] * f1[i] + dw[5] * f2[i]);
-        }
+            (
+                -T::TWO * cj * l * l + (T::ONE - T::TWO * cj * aj) * T::TWO * l * dl,
+                l * l + aj * T::TWO * l * dl,
+            )
+        };
+        let [a0, a1, a2] = a;
+        let [den0, den1, den2] = den;
+        let [c0, c1, c2] = self.c;
+        let (dh0, dk0) = dhk(a0, a1, a2, den0, c0);
+        let (dh1, dk1) = dhk(a1, a0, a2, den1, c1);
+        let (dh2, dk2) = dhk(a2, a0, a1, den2, c2);
+        combine([dh0, dh1, dh2, dk0, dk1, dk2], self.y, self.f, out);
+    }
+}
+
+/// `out = w0 y0 + w1 y1 + w2 y2 + (w3 f0 + w4 f1 + w5 f2)`, component by component: the
+/// value or derivative of [`Dense`] from its weights.
+fn combine<T: Real, const N: usize>(w: [T; 6], y: [&[T; N]; 3], f: [&[T; N]; 3], out: &mut [T; N]) {
+    let [w0, w1, w2, w3, w4, w5] = w;
+    let [y0, y1, y2] = y;
+    let [f0, f1, f2] = f;
+    for ((((((o, y0), y1), y2), f0), f1), f2) in out
+        .iter_mut()
+        .zip(y0.iter())
+        .zip(y1.iter())
+        .zip(y2.iter())
+        .zip(f0.iter())
+        .zip(f1.iter())
+        .zip(f2.iter())
+    {
+        *o = w0 * *y0 + w1 * *y1 + w2 * *y2 + (w3 * *f0 + w4 * *f1 + w5 * *f2);
     }
 }
 

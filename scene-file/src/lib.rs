@@ -83,10 +83,26 @@ pub struct Error {
 }
 
 impl Error {
+    /// The refusal, kept on one line: control characters (line breaks, NULs and the like
+    /// that a key or a file name copied from the input may carry) are written escaped
+    /// (`\r`, `\0`).
     fn new(message: impl Into<String>) -> Self {
-        Error {
-            message: message.into(),
-        }
+        let message: String = message.into();
+        let message = if message.chars().any(char::is_control) {
+            message
+                .chars()
+                .map(|c| {
+                    if c.is_control() {
+                        c.escape_debug().to_string()
+                    } else {
+                        c.to_string()
+                    }
+                })
+                .collect()
+        } else {
+            message
+        };
+        Error { message }
     }
 }
 
@@ -365,6 +381,22 @@ mod tests {
         want.set_speed_rpm(1000.0).unwrap();
         assert_eq!(fast.design, want);
         assert_eq!(fast.design.omega0, 1000.0 * std::f64::consts::PI / 30.0);
+    }
+
+    /// Found by the scene_file fuzz target: a key with a carriage return and NULs in it
+    /// was copied into the refusal raw, which then spanned two lines.
+    #[test]
+    fn refusals_escape_control_characters_from_the_input() {
+        let e = parse("[design]\ncontact_damping_ratio \r\0\0ollower = 1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains(|c: char| c.is_control()), "{e:?}");
+        assert!(e.starts_with("line 2, column "), "{e}");
+        assert!(e.contains("\\r\\0\\0ollower"), "{e}");
+        let e = load(Path::new("/nonexistent/a\nb.toml"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("/nonexistent/a\\nb.toml: cannot read"), "{e}");
     }
 
     #[test]
