@@ -37,7 +37,7 @@ case "${1:-}" in
     --minimize) mode=minimize; shift ;;
     --seed) mode=seed; shift ;;
     --list) printf '%s\n' "${TARGETS[@]}"; exit 0 ;;
-    -h | --help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,23p' "$0"; exit 0 ;;
     '') ;;
     *)
         if [[ "$1" =~ ^[0-9]+$ ]] && [ "$1" -gt 0 ]; then

@@ -53,6 +53,9 @@ step "workspace tests"
 cargo test --workspace
 cargo test -p camsim-core --features micromath
 
+step "fuzz each target for 20 s (scene parser, measured profile, core model; fuzz/README.md)"
+bash scripts/fuzz.sh 20
+
 if [ -x scripts/firmware-ci.sh ]; then
     step "firmware under QEMU"
     scripts/firmware-ci.sh
