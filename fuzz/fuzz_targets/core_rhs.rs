@@ -33,7 +33,9 @@ use camsim_core::{
 };
 use libfuzzer_sys::fuzz_target;
 
-/// Every number of a sample.
+/// Every number of a sample that must be finite: all of them, except a surface radius of
+/// curvature of +inf, the documented value where the pitch curve is straight (an
+/// inflection of the profile; `CamGeometry::pitch_curvature_radius`), which f32 meets.
 fn numbers<T: Real>(s: &Sample<T>) -> Vec<f64> {
     let p = &s.point;
     let mut v = vec![
@@ -53,7 +55,11 @@ fn numbers<T: Real>(s: &Sample<T>) -> Vec<f64> {
         p.lift.d3y,
         p.pressure_angle,
         p.k_h,
-        p.surface_radius,
+        if p.surface_radius == T::INFINITY {
+            T::ZERO
+        } else {
+            p.surface_radius
+        },
         p.contact_force,
         p.friction_follower,
         p.friction_cantilever,
