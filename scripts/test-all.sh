@@ -68,6 +68,8 @@ else
     python3 -m json.tool "$studies/compare.json" >/dev/null
 fi
 rm -rf "$studies"
+step "fuzz each target for 20 s (scene parser, measured profile, core model; fuzz/README.md)"
+bash scripts/fuzz.sh 20
 
 if [ -x scripts/firmware-ci.sh ]; then
     step "firmware under QEMU"

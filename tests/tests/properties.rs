@@ -199,7 +199,9 @@ prop_compose! {
     }
 }
 
-/// Every number of a sample.
+/// Every number of a sample that must be finite: all of them, except a surface radius of
+/// curvature of +inf, the documented value where the pitch curve is straight (an
+/// inflection of the profile; `CamGeometry::pitch_curvature_radius`), which f32 meets.
 fn sample_numbers<T: Real>(s: &Sample<T>) -> Vec<f64> {
     let p = &s.point;
     let mut v = vec![
@@ -219,7 +221,11 @@ fn sample_numbers<T: Real>(s: &Sample<T>) -> Vec<f64> {
         p.lift.d3y,
         p.pressure_angle,
         p.k_h,
-        p.surface_radius,
+        if p.surface_radius == T::INFINITY {
+            T::ZERO
+        } else {
+            p.surface_radius
+        },
         p.contact_force,
         p.friction_follower,
         p.friction_cantilever,
@@ -315,7 +321,7 @@ fn run_scene(r: &RandomScene) -> Result<(), TestCaseError> {
 }
 
 proptest! {
-    #![proptest_config(cases(384))]
+    #![proptest_config(cases(1024))]
 
     /// Random valid scenes in f64, each of the six scenes: finite or a typed error, within
     /// the budget.
@@ -327,7 +333,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(cases(96))]
+    #![proptest_config(cases(256))]
 
     /// The chip's scene (regulated drive, vertical motion) in f32, from a random design
     /// narrowed as the firmware narrows it.
@@ -432,7 +438,7 @@ fn check_budget(result: &Result<SolverStats, Error>, budget: u32) -> Result<(), 
 }
 
 proptest! {
-    #![proptest_config(cases(512))]
+    #![proptest_config(cases(1024))]
 
     /// Damped oscillators against their closed form. The flow never grows the energy norm
     /// |(x, v/ω)| (d/dt (ω²x² + v²) = -4ζω v² <= 0), so the global error is at most the sum
