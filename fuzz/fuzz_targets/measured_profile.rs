@@ -18,7 +18,10 @@ fuzz_target!(|data: &[u8]| {
         Ok(m) => m,
         Err(e) => {
             let line = e.to_string();
-            assert!(!line.contains('\n'), "a refusal on more than one line: {line:?}");
+            assert!(
+                !line.contains('\n'),
+                "a refusal on more than one line: {line:?}"
+            );
             return;
         }
     };
@@ -30,7 +33,11 @@ fuzz_target!(|data: &[u8]| {
         let theta = (k as f64 * 0.5).to_radians();
         let l = dev.follower(&design.program, theta);
         for v in [l.y, l.dy, l.d2y, l.d3y] {
-            assert!(v.is_finite(), "non-finite lift at {} deg: {l:?}", k as f64 * 0.5);
+            assert!(
+                v.is_finite(),
+                "non-finite lift at {} deg: {l:?}",
+                k as f64 * 0.5
+            );
         }
     }
 });
