@@ -345,8 +345,10 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         let two_pi = T::TWO * T::PI;
         let turns = (p.theta_c / two_pi).floor();
         let within = p.theta_c - turns * two_pi;
+        // `as` saturates at u32::MAX (and takes NaN to 0); the count saturates too, so a
+        // cam angle beyond 2^32 turns (an absurd state) reads as the last revolution.
         let revolution = if turns >= T::ZERO {
-            turns.to_f64() as u32 + 1
+            (turns.to_f64() as u32).saturating_add(1)
         } else {
             0
         };
@@ -635,6 +637,25 @@ mod run_error_tests {
     use super::*;
     use crate::{Design, ModelLimit, RegulatedFullModel, SimFailure};
     use std::string::ToString;
+
+    #[test]
+    fn the_revolution_count_saturates_instead_of_overflowing() {
+        // Found by the core_rhs fuzz target: floor(θ/2π) as u32 + 1 overflowed past 2^32
+        // turns. Revolution k + 1 holds θ in [2πk, 2π(k+1)).
+        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
+        let mut y = m.static_state();
+        let two_pi = 2.0 * core::f64::consts::PI;
+        for (theta, rev) in [
+            (0.5, 1),
+            (two_pi * 3.5, 4),
+            (-1.0, 0),
+            (two_pi * 4.3e9, u32::MAX),
+            (2.7e173, u32::MAX),
+        ] {
+            StateMut::<f64, crate::RegulatedFull, 22>::new(&mut y).set(StateVar::CamAngle, theta);
+            assert_eq!(m.sample(0.0, &y, false).revolution, rev, "theta {theta}");
+        }
+    }
 
     #[test]
     fn a_thrown_follower_ends_the_run_with_the_cause_and_the_cam_angle() {

@@ -172,23 +172,18 @@ fn exercise<T: Real, S: Scene, const N: usize>(
     }
 }
 
-/// The model's sample at `(t, y)`, except beyond 2^31 cam turns.
-///
-/// KNOWN, reported (response.rs is not this change's): `CamModel::sample` counts the
-/// revolution as `floor(θ_c / 2π) as u32 + 1`, which overflows beyond 2^32 turns (a panic
-/// with debug assertions, revolution 0 without). Found by this target twice: at a state
-/// whose cam angle is 2.7e173 rad (corpus/core_rhs/regress-sample-huge-cam-angle) and in
-/// a successful integration of a validated design whose drive torque is 7.5e250 lb·in
-/// (regress-sample-overflow-via-drive). Until it saturates, only `evaluate` is probed there.
+/// The model's sample at `(t, y)`. Found by this target twice, fixed: `CamModel::sample`
+/// counted the revolution as `floor(θ_c / 2π) as u32 + 1`, which overflowed beyond 2^32
+/// turns (a panic with debug assertions), at a state whose cam angle is 2.7e173 rad
+/// (corpus/core_rhs/regress-sample-huge-cam-angle) and in a successful integration of a
+/// validated design whose drive torque is 7.5e250 lb·in
+/// (regress-sample-overflow-via-drive); the count now saturates.
 fn sample<T: Real, S: Scene, const N: usize>(
     model: &CamModel<T, S, N>,
     t: T,
     y: &[T; N],
 ) -> Option<Sample<T>> {
-    let theta = model.evaluate(t, y).theta_c.to_f64();
-    // NaN passes (its revolution is 0: no overflow).
-    let beyond = theta.abs() >= 2f64.powi(31) * std::f64::consts::TAU;
-    (!beyond).then(|| model.sample(t, y, true))
+    Some(model.sample(t, y, true))
 }
 
 /// The design made to fit scene `k` (its drive kind), then the scene's model exercised.
