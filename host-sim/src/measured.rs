@@ -23,7 +23,9 @@
 //! repeating the first row's value (it closes the revolution and is dropped) or a
 //! last angle below first + 360 whose gap back to first + 360 is at most 1.5 times the
 //! largest step between rows (so a file that stops half way is refused). Radii must be
-//! positive. At least 4 and at most [`MAX_POINTS`] rows. The profile is the periodic
+//! positive. Values must be plausible: a deviation within ±0.1 in (40 times the thesis's
+//! loosest tolerance), a lift within [-0.1, 100] in, a radius within [0.01, 100] in (the
+//! scene's lengths). At least 4 and at most [`MAX_POINTS`] rows. The profile is the periodic
 //! cubic spline through the rows (any spacing).
 //!
 //! Every error names the line it is about: `line 7: angle_deg "1O" is not a number`.
@@ -62,6 +64,20 @@ impl Column {
             Column::Deviation => "deviation_in",
             Column::Lift => "lift_in",
             Column::Radius => "radius_in",
+        }
+    }
+
+    /// The plausibility range of the column's values, in, and its reason (the one
+    /// validation's ranges, docs/MODEL.md §5.16: lengths 0.01-100 in).
+    pub fn plausible(self) -> (f64, f64, &'static str) {
+        match self {
+            // 40 times the thesis's loosest cam tolerance (±0.0025 in): a larger error
+            // is a different cam, not a machined one.
+            Column::Deviation => (-0.1, 0.1, "a profile error, at most 40x a loose tolerance"),
+            // Below the base circle by at most a deviation, above it at most the longest
+            // length a scene may have.
+            Column::Lift => (-0.1, 100.0, "a lift from the base circle"),
+            Column::Radius => (0.01, 100.0, "a cam radius, as the scene's lengths"),
         }
     }
 }
@@ -112,6 +128,15 @@ fn quoted(s: &str) -> String {
         format!("\"{cut}...\"")
     } else {
         format!("\"{cut}\"")
+    }
+}
+
+/// Plain digits, or an exponent where they would run long (1e300), as core's errors.
+fn short(v: f64) -> String {
+    if v == 0.0 || (1e-5..1e16).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 
@@ -182,6 +207,17 @@ pub fn parse(text: &str) -> Result<Measured, ParseError> {
             return Err(err(
                 line,
                 format!("radius_in must be positive, found {value}"),
+            ));
+        }
+        let (lo, hi, why) = col.plausible();
+        if !(lo..=hi).contains(&value) {
+            return Err(err(
+                line,
+                format!(
+                    "{} {} must lie in [{lo}, {hi}] in ({why})",
+                    col.name(),
+                    short(value)
+                ),
             ));
         }
         match (angles.first(), angles.last(), lines.last()) {
@@ -391,7 +427,7 @@ mod tests {
     fn uniform(header: &str, n: usize, close: bool) -> String {
         let mut s = format!("{header}\n");
         for k in 0..n {
-            s += &format!("{},{}\n", k as f64 * 360.0 / n as f64, 0.001 * k as f64);
+            s += &format!("{},{}\n", k as f64 * 360.0 / n as f64, 1e-5 * k as f64);
         }
         if close {
             s += "360,0\n";
@@ -410,17 +446,27 @@ mod tests {
         assert_eq!(m.column, Column::Radius);
         assert_eq!(m.angles_deg, vec![0.0, 90.0, 180.0, 270.0]);
         // A start off zero, closed at +360.
-        let m = parse("angle_deg,deviation_in\n10,1\n100,2\n190,3\n280,4\n370,1\n").unwrap();
+        let m = parse("angle_deg,lift_in\n10,1\n100,2\n190,3\n280,4\n370,1\n").unwrap();
         assert_eq!(m.values_in, vec![1.0, 2.0, 3.0, 4.0]);
     }
 
     #[test]
     fn errors_name_the_line() {
         let h = "angle_deg,deviation_in\n";
-        let cases: [(String, usize, &str); 13] = [
+        let cases: [(String, usize, &str); 15] = [
             (String::new(), 1, "no header"),
             ("# only\n\n".into(), 3, "no header"),
             ("angle,deviation_in\n0,0\n".into(), 1, "the header must be"),
+            (
+                "angle_deg,deviation_in\n0,0\n90,1e300\n".into(),
+                3,
+                "deviation_in 1e300 must lie in [-0.1, 0.1] in",
+            ),
+            (
+                "angle_deg,radius_in\n0,1\n90,1e-300\n".into(),
+                3,
+                "radius_in 1e-300 must lie in [0.01, 100] in",
+            ),
             ("angle_deg,deviation_in,x\n".into(), 1, "the header must be"),
             (
                 format!("{h}0,0\n1;0\n"),
@@ -448,7 +494,7 @@ mod tests {
                 "the first angle must be in [0, 360)",
             ),
             (
-                format!("{h}0,0\n90,0\n180,0\n270,0\n360,0.5\n"),
+                format!("{h}0,0\n90,0\n180,0\n270,0\n360,0.05\n"),
                 6,
                 "must repeat the first row's value 0",
             ),
