@@ -26,7 +26,7 @@
 //! assert!((l.y - (program.follower(0.0).y + 1e-3)).abs() < 1e-12);
 //! ```
 
-use crate::{CamProgram, CubicSpline, Error, FollowerLift, Real, Result, SplineEnds, SplinePoint};
+use crate::{CamProgram, CubicSpline, Error, FollowerLift, Real, Result, SplinePoint};
 
 /// Where the dynamic model takes the follower lift from.
 pub trait LiftProfile<T: Real> {
@@ -71,30 +71,14 @@ impl<T: Real, const K: usize> DeviatedLift<T, K> {
     /// The deviation through `value(k)` (in) at `θ_k = k·step`, `k < intervals`, closed
     /// periodically (`intervals·step` must be one revolution; `value` is called once for
     /// each `k`, in order). Needs `3 ≤ intervals < K`.
-    pub fn uniform(step: T, intervals: usize, mut value: impl FnMut(usize) -> T) -> Result<Self> {
+    pub fn uniform(step: T, intervals: usize, value: impl FnMut(usize) -> T) -> Result<Self> {
         if intervals < 3 || intervals >= K {
             return Err(Error::Capacity {
                 what: "profile points (intervals per revolution + 1, at least 4)",
                 capacity: K,
             });
         }
-        let mut first = T::ZERO;
-        let spline = CubicSpline::uniform_from_fn(
-            T::ZERO,
-            step,
-            intervals + 1,
-            SplineEnds::Periodic,
-            |k| {
-                if k == intervals {
-                    return first;
-                }
-                let v = value(k);
-                if k == 0 {
-                    first = v;
-                }
-                v
-            },
-        )?;
+        let spline = CubicSpline::periodic_from_fn(step, intervals, value)?;
         Self::from_spline(spline)
     }
 

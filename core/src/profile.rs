@@ -182,25 +182,11 @@ impl<T: Real, const N: usize> ActualLift<T, N> {
         rng: &mut RandomStream<T>,
     ) -> Result<Self> {
         let step = interval_rad::<T, N>(intervals)?;
-        let mut first = T::ZERO;
-        let spline = CubicSpline::uniform_from_fn(
-            T::ZERO,
-            step,
-            intervals + 1,
-            SplineEnds::Periodic,
-            |k| {
-                if k == intervals {
-                    return first;
-                }
-                let f = program.follower(T::from_usize(k) * step);
-                let sigma = tolerances.lift_sigma(geometry, f.y, f.dy);
-                let v = rng.gaussian(f.y, sigma);
-                if k == 0 {
-                    first = v;
-                }
-                v
-            },
-        )?;
+        let spline = CubicSpline::periodic_from_fn(step, intervals, |k| {
+            let f = program.follower(T::from_usize(k) * step);
+            let sigma = tolerances.lift_sigma(geometry, f.y, f.dy);
+            rng.gaussian(f.y, sigma)
+        })?;
         Ok(ActualLift { spline, intervals })
     }
 
@@ -313,16 +299,8 @@ impl<T: Real, const N: usize> ActualContour<T, N> {
             geometry.surface_point(th, f.y, f.dy)
         };
         let axis = |pick: fn((T, T)) -> T, rng: &mut RandomStream<T>| {
-            let mut first = T::ZERO;
-            CubicSpline::uniform_from_fn(T::ZERO, step, intervals + 1, SplineEnds::Periodic, |k| {
-                if k == intervals {
-                    return first;
-                }
-                let v = rng.gaussian(pick(setting(k)), sigma);
-                if k == 0 {
-                    first = v;
-                }
-                v
+            CubicSpline::periodic_from_fn(step, intervals, |k| {
+                rng.gaussian(pick(setting(k)), sigma)
             })
         };
         let x = axis(|p| p.0, rng)?;

@@ -328,6 +328,33 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
         Ok(s)
     }
 
+    /// The periodic spline through `value(k)` at `k·step`, `k < intervals` (called once
+    /// for each `k`, in order), closed by repeating `value(0)` at `intervals·step`: one
+    /// period of `intervals` uniform intervals starting at 0.
+    pub fn periodic_from_fn(
+        step: T,
+        intervals: usize,
+        mut value: impl FnMut(usize) -> T,
+    ) -> Result<Self, SplineError> {
+        let mut first = T::ZERO;
+        Self::uniform_from_fn(
+            T::ZERO,
+            step,
+            intervals.saturating_add(1),
+            SplineEnds::Periodic,
+            |k| {
+                if k == intervals {
+                    return first;
+                }
+                let v = value(k);
+                if k == 0 {
+                    first = v;
+                }
+                v
+            },
+        )
+    }
+
     /// The natural spline (`S'' = 0` at both ends) through the points.
     pub fn natural(knots: &[T], values: &[T]) -> Result<Self, SplineError> {
         Self::new(knots, values, SplineEnds::Natural)
