@@ -241,7 +241,12 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             inv_m_r: T::ONE / design.m_r,
             inv_m_c: T::ONE / design.m_c,
             inv_m_l: T::ONE / design.m_l,
-            c_rb: design.c_rb(),
+            // C_rb = 2ξ√(K_rb M_r) goes with a massless roller's mass (docs/MODEL.md §10).
+            c_rb: if S::QUASI_STATIC.contains(TransDof::RollerY) {
+                T::ZERO
+            } else {
+                design.c_rb()
+            },
             levers: BearingLevers::new(design.bearing_a, design.bearing_b),
             bounds: ValidityBounds::of(&design),
             d: design,
@@ -476,18 +481,10 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         // scene drops are held at zero.
         p.pos = st.positions();
         p.vel = st.velocities();
-        let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
-        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
 
         // --- contact geometry at the current cam angle ---
         let lift = self.lift(p.theta_c);
         p.lift = lift;
-        for (pos, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
-            if rel {
-                *pos += lift.y;
-            }
-        }
-        let y3 = q3 + lift.y;
         // Pressure angle: tan φ = (dy/dθ) / (R_a + y); cos and sin without the atan.
         let rpy = self.prime_radius + lift.y;
         let hyp = (rpy * rpy + lift.dy * lift.dy).sqrt();
@@ -507,6 +504,19 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             .hertz
             .stiffness_fast(d.geometry.roller_radius, p.surface_radius);
         p.k_h = k_h;
+        // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10).
+        if !S::QUASI_STATIC.is_empty() {
+            self.condense(&mut p, k_h, cos_phi, sin_phi);
+        }
+
+        let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
+        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
+        for (pos, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
+            if rel {
+                *pos += lift.y;
+            }
+        }
+        let y3 = q3 + lift.y;
 
         // Contact force and jump criterion (Eqs. V.19-V.20) with the contact damping of
         // docs/MODEL.md §3.9; y + y1 - y2 = y1 - q2, its rate y' θ̇_c + ẏ1 - ẏ2.
@@ -514,7 +524,11 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             k_h,
             y1 - q2,
             self.preload,
-            d.c_h(k_h),
+            if S::QUASI_STATIC.contains(TransDof::RollerY) {
+                T::ZERO // C_h = 2ξ√(K_h M_r) goes with the roller's mass (§10)
+            } else {
+                d.c_h(k_h)
+            },
             lift.dy * p.omega_c + v1 - v2,
             cos_phi,
         );
@@ -543,25 +557,56 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         // horizontal: K_rb and its damper C_rb (docs/MODEL.md §3.13, §3.14).
         let f_rb = crate::spring_damper_force(d.k_rb, q3 - q2, self.c_rb, v3 - v2);
         let f_rb_x = crate::spring_damper_force(d.k_rb, x3 - x2, self.c_rb, vx3 - vx2);
-        // A DOF the scene drops does not accelerate (a const branch per DOF).
+        // A reduced scene's dropped follower masses ride on the first dynamic node beyond
+        // its quasi-static run (docs/MODEL.md §10): const branches.
+        let qs = S::QUASI_STATIC;
+        let qs_roller = qs.contains(TransDof::RollerY);
+        let qs_cantilever = qs.contains(TransDof::CantileverY);
+        let qs_follower = qs.contains(TransDof::Follower);
+        let m_r = d.m_r;
+        // Load.
+        let a_load = if qs_follower {
+            -f_load / (d.m_l + m_f + m_fc + m_r)
+        } else {
+            -f_load * self.inv_m_l
+        };
+        // Follower: d(M_f ẏ4)/dt = ρA ẏ3 ẏ4 + M_f ÿ4 (the exchange with the cantilever
+        // portion is internal once it rides on the follower).
+        let a_follower = if qs_cantilever {
+            (f_load + f1 - f_vc) / (m_f + m_fc + m_r)
+        } else {
+            (f_load + f1 - f_vc - self.rho_a * v3 * v4) / m_f
+        };
+        // Cantilever: d(M_fc ẏ3)/dt = -ρA ẏ3² + M_fc ÿ3.
+        let m_cantilever = if qs_roller { m_fc + m_r } else { m_fc };
+        let a_cantilever =
+            (f_vc - self.preload - d.k_rs * y3 + f2 - f_rb + self.rho_a * v3 * v3) / m_cantilever;
+        // Roller.
+        let a_roller = (f_rb + f_v) * self.inv_m_r;
+        // Cam and shaft.
+        let a_cam = (-f_v - d.k_vs * y1 - d.c_vs * v1) * self.inv_m_c;
+        // The first dynamic follower node's acceleration: a quasi-static node moves with it.
+        let a_carrier = if qs_follower {
+            a_load
+        } else if qs_cantilever {
+            a_follower
+        } else {
+            a_cantilever
+        };
+        // A DOF the scene drops does not accelerate; a quasi-static one moves with its
+        // carrier (the cam shaft, quasi-static, with the cam's mass neglected: 0).
         let kept = |dof: TransDof, a: T| {
-            if S::DOFS.contains(dof) {
+            if qs.contains(dof) {
+                match dof {
+                    TransDof::CamY => T::ZERO,
+                    _ => a_carrier,
+                }
+            } else if S::DOFS.contains(dof) {
                 a
             } else {
                 T::ZERO
             }
         };
-        // Load.
-        let a_load = -f_load * self.inv_m_l;
-        // Follower: d(M_f ẏ4)/dt = ρA ẏ3 ẏ4 + M_f ÿ4.
-        let a_follower = (f_load + f1 - f_vc - self.rho_a * v3 * v4) / m_f;
-        // Cantilever: d(M_fc ẏ3)/dt = -ρA ẏ3² + M_fc ÿ3.
-        let a_cantilever =
-            (f_vc - self.preload - d.k_rs * y3 + f2 - f_rb + self.rho_a * v3 * v3) / m_fc;
-        // Roller.
-        let a_roller = (f_rb + f_v) * self.inv_m_r;
-        // Cam and shaft.
-        let a_cam = (-f_v - d.k_vs * y1 - d.c_vs * v1) * self.inv_m_c;
         // The horizontal equations, evaluated only for the scenes that keep them.
         let a_cantilever_x = if S::DOFS.contains(TransDof::CantileverX) {
             // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (Eq. IV.3 corrected, docs/MODEL.md §4.4).
@@ -625,6 +670,132 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             }
         }
         p
+    }
+
+    /// Solves a reduced scene's quasi-static DOFs ([`crate::QuasiStatic`], docs/MODEL.md
+    /// §10) into `p.pos` (stored coordinates: relative to the lift for the follower
+    /// chain) and `p.vel` (absolute), from the dynamic nodes already there.
+    ///
+    /// The balance of the massless nodes, in order: a first solve with the contact closed
+    /// decides contact (K_h (y1 - q2) + F_p > 0, Eq. V.20); the velocities follow from the
+    /// same matrix (the balance differentiated, the stiffnesses' own rates neglected); the
+    /// rod's damper and the slide-bearing friction at the quasi-static nodes then act as
+    /// given forces (friction's normal force from the first solve's contact force) in the
+    /// final solve. A contact that the final solve opens is solved open.
+    #[inline(always)]
+    fn condense(&self, p: &mut ModelPoint<T>, k_h: T, cos_phi: T, sin_phi: T) {
+        let d = &self.d;
+        let chain = crate::QUASI_STATIC_CHAIN.map(|dof| dof as usize);
+        let [_, _, i3, i4, i5] = chain;
+        let at = |a: &[T; TRANS_DOFS], i: usize| a.get(i).copied().unwrap_or(T::ZERO);
+        let mut x = chain.map(|i| at(&p.pos, i));
+        // The lift's rate s'(θ) θ̇_c: the follower chain's stored coordinates move by it.
+        let rate = p.lift.dy * p.omega_c;
+        // K_vc and K_f depend on y3 (a few microinches off when y3 is itself quasi-static:
+        // the first dynamic follower node's stored coordinate stands for it).
+        let y3_est = if S::QUASI_STATIC.contains(TransDof::CantileverY) {
+            if S::QUASI_STATIC.contains(TransDof::Follower) {
+                at(&p.pos, i5)
+            } else {
+                at(&p.pos, i4)
+            }
+        } else {
+            at(&p.pos, i3)
+        } + p.lift.y;
+        let k_f = d.k_f(y3_est);
+        let c2 = cos_phi * cos_phi;
+        let closed = crate::ChainSolve::new(
+            S::QUASI_STATIC,
+            [k_h * c2, d.k_rb, d.k_vc(y3_est), k_f],
+            [d.k_vs, T::ZERO, d.k_rs, T::ZERO],
+        );
+        let mut open = closed;
+        if let Some(k) = open.series.first_mut() {
+            *k = T::ZERO;
+        }
+        let closed = closed.factor();
+        // Forces that do not depend on the displacements: the contact's preload offset
+        // (F_p cos²φ on the roller, its reaction on the cam), the return spring's preload
+        // and its pull at the lift, K_rs s.
+        let spring = -self.preload - d.k_rs * p.lift.y;
+        let offset = self.preload * c2;
+        let statics = |contact: bool| {
+            if contact {
+                [-offset, offset, spring, T::ZERO]
+            } else {
+                [T::ZERO, T::ZERO, spring, T::ZERO]
+            }
+        };
+        let approach = |x: &[T; 5]| {
+            let [y1, q2, ..] = *x;
+            k_h * (y1 - q2) + self.preload
+        };
+        let mut trial = x;
+        closed.solve(&mut trial, &statics(true));
+        let mut contact = approach(&trial) > T::ZERO;
+        let mut e0 = approach(&trial);
+        for _ in 0..2 {
+            let open_factor;
+            let c = if contact {
+                &closed
+            } else {
+                open_factor = open.factor();
+                &open_factor
+            };
+            // Velocities in the stored coordinates (y1 absolute, the rest relative).
+            let mut xd = chain.map(|i| at(&p.vel, i));
+            for v in xd.iter_mut().skip(1) {
+                *v -= rate;
+            }
+            c.solve(&mut xd, &[T::ZERO, T::ZERO, -d.k_rs * rate, T::ZERO]);
+            let mut vel = xd;
+            for v in vel.iter_mut().skip(1) {
+                *v += rate;
+            }
+            let [v1, _v2, v3, v4, v5] = vel;
+            let mut f = statics(contact);
+            // Given forces on the quasi-static nodes: the cam shaft's damper, the rod's
+            // damper, and the slide-bearing friction (Eqs. V.15-V.16).
+            let f_c = if contact {
+                (e0.max(T::ZERO)) * cos_phi
+            } else {
+                T::ZERO
+            };
+            let (n1, n2) = self.levers.normal_forces(f_c, sin_phi);
+            let [f0, _, f2, f3] = &mut f;
+            if S::QUASI_STATIC.contains(TransDof::CamY) {
+                *f0 -= d.c_vs * v1;
+            }
+            if S::QUASI_STATIC.contains(TransDof::CantileverY) {
+                *f2 += crate::coulomb_friction(d.mu, n2, v3, d.friction_smoothing);
+            }
+            if S::QUASI_STATIC.contains(TransDof::Follower) {
+                *f3 += crate::coulomb_friction(d.mu, n1, v4, d.friction_smoothing)
+                    + d.c_f1_from(k_f) * (v5 - v4);
+            }
+            let mut sol = x;
+            c.solve(&mut sol, &f);
+            let e = approach(&sol);
+            if contact && e <= T::ZERO {
+                // The friction opened it: solve it open.
+                contact = false;
+                e0 = T::ZERO;
+                continue;
+            }
+            x = sol;
+            for (node, i) in chain.iter().enumerate() {
+                let qs = crate::QUASI_STATIC_CHAIN
+                    .get(node)
+                    .is_some_and(|dof| S::QUASI_STATIC.contains(*dof));
+                if qs {
+                    if let (Some(o), Some(v)) = (p.pos.get_mut(*i), p.vel.get_mut(*i)) {
+                        *o = x.get(node).copied().unwrap_or(T::ZERO);
+                        *v = vel.get(node).copied().unwrap_or(T::ZERO);
+                    }
+                }
+            }
+            return;
+        }
     }
 
     /// Writes dy/dt for the state (t, y) given the evaluated point: every quantity the

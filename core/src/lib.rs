@@ -47,6 +47,8 @@ mod drive;
 pub use drive::*;
 mod scene;
 pub use scene::*;
+mod quasistatic;
+pub use quasistatic::*;
 mod dynamics;
 pub use dynamics::*;
 mod response;

@@ -29,7 +29,7 @@
 
 use core::marker::PhantomData;
 
-use crate::{CamModel, DriveKind, Real};
+use crate::{CamModel, DriveKind, QuasiStatic, Real};
 
 /// The translational degrees of freedom, in state order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -97,6 +97,8 @@ pub const RELATIVE_TO_LIFT: [bool; TRANS_DOFS] =
 pub struct DofSet(u8);
 
 impl DofSet {
+    /// No translational DOF.
+    pub const NONE: DofSet = DofSet(0);
     /// All eight translational DOFs.
     pub const ALL: DofSet = DofSet(0xFF);
     /// Vertical motion only: x1, x2, x3 dropped (held at zero).
@@ -112,6 +114,22 @@ impl DofSet {
     /// This set without `dof`.
     pub const fn without(self, dof: TransDof) -> DofSet {
         DofSet(self.0 & !(1 << dof as u8))
+    }
+    /// This set with `dof`.
+    pub const fn with(self, dof: TransDof) -> DofSet {
+        DofSet(self.0 | (1 << dof as u8))
+    }
+    /// This set without every DOF of `other`.
+    pub const fn minus(self, other: DofSet) -> DofSet {
+        DofSet(self.0 & !other.0)
+    }
+    /// Whether every DOF of `other` is in this set.
+    pub const fn includes(self, other: DofSet) -> bool {
+        self.0 & other.0 == other.0
+    }
+    /// Whether the set is empty.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
     }
     /// Number of kept DOFs.
     pub const fn count(self) -> usize {
@@ -177,20 +195,35 @@ impl StateVar {
 pub struct Layout {
     drive: DriveKind,
     dofs: DofSet,
+    quasi: DofSet,
     rotational: usize,
     states: usize,
 }
 
 impl Layout {
-    /// The layout for a drive kind and a DOF set; `None` if the set lacks a DOF the
-    /// contact, the return spring or the output needs (y2, y3, y5).
+    /// The layout for a drive kind and a DOF set, all of it dynamic; `None` if the set
+    /// lacks a DOF the contact, the return spring or the output needs (y2, y3, y5).
     pub const fn try_new(drive: DriveKind, dofs: DofSet) -> Option<Layout> {
+        Self::try_reduced(drive, dofs, DofSet::NONE)
+    }
+
+    /// The layout for a drive kind, the DOFs the model represents (`dofs`) and those of
+    /// them it solves quasi-statically (`quasi`, [`crate::QuasiStatic`]: no state, no
+    /// mass of their own). `None` unless `dofs` holds y2, y3 and y5, and a non-empty
+    /// `quasi` is a run of the vertical chain [`QUASI_STATIC_CHAIN`] that starts at
+    /// y1 or y2 and holds the roller y2, in a vertical scene (x1, x2, x3 dropped: their
+    /// roller and cantilever would lose their masses too).
+    pub const fn try_reduced(drive: DriveKind, dofs: DofSet, quasi: DofSet) -> Option<Layout> {
         if !(dofs.contains(TransDof::RollerY)
             && dofs.contains(TransDof::CantileverY)
             && dofs.contains(TransDof::Load))
         {
             return None;
         }
+        if !quasi.is_empty() && !quasi_static_run_ok(dofs, quasi) {
+            return None;
+        }
+        let dynamic = dofs.minus(quasi);
         let rotational = match drive {
             DriveKind::Regulated => 6,
             DriveKind::ConstantMotorSpeed => 5,
@@ -198,9 +231,10 @@ impl Layout {
         };
         Some(Layout {
             drive,
-            dofs,
+            dofs: dynamic,
+            quasi,
             rotational,
-            states: rotational + 2 * dofs.count(),
+            states: rotational + 2 * dynamic.count(),
         })
     }
 
@@ -212,16 +246,20 @@ impl Layout {
     pub const fn drive(&self) -> DriveKind {
         self.drive
     }
-    /// The kept translational DOFs.
+    /// The translational DOFs kept as states (dynamic: with their mass).
     pub const fn dofs(&self) -> DofSet {
         self.dofs
+    }
+    /// The translational DOFs solved quasi-statically (no state, no mass of their own).
+    pub const fn quasi_static(&self) -> DofSet {
+        self.quasi
     }
     /// Number of rotational state components (6, 5 or 0).
     pub const fn rotational_states(&self) -> usize {
         self.rotational
     }
-    /// Degrees of freedom of the scene: the drive's free rotations plus the kept
-    /// translations (11 for the full model).
+    /// Degrees of freedom of the scene: the drive's free rotations plus the translations
+    /// kept as states (11 for the full model; a quasi-static DOF is not one).
     pub const fn degrees_of_freedom(&self) -> usize {
         self.drive.rotational_dofs() + self.dofs.count()
     }
@@ -263,6 +301,34 @@ impl Layout {
     }
 }
 
+/// The vertical chain from the cam to the load, in order: the quasi-static DOFs of a
+/// reduced scene are a run of it (docs/MODEL.md §10).
+pub const QUASI_STATIC_CHAIN: [TransDof; 5] = [
+    TransDof::CamY,
+    TransDof::RollerY,
+    TransDof::CantileverY,
+    TransDof::Follower,
+    TransDof::Load,
+];
+
+/// Whether `quasi` is a run of [`QUASI_STATIC_CHAIN`] starting at y1 or y2, holding y2,
+/// never the load y5, within a vertical `dofs` that holds the whole chain.
+const fn quasi_static_run_ok(dofs: DofSet, quasi: DofSet) -> bool {
+    if !(dofs.0 == DofSet::VERTICAL.0 && quasi.contains(TransDof::RollerY)) {
+        return false;
+    }
+    if quasi.contains(TransDof::Load) || !dofs.includes(quasi) {
+        return false;
+    }
+    // A run: once a DOF after y2 is dynamic, none further along is quasi-static.
+    let cantilever = quasi.contains(TransDof::CantileverY);
+    let follower = quasi.contains(TransDof::Follower);
+    if follower && !cantilever {
+        return false;
+    }
+    true
+}
+
 mod sealed {
     /// Scenes are defined in camsim-core only (the `scenes!` invocation), so their
     /// layout is the one [`super::Layout::try_new`] computes.
@@ -277,13 +343,17 @@ pub trait Scene:
 {
     /// The drive kind (a design's [`DriveLaw`](crate::DriveLaw) must be of this kind).
     const DRIVE: DriveKind;
-    /// The translational DOFs kept.
+    /// The translational DOFs the model represents (as states or quasi-statically).
     const DOFS: DofSet;
-    /// The state layout; a scene lacking y2, y3 or y5 fails to compile here (the `panic!`
-    /// below runs in const evaluation, at compile time; it cannot reach a running program).
-    const LAYOUT: Layout = match Layout::try_new(Self::DRIVE, Self::DOFS) {
+    /// Of [`Scene::DOFS`], those solved quasi-statically ([`crate::QuasiStatic`]): none
+    /// for the full follower.
+    const QUASI_STATIC: DofSet = DofSet::NONE;
+    /// The state layout; a scene lacking y2, y3 or y5, or with a quasi-static set that is
+    /// not a run of the vertical chain, fails to compile here (the `panic!` below runs in
+    /// const evaluation, at compile time; it cannot reach a running program).
+    const LAYOUT: Layout = match Layout::try_reduced(Self::DRIVE, Self::DOFS, Self::QUASI_STATIC) {
         Some(l) => l,
-        None => panic!("a scene must keep the roller y2, the cantilever y3 and the load y5"),
+        None => panic!("a scene must keep y2, y3 and y5, and solve a run of the vertical chain quasi-statically"),
     };
     /// The state length N.
     const N: usize = Self::LAYOUT.states();
@@ -421,7 +491,7 @@ impl<'a, T: Real, S: Scene, const N: usize> StateMut<'a, T, S, N> {
 /// Defines each scene: its type, its `Scene` impl and its model alias, from its drive
 /// kind (a [`DriveKind`] variant) and its DOF set (a const [`DofSet`] expression).
 macro_rules! scenes {
-    ($($(#[$doc:meta])* $scene:ident => $model:ident: $drive:ident, $dofs:expr;)+) => {$(
+    ($($(#[$doc:meta])* $scene:ident => $model:ident: $drive:ident, $dofs:expr $(, quasi-static $quasi:expr)?;)+) => {$(
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         pub struct $scene;
@@ -429,6 +499,7 @@ macro_rules! scenes {
         impl Scene for $scene {
             const DRIVE: DriveKind = DriveKind::$drive;
             const DOFS: DofSet = $dofs;
+            $(const QUASI_STATIC: DofSet = $quasi;)?
         }
         // Evaluated here, so a scene with an impossible layout does not compile.
         const _: Layout = <$scene as Scene>::LAYOUT;
@@ -448,9 +519,24 @@ scenes! {
     ConstMotorVertical => ConstMotorVerticalModel: ConstantMotorSpeed, DofSet::VERTICAL;
     /// Cam held at ω0 (rigid drive), all translational DOFs: 2·8 = 16 states.
     ConstCamFull => ConstCamFullModel: ConstantCamSpeed, DofSet::ALL;
-    /// Cam held at ω0 (rigid drive), vertical motion only: 2·5 = 10 states, the cheapest
-    /// dynamic scene.
+    /// Cam held at ω0 (rigid drive), vertical motion only: 2·5 = 10 states.
     ConstCamVertical => ConstCamVerticalModel: ConstantCamSpeed, DofSet::VERTICAL;
+    /// Regulated motor, vertical, massless roller: the Hertz contact and K_rb in series
+    /// (docs/MODEL.md §10): 6 + 2·4 = 14 states.
+    RegulatedMasslessRoller => RegulatedMasslessRollerModel: Regulated, DofSet::VERTICAL,
+        quasi-static QuasiStatic::ROLLER;
+    /// Regulated motor, vertical, roller and cantilever portion quasi-static: 6 + 2·3 = 12
+    /// states.
+    RegulatedQsCantilever => RegulatedQsCantileverModel: Regulated, DofSet::VERTICAL,
+        quasi-static QuasiStatic::CANTILEVER;
+    /// Regulated motor, vertical, roller, cantilever and follower rod quasi-static (the
+    /// follower train's mass rides on the load): 6 + 2·2 = 10 states.
+    RegulatedQsRod => RegulatedQsRodModel: Regulated, DofSet::VERTICAL,
+        quasi-static QuasiStatic::ROD;
+    /// Regulated motor, vertical, the whole chain from the cam shaft to the rod
+    /// quasi-static: the drive and the load are left, 6 + 2·1 = 8 states.
+    RegulatedQsShaft => RegulatedQsShaftModel: Regulated, DofSet::VERTICAL,
+        quasi-static QuasiStatic::SHAFT;
 }
 
 #[cfg(test)]

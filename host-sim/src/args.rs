@@ -61,6 +61,34 @@ impl From<StartArg> for Start {
     }
 }
 
+/// `--follower`: the follower's model ([`camsim_core::FollowerModel`], docs/MODEL.md §10).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FollowerArg {
+    /// Every mass of the chain.
+    Full,
+    /// The roller massless: the Hertz contact and K_rb in series.
+    MasslessRoller,
+    /// The roller and the cantilever portion y3 quasi-static.
+    QuasiStaticCantilever,
+    /// The roller, the cantilever and the follower rod quasi-static (the load carries the train).
+    QuasiStaticRod,
+    /// The whole chain up to the load quasi-static, the cam shaft too.
+    QuasiStaticShaft,
+}
+
+impl From<FollowerArg> for camsim_core::FollowerModel {
+    fn from(f: FollowerArg) -> Self {
+        use camsim_core::FollowerModel as F;
+        match f {
+            FollowerArg::Full => F::Full,
+            FollowerArg::MasslessRoller => F::MasslessRoller,
+            FollowerArg::QuasiStaticCantilever => F::QuasiStaticCantilever,
+            FollowerArg::QuasiStaticRod => F::QuasiStaticRod,
+            FollowerArg::QuasiStaticShaft => F::QuasiStaticShaft,
+        }
+    }
+}
+
 /// The names of a [`ValueEnum`]'s values, for a parser that keeps the text
 /// (`PossibleValuesParser::new(possible_values::<StartArg>())`).
 pub fn possible_values<E: ValueEnum>() -> Vec<PossibleValue> {

@@ -36,6 +36,8 @@ pub enum Command {
     Scene(cmd::scene::Args),
     /// Run time against error: tolerance ladder and reduced scenes against a tight reference.
     Bench(cmd::bench::Args),
+    /// Which scene (full, vertical, reduced followers) is accurate enough for which question, and what it costs.
+    Scenes(cmd::scenes::Args),
     /// The firmware's jump/timing predictor on the host (same scene and scripted machine); --check-log for parity.
     Predict(cmd::predict::Args),
     /// Many actual cams in parallel: statistics of every per-period column and the jump probability.
@@ -65,6 +67,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::JumpSpeed(a) => cmd::jump_speed::run(a),
         Command::Scene(a) => cmd::scene::run(a),
         Command::Bench(a) => cmd::bench::run(a),
+        Command::Scenes(a) => cmd::scenes::run(a),
         Command::Predict(a) => cmd::predict::run(a),
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
         Command::Compare(a) => cmd::compare::run(a),

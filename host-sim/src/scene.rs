@@ -34,6 +34,7 @@ pub fn run_spec(scene: CheckedScene) -> RunSpec {
         design: scene.design,
         dofs: Dofs {
             horizontal: scene.horizontal_motion,
+            follower: scene.follower,
         },
         solver: scene.solver,
         revolutions: scene.revolutions,
@@ -47,6 +48,7 @@ fn scene_file(spec: &RunSpec) -> SceneFile {
         run: RunOptions {
             revolutions: spec.revolutions,
             horizontal_motion: spec.dofs.horizontal,
+            follower: spec.dofs.follower,
             rpm: None,
         },
         solver: spec.solver,
@@ -60,6 +62,10 @@ const HOST_KEYS: &[(&str, &str)] = &[
     (
         "run.horizontal_motion",
         "keep the horizontal motion x1, x2, x3",
+    ),
+    (
+        "run.follower",
+        "\"full\", or quasi-static: \"massless-roller\", \"quasi-static-cantilever\", \"quasi-static-rod\", \"quasi-static-shaft\"",
     ),
     ("solver.rtol", "relative tolerance"),
     ("solver.atol_in", "absolute tolerance of displacements"),

@@ -8,8 +8,10 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use camsim_core::{
     period_name, simulate, Both, CamModel, ConstCamFull, ConstCamVertical, ConstMotorFull,
-    ConstMotorVertical, Design, DeviatedLift, DofSet, LiftProfile, Observer, RegulatedFull,
-    RegulatedVertical, ResponseStats, Sample, Scene, SegmentKind, SolverSettings, SolverStats,
+    ConstMotorVertical, Design, DeviatedLift, DofSet, FollowerModel, LiftProfile, Observer,
+    RegulatedFull, RegulatedMasslessRoller, RegulatedQsCantilever, RegulatedQsRod,
+    RegulatedQsShaft, RegulatedVertical, ResponseStats, Sample, Scene, SegmentKind, SolverSettings,
+    SolverStats,
 };
 use std::sync::Arc;
 
@@ -26,6 +28,8 @@ use serde::Serialize;
 pub struct Dofs {
     /// Keep the horizontal motion (x1, x2, x3).
     pub horizontal: bool,
+    /// The follower's model (full, or a reduced one with quasi-static DOFs).
+    pub follower: FollowerModel,
 }
 
 impl Dofs {
@@ -59,7 +63,10 @@ impl RunSpec {
     pub fn reference() -> Self {
         Self {
             design: Design::reference(),
-            dofs: Dofs { horizontal: true },
+            dofs: Dofs {
+                horizontal: true,
+                follower: FollowerModel::Full,
+            },
             solver: SolverSettings::reference(),
             revolutions: 3,
             profile: None,
@@ -85,9 +92,13 @@ pub trait ModelTask {
 pub fn with_model<K: ModelTask>(spec: &RunSpec, task: K) -> Result<K::Output> {
     let drive = spec.design.drive.kind();
     let dofs = spec.dofs.set();
+    let quasi = spec.dofs.follower.quasi_static();
     macro_rules! dispatch {
         ($($scene:ident),+ $(,)?) => {$(
-            if drive == <$scene as Scene>::DRIVE && dofs == <$scene as Scene>::DOFS {
+            if drive == <$scene as Scene>::DRIVE
+                && dofs == <$scene as Scene>::DOFS
+                && quasi == <$scene as Scene>::QUASI_STATIC
+            {
                 if let Some(profile) = &spec.profile {
                     let model = CamModel::<f64, $scene, { <$scene as Scene>::N }, _>::with_profile(
                         spec.design.clone(),
@@ -108,7 +119,23 @@ pub fn with_model<K: ModelTask>(spec: &RunSpec, task: K) -> Result<K::Output> {
         ConstMotorVertical,
         ConstCamFull,
         ConstCamVertical,
+        RegulatedMasslessRoller,
+        RegulatedQsCantilever,
+        RegulatedQsRod,
+        RegulatedQsShaft,
     );
+    if spec.dofs.follower != FollowerModel::Full {
+        if spec.dofs.horizontal {
+            bail!(
+                "follower {}: a reduced follower needs the vertical scene (no horizontal motion)",
+                spec.dofs.follower.name()
+            );
+        }
+        bail!(
+            "follower {}: reduced followers are built for the regulated drive only (this design's drive is {drive:?})",
+            spec.dofs.follower.name()
+        );
+    }
     bail!("no scene with a {drive:?} drive and {} DOFs", dofs.name())
 }
 

@@ -17,7 +17,7 @@
 use std::fmt;
 use std::path::Path;
 
-use camsim_core::{key, Design, SolverSettings};
+use camsim_core::{key, Design, FollowerModel, SolverSettings};
 use serde::{Deserialize, Serialize};
 
 /// Revolutions a run simulates unless `run.revolutions` says otherwise.
@@ -33,6 +33,11 @@ pub struct RunOptions {
     pub revolutions: u32,
     /// Keep the horizontal motion (x1, x2, x3).
     pub horizontal_motion: bool,
+    /// The follower's model: `"full"`, or a reduced one whose stiff DOFs are
+    /// quasi-static (`"massless-roller"`, `"quasi-static-cantilever"`,
+    /// `"quasi-static-rod"`, `"quasi-static-shaft"`; these need `horizontal_motion =
+    /// false`).
+    pub follower: FollowerModel,
     /// Cam speed in rpm, instead of `design.omega0_rad_per_s`: moves the design to this
     /// speed like `--rpm` ([`Design::set_speed_rpm`]: ω0, the regulated drive's
     /// reference, its feed-forward scaled with speed). Never written back.
@@ -45,6 +50,7 @@ impl Default for RunOptions {
         RunOptions {
             revolutions: DEFAULT_REVOLUTIONS,
             horizontal_motion: true,
+            follower: FollowerModel::Full,
             rpm: None,
         }
     }
@@ -73,6 +79,8 @@ pub struct CheckedScene {
     pub revolutions: u32,
     /// Keep the horizontal motion (x1, x2, x3).
     pub horizontal_motion: bool,
+    /// The follower's model.
+    pub follower: FollowerModel,
 }
 
 /// Why a scene file was refused: one line (the file, where it can be told the line and
@@ -335,6 +343,13 @@ impl SceneFile {
                 "run.revolutions = {revolutions}: must be between 1 and {MAX_REVOLUTIONS}"
             )));
         }
+        let follower = self.run.follower;
+        if follower != FollowerModel::Full && self.run.horizontal_motion {
+            return Err(Error::new(format!(
+                "run.follower = \"{}\": a reduced follower needs run.horizontal_motion = false (its quasi-static roller and cantilever have no horizontal mass)",
+                follower.name()
+            )));
+        }
         self.solver
             .validate()
             .map_err(|error| refusal("solver", error))?;
@@ -362,6 +377,7 @@ impl SceneFile {
             solver: self.solver,
             revolutions,
             horizontal_motion: self.run.horizontal_motion,
+            follower,
         })
     }
 }

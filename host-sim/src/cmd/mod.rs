@@ -10,4 +10,5 @@ pub mod montecarlo;
 pub mod predict;
 pub mod run;
 pub mod scene;
+pub mod scenes;
 pub mod tolerance_study;

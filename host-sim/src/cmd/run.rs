@@ -47,6 +47,10 @@ pub struct SceneArgs {
     /// Solver absolute tolerance for displacements, in (1e-15 to 1e-3).
     #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::atol)]
     pub atol: Option<f64>,
+    /// The follower's model: the full chain, or a reduced scene whose stiff DOFs are
+    /// quasi-static (docs/MODEL.md §10; a reduced one implies the vertical scene).
+    #[arg(long, value_enum, value_name = "MODEL")]
+    pub follower: Option<args::FollowerArg>,
 }
 
 /// The default of `--max-csv-mb`: 1000 MB = 1 GB.
@@ -147,6 +151,12 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     }
     if let Some(x) = args.atol {
         spec.solver.atol = x;
+    }
+    if let Some(f) = args.follower {
+        spec.dofs.follower = f.into();
+        if spec.dofs.follower != camsim_core::FollowerModel::Full {
+            spec.dofs.horizontal = false;
+        }
     }
     // The core's one validation, its refusals under the scene keys (`design.KEY`).
     spec.solver
