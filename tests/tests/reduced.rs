@@ -26,8 +26,8 @@ fn slow_design() -> Design<f64> {
 /// equilibrium: every rate but the cam angle's vanishes.
 fn static_equilibrium<S: Scene, const N: usize>() {
     let d = slow_design();
-    let full = CamModel::<f64, RegulatedVertical, { RegulatedVertical::N }>::new(d.clone())
-        .unwrap();
+    let full =
+        CamModel::<f64, RegulatedVertical, { RegulatedVertical::N }>::new(d.clone()).unwrap();
     let m = CamModel::<f64, S, N>::new(d).unwrap();
     let y = m.static_state();
     let p = m.evaluate(0.0, &y);
@@ -70,8 +70,8 @@ fn condensed_nodes_balance<S: Scene, const N: usize>(seed: u64) {
     d.contact_damping_ratio = 0.0;
     d.roller_bearing_damping_ratio = 0.0;
     d.mu = 0.0;
-    let full = CamModel::<f64, RegulatedVertical, { RegulatedVertical::N }>::new(d.clone())
-        .unwrap();
+    let full =
+        CamModel::<f64, RegulatedVertical, { RegulatedVertical::N }>::new(d.clone()).unwrap();
     let m = CamModel::<f64, S, N>::new(d.clone()).unwrap();
     let mut rng = seed;
     let mut next = || {
@@ -90,7 +90,12 @@ fn condensed_nodes_balance<S: Scene, const N: usize>(seed: u64) {
             *p += 2e-5 * next();
         }
         let lift = m.lift(theta).y;
-        for dof in [TransDof::RollerY, TransDof::CantileverY, TransDof::Follower, TransDof::Load] {
+        for dof in [
+            TransDof::RollerY,
+            TransDof::CantileverY,
+            TransDof::Follower,
+            TransDof::Load,
+        ] {
             pos[dof as usize] += lift;
         }
         let y = m.state_from(theta, &pos, &[0.0; 8]);
@@ -133,7 +138,11 @@ fn condensed_nodes_balance<S: Scene, const N: usize>(seed: u64) {
                         2.0 * (1.0 + f_rod) * dy3 / (d.e2 - y3) + 1e-9
                     }
                 };
-                assert!(f.abs() < tol, "{dof:?}: unbalanced {f} lb (Fc {})", pf.contact_force);
+                assert!(
+                    f.abs() < tol,
+                    "{dof:?}: unbalanced {f} lb (Fc {})",
+                    pf.contact_force
+                );
             }
         }
     }
@@ -153,8 +162,8 @@ fn a_massless_roller_is_the_contact_and_the_roller_bearing_in_series() {
     // force is K_h (y1 - y3 + s) + F_p scaled by K_rb / (K_h + K_rb) (solve the roller's
     // balance K_h (y1 + s - y2) + F_p = K_rb (y2 - y3) by hand).
     let d = slow_design();
-    let m = CamModel::<f64, RegulatedMasslessRoller, { RegulatedMasslessRoller::N }>::new(d)
-        .unwrap();
+    let m =
+        CamModel::<f64, RegulatedMasslessRoller, { RegulatedMasslessRoller::N }>::new(d).unwrap();
     let mut pos = [0.0; 8];
     pos[TransDof::CamY as usize] = 3e-6;
     pos[TransDof::CantileverY as usize] = -2e-6;
@@ -162,13 +171,20 @@ fn a_massless_roller_is_the_contact_and_the_roller_bearing_in_series() {
     let p = m.evaluate(0.0, &y);
     let (k_h, k_rb, f_p) = (p.k_h, m.design().k_rb, m.preload());
     let expect = k_rb * (k_h * (3e-6 + 2e-6) + f_p) / (k_h + k_rb);
-    assert!((p.contact_force - expect).abs() < 1e-9 * expect, "{} vs {expect}", p.contact_force);
+    assert!(
+        (p.contact_force - expect).abs() < 1e-9 * expect,
+        "{} vs {expect}",
+        p.contact_force
+    );
     // The follower pulled off: no contact, and the roller rides on the cantilever.
     pos[TransDof::CantileverY as usize] = 1e-3;
     let y = m.state_from(0.0, &pos, &[0.0; 8]);
     let p = m.evaluate(0.0, &y);
     assert!(!p.in_contact && p.contact_force == 0.0);
-    assert_eq!(p.position(TransDof::RollerY), p.position(TransDof::CantileverY));
+    assert_eq!(
+        p.position(TransDof::RollerY),
+        p.position(TransDof::CantileverY)
+    );
 }
 
 #[test]
@@ -191,7 +207,10 @@ fn reduced_layouts_have_their_sizes_and_the_rules_hold() {
         QuasiStatic::ROD.with(TransDof::Load),
     ];
     for q in bad {
-        assert!(Layout::try_reduced(DriveKind::Regulated, DofSet::VERTICAL, q).is_none(), "{q:?}");
+        assert!(
+            Layout::try_reduced(DriveKind::Regulated, DofSet::VERTICAL, q).is_none(),
+            "{q:?}"
+        );
     }
     // With the horizontal motion: refused (a massless roller has no horizontal mass).
     assert!(Layout::try_reduced(DriveKind::Regulated, DofSet::ALL, QuasiStatic::ROLLER).is_none());
@@ -238,17 +257,29 @@ fn the_follower_reductions_find_the_jump_onset_within_one_percent_the_shaft_does
     // The full model's onset (README: 902.3 rpm at 1 rpm resolution).
     assert!((full - 902.3).abs() < 1.5, "{full}");
     for (name, o) in [
-        ("massless roller", onset::<RegulatedMasslessRoller, { RegulatedMasslessRoller::N }>()),
-        ("cantilever", onset::<RegulatedQsCantilever, { RegulatedQsCantilever::N }>()),
+        (
+            "massless roller",
+            onset::<RegulatedMasslessRoller, { RegulatedMasslessRoller::N }>(),
+        ),
+        (
+            "cantilever",
+            onset::<RegulatedQsCantilever, { RegulatedQsCantilever::N }>(),
+        ),
         ("rod", onset::<RegulatedQsRod, { RegulatedQsRod::N }>()),
     ] {
         let rel = (o - full) / full;
-        assert!(rel.abs() < 0.01, "{name}: {o} rpm against {full} ({rel:+.4})");
+        assert!(
+            rel.abs() < 0.01,
+            "{name}: {o} rpm against {full} ({rel:+.4})"
+        );
     }
     // The cam's own mass (0.0291 lb·s²/in, 2.3 times the follower train's) on its shaft
     // spring is a real dynamic effect: without it the onset is about 1.1 % low
     // (docs/MODEL.md §10.3), so the shaft reduction does not answer this question.
     let shaft = onset::<RegulatedQsShaft, { RegulatedQsShaft::N }>();
     let rel = (shaft - full) / full;
-    assert!((-0.02..-0.005).contains(&rel), "shaft: {shaft} rpm against {full} ({rel:+.4})");
+    assert!(
+        (-0.02..-0.005).contains(&rel),
+        "shaft: {shaft} rpm against {full} ({rel:+.4})"
+    );
 }
