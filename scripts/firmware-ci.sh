@@ -14,7 +14,7 @@
 # - the release product ELF's panic call sites (scripts/panic-sites.sh): it fails if any
 #   lies outside the logging transport (defmt-semihosting and its semihosting crate);
 # - budget (the instruction probes): its budget line
-#     budget flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. instr_per_rhs=.. instr_per_rev=..
+#     budget flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. instr_per_rhs=.. instr_per_rev=.. realtime_factor=..
 # For each image, flash and static RAM are cross-checked against `llvm-size -A` on its
 # ELF, counting the same sections on both sides (see firmware/src/memory.rs):
 #   flash      = .vector_table + .text + .rodata + .data (load image)
@@ -188,6 +188,12 @@ run_and_check() {
     check_memory "$budget" "$BUDGET_ELF"
     [ "$(field "$budget" instr_per_rhs)" -gt 0 ] && [ "$(field "$budget" instr_per_rev)" -gt 0 ] \
         || fail "instruction counts are 0 (SysTick calibration not working)"
+    # The real-time factor is 168e6 * 60 / 800 / instr_per_rev (workload::CLOCK_HZ): check it.
+    rt=$(sed -n 's/.*[[:space:]]realtime_factor=\([0-9.eE+-]*\).*/\1/p' <<<" $budget")
+    [ -n "$rt" ] || fail "no realtime_factor= in: $budget"
+    awk -v f="$rt" -v i="$(field "$budget" instr_per_rev)" \
+        'BEGIN { e = 12600000 / i; exit !(f > 0 && (f - e) < 1e-3 * e && (e - f) < 1e-3 * e) }' \
+        || fail "realtime_factor does not match instr_per_rev"
 
     echo "firmware-ci: $product"
     echo "firmware-ci: $budget"

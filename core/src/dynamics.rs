@@ -539,9 +539,18 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         let f_h = f_c * sin_phi; // horizontal component
 
         // Slide-bearing friction (Eqs. V.15-V.16), each opposing its own mass's velocity.
+        // At a quasi-static node the condensation has applied (and recorded) it already.
         let (n1, n2) = self.levers.normal_forces(f_c, sin_phi);
-        let f1 = coulomb_friction(d.mu, n1, v4, d.friction_smoothing);
-        let f2 = coulomb_friction(d.mu, n2, v3, d.friction_smoothing);
+        let f1 = if S::QUASI_STATIC.contains(TransDof::Follower) {
+            p.friction_follower
+        } else {
+            coulomb_friction(d.mu, n1, v4, d.friction_smoothing)
+        };
+        let f2 = if S::QUASI_STATIC.contains(TransDof::CantileverY) {
+            p.friction_cantilever
+        } else {
+            coulomb_friction(d.mu, n2, v3, d.friction_smoothing)
+        };
         p.friction_follower = f1;
         p.friction_cantilever = f2;
 
@@ -767,11 +776,20 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 *f0 -= d.c_vs * v1;
             }
             if S::QUASI_STATIC.contains(TransDof::CantileverY) {
-                *f2 += crate::coulomb_friction(d.mu, n2, v3, d.friction_smoothing);
+                p.friction_cantilever = if contact {
+                    crate::coulomb_friction(d.mu, n2, v3, d.friction_smoothing)
+                } else {
+                    T::ZERO
+                };
+                *f2 += p.friction_cantilever;
             }
             if S::QUASI_STATIC.contains(TransDof::Follower) {
-                *f3 += crate::coulomb_friction(d.mu, n1, v4, d.friction_smoothing)
-                    + d.c_f1_from(k_f) * (v5 - v4);
+                p.friction_follower = if contact {
+                    crate::coulomb_friction(d.mu, n1, v4, d.friction_smoothing)
+                } else {
+                    T::ZERO
+                };
+                *f3 += p.friction_follower + d.c_f1_from(k_f) * (v5 - v4);
             }
             let mut sol = x;
             c.solve(&mut sol, &f);

@@ -93,6 +93,30 @@ impl FollowerModel {
 /// Nodes of the vertical chain that can be quasi-static (y1..y4; the load never is).
 pub const CHAIN_NODES: usize = 4;
 
+/// The first and last node of a quasi-static run of the chain (a `const fn`: for a
+/// scene's constant set the solver's loops have constant bounds).
+pub const fn run_bounds(quasi: DofSet) -> (usize, usize) {
+    let mut first = CHAIN_NODES;
+    let mut last = 0;
+    let mut i = 0;
+    while i < CHAIN_NODES {
+        let d = match i {
+            0 => QUASI_STATIC_CHAIN[0],
+            1 => QUASI_STATIC_CHAIN[1],
+            2 => QUASI_STATIC_CHAIN[2],
+            _ => QUASI_STATIC_CHAIN[3],
+        };
+        if quasi.contains(d) {
+            if i < first {
+                first = i;
+            }
+            last = i;
+        }
+        i += 1;
+    }
+    (first, last)
+}
+
 /// The linear elements of the vertical chain at one instant, nodes in
 /// [`QUASI_STATIC_CHAIN`] order (0 = y1 ... 4 = y5), in the model's stored coordinates
 /// (y1 absolute, the follower chain relative to the lift).
@@ -111,15 +135,9 @@ pub struct ChainSolve<T> {
 
 impl<T: Real> ChainSolve<T> {
     /// The chain with quasi-static run `quasi` (a valid `Scene::QUASI_STATIC`, non-empty).
+    #[inline(always)]
     pub fn new(quasi: DofSet, series: [T; CHAIN_NODES], ground: [T; CHAIN_NODES]) -> Self {
-        let mut first = CHAIN_NODES;
-        let mut last = 0;
-        for (i, d) in QUASI_STATIC_CHAIN.iter().take(CHAIN_NODES).enumerate() {
-            if quasi.contains(*d) {
-                first = first.min(i);
-                last = i;
-            }
-        }
+        let (first, last) = run_bounds(quasi);
         Self {
             series,
             ground,
@@ -140,6 +158,7 @@ impl<T: Real> ChainSolve<T> {
     /// The chain's tridiagonal stiffness matrix over its quasi-static run, factored (the
     /// Thomas algorithm's forward sweep of the matrix; a stiffness matrix is diagonally
     /// dominant, so no pivoting): each pivot's reciprocal and super-diagonal ratio.
+    #[inline(always)]
     pub fn factor(&self) -> ChainFactor<T> {
         let (first, last) = (self.first, self.last.min(CHAIN_NODES - 1));
         let mut f = ChainFactor {
@@ -197,6 +216,7 @@ pub struct ChainFactor<T> {
 
 impl<T: Real> ChainFactor<T> {
     /// [`ChainSolve::solve`] with this factorisation.
+    #[inline(always)]
     pub fn solve(&self, x: &mut [T; CHAIN_NODES + 1], force: &[T; CHAIN_NODES]) {
         let (first, last) = (self.first, self.last);
         let mut dp = [T::ZERO; CHAIN_NODES];

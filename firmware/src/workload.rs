@@ -31,6 +31,11 @@ pub const RHS_REPS: u32 = 1000;
 
 /// Nominal cam speed of the measured revolution (rpm): the reference design's 800 rpm.
 pub const NOMINAL_RPM: f32 = 800.0;
+/// [`NOMINAL_RPM`] as an integer (for the real-time factor's integer arithmetic).
+pub const NOMINAL_RPM_INT: u64 = 800;
+/// The clock the real-time factor assumes, Hz: the STM32F4's 168 MHz, one instruction a
+/// cycle (a real M4F with flash wait states needs more cycles than instructions).
+pub const CLOCK_HZ: u64 = 168_000_000;
 
 /// The scene chosen at build time (`CAMSIM_SCENE`): the chip's `Design<f32>` in postcard,
 /// written by `build.rs`.
