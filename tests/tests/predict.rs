@@ -44,7 +44,10 @@ fn timing_tol_deg() -> f64 {
 }
 
 fn both() -> (Prediction<f32>, Prediction<f64>) {
-    (compute::<f32>(None).unwrap(), compute::<f64>(None).unwrap())
+    (
+        compute::<f32>(None, None).unwrap(),
+        compute::<f64>(None, None).unwrap(),
+    )
 }
 
 #[test]
@@ -166,7 +169,7 @@ fn alarm_follows_the_hysteresis_over_the_scripted_machine() {
 
 #[test]
 fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
-    let p = compute::<f32>(None).unwrap();
+    let p = compute::<f32>(None, None).unwrap();
     let lines = parity_lines(&p);
     // Table rows, the jump line, the interpolation checks, every reading of the
     // scripted machine (60: camsim-chip's tests count them).
@@ -201,7 +204,7 @@ fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
 
 #[test]
 fn interpolation_is_exact_on_the_grid() {
-    let p = compute::<f64>(None).unwrap();
+    let p = compute::<f64>(None, None).unwrap();
     for (r, s) in p.table.rpm.iter().zip(p.table.at.iter()) {
         let q = p.table.predict(*r);
         assert!(q.in_grid);
@@ -212,7 +215,7 @@ fn interpolation_is_exact_on_the_grid() {
 
 #[test]
 fn report_names_its_scene_and_feeds_text_and_json() {
-    let p = compute::<f32>(None).unwrap();
+    let p = compute::<f32>(None, None).unwrap();
     for design in [REFERENCE_SCENE, "scenes/stable-4567-rise.toml"] {
         let r = report(&p, true, design);
         let v = serde_json::to_value(&r).unwrap();
@@ -286,7 +289,7 @@ fn a_scene_is_checked_in_the_precision_it_runs_in() {
     let mut d = camsim_core::Design::<f64>::reference();
     d.e2 = 1.875 + 1e-9;
     d.validate().unwrap();
-    let e = format!("{:#}", compute::<f32>(Some(&d)).unwrap_err());
+    let e = format!("{:#}", compute::<f32>(Some(&d), None).unwrap_err());
     assert_eq!(
         e,
         "scene in f32: design.e2_in = 1.875: cantilever length must exceed the program's largest lift by more than the roller radius (the roller would reach the slide bearing)"
