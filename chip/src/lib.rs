@@ -702,6 +702,31 @@ mod tests {
     }
 
     #[test]
+    fn a_measured_deviation_is_refused_on_bad_knots_without_a_panic() {
+        let tau = 2.0 * core::f32::consts::PI;
+        let k = [0.0, tau / 4.0, tau / 2.0, 3.0 * tau / 4.0, tau];
+        let v = [1e-3, 0.0, -1e-3, 0.0, 1e-3];
+        let d = chip_deviation::<f32, 5>(&k, &v).unwrap();
+        assert_eq!(d.deviation(0.0).y, 1e-3);
+        // Too many knots for the capacity, too few, a NaN, not increasing, not one
+        // revolution, lengths differing: errors; a failed refit leaves no knots.
+        assert!(chip_deviation::<f32, 4>(&k, &v).is_err());
+        assert!(chip_deviation::<f32, 8>(&k[..3], &v[..3]).is_err());
+        let mut bad = k;
+        bad[2] = f32::NAN;
+        assert!(chip_deviation::<f32, 8>(&bad, &v).is_err());
+        bad[2] = bad[1];
+        assert!(chip_deviation::<f32, 8>(&bad, &v).is_err());
+        let half = k.map(|x| x / 2.0);
+        let mut dev = ChipDeviation::<f32, 8>::EMPTY;
+        assert!(chip_deviation_into(&mut dev, &half, &v).is_err());
+        assert!(dev.spline().is_empty());
+        assert!(chip_deviation_into(&mut dev, &k, &v[..4]).is_err());
+        assert!(chip_deviation_into(&mut dev, &k, &v).is_ok());
+        assert_eq!(dev, chip_deviation::<f32, 8>(&k, &v).unwrap());
+    }
+
+    #[test]
     fn grid_ascends_and_brackets_the_checks() {
         assert!(CHIP_GRID_RPM.windows(2).all(|w| w[0] < w[1]));
         for c in CHIP_CHECK_RPM {
