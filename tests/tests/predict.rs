@@ -301,3 +301,45 @@ fn a_scene_is_checked_in_the_precision_it_runs_in() {
         r.cast::<f32>().unwrap()
     );
 }
+
+#[test]
+fn a_measured_profile_is_read_as_the_firmware_reads_it() {
+    use camsim::cmd::predict::ProfileKnots;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let r = camsim_core::Design::<f64>::reference();
+    // CI's profile: 360 rows every 1 deg -> 361 knots (the closing one included), and the
+    // roller on it moves the f32 table's jump onset (902.34 rpm on the theoretical cam;
+    // the firmware's log and scripts/firmware-ci.sh's parity check have the same bits).
+    let k = ProfileKnots::load(&root.join("scenes/measured-wavy.csv"), &r).unwrap();
+    assert_eq!(k.knots_rad.len(), 361);
+    assert_eq!(k.values_in.first(), k.values_in.last());
+    let p = compute::<f32>(None, Some(&k)).unwrap();
+    assert_eq!(p.table.jump_rpm, Some(896.09375));
+    // Refusals are one line naming the file and the line; the chip's limit is 720 rows.
+    let dir = std::env::temp_dir().join(format!("camsim-measured-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, "angle_deg,deviation_in\n0,0\n1O,0\n").unwrap();
+    let e = format!("{:#}", ProfileKnots::load(&bad, &r).unwrap_err());
+    assert_eq!(
+        e,
+        format!(
+            "{}: line 3: angle_deg \"1O\" is not a number",
+            bad.display()
+        )
+    );
+    let long = dir.join("long.csv");
+    let rows: String = (0..721)
+        .map(|i| format!("{},0\n", i as f64 * 0.4))
+        .collect();
+    std::fs::write(&long, format!("angle_deg,deviation_in\n{rows}")).unwrap();
+    let Err(e) = ProfileKnots::load(&long, &r) else {
+        panic!("721 rows accepted")
+    };
+    let e = format!("{e:#}");
+    assert!(
+        e.ends_with("line 722: more than 720 rows in a revolution"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
