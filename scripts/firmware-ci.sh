@@ -22,7 +22,9 @@
 # and checked against the budget in memory.x (flash <= FLASH, static RAM + stack peak
 # <= RAM). The real-board build (`--features rtt`) is compiled and its sizes checked too
 # (it is not run). Then a scene chosen at build time (CAMSIM_SCENE=scene file) is built,
-# run and checked again.
+# run and checked again, and a measured cam profile (CAMSIM_PROFILE=scenes/measured-wavy.csv)
+# in the product: run, sized against the budget, panic sites and host parity
+# (camsim predict --f32 --measured).
 # Called by scripts/test-all.sh; run from anywhere (it cd's to the repository root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -254,6 +256,34 @@ run_and_check "$SCENE_LOG" "$SCENE_BUDGET_LOG"
 grep -q "scene=$SCENE_NAME" "$SCENE_LOG" || fail "the scene build did not report its scene ($SCENE_NAME)"
 grep -q "scene=$SCENE_NAME" "$SCENE_BUDGET_LOG" || fail "the scene's budget image did not report its scene ($SCENE_NAME)"
 ./target/release/camsim predict --f32 --scene "$SCENE" --check-log "$SCENE_LOG" || fail "host parity (scene): see the line above"
+# ---------------------------------------------------------------------------
+# A measured cam profile compiled in (CAMSIM_PROFILE): firmware/build.rs reads the CSV with
+# the host's reader (camsim_scene_file::measured), turns it into the deviation knots on the
+# design, narrows them to f32 and compiles them into flash; the product splines them at
+# boot and builds its table with the roller on that cam. Only the product carries it (the
+# budget probes do not: see firmware/README.md). Checked: the run, its memory against
+# llvm-size and memory.x, the fault reactions, the panic sites, and host parity with
+# `camsim predict --f32 --measured` (the same reader, knots, narrowing and spline).
+# ---------------------------------------------------------------------------
+PROFILE=scenes/measured-wavy.csv
+PROFILE_NAME=$(basename "$PROFILE")
+PROFILE_LOG=target/firmware-run-profile.log
+echo "firmware-ci: build-time measured profile $PROFILE (product)"
+PROFILE_PATH="$PWD/$PROFILE"   # absolute: build.rs runs in firmware/
+(cd firmware && CAMSIM_PROFILE="$PROFILE_PATH" cargo build --release --bin predictor)
+run_qemu "$PREDICTOR_ELF" "$PROFILE_LOG"
+grep -q "scene=reference profile=$PROFILE_NAME profile_knots=[1-9][0-9]*;" "$PROFILE_LOG" \
+    || fail "the profile build did not report its profile ($PROFILE_NAME) and knots"
+product=$(last_line product "$PROFILE_LOG")
+check_memory "$product" "$PREDICTOR_ELF"
+echo "firmware-ci: fault reactions in $PROFILE_LOG"
+check_reactions "$PROFILE_LOG"
+panic_sites "$PREDICTOR_ELF" "$TRANSPORT_ORIGINS"
+[ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the profile product outside the logging transport (listed above)"
+echo "firmware-ci: profile product: $product"
+./target/release/camsim predict --f32 --measured "$PROFILE" --check-log "$PROFILE_LOG" \
+    || fail "host parity (measured profile): see the line above"
+
 # Leave the default (reference) firmware built, as a plain `cargo build` would.
 (cd firmware && cargo build --release)
 

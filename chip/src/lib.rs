@@ -18,9 +18,9 @@
 #![warn(missing_docs)]
 
 use camsim_core::{
-    steady_state_at, CamModel, CaptureEvent, CaptureTimer, Design, IndexPulse, IndexPulseConfig,
-    JumpAlarm, PredictionTable, Real, RegulatedQsRod, Result, Scene, SolverSettings,
-    SpeedPrediction, SpeedReading, Start, SteadyState,
+    steady_state_at, steady_state_on, CamModel, CaptureEvent, CaptureTimer, Design, DeviatedLift,
+    IndexPulse, IndexPulseConfig, JumpAlarm, LiftProfile, PredictionTable, Real, RegulatedQsRod,
+    Result, Scene, SolverSettings, SpeedPrediction, SpeedReading, Start, SteadyState,
 };
 
 /// The chip's scene: regulated drive, vertical, the follower train quasi-static up to the
@@ -109,6 +109,74 @@ pub fn chip_prediction_table_with<T: Real>(
 /// The direct steady state at `rpm` with the chip's model (for the interpolation check).
 pub fn chip_steady_state<T: Real>(design: &Design<T>, rpm: T) -> Result<SteadyState<T>> {
     steady_state_at::<T, ChipScene, CHIP_STATES>(design, rpm, &chip_solver_settings())
+}
+
+// ---------------------------------------------------------------------------
+// A measured cam profile (the firmware's `CAMSIM_PROFILE`, `camsim predict --measured`).
+// ---------------------------------------------------------------------------
+
+/// Most knots of a measured profile's deviation spline the chip carries (its rows and the
+/// closing knot: 720 rows, one every 0.5°). Each knot costs 8 B of flash (angle and
+/// deviation, f32) and 12 B of RAM (the spline's knot, value and second derivative) plus
+/// 4 B of stack while the spline is solved at boot (firmware/README.md has the measured
+/// figures).
+pub const CHIP_PROFILE_MAX_KNOTS: usize = 721;
+
+/// The roller's lift on a measured cam in the chip's precision: the program plus a
+/// periodic deviation spline of at most `K` knots.
+pub type ChipDeviation<T, const K: usize> = DeviatedLift<T, K>;
+
+/// The measured profile's deviation from its knots, in place (`dev` may live in a
+/// `static`, so the spline is never copied through the stack): `knots_rad` (strictly
+/// increasing, one revolution from the first to the last, the closing knot) and
+/// `values_in` (the last repeating the first), already in `T` (`T::from_f64` of the
+/// shared reader's `Measured::deviation_knots`). The firmware (knots compiled into flash)
+/// and `camsim predict --measured` both build it here, so the chip and the host's parity
+/// check ride the same spline. Errors (never a panic; `dev` is then left without knots) on
+/// too few or too many knots, a non-finite or non-increasing knot, or a span other than
+/// one revolution.
+pub fn chip_deviation_into<T: Real, const K: usize>(
+    dev: &mut ChipDeviation<T, K>,
+    knots_rad: &[T],
+    values_in: &[T],
+) -> Result<()> {
+    dev.refit_periodic(knots_rad, values_in)
+}
+
+/// [`chip_deviation_into`] into a new deviation (returned by value: `3 K + 3` words).
+pub fn chip_deviation<T: Real, const K: usize>(
+    knots_rad: &[T],
+    values_in: &[T],
+) -> Result<ChipDeviation<T, K>> {
+    let mut dev = ChipDeviation::EMPTY;
+    chip_deviation_into(&mut dev, knots_rad, values_in)?;
+    Ok(dev)
+}
+
+/// [`chip_prediction_table_with`] with the roller riding on `profile` (a
+/// [`ChipDeviation`] by reference, or [`camsim_core::TheoreticalLift`]).
+pub fn chip_prediction_table_on<T: Real, P: LiftProfile<T> + Copy>(
+    design: &Design<T>,
+    profile: P,
+    settings: &SolverSettings<T>,
+) -> Result<PredictionTable<T, CHIP_GRID>> {
+    PredictionTable::build_on::<ChipScene, CHIP_STATES, P>(
+        design,
+        profile,
+        chip_grid_rpm(),
+        T::from_f64(CHIP_MAX_RPM),
+        T::from_f64(CHIP_RESOLUTION_RPM),
+        settings,
+    )
+}
+
+/// [`chip_steady_state`] with the roller riding on `profile`.
+pub fn chip_steady_state_on<T: Real, P: LiftProfile<T>>(
+    design: &Design<T>,
+    profile: P,
+    rpm: T,
+) -> Result<SteadyState<T>> {
+    steady_state_on::<T, ChipScene, CHIP_STATES, P>(design, profile, rpm, &chip_solver_settings())
 }
 
 /// The chip's jump alarm (thresholds [`CHIP_ALARM_ON_MARGIN_RPM`], [`CHIP_ALARM_OFF_MARGIN_RPM`]).
@@ -636,6 +704,31 @@ mod tests {
         }
         // Margin 75 rpm (inside the hysteresis band) does not release it.
         assert!(m.react(&table, SpeedReading::Rpm(825.0)).alarm);
+    }
+
+    #[test]
+    fn a_measured_deviation_is_refused_on_bad_knots_without_a_panic() {
+        let tau = 2.0 * core::f32::consts::PI;
+        let k = [0.0, tau / 4.0, tau / 2.0, 3.0 * tau / 4.0, tau];
+        let v = [1e-3, 0.0, -1e-3, 0.0, 1e-3];
+        let d = chip_deviation::<f32, 5>(&k, &v).unwrap();
+        assert_eq!(d.deviation(0.0).y, 1e-3);
+        // Too many knots for the capacity, too few, a NaN, not increasing, not one
+        // revolution, lengths differing: errors; a failed refit leaves no knots.
+        assert!(chip_deviation::<f32, 4>(&k, &v).is_err());
+        assert!(chip_deviation::<f32, 8>(&k[..3], &v[..3]).is_err());
+        let mut bad = k;
+        bad[2] = f32::NAN;
+        assert!(chip_deviation::<f32, 8>(&bad, &v).is_err());
+        bad[2] = bad[1];
+        assert!(chip_deviation::<f32, 8>(&bad, &v).is_err());
+        let half = k.map(|x| x / 2.0);
+        let mut dev = ChipDeviation::<f32, 8>::EMPTY;
+        assert!(chip_deviation_into(&mut dev, &half, &v).is_err());
+        assert!(dev.spline().is_empty());
+        assert!(chip_deviation_into(&mut dev, &k, &v[..4]).is_err());
+        assert!(chip_deviation_into(&mut dev, &k, &v).is_ok());
+        assert_eq!(dev, chip_deviation::<f32, 8>(&k, &v).unwrap());
     }
 
     #[test]

@@ -53,11 +53,32 @@ pub struct DeviatedLift<T, const K: usize> {
 }
 
 impl<T: Real, const K: usize> DeviatedLift<T, K> {
-    /// A deviation from a periodic spline whose knots span exactly one revolution
-    /// (`[0, 2π]`, within 1e-9 rad).
-    pub fn from_spline(spline: CubicSpline<T, K>) -> Result<Self> {
+    /// A deviation without knots, to [`Self::refit_periodic`] in place (a deviation in a
+    /// `static`, never copied through the stack). Riding on it before a successful refit
+    /// gives a zero deviation.
+    pub const EMPTY: Self = Self {
+        spline: CubicSpline::EMPTY,
+    };
+
+    /// [`Self::from_spline`] of [`CubicSpline::periodic`]`(knots, values)`, in place. On an
+    /// error it is left without knots (as [`Self::EMPTY`]).
+    pub fn refit_periodic(&mut self, knots: &[T], values: &[T]) -> Result<()> {
+        self.spline
+            .refit(knots, values, crate::SplineEnds::Periodic)?;
+        if let Err(e) = Self::check_span(&self.spline) {
+            self.spline
+                .refit(&[], &[], crate::SplineEnds::Periodic)
+                .ok();
+            return Err(e);
+        }
+        Ok(())
+    }
+
+    /// Whether `spline` is periodic over one revolution (see [`Self::from_spline`]).
+    fn check_span(spline: &CubicSpline<T, K>) -> Result<()> {
         let (a, b) = spline.range();
-        let span_ok = (b - a - T::TWO * T::PI).abs() <= T::from_f64(1e-9) * (T::ONE + b.abs());
+        let tol = T::from_f64(1e-9).max(T::from_i32(8) * T::EPSILON);
+        let span_ok = (b - a - T::TWO * T::PI).abs() <= tol * (T::ONE + b.abs());
         if !spline.is_periodic() || !span_ok {
             return Err(Error::InvalidParameter {
                 field: "profile",
@@ -65,6 +86,14 @@ impl<T: Real, const K: usize> DeviatedLift<T, K> {
                 value: (b - a).to_f64().to_degrees(),
             });
         }
+        Ok(())
+    }
+
+    /// A deviation from a periodic spline whose knots span exactly one revolution
+    /// (`[0, 2π]`, within 1e-9 rad, or 8 ulps of `T` where that is coarser: a revolution
+    /// of `f64` knots narrowed to `f32` spans 2π to an ulp, not to 1e-9).
+    pub fn from_spline(spline: CubicSpline<T, K>) -> Result<Self> {
+        Self::check_span(&spline)?;
         Ok(Self { spline })
     }
 

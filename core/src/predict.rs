@@ -12,8 +12,8 @@
 use core::ops::ControlFlow;
 
 use crate::{
-    simulate, CamModel, Design, Observer, OnsetSearch, Real, Result, Sample, Scene, SegmentKind,
-    SolverSettings,
+    simulate, CamModel, Design, LiftProfile, Observer, OnsetSearch, Real, Result, Sample, Scene,
+    SegmentKind, SolverSettings, TheoreticalLift,
 };
 
 /// Jump alarm with hysteresis: turns on when the speed margin to jump falls to
@@ -234,10 +234,22 @@ pub fn steady_state_at<T: Real, S: Scene, const N: usize>(
     rpm: T,
     settings: &SolverSettings<T>,
 ) -> Result<SteadyState<T>> {
+    steady_state_on::<T, S, N, _>(design, TheoreticalLift, rpm, settings)
+}
+
+/// [`steady_state_at`] with the roller riding on `profile` (an actual or measured cam,
+/// [`crate::DeviatedLift`]; pass a reference to share one profile between runs). The
+/// timing errors stay measured against the design's program.
+pub fn steady_state_on<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
+    design: &Design<T>,
+    profile: P,
+    rpm: T,
+    settings: &SolverSettings<T>,
+) -> Result<SteadyState<T>> {
     let mut d = design.clone();
     d.set_speed_rpm(rpm)?;
     let points = timing_points(&d.program);
-    let model = CamModel::<T, S, N>::new(d)?;
+    let model = CamModel::<T, S, N, P>::with_profile(d, profile)?;
     let mut obs = SteadyStateObserver::new(2, points);
     simulate(&model, settings, 2, &mut obs)?;
     Ok(obs.result)
@@ -282,6 +294,27 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
         resolution_rpm: T,
         settings: &SolverSettings<T>,
     ) -> Result<Self> {
+        Self::build_on::<S, N, _>(
+            design,
+            TheoreticalLift,
+            rpm,
+            max_rpm,
+            resolution_rpm,
+            settings,
+        )
+    }
+
+    /// [`Self::build`] with the roller riding on `profile` (an actual or measured cam;
+    /// a reference to a [`crate::DeviatedLift`] is `Copy`): every run of the table and
+    /// of the onset search uses it ([`steady_state_on`]).
+    pub fn build_on<S: Scene, const N: usize, P: LiftProfile<T> + Copy>(
+        design: &Design<T>,
+        profile: P,
+        rpm: [T; G],
+        max_rpm: T,
+        resolution_rpm: T,
+        settings: &SolverSettings<T>,
+    ) -> Result<Self> {
         let mut at = [SteadyState::default(); G];
         let mut prev = T::ZERO;
         for (r, a) in rpm.iter().zip(at.iter_mut()) {
@@ -293,7 +326,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
                 });
             }
             prev = *r;
-            *a = steady_state_at::<T, S, N>(design, *r, settings)?;
+            *a = steady_state_on::<T, S, N, P>(design, profile, *r, settings)?;
         }
         // Bracket the onset from the grid where possible: the fastest grid speed without
         // a jump below the first one with a jump.
@@ -306,7 +339,8 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
             }
             below = Some(*r);
         }
-        let jumps = |r: T| steady_state_at::<T, S, N>(design, r, settings).map(|s| s.jumped);
+        let jumps =
+            |r: T| steady_state_on::<T, S, N, P>(design, profile, r, settings).map(|s| s.jumped);
         let jump_rpm = match (below, above) {
             // The slowest grid speed jumps already.
             (None, Some(first)) => Some(first),

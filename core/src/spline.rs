@@ -254,18 +254,64 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
     /// Needs at least 2 points (4 for [`SplineEnds::Periodic`], whose last knot is the
     /// first plus the period), at most `N`, all finite, knots strictly increasing.
     pub fn new(knots: &[T], values: &[T], ends: SplineEnds<T>) -> Result<Self, SplineError> {
+        let mut s = Self::EMPTY;
+        s.refit(knots, values, ends)?;
+        Ok(s)
+    }
+
+    /// A spline without points (every value 0), to [`Self::refit`] in place: a spline
+    /// in a `static` is then built where it lives, never copied through the stack (the
+    /// firmware's measured profile).
+    pub const EMPTY: Self = CubicSpline {
+        x: [T::ZERO; N],
+        y: [T::ZERO; N],
+        m: [T::ZERO; N],
+        n: 0,
+        periodic: false,
+        inv_step: T::ZERO,
+    };
+
+    /// [`Self::new`] in place: this spline becomes the one through the points (same
+    /// checks, same arithmetic). On an error it is left without points
+    /// ([`Self::is_empty`]).
+    pub fn refit(
+        &mut self,
+        knots: &[T],
+        values: &[T],
+        ends: SplineEnds<T>,
+    ) -> Result<(), SplineError> {
+        let r = self.refit_inner(knots, values, ends);
+        if r.is_err() {
+            self.n = 0;
+        }
+        r
+    }
+
+    fn refit_inner(
+        &mut self,
+        knots: &[T],
+        values: &[T],
+        ends: SplineEnds<T>,
+    ) -> Result<(), SplineError> {
         if knots.len() != values.len() {
             return Err(SplineError::LengthMismatch {
                 knots: knots.len(),
                 values: values.len(),
             });
         }
-        let mut s = Self::empty(knots.len(), ends)?;
-        for (i, ((dst, &src), (vdst, &vsrc))) in
-            s.x.iter_mut()
-                .zip(knots)
-                .zip(s.y.iter_mut().zip(values))
-                .enumerate()
+        Self::check_count(knots.len(), ends)?;
+        self.x.fill(T::ZERO);
+        self.y.fill(T::ZERO);
+        self.m.fill(T::ZERO);
+        self.n = knots.len();
+        self.periodic = ends == SplineEnds::Periodic;
+        self.inv_step = T::ZERO;
+        for (i, ((dst, &src), (vdst, &vsrc))) in self
+            .x
+            .iter_mut()
+            .zip(knots)
+            .zip(self.y.iter_mut().zip(values))
+            .enumerate()
         {
             if !src.is_finite() {
                 return Err(SplineError::NonFinite {
@@ -276,8 +322,7 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
             *dst = src;
             *vdst = vsrc;
         }
-        s.build(ends)?;
-        Ok(s)
+        self.build(ends)
     }
 
     /// The spline through `values[i]` at the uniform knots `start + i·step`; for
@@ -366,8 +411,8 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
         Self::new(knots, values, SplineEnds::Periodic)
     }
 
-    /// Zeroed buffers for `n` points after the count checks.
-    fn empty(n: usize, ends: SplineEnds<T>) -> Result<Self, SplineError> {
+    /// The count checks: at least 2 points (4 periodic), at most `N`.
+    fn check_count(n: usize, ends: SplineEnds<T>) -> Result<(), SplineError> {
         let needed = if ends == SplineEnds::Periodic { 4 } else { 2 };
         if n < needed {
             return Err(SplineError::TooFewPoints { given: n, needed });
@@ -378,6 +423,12 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
                 capacity: N,
             });
         }
+        Ok(())
+    }
+
+    /// Zeroed buffers for `n` points after the count checks.
+    fn empty(n: usize, ends: SplineEnds<T>) -> Result<Self, SplineError> {
+        Self::check_count(n, ends)?;
         Ok(CubicSpline {
             x: [T::ZERO; N],
             y: [T::ZERO; N],

@@ -20,7 +20,9 @@
 
 use core::ops::ControlFlow;
 
-use camsim_chip::{chip_prediction_table_with, chip_solver_settings, chip_steady_state, CHIP_GRID};
+use camsim_chip::{
+    chip_prediction_table_on, chip_solver_settings, chip_steady_state_on, CHIP_GRID,
+};
 use camsim_core::{
     simulate, CamModel, Design, PredictionTable, Sample, Scene, SolverSettings, SpeedPrediction,
     SteadyState,
@@ -50,6 +52,74 @@ pub const SCENE_NAME: &str = env!("CAMSIM_SCENE_NAME");
 /// build time (`CAMSIM_SCENE`).
 #[cfg(not(camsim_scene))]
 pub const SCENE_NAME: &str = "reference";
+
+/// The measured profile chosen at build time (`CAMSIM_PROFILE`): `PROFILE_KNOTS` and the
+/// deviation knots as two `f32` arrays in flash, written by `build.rs`.
+#[cfg(camsim_profile)]
+mod measured_profile {
+    include!(concat!(env!("OUT_DIR"), "/profile.rs"));
+}
+
+/// Which cam the roller rides on: "theoretical", or the file name of the measured profile
+/// chosen at build time (`CAMSIM_PROFILE`).
+#[cfg(camsim_profile)]
+pub const PROFILE_NAME: &str = env!("CAMSIM_PROFILE_NAME");
+/// Which cam the roller rides on: "theoretical", or the file name of the measured profile
+/// chosen at build time (`CAMSIM_PROFILE`).
+#[cfg(not(camsim_profile))]
+pub const PROFILE_NAME: &str = "theoretical";
+
+/// Knots of the compiled-in deviation spline (0: the theoretical cam).
+#[cfg(camsim_profile)]
+pub const PROFILE_KNOTS: usize = measured_profile::PROFILE_KNOTS;
+/// Knots of the compiled-in deviation spline (0: the theoretical cam).
+#[cfg(not(camsim_profile))]
+pub const PROFILE_KNOTS: usize = 0;
+
+/// The lift the roller rides on: the measured profile's deviation spline (exactly its
+/// knots' capacity), or the theoretical cam.
+#[cfg(camsim_profile)]
+pub type ChipLift = camsim_chip::ChipDeviation<f32, PROFILE_KNOTS>;
+/// The lift the roller rides on: the measured profile's deviation spline (exactly its
+/// knots' capacity), or the theoretical cam.
+#[cfg(not(camsim_profile))]
+pub type ChipLift = camsim_core::TheoreticalLift;
+
+/// How the predictor holds the lift: the measured profile's deviation in its `static`
+/// (built once, in place), or the theoretical cam by value.
+#[cfg(camsim_profile)]
+pub type LiftRef = &'static ChipLift;
+/// How the predictor holds the lift: the measured profile's deviation in its `static`
+/// (built once, in place), or the theoretical cam by value.
+#[cfg(not(camsim_profile))]
+pub type LiftRef = camsim_core::TheoreticalLift;
+
+/// The compiled-in lift: the measured profile splined in place, in a `static` (static
+/// RAM: 12 B a knot), from its flash knots by `camsim_chip::chip_deviation_into` (as
+/// `camsim predict --f32 --measured` does); or the theoretical cam. Never panics: bad
+/// knots, or a second call (the `static` is built once), are an error.
+pub fn chip_lift() -> Result<LiftRef, camsim_core::Error> {
+    #[cfg(camsim_profile)]
+    {
+        let Some(lift) = cortex_m::singleton!(: ChipLift = ChipLift::EMPTY) else {
+            return Err(camsim_core::Error::InvalidParameter {
+                field: "profile",
+                rule: "the measured profile's spline is built once, at boot",
+                value: 2.0,
+            });
+        };
+        camsim_chip::chip_deviation_into(
+            lift,
+            &measured_profile::PROFILE_KNOTS_RAD,
+            &measured_profile::PROFILE_DEVIATION_IN,
+        )?;
+        Ok(lift)
+    }
+    #[cfg(not(camsim_profile))]
+    {
+        Ok(camsim_core::TheoreticalLift)
+    }
+}
 
 /// The design compiled into the chip: the reference design of VI.1
 /// (`camsim_chip::chip_design`), or the scene chosen at build time, decoded from its
@@ -151,10 +221,12 @@ pub fn simulate_revolution<S: Scene, const N: usize>() -> Option<Revolution> {
     })
 }
 
-/// The chip's predictor: the boot-time table over the scene's speed grid, interpolated.
+/// The chip's predictor: the boot-time table over the scene's speed grid, interpolated,
+/// on the compiled-in lift ([`ChipLift`]).
 #[derive(Clone, Debug)]
 pub struct Predictor {
     design: Design<f32>,
+    lift: LiftRef,
     /// The table computed at boot.
     pub table: PredictionTable<f32, CHIP_GRID>,
 }
@@ -169,8 +241,13 @@ impl Predictor {
     /// step budget).
     pub fn boot_with(settings: &SolverSettings<f32>) -> Result<Self, camsim_core::Error> {
         let design = chip_design();
-        let table = chip_prediction_table_with(&design, settings)?;
-        Ok(Self { design, table })
+        let lift = chip_lift()?;
+        let table = chip_prediction_table_on(&design, lift, settings)?;
+        Ok(Self {
+            design,
+            lift,
+            table,
+        })
     }
 
     /// The prediction at a measured speed (linear interpolation in the table).
@@ -180,6 +257,6 @@ impl Predictor {
 
     /// The model run directly at `rpm` (for the interpolation-accuracy check at boot).
     pub fn direct(&self, rpm: f32) -> Result<SteadyState<f32>, camsim_core::Error> {
-        chip_steady_state(&self.design, rpm)
+        chip_steady_state_on(&self.design, self.lift, rpm)
     }
 }

@@ -6,7 +6,7 @@
 //! that builds is finite in value, slope, curvature and jerk at and between its knots.
 #![no_main]
 
-use camsim::measured;
+use camsim::measured::{self, MeasuredProfile};
 use camsim_core::{Design, LiftProfile};
 use libfuzzer_sys::fuzz_target;
 

@@ -245,7 +245,8 @@ pub struct ProfileStats {
 /// points: 8 a setting interval (the contact jumps between the bumps of the contour,
 /// which are about a setting interval apart), at most `PROFILE_KNOTS − 1` (0.1°).
 pub fn envelope_knots(intervals: usize) -> usize {
-    intervals.saturating_mul(8).clamp(3, PROFILE_KNOTS - 1)
+    // One rule with measured radius profiles (the shared reader's).
+    camsim_scene_file::measured::envelope_knots(intervals)
 }
 
 /// Samples of one revolution at which the statistics are taken (0.05°).

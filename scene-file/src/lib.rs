@@ -20,6 +20,8 @@ use std::path::Path;
 use camsim_core::{key, Design, FollowerModel, SolverSettings};
 use serde::{Deserialize, Serialize};
 
+pub mod measured;
+
 /// Revolutions a run simulates unless `run.revolutions` says otherwise.
 pub const DEFAULT_REVOLUTIONS: u32 = 3;
 /// Most revolutions a run may simulate (the host's statistics hold 16).

@@ -48,7 +48,10 @@ fn timing_tol_deg() -> f64 {
 }
 
 fn both() -> (Prediction<f32>, Prediction<f64>) {
-    (compute::<f32>(None).unwrap(), compute::<f64>(None).unwrap())
+    (
+        compute::<f32>(None, None).unwrap(),
+        compute::<f64>(None, None).unwrap(),
+    )
 }
 
 #[test]
@@ -167,7 +170,7 @@ fn alarm_follows_the_hysteresis_over_the_scripted_machine() {
 
 #[test]
 fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
-    let p = compute::<f32>(None).unwrap();
+    let p = compute::<f32>(None, None).unwrap();
     let lines = parity_lines(&p);
     // Table rows, the jump line, the interpolation checks, every reading of the
     // scripted machine (60: camsim-chip's tests count them).
@@ -202,7 +205,7 @@ fn parity_checker_accepts_its_own_lines_and_names_a_flipped_bit() {
 
 #[test]
 fn interpolation_is_exact_on_the_grid() {
-    let p = compute::<f64>(None).unwrap();
+    let p = compute::<f64>(None, None).unwrap();
     for (r, s) in p.table.rpm.iter().zip(p.table.at.iter()) {
         let q = p.table.predict(*r);
         assert!(q.in_grid);
@@ -213,7 +216,7 @@ fn interpolation_is_exact_on_the_grid() {
 
 #[test]
 fn report_names_its_scene_and_feeds_text_and_json() {
-    let p = compute::<f32>(None).unwrap();
+    let p = compute::<f32>(None, None).unwrap();
     for design in [REFERENCE_SCENE, "scenes/stable-4567-rise.toml"] {
         let r = report(&p, true, design);
         let v = serde_json::to_value(&r).unwrap();
@@ -287,7 +290,7 @@ fn a_scene_is_checked_in_the_precision_it_runs_in() {
     let mut d = camsim_core::Design::<f64>::reference();
     d.e2 = 1.875 + 1e-9;
     d.validate().unwrap();
-    let e = format!("{:#}", compute::<f32>(Some(&d)).unwrap_err());
+    let e = format!("{:#}", compute::<f32>(Some(&d), None).unwrap_err());
     assert_eq!(
         e,
         "scene in f32: design.e2_in = 1.875: cantilever length must exceed the program's largest lift by more than the roller radius (the roller would reach the slide bearing)"
@@ -298,4 +301,46 @@ fn a_scene_is_checked_in_the_precision_it_runs_in() {
         camsim_chip::chip_design_from::<f32>(&r).unwrap(),
         r.cast::<f32>().unwrap()
     );
+}
+
+#[test]
+fn a_measured_profile_is_read_as_the_firmware_reads_it() {
+    use camsim::cmd::predict::ProfileKnots;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let r = camsim_core::Design::<f64>::reference();
+    // CI's profile: 360 rows every 1 deg -> 361 knots (the closing one included), and the
+    // roller on it moves the f32 table's jump onset (902.34 rpm on the theoretical cam;
+    // the firmware's log and scripts/firmware-ci.sh's parity check have the same bits).
+    let k = ProfileKnots::load(&root.join("scenes/measured-wavy.csv"), &r).unwrap();
+    assert_eq!(k.knots_rad.len(), 361);
+    assert_eq!(k.values_in.first(), k.values_in.last());
+    let p = compute::<f32>(None, Some(&k)).unwrap();
+    assert_eq!(p.table.jump_rpm, Some(896.09375));
+    // Refusals are one line naming the file and the line; the chip's limit is 720 rows.
+    let dir = std::env::temp_dir().join(format!("camsim-measured-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.csv");
+    std::fs::write(&bad, "angle_deg,deviation_in\n0,0\n1O,0\n").unwrap();
+    let e = format!("{:#}", ProfileKnots::load(&bad, &r).unwrap_err());
+    assert_eq!(
+        e,
+        format!(
+            "{}: line 3: angle_deg \"1O\" is not a number",
+            bad.display()
+        )
+    );
+    let long = dir.join("long.csv");
+    let rows: String = (0..721)
+        .map(|i| format!("{},0\n", i as f64 * 0.4))
+        .collect();
+    std::fs::write(&long, format!("angle_deg,deviation_in\n{rows}")).unwrap();
+    let Err(e) = ProfileKnots::load(&long, &r) else {
+        panic!("721 rows accepted")
+    };
+    let e = format!("{e:#}");
+    assert!(
+        e.ends_with("line 722: more than 720 rows in a revolution"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }

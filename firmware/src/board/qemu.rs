@@ -16,7 +16,7 @@ use embedded_hal::digital::{ErrorType, OutputPin, StatefulOutputPin};
 
 use crate::monitor::{error_name, FailSafeOutput};
 use crate::timing::InstrCounter;
-use crate::workload::{Predictor, SCENE_NAME};
+use crate::workload::{Predictor, PROFILE_KNOTS, PROFILE_NAME, SCENE_NAME};
 
 /// The scripted machine's index pulses (`camsim_chip::CHIP_SCRIPT`): the QEMU board's
 /// [`camsim_core::CaptureTimer`], in place of the board's TIM2 capture; the host's
@@ -127,8 +127,10 @@ pub fn boot_or_stop(
     settings: &SolverSettings<f32>,
 ) -> (Predictor, u64) {
     defmt::info!(
-        "scene={=str}; alarm asserted ({=str} low): booting, building the prediction table",
+        "scene={=str} profile={=str} profile_knots={=usize}; alarm asserted ({=str} low): booting, building the prediction table",
         SCENE_NAME,
+        PROFILE_NAME,
+        PROFILE_KNOTS,
         ALARM_PIN
     );
     let (predictor, instr) = counter.measure(|| Predictor::boot_with(settings));

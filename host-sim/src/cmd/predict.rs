@@ -10,6 +10,12 @@
 //! contraction in Rust, IEEE single precision on both SSE and the M4F's FPU) and can
 //! check the firmware's decoded defmt log bit for bit (`--check-log`): every line of the
 //! log starting with `parity ` must equal the host's line at the same position.
+//!
+//! With `--measured FILE.csv` the roller rides on a measured cam profile, as the firmware
+//! built with `CAMSIM_PROFILE=FILE.csv` does: the same reader
+//! (`camsim_scene_file::measured`, at most `CHIP_PROFILE_MAX_KNOTS - 1` rows), the same
+//! deviation knots on the scene's `f64` design, narrowed to `T` and splined by
+//! `camsim_chip::chip_deviation_into`.
 
 use std::path::PathBuf;
 
@@ -17,12 +23,15 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
 use camsim_chip::{
-    chip_design, chip_design_from, chip_prediction_table, chip_solver_settings, chip_steady_state,
-    reading_parity, ChipMonitor, ChipScene, ChipStep, ScriptedPulseTrain,
-    CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM,
-    CHIP_MAX_RPM, CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
+    chip_design, chip_design_from, chip_deviation_into, chip_prediction_table_on,
+    chip_solver_settings, chip_steady_state_on, reading_parity, ChipDeviation, ChipMonitor,
+    ChipScene, ChipStep, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
+    CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM, CHIP_PROFILE_MAX_KNOTS,
+    CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
 };
-use camsim_core::{Design, Real, Scene, SpeedPrediction, SpeedReading, SteadyState};
+use camsim_core::{
+    Design, LiftProfile, Real, Scene, SpeedPrediction, SpeedReading, SteadyState, TheoreticalLift,
+};
 
 /// Command-line options of `camsim predict`.
 #[derive(clap::Args, Debug, Default)]
@@ -40,6 +49,45 @@ pub struct Args {
     /// the reference design (`camsim_chip::chip_design`).
     #[arg(long)]
     pub scene: Option<PathBuf>,
+    /// Measured cam profile compiled into the firmware (`CAMSIM_PROFILE=FILE.csv` at its
+    /// build; the CSV of `camsim run --measured`, at most 720 rows); default: the
+    /// theoretical cam.
+    #[arg(long)]
+    pub measured: Option<PathBuf>,
+}
+
+/// A measured profile's deviation knots as the chip carries them, in `f64` before the
+/// narrowing (`camsim_scene_file::measured::Measured::deviation_knots`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProfileKnots {
+    /// Knots, rad: one revolution, the closing knot included.
+    pub knots_rad: Vec<f64>,
+    /// Deviation at the knots, in (the last repeats the first).
+    pub values_in: Vec<f64>,
+}
+
+impl ProfileKnots {
+    /// Reads a measured file as the firmware's build script does (`CAMSIM_PROFILE`): at
+    /// most [`CHIP_PROFILE_MAX_KNOTS`] − 1 rows, the deviation on `design` (the scene's,
+    /// in f64), at most [`CHIP_PROFILE_MAX_KNOTS`] knots.
+    pub fn load(path: &std::path::Path, design: &Design<f64>) -> Result<Self> {
+        let m = camsim_scene_file::measured::load_limited(path, CHIP_PROFILE_MAX_KNOTS - 1)
+            .map_err(anyhow::Error::msg)?;
+        let (knots_rad, values_in) = m
+            .deviation_knots(design)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        if knots_rad.len() > CHIP_PROFILE_MAX_KNOTS {
+            bail!(
+                "{}: the deviation has {} knots, more than the chip's {CHIP_PROFILE_MAX_KNOTS} (a radius profile's envelope has 8 a row)",
+                path.display(),
+                knots_rad.len()
+            );
+        }
+        Ok(Self {
+            knots_rad,
+            values_in,
+        })
+    }
 }
 
 /// One direct simulation between grid points against the interpolated prediction.
@@ -69,7 +117,10 @@ pub struct Prediction<T> {
 /// design, or for a scene file's design (`Design<f64>`, as the firmware's build script
 /// reads `CAMSIM_SCENE`): `camsim_chip::chip_design_from` is the conversion the
 /// firmware's image carries, so the bits agree.
-pub fn compute<T: Real>(scene: Option<&Design<f64>>) -> Result<Prediction<T>> {
+pub fn compute<T: Real>(
+    scene: Option<&Design<f64>>,
+    profile: Option<&ProfileKnots>,
+) -> Result<Prediction<T>> {
     let design = match scene {
         Some(d) => chip_design_from::<T>(d).map_err(|e| {
             let why = camsim_scene_file::refusal("design", e);
@@ -77,12 +128,35 @@ pub fn compute<T: Real>(scene: Option<&Design<f64>>) -> Result<Prediction<T>> {
         })?,
         None => chip_design::<T>(),
     };
-    let table = chip_prediction_table(&design)
+    match profile {
+        None => compute_on(&design, TheoreticalLift),
+        Some(k) => {
+            // The firmware's narrowing (build.rs) and spline (boot): the same calls.
+            let knots: Vec<T> = k.knots_rad.iter().map(|x| T::from_f64(*x)).collect();
+            let values: Vec<T> = k.values_in.iter().map(|x| T::from_f64(*x)).collect();
+            let mut dev = Box::new(ChipDeviation::<T, CHIP_PROFILE_MAX_KNOTS>::EMPTY);
+            chip_deviation_into(&mut dev, &knots, &values).map_err(|e| {
+                anyhow::anyhow!(
+                    "the measured profile in {}: {e}",
+                    std::any::type_name::<T>()
+                )
+            })?;
+            compute_on(&design, &*dev)
+        }
+    }
+}
+
+/// [`compute`] for a design whose roller rides on `profile`.
+fn compute_on<T: Real, P: LiftProfile<T> + Copy>(
+    design: &Design<T>,
+    profile: P,
+) -> Result<Prediction<T>> {
+    let table = chip_prediction_table_on(design, profile, &chip_solver_settings())
         .map_err(|e| anyhow::anyhow!("the predictor's table (at boot on the chip): {e}"))?;
     let mut checks = Vec::new();
     for r in CHIP_CHECK_RPM {
         let rpm = T::from_f64(r);
-        let direct = chip_steady_state(&design, rpm)
+        let direct = chip_steady_state_on(design, profile, rpm)
             .map_err(|e| anyhow::anyhow!("the interpolation check's direct run at {r} rpm: {e}"))?;
         checks.push(InterpCheck {
             rpm,
@@ -229,6 +303,12 @@ fn bits_of<T: Real>(x: T, single: bool) -> String {
 pub struct SceneReport {
     /// The scene file given with `--scene`, or "reference" (the reference design).
     pub design: String,
+    /// The measured profile given with `--measured` (absent: the theoretical cam).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measured: Option<String>,
+    /// Knots of its deviation spline (the closing knot included).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measured_knots: Option<usize>,
     /// State size of the chip's model.
     pub states: usize,
     /// Degrees of freedom of the chip's scene.
@@ -408,6 +488,16 @@ fn timing<T: Real>(t: &[T; 6], single: bool) -> ([Num; 6], [String; 6]) {
 
 /// The report of a prediction computed in `T` (`single`: f32 bits) for the scene `design`.
 pub fn report<T: Real>(p: &Prediction<T>, single: bool, design: &str) -> PredictReport {
+    report_measured(p, single, design, None)
+}
+
+/// [`report`] naming the measured profile the roller rode on (its file and knots).
+pub fn report_measured<T: Real>(
+    p: &Prediction<T>,
+    single: bool,
+    design: &str,
+    measured: Option<(&str, usize)>,
+) -> PredictReport {
     let table = p
         .table
         .rpm
@@ -517,6 +607,8 @@ pub fn report<T: Real>(p: &Prediction<T>, single: bool, design: &str) -> Predict
         precision: if single { "f32" } else { "f64" },
         scene: SceneReport {
             design: design.to_string(),
+            measured: measured.map(|(f, _)| f.to_string()),
+            measured_knots: measured.map(|(_, k)| k),
             states: CHIP_STATES,
             dofs: <ChipScene as Scene>::DOFS.name(),
             rtol: s.rtol,
@@ -553,6 +645,9 @@ pub fn render_text(r: &PredictReport) -> String {
         "predictor scene: {name}, {} states ({}), {}",
         sc.states, sc.dofs, r.precision
     );
+    if let (Some(f), Some(k)) = (&sc.measured, sc.measured_knots) {
+        let _ = writeln!(out, "measured profile: {f} ({k} deviation knots)");
+    }
     let _ = writeln!(
         out,
         "{:>8} {:>12} {:>7}  timing error, deg (rise 10/50/90 %, return 10/50/90 %)",
@@ -660,17 +755,33 @@ pub fn run(args: Args) -> Result<()> {
         Some(p) => p.display().to_string(),
         None => REFERENCE_SCENE.to_string(),
     };
+    let profile = match &args.measured {
+        Some(p) => {
+            let d64 = scene.clone().unwrap_or_else(chip_design::<f64>);
+            Some(ProfileKnots::load(p, &d64)?)
+        }
+        None => None,
+    };
+    let measured_name = args.measured.as_ref().map(|p| p.display().to_string());
+    let measured = measured_name
+        .as_deref()
+        .zip(profile.as_ref().map(|k| k.knots_rad.len()));
     let report = if args.single {
-        let p = compute::<f32>(scene.as_ref())?;
+        let p = compute::<f32>(scene.as_ref(), profile.as_ref())?;
         if let Some(path) = &args.check_log {
             let log = std::fs::read_to_string(path)
                 .with_context(|| format!("reading {}", path.display()))?;
             let n = check_parity(&log, &parity_lines(&p))?;
             return crate::report::out(&format!("parity OK: {n} lines (table, jump onset, interpolation checks, every reading of the scripted machine) bit-identical\n"));
         }
-        report(&p, true, &design)
+        report_measured(&p, true, &design, measured)
     } else {
-        report(&compute::<f64>(scene.as_ref())?, false, &design)
+        report_measured(
+            &compute::<f64>(scene.as_ref(), profile.as_ref())?,
+            false,
+            &design,
+            measured,
+        )
     };
     crate::report::print(&report, args.json)
 }

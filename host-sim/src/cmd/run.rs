@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::actual::{ActualArgs, ProfileStats};
 use crate::args::{self, megabytes, Law, StartArg};
 use crate::csv::{self, CsvOut};
-use crate::measured::MeasuredStats;
+use crate::measured::{MeasuredProfile, MeasuredStats};
 use crate::output::Plan;
 use crate::plot;
 use crate::report::{sorted_pretty_json, Report};
