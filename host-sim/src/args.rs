@@ -163,6 +163,12 @@ pub fn rtol(s: &str) -> Result<f64, String> {
     in_range(s, camsim_core::key::RTOL)
 }
 
+/// The largest double step, fraction of a revolution: the range of
+/// `solver.max_step_fraction_rev`.
+pub fn max_step_fraction(s: &str) -> Result<f64, String> {
+    in_range(s, camsim_core::key::MAX_STEP_FRACTION)
+}
+
 /// An absolute displacement tolerance, in: the range of `solver.atol_in`.
 pub fn atol(s: &str) -> Result<f64, String> {
     in_range(s, camsim_core::key::ATOL)

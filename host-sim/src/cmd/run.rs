@@ -47,6 +47,10 @@ pub struct SceneArgs {
     /// Solver absolute tolerance for displacements, in (1e-15 to 1e-3).
     #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::atol)]
     pub atol: Option<f64>,
+    /// Largest double step, fraction of a revolution (default 1/2000; the reduced
+    /// followers take longer steps: 0.01 lets the controller decide).
+    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true, value_parser = args::max_step_fraction)]
+    pub max_step_fraction: Option<f64>,
     /// The follower's model: the full chain, or a reduced scene whose stiff DOFs are
     /// quasi-static (docs/MODEL.md §10; a reduced one implies the vertical scene).
     #[arg(long, value_enum, value_name = "MODEL")]
@@ -151,6 +155,9 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     }
     if let Some(x) = args.atol {
         spec.solver.atol = x;
+    }
+    if let Some(x) = args.max_step_fraction {
+        spec.solver.max_step_fraction = x;
     }
     if let Some(f) = args.follower {
         spec.dofs.follower = f.into();
