@@ -1049,8 +1049,16 @@ impl<T: Real, const N: usize> England<T, N> {
     /// (never for a discarded one) and [`Report::Event`] for each event after the step
     /// that ends at it; [`ControlFlow::Break`] stops early (still `Ok`).
     ///
-    /// Roots within `tol_t` of the crossing step's start or end are reported without
-    /// a restart (the step is kept). Returns the solver's counters and the event
+    /// A rejected attempt whose auxiliary end point ŷ2 lies on the other side is
+    /// treated alike (its root located on the interpolant of `y0`, `y1`, `ŷ2` with
+    /// `f0`, `k5/s`, `k9/s`) and the next attempt aimed at the root, instead of letting
+    /// the error test close in on a jump of `f`. An attempt that ends within `tol_t`
+    /// past the event, or spans at most `2.5 tol_t` across it, is accepted whatever its
+    /// error estimate (its error is the event bracket's). A crossing step whose root
+    /// lies within `tol_t` of its end is kept and the event reported at its end
+    /// (restarted); within `tol_t` of its start, or after 4 discards in a row from one
+    /// point, it is kept and the event reported at the located time from the
+    /// interpolant (not restarted). Returns the solver's counters and the event
     /// counters: `rhs_evals = 9 · accepted + 7 · rejected + 9 · discarded + 1` (plus the
     /// step control's own), the discarded steps' 9 each and the final 1 also in
     /// [`England::auxiliary_evals`]. The evaluations of `g` are counted apart
@@ -1347,10 +1355,10 @@ pub struct Event<T> {
     pub bracket: T,
     /// `true`: `g` went from `<= 0` to `> 0` (contact made); `false`: from `> 0` to `<= 0`.
     pub rising: bool,
-    /// Whether a step of the integrator ends exactly at `t` (the solution was
-    /// re-integrated up to the event); `false` when the root lay within `tol_t` of the
-    /// crossing step's start or end, or the re-integrated solution had not yet changed
-    /// side at `t` (the next step then finds the event again).
+    /// Whether a step of the integrator ends at `t` (within `tol_t` after the root) and
+    /// the next starts on the new side; `false` when the root lay within `tol_t` of the
+    /// crossing step's start or the discards ran out (`t` and the state reported are
+    /// then the interpolant's).
     pub restarted: bool,
 }
 
