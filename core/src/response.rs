@@ -331,6 +331,195 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
     Ok(stats)
 }
 
+/// The contact event function of a model (for [`England::integrate_events`]): the
+/// contact force before its clamp at zero, per unit cos φ,
+/// `g = min(e, e + C_h · rate)` with `e = K_h (y + y1 - y2) + F_p` the elastic part and
+/// `rate` the rate of approach (Eqs. V.19-V.20 with the contact damping of
+/// docs/MODEL.md §3.9, [`crate::damped_contact_force`]). It is continuous, and `g > 0`
+/// exactly when the model's [`ModelPoint::in_contact`] holds (up to rounding in the
+/// approach, which the model forms as `y1 - q2`): the elastic part positive and the
+/// damped force not pulling. One evaluation costs one [`CamModel::evaluate`].
+#[derive(Clone, Copy, Debug)]
+pub struct ContactEventFn<'a, T, S, const N: usize, P>(pub &'a CamModel<T, S, N, P>);
+
+impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> ContactEventFn<'_, T, S, N, P> {
+    /// `g` from an evaluated point of the model.
+    pub fn of_point(&self, p: &ModelPoint<T>) -> T {
+        let model = self.0;
+        let approach = p.lift.y + p.position(TransDof::CamY) - p.position(TransDof::RollerY);
+        let rate =
+            p.lift.dy * p.omega_c + p.velocity(TransDof::CamY) - p.velocity(TransDof::RollerY);
+        let e = p.k_h * approach + model.preload();
+        let c_h = model.design().c_h(p.k_h);
+        if c_h == T::ZERO {
+            e
+        } else {
+            e.min(e + c_h * rate)
+        }
+    }
+}
+
+impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> crate::EventFunction<T, N>
+    for ContactEventFn<'_, T, S, N, P>
+{
+    fn event(&self, t: T, y: &[T; N]) -> T {
+        self.of_point(&self.0.evaluate(t, y))
+    }
+}
+
+/// Contact-event location for [`simulate_events`] (opt-in; [`simulate`] never locates
+/// events).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactEventSettings<T> {
+    /// Width of the final bracket of an event time, as a fraction of one revolution at
+    /// ω0 (1e-9: 0.12 ns at 500 rpm).
+    pub tol_fraction_rev: T,
+}
+
+impl<T: Real> Default for ContactEventSettings<T> {
+    fn default() -> Self {
+        Self {
+            tol_fraction_rev: T::from_f64(1e-9),
+        }
+    }
+}
+
+/// A contact event of [`simulate_events`]: the follower leaves the cam
+/// (`separation`) or comes back (recontact).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactEvent<T> {
+    /// The located event ([`crate::Event`]: time, bracket, whether a step ends there).
+    pub event: crate::Event<T>,
+    /// True when contact is lost, false at recontact.
+    pub separation: bool,
+    /// The sample at the event (from the integrator's state there).
+    pub sample: Sample<T>,
+}
+
+/// [`simulate`] with contact events located and the integration restarted at each
+/// ([`England::integrate_events`] with [`ContactEventFn`]): the observer receives the
+/// midpoint and end of every accepted step (a restarted event's time is a step end)
+/// and `on_event` each located contact loss and recontact. Validity checks, end of run
+/// and errors as [`simulate`]. Returns the solver's and the event location's counters
+/// (the evaluations of the event function, one model evaluation each, are in
+/// [`crate::EventStats::event_evals`], not in [`SolverStats::rhs_evals`]).
+pub fn simulate_events<T, S, const N: usize, P, O, E>(
+    model: &CamModel<T, S, N, P>,
+    settings: &SolverSettings<T>,
+    events: &ContactEventSettings<T>,
+    revolutions: u32,
+    observer: &mut O,
+    mut on_event: E,
+) -> Result<(SolverStats, crate::EventStats)>
+where
+    T: Real,
+    S: Scene,
+    P: LiftProfile<T>,
+    O: Observer<T>,
+    E: FnMut(&ContactEvent<T>),
+{
+    if revolutions == 0 {
+        return Err(Error::InvalidParameter {
+            field: "revolutions",
+            rule: "must be at least 1",
+            value: 0.0,
+        });
+    }
+    let config = solver_config(model, settings, revolutions)?;
+    let mut solver = England::new(config)?;
+    let d = model.design();
+    let two_pi = T::TWO * T::PI;
+    let target = two_pi * T::from_usize(revolutions as usize);
+    let t_end = T::from_f64(4.0) * target / d.omega0;
+    let ev_config = crate::EventConfig::new(events.tol_fraction_rev * two_pi / d.omega0);
+    let mut y = match settings.start {
+        Start::Thesis => model.initial_state(),
+        Start::Static => model.static_state(),
+    };
+    let stress = observer.needs_stress();
+    let mut done = false;
+    let mut stopped = false;
+    let mut last = (1u32, T::ZERO, T::ZERO);
+    let mut left: Option<Error> = None;
+    let gfn = ContactEventFn(model);
+    // The start sample, as `simulate`'s observer sees it.
+    let mut take = |t: T, y: &[T; N]| {
+        let sample = model.sample(t, y, stress);
+        if let Err((limit, value, bound)) = model.check_validity(&sample.point) {
+            left = Some(Error::OutOfModel {
+                limit,
+                value: value.to_f64(),
+                bound: bound.to_f64(),
+                revolution: sample.revolution,
+                cam_deg: sample.angle_deg.to_f64(),
+            });
+            return ControlFlow::Break(());
+        }
+        last = (sample.revolution, sample.angle_deg, t);
+        if sample.point.theta_c >= target {
+            done = true;
+            return ControlFlow::Break(());
+        }
+        let flow = observer.observe(&sample);
+        stopped = flow.is_break();
+        flow
+    };
+    let result = if take(T::ZERO, &y).is_break() {
+        Ok((solver.stats(), crate::EventStats::default()))
+    } else {
+        solver.integrate_events(
+            model,
+            &gfn,
+            &ev_config,
+            T::ZERO,
+            &mut y,
+            t_end,
+            |r| match r {
+                crate::Report::Step(dense) => {
+                    let [_, y1, y2] = dense.nodes();
+                    if take(dense.t_mid(), y1).is_break() {
+                        return ControlFlow::Break(());
+                    }
+                    take(dense.t_end(), y2)
+                }
+                crate::Report::Event(event, y) => {
+                    on_event(&ContactEvent {
+                        event,
+                        separation: !event.rising,
+                        sample: model.sample(event.t, y, stress),
+                    });
+                    ControlFlow::Continue(())
+                }
+            },
+        )
+    };
+    if let Some(e) = left {
+        return Err(e);
+    }
+    let (revolution, cam_deg, t_last) = (last.0, last.1.to_f64(), last.2.to_f64());
+    let failed = |failure| Error::SimulationFailed {
+        failure,
+        revolution,
+        cam_deg,
+        t: t_last,
+    };
+    let stats = result.map_err(|e| match e {
+        Error::StepSizeUnderflow { h, .. } => failed(SimFailure::StepSizeUnderflow { h }),
+        Error::NonFinite { component, .. } => failed(SimFailure::NonFinite {
+            quantity: model.state_quantity(component),
+        }),
+        Error::StepBudgetExceeded { steps, .. } => failed(SimFailure::StepBudget {
+            steps,
+            per_revolution: settings.max_steps_per_rev,
+        }),
+        other => other,
+    })?;
+    if !done && !stopped {
+        return Err(failed(SimFailure::Stalled));
+    }
+    Ok(stats)
+}
+
 impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> {
     /// The theoretical response at cam angle `theta` (rad) at the design's ω0.
     pub fn theoretical(&self, theta: T) -> Theoretical<T> {

@@ -2,7 +2,9 @@
 //! scene, static start, 2 revolutions, 500 rpm by default) for England's method as it is,
 //! England's method with the PI controller and the stiffness cap, classic RK4 at fixed
 //! steps and Dormand-Prince 5(4) from the `ode_solvers` crate, in f64 and f32 (the f32
-//! math is libm, or micromath in a build with the `micromath` feature).
+//! math is libm, or micromath in a build with the `micromath` feature), and in the full
+//! run (f64, rtol 1e-2 to 1e-8) the linearly implicit Rosenbrock-W method ROS34PW2
+//! ([`rosenbrock`]), its Jacobian every step or every 10 steps.
 //!
 //! Errors are measured against a reference from a very tight England run, confirmed by a
 //! second method (Dormand-Prince at the same tolerance; their disagreement is reported
@@ -15,6 +17,7 @@
 
 pub mod methods;
 pub mod plot;
+pub mod rosenbrock;
 pub mod sample;
 pub mod stability;
 
@@ -59,6 +62,8 @@ pub const FULL_RK4_FACTORS_F32: [f64; 4] = [1.05, 1.5, 2.0, 4.0];
 pub const QUICK_RK4_FACTORS: [f64; 3] = [1.25, 2.0, 4.0];
 /// ... of `--quick`, f32.
 pub const QUICK_RK4_FACTORS_F32: [f64; 1] = [1.25];
+/// The tightest tolerance of the Rosenbrock rows (full run, f64 only).
+pub const ROSENBROCK_TIGHTEST_RTOL: f64 = 1e-8;
 /// Tolerances at which the full run also measures the jump-onset speed.
 pub const ONSET_RTOLS: [f64; 4] = [1e-3, 1e-5, 1e-7, 1e-9];
 /// RK4 factors at which the full run measures the jump-onset speed.
@@ -306,7 +311,13 @@ pub fn cost_at_error(points: &[(f64, f64)], err: f64) -> Option<f64> {
 fn equal_error(runs: &[RunRow]) -> Vec<EqualError> {
     let full = |r: &&RunRow| r.scene == "full_11dof" && r.precision == "f64" && r.acc_err_resolved;
     let mut out = Vec::new();
-    for method in ["england", "england_pi_capped", "rk4_fixed"] {
+    for method in [
+        "england",
+        "england_pi_capped",
+        "rk4_fixed",
+        "rosenbrock_ros34pw2",
+        "rosenbrock_ros34pw2_j10",
+    ] {
         let mine: Vec<&RunRow> = runs
             .iter()
             .filter(full)
@@ -354,10 +365,12 @@ pub struct Memory {
     pub model_f64_22_bytes: usize,
     /// England's solver, f64, 22 states.
     pub solver_f64_22_bytes: usize,
-    /// The chip's model, f32, 16 states.
-    pub model_f32_16_bytes: usize,
-    /// England's solver, f32, 16 states.
-    pub solver_f32_16_bytes: usize,
+    /// The chip's model, f32 ([`camsim_chip::CHIP_STATES`] states).
+    pub model_f32_chip_bytes: usize,
+    /// England's solver, f32, the chip's states.
+    pub solver_f32_chip_bytes: usize,
+    /// The chip's state length.
+    pub chip_states: usize,
 }
 
 impl Memory {
@@ -367,9 +380,10 @@ impl Memory {
         Memory {
             model_f64_22_bytes: size_of::<camsim_core::RegulatedFullModel<f64>>(),
             solver_f64_22_bytes: size_of::<camsim_core::England<f64, { RegulatedFull::N }>>(),
-            model_f32_16_bytes: size_of::<camsim_chip::ChipModel<f32>>(),
-            solver_f32_16_bytes: size_of::<camsim_core::England<f32, { camsim_chip::CHIP_STATES }>>(
+            model_f32_chip_bytes: size_of::<camsim_chip::ChipModel<f32>>(),
+            solver_f32_chip_bytes: size_of::<camsim_core::England<f32, { camsim_chip::CHIP_STATES }>>(
             ),
+            chip_states: camsim_chip::CHIP_STATES,
         }
     }
 }
@@ -618,6 +632,16 @@ where
             cases.push((m, r));
         }
     }
+    // The linearly implicit method: the full f64 sweep only (its LU factorisations make
+    // it the slowest row per step; --quick stays short).
+    if !opts.quick && precision == "f64" {
+        for jac_every in [1, 10] {
+            // Third order: below 1e-8 its steps (and LU factorisations) multiply.
+            for &r in rtols.iter().filter(|&&r| r >= ROSENBROCK_TIGHTEST_RTOL) {
+                cases.push((Method::Rosenbrock { jac_every }, r));
+            }
+        }
+    }
     for &f in rk4_factors {
         // Rounded up to a multiple of 100 steps per revolution.
         let n = (limits.rk4_fixed_steps_per_rev * f / 100.0).ceil() * 100.0;
@@ -630,9 +654,11 @@ where
     }
     for (method, rtol) in cases {
         let limit = match method {
-            Method::England | Method::EnglandPiCapped => limits.england_double_steps_per_rev,
-            Method::Rk4 { .. } => limits.rk4_fixed_steps_per_rev,
-            Method::Dopri5 => limits.dopri5_steps_per_rev,
+            Method::England | Method::EnglandPiCapped => Some(limits.england_double_steps_per_rev),
+            Method::Rk4 { .. } => Some(limits.rk4_fixed_steps_per_rev),
+            Method::Dopri5 => Some(limits.dopri5_steps_per_rev),
+            // A-stable: no explicit stability limit.
+            Method::Rosenbrock { .. } => None,
         };
         let s = settings::<T>(rtol.max(1e-16));
         match measure_run(method, &model, &s, opts.repeat, false) {
@@ -644,7 +670,7 @@ where
                 rtol,
                 &mut m,
                 reference,
-                Some(limit),
+                limit,
             )),
             Err(e) => failed.push(FailedRun {
                 method: method.name().into(),

@@ -242,11 +242,12 @@ impl Report for BenchReport {
              rej%: rejected of attempted steps in revolution 2; rhs evals, wall and CPU time (median): both revolutions;\n\
              onset err: jump-onset speed against the reference's, rpm\n\
              memory (fixed, no heap in the core): model {} B and England solver {} B (f64, 22 states); model {} B and\n\
-             solver {} B (f32, 16 states, the chip's); bench {:.1} s",
+             solver {} B (f32, {} states, the chip's); bench {:.1} s",
             m.model_f64_22_bytes,
             m.solver_f64_22_bytes,
-            m.model_f32_16_bytes,
-            m.solver_f32_16_bytes,
+            m.model_f32_chip_bytes,
+            m.solver_f32_chip_bytes,
+            m.chip_states,
             self.bench_seconds
         );
         s
