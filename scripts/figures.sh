@@ -43,6 +43,7 @@ show modal
 show contact --force 100
 show predict --f32
 show bench --quick
+show scenes
 
 if [ "${1:-}" = "--firmware" ]; then
     printf '\n$ bash scripts/firmware-ci.sh\n'

@@ -60,12 +60,18 @@ cargo build --release -p camsim
 studies=$(mktemp -d)
 ./target/release/camsim montecarlo --samples 8 --json > "$studies/montecarlo.json"
 ./target/release/camsim compare --quick --json > "$studies/compare.json"
+# The reduced scenes against the full model (README, "Reduced scenes"): every scene that
+# claims the jump onset within 1 % of the full model's does so.
+./target/release/camsim scenes --quick --json > "$studies/scenes.json"
 if command -v jq >/dev/null 2>&1; then
     jq -e '.summary.samples == 8 and (.summary.jump.p | type == "number")' "$studies/montecarlo.json" >/dev/null
     jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.json" >/dev/null
+    jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
+           and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/scenes.json" >/dev/null
 else
     python3 -m json.tool "$studies/montecarlo.json" >/dev/null
     python3 -m json.tool "$studies/compare.json" >/dev/null
+    python3 -m json.tool "$studies/scenes.json" >/dev/null
 fi
 rm -rf "$studies"
 step "fuzz each target for 20 s (scene parser, measured profile, core model; fuzz/README.md)"

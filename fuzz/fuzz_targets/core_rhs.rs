@@ -4,7 +4,8 @@
 //! the model's right-hand side at arbitrary states and a few England steps from its
 //! start, in f64 or (narrowed like the firmware's) f32.
 //!
-//! Input: byte 0 picks the scene (low 3 bits, mod 6), the precision (bit 3: f32) and the
+//! Input: byte 0 picks the scene (bits 0-2 and 5: one of ten, the six full-follower scenes
+//! and the four reduced followers), the precision (bit 3: f32) and the
 //! start (bit 4: static equilibrium, else the thesis's); byte 1 the step budget (1-256);
 //! then the design (postcard); the rest are little-endian f64 offsets added to the start
 //! state (missing ones are 0) for the right-hand-side probes.
@@ -29,7 +30,8 @@ use std::ops::ControlFlow;
 use camsim_core::{
     solver_config, CamModel, ConstCamFullModel, ConstCamVerticalModel, ConstMotorFullModel,
     ConstMotorVerticalModel, Design, DriveLaw, England, Error, OdeSystem, Real, RegulatedFullModel,
-    RegulatedVerticalModel, Sample, Scene, SolverSettings, Start,
+    RegulatedMasslessRollerModel, RegulatedQsCantileverModel, RegulatedQsRodModel,
+    RegulatedQsShaftModel, RegulatedVerticalModel, Sample, Scene, SolverSettings, Start,
 };
 use libfuzzer_sys::fuzz_target;
 
@@ -189,8 +191,9 @@ fn sample<T: Real, S: Scene, const N: usize>(
 /// The design made to fit scene `k` (its drive kind), then the scene's model exercised.
 fn run<T: Real>(k: u8, mut design: Design<T>, input: &Input) {
     let regulated = matches!(design.drive, DriveLaw::Regulated { .. });
-    match k % 6 {
-        0 | 1 if !regulated => return,
+    let k = ((k & 0x07) | ((k >> 5) & 1) << 3) % 10;
+    match k {
+        0 | 1 | 6..=9 if !regulated => return,
         2 | 3 => design.drive = DriveLaw::ConstantMotorSpeed,
         4 | 5 => design.drive = DriveLaw::ConstantCamSpeed,
         _ => {}
@@ -198,13 +201,17 @@ fn run<T: Real>(k: u8, mut design: Design<T>, input: &Input) {
     if design.validate().is_err() {
         return;
     }
-    match k % 6 {
+    match k {
         0 => exercise(RegulatedFullModel::<T>::new(design), input),
         1 => exercise(RegulatedVerticalModel::<T>::new(design), input),
         2 => exercise(ConstMotorFullModel::<T>::new(design), input),
         3 => exercise(ConstMotorVerticalModel::<T>::new(design), input),
         4 => exercise(ConstCamFullModel::<T>::new(design), input),
-        _ => exercise(ConstCamVerticalModel::<T>::new(design), input),
+        5 => exercise(ConstCamVerticalModel::<T>::new(design), input),
+        6 => exercise(RegulatedMasslessRollerModel::<T>::new(design), input),
+        7 => exercise(RegulatedQsCantileverModel::<T>::new(design), input),
+        8 => exercise(RegulatedQsRodModel::<T>::new(design), input),
+        _ => exercise(RegulatedQsShaftModel::<T>::new(design), input),
     }
 }
 

@@ -18,8 +18,9 @@ use std::ops::ControlFlow;
 use camsim_core::{
     simulate, CamModel, CamProgram, ConstCamFullModel, ConstCamVerticalModel, ConstMotorFullModel,
     ConstMotorVerticalModel, Design, DriveLaw, England, EnglandConfig, Error, MotionLaw, OdeSystem,
-    Real, RegulatedFullModel, RegulatedVerticalModel, Sample, Scene, Segment, SegmentKind,
-    SolverSettings, SolverStats, Start, Tolerance,
+    Real, RegulatedFullModel, RegulatedMasslessRollerModel, RegulatedQsCantileverModel,
+    RegulatedQsRodModel, RegulatedQsShaftModel, RegulatedVerticalModel, Sample, Scene, Segment,
+    SegmentKind, SolverSettings, SolverStats, Start, Tolerance,
 };
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
@@ -45,7 +46,7 @@ fn cases(default: u32) -> ProptestConfig {
 
 // ------------------------------------------------------------------- random scenes
 
-/// The six scenes by drive and DOF set.
+/// The ten scenes by drive, DOF set and follower model.
 #[derive(Clone, Copy, Debug)]
 enum SceneKind {
     RegulatedFull,
@@ -54,15 +55,23 @@ enum SceneKind {
     ConstMotorVertical,
     ConstCamFull,
     ConstCamVertical,
+    MasslessRoller,
+    QsCantilever,
+    QsRod,
+    QsShaft,
 }
 
-const SCENES: [SceneKind; 6] = [
+const SCENES: [SceneKind; 10] = [
     SceneKind::RegulatedFull,
     SceneKind::RegulatedVertical,
     SceneKind::ConstMotorFull,
     SceneKind::ConstMotorVertical,
     SceneKind::ConstCamFull,
     SceneKind::ConstCamVertical,
+    SceneKind::MasslessRoller,
+    SceneKind::QsCantilever,
+    SceneKind::QsRod,
+    SceneKind::QsShaft,
 ];
 
 /// One random scene: a perturbed reference design and how to run it.
@@ -191,7 +200,12 @@ prop_compose! {
     ) -> RandomScene {
         let mut design = design;
         design.drive = match scene {
-            SceneKind::RegulatedFull | SceneKind::RegulatedVertical => design.drive,
+            SceneKind::RegulatedFull
+            | SceneKind::RegulatedVertical
+            | SceneKind::MasslessRoller
+            | SceneKind::QsCantilever
+            | SceneKind::QsRod
+            | SceneKind::QsShaft => design.drive,
             SceneKind::ConstMotorFull | SceneKind::ConstMotorVertical => DriveLaw::ConstantMotorSpeed,
             SceneKind::ConstCamFull | SceneKind::ConstCamVertical => DriveLaw::ConstantCamSpeed,
         };
@@ -317,6 +331,10 @@ fn run_scene(r: &RandomScene) -> Result<(), TestCaseError> {
         SceneKind::ConstMotorVertical => run!(ConstMotorVerticalModel),
         SceneKind::ConstCamFull => run!(ConstCamFullModel),
         SceneKind::ConstCamVertical => run!(ConstCamVerticalModel),
+        SceneKind::MasslessRoller => run!(RegulatedMasslessRollerModel),
+        SceneKind::QsCantilever => run!(RegulatedQsCantileverModel),
+        SceneKind::QsRod => run!(RegulatedQsRodModel),
+        SceneKind::QsShaft => run!(RegulatedQsShaftModel),
     }
 }
 
