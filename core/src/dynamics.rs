@@ -504,10 +504,13 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             .hertz
             .stiffness_fast(d.geometry.roller_radius, p.surface_radius);
         p.k_h = k_h;
-        // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10).
-        if !S::QUASI_STATIC.is_empty() {
-            self.condense(&mut p, k_h, cos_phi, sin_phi);
-        }
+        // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10); the
+        // rods' stiffnesses it used (at the carrier's y3) serve the forces below too.
+        let rods = if S::QUASI_STATIC.is_empty() {
+            None
+        } else {
+            Some(self.condense(&mut p, k_h, cos_phi, sin_phi))
+        };
 
         let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
         let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
@@ -555,9 +558,13 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         p.friction_cantilever = f2;
 
         // --- translational system (Eqs. IV.2, IV.3) ---
-        let k_f = d.k_f(y3);
-        let c_f1 = d.c_f1_from(k_f);
-        let k_vc = d.k_vc(y3);
+        let (k_f, c_f1, k_vc) = match rods {
+            Some(r) => r,
+            None => {
+                let k_f = d.k_f(y3);
+                (k_f, d.c_f1_from(k_f), d.k_vc(y3))
+            }
+        };
         let m_f = d.m_f(y3);
         let m_fc = d.m_fc(y3);
         let f_load = k_f * (q5 - q4) + c_f1 * (v5 - v4);
@@ -692,7 +699,8 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// given forces (friction's normal force from the first solve's contact force) in the
     /// final solve. A contact that the final solve opens is solved open.
     #[inline(always)]
-    fn condense(&self, p: &mut ModelPoint<T>, k_h: T, cos_phi: T, sin_phi: T) {
+    /// Returns the rods' K_f, C_f1 and K_vc it used, for the forces on the dynamic nodes.
+    fn condense(&self, p: &mut ModelPoint<T>, k_h: T, cos_phi: T, sin_phi: T) -> (T, T, T) {
         let d = &self.d;
         let chain = crate::QUASI_STATIC_CHAIN.map(|dof| dof as usize);
         let [_, _, i3, i4, i5] = chain;
@@ -712,10 +720,12 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             at(&p.pos, i3)
         } + p.lift.y;
         let k_f = d.k_f(y3_est);
+        let c_f1 = d.c_f1_from(k_f);
+        let k_vc = d.k_vc(y3_est);
         let c2 = cos_phi * cos_phi;
         let closed = crate::ChainSolve::new(
             S::QUASI_STATIC,
-            [k_h * c2, d.k_rb, d.k_vc(y3_est), k_f],
+            [k_h * c2, d.k_rb, k_vc, k_f],
             [d.k_vs, T::ZERO, d.k_rs, T::ZERO],
         );
         let mut open = closed;
@@ -789,7 +799,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 } else {
                     T::ZERO
                 };
-                *f3 += p.friction_follower + d.c_f1_from(k_f) * (v5 - v4);
+                *f3 += p.friction_follower + c_f1 * (v5 - v4);
             }
             let mut sol = x;
             c.solve(&mut sol, &f);
@@ -812,8 +822,9 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                     }
                 }
             }
-            return;
+            break;
         }
+        (k_f, c_f1, k_vc)
     }
 
     /// Writes dy/dt for the state (t, y) given the evaluated point: every quantity the
