@@ -245,48 +245,91 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
     revolutions: u32,
     observer: &mut O,
 ) -> Result<SolverStats> {
-    if revolutions == 0 {
-        return Err(Error::InvalidParameter {
-            field: "revolutions",
-            rule: "must be at least 1",
-            value: 0.0,
-        });
-    }
-    let config = solver_config(model, settings, revolutions)?;
-    // The solver's own names for what the settings derive (h_max, h_init, max_steps) are
-    // not scene keys: name the key that sets each (unreachable with validated settings).
-    let mut solver = England::new(config).map_err(|e| match e {
-        Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
-            field: match field {
-                "max_steps" => crate::key::MAX_STEPS_PER_REV,
-                "rtol" => crate::key::RTOL,
-                "atol" => crate::key::ATOL,
-                _ => crate::key::MAX_STEP_FRACTION,
-            },
-            rule,
-            value,
-        },
-        other => other,
-    })?;
-    let d = model.design();
-    let two_pi = T::TWO * T::PI;
-    let target = two_pi * T::from_usize(revolutions as usize);
-    // Generous end time: the drive may run slower than ω0; a stalled drive is an error.
-    let t_end = T::from_f64(4.0) * target / d.omega0;
-    let mut y = match settings.start {
-        Start::Thesis => model.initial_state(),
-        Start::Static => model.static_state(),
-    };
-    let stress = observer.needs_stress();
-    let mut done = false;
-    let mut stopped = false;
-    // Where the last accepted sample was (revolution, degrees, time), for the errors.
-    let mut last = (1u32, T::ZERO, T::ZERO);
-    let mut left: Option<Error> = None;
+    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
     let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
-        let sample = model.sample(t, y, stress);
+        run.take(model, observer, t, y)
+    });
+    run.finish(model, settings, result)
+}
+
+/// What [`simulate`] and [`simulate_events`] share: the setup of a run, what each sample
+/// passes through (the validity check, the end of the run, the observer) and how the
+/// solver's failures are told.
+struct RunState<T> {
+    /// The cam angle that ends the run, rad.
+    target: T,
+    /// The run reached `target`.
+    done: bool,
+    /// The observer stopped the run.
+    stopped: bool,
+    /// Where the last accepted sample was (revolution, degrees, time), for the errors.
+    last: (u32, T, T),
+    /// The model left its valid range (docs/MODEL.md §3.20).
+    left: Option<Error>,
+}
+
+impl<T: Real> RunState<T> {
+    /// The solver, the run's state, the end time and the initial state of a run of
+    /// `revolutions` revolutions.
+    #[allow(clippy::type_complexity)]
+    fn start<S: Scene, const N: usize, P: LiftProfile<T>>(
+        model: &CamModel<T, S, N, P>,
+        settings: &SolverSettings<T>,
+        revolutions: u32,
+    ) -> Result<(England<T, N>, Self, T, [T; N])> {
+        if revolutions == 0 {
+            return Err(Error::InvalidParameter {
+                field: "revolutions",
+                rule: "must be at least 1",
+                value: 0.0,
+            });
+        }
+        let config = solver_config(model, settings, revolutions)?;
+        // The solver's own names for what the settings derive (h_max, h_init, max_steps) are
+        // not scene keys: name the key that sets each (unreachable with validated settings).
+        let solver = England::new(config).map_err(|e| match e {
+            Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
+                field: match field {
+                    "max_steps" => crate::key::MAX_STEPS_PER_REV,
+                    "rtol" => crate::key::RTOL,
+                    "atol" => crate::key::ATOL,
+                    _ => crate::key::MAX_STEP_FRACTION,
+                },
+                rule,
+                value,
+            },
+            other => other,
+        })?;
+        let d = model.design();
+        let target = T::TWO * T::PI * T::from_usize(revolutions as usize);
+        // Generous end time: the drive may run slower than ω0; a stalled drive is an error.
+        let t_end = T::from_f64(4.0) * target / d.omega0;
+        let y = match settings.start {
+            Start::Thesis => model.initial_state(),
+            Start::Static => model.static_state(),
+        };
+        let run = RunState {
+            target,
+            done: false,
+            stopped: false,
+            last: (1, T::ZERO, T::ZERO),
+            left: None,
+        };
+        Ok((solver, run, t_end, y))
+    }
+
+    /// One accepted sample at (t, y): checked against the model's validity bounds, then
+    /// the end of the run, then the observer.
+    fn take<S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>>(
+        &mut self,
+        model: &CamModel<T, S, N, P>,
+        observer: &mut O,
+        t: T,
+        y: &[T; N],
+    ) -> ControlFlow<()> {
+        let sample = model.sample(t, y, observer.needs_stress());
         if let Err((limit, value, bound)) = model.check_validity(&sample.point) {
-            left = Some(Error::OutOfModel {
+            self.left = Some(Error::OutOfModel {
                 limit,
                 value: value.to_f64(),
                 bound: bound.to_f64(),
@@ -295,40 +338,53 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
             });
             return ControlFlow::Break(());
         }
-        last = (sample.revolution, sample.angle_deg, t);
-        if sample.point.theta_c >= target {
-            done = true;
+        self.last = (sample.revolution, sample.angle_deg, t);
+        if sample.point.theta_c >= self.target {
+            self.done = true;
             return ControlFlow::Break(());
         }
         let flow = observer.observe(&sample);
-        stopped = flow.is_break();
+        self.stopped = flow.is_break();
         flow
-    });
-    if let Some(e) = left {
-        return Err(e);
     }
-    let (revolution, cam_deg, t_last) = (last.0, last.1.to_f64(), last.2.to_f64());
-    let failed = |failure| Error::SimulationFailed {
-        failure,
-        revolution,
-        cam_deg,
-        t: t_last,
-    };
-    let stats = result.map_err(|e| match e {
-        Error::StepSizeUnderflow { h, .. } => failed(SimFailure::StepSizeUnderflow { h }),
-        Error::NonFinite { component, .. } => failed(SimFailure::NonFinite {
-            quantity: model.state_quantity(component),
-        }),
-        Error::StepBudgetExceeded { steps, .. } => failed(SimFailure::StepBudget {
-            steps,
-            per_revolution: settings.max_steps_per_rev,
-        }),
-        other => other,
-    })?;
-    if !done && !stopped {
-        return Err(failed(SimFailure::Stalled));
+
+    /// The run's result: the solver's (`result`) unless the model left its range, with
+    /// the solver's failures told by the cam angle of the last accepted sample and the
+    /// quantity or scene key concerned; a run that neither reached its end nor was
+    /// stopped has stalled.
+    fn finish<S: Scene, const N: usize, P: LiftProfile<T>, R>(
+        self,
+        model: &CamModel<T, S, N, P>,
+        settings: &SolverSettings<T>,
+        result: Result<R>,
+    ) -> Result<R> {
+        if let Some(e) = self.left {
+            return Err(e);
+        }
+        let (revolution, cam_deg, t_last) =
+            (self.last.0, self.last.1.to_f64(), self.last.2.to_f64());
+        let failed = |failure| Error::SimulationFailed {
+            failure,
+            revolution,
+            cam_deg,
+            t: t_last,
+        };
+        let out = result.map_err(|e| match e {
+            Error::StepSizeUnderflow { h, .. } => failed(SimFailure::StepSizeUnderflow { h }),
+            Error::NonFinite { component, .. } => failed(SimFailure::NonFinite {
+                quantity: model.state_quantity(component),
+            }),
+            Error::StepBudgetExceeded { steps, .. } => failed(SimFailure::StepBudget {
+                steps,
+                per_revolution: settings.max_steps_per_rev,
+            }),
+            other => other,
+        })?;
+        if !self.done && !self.stopped {
+            return Err(failed(SimFailure::Stalled));
+        }
+        Ok(out)
     }
-    Ok(stats)
 }
 
 /// The contact event function of a model (for [`England::integrate_events`]): the
@@ -418,55 +474,15 @@ where
     O: Observer<T>,
     E: FnMut(&ContactEvent<T>),
 {
-    if revolutions == 0 {
-        return Err(Error::InvalidParameter {
-            field: "revolutions",
-            rule: "must be at least 1",
-            value: 0.0,
-        });
-    }
-    let config = solver_config(model, settings, revolutions)?;
-    let mut solver = England::new(config)?;
+    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
     let d = model.design();
-    let two_pi = T::TWO * T::PI;
-    let target = two_pi * T::from_usize(revolutions as usize);
-    let t_end = T::from_f64(4.0) * target / d.omega0;
-    let ev_config = crate::EventConfig::new(events.tol_fraction_rev * two_pi / d.omega0);
-    let mut y = match settings.start {
-        Start::Thesis => model.initial_state(),
-        Start::Static => model.static_state(),
-    };
-    let stress = observer.needs_stress();
-    let mut done = false;
-    let mut stopped = false;
-    let mut last = (1u32, T::ZERO, T::ZERO);
-    let mut left: Option<Error> = None;
+    let ev_config = crate::EventConfig::new(events.tol_fraction_rev * T::TWO * T::PI / d.omega0);
     let gfn = ContactEventFn(model);
     // The start sample, as `simulate`'s observer sees it.
-    let mut take = |t: T, y: &[T; N]| {
-        let sample = model.sample(t, y, stress);
-        if let Err((limit, value, bound)) = model.check_validity(&sample.point) {
-            left = Some(Error::OutOfModel {
-                limit,
-                value: value.to_f64(),
-                bound: bound.to_f64(),
-                revolution: sample.revolution,
-                cam_deg: sample.angle_deg.to_f64(),
-            });
-            return ControlFlow::Break(());
-        }
-        last = (sample.revolution, sample.angle_deg, t);
-        if sample.point.theta_c >= target {
-            done = true;
-            return ControlFlow::Break(());
-        }
-        let flow = observer.observe(&sample);
-        stopped = flow.is_break();
-        flow
-    };
-    let result = if take(T::ZERO, &y).is_break() {
+    let result = if run.take(model, observer, T::ZERO, &y).is_break() {
         Ok((solver.stats(), crate::EventStats::default()))
     } else {
+        let stress = observer.needs_stress();
         solver.integrate_events(
             model,
             &gfn,
@@ -477,10 +493,10 @@ where
             |r| match r {
                 crate::Report::Step(dense) => {
                     let [_, y1, y2] = dense.nodes();
-                    if take(dense.t_mid(), y1).is_break() {
+                    if run.take(model, observer, dense.t_mid(), y1).is_break() {
                         return ControlFlow::Break(());
                     }
-                    take(dense.t_end(), y2)
+                    run.take(model, observer, dense.t_end(), y2)
                 }
                 crate::Report::Event(event, y) => {
                     on_event(&ContactEvent {
@@ -493,31 +509,7 @@ where
             },
         )
     };
-    if let Some(e) = left {
-        return Err(e);
-    }
-    let (revolution, cam_deg, t_last) = (last.0, last.1.to_f64(), last.2.to_f64());
-    let failed = |failure| Error::SimulationFailed {
-        failure,
-        revolution,
-        cam_deg,
-        t: t_last,
-    };
-    let stats = result.map_err(|e| match e {
-        Error::StepSizeUnderflow { h, .. } => failed(SimFailure::StepSizeUnderflow { h }),
-        Error::NonFinite { component, .. } => failed(SimFailure::NonFinite {
-            quantity: model.state_quantity(component),
-        }),
-        Error::StepBudgetExceeded { steps, .. } => failed(SimFailure::StepBudget {
-            steps,
-            per_revolution: settings.max_steps_per_rev,
-        }),
-        other => other,
-    })?;
-    if !done && !stopped {
-        return Err(failed(SimFailure::Stalled));
-    }
-    Ok(stats)
+    run.finish(model, settings, result)
 }
 
 impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> {
