@@ -3,7 +3,7 @@
 //!
 //! - Random valid scenes: the reference design perturbed within plausible ranges (masses,
 //!   stiffnesses, damping, friction, spring, geometry, speed, program timing and laws),
-//!   each of the six scenes (f64, and the chip's scene in f32), simulated for a fraction
+//!   each of the ten scenes (f64, and the chip's scene in f32), simulated for a fraction
 //!   of a revolution on a small step budget.
 //! - Random ODEs through England: damped oscillators against their closed form, linear
 //!   systems whose norm cannot grow (skew-symmetric plus a non-positive diagonal) against
@@ -341,7 +341,7 @@ fn run_scene(r: &RandomScene) -> Result<(), TestCaseError> {
 proptest! {
     #![proptest_config(cases(1024))]
 
-    /// Random valid scenes in f64, each of the six scenes: finite or a typed error, within
+    /// Random valid scenes in f64, each of the ten scenes: finite or a typed error, within
     /// the budget.
     #[test]
     fn random_valid_scenes_run_finite_or_fail_typed(r in random_scene()) {
@@ -353,12 +353,12 @@ proptest! {
 proptest! {
     #![proptest_config(cases(256))]
 
-    /// The chip's scene (regulated drive, vertical motion) in f32, from a random design
-    /// narrowed as the firmware narrows it.
+    /// The chip's scene (`camsim_chip::ChipModel`: regulated drive, the quasi-static rod)
+    /// in f32, from a random design narrowed as the firmware narrows it.
     #[test]
     fn random_valid_scenes_in_f32_run_finite_or_fail_typed(r in random_scene()) {
         let mut r = r;
-        r.scene = SceneKind::RegulatedVertical;
+        r.scene = SceneKind::QsRod;
         r.design.drive = DriveLaw::reference(r.design.omega0, r.design.c_mb, r.design.c_cc);
         r.rtol = r.rtol.max(1e-5);
         prop_assume!(r.design.validate().is_ok());
@@ -366,7 +366,7 @@ proptest! {
             return Err(TestCaseError::reject("the program does not hold in f32"));
         };
         prop_assume!(d32.validate().is_ok());
-        let m = RegulatedVerticalModel::<f32>::new(d32)
+        let m = camsim_chip::ChipModel::<f32>::new(d32)
             .map_err(|e| TestCaseError::fail(format!("model of a valid design: {e}")))?;
         check_run(&m, &r)?;
     }
