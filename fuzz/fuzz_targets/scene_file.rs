@@ -31,6 +31,7 @@ fuzz_target!(|data: &[u8]| {
                 run: RunOptions {
                     revolutions: scene.revolutions,
                     horizontal_motion: scene.horizontal_motion,
+                    follower: scene.follower,
                     rpm: None,
                 },
                 solver: scene.solver,
