@@ -273,6 +273,16 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     pub fn preload(&self) -> T {
         self.preload
     }
+    /// The contact damping C_h = 2ξ√(K_h M_r) at Hertz stiffness `k_h` (docs/MODEL.md
+    /// §3.9); 0 for a massless roller, whose mass it goes with (§10).
+    #[inline(always)]
+    pub fn contact_damping(&self, k_h: T) -> T {
+        if S::QUASI_STATIC.contains(TransDof::RollerY) {
+            T::ZERO
+        } else {
+            self.d.c_h(k_h)
+        }
+    }
     /// The bounds of what the model represents for this design (docs/MODEL.md §3.20).
     pub fn validity_bounds(&self) -> &ValidityBounds<T> {
         &self.bounds
@@ -527,11 +537,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             k_h,
             y1 - q2,
             self.preload,
-            if S::QUASI_STATIC.contains(TransDof::RollerY) {
-                T::ZERO // C_h = 2ξ√(K_h M_r) goes with the roller's mass (§10)
-            } else {
-                d.c_h(k_h)
-            },
+            self.contact_damping(k_h),
             lift.dy * p.omega_c + v1 - v2,
             cos_phi,
         );
@@ -697,9 +703,9 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// same matrix (the balance differentiated, the stiffnesses' own rates neglected); the
     /// rod's damper and the slide-bearing friction at the quasi-static nodes then act as
     /// given forces (friction's normal force from the first solve's contact force) in the
-    /// final solve. A contact that the final solve opens is solved open.
+    /// final solve. A contact that the final solve opens is solved open. Returns the rods'
+    /// K_f, C_f1 and K_vc it used, for the forces on the dynamic nodes.
     #[inline(always)]
-    /// Returns the rods' K_f, C_f1 and K_vc it used, for the forces on the dynamic nodes.
     fn condense(&self, p: &mut ModelPoint<T>, k_h: T, cos_phi: T, sin_phi: T) -> (T, T, T) {
         let d = &self.d;
         let chain = crate::QUASI_STATIC_CHAIN.map(|dof| dof as usize);
@@ -751,8 +757,8 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         };
         let mut trial = x;
         closed.solve(&mut trial, &statics(true));
-        let mut contact = approach(&trial) > T::ZERO;
-        let mut e0 = approach(&trial);
+        let e0 = approach(&trial);
+        let mut contact = e0 > T::ZERO;
         for _ in 0..2 {
             let open_factor;
             let c = if contact {
@@ -775,11 +781,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             let mut f = statics(contact);
             // Given forces on the quasi-static nodes: the cam shaft's damper, the rod's
             // damper, and the slide-bearing friction (Eqs. V.15-V.16).
-            let f_c = if contact {
-                (e0.max(T::ZERO)) * cos_phi
-            } else {
-                T::ZERO
-            };
+            let f_c = if contact { e0 * cos_phi } else { T::ZERO };
             let (n1, n2) = self.levers.normal_forces(f_c, sin_phi);
             let [f0, _, f2, f3] = &mut f;
             if S::QUASI_STATIC.contains(TransDof::CamY) {
@@ -807,7 +809,6 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             if contact && e <= T::ZERO {
                 // The friction opened it: solve it open.
                 contact = false;
-                e0 = T::ZERO;
                 continue;
             }
             x = sol;

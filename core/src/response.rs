@@ -406,7 +406,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> ContactEventFn<'_, T,
         let rate =
             p.lift.dy * p.omega_c + p.velocity(TransDof::CamY) - p.velocity(TransDof::RollerY);
         let e = p.k_h * approach + model.preload();
-        let c_h = model.design().c_h(p.k_h);
+        let c_h = model.contact_damping(p.k_h);
         if c_h == T::ZERO {
             e
         } else {

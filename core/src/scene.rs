@@ -201,6 +201,16 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// No layout: no state at all (what [`Scene::LAYOUT`] falls back to for a set
+    /// [`Layout::try_reduced`] refuses; the `scenes!` definitions assert that none does).
+    pub const NONE: Layout = Layout {
+        drive: DriveKind::ConstantCamSpeed,
+        dofs: DofSet::NONE,
+        quasi: DofSet::NONE,
+        rotational: 0,
+        states: 0,
+    };
+
     /// The layout for a drive kind and a DOF set, all of it dynamic; `None` if the set
     /// lacks a DOF the contact, the return spring or the output needs (y2, y3, y5).
     pub const fn try_new(drive: DriveKind, dofs: DofSet) -> Option<Layout> {
@@ -348,12 +358,13 @@ pub trait Scene:
     /// Of [`Scene::DOFS`], those solved quasi-statically ([`crate::QuasiStatic`]): none
     /// for the full follower.
     const QUASI_STATIC: DofSet = DofSet::NONE;
-    /// The state layout; a scene lacking y2, y3 or y5, or with a quasi-static set that is
-    /// not a run of the vertical chain, fails to compile here (the `panic!` below runs in
-    /// const evaluation, at compile time; it cannot reach a running program).
+    /// The state layout ([`Layout::try_reduced`]). A scene lacking y2, y3 or y5, or with a
+    /// quasi-static set that is not a run of the vertical chain, does not compile: the
+    /// `scenes!` definition asserts its layout at compile time (the trait is sealed, so
+    /// every scene is one of those), and [`Layout::NONE`] here is never a scene's.
     const LAYOUT: Layout = match Layout::try_reduced(Self::DRIVE, Self::DOFS, Self::QUASI_STATIC) {
         Some(l) => l,
-        None => panic!("a scene must keep y2, y3 and y5, and solve a run of the vertical chain quasi-statically"),
+        None => Layout::NONE,
     };
     /// The state length N.
     const N: usize = Self::LAYOUT.states();
@@ -501,8 +512,16 @@ macro_rules! scenes {
             const DOFS: DofSet = $dofs;
             $(const QUASI_STATIC: DofSet = $quasi;)?
         }
-        // Evaluated here, so a scene with an impossible layout does not compile.
-        const _: Layout = <$scene as Scene>::LAYOUT;
+        // Checked here, at compile time: a scene with an impossible layout does not compile.
+        const _: () = assert!(
+            Layout::try_reduced(
+                <$scene as Scene>::DRIVE,
+                <$scene as Scene>::DOFS,
+                <$scene as Scene>::QUASI_STATIC
+            )
+            .is_some(),
+            "a scene must keep y2, y3 and y5, and solve a run of the vertical chain quasi-statically"
+        );
         #[doc = concat!("The model of the [`", stringify!($scene), "`] scene.")]
         pub type $model<T> = CamModel<T, $scene, { <$scene as Scene>::N }>;
     )+};

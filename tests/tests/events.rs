@@ -3,6 +3,7 @@
 
 use std::ops::ControlFlow;
 
+use camsim::bench::settings;
 use camsim_core::{
     England, EnglandConfig, Event, EventConfig, EventFunction, OdeSystem, Real, Report,
     StepControl, Tolerance,
@@ -218,7 +219,7 @@ fn discarded_steps_are_counted() {
 
 use camsim_core::{
     simulate, simulate_events, solver_config, ContactEventFn, ContactEventSettings, Design,
-    RegulatedFullModel, SolverSettings, SolverStats, Start,
+    RegulatedFullModel, SolverStats,
 };
 
 fn weak_spring_model(rpm: f64) -> RegulatedFullModel<f64> {
@@ -227,15 +228,6 @@ fn weak_spring_model(rpm: f64) -> RegulatedFullModel<f64> {
     d.k_rs = 30.0;
     d.k_rs_modal = 30.0;
     RegulatedFullModel::new(d).unwrap()
-}
-
-fn settings(rtol: f64) -> SolverSettings<f64> {
-    SolverSettings {
-        rtol,
-        atol: 1e-3 * rtol,
-        start: Start::Static,
-        ..SolverSettings::reference()
-    }
 }
 
 /// What one run of the model gives: work, event angles, and samples on a uniform time

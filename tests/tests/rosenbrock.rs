@@ -7,16 +7,8 @@ use std::time::Instant;
 
 use camsim::bench::methods::{run, Method};
 use camsim::bench::sample::{Sampler, Samples};
-use camsim_core::{Design, RegulatedFullModel, SolverSettings, Start};
-
-fn settings(rtol: f64) -> SolverSettings<f64> {
-    SolverSettings {
-        rtol,
-        atol: 1e-3 * rtol,
-        start: Start::Static,
-        ..SolverSettings::reference()
-    }
-}
+use camsim::bench::settings;
+use camsim_core::{Design, RegulatedFullModel};
 
 #[test]
 #[ignore]

@@ -388,8 +388,9 @@ impl Memory {
     }
 }
 
-/// Solver settings with `rtol`, atol [`atol_for`] and the default largest step.
-fn settings<T: Real>(rtol: f64) -> SolverSettings<T> {
+/// Solver settings with `rtol`, atol [`atol_for`] and the default largest step, from
+/// static equilibrium (every run of the bench).
+pub fn settings<T: Real>(rtol: f64) -> SolverSettings<T> {
     SolverSettings {
         rtol: T::from_f64(rtol),
         atol: T::from_f64(atol_for(rtol)),
@@ -479,7 +480,8 @@ where
     })
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// The median of `v` (sorted in place; NaN when empty).
+pub fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     match v.len() {
         0 => f64::NAN,
@@ -488,25 +490,40 @@ fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-/// The design of the bench at `rpm`.
-fn design_at(rpm: f64) -> Result<Design<f64>> {
+/// The reference design at `rpm`.
+pub fn design_at(rpm: f64) -> Result<Design<f64>> {
     let mut d = Design::reference();
     d.set_speed_rpm(rpm)?;
     Ok(d)
 }
 
 /// Whether the follower leaves the cam in revolution 2 at `rpm` with `method` (a run
-/// that fails after the follower left the cam counts as leaving it).
+/// that fails after the follower left the cam counts as leaving it): the full model.
 fn jumps_at<T>(method: Method, rpm: f64, rtol: f64) -> Result<bool>
 where
     T: Real + FloatNumber,
     f64: From<T>,
 {
-    let model =
-        CamModel::<T, RegulatedFull, { RegulatedFull::N }>::new(design_at(rpm)?.cast::<T>()?)?;
-    let s = settings::<T>(rtol);
+    let design = Design::reference();
+    scene_jumps_at::<T, RegulatedFull, { RegulatedFull::N }>(method, &design, rpm, &settings(rtol))
+}
+
+/// [`jumps_at`] for scene `S`'s model of `design` moved to `rpm`, with `settings`.
+pub fn scene_jumps_at<T, S: Scene, const N: usize>(
+    method: Method,
+    design: &Design<f64>,
+    rpm: f64,
+    settings: &SolverSettings<T>,
+) -> Result<bool>
+where
+    T: Real + FloatNumber,
+    f64: From<T>,
+{
+    let mut d = design.clone();
+    d.set_speed_rpm(rpm)?;
+    let model = CamModel::<T, S, N>::new(d.cast::<T>()?)?;
     let mut sampler = Sampler::new(&model, REVOLUTIONS, Some(MEASURED)).watch_contact();
-    match methods::run(method, &model, &s, REVOLUTIONS, &mut sampler) {
+    match methods::run(method, &model, settings, REVOLUTIONS, &mut sampler) {
         _ if sampler.separated_in_sampled => Ok(true),
         Ok(_) => Ok(false),
         Err(_) if sampler.separated => Ok(true),
@@ -521,13 +538,26 @@ where
     T: Real + FloatNumber,
     f64: From<T>,
 {
-    let (mut lo, mut hi) = ONSET_BRACKET;
-    if jumps_at::<T>(method, lo, rtol)? || !jumps_at::<T>(method, hi, rtol)? {
+    onset_by_bisection(ONSET_BRACKET, ONSET_RESOLUTION, |rpm| {
+        jumps_at::<T>(method, rpm, rtol)
+    })
+}
+
+/// The lowest speed at which `jumps` holds, by bisection in `bracket` (rpm) until it is
+/// `resolution` wide: the midpoint of the last bracket. An error unless the bracket's low
+/// end holds contact and its high end jumps.
+pub fn onset_by_bisection(
+    bracket: (f64, f64),
+    resolution: f64,
+    mut jumps: impl FnMut(f64) -> Result<bool>,
+) -> Result<f64> {
+    let (mut lo, mut hi) = bracket;
+    if jumps(lo)? || !jumps(hi)? {
         bail!("the jump onset is not within {lo}-{hi} rpm");
     }
-    while hi - lo > ONSET_RESOLUTION {
+    while hi - lo > resolution {
         let mid = 0.5 * (lo + hi);
-        if jumps_at::<T>(method, mid, rtol)? {
+        if jumps(mid)? {
             hi = mid;
         } else {
             lo = mid;

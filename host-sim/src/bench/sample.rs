@@ -335,16 +335,8 @@ impl<T: Real, const N: usize> NodeHermite<T, N> {
 mod tests {
     use super::*;
     use crate::bench::methods::{run, Method};
-    use camsim_core::{Design, RegulatedFull, RegulatedFullModel, SolverSettings, Start};
-
-    fn settings(rtol: f64) -> SolverSettings<f64> {
-        SolverSettings {
-            rtol,
-            atol: 1e-3 * rtol,
-            start: Start::Static,
-            ..SolverSettings::reference()
-        }
-    }
+    use crate::bench::settings;
+    use camsim_core::{Design, RegulatedFull, RegulatedFullModel};
 
     /// Every sample sits at its cam angle (the Newton iteration on the interpolant
     /// converged) and the run stops at the end of revolution 2.

@@ -8,7 +8,7 @@
 use std::fmt::Write;
 use std::time::Instant;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use camsim_core::{
     simulate, steady_state_at, timing_points, CamModel, Design, England, FollowerModel,
     RegulatedFull, RegulatedMasslessRoller, RegulatedQsCantilever, RegulatedQsRod,
@@ -20,6 +20,7 @@ use serde::Serialize;
 use crate::bench::methods::{self, Method, Work};
 use crate::bench::sample::{Sampler, Samples};
 use crate::bench::stability;
+use crate::bench::{design_at, median, onset_by_bisection, scene_jumps_at, ONSET_BRACKET};
 use crate::report::{sorted_pretty_json, Report};
 
 /// Command-line options of `camsim scenes`.
@@ -170,50 +171,13 @@ struct Truth {
     resolution: f64,
 }
 
-/// Whether the follower separates in revolution 2 at `rpm` (a failure after it left the
-/// cam counts as separation).
-fn jumps_at<S: Scene, const N: usize>(
-    design: &Design<f64>,
-    rpm: f64,
-    settings: &SolverSettings<f64>,
-) -> Result<bool> {
-    let mut d = design.clone();
-    d.set_speed_rpm(rpm)?;
-    let model = CamModel::<f64, S, N>::new(d)?;
-    let mut sampler = Sampler::new(&model, 2, Some(2)).watch_contact();
-    match methods::run(Method::England, &model, settings, 2, &mut sampler) {
-        _ if sampler.separated_in_sampled => Ok(true),
-        Ok(_) => Ok(false),
-        Err(_) if sampler.separated => Ok(true),
-        Err(e) => Err(e).with_context(|| format!("at {rpm} rpm")),
-    }
-}
-
-/// The jump-onset speed by bisection in 800-1000 rpm to `resolution` (the midpoint).
-fn onset<S: Scene, const N: usize>(
-    design: &Design<f64>,
-    settings: &SolverSettings<f64>,
-    resolution: f64,
-) -> Result<f64> {
-    let (mut lo, mut hi) = (800.0, 1000.0);
-    if jumps_at::<S, N>(design, lo, settings)? || !jumps_at::<S, N>(design, hi, settings)? {
-        bail!("the jump onset is not within {lo}-{hi} rpm");
-    }
-    while hi - lo > resolution {
-        let mid = 0.5 * (lo + hi);
-        if jumps_at::<S, N>(design, mid, settings)? {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    Ok(0.5 * (lo + hi))
-}
-
-fn design_at(rpm: f64) -> Result<Design<f64>> {
-    let mut d = Design::reference();
-    d.set_speed_rpm(rpm)?;
-    Ok(d)
+/// The jump-onset speed of scene `S` with `settings` by bisection in the bench's bracket
+/// to `resolution`.
+fn onset<S: Scene, const N: usize>(settings: &SolverSettings<f64>, resolution: f64) -> Result<f64> {
+    let design = Design::reference();
+    onset_by_bisection(ONSET_BRACKET, resolution, |rpm| {
+        scene_jumps_at::<f64, S, N>(Method::England, &design, rpm, settings)
+    })
 }
 
 /// Revolution 2's samples (and states) and work of England on scene `S`.
@@ -225,15 +189,6 @@ fn sampled<S: Scene, const N: usize>(
     let work = methods::run(Method::England, model, settings, 2, &mut sampler)?;
     anyhow::ensure!(sampler.complete(), "revolution 2 was not sampled whole");
     Ok((sampler.samples, work))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
 }
 
 fn row<S: Scene, const N: usize>(
@@ -275,12 +230,8 @@ fn row<S: Scene, const N: usize>(
         "{name}: the timed runs differ from steady_state_at"
     );
     let steady = steady.context("no timed run")?;
-    let onset_rpm = onset::<S, N>(&Design::reference(), &settings, truth.resolution)?;
-    let model_onset_rpm = onset::<S, N>(
-        &Design::reference(),
-        &scene_settings(CONVERGED_RTOL),
-        truth.resolution,
-    )?;
+    let onset_rpm = onset::<S, N>(&settings, truth.resolution)?;
+    let model_onset_rpm = onset::<S, N>(&scene_settings(CONVERGED_RTOL), truth.resolution)?;
     let r = &truth.reference;
     let model_onset_err_pct = 100.0 * (model_onset_rpm - r.onset_rpm) / r.onset_rpm;
     let timing_err_deg = steady
@@ -306,7 +257,7 @@ fn row<S: Scene, const N: usize>(
         steps_per_rev: work.accepted as f64 / 2.0,
         rejected_pct: 100.0 * work.rejected as f64 / attempted,
         rhs_evals_per_rev: work.evals as f64 / 2.0,
-        ms_2rev: median(times),
+        ms_2rev: median(&mut times),
         stiffest_rad_s: stab.rho_max,
         stiffest_eigenvalue: stab.stiffest_eigenvalue,
         limit_steps_per_rev: stab.england_double_steps_per_rev,
@@ -338,8 +289,7 @@ pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
     let model = CamModel::<f64, Full, NF>::new(design.clone())?;
     let (samples, _) = sampled(&model, &tight).context("the reference run")?;
     let steady = steady_state_at::<f64, Full, NF>(&design, rpm, &tight)?;
-    let onset_rpm = onset::<Full, NF>(&Design::reference(), &tight, resolution)?;
-    let _ = timing_points(&design.program);
+    let onset_rpm = onset::<Full, NF>(&tight, resolution)?;
     let truth = Truth {
         reference: SceneReference {
             rtol: REFERENCE_RTOL,
