@@ -68,10 +68,7 @@ fn main() {
                     std::process::exit(1);
                 }
             }
-            let name = path.file_name().map_or_else(
-                || path.display().to_string(),
-                |n| n.to_string_lossy().into(),
-            );
+            let name = file_name(&path);
             println!("cargo:rustc-env=CAMSIM_SCENE_NAME={name}");
             println!("cargo:rustc-cfg=camsim_scene");
         }
@@ -104,10 +101,7 @@ fn main() {
                     .unwrap_or_else(|e| panic!("cannot write {}: {e}", profile_out.display())),
                 Err(why) => refuse("CAMSIM_PROFILE", &why),
             }
-            let name = path.file_name().map_or_else(
-                || path.display().to_string(),
-                |n| n.to_string_lossy().into(),
-            );
+            let name = file_name(&path);
             println!("cargo:rustc-env=CAMSIM_PROFILE_NAME={name}");
             println!("cargo:rustc-cfg=camsim_profile");
         }
@@ -115,6 +109,14 @@ fn main() {
             let _ = fs::remove_file(&profile_out);
         }
     }
+}
+
+/// The file name a boot line reports (the whole path if it has none).
+fn file_name(path: &std::path::Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into(),
+    )
 }
 
 /// Stops the build with one line: `error: VAR: why`.
