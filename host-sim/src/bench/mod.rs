@@ -508,7 +508,9 @@ where
     scene_jumps_at::<T, RegulatedFull, { RegulatedFull::N }>(method, &design, rpm, &settings(rtol))
 }
 
-/// [`jumps_at`] for scene `S`'s model of `design` moved to `rpm`, with `settings`.
+/// Whether the follower leaves the cam in revolution 2 (a run that fails after it left
+/// the cam counts as leaving it), for scene `S`'s model of `design` moved to `rpm`, with
+/// `method` and `settings`.
 pub fn scene_jumps_at<T, S: Scene, const N: usize>(
     method: Method,
     design: &Design<f64>,
