@@ -49,7 +49,8 @@ pub use model::scene::{
     RegulatedFull, RegulatedFullModel, RegulatedMasslessRoller, RegulatedMasslessRollerModel,
     RegulatedQsCantilever, RegulatedQsCantileverModel, RegulatedQsRod, RegulatedQsRodModel,
     RegulatedQsShaft, RegulatedQsShaftModel, RegulatedVertical, RegulatedVerticalModel, Scene,
-    StateMut, StateRef, StateVar, TransDof, QUASI_STATIC_CHAIN, RELATIVE_TO_LIFT, TRANS_DOFS,
+    SceneId, SceneVisitor, StateMut, StateRef, StateVar, TransDof, QUASI_STATIC_CHAIN,
+    RELATIVE_TO_LIFT, TRANS_DOFS,
 };
 
 mod solve;
@@ -65,7 +66,7 @@ mod run;
 pub use run::response::{
     period_name, simulate, simulate_events, solver_config, Both, ContactEvent, ContactEventFn,
     ContactEventSettings, JumpInterval, Observer, PeriodStats, ResponseStats, Sample,
-    SolverSettings, Start, Theoretical,
+    SolverSettings, Start, Theoretical, SAMPLE_NUMBERS,
 };
 pub use run::search::{Onset, OnsetSearch, Peak, PeakScan, ScanEnds};
 
