@@ -214,114 +214,12 @@ fn discarded_steps_are_counted() {
 
 // ---------------------------------------------------------------------------------------
 // The cam model with a return spring so weak that the follower leaves the cam every
-// revolution (30 lb/in instead of 100, the jump onset near 494 rpm; tests/stress.rs), at
-// 500 rpm from static equilibrium.
+// revolution (camsim_tests::weak_spring).
 
 use camsim_core::{
-    simulate, simulate_events, solver_config, ContactEventFn, ContactEventSettings, Design,
-    RegulatedFullModel, SolverStats,
+    simulate, simulate_events, ContactEventFn, ContactEventSettings, Design, RegulatedFullModel,
 };
-
-fn weak_spring_model(rpm: f64) -> RegulatedFullModel<f64> {
-    let mut d = Design::reference();
-    d.set_speed_rpm(rpm).unwrap();
-    d.k_rs = 30.0;
-    d.k_rs_modal = 30.0;
-    RegulatedFullModel::new(d).unwrap()
-}
-
-/// What one run of the model gives: work, event angles, and samples on a uniform time
-/// grid of revolution 2 (through the dense output).
-#[derive(Debug, Default)]
-struct ModelRun {
-    stats: SolverStats,
-    event_evals: u32,
-    discarded: u32,
-    /// (cam angle in degrees, unwrapped; separation?) of each event: located, or with
-    /// events off the first step node on the new side.
-    events: Vec<(f64, bool)>,
-    /// Load acceleration and contact force at the grid times.
-    acc: Vec<f64>,
-    force: Vec<f64>,
-}
-
-const GRID: usize = 1440;
-
-fn model_run(model: &RegulatedFullModel<f64>, rtol: f64, events: bool) -> ModelRun {
-    let s = settings(rtol);
-    let revs = 3;
-    let config = solver_config(model, &s, revs).unwrap();
-    let mut solver = England::new(config).unwrap();
-    let mut y = model.static_state();
-    let period = 2.0 * std::f64::consts::PI / model.design().omega0;
-    let t_end = revs as f64 * period;
-    let grid: Vec<f64> = (0..GRID)
-        .map(|k| period * (1.0 + k as f64 / GRID as f64))
-        .collect();
-    let mut out = ModelRun::default();
-    let mut next = 0usize;
-    let mut yd = [0.0; 22];
-    let mut contact = model.evaluate(0.0, &y).in_contact;
-    let gfn = ContactEventFn(model);
-    let mut on_step = |d: &camsim_core::Dense<'_, f64, 22>, out: &mut ModelRun, events: bool| {
-        while next < GRID && grid[next] <= d.t_end() {
-            d.eval(grid[next], &mut yd);
-            let p = model.evaluate(grid[next], &yd);
-            out.acc.push(p.load_acceleration());
-            out.force.push(p.contact_force);
-            next += 1;
-        }
-        if !events {
-            for (t, yn) in [(d.t_mid(), d.nodes()[1]), (d.t_end(), d.nodes()[2])] {
-                let p = model.evaluate(t, yn);
-                if p.in_contact != contact {
-                    contact = p.in_contact;
-                    out.events.push((p.theta_c.to_degrees(), !contact));
-                }
-            }
-        }
-    };
-    if events {
-        let mut found = Vec::new();
-        let (stats, ev) = solver
-            .integrate_events(
-                model,
-                &gfn,
-                &EventConfig::new(1e-9 * period),
-                0.0,
-                &mut y,
-                t_end,
-                |r| {
-                    match r {
-                        Report::Step(d) => on_step(d, &mut out, true),
-                        Report::Event(e, ye) => {
-                            let p = model.evaluate(e.t, ye);
-                            found.push((p.theta_c.to_degrees(), !e.rising));
-                        }
-                    }
-                    ControlFlow::Continue(())
-                },
-            )
-            .unwrap();
-        out.stats = stats;
-        out.event_evals = ev.event_evals;
-        out.discarded = ev.discarded_steps;
-        out.events = found;
-    } else {
-        out.stats = solver
-            .integrate_dense(model, 0.0, &mut y, t_end, |d| {
-                on_step(d, &mut out, false);
-                ControlFlow::Continue(())
-            })
-            .unwrap();
-    }
-    assert_eq!(out.acc.len(), GRID);
-    out
-}
-
-fn rms_diff(a: &[f64], b: &[f64]) -> f64 {
-    (a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt()
-}
+use camsim_tests::weak_spring::{model_run, weak_spring_model};
 
 /// The contact events of the jumping model: the follower leaves the cam and comes back
 /// in each of the 3 revolutions; located events agree with a tight reference's to far
@@ -406,48 +304,4 @@ fn no_event_no_change() {
     assert_eq!(ev.events, 0);
     assert_eq!((sa.accepted, sa.rejected), (sb.accepted, sb.rejected));
     assert_eq!(a, b);
-}
-
-/// Measurement (not a check): `cargo test --release -p camsim-tests --test events --
-/// --ignored --nocapture measure`.
-#[test]
-#[ignore]
-fn measure_weak_spring_with_and_without_events() {
-    let model = weak_spring_model(500.0);
-    let r1 = model_run(&model, 1e-11, true);
-    let r2 = model_run(&model, 1e-10, true);
-    let r3 = model_run(&model, 1e-10, false);
-    println!(
-        "reference (rtol 1e-11, events) against rtol 1e-10 events: acc {:.3e} in/s², force {:.3e} lb; against 1e-10 without events: acc {:.3e}, force {:.3e}",
-        rms_diff(&r1.acc, &r2.acc),
-        rms_diff(&r1.force, &r2.force),
-        rms_diff(&r1.acc, &r3.acc),
-        rms_diff(&r1.force, &r3.force)
-    );
-    println!("reference events (deg): {:?}", &r1.events);
-    let acc_rms = (r1.acc.iter().map(|a| a * a).sum::<f64>() / GRID as f64).sqrt();
-    let fmax = r1.force.iter().cloned().fold(0.0, f64::max);
-    println!("signal: acc RMS {acc_rms:.4e} in/s², largest sampled force {fmax:.4} lb");
-    println!("rtol   events accepted rejected rej%  rhs_evals g_evals discarded  sep1 err(deg)  rec1 err(deg)  acc err    force err  fmax err");
-    for rtol in [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8] {
-        for events in [false, true] {
-            let r = model_run(&model, rtol, events);
-            let e = |k: usize| r.events.get(k).map_or(f64::NAN, |x| x.0 - r1.events[k].0);
-            let fm = r.force.iter().cloned().fold(0.0, f64::max);
-            println!(
-                "{rtol:.0e} {events:>6} {:>8} {:>8} {:>5.1} {:>10} {:>7} {:>9} {:>13.3e} {:>14.3e} {:>9.3e} {:>10.3e} {:>9.3e}",
-                r.stats.accepted,
-                r.stats.rejected,
-                100.0 * r.stats.rejected as f64 / (r.stats.accepted + r.stats.rejected) as f64,
-                r.stats.rhs_evals,
-                r.event_evals,
-                r.discarded,
-                e(0),
-                e(1),
-                rms_diff(&r.acc, &r1.acc),
-                rms_diff(&r.force, &r1.force),
-                fm - fmax
-            );
-        }
-    }
 }

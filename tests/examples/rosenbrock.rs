@@ -1,6 +1,6 @@
 //! The linearly implicit Rosenbrock-W method of `camsim bench` (ROS34PW2,
-//! host-sim/src/bench/rosenbrock.rs) against England on the model: a measurement, run
-//! with `cargo test --release -p camsim-tests --test rosenbrock -- --ignored --nocapture`.
+//! host-sim/src/bench/rosenbrock.rs) against England on the model: a measurement, not a
+//! check, run with `cargo run --release -p camsim-tests --example rosenbrock`.
 //! (Its order on closed forms is tested in host-sim's unit tests.)
 
 use std::time::Instant;
@@ -10,9 +10,7 @@ use camsim::bench::sample::{Sampler, Samples};
 use camsim::bench::settings;
 use camsim_core::{Design, RegulatedFullModel};
 
-#[test]
-#[ignore]
-fn measure_rosenbrock_against_england() {
+fn main() {
     let mut d = Design::reference();
     d.set_speed_rpm(500.0).unwrap();
     let model = RegulatedFullModel::new(d).unwrap();
