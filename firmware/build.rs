@@ -19,8 +19,8 @@
 //! `camsim_chip::CHIP_PROFILE_MAX_KNOTS` − 1 rows), turned into the deviation knots on
 //! the scene's `f64` design (`Measured::deviation_knots`: rows as they are, a lift minus
 //! the program, or a radius profile's roller envelope), narrowed to `f32` and checked by
-//! the chip's own spline (`camsim_chip::chip_deviation_into`, which the firmware and `camsim
-//! predict --f32 --measured` call too), then written as two `f32` arrays (angle, rad, and
+//! the chip's own spline (`DeviatedLift::refit_periodic` on the chip's `ChipDeviation`,
+//! which the firmware and `camsim predict --f32 --measured` call too), then written as two `f32` arrays (angle, rad, and
 //! deviation, in, as raw bits) into `OUT_DIR/profile.rs`, compiled into flash
 //! (`workload::chip_lift` splines them at boot). A refused file fails the build with one
 //! line naming the file and the line.
@@ -146,7 +146,7 @@ fn profile_source(path: &Path, design: &Design<f64>) -> Result<String, String> {
     let v: Vec<f32> = values.iter().map(|x| f32::from_f64(*x)).collect();
     // The chip's own spline must accept them (the firmware builds it at boot).
     let mut dev = Box::new(camsim_chip::ChipDeviation::<f32, MAX>::EMPTY);
-    camsim_chip::chip_deviation_into(&mut dev, &k, &v)
+    dev.refit_periodic(&k, &v)
         .map_err(|e| format!("{}: in f32, the chip's precision: {e}", path.display()))?;
     let n = k.len();
     let array = |xs: &[f32]| {

@@ -18,9 +18,9 @@
 #![warn(missing_docs)]
 
 use camsim_core::{
-    steady_state_at, steady_state_on, CamModel, CaptureEvent, CaptureTimer, Design, DeviatedLift,
-    IndexPulse, IndexPulseConfig, JumpAlarm, LiftProfile, PredictionTable, Real, RegulatedQsRod,
-    Result, Scene, SolverSettings, SpeedPrediction, SpeedReading, Start, SteadyState,
+    steady_state, CamModel, CaptureEvent, CaptureTimer, Design, DeviatedLift, IndexPulse,
+    IndexPulseConfig, JumpAlarm, LiftProfile, PredictionTable, Real, RegulatedQsRod, Result, Scene,
+    SolverSettings, SpeedPrediction, SpeedReading, Start, SteadyState, TheoreticalLift,
 };
 
 /// The chip's scene: regulated drive, vertical, the follower train quasi-static up to the
@@ -86,29 +86,75 @@ pub fn chip_grid_rpm<T: Real>() -> [T; CHIP_GRID] {
     CHIP_GRID_RPM.map(T::from_f64)
 }
 
-/// Builds the chip's prediction table for `design` (the boot-time computation).
-pub fn chip_prediction_table<T: Real>(design: &Design<T>) -> Result<PredictionTable<T, CHIP_GRID>> {
-    chip_prediction_table_with(design, &chip_solver_settings())
+/// The chip's predictor for one design on one lift, with its solver settings: the value
+/// the firmware builds at boot and `camsim predict --f32` builds on the host, so both run
+/// the same arithmetic. [`ChipConfig::new`] gives the chip's settings on the theoretical
+/// cam; [`ChipConfig::on`] puts the roller on a measured profile and
+/// [`ChipConfig::with_settings`] changes the settings (the firmware's boot-fault test
+/// gives an impossible step budget).
+///
+/// ```
+/// use camsim_chip::{chip_design, ChipConfig};
+/// let design = chip_design::<f64>();
+/// let chip = ChipConfig::new(&design);
+/// let direct = chip.steady_state(600.0).unwrap();
+/// assert!(!direct.jumped);
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct ChipConfig<'a, T, P = TheoreticalLift> {
+    /// The design (the one compiled in, or a scene's in the chip's precision).
+    pub design: &'a Design<T>,
+    /// The lift the roller rides on: the program, or a reference to a measured profile's
+    /// [`ChipDeviation`].
+    pub lift: P,
+    /// The solver settings ([`chip_solver_settings`] unless changed).
+    pub settings: SolverSettings<T>,
 }
 
-/// [`chip_prediction_table`] with other solver settings (the firmware's boot-fault test
-/// gives it an impossible step budget).
-pub fn chip_prediction_table_with<T: Real>(
-    design: &Design<T>,
-    settings: &SolverSettings<T>,
-) -> Result<PredictionTable<T, CHIP_GRID>> {
-    PredictionTable::build::<ChipScene, CHIP_STATES>(
-        design,
-        chip_grid_rpm(),
-        T::from_f64(CHIP_MAX_RPM),
-        T::from_f64(CHIP_RESOLUTION_RPM),
-        settings,
-    )
+impl<'a, T: Real> ChipConfig<'a, T> {
+    /// The chip's configuration for `design` on the theoretical cam.
+    pub fn new(design: &'a Design<T>) -> Self {
+        Self {
+            design,
+            lift: TheoreticalLift,
+            settings: chip_solver_settings(),
+        }
+    }
 }
 
-/// The direct steady state at `rpm` with the chip's model (for the interpolation check).
-pub fn chip_steady_state<T: Real>(design: &Design<T>, rpm: T) -> Result<SteadyState<T>> {
-    steady_state_at::<T, ChipScene, CHIP_STATES>(design, rpm, &chip_solver_settings())
+impl<'a, T: Real, P: LiftProfile<T> + Copy> ChipConfig<'a, T, P> {
+    /// The same configuration with the roller riding on `lift`.
+    pub fn on<Q: LiftProfile<T> + Copy>(self, lift: Q) -> ChipConfig<'a, T, Q> {
+        ChipConfig {
+            design: self.design,
+            lift,
+            settings: self.settings,
+        }
+    }
+
+    /// The same configuration with other solver settings.
+    pub fn with_settings(self, settings: SolverSettings<T>) -> Self {
+        Self { settings, ..self }
+    }
+
+    /// The prediction table over [`CHIP_GRID_RPM`] and its jump onset (the boot-time
+    /// computation).
+    pub fn prediction_table(&self) -> Result<PredictionTable<T, CHIP_GRID>> {
+        PredictionTable::build_on::<ChipScene, CHIP_STATES, P>(
+            self.design,
+            self.lift,
+            chip_grid_rpm(),
+            T::from_f64(CHIP_MAX_RPM),
+            T::from_f64(CHIP_RESOLUTION_RPM),
+            &self.settings,
+        )
+    }
+
+    /// The steady state simulated directly at `rpm` with the chip's model (the
+    /// interpolation check).
+    pub fn steady_state(&self, rpm: T) -> Result<SteadyState<T>> {
+        steady_state::<T, ChipScene, CHIP_STATES, P>(self.design, self.lift, rpm, &self.settings)
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -126,57 +172,22 @@ pub const CHIP_PROFILE_MAX_KNOTS: usize = 721;
 /// periodic deviation spline of at most `K` knots.
 pub type ChipDeviation<T, const K: usize> = DeviatedLift<T, K>;
 
-/// The measured profile's deviation from its knots, in place (`dev` may live in a
-/// `static`, so the spline is never copied through the stack): `knots_rad` (strictly
+/// The measured profile's deviation from its knots (returned by value: `3 K + 3` words;
+/// the firmware, whose spline lives in a `static`, calls
+/// [`DeviatedLift::refit_periodic`] in place, as this does): `knots_rad` (strictly
 /// increasing, one revolution from the first to the last, the closing knot) and
 /// `values_in` (the last repeating the first), already in `T` (`T::from_f64` of the
 /// shared reader's `Measured::deviation_knots`). The firmware (knots compiled into flash)
-/// and `camsim predict --measured` both build it here, so the chip and the host's parity
-/// check ride the same spline. Errors (never a panic; `dev` is then left without knots) on
-/// too few or too many knots, a non-finite or non-increasing knot, or a span other than
-/// one revolution.
-pub fn chip_deviation_into<T: Real, const K: usize>(
-    dev: &mut ChipDeviation<T, K>,
-    knots_rad: &[T],
-    values_in: &[T],
-) -> Result<()> {
-    dev.refit_periodic(knots_rad, values_in)
-}
-
-/// [`chip_deviation_into`] into a new deviation (returned by value: `3 K + 3` words).
+/// and `camsim predict --measured` build the same spline. Errors (never a panic) on too
+/// few or too many knots, a non-finite or non-increasing knot, or a span other than one
+/// revolution.
 pub fn chip_deviation<T: Real, const K: usize>(
     knots_rad: &[T],
     values_in: &[T],
 ) -> Result<ChipDeviation<T, K>> {
     let mut dev = ChipDeviation::EMPTY;
-    chip_deviation_into(&mut dev, knots_rad, values_in)?;
+    dev.refit_periodic(knots_rad, values_in)?;
     Ok(dev)
-}
-
-/// [`chip_prediction_table_with`] with the roller riding on `profile` (a
-/// [`ChipDeviation`] by reference, or [`camsim_core::TheoreticalLift`]).
-pub fn chip_prediction_table_on<T: Real, P: LiftProfile<T> + Copy>(
-    design: &Design<T>,
-    profile: P,
-    settings: &SolverSettings<T>,
-) -> Result<PredictionTable<T, CHIP_GRID>> {
-    PredictionTable::build_on::<ChipScene, CHIP_STATES, P>(
-        design,
-        profile,
-        chip_grid_rpm(),
-        T::from_f64(CHIP_MAX_RPM),
-        T::from_f64(CHIP_RESOLUTION_RPM),
-        settings,
-    )
-}
-
-/// [`chip_steady_state`] with the roller riding on `profile`.
-pub fn chip_steady_state_on<T: Real, P: LiftProfile<T>>(
-    design: &Design<T>,
-    profile: P,
-    rpm: T,
-) -> Result<SteadyState<T>> {
-    steady_state_on::<T, ChipScene, CHIP_STATES, P>(design, profile, rpm, &chip_solver_settings())
 }
 
 /// The chip's jump alarm (thresholds [`CHIP_ALARM_ON_MARGIN_RPM`], [`CHIP_ALARM_OFF_MARGIN_RPM`]).
@@ -724,10 +735,10 @@ mod tests {
         assert!(chip_deviation::<f32, 8>(&bad, &v).is_err());
         let half = k.map(|x| x / 2.0);
         let mut dev = ChipDeviation::<f32, 8>::EMPTY;
-        assert!(chip_deviation_into(&mut dev, &half, &v).is_err());
+        assert!(dev.refit_periodic(&half, &v).is_err());
         assert!(dev.spline().is_empty());
-        assert!(chip_deviation_into(&mut dev, &k, &v[..4]).is_err());
-        assert!(chip_deviation_into(&mut dev, &k, &v).is_ok());
+        assert!(dev.refit_periodic(&k, &v[..4]).is_err());
+        assert!(dev.refit_periodic(&k, &v).is_ok());
         assert_eq!(dev, chip_deviation::<f32, 8>(&k, &v).unwrap());
     }
 

@@ -85,6 +85,6 @@ pub use predictor::index_pulse::{
     CaptureEvent, CaptureTimer, IndexPulse, IndexPulseConfig, Rejection, SpeedReading,
 };
 pub use predictor::predict::{
-    steady_state_at, steady_state_on, timing_points, JumpAlarm, PredictionTable, SpeedPrediction,
-    SteadyState, SteadyStateObserver, TimingPoint, TIMING_FRACTIONS, TIMING_POINTS,
+    steady_state, timing_points, JumpAlarm, PredictionTable, SpeedPrediction, SteadyState,
+    SteadyStateObserver, TimingPoint, TIMING_FRACTIONS, TIMING_POINTS,
 };

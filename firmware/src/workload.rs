@@ -21,7 +21,7 @@
 use core::ops::ControlFlow;
 
 use camsim_chip::{
-    chip_prediction_table_on, chip_solver_settings, chip_steady_state_on, CHIP_GRID,
+    chip_solver_settings, ChipConfig, CHIP_GRID,
 };
 use camsim_core::{
     simulate, CamModel, Design, PredictionTable, Sample, Scene, SolverSettings, SpeedPrediction,
@@ -95,7 +95,7 @@ pub type LiftRef = &'static ChipLift;
 pub type LiftRef = camsim_core::TheoreticalLift;
 
 /// The compiled-in lift: the measured profile splined in place, in a `static` (static
-/// RAM: 12 B a knot), from its flash knots by `camsim_chip::chip_deviation_into` (as
+/// RAM: 12 B a knot), from its flash knots by `DeviatedLift::refit_periodic` (as
 /// `camsim predict --f32 --measured` does); or the theoretical cam. Never panics: bad
 /// knots, or a second call (the `static` is built once), are an error.
 pub fn chip_lift() -> Result<LiftRef, camsim_core::Error> {
@@ -108,8 +108,7 @@ pub fn chip_lift() -> Result<LiftRef, camsim_core::Error> {
                 value: 2.0,
             });
         };
-        camsim_chip::chip_deviation_into(
-            lift,
+        lift.refit_periodic(
             &measured_profile::PROFILE_KNOTS_RAD,
             &measured_profile::PROFILE_DEVIATION_IN,
         )?;
@@ -242,7 +241,10 @@ impl Predictor {
     pub fn boot_with(settings: &SolverSettings<f32>) -> Result<Self, camsim_core::Error> {
         let design = chip_design();
         let lift = chip_lift()?;
-        let table = chip_prediction_table_on(&design, lift, settings)?;
+        let table = ChipConfig::new(&design)
+            .on(lift)
+            .with_settings(*settings)
+            .prediction_table()?;
         Ok(Self {
             design,
             lift,
@@ -257,6 +259,6 @@ impl Predictor {
 
     /// The model run directly at `rpm` (for the interpolation-accuracy check at boot).
     pub fn direct(&self, rpm: f32) -> Result<SteadyState<f32>, camsim_core::Error> {
-        chip_steady_state_on(&self.design, self.lift, rpm)
+        ChipConfig::new(&self.design).on(self.lift).steady_state(rpm)
     }
 }

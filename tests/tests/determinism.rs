@@ -131,7 +131,7 @@ fn f32_runs() -> Vec<Vec<u64>> {
     let chip: Vec<u64> = [700.0f32, 950.0]
         .iter()
         .flat_map(|rpm| {
-            let st = camsim_chip::chip_steady_state(&d, *rpm).unwrap();
+            let st = camsim_chip::ChipConfig::new(&d).steady_state(*rpm).unwrap();
             let mut v = vec![
                 u64::from(st.min_contact_force.to_bits()),
                 u64::from(st.min_force_deg.to_bits()),

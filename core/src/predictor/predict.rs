@@ -1,6 +1,6 @@
 //! The cam-timing and jump predictor: the alarm it drives ([`JumpAlarm`]), the steady-state observer ([`SteadyStateObserver`],
-//! [`steady_state_at`]) and the boot-time table ([`PredictionTable`]) with its jump-onset
-//! search ([`OnsetSearch`] over [`steady_state_at`]).
+//! [`steady_state`]) and the boot-time table ([`PredictionTable`]) with its jump-onset
+//! search ([`OnsetSearch`] over [`steady_state`]).
 //!
 //! Hardware stays out of the core: a board adapts its timer capture to
 //! [`crate::CaptureTimer`] (read by [`crate::IndexPulse`], which turns index pulses into
@@ -227,20 +227,12 @@ impl<T: Real> Observer<T> for SteadyStateObserver<T> {
     }
 }
 
-/// Simulates the design at `rpm` for two revolutions and measures the steady state
-/// (the second revolution) with the model of scene `S` (`N = S::N`).
-pub fn steady_state_at<T: Real, S: Scene, const N: usize>(
-    design: &Design<T>,
-    rpm: T,
-    settings: &SolverSettings<T>,
-) -> Result<SteadyState<T>> {
-    steady_state_on::<T, S, N, _>(design, TheoreticalLift, rpm, settings)
-}
-
-/// [`steady_state_at`] with the roller riding on `profile` (an actual or measured cam,
-/// [`crate::DeviatedLift`]; pass a reference to share one profile between runs). The
-/// timing errors stay measured against the design's program.
-pub fn steady_state_on<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
+/// Simulates the design at `rpm` for two revolutions with the model of scene `S`
+/// (`N = S::N`), the roller riding on `profile` ([`TheoreticalLift`] for the perfect cam;
+/// an actual or measured cam, [`crate::DeviatedLift`], by reference to share one profile
+/// between runs), and measures the steady state (the second revolution). The timing
+/// errors are measured against the design's program.
+pub fn steady_state<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
     design: &Design<T>,
     profile: P,
     rpm: T,
@@ -306,7 +298,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
 
     /// [`Self::build`] with the roller riding on `profile` (an actual or measured cam;
     /// a reference to a [`crate::DeviatedLift`] is `Copy`): every run of the table and
-    /// of the onset search uses it ([`steady_state_on`]).
+    /// of the onset search uses it ([`steady_state`]).
     pub fn build_on<S: Scene, const N: usize, P: LiftProfile<T> + Copy>(
         design: &Design<T>,
         profile: P,
@@ -326,7 +318,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
                 });
             }
             prev = *r;
-            *a = steady_state_on::<T, S, N, P>(design, profile, *r, settings)?;
+            *a = steady_state::<T, S, N, P>(design, profile, *r, settings)?;
         }
         // Bracket the onset from the grid where possible: the fastest grid speed without
         // a jump below the first one with a jump.
@@ -340,7 +332,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
             below = Some(*r);
         }
         let jumps =
-            |r: T| steady_state_on::<T, S, N, P>(design, profile, r, settings).map(|s| s.jumped);
+            |r: T| steady_state::<T, S, N, P>(design, profile, r, settings).map(|s| s.jumped);
         let jump_rpm = match (below, above) {
             // The slowest grid speed jumps already.
             (None, Some(first)) => Some(first),

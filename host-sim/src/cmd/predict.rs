@@ -15,7 +15,7 @@
 //! built with `CAMSIM_PROFILE=FILE.csv` does: the same reader
 //! (`camsim_scene_file::measured`, at most `CHIP_PROFILE_MAX_KNOTS - 1` rows), the same
 //! deviation knots on the scene's `f64` design, narrowed to `T` and splined by
-//! `camsim_chip::chip_deviation_into`.
+//! `DeviatedLift::refit_periodic`, the chip's `ChipDeviation`.
 
 use std::path::PathBuf;
 
@@ -23,11 +23,10 @@ use anyhow::{bail, Context, Result};
 use serde::Serialize;
 
 use camsim_chip::{
-    chip_design, chip_design_from, chip_deviation_into, chip_prediction_table_on,
-    chip_solver_settings, chip_steady_state_on, reading_parity, ChipDeviation, ChipMonitor,
-    ChipScene, ChipStep, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM,
-    CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM, CHIP_PROFILE_MAX_KNOTS,
-    CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
+    chip_design, chip_design_from, chip_solver_settings, reading_parity, ChipConfig, ChipDeviation,
+    ChipMonitor, ChipScene, ChipStep, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM,
+    CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
+    CHIP_PROFILE_MAX_KNOTS, CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
 };
 use camsim_core::{
     Design, LiftProfile, Real, Scene, SpeedPrediction, SpeedReading, SteadyState, TheoreticalLift,
@@ -135,7 +134,7 @@ pub fn compute<T: Real>(
             let knots: Vec<T> = k.knots_rad.iter().map(|x| T::from_f64(*x)).collect();
             let values: Vec<T> = k.values_in.iter().map(|x| T::from_f64(*x)).collect();
             let mut dev = Box::new(ChipDeviation::<T, CHIP_PROFILE_MAX_KNOTS>::EMPTY);
-            chip_deviation_into(&mut dev, &knots, &values).map_err(|e| {
+            dev.refit_periodic(&knots, &values).map_err(|e| {
                 anyhow::anyhow!(
                     "the measured profile in {}: {e}",
                     std::any::type_name::<T>()
@@ -151,12 +150,15 @@ fn compute_on<T: Real, P: LiftProfile<T> + Copy>(
     design: &Design<T>,
     profile: P,
 ) -> Result<Prediction<T>> {
-    let table = chip_prediction_table_on(design, profile, &chip_solver_settings())
+    let chip = ChipConfig::new(design).on(profile);
+    let table = chip
+        .prediction_table()
         .map_err(|e| anyhow::anyhow!("the predictor's table (at boot on the chip): {e}"))?;
     let mut checks = Vec::new();
     for r in CHIP_CHECK_RPM {
         let rpm = T::from_f64(r);
-        let direct = chip_steady_state_on(design, profile, rpm)
+        let direct = chip
+            .steady_state(rpm)
             .map_err(|e| anyhow::anyhow!("the interpolation check's direct run at {r} rpm: {e}"))?;
         checks.push(InterpCheck {
             rpm,

@@ -10,9 +10,9 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use camsim_core::{
-    simulate, steady_state_at, timing_points, CamModel, Design, DofSet, DriveKind, England,
+    simulate, steady_state, timing_points, CamModel, Design, DofSet, DriveKind, England,
     FollowerModel, RegulatedFull, Scene, SceneId, SceneVisitor, SolverSettings, Start, SteadyState,
-    SteadyStateObserver, TIMING_POINTS,
+    SteadyStateObserver, TheoreticalLift, TIMING_POINTS,
 };
 use serde::Serialize;
 
@@ -96,7 +96,7 @@ pub struct SceneRow {
     /// Right-hand-side evaluations per revolution.
     pub rhs_evals_per_rev: f64,
     /// Host time of the 2 revolutions of one steady-state evaluation (the chip's pipeline,
-    /// `steady_state_at`, with the model built beforehand), median, ms.
+    /// `steady_state`, with the model built beforehand), median, ms.
     pub ms_2rev: f64,
     /// Largest spectral radius of the scene's Jacobian over revolution 2, 1/s.
     pub stiffest_rad_s: f64,
@@ -216,7 +216,7 @@ fn row<S: Scene, const N: usize>(
     let points = timing_points(&design.program);
     for _ in 0..repeat {
         // The simulation of 2 revolutions alone (the model is built once, beforehand):
-        // what `steady_state_at` runs after building it.
+        // what `steady_state` runs after building it.
         let mut obs = SteadyStateObserver::new(2, points);
         let t0 = Instant::now();
         simulate(&model, &settings, 2, &mut obs)?;
@@ -225,8 +225,14 @@ fn row<S: Scene, const N: usize>(
     }
     // The same as the chip's pipeline computes it.
     anyhow::ensure!(
-        steady == Some(steady_state_at::<f64, S, N>(&design, rpm, &settings)?),
-        "{name}: the timed runs differ from steady_state_at"
+        steady
+            == Some(steady_state::<f64, S, N, _>(
+                &design,
+                TheoreticalLift,
+                rpm,
+                &settings
+            )?),
+        "{name}: the timed runs differ from steady_state"
     );
     let steady = steady.context("no timed run")?;
     let onset_rpm = onset::<S, N>(&settings, truth.resolution)?;
@@ -287,7 +293,7 @@ pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
     let design = design_at(rpm)?;
     let model = CamModel::<f64, Full, NF>::new(design.clone())?;
     let (samples, _) = sampled(&model, &tight).context("the reference run")?;
-    let steady = steady_state_at::<f64, Full, NF>(&design, rpm, &tight)?;
+    let steady = steady_state::<f64, Full, NF, _>(&design, TheoreticalLift, rpm, &tight)?;
     let onset_rpm = onset::<Full, NF>(&tight, resolution)?;
     let truth = Truth {
         reference: SceneReference {
