@@ -58,8 +58,8 @@ pub use solve::controller::{
     initial_step, spectral_radius, Controller, InitialStep, PiController, StepControl, StiffnessCap,
 };
 pub use solve::solver::{
-    rk4_integrate, rk4_step, Dense, England, EnglandConfig, Event, EventConfig, EventFunction,
-    EventStats, OdeSystem, Report, SolverStats, Tolerance,
+    rk4_integrate, rk4_step, rk4_step_from, Dense, England, EnglandConfig, Event, EventConfig,
+    EventFunction, EventStats, OdeSystem, Report, SolverStats, Tolerance,
 };
 
 mod run;

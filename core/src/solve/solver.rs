@@ -1627,12 +1627,27 @@ fn combine<T: Real, const N: usize>(w: [T; 6], y: [&[T; N]; 3], f: [&[T; N]; 3],
 /// One classic fourth-order Runge-Kutta step of size `h` from `(t, y)`, in place (the
 /// left column of Appendix D); 4 right-hand-side evaluations, no error control.
 pub fn rk4_step<T: Real, const N: usize, S: OdeSystem<T, N>>(sys: &S, t: T, y: &mut [T; N], h: T) {
+    let mut k1 = [T::ZERO; N];
+    sys.rhs(t, y, &mut k1);
+    rk4_step_from(sys, t, y, &k1, h);
+}
+
+/// [`rk4_step`] with its first stage `k1 = f(t, y)` given (3 evaluations): for a caller
+/// that already has the derivative at the step's start (an interpolant between step ends,
+/// a sampler), bit for bit the same arithmetic.
+pub fn rk4_step_from<T: Real, const N: usize, S: OdeSystem<T, N>>(
+    sys: &S,
+    t: T,
+    y: &mut [T; N],
+    k1: &[T; N],
+    h: T,
+) {
     let half = h * T::HALF;
-    let mut k = [T::ZERO; N];
+    let mut k = *k1;
     let mut acc = [T::ZERO; N];
     let mut arg = [T::ZERO; N];
     // acc += w k; arg = y + c k.
-    let stage = |arg: &mut [T; N], acc: &mut [T; N], k: &[T; N], w: T, c: T| {
+    let stage = |arg: &mut [T; N], acc: &mut [T; N], k: &[T; N], w: T, c: T, y: &[T; N]| {
         for (((a, s), yi), ki) in arg
             .iter_mut()
             .zip(acc.iter_mut())
@@ -1643,12 +1658,11 @@ pub fn rk4_step<T: Real, const N: usize, S: OdeSystem<T, N>>(sys: &S, t: T, y: &
             *a = *yi + c * *ki;
         }
     };
-    sys.rhs(t, y, &mut k);
-    stage(&mut arg, &mut acc, &k, T::ONE, half);
+    stage(&mut arg, &mut acc, &k, T::ONE, half, y);
     sys.rhs(t + half, &arg, &mut k);
-    stage(&mut arg, &mut acc, &k, T::TWO, half);
+    stage(&mut arg, &mut acc, &k, T::TWO, half, y);
     sys.rhs(t + half, &arg, &mut k);
-    stage(&mut arg, &mut acc, &k, T::TWO, h);
+    stage(&mut arg, &mut acc, &k, T::TWO, h, y);
     sys.rhs(t + h, &arg, &mut k);
     let h6 = h * T::from_f64(1.0 / 6.0);
     for ((yi, s), ki) in y.iter_mut().zip(acc.iter()).zip(k.iter()) {

@@ -6,7 +6,7 @@
 //! - England's method with the PI controller, Hairer's starting step and the stiffness
 //!   cap ([`StepControl::pi_capped`]);
 //! - classic RK4 at a fixed step (a whole number of steps per nominal revolution), the
-//!   arithmetic of `camsim_core::rk4_step` (a unit test holds them bit for bit equal);
+//!   `camsim_core::rk4_step_from`, the core's RK4 from a given first stage;
 //! - Dormand and Prince's 5(4) pair with Hairer's PI controller as the `ode_solvers` crate
 //!   implements it, on the same per-component tolerances (the state is scaled so that the
 //!   crate's scalar absolute tolerance is each component's own), the crate's stiffness
@@ -17,7 +17,8 @@ use std::ops::ControlFlow;
 
 use anyhow::{anyhow, bail, Result};
 use camsim_core::{
-    solver_config, CamModel, England, OdeSystem, Real, Scene, SolverSettings, StepControl,
+    rk4_step_from, solver_config, CamModel, England, OdeSystem, Real, Scene, SolverSettings,
+    StepControl,
 };
 use ode_solvers::dop_shared::{FloatNumber, OutputType, System};
 use ode_solvers::{Dopri5, SVector};
@@ -206,42 +207,6 @@ fn rosenbrock<T: Real, S: Scene, const N: usize>(
     })
 }
 
-/// One classic RK4 step of size `h` from `(t, y)` with `k1 = f(t, y)` given, in place:
-/// the arithmetic of `camsim_core::rk4_step` operation for operation (3 evaluations).
-pub fn rk4_step_from<T: Real, const N: usize, Sys: OdeSystem<T, N>>(
-    sys: &Sys,
-    t: T,
-    y: &mut [T; N],
-    k1: &[T; N],
-    h: T,
-) {
-    let half = h * T::HALF;
-    let mut k = *k1;
-    let mut acc = [T::ZERO; N];
-    let mut arg = [T::ZERO; N];
-    let stage = |arg: &mut [T; N], acc: &mut [T; N], k: &[T; N], w: T, c: T, y: &[T; N]| {
-        for (((a, s), yi), ki) in arg
-            .iter_mut()
-            .zip(acc.iter_mut())
-            .zip(y.iter())
-            .zip(k.iter())
-        {
-            *s += w * *ki;
-            *a = *yi + c * *ki;
-        }
-    };
-    stage(&mut arg, &mut acc, &k, T::ONE, half, y);
-    sys.rhs(t + half, &arg, &mut k);
-    stage(&mut arg, &mut acc, &k, T::TWO, half, y);
-    sys.rhs(t + half, &arg, &mut k);
-    stage(&mut arg, &mut acc, &k, T::TWO, h, y);
-    sys.rhs(t + h, &arg, &mut k);
-    let h6 = h * T::from_f64(1.0 / 6.0);
-    for ((yi, s), ki) in y.iter_mut().zip(acc.iter()).zip(k.iter()) {
-        *yi += h6 * (*s + *ki);
-    }
-}
-
 /// Classic RK4 at `steps_per_rev` steps per nominal revolution; the step ends with
 /// `f(t, y)` (the next step's first stage) feed the Hermite sampler, so the cost is
 /// `4 · steps + 1` evaluations.
@@ -414,23 +379,6 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
-    use camsim_core::{rk4_step, Design, RegulatedFullModel};
-
-    #[test]
-    fn rk4_from_a_given_first_stage_is_core_rk4_bit_for_bit() {
-        let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
-        let h = 1e-6;
-        let mut a = m.static_state();
-        let mut b = a;
-        let mut f = [0.0; 22];
-        for i in 0..50 {
-            let t = h * i as f64;
-            rk4_step(&m, t, &mut a, h);
-            m.rhs(t, &b, &mut f);
-            rk4_step_from(&m, t, &mut b, &f, h);
-            assert_eq!(a, b, "step {i}");
-        }
-    }
 
     /// A unit oscillator `x'' = -x` for the peer's order.
     struct Oscillator;

@@ -25,8 +25,8 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    CamModel, ConstCamVertical, ConstMotorVertical, Design, DriveLaw, Real, RegulatedFull,
-    RegulatedVertical, Scene, SolverSettings, Start,
+    CamModel, ConstCamVertical, ConstMotorVertical, Design, DriveLaw, Onset, OnsetSearch, Real,
+    RegulatedFull, RegulatedVertical, Scene, SolverSettings, Start,
 };
 use ode_solvers::dop_shared::FloatNumber;
 use serde::Serialize;
@@ -546,26 +546,21 @@ where
 }
 
 /// The lowest speed at which `jumps` holds, by bisection in `bracket` (rpm) until it is
-/// `resolution` wide: the midpoint of the last bracket. An error unless the bracket's low
-/// end holds contact and its high end jumps.
+/// `resolution` wide (core's `OnsetSearch::bisect`): the midpoint of the last bracket. An
+/// error unless the bracket's low end holds contact and its high end jumps.
 pub fn onset_by_bisection(
     bracket: (f64, f64),
     resolution: f64,
     mut jumps: impl FnMut(f64) -> Result<bool>,
 ) -> Result<f64> {
-    let (mut lo, mut hi) = bracket;
+    let (lo, hi) = bracket;
     if jumps(lo)? || !jumps(hi)? {
         bail!("the jump onset is not within {lo}-{hi} rpm");
     }
-    while hi - lo > resolution {
-        let mid = 0.5 * (lo + hi);
-        if jumps(mid)? {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
+    match OnsetSearch::new(lo, None, hi, resolution)?.bisect(lo, hi, jumps)? {
+        Onset::Bracketed { below, at } => Ok(0.5 * (below + at)),
+        other => bail!("bisection of a known bracket ended as {other:?}"),
     }
-    Ok(0.5 * (lo + hi))
 }
 
 /// The reference samples and how far the confirming run is from them: (acceleration,
