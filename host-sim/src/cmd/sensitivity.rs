@@ -1035,3 +1035,226 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
     })?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use camsim_core::{modal_analysis, rotational_system};
+    use std::collections::BTreeMap;
+
+    /// Every numeric leaf of a design's serialization, by dotted key.
+    fn leaves(d: &Design<f64>) -> BTreeMap<String, f64> {
+        fn walk(v: &serde_json::Value, path: &str, out: &mut BTreeMap<String, f64>) {
+            match v {
+                serde_json::Value::Object(o) => {
+                    for (k, x) in o {
+                        let p = if path.is_empty() {
+                            k.clone()
+                        } else {
+                            format!("{path}.{k}")
+                        };
+                        walk(x, &p, out);
+                    }
+                }
+                serde_json::Value::Array(a) => {
+                    for (i, x) in a.iter().enumerate() {
+                        walk(x, &format!("{path}[{i}]"), out);
+                    }
+                }
+                serde_json::Value::Number(n) => {
+                    out.insert(path.to_string(), n.as_f64().unwrap());
+                }
+                _ => {}
+            }
+        }
+        let mut out = BTreeMap::new();
+        walk(&serde_json::to_value(d).unwrap(), "", &mut out);
+        out
+    }
+
+    /// The keys whose value differs between two designs, with the ratio new / old.
+    fn changed(a: &Design<f64>, b: &Design<f64>) -> BTreeMap<String, f64> {
+        let (la, lb) = (leaves(a), leaves(b));
+        assert_eq!(la.keys().collect::<Vec<_>>(), lb.keys().collect::<Vec<_>>());
+        la.iter()
+            .filter(|(k, v)| lb[*k] != **v)
+            .map(|(k, v)| (k.clone(), lb[k] / v))
+            .collect()
+    }
+
+    #[test]
+    fn each_group_moves_exactly_its_listed_parameters() {
+        let d = Design::<f64>::reference();
+        let f = 1.37;
+        for g in Group::ALL {
+            let s = scaled(&d, g, f);
+            s.validate().unwrap();
+            let c = changed(&d, &s);
+            let mut want: Vec<&str> = g.keys().to_vec();
+            want.sort_unstable();
+            assert_eq!(
+                c.keys().map(String::as_str).collect::<Vec<_>>(),
+                want,
+                "{g:?}"
+            );
+            for (k, r) in &c {
+                assert!((r - f).abs() < 1e-15, "{g:?} {k}: ratio {r}");
+            }
+            // Neither the return spring nor the Hertz contact nor the program moves.
+            assert_eq!(
+                (s.k_rs, s.delta_rs, s.k_rs_modal),
+                (d.k_rs, d.delta_rs, d.k_rs_modal)
+            );
+            assert_eq!(s.hertz, d.hertz);
+            assert_eq!(s.geometry, d.geometry);
+            assert_eq!(s.program, d.program);
+            // A change of 0 is the baseline exactly.
+            assert_eq!(scaled(&d, g, 1.0), d);
+        }
+        // Without the regulated drive the damping group has no feed-forward to move.
+        let mut ideal = d.clone();
+        ideal.drive = DriveLaw::ConstantCamSpeed;
+        let c = changed(&ideal, &scaled(&ideal, Group::Damping, f));
+        assert_eq!(c.len(), DAMPING_KEYS.len() - 1);
+        assert!(!c.contains_key(key::DRIVE_T_STEADY));
+        // The groups do not overlap.
+        let mut all: Vec<&str> = Group::ALL.iter().flat_map(|g| g.keys().to_vec()).collect();
+        all.sort_unstable();
+        let n = all.len();
+        all.dedup();
+        assert_eq!(all.len(), n);
+    }
+
+    /// The rotational system (Eq. VI.7) is made of the groups' parameters alone: masses
+    /// times λ divide its natural frequencies by sqrt(λ); masses and stiffnesses times λ
+    /// leave them; stiffnesses times λ multiply them by sqrt(λ).
+    #[test]
+    fn natural_frequencies_scale_as_sqrt_of_stiffness_over_mass() {
+        let omegas = |d: &Design<f64>| {
+            let (k, m) = rotational_system(d.i_m, d.i_cp, d.i_c, d.k_s1, d.k_s2);
+            modal_analysis(&k, &m).unwrap().omega
+        };
+        let d = Design::<f64>::reference();
+        let w = omegas(&d);
+        assert!(w[0].abs() < 1e-6 * w[2] && w[1] > 0.0, "{w:?}");
+        for lambda in [0.7, 1.3] {
+            let m = scaled(&d, Group::Mass, lambda);
+            let mk = scaled(&m, Group::Stiffness, lambda);
+            let k = scaled(&d, Group::Stiffness, lambda);
+            for (got, want) in [
+                (omegas(&m), 1.0 / lambda.sqrt()),
+                (omegas(&mk), 1.0),
+                (omegas(&k), lambda.sqrt()),
+            ] {
+                for i in 1..3 {
+                    let r = got[i] / w[i];
+                    assert!(
+                        (r - want).abs() < 1e-12,
+                        "lambda {lambda}: mode {i} ratio {r}, want {want}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn elasticity_is_exact_for_a_power_law_and_undefined_at_zero() {
+        for p in [-2.5, -1.0, 0.0, 0.5, 3.0] {
+            let f = |x: f64| 7.0 * x.powf(p);
+            let x = 3.3;
+            let e = elasticity(f(x * 1.01), f(x * 0.99), 0.01).unwrap();
+            assert!((e - p).abs() < 1e-10, "{p}: {e}");
+        }
+        assert_eq!(elasticity(0.0, 1.0, 0.01), None);
+        assert_eq!(elasticity(1.0, f64::NAN, 0.01), None);
+        assert_eq!(elasticity(1.0, 1.0, 0.0), None);
+    }
+
+    /// The preload F_p = K_t K_rs δ_rs / (K_t + K_rs) (Eq. V.18) through the per-key
+    /// perturbation: its elasticity on δ_rs is 1, on K_rs K_t / (K_t + K_rs), on K_rb
+    /// (K_t / K_rb)·K_rs / (K_t + K_rs), to the central difference's O(h²).
+    #[test]
+    fn preload_elasticities_match_their_closed_forms() {
+        let d = Design::<f64>::reference();
+        let fp = |name: &str, f: f64| key_scaled(&d, name, f).unwrap().preload().unwrap();
+        let e = |name: &str| elasticity(fp(name, 1.01), fp(name, 0.99), 0.01).unwrap();
+        let k_h = d.k_h_base().unwrap();
+        let k_t = 1.0 / (1.0 / d.k_rb + 1.0 / k_h + 1.0 / d.k_vs);
+        assert!((e(key::DELTA_RS) - 1.0).abs() < 1e-12);
+        let want = k_t / (k_t + d.k_rs);
+        assert!(
+            (e(key::K_RS) - want).abs() < 1e-5,
+            "{} {want}",
+            e(key::K_RS)
+        );
+        let want = (k_t / d.k_rb) * d.k_rs / (k_t + d.k_rs);
+        assert!(
+            (e(key::K_RB) - want).abs() < 1e-5 * want.max(1e-3),
+            "{} {want}",
+            e(key::K_RB)
+        );
+    }
+
+    #[test]
+    fn every_per_key_key_moves_one_number_by_its_factor() {
+        let d = Design::<f64>::reference();
+        let keys = per_key_keys(&d).unwrap();
+        // Every design key but ω0, the drive's reference speed, the modal spring rate
+        // and the free play (0).
+        assert_eq!(keys.len(), key::DESIGN_KEYS.len() - 4);
+        for (name, _, value) in keys {
+            let s = key_scaled(&d, name, 1.01).unwrap();
+            let c = changed(&d, &s);
+            assert_eq!(c.len(), 1, "{name}: {c:?}");
+            let (k, r) = c.iter().next().unwrap();
+            assert_eq!(k, name);
+            assert!((r - 1.01).abs() < 1e-15);
+            assert_eq!(leaves(&d)[name], value);
+        }
+        assert!(key_scaled(&d, "no_such_key", 1.01).is_err());
+        assert!(key_scaled(&d, key::K_RB, -1.0).is_err());
+    }
+
+    #[test]
+    fn combined_rms_is_the_duration_weighted_mean_square() {
+        // (1 s at RMS 3, 3 s at RMS 1): sqrt((9 + 3) / 4).
+        assert!((combine_rms(&[(1.0, 3.0), (3.0, 1.0)]) - 3f64.sqrt()).abs() < 1e-15);
+        assert_eq!(combine_rms(&[]), 0.0);
+    }
+
+    /// Revolution 2's RMS deviations combined from the per-period statistics equal the
+    /// same integrals taken directly over the revolution (which also cover the few steps
+    /// that straddle a period boundary, a few of some thousands).
+    #[test]
+    fn combined_rms_matches_the_direct_integral_of_the_revolution() {
+        let mut spec = RunSpec::reference();
+        spec.dofs.horizontal = false;
+        let out = outputs(&spec).unwrap();
+        let mut s = spec.clone();
+        s.revolutions = REVOLUTION;
+        let mut direct = RevolutionIntegrals::new(REVOLUTION, s.design.omega0);
+        sim::run(&s, &mut direct).unwrap();
+        let m = direct.means();
+        let period = 2.0 * std::f64::consts::PI / s.design.omega0;
+        assert!(
+            (direct.duration / period - 1.0).abs() < 0.05,
+            "{}",
+            direct.duration
+        );
+        for (i, v) in out.values()[..3].iter().enumerate() {
+            assert!(
+                (v / m[i] - 1.0).abs() < 2e-3,
+                "output {i}: {v} against {}",
+                m[i]
+            );
+        }
+        // The cam's speed deviation and stress come from the direct integrals.
+        assert_eq!(out.rms_angular_velocity_rad_per_s, m[3]);
+        assert_eq!(out.contact_stress_avg_psi, m[4]);
+        // On the base circle the stress is tens of thousands of psi: a positive average
+        // below the largest per-period stress.
+        assert!(out.contact_stress_avg_psi > 1e4 && out.contact_stress_avg_psi < 3e5);
+        // The same run again: the same numbers (the baseline is a change of 0).
+        assert_eq!(outputs(&spec).unwrap(), out);
+    }
+}
