@@ -530,12 +530,36 @@ pub struct PerKey {
 }
 
 /// What one `--per-key` job computes: the outputs and the onset at one perturbed design.
-type KeyPoint = (Outputs, Option<f64>);
+pub type KeyPoint = (Outputs, Option<f64>);
 
-/// `--per-key` on the theoretical cam of `spec`.
+/// `--per-key` on the theoretical cam of `spec`: [`per_key_with`] with the study's
+/// outputs and the jump-onset speed to `resolution` rpm.
 pub fn per_key(spec: &RunSpec, resolution: f64, threads: usize, progress: bool) -> Result<PerKey> {
-    let keys = per_key_keys(&spec.design)?;
     let base_onset = onset_rpm(spec, resolution)?;
+    let keys = per_key_with(&spec.design, threads, progress, |d| {
+        let mut s = spec.clone();
+        s.design = d.clone();
+        Ok((outputs(&s)?, onset_rpm(&s, resolution)?))
+    })?;
+    Ok(PerKey {
+        step: KEY_STEP,
+        onset_resolution_rpm: resolution,
+        baseline_jump_onset_rpm: base_onset,
+        keys,
+    })
+}
+
+/// Every key of [`per_key_keys`] at ±[`KEY_STEP`] ([`key_scaled`]), `eval` (the outputs
+/// and the onset of a design) on each, in parallel on `threads` threads and collected by
+/// key, so the result does not depend on the thread count; the elasticities ranked by the
+/// onset's magnitude (keys without one last), ties by the largest of the others.
+pub fn per_key_with(
+    design: &Design<f64>,
+    threads: usize,
+    progress: bool,
+    eval: impl Fn(&Design<f64>) -> Result<KeyPoint> + Sync,
+) -> Result<Vec<KeyElasticity>> {
+    let keys = per_key_keys(design)?;
     let jobs: Vec<(usize, f64)> = (0..keys.len())
         .flat_map(|i| [(i, 1.0 + KEY_STEP), (i, 1.0 - KEY_STEP)])
         .collect();
@@ -549,12 +573,9 @@ pub fn per_key(spec: &RunSpec, resolution: f64, threads: usize, progress: bool) 
         jobs.par_iter()
             .map(|&(i, f)| {
                 let (name, _, _) = keys[i];
-                let r = (|| -> Result<KeyPoint> {
-                    let mut s = spec.clone();
-                    s.design = key_scaled(&spec.design, name, f)?;
-                    Ok((outputs(&s)?, onset_rpm(&s, resolution)?))
-                })()
-                .with_context(|| format!("key {name} times {f}"));
+                let r = key_scaled(design, name, f)
+                    .and_then(|d| eval(&d))
+                    .with_context(|| format!("key {name} times {f}"));
                 bar.inc(1);
                 r
             })
@@ -602,12 +623,7 @@ pub fn per_key(spec: &RunSpec, resolution: f64, threads: usize, progress: bool) 
             .total_cmp(&onset(a))
             .then(rest(b).total_cmp(&rest(a)))
     });
-    Ok(PerKey {
-        step: KEY_STEP,
-        onset_resolution_rpm: resolution,
-        baseline_jump_onset_rpm: base_onset,
-        keys: out,
-    })
+    Ok(out)
 }
 
 /// A progress bar on standard error when it is a terminal and `want`, hidden otherwise.
@@ -1256,5 +1272,56 @@ mod tests {
         assert!(out.contact_stress_avg_psi > 1e4 && out.contact_stress_avg_psi < 3e5);
         // The same run again: the same numbers (the baseline is a change of 0).
         assert_eq!(outputs(&spec).unwrap(), out);
+    }
+
+    /// `--per-key`'s bookkeeping on a model whose outputs are power laws of the keys:
+    /// each elasticity is its exponent, whatever the thread count, and the ranking
+    /// follows the onset's magnitude.
+    #[test]
+    fn per_key_recovers_the_exponents_of_a_power_law_model_and_ranks_by_the_onset() {
+        let eval = |d: &Design<f64>| -> Result<KeyPoint> {
+            let out = Outputs {
+                rms_displacement_in: d.k_rs.powf(0.5) * d.m_l.powf(-2.0),
+                rms_velocity_in_per_s: d.rho.powf(1.5),
+                rms_acceleration_in_per_s2: 3.0,
+                rms_angular_velocity_rad_per_s: d.k_s1.powf(-0.25),
+                contact_stress_avg_psi: d.hertz.youngs_1.powf(0.5),
+                jump: false,
+            };
+            // No onset when the roller is light (a key without one ranks last).
+            let onset =
+                (d.m_r >= 0.00013).then(|| 900.0 * (d.k_rs / d.rho).sqrt() * d.e1.powf(0.1));
+            Ok((out, onset))
+        };
+        let d = Design::<f64>::reference();
+        let one = per_key_with(&d, 1, false, eval).unwrap();
+        let two = per_key_with(&d, 2, false, eval).unwrap();
+        assert_eq!(one, two);
+        assert_eq!(one.len(), per_key_keys(&d).unwrap().len());
+        let get = |k: &str| one.iter().find(|x| x.key == k).unwrap().elasticity.clone();
+        let close = |a: Option<f64>, b: f64| (a.unwrap() - b).abs() < 1e-9;
+        assert!(close(get(key::K_RS).rms_displacement_in, 0.5));
+        assert!(close(get(key::M_L).rms_displacement_in, -2.0));
+        assert!(close(get(key::RHO).rms_velocity_in_per_s, 1.5));
+        assert!(close(get(key::K_S1).rms_angular_velocity_rad_per_s, -0.25));
+        assert!(close(get(key::ROLLER_YOUNGS).contact_stress_avg_psi, 0.5));
+        assert!(close(get(key::K_RS).jump_onset_rpm, 0.5));
+        assert!(close(get(key::RHO).jump_onset_rpm, -0.5));
+        assert!(close(get(key::E1).jump_onset_rpm, 0.1));
+        assert!(close(get(key::C_MB).jump_onset_rpm, 0.0));
+        assert!(close(get(key::C_MB).rms_acceleration_in_per_s2, 0.0));
+        // The roller's mass at −1 % has no onset: no elasticity, ranked last.
+        assert_eq!(get(key::M_R).jump_onset_rpm, None);
+        assert_eq!(one.last().unwrap().key, key::M_R);
+        // Ranked by |onset|: ρ and K_rs tie at 0.5, ρ first by its larger other
+        // elasticity (1.5 against K_rs's 0.5), then e1 (0.1).
+        let top: Vec<&str> = one.iter().take(3).map(|k| k.key).collect();
+        assert_eq!(top, [key::RHO, key::K_RS, key::E1]);
+        // A failing evaluation names the key.
+        let e = per_key_with(&d, 1, false, |_| -> Result<KeyPoint> {
+            anyhow::bail!("boom")
+        })
+        .unwrap_err();
+        assert!(format!("{e:#}").contains("times 1.01: boom"), "{e:#}");
     }
 }
