@@ -269,6 +269,15 @@ pub const OUTPUTS: [(&str, &str, &str); 5] = [
     ("contact_stress_avg_psi", "avg stress", "psi"),
 ];
 
+/// The plot's title of each output, in [`OUTPUTS`]' order.
+const PLOT_TITLES: [&str; 5] = [
+    "RMS load displacement deviation",
+    "RMS load velocity deviation",
+    "RMS load acceleration deviation",
+    "RMS cam speed deviation",
+    "average contact stress",
+];
+
 impl Outputs {
     /// The five numbers, in [`OUTPUTS`]' order.
     pub fn values(&self) -> [f64; 5] {
@@ -940,7 +949,7 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
             .map_err(|x| e(&x))?;
         let (legend, body) = root.split_vertically(40);
         // The legend: one swatch per change, on its own strip above the charts.
-        let mut x = 620;
+        let mut x = 420;
         for &c in &changes {
             legend
                 .draw(&Rectangle::new([(x, 10), (x + 30, 30)], colour(c).filled()))
@@ -957,15 +966,44 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 .map_err(|x| e(&x))?;
             x += 240;
         }
-        let areas = body.split_evenly((cams.len(), OUTPUTS.len()));
-        for (ci, cam) in cams.iter().enumerate() {
+        legend
+            .draw(&Text::new(
+                "\"jump\": the follower separates in that case",
+                (x + 20, 20),
+                ("sans-serif", 16)
+                    .into_font()
+                    .into_text_style(&legend)
+                    .pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(|x| e(&x))?;
+        let p = &r.actual_profile;
+        let rows = body.split_evenly((cams.len(), 1));
+        for (cam, row) in cams.iter().zip(rows.iter()) {
             let base = r.baseline.iter().find(|c| c.cam == *cam);
-            for (oi, (_, head, unit)) in OUTPUTS.iter().enumerate() {
-                let Some(area) = areas.get(ci * OUTPUTS.len() + oi) else {
+            let row_title = match *cam {
+                "actual" => format!(
+                    "actual cam (sample 0 of seed {}, {} intervals, FPR {}){}",
+                    p.seed,
+                    p.intervals,
+                    p.fpr,
+                    if base.is_some_and(|b| b.outputs.jump) {
+                        ": the follower separates at the baseline already"
+                    } else {
+                        ""
+                    }
+                ),
+                _ => "theoretical cam".to_string(),
+            };
+            let row = row
+                .titled(&row_title, ("sans-serif", 19))
+                .map_err(|x| e(&x))?;
+            let areas = row.split_evenly((1, OUTPUTS.len()));
+            for (oi, (_, _, unit)) in OUTPUTS.iter().enumerate() {
+                let Some(area) = areas.get(oi) else {
                     continue;
                 };
-                // (group index, change, % change of the output)
-                let bars: Vec<(usize, i32, f64)> = Group::ALL
+                // (group index, change, % change of the output, separated)
+                let bars: Vec<(usize, i32, f64, bool)> = Group::ALL
                     .iter()
                     .enumerate()
                     .flat_map(|(gi, g)| {
@@ -974,20 +1012,25 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                             .filter(move |c| c.cam == *cam && c.group == g.name())
                             .filter_map(move |c| {
                                 let b = base?.outputs.values()[oi];
-                                Some((gi, c.change_pct, pct(c.outputs.values()[oi], b)?))
+                                Some((
+                                    gi,
+                                    c.change_pct,
+                                    pct(c.outputs.values()[oi], b)?,
+                                    c.outputs.jump,
+                                ))
                             })
                     })
                     .collect();
-                let m = bars.iter().map(|b| b.2.abs()).fold(1.0f64, f64::max) * 1.1;
+                // Room beyond the longest bar for its "jump" mark.
+                let m = bars.iter().map(|b| b.2.abs()).fold(1.0f64, f64::max) * 1.25;
+                let base_jumps = base.is_some_and(|b| b.outputs.jump);
                 let base_text = base.map_or(String::new(), |b| {
-                    format!("baseline {} {unit}", fmt_value(oi, b.outputs.values()[oi]))
+                    format!(" {} {unit}", fmt_value(oi, b.outputs.values()[oi]))
                 });
+                let x_desc = format!("change from the baseline{base_text}, %");
                 let groups = Group::ALL.len() as f64;
                 let mut chart = ChartBuilder::on(area)
-                    .caption(
-                        format!("{cam} cam: {head} ({base_text})"),
-                        ("sans-serif", 15),
-                    )
+                    .caption(PLOT_TITLES[oi], ("sans-serif", 16))
                     .margin(8)
                     .x_label_area_size(40)
                     .y_label_area_size(80)
@@ -1011,7 +1054,7 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                         }
                     })
                     .x_labels(7)
-                    .x_desc("change of the output from the baseline, %")
+                    .x_desc(x_desc.as_str())
                     .x_label_formatter(&|x| format!("{x:+.0}"))
                     .label_style(("sans-serif", 14))
                     .axis_desc_style(("sans-serif", 13))
@@ -1035,15 +1078,34 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 // Within a group's band, one bar per change, the largest decrease on top.
                 let n = changes.len().max(1) as f64;
                 let w = 0.8 / n;
+                let top_of = |gi: usize, c: i32| {
+                    let k = changes.iter().position(|x| *x == c).unwrap_or(0) as f64;
+                    gi as f64 + 0.9 - k * w
+                };
                 chart
-                    .draw_series(bars.iter().map(|&(gi, c, d)| {
-                        let k = changes.iter().position(|x| *x == c).unwrap_or(0) as f64;
-                        let top = gi as f64 + 0.9 - k * w;
+                    .draw_series(bars.iter().map(|&(gi, c, d, _)| {
+                        let top = top_of(gi, c);
                         Rectangle::new(
                             [(0.0, top - 0.1 * w), (d, top - 0.9 * w)],
                             colour(c).filled(),
                         )
                     }))
+                    .map_err(|x| e(&x))?;
+                // A case that separates where the baseline does not: marked at its bar.
+                chart
+                    .draw_series(bars.iter().filter(|b| b.3 && !base_jumps).map(
+                        |&(gi, c, d, _)| {
+                            let h = if d >= 0.0 { HPos::Left } else { HPos::Right };
+                            Text::new(
+                                " jump ",
+                                (d, top_of(gi, c) - 0.5 * w),
+                                ("sans-serif", 13)
+                                    .into_font()
+                                    .color(&BLACK)
+                                    .pos(Pos::new(h, VPos::Center)),
+                            )
+                        },
+                    ))
                     .map_err(|x| e(&x))?;
             }
         }
