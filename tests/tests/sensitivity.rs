@@ -132,6 +132,7 @@ fn the_plot_is_written_and_usage_errors_exit_2() {
     for bad in [
         &["camsim", "sensitivity", "--threads", "0"][..],
         &["camsim", "sensitivity", "--rpm", "-5"][..],
+        &["camsim", "sensitivity", "--rpm", "1e300"][..],
         &["camsim", "sensitivity", "--interval-deg", "7"][..],
     ] {
         assert_eq!(main_from(bad.iter().copied()), 2, "{bad:?}");

@@ -27,7 +27,6 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileStats};
-use crate::args::positive_finite;
 use crate::cmd::montecarlo::plots;
 use crate::output::{AtomicDir, Plan};
 use crate::report::Report;
@@ -54,8 +53,8 @@ pub const PLOT_FILES: [&str; 1] = ["sensitivity.png"];
 pub struct Args {
     /// Scene file (the reference design if omitted).
     pub scene: Option<PathBuf>,
-    /// Cam speed, rpm (default: the scene's, 800 for the reference).
-    #[arg(long, allow_negative_numbers = true, value_parser = positive_finite)]
+    /// Cam speed, rpm, 1-10 000 (default: the scene's, 800 for the reference).
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::rpm)]
     pub rpm: Option<f64>,
     /// Quick mode for CI: the vertical scene, changes of ±30 % only, and with --per-key
     /// a 1 rpm onset resolution.
