@@ -44,6 +44,8 @@ show contact --force 100
 show predict --f32
 show bench --quick
 show scenes
+# README "The sensitivity study": the groups of VI.4.3 and every key's elasticity (a few minutes).
+show sensitivity --per-key
 
 if [ "${1:-}" = "--firmware" ]; then
     printf '\n$ bash scripts/firmware-ci.sh\n'

@@ -55,22 +55,29 @@ cargo test -p camsim-core --features micromath
 
 step "bench --quick (run time against error, a few points; full runs in BENCHMARKS.md)"
 cargo run --release -q -p camsim -- bench --quick
-step "studies in release: a small Monte Carlo and compare --quick (exit status, JSON)"
+step "studies in release: a small Monte Carlo, compare --quick and sensitivity --quick (exit status, JSON)"
 cargo build --release -p camsim
 studies=$(mktemp -d)
 ./target/release/camsim montecarlo --samples 8 --json > "$studies/montecarlo.json"
 ./target/release/camsim compare --quick --json > "$studies/compare.json"
+./target/release/camsim sensitivity --quick --json > "$studies/sensitivity.json"
 # The reduced scenes against the full model (README, "Reduced scenes"): every scene that
 # claims the jump onset within 1 % of the full model's does so.
 ./target/release/camsim scenes --quick --json > "$studies/scenes.json"
 if command -v jq >/dev/null 2>&1; then
     jq -e '.summary.samples == 8 and (.summary.jump.p | type == "number")' "$studies/montecarlo.json" >/dev/null
     jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.json" >/dev/null
+    # VI.4.3's groups at +-30 % on both cams, a baseline per cam at change 0, every output a number.
+    jq -e '(.baseline | length) == 2 and all(.baseline[]; .change_pct == 0) and (.cases | length) == 12
+           and all(.baseline[], .cases[]; [.rms_displacement_in, .rms_velocity_in_per_s, .rms_acceleration_in_per_s2,
+               .rms_angular_velocity_rad_per_s, .contact_stress_avg_psi] | all(type == "number" and . >= 0))
+           and ([.cases[].group] | unique) == ["damping", "mass", "stiffness"]' "$studies/sensitivity.json" >/dev/null
     jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
            and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/scenes.json" >/dev/null
 else
     python3 -m json.tool "$studies/montecarlo.json" >/dev/null
     python3 -m json.tool "$studies/compare.json" >/dev/null
+    python3 -m json.tool "$studies/sensitivity.json" >/dev/null
     python3 -m json.tool "$studies/scenes.json" >/dev/null
 fi
 rm -rf "$studies"

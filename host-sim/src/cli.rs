@@ -46,6 +46,8 @@ pub enum Command {
     Compare(cmd::compare::Args),
     /// The tolerance and waviness grid of VI.4.1 on the more stable program.
     ToleranceStudy(cmd::tolerance_study::Args),
+    /// Masses, dampers and stiffnesses changed by -30 to +30 %: the sensitivity study of VI.4.3 (--per-key: every key's elasticity).
+    Sensitivity(cmd::sensitivity::Args),
 }
 
 /// Parses a command line (the first item is the program name).
@@ -72,6 +74,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
         Command::Compare(a) => cmd::compare::run(a),
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
+        Command::Sensitivity(a) => cmd::sensitivity::run(a),
     }
 }
 

@@ -11,4 +11,5 @@ pub mod predict;
 pub mod run;
 pub mod scene;
 pub mod scenes;
+pub mod sensitivity;
 pub mod tolerance_study;

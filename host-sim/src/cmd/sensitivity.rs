@@ -1,0 +1,1388 @@
+//! `camsim sensitivity`: the sensitivity study of VI.4.3 (Tables VI.11-VI.12) and, beyond
+//! the thesis, every design key's elasticity.
+//!
+//! Three groups of dynamic characteristics ([`Group`]) are each changed together by
+//! −30, −10, +10 and +30 % ([`scaled`], the one place that says what a group holds;
+//! docs/MODEL.md §11), on the theoretical cam and on one actual cam (sample 0 of the
+//! master seed, built once by [`crate::actual::build_profile`] from the baseline design:
+//! the groups touch neither the program nor the geometry, so every case rides on the
+//! same profile). Each case reports, over the whole of revolution 2 ([`Outputs`]), the
+//! RMS of the load's displacement, velocity and acceleration deviations from the
+//! theoretical response, the RMS of the cam's angular-velocity deviation from ω0, the
+//! time-averaged contact stress, and whether the follower separated.
+//!
+//! `--per-key` ([`per_key`]): d ln(output) / d ln(key) by central differences at ±1 %
+//! of every numeric design key ([`key_scaled`]) on the five outputs (theoretical cam)
+//! and on the jump-onset speed ([`crate::cmd::jump_speed::find`]), ranked by the
+//! onset's.
+
+use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::{anyhow, Context, Result};
+use camsim_core::{key, Design, DriveLaw, Observer, Sample, Start};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::actual::{self, ActualArgs, ProfileStats};
+use crate::cmd::montecarlo::plots;
+use crate::output::{AtomicDir, Plan};
+use crate::report::Report;
+use crate::sim::{self, RunSpec};
+
+/// The changes of every group, % (VI.4.3).
+pub const CHANGES_PCT: [i32; 4] = [-30, -10, 10, 30];
+/// The changes of `--quick`, %.
+pub const QUICK_CHANGES_PCT: [i32; 2] = [-30, 30];
+/// The relative step of `--per-key`'s central differences (±1 %).
+pub const KEY_STEP: f64 = 0.01;
+/// Resolution of `--per-key`'s jump-onset searches, rpm (`--quick`: [`QUICK_ONSET_RESOLUTION_RPM`]).
+/// At a 900 rpm onset and ±1 % steps it resolves an elasticity to 0.01 / 900 / 0.02 ≈ 6e-4.
+pub const ONSET_RESOLUTION_RPM: f64 = 0.01;
+/// `--quick`'s onset resolution, rpm.
+pub const QUICK_ONSET_RESOLUTION_RPM: f64 = 1.0;
+/// The revolution the study measures (the thesis's steady state, as the other studies).
+pub const REVOLUTION: u32 = 2;
+/// The plot `--plot DIR` writes.
+pub const PLOT_FILES: [&str; 1] = ["sensitivity.png"];
+
+/// Command-line options of `camsim sensitivity`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct Args {
+    /// Scene file (the reference design if omitted).
+    pub scene: Option<PathBuf>,
+    /// Cam speed, rpm, 1-10 000 (default: the scene's, 800 for the reference).
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::rpm)]
+    pub rpm: Option<f64>,
+    /// Quick mode for CI: the vertical scene, changes of ±30 % only, and with --per-key
+    /// a 1 rpm onset resolution.
+    #[arg(long)]
+    pub quick: bool,
+    /// Also every design key's elasticity (d ln output / d ln key, central differences
+    /// at ±1 %) on the five outputs and on the jump-onset speed, ranked (theoretical cam).
+    #[arg(long)]
+    pub per_key: bool,
+    /// Worker threads (default: every core). The result does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Print JSON instead of tables.
+    #[arg(long)]
+    pub json: bool,
+    /// Write a tornado-style bar chart (sensitivity.png) into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Replace an existing --plot file.
+    #[arg(long)]
+    pub force: bool,
+    /// The actual cam (sample 0 of --seed; both cams always run, --actual changes nothing).
+    #[command(flatten)]
+    pub actual: ActualArgs,
+}
+
+/// A group of dynamic characteristics changed together (VI.4.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Group {
+    /// Every mass and polar moment of inertia.
+    Mass,
+    /// Every damper.
+    Damping,
+    /// Every structural stiffness (not the return spring, not the Hertz contact).
+    Stiffness,
+}
+
+impl Group {
+    /// The three groups, in the thesis's order.
+    pub const ALL: [Group; 3] = [Group::Mass, Group::Damping, Group::Stiffness];
+
+    /// The name reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Group::Mass => "mass",
+            Group::Damping => "damping",
+            Group::Stiffness => "stiffness",
+        }
+    }
+
+    /// The scene keys [`scaled`] multiplies (the drive's feed-forward only with the
+    /// regulated drive).
+    pub fn keys(self) -> &'static [&'static str] {
+        match self {
+            Group::Mass => &MASS_KEYS,
+            Group::Damping => &DAMPING_KEYS,
+            Group::Stiffness => &STIFFNESS_KEYS,
+        }
+    }
+}
+
+/// The mass group: motor, coupling, cam, cam and shaft, roller, follower rod density
+/// (its two masses M_f and M_fc), load, return spring.
+pub const MASS_KEYS: [&str; 8] = [
+    key::I_M,
+    key::I_CP,
+    key::I_C,
+    key::M_C,
+    key::M_R,
+    key::RHO,
+    key::M_L,
+    key::M_SPRING,
+];
+/// The damping group: the rotational and shaft dampers, the follower's structural
+/// damping ratio, the contact and roller-bearing damping ratios, and the regulated
+/// drive's feed-forward torque, which is the steady drag (C_mb + C_cc) ω_ref by
+/// definition ([`DriveLaw::reference`]) and so moves with C_mb and C_cc (the cam keeps
+/// its speed instead of slowing by the extra drag over the drive's gain).
+pub const DAMPING_KEYS: [&str; 10] = [
+    key::C_MB,
+    key::C_S1,
+    key::C_S2,
+    key::C_CC,
+    key::C_VS,
+    key::C_HS,
+    key::DAMPING_RATIO_F1,
+    key::CONTACT_DAMPING_RATIO,
+    key::ROLLER_BEARING_DAMPING_RATIO,
+    key::DRIVE_T_STEADY,
+];
+/// The stiffness group: both shafts, the cam shaft's supports (vertical and horizontal),
+/// the roller bearing, the follower rod's Young's modulus (K_f, K_vc, K_hc).
+pub const STIFFNESS_KEYS: [&str; 6] = [
+    key::K_S1,
+    key::K_S2,
+    key::K_VS,
+    key::K_HS,
+    key::K_RB,
+    key::YOUNGS,
+];
+
+/// `design` with every parameter of `group` multiplied by `factor` (1.1 for +10 %) and
+/// nothing else changed ([`Group::keys`]; docs/MODEL.md §11).
+///
+/// Damping enters three coefficients through ratios, C = 2 ξ sqrt(K M) (C_f1, C_h,
+/// C_rb): the damping group scales the ratios, so those coefficients scale with it; the
+/// mass and stiffness groups keep the ratios (the fraction of critical damping), so those
+/// coefficients follow sqrt(K M). The return spring's mass is a key of its own (its
+/// default comes from the wire, [`camsim_core::SPRING_MASS`]) and is scaled as a mass;
+/// its rate and the Hertz moduli are not in any group. The preload F_p depends on K_rb
+/// and K_vs (Eq. V.18), so the stiffness group moves it slightly (as it would on a
+/// stiffer machine assembled with the same spring compression).
+pub fn scaled(design: &Design<f64>, group: Group, factor: f64) -> Design<f64> {
+    let mut d = design.clone();
+    match group {
+        Group::Mass => {
+            for x in [
+                &mut d.i_m,
+                &mut d.i_cp,
+                &mut d.i_c,
+                &mut d.m_c,
+                &mut d.m_r,
+                &mut d.rho,
+                &mut d.m_l,
+                &mut d.m_spring,
+            ] {
+                *x *= factor;
+            }
+        }
+        Group::Damping => {
+            for x in [
+                &mut d.c_mb,
+                &mut d.c_s1,
+                &mut d.c_s2,
+                &mut d.c_cc,
+                &mut d.c_vs,
+                &mut d.c_hs,
+                &mut d.damping_ratio_f1,
+                &mut d.contact_damping_ratio,
+                &mut d.roller_bearing_damping_ratio,
+            ] {
+                *x *= factor;
+            }
+            if let DriveLaw::Regulated { t_steady, .. } = &mut d.drive {
+                *t_steady *= factor;
+            }
+        }
+        Group::Stiffness => {
+            for x in [
+                &mut d.k_s1,
+                &mut d.k_s2,
+                &mut d.k_vs,
+                &mut d.k_hs,
+                &mut d.k_rb,
+                &mut d.youngs,
+            ] {
+                *x *= factor;
+            }
+        }
+    }
+    d
+}
+
+/// `design` with the numeric scene key `name` ([`key::DESIGN_KEYS`], dotted for the
+/// sub-tables: `geometry.base_radius_in`) multiplied by `factor`, checked
+/// ([`Design::validate`]). The key is reached through the design's own serialization,
+/// so every scene key works without a list of fields here.
+pub fn key_scaled(design: &Design<f64>, name: &str, factor: f64) -> Result<Design<f64>> {
+    let mut v = serde_json::to_value(design)?;
+    let mut at = &mut v;
+    for part in name.split('.') {
+        at = at
+            .get_mut(part)
+            .ok_or_else(|| anyhow!("key {name}: not a key of this design"))?;
+    }
+    let x = at
+        .as_f64()
+        .ok_or_else(|| anyhow!("key {name}: not a number"))?;
+    *at = serde_json::Value::from(x * factor);
+    let d: Design<f64> = serde_json::from_value(v).with_context(|| format!("key {name}"))?;
+    d.validate()
+        .with_context(|| format!("key {name} times {factor}"))?;
+    Ok(d)
+}
+
+/// The study's outputs over the whole of one revolution.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Outputs {
+    /// RMS of the load's displacement deviation from the theoretical response, in.
+    pub rms_displacement_in: f64,
+    /// RMS of the load's velocity deviation, in/s.
+    pub rms_velocity_in_per_s: f64,
+    /// RMS of the load's acceleration deviation, in/s².
+    pub rms_acceleration_in_per_s2: f64,
+    /// RMS of the cam's angular-velocity deviation from ω0, rad/s.
+    pub rms_angular_velocity_rad_per_s: f64,
+    /// Time average of the largest Hertz contact stress, psi (0 while separated).
+    pub contact_stress_avg_psi: f64,
+    /// Whether the follower left the cam in the revolution.
+    pub jump: bool,
+}
+
+/// The names of the five numeric outputs, in [`Outputs::values`]'s order, with the
+/// text table's header and unit.
+pub const OUTPUTS: [(&str, &str, &str); 5] = [
+    ("rms_displacement_in", "rms y", "in"),
+    ("rms_velocity_in_per_s", "rms v", "in/s"),
+    ("rms_acceleration_in_per_s2", "rms a", "in/s2"),
+    ("rms_angular_velocity_rad_per_s", "rms w_cam", "rad/s"),
+    ("contact_stress_avg_psi", "avg stress", "psi"),
+];
+
+/// The plot's title of each output, in [`OUTPUTS`]' order.
+const PLOT_TITLES: [&str; 5] = [
+    "RMS load displacement deviation",
+    "RMS load velocity deviation",
+    "RMS load acceleration deviation",
+    "RMS cam speed deviation",
+    "average contact stress",
+];
+
+impl Outputs {
+    /// The five numbers, in [`OUTPUTS`]' order.
+    pub fn values(&self) -> [f64; 5] {
+        [
+            self.rms_displacement_in,
+            self.rms_velocity_in_per_s,
+            self.rms_acceleration_in_per_s2,
+            self.rms_angular_velocity_rad_per_s,
+            self.contact_stress_avg_psi,
+        ]
+    }
+}
+
+/// Whole-revolution RMS from per-period RMS values over their own spans:
+/// sqrt(Σ dᵢ rmsᵢ² / Σ dᵢ) for `(duration dᵢ, rmsᵢ)` pairs (each period's mean square
+/// is its integral over its duration, so the revolution's integral is the sum of
+/// dᵢ rmsᵢ²). 0 for no duration.
+pub fn combine_rms(periods: &[(f64, f64)]) -> f64 {
+    let (num, den) = periods.iter().fold((0.0, 0.0), |(n, d), &(dur, rms)| {
+        (n + dur * rms * rms, d + dur)
+    });
+    if den > 0.0 {
+        (num / den).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Time integrals over one revolution, trapezoidal between consecutive samples that both
+/// lie in it (as the per-period statistics, but across the period boundaries too): the
+/// cam-speed deviation and the contact stress, which the per-period statistics do not
+/// keep, and the three load deviations (to check [`combine_rms`] against).
+#[derive(Clone, Debug, Default)]
+pub struct RevolutionIntegrals {
+    /// The revolution (from 1).
+    pub revolution: u32,
+    /// ω0, rad/s.
+    pub omega0: f64,
+    /// Time covered, s.
+    pub duration: f64,
+    /// ∫ (y − y_th)² dt, ∫ (v − v_th)² dt, ∫ (a − a_th)² dt, ∫ (ω_c − ω0)² dt, ∫ σ dt.
+    pub sums: [f64; 5],
+    prev: Option<(f64, [f64; 5])>,
+}
+
+impl RevolutionIntegrals {
+    /// Empty integrals of `revolution` about the speed `omega0`.
+    pub fn new(revolution: u32, omega0: f64) -> Self {
+        Self {
+            revolution,
+            omega0,
+            ..Self::default()
+        }
+    }
+
+    /// RMS (the first four) or mean (the stress) over the time covered.
+    pub fn means(&self) -> [f64; 5] {
+        let m = |s: f64| {
+            if self.duration > 0.0 {
+                s / self.duration
+            } else {
+                0.0
+            }
+        };
+        let [y, v, a, w, s] = self.sums;
+        [m(y).sqrt(), m(v).sqrt(), m(a).sqrt(), m(w).sqrt(), m(s)]
+    }
+}
+
+impl Observer<f64> for RevolutionIntegrals {
+    fn observe(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
+        if s.revolution != self.revolution {
+            self.prev = None;
+            return ControlFlow::Continue(());
+        }
+        let p = &s.point;
+        let f = [
+            (p.load_displacement() - s.theory.y).powi(2),
+            (p.load_velocity() - s.theory.v).powi(2),
+            (p.load_acceleration() - s.theory.a).powi(2),
+            (p.omega_c - self.omega0).powi(2),
+            s.contact_stress,
+        ];
+        if let Some((t0, f0)) = self.prev {
+            let dt = p.t - t0;
+            if dt > 0.0 {
+                self.duration += dt;
+                for ((sum, a), b) in self.sums.iter_mut().zip(f0).zip(f) {
+                    *sum += 0.5 * dt * (a + b);
+                }
+            }
+        }
+        self.prev = Some((p.t, f));
+        ControlFlow::Continue(())
+    }
+}
+
+/// Simulates `spec` (its `revolutions` set to [`REVOLUTION`]) and returns revolution 2's
+/// outputs: the three load deviations from the per-period statistics ([`combine_rms`]),
+/// the cam-speed deviation and the stress from [`RevolutionIntegrals`], and the jump
+/// from the periods' flags.
+pub fn outputs(spec: &RunSpec) -> Result<Outputs> {
+    let mut s = spec.clone();
+    s.revolutions = REVOLUTION;
+    let mut integrals = RevolutionIntegrals::new(REVOLUTION, s.design.omega0);
+    let r = sim::run(&s, &mut integrals)?;
+    let periods: Vec<_> = (0..s.design.program.segments().len())
+        .filter_map(|i| r.stats.period(REVOLUTION, i))
+        .filter(|p| p.samples > 0)
+        .collect();
+    anyhow::ensure!(
+        !periods.is_empty(),
+        "revolution {REVOLUTION} has no samples"
+    );
+    let combine = |f: fn(&camsim_core::PeriodStats<f64>) -> f64| {
+        combine_rms(
+            &periods
+                .iter()
+                .map(|p| (p.duration, f(p)))
+                .collect::<Vec<_>>(),
+        )
+    };
+    let m = integrals.means();
+    let out = Outputs {
+        rms_displacement_in: combine(|p| p.rms_displacement()),
+        rms_velocity_in_per_s: combine(|p| p.rms_velocity()),
+        rms_acceleration_in_per_s2: combine(|p| p.rms_acceleration()),
+        rms_angular_velocity_rad_per_s: m[3],
+        contact_stress_avg_psi: m[4],
+        jump: periods.iter().any(|p| p.jump),
+    };
+    for ((name, _, _), v) in OUTPUTS.iter().zip(out.values()) {
+        anyhow::ensure!(v.is_finite(), "{name} is {v}");
+    }
+    Ok(out)
+}
+
+/// One case of the study (a baseline has group "baseline" and change 0).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Case {
+    /// "mass", "damping", "stiffness" or "baseline".
+    pub group: &'static str,
+    /// The group's change, %.
+    pub change_pct: i32,
+    /// "theoretical" or "actual".
+    pub cam: &'static str,
+    /// Revolution 2's outputs.
+    #[serde(flatten)]
+    pub outputs: Outputs,
+}
+
+/// The elasticities of one key.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KeyElasticity {
+    /// The scene key.
+    pub key: &'static str,
+    /// What it is.
+    pub description: &'static str,
+    /// Its value in the scene.
+    pub value: f64,
+    /// d ln(output) / d ln(key) of each output of [`OUTPUTS`] (absent where an output is
+    /// 0 on either side).
+    pub elasticity: Elasticities,
+}
+
+/// d ln(output) / d ln(key) for each output (absent where not defined).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Elasticities {
+    /// Of the RMS displacement deviation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_displacement_in: Option<f64>,
+    /// Of the RMS velocity deviation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_velocity_in_per_s: Option<f64>,
+    /// Of the RMS acceleration deviation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_acceleration_in_per_s2: Option<f64>,
+    /// Of the RMS cam-speed deviation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_angular_velocity_rad_per_s: Option<f64>,
+    /// Of the average contact stress.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_stress_avg_psi: Option<f64>,
+    /// Of the jump-onset speed (absent when either side has no onset up to 10 000 rpm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jump_onset_rpm: Option<f64>,
+}
+
+impl Elasticities {
+    /// The six, in [`OUTPUTS`]' order and the onset last.
+    pub fn values(&self) -> [Option<f64>; 6] {
+        [
+            self.rms_displacement_in,
+            self.rms_velocity_in_per_s,
+            self.rms_acceleration_in_per_s2,
+            self.rms_angular_velocity_rad_per_s,
+            self.contact_stress_avg_psi,
+            self.jump_onset_rpm,
+        ]
+    }
+}
+
+/// d ln f / d ln x from f at x (1 + h) and x (1 − h): (ln f₊ − ln f₋) / (ln(1 + h) −
+/// ln(1 − h)), exact for a power law f = c xᵖ; None unless both values are positive and
+/// finite.
+pub fn elasticity(f_plus: f64, f_minus: f64, h: f64) -> Option<f64> {
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    (ok(f_plus) && ok(f_minus) && h > 0.0 && h < 1.0)
+        .then(|| (f_plus.ln() - f_minus.ln()) / ((1.0 + h).ln() - (1.0 - h).ln()))
+}
+
+/// The keys `--per-key` perturbs: every numeric design key but the speed (ω0 and the
+/// drive's reference speed: the operating point, which the onset search moves itself),
+/// keys at 0 (no logarithmic derivative: the coupling's free play), and the modal
+/// analysis's spring rate (not in the dynamic model), with its value in `design`.
+pub fn per_key_keys(design: &Design<f64>) -> Result<Vec<(&'static str, &'static str, f64)>> {
+    let v = serde_json::to_value(design)?;
+    let mut out = Vec::new();
+    for &(name, what) in key::DESIGN_KEYS {
+        if [key::OMEGA0, key::DRIVE_OMEGA_REF, key::K_RS_MODAL].contains(&name) {
+            continue;
+        }
+        let mut at = Some(&v);
+        for part in name.split('.') {
+            at = at.and_then(|x| x.get(part));
+        }
+        // The regulated drive's keys are absent with another drive.
+        let Some(x) = at.and_then(|x| x.as_f64()) else {
+            continue;
+        };
+        if x != 0.0 {
+            out.push((name, what, x));
+        }
+    }
+    Ok(out)
+}
+
+/// The jump-onset speed of `spec`'s design, rpm (None: none up to 10 000 rpm), from the
+/// static start as `camsim jump-speed`.
+pub fn onset_rpm(spec: &RunSpec, resolution: f64) -> Result<Option<f64>> {
+    let mut s = spec.clone();
+    s.solver.start = Start::Static;
+    Ok(crate::cmd::jump_speed::find(&s, resolution, crate::cmd::jump_speed::MAX_RPM)?.jump_rpm)
+}
+
+/// `--per-key`'s result.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PerKey {
+    /// The relative step of the central differences.
+    pub step: f64,
+    /// Resolution of the onset searches, rpm.
+    pub onset_resolution_rpm: f64,
+    /// The baseline's jump-onset speed, rpm (absent: none up to 10 000 rpm).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baseline_jump_onset_rpm: Option<f64>,
+    /// Every key, by |elasticity of the onset| (largest first; keys without one last),
+    /// ties by the largest |elasticity| of the other outputs.
+    pub keys: Vec<KeyElasticity>,
+}
+
+/// What one `--per-key` job computes: the outputs and the onset at one perturbed design.
+pub type KeyPoint = (Outputs, Option<f64>);
+
+/// `--per-key` on the theoretical cam of `spec`: [`per_key_with`] with the study's
+/// outputs and the jump-onset speed to `resolution` rpm.
+pub fn per_key(spec: &RunSpec, resolution: f64, threads: usize, progress: bool) -> Result<PerKey> {
+    let base_onset = onset_rpm(spec, resolution)?;
+    let keys = per_key_with(&spec.design, threads, progress, |d| {
+        let mut s = spec.clone();
+        s.design = d.clone();
+        Ok((outputs(&s)?, onset_rpm(&s, resolution)?))
+    })?;
+    Ok(PerKey {
+        step: KEY_STEP,
+        onset_resolution_rpm: resolution,
+        baseline_jump_onset_rpm: base_onset,
+        keys,
+    })
+}
+
+/// Every key of [`per_key_keys`] at ±[`KEY_STEP`] ([`key_scaled`]), `eval` (the outputs
+/// and the onset of a design) on each, in parallel on `threads` threads and collected by
+/// key, so the result does not depend on the thread count; the elasticities ranked by the
+/// onset's magnitude (keys without one last), ties by the largest of the others.
+pub fn per_key_with(
+    design: &Design<f64>,
+    threads: usize,
+    progress: bool,
+    eval: impl Fn(&Design<f64>) -> Result<KeyPoint> + Sync,
+) -> Result<Vec<KeyElasticity>> {
+    let keys = per_key_keys(design)?;
+    let jobs: Vec<(usize, f64)> = (0..keys.len())
+        .flat_map(|i| [(i, 1.0 + KEY_STEP), (i, 1.0 - KEY_STEP)])
+        .collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .stack_size(16 << 20)
+        .build()
+        .context("cannot start the worker threads")?;
+    let bar = progress_bar(jobs.len() as u64, progress);
+    let results: Vec<Result<KeyPoint>> = pool.install(|| {
+        jobs.par_iter()
+            .map(|&(i, f)| {
+                let (name, _, _) = keys[i];
+                let r = key_scaled(design, name, f)
+                    .and_then(|d| eval(&d))
+                    .with_context(|| format!("key {name} times {f}"));
+                bar.inc(1);
+                r
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let mut points = Vec::with_capacity(results.len());
+    for r in results {
+        points.push(r?);
+    }
+    let mut out: Vec<KeyElasticity> = keys
+        .iter()
+        .zip(points.chunks_exact(2))
+        .map(|(&(name, what, value), pm)| {
+            let (p, m) = (&pm[0], &pm[1]);
+            let e = |a: f64, b: f64| elasticity(a, b, KEY_STEP);
+            let (pv, mv) = (p.0.values(), m.0.values());
+            KeyElasticity {
+                key: name,
+                description: what,
+                value,
+                elasticity: Elasticities {
+                    rms_displacement_in: e(pv[0], mv[0]),
+                    rms_velocity_in_per_s: e(pv[1], mv[1]),
+                    rms_acceleration_in_per_s2: e(pv[2], mv[2]),
+                    rms_angular_velocity_rad_per_s: e(pv[3], mv[3]),
+                    contact_stress_avg_psi: e(pv[4], mv[4]),
+                    jump_onset_rpm: match (p.1, m.1) {
+                        (Some(a), Some(b)) => e(a, b),
+                        _ => None,
+                    },
+                },
+            }
+        })
+        .collect();
+    let onset = |k: &KeyElasticity| k.elasticity.jump_onset_rpm.map_or(-1.0, f64::abs);
+    let rest = |k: &KeyElasticity| {
+        k.elasticity.values()[..5]
+            .iter()
+            .flatten()
+            .fold(0.0f64, |a, b| a.max(b.abs()))
+    };
+    out.sort_by(|a, b| {
+        onset(b)
+            .total_cmp(&onset(a))
+            .then(rest(b).total_cmp(&rest(a)))
+    });
+    Ok(out)
+}
+
+/// A progress bar on standard error when it is a terminal and `want`, hidden otherwise.
+fn progress_bar(len: u64, want: bool) -> indicatif::ProgressBar {
+    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+    if !want || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:40}] {pos}/{len} perturbed designs, eta {eta}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
+/// What `camsim sensitivity` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct SensitivityReport {
+    /// Cam speed, rpm.
+    pub rpm: f64,
+    /// Whether the vertical scene ran (--quick).
+    pub quick: bool,
+    /// The revolution measured.
+    pub revolution: u32,
+    /// The actual cam (sample 0 of the master seed).
+    pub actual_profile: ProfileStats,
+    /// The baseline on each cam (change 0).
+    pub baseline: Vec<Case>,
+    /// Every group, change and cam.
+    pub cases: Vec<Case>,
+    /// `--per-key`'s elasticities.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub per_key: Option<PerKey>,
+    /// Wall-clock time, s.
+    pub wall_s: f64,
+}
+
+fn base_spec(args: &Args) -> Result<RunSpec> {
+    let mut spec = match &args.scene {
+        Some(p) => crate::scene::load(p)?,
+        None => RunSpec::reference(),
+    };
+    if let Some(r) = args.rpm {
+        spec.design.set_speed_rpm(r).map_err(|e| match e {
+            camsim_core::Error::InvalidParameter { rule, .. } => anyhow!("--rpm {r}: {rule}"),
+            other => other.into(),
+        })?;
+    }
+    spec.revolutions = REVOLUTION;
+    if args.quick {
+        spec.dofs.horizontal = false;
+    }
+    spec.design.validate()?;
+    Ok(spec)
+}
+
+/// Runs the study.
+pub fn report(args: &Args) -> Result<SensitivityReport> {
+    let t0 = std::time::Instant::now();
+    let spec = base_spec(args)?;
+    let mut plan = Plan::new(args.force);
+    let plot_target = match &args.plot {
+        Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
+        None => None,
+    };
+    let mut actual_args = args.actual.clone();
+    actual_args.actual = true;
+    let (dev, profile) = actual::build_profile(&spec.design, &actual_args, 0)?;
+    let dev = Arc::new(dev);
+    let changes: &[i32] = if args.quick {
+        &QUICK_CHANGES_PCT
+    } else {
+        &CHANGES_PCT
+    };
+    // Every job: (group or None for the baseline, change %, actual cam?).
+    let mut jobs: Vec<(Option<Group>, i32, bool)> = vec![(None, 0, false), (None, 0, true)];
+    for g in Group::ALL {
+        for &c in changes {
+            for actual in [false, true] {
+                jobs.push((Some(g), c, actual));
+            }
+        }
+    }
+    let threads = crate::cmd::montecarlo::threads(args.threads);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .stack_size(16 << 20)
+        .build()
+        .context("cannot start the worker threads")?;
+    let results: Vec<Result<Case>> = pool.install(|| {
+        jobs.par_iter()
+            .map(|&(g, c, actual)| {
+                let mut s = spec.clone();
+                if let Some(g) = g {
+                    s.design = scaled(&spec.design, g, 1.0 + f64::from(c) / 100.0);
+                    s.design
+                        .validate()
+                        .with_context(|| format!("the {} group changed by {c:+} %", g.name()))?;
+                }
+                if actual {
+                    s.profile = Some(dev.clone());
+                }
+                let cam = if actual { "actual" } else { "theoretical" };
+                let out = outputs(&s).with_context(|| {
+                    format!("{cam} cam, {} {c:+} %", g.map_or("baseline", Group::name))
+                })?;
+                Ok(Case {
+                    group: g.map_or("baseline", Group::name),
+                    change_pct: c,
+                    cam,
+                    outputs: out,
+                })
+            })
+            .collect()
+    });
+    let mut all = Vec::with_capacity(results.len());
+    for r in results {
+        all.push(r?);
+    }
+    let cases = all.split_off(2);
+    let per_key = if args.per_key {
+        let res = if args.quick {
+            QUICK_ONSET_RESOLUTION_RPM
+        } else {
+            ONSET_RESOLUTION_RPM
+        };
+        Some(per_key(&spec, res, threads, true)?)
+    } else {
+        None
+    };
+    let report = SensitivityReport {
+        rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
+        quick: args.quick,
+        revolution: REVOLUTION,
+        actual_profile: profile,
+        baseline: all,
+        cases,
+        per_key,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    if let Some(t) = plot_target {
+        crate::report::ensure_finite(&report)?;
+        let mut dir = t.open()?;
+        draw(&mut dir, &report)?;
+        dir.commit()?;
+    }
+    Ok(report)
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    crate::report::print(&report(&args)?, args.json)
+}
+
+/// The change of `v` from `base`, % (None when the baseline is 0).
+fn pct(v: f64, base: f64) -> Option<f64> {
+    (base != 0.0).then(|| 100.0 * (v / base - 1.0))
+}
+
+/// An output's value as a designer reads it: stress in whole psi, others with four
+/// significant digits, in plain notation from 0.001 up.
+fn fmt_value(i: usize, v: f64) -> String {
+    if i == 4 || v.abs() >= 1e4 {
+        return format!("{v:.0}");
+    }
+    if v == 0.0 {
+        return "0".to_string();
+    }
+    if v.abs() < 1e-3 {
+        return format!("{v:.3e}");
+    }
+    let digits = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+    format!("{v:.digits$}")
+}
+
+impl Report for SensitivityReport {
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        let p = &self.actual_profile;
+        let _ = writeln!(
+            out,
+            "camsim sensitivity (VI.4.3): every mass, every damper, every structural stiffness changed together, \
+             at {:.1} rpm, {} model; revolution {} whole",
+            self.rpm,
+            if self.quick { "vertical (--quick)" } else { "full 11-DOF" },
+            self.revolution
+        );
+        let _ = writeln!(
+            out,
+            "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals \
+             ({} deg, {}), FPR {}; the same cam in every case",
+            p.seed,
+            p.cam_tolerance_in,
+            p.roller_tolerance_in,
+            p.eccentricity_tolerance_in,
+            p.intervals,
+            p.interval_deg,
+            p.interval_source.name(),
+            p.fpr
+        );
+        let _ = writeln!(
+            out,
+            "outputs: RMS deviations of the load from the theoretical response (displacement in, velocity in/s, \
+             acceleration in/s2), RMS deviation of the cam speed from its nominal (rad/s), time-averaged Hertz \
+             stress (psi); each case's value, then its change from the baseline"
+        );
+        for cam in ["theoretical", "actual"] {
+            let Some(b) = self.baseline.iter().find(|c| c.cam == cam) else {
+                continue;
+            };
+            let _ = writeln!(out, "\n{cam} cam");
+            let _ = write!(out, "  {:<10} {:>6}", "group", "change");
+            for (_, h, u) in OUTPUTS {
+                let _ = write!(out, " {:>19}", format!("{h} ({u})"));
+            }
+            let _ = writeln!(out, "  jump");
+            let row = |out: &mut String, c: &Case| {
+                let _ = write!(
+                    out,
+                    "  {:<10} {:>5}%",
+                    c.group,
+                    format!("{:+}", c.change_pct)
+                );
+                for (i, (v, bv)) in c
+                    .outputs
+                    .values()
+                    .into_iter()
+                    .zip(b.outputs.values())
+                    .enumerate()
+                {
+                    let cell = if c.group == "baseline" {
+                        fmt_value(i, v)
+                    } else {
+                        match pct(v, bv) {
+                            Some(d) => format!("{} {:>+6.1}%", fmt_value(i, v), d),
+                            None => fmt_value(i, v),
+                        }
+                    };
+                    let _ = write!(out, " {cell:>19}");
+                }
+                let _ = writeln!(out, "  {}", if c.outputs.jump { "yes" } else { "no" });
+            };
+            row(&mut out, b);
+            for c in self.cases.iter().filter(|c| c.cam == cam) {
+                row(&mut out, c);
+            }
+        }
+        if let Some(pk) = &self.per_key {
+            let _ = writeln!(
+                out,
+                "\nelasticity d ln(output) / d ln(key), central differences at ±{} % on the theoretical cam; \
+                 jump onset {} (static start, resolution {} rpm); ranked by |onset elasticity|",
+                pk.step * 100.0,
+                pk.baseline_jump_onset_rpm
+                    .map_or("none up to 10 000 rpm".to_string(), |r| format!("{r:.2} rpm")),
+                pk.onset_resolution_rpm
+            );
+            let _ = write!(out, "  {:>4} {:<42}", "rank", "key");
+            for (_, h, _) in OUTPUTS {
+                let _ = write!(out, " {h:>10}");
+            }
+            let _ = writeln!(out, " {:>10}", "onset");
+            for (i, k) in pk.keys.iter().enumerate() {
+                let _ = write!(out, "  {:>4} {:<42}", i + 1, k.key);
+                for v in k.elasticity.values() {
+                    match v {
+                        Some(v) => {
+                            let _ = write!(out, " {v:>10.4}");
+                        }
+                        None => {
+                            let _ = write!(out, " {:>10}", "-");
+                        }
+                    }
+                }
+                let _ = writeln!(out);
+            }
+        }
+        let _ = writeln!(out, "\nrun time: {:.1} s", self.wall_s);
+        out
+    }
+}
+
+fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
+    use plotters::prelude::*;
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let file = PLOT_FILES[0];
+    let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
+    let changes: Vec<i32> = {
+        let mut v: Vec<i32> = r.cases.iter().map(|c| c.change_pct).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    // Colour by change: shades of blue for decreases, of red for increases.
+    let colour = |c: i32| match c {
+        c if c <= -30 => RGBColor(31, 90, 180),
+        c if c < 0 => RGBColor(140, 180, 230),
+        c if c < 30 => RGBColor(240, 160, 150),
+        _ => RGBColor(200, 40, 40),
+    };
+    let cams = ["theoretical", "actual"];
+    plots::png(dir, file, (2000, 1000), |root| {
+        let root = root
+            .titled(
+                &format!(
+                    "camsim sensitivity (VI.4.3): change of each revolution-{} output from the baseline, %, when a group changes (at {:.0} rpm)",
+                    r.revolution, r.rpm
+                ),
+                ("sans-serif", 24),
+            )
+            .map_err(|x| e(&x))?;
+        let (legend, body) = root.split_vertically(40);
+        // The legend: one swatch per change, on its own strip above the charts.
+        let mut x = 420;
+        for &c in &changes {
+            legend
+                .draw(&Rectangle::new([(x, 10), (x + 30, 30)], colour(c).filled()))
+                .map_err(|x| e(&x))?;
+            legend
+                .draw(&Text::new(
+                    format!("group changed by {c:+} %"),
+                    (x + 38, 20),
+                    ("sans-serif", 16)
+                        .into_font()
+                        .into_text_style(&legend)
+                        .pos(Pos::new(HPos::Left, VPos::Center)),
+                ))
+                .map_err(|x| e(&x))?;
+            x += 240;
+        }
+        legend
+            .draw(&Text::new(
+                "\"jump\": the follower separates in that case",
+                (x + 20, 20),
+                ("sans-serif", 16)
+                    .into_font()
+                    .into_text_style(&legend)
+                    .pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(|x| e(&x))?;
+        let p = &r.actual_profile;
+        let rows = body.split_evenly((cams.len(), 1));
+        for (cam, row) in cams.iter().zip(rows.iter()) {
+            let base = r.baseline.iter().find(|c| c.cam == *cam);
+            let row_title = match *cam {
+                "actual" => format!(
+                    "actual cam (sample 0 of seed {}, {} intervals, FPR {}){}",
+                    p.seed,
+                    p.intervals,
+                    p.fpr,
+                    if base.is_some_and(|b| b.outputs.jump) {
+                        ": the follower separates at the baseline already"
+                    } else {
+                        ""
+                    }
+                ),
+                _ => "theoretical cam".to_string(),
+            };
+            let row = row
+                .titled(&row_title, ("sans-serif", 19))
+                .map_err(|x| e(&x))?;
+            let areas = row.split_evenly((1, OUTPUTS.len()));
+            for (oi, (_, _, unit)) in OUTPUTS.iter().enumerate() {
+                let Some(area) = areas.get(oi) else {
+                    continue;
+                };
+                // (group index, change, % change of the output, separated)
+                let bars: Vec<(usize, i32, f64, bool)> = Group::ALL
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(gi, g)| {
+                        r.cases
+                            .iter()
+                            .filter(move |c| c.cam == *cam && c.group == g.name())
+                            .filter_map(move |c| {
+                                let b = base?.outputs.values()[oi];
+                                Some((
+                                    gi,
+                                    c.change_pct,
+                                    pct(c.outputs.values()[oi], b)?,
+                                    c.outputs.jump,
+                                ))
+                            })
+                    })
+                    .collect();
+                // Room beyond the longest bar for its "jump" mark.
+                let m = bars.iter().map(|b| b.2.abs()).fold(1.0f64, f64::max) * 1.25;
+                let base_jumps = base.is_some_and(|b| b.outputs.jump);
+                let base_text = base.map_or(String::new(), |b| {
+                    format!(" {} {unit}", fmt_value(oi, b.outputs.values()[oi]))
+                });
+                let x_desc = format!("change from the baseline{base_text}, %");
+                let groups = Group::ALL.len() as f64;
+                let mut chart = ChartBuilder::on(area)
+                    .caption(PLOT_TITLES[oi], ("sans-serif", 16))
+                    .margin(8)
+                    .x_label_area_size(40)
+                    .y_label_area_size(80)
+                    .build_cartesian_2d(-m..m, 0.0..groups)
+                    .map_err(|x| e(&x))?;
+                // Group gi's band is [gi, gi + 1]; its name sits at the band's middle.
+                chart
+                    .configure_mesh()
+                    .disable_y_mesh()
+                    .light_line_style(WHITE)
+                    .y_labels(2 * Group::ALL.len() + 1)
+                    .y_label_formatter(&|y| {
+                        let k = y - 0.5;
+                        if (k - k.round()).abs() < 1e-9 {
+                            Group::ALL
+                                .get(k.round() as usize)
+                                .map(|g| g.name().to_string())
+                                .unwrap_or_default()
+                        } else {
+                            String::new()
+                        }
+                    })
+                    .x_labels(7)
+                    .x_desc(x_desc.as_str())
+                    .x_label_formatter(&|x| format!("{x:+.0}"))
+                    .label_style(("sans-serif", 14))
+                    .axis_desc_style(("sans-serif", 13))
+                    .draw()
+                    .map_err(|x| e(&x))?;
+                // Separators between the groups and the zero line.
+                chart
+                    .draw_series((1..Group::ALL.len()).map(|g| {
+                        PathElement::new(
+                            vec![(-m, g as f64), (m, g as f64)],
+                            BLACK.mix(0.2).stroke_width(1),
+                        )
+                    }))
+                    .map_err(|x| e(&x))?;
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        vec![(0.0, 0.0), (0.0, groups)],
+                        BLACK.stroke_width(1),
+                    )))
+                    .map_err(|x| e(&x))?;
+                // Within a group's band, one bar per change, the largest decrease on top.
+                let n = changes.len().max(1) as f64;
+                let w = 0.8 / n;
+                let top_of = |gi: usize, c: i32| {
+                    let k = changes.iter().position(|x| *x == c).unwrap_or(0) as f64;
+                    gi as f64 + 0.9 - k * w
+                };
+                chart
+                    .draw_series(bars.iter().map(|&(gi, c, d, _)| {
+                        let top = top_of(gi, c);
+                        Rectangle::new(
+                            [(0.0, top - 0.1 * w), (d, top - 0.9 * w)],
+                            colour(c).filled(),
+                        )
+                    }))
+                    .map_err(|x| e(&x))?;
+                // A case that separates where the baseline does not: marked at its bar.
+                chart
+                    .draw_series(bars.iter().filter(|b| b.3 && !base_jumps).map(
+                        |&(gi, c, d, _)| {
+                            let h = if d >= 0.0 { HPos::Left } else { HPos::Right };
+                            Text::new(
+                                " jump ",
+                                (d, top_of(gi, c) - 0.5 * w),
+                                ("sans-serif", 13)
+                                    .into_font()
+                                    .color(&BLACK)
+                                    .pos(Pos::new(h, VPos::Center)),
+                            )
+                        },
+                    ))
+                    .map_err(|x| e(&x))?;
+            }
+        }
+        Ok(())
+    })?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use camsim_core::{modal_analysis, rotational_system};
+    use std::collections::BTreeMap;
+
+    /// Every numeric leaf of a design's serialization, by dotted key.
+    fn leaves(d: &Design<f64>) -> BTreeMap<String, f64> {
+        fn walk(v: &serde_json::Value, path: &str, out: &mut BTreeMap<String, f64>) {
+            match v {
+                serde_json::Value::Object(o) => {
+                    for (k, x) in o {
+                        let p = if path.is_empty() {
+                            k.clone()
+                        } else {
+                            format!("{path}.{k}")
+                        };
+                        walk(x, &p, out);
+                    }
+                }
+                serde_json::Value::Array(a) => {
+                    for (i, x) in a.iter().enumerate() {
+                        walk(x, &format!("{path}[{i}]"), out);
+                    }
+                }
+                serde_json::Value::Number(n) => {
+                    out.insert(path.to_string(), n.as_f64().unwrap());
+                }
+                _ => {}
+            }
+        }
+        let mut out = BTreeMap::new();
+        walk(&serde_json::to_value(d).unwrap(), "", &mut out);
+        out
+    }
+
+    /// The keys whose value differs between two designs, with the ratio new / old.
+    fn changed(a: &Design<f64>, b: &Design<f64>) -> BTreeMap<String, f64> {
+        let (la, lb) = (leaves(a), leaves(b));
+        assert_eq!(la.keys().collect::<Vec<_>>(), lb.keys().collect::<Vec<_>>());
+        la.iter()
+            .filter(|(k, v)| lb[*k] != **v)
+            .map(|(k, v)| (k.clone(), lb[k] / v))
+            .collect()
+    }
+
+    #[test]
+    fn each_group_moves_exactly_its_listed_parameters() {
+        let d = Design::<f64>::reference();
+        let f = 1.37;
+        for g in Group::ALL {
+            let s = scaled(&d, g, f);
+            s.validate().unwrap();
+            let c = changed(&d, &s);
+            let mut want: Vec<&str> = g.keys().to_vec();
+            want.sort_unstable();
+            assert_eq!(
+                c.keys().map(String::as_str).collect::<Vec<_>>(),
+                want,
+                "{g:?}"
+            );
+            for (k, r) in &c {
+                assert!((r - f).abs() < 1e-15, "{g:?} {k}: ratio {r}");
+            }
+            // Neither the return spring nor the Hertz contact nor the program moves.
+            assert_eq!(
+                (s.k_rs, s.delta_rs, s.k_rs_modal),
+                (d.k_rs, d.delta_rs, d.k_rs_modal)
+            );
+            assert_eq!(s.hertz, d.hertz);
+            assert_eq!(s.geometry, d.geometry);
+            assert_eq!(s.program, d.program);
+            // A change of 0 is the baseline exactly.
+            assert_eq!(scaled(&d, g, 1.0), d);
+        }
+        // Without the regulated drive the damping group has no feed-forward to move.
+        let mut ideal = d.clone();
+        ideal.drive = DriveLaw::ConstantCamSpeed;
+        let c = changed(&ideal, &scaled(&ideal, Group::Damping, f));
+        assert_eq!(c.len(), DAMPING_KEYS.len() - 1);
+        assert!(!c.contains_key(key::DRIVE_T_STEADY));
+        // The groups do not overlap.
+        let mut all: Vec<&str> = Group::ALL.iter().flat_map(|g| g.keys().to_vec()).collect();
+        all.sort_unstable();
+        let n = all.len();
+        all.dedup();
+        assert_eq!(all.len(), n);
+    }
+
+    /// The rotational system (Eq. VI.7) is made of the groups' parameters alone: masses
+    /// times λ divide its natural frequencies by sqrt(λ); masses and stiffnesses times λ
+    /// leave them; stiffnesses times λ multiply them by sqrt(λ).
+    #[test]
+    fn natural_frequencies_scale_as_sqrt_of_stiffness_over_mass() {
+        let omegas = |d: &Design<f64>| {
+            let (k, m) = rotational_system(d.i_m, d.i_cp, d.i_c, d.k_s1, d.k_s2);
+            modal_analysis(&k, &m).unwrap().omega
+        };
+        let d = Design::<f64>::reference();
+        let w = omegas(&d);
+        assert!(w[0].abs() < 1e-6 * w[2] && w[1] > 0.0, "{w:?}");
+        for lambda in [0.7, 1.3] {
+            let m = scaled(&d, Group::Mass, lambda);
+            let mk = scaled(&m, Group::Stiffness, lambda);
+            let k = scaled(&d, Group::Stiffness, lambda);
+            for (got, want) in [
+                (omegas(&m), 1.0 / lambda.sqrt()),
+                (omegas(&mk), 1.0),
+                (omegas(&k), lambda.sqrt()),
+            ] {
+                for i in 1..3 {
+                    let r = got[i] / w[i];
+                    assert!(
+                        (r - want).abs() < 1e-12,
+                        "lambda {lambda}: mode {i} ratio {r}, want {want}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn elasticity_is_exact_for_a_power_law_and_undefined_at_zero() {
+        for p in [-2.5, -1.0, 0.0, 0.5, 3.0] {
+            let f = |x: f64| 7.0 * x.powf(p);
+            let x = 3.3;
+            let e = elasticity(f(x * 1.01), f(x * 0.99), 0.01).unwrap();
+            assert!((e - p).abs() < 1e-10, "{p}: {e}");
+        }
+        assert_eq!(elasticity(0.0, 1.0, 0.01), None);
+        assert_eq!(elasticity(1.0, f64::NAN, 0.01), None);
+        assert_eq!(elasticity(1.0, 1.0, 0.0), None);
+    }
+
+    /// The preload F_p = K_t K_rs δ_rs / (K_t + K_rs) (Eq. V.18) through the per-key
+    /// perturbation: its elasticity on δ_rs is 1, on K_rs K_t / (K_t + K_rs), on K_rb
+    /// (K_t / K_rb)·K_rs / (K_t + K_rs), to the central difference's O(h²).
+    #[test]
+    fn preload_elasticities_match_their_closed_forms() {
+        let d = Design::<f64>::reference();
+        let fp = |name: &str, f: f64| key_scaled(&d, name, f).unwrap().preload().unwrap();
+        let e = |name: &str| elasticity(fp(name, 1.01), fp(name, 0.99), 0.01).unwrap();
+        let k_h = d.k_h_base().unwrap();
+        let k_t = 1.0 / (1.0 / d.k_rb + 1.0 / k_h + 1.0 / d.k_vs);
+        assert!((e(key::DELTA_RS) - 1.0).abs() < 1e-12);
+        let want = k_t / (k_t + d.k_rs);
+        assert!(
+            (e(key::K_RS) - want).abs() < 1e-5,
+            "{} {want}",
+            e(key::K_RS)
+        );
+        let want = (k_t / d.k_rb) * d.k_rs / (k_t + d.k_rs);
+        assert!(
+            (e(key::K_RB) - want).abs() < 1e-5 * want.max(1e-3),
+            "{} {want}",
+            e(key::K_RB)
+        );
+    }
+
+    #[test]
+    fn every_per_key_key_moves_one_number_by_its_factor() {
+        let d = Design::<f64>::reference();
+        let keys = per_key_keys(&d).unwrap();
+        // Every design key but ω0, the drive's reference speed, the modal spring rate
+        // and the free play (0).
+        assert_eq!(keys.len(), key::DESIGN_KEYS.len() - 4);
+        for (name, _, value) in keys {
+            let s = key_scaled(&d, name, 1.01).unwrap();
+            let c = changed(&d, &s);
+            assert_eq!(c.len(), 1, "{name}: {c:?}");
+            let (k, r) = c.iter().next().unwrap();
+            assert_eq!(k, name);
+            assert!((r - 1.01).abs() < 1e-15);
+            assert_eq!(leaves(&d)[name], value);
+        }
+        assert!(key_scaled(&d, "no_such_key", 1.01).is_err());
+        assert!(key_scaled(&d, key::K_RB, -1.0).is_err());
+    }
+
+    #[test]
+    fn combined_rms_is_the_duration_weighted_mean_square() {
+        // (1 s at RMS 3, 3 s at RMS 1): sqrt((9 + 3) / 4).
+        assert!((combine_rms(&[(1.0, 3.0), (3.0, 1.0)]) - 3f64.sqrt()).abs() < 1e-15);
+        assert_eq!(combine_rms(&[]), 0.0);
+    }
+
+    /// Revolution 2's RMS deviations combined from the per-period statistics equal the
+    /// same integrals taken directly over the revolution (which also cover the few steps
+    /// that straddle a period boundary, a few of some thousands).
+    #[test]
+    fn combined_rms_matches_the_direct_integral_of_the_revolution() {
+        let mut spec = RunSpec::reference();
+        spec.dofs.horizontal = false;
+        let out = outputs(&spec).unwrap();
+        let mut s = spec.clone();
+        s.revolutions = REVOLUTION;
+        let mut direct = RevolutionIntegrals::new(REVOLUTION, s.design.omega0);
+        sim::run(&s, &mut direct).unwrap();
+        let m = direct.means();
+        let period = 2.0 * std::f64::consts::PI / s.design.omega0;
+        assert!(
+            (direct.duration / period - 1.0).abs() < 0.05,
+            "{}",
+            direct.duration
+        );
+        for (i, v) in out.values()[..3].iter().enumerate() {
+            assert!(
+                (v / m[i] - 1.0).abs() < 2e-3,
+                "output {i}: {v} against {}",
+                m[i]
+            );
+        }
+        // The cam's speed deviation and stress come from the direct integrals.
+        assert_eq!(out.rms_angular_velocity_rad_per_s, m[3]);
+        assert_eq!(out.contact_stress_avg_psi, m[4]);
+        // On the base circle the stress is tens of thousands of psi: a positive average
+        // below the largest per-period stress.
+        assert!(out.contact_stress_avg_psi > 1e4 && out.contact_stress_avg_psi < 3e5);
+        // The same run again: the same numbers (the baseline is a change of 0).
+        assert_eq!(outputs(&spec).unwrap(), out);
+    }
+
+    /// `--per-key`'s bookkeeping on a model whose outputs are power laws of the keys:
+    /// each elasticity is its exponent, whatever the thread count, and the ranking
+    /// follows the onset's magnitude.
+    #[test]
+    fn per_key_recovers_the_exponents_of_a_power_law_model_and_ranks_by_the_onset() {
+        let eval = |d: &Design<f64>| -> Result<KeyPoint> {
+            let out = Outputs {
+                rms_displacement_in: d.k_rs.powf(0.5) * d.m_l.powf(-2.0),
+                rms_velocity_in_per_s: d.rho.powf(1.5),
+                rms_acceleration_in_per_s2: 3.0,
+                rms_angular_velocity_rad_per_s: d.k_s1.powf(-0.25),
+                contact_stress_avg_psi: d.hertz.youngs_1.powf(0.5),
+                jump: false,
+            };
+            // No onset when the roller is light (a key without one ranks last).
+            let onset =
+                (d.m_r >= 0.00013).then(|| 900.0 * (d.k_rs / d.rho).sqrt() * d.e1.powf(0.1));
+            Ok((out, onset))
+        };
+        let d = Design::<f64>::reference();
+        let one = per_key_with(&d, 1, false, eval).unwrap();
+        let two = per_key_with(&d, 2, false, eval).unwrap();
+        assert_eq!(one, two);
+        assert_eq!(one.len(), per_key_keys(&d).unwrap().len());
+        let get = |k: &str| one.iter().find(|x| x.key == k).unwrap().elasticity.clone();
+        let close = |a: Option<f64>, b: f64| (a.unwrap() - b).abs() < 1e-9;
+        assert!(close(get(key::K_RS).rms_displacement_in, 0.5));
+        assert!(close(get(key::M_L).rms_displacement_in, -2.0));
+        assert!(close(get(key::RHO).rms_velocity_in_per_s, 1.5));
+        assert!(close(get(key::K_S1).rms_angular_velocity_rad_per_s, -0.25));
+        assert!(close(get(key::ROLLER_YOUNGS).contact_stress_avg_psi, 0.5));
+        assert!(close(get(key::K_RS).jump_onset_rpm, 0.5));
+        assert!(close(get(key::RHO).jump_onset_rpm, -0.5));
+        assert!(close(get(key::E1).jump_onset_rpm, 0.1));
+        assert!(close(get(key::C_MB).jump_onset_rpm, 0.0));
+        assert!(close(get(key::C_MB).rms_acceleration_in_per_s2, 0.0));
+        // The roller's mass at −1 % has no onset: no elasticity, ranked last.
+        assert_eq!(get(key::M_R).jump_onset_rpm, None);
+        assert_eq!(one.last().unwrap().key, key::M_R);
+        // Ranked by |onset|: ρ and K_rs tie at 0.5, ρ first by its larger other
+        // elasticity (1.5 against K_rs's 0.5), then e1 (0.1).
+        let top: Vec<&str> = one.iter().take(3).map(|k| k.key).collect();
+        assert_eq!(top, [key::RHO, key::K_RS, key::E1]);
+        // A failing evaluation names the key.
+        let e = per_key_with(&d, 1, false, |_| -> Result<KeyPoint> {
+            anyhow::bail!("boom")
+        })
+        .unwrap_err();
+        assert!(format!("{e:#}").contains("times 1.01: boom"), "{e:#}");
+    }
+}
