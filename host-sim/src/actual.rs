@@ -103,10 +103,24 @@ pub struct ActualArgs {
     #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
     pub eccentricity_tolerance: Option<f64>,
     /// Profile point interval, degrees (360/interval a whole number, at most 3600
-    /// points); default: the smallest whole-degree interval passing the three criteria
-    /// of IV.2.3, checked on a profile drawn from the master seed.
+    /// points); overrides --waviness-fpr and --interval.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true, value_parser = interval_deg)]
     pub interval_deg: Option<f64>,
+    /// The cam's waviness, in the thesis's FPR (VI.4.1: curve portions between
+    /// inflection points of the displacement a revolution, Fig. VI.14; a single
+    /// harmonic of n undulations per revolution, UPR in roundness metrology (ISO
+    /// 12181), has FPR 2n). The interval is the whole number of points a revolution
+    /// whose profile, drawn from the master seed, has the FPR nearest N. Default 17,
+    /// the thesis's study cams at VI.1's tolerances (Table VI.2); 39 its rougher cam,
+    /// 57 its cams at ±0.0025/±0.0005 in.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=2000))]
+    pub waviness_fpr: Option<u32>,
+    /// How the interval is set when --interval-deg is not given: `waviness` (the FPR of
+    /// --waviness-fpr, default 17) or `criteria` (the smallest whole-degree interval
+    /// passing the three criteria of IV.2.3 on the master seed's profile: 2 deg, FPR
+    /// about 140, for the reference design; docs/MODEL.md §9.6).
+    #[arg(long, value_enum, default_value_t = IntervalRule::Waviness)]
+    pub interval: IntervalRule,
     /// Master seed: sample i's profile comes from (seed, i) alone (default 1).
     #[arg(long)]
     pub seed: Option<u64>,
@@ -116,7 +130,26 @@ pub struct ActualArgs {
     /// Normal deviates: sum12 (Appendix B) or polar (exact; alias "exact").
     #[arg(long, value_enum, default_value_t = NormalArg::Sum12)]
     pub normal: NormalArg,
+    /// The interval once chosen ([`ActualArgs::resolve`]): a study's samples do not
+    /// repeat the choice.
+    #[arg(skip)]
+    pub resolved: Option<(usize, IntervalSource)>,
 }
+
+/// How the profile point interval is chosen (`--interval`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IntervalRule {
+    /// The waviness stated by `--waviness-fpr` (default [`DEFAULT_FPR`]).
+    #[default]
+    Waviness,
+    /// The three criteria of IV.2.3.
+    Criteria,
+}
+
+/// The default waviness: FPR 17, the thesis's study cams at VI.1's tolerances
+/// (VI.4.1, Table VI.2, Figs. VI.15-VI.16).
+pub const DEFAULT_FPR: u32 = 17;
 
 impl ActualArgs {
     /// The tolerances (the thesis's VI.1 values where not given).
@@ -142,9 +175,19 @@ impl ActualArgs {
             || self.roller_tolerance.is_some()
             || self.eccentricity_tolerance.is_some()
             || self.interval_deg.is_some()
+            || self.waviness_fpr.is_some()
+            || self.interval != d.interval
             || self.seed.is_some()
             || self.profile_method != d.profile_method
             || self.normal != d.normal
+    }
+
+    /// The options with the interval chosen once ([`intervals_for`]), so that the
+    /// samples built from them do not repeat the choice.
+    pub fn resolve(&self, design: &Design<f64>) -> Result<ActualArgs> {
+        let mut a = self.clone();
+        a.resolved = Some(intervals_for(design, self)?);
+        Ok(a)
     }
 }
 
@@ -183,6 +226,14 @@ pub enum IntervalSource {
     Given,
     /// The three criteria of IV.2.3 (`choose_interval` on the master seed's stream).
     Criteria,
+    /// The stated waviness (`--waviness-fpr`, default [`DEFAULT_FPR`]): the FPR of the
+    /// master seed's profile nearest it ([`interval_for_fpr`]).
+    Waviness {
+        /// The FPR asked for.
+        target_fpr: u32,
+        /// The master seed's profile's FPR at the chosen interval.
+        master_fpr: usize,
+    },
 }
 
 impl IntervalSource {
@@ -191,6 +242,22 @@ impl IntervalSource {
         match self {
             IntervalSource::Given => "given",
             IntervalSource::Criteria => "by the criteria of IV.2.3",
+            IntervalSource::Waviness { .. } => "for the waviness asked",
+        }
+    }
+
+    /// The short text a report prints: `given`, `criteria`, `waviness FPR 17 (master
+    /// seed's profile FPR 17)`.
+    pub fn label(self) -> String {
+        match self {
+            IntervalSource::Given => "given".into(),
+            IntervalSource::Criteria => "criteria".into(),
+            IntervalSource::Waviness {
+                target_fpr,
+                master_fpr,
+            } => format!(
+                "for waviness FPR {target_fpr}: the master seed's profile has FPR {master_fpr}"
+            ),
         }
     }
 }
@@ -307,15 +374,39 @@ pub fn deviation_stats(dev: &HostDeviation) -> Result<DeviationStats> {
     })
 }
 
-/// Intervals per revolution for `args` on `design`: `--interval-deg`, or the smallest
-/// whole-degree interval passing the three criteria of IV.2.3 on a profile drawn from
-/// the master seed's own stream (`RandomStream::new(seed, method)`, the same for every
-/// sample).
+/// Intervals per revolution for `args` on `design`: `--interval-deg`; else with
+/// `--interval criteria` the smallest whole-degree interval passing the three criteria
+/// of IV.2.3 on a profile drawn from the master seed's own stream
+/// (`RandomStream::new(seed, method)`, the same for every sample); else the interval
+/// of the waviness `--waviness-fpr` asks ([`interval_for_fpr`], default
+/// [`DEFAULT_FPR`]). Options already resolved ([`ActualArgs::resolve`]) keep their
+/// choice.
 pub fn intervals_for(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, IntervalSource)> {
+    if let Some(r) = args.resolved {
+        return Ok(r);
+    }
     if let Some(deg) = args.interval_deg {
         let n = intervals_of(deg).map_err(|e| anyhow::anyhow!("--interval-deg {deg}: {e}"))?;
         return Ok((n, IntervalSource::Given));
     }
+    if args.interval == IntervalRule::Criteria {
+        if let Some(f) = args.waviness_fpr {
+            bail!("--waviness-fpr {f}: not with --interval criteria (the criteria choose the interval; give one or the other)");
+        }
+        return criteria_intervals(design, args);
+    }
+    let target = args.waviness_fpr.unwrap_or(DEFAULT_FPR);
+    let (n, master_fpr) = interval_for_fpr(design, args, target)?;
+    Ok((
+        n,
+        IntervalSource::Waviness {
+            target_fpr: target,
+            master_fpr,
+        },
+    ))
+}
+
+fn criteria_intervals(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, IntervalSource)> {
     let tol = args.tolerances()?;
     let choice = choose_interval::<f64, 361, 8>(
         &design.program,
@@ -339,6 +430,82 @@ pub fn intervals_for(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, 
     }
 }
 
+/// The FPR of the profile `args` make with `intervals` points a revolution from the
+/// master seed's own stream (`RandomStream::new(seed, method)`, as the criteria use).
+pub fn master_fpr(design: &Design<f64>, args: &ActualArgs, intervals: usize) -> Result<usize> {
+    Ok(deviation_stats(&master_profile(design, args, intervals)?)?.fpr)
+}
+
+/// The deviation `args` make with `intervals` points a revolution from the master
+/// seed's own stream (`RandomStream::new(seed, method)`).
+pub fn master_profile(
+    design: &Design<f64>,
+    args: &ActualArgs,
+    intervals: usize,
+) -> Result<HostDeviation> {
+    let mut rng = RandomStream::<f64>::new(args.seed(), args.normal.into());
+    Ok(profile_from(design, args, intervals, &mut rng)?.0)
+}
+
+/// The interval for a stated waviness: the whole number n of points a revolution
+/// (interval 360/n degrees, any n from 3 to 720: a free interval, not only the
+/// divisors of the program's periods that criterion 3 allows, which reach FPR 18-20,
+/// 28-30 and 44-48 but not 39 on the reference program) whose profile, drawn from the
+/// master seed's stream, has the FPR nearest `target`; of equals the smallest n (the
+/// smoothest cam). Returns n and that FPR.
+///
+/// The FPR grows about 0.8 a point (docs/MODEL.md §9.6), so n is searched from
+/// target/2 to 2·target + 8 (clamped to 3..=720).
+pub fn interval_for_fpr(
+    design: &Design<f64>,
+    args: &ActualArgs,
+    target: u32,
+) -> Result<(usize, usize)> {
+    let t = target as usize;
+    let lo = (t / 2).max(3);
+    let hi = (2 * t + 8).min(720).max(lo);
+    let mut best: Option<(usize, usize, usize)> = None; // (|fpr - t|, n, fpr)
+    for n in lo..=hi {
+        let fpr = master_fpr(design, args, n)
+            .with_context(|| format!("--waviness-fpr {target}: the profile with {n} points"))?;
+        let d = fpr.abs_diff(t);
+        if best.is_none_or(|b| d < b.0) {
+            best = Some((d, n, fpr));
+        }
+        if d == 0 {
+            break;
+        }
+    }
+    best.map(|b| (b.1, b.2))
+        .ok_or_else(|| anyhow::anyhow!("--waviness-fpr {target}: no interval to try"))
+}
+
+/// The deviation `args`' profile method makes with `intervals` points from `rng`, and
+/// the envelope's roller radius and centre offset.
+fn profile_from(
+    design: &Design<f64>,
+    args: &ActualArgs,
+    intervals: usize,
+    rng: &mut RandomStream<f64>,
+) -> Result<(HostDeviation, Option<(f64, [f64; 2])>)> {
+    let tol = args.tolerances()?;
+    let (program, geometry) = (&design.program, &design.geometry);
+    Ok(match args.profile_method {
+        ProfileMethod::Thesis => (
+            DeviatedLift::thesis(program, geometry, &tol, intervals, rng)?,
+            None,
+        ),
+        ProfileMethod::Envelope => {
+            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
+                program, geometry, &tol, intervals, rng,
+            )?);
+            let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
+                .context("the roller's envelope on the actual contour")?;
+            (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
+        }
+    })
+}
+
 /// The actual cam of sample `sample` for `args` on `design`, and its statistics.
 ///
 /// Its random numbers come from `RandomStream::for_sample(seed, sample, method)` alone.
@@ -352,21 +519,7 @@ pub fn build_profile(
     let (intervals, source) = intervals_for(design, args)?;
     let seed = args.seed();
     let mut rng = RandomStream::<f64>::for_sample(seed, sample, args.normal.into());
-    let (program, geometry) = (&design.program, &design.geometry);
-    let (dev, cam_parts): (HostDeviation, _) = match args.profile_method {
-        ProfileMethod::Thesis => (
-            DeviatedLift::thesis(program, geometry, &tol, intervals, &mut rng)?,
-            None,
-        ),
-        ProfileMethod::Envelope => {
-            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
-                program, geometry, &tol, intervals, &mut rng,
-            )?);
-            let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
-                .context("the roller's envelope on the actual contour")?;
-            (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
-        }
-    };
+    let (dev, cam_parts) = profile_from(design, args, intervals, &mut rng)?;
     let ds = deviation_stats(&dev).context("profile statistics")?;
     let stats = ProfileStats {
         method: args.profile_method,
@@ -449,11 +602,68 @@ mod tests {
     }
 
     #[test]
-    fn the_default_interval_comes_from_the_master_seed() {
+    fn the_default_interval_has_the_study_cams_waviness() {
+        // FPR 17 by default: the master seed's profile at the chosen n has the FPR
+        // nearest 17 of every n searched (checked here against every n from 3 to 60,
+        // a wider range than the search's), and the smallest such n.
+        let d = Design::<f64>::reference();
+        let a = ActualArgs::default();
+        let (n, src) = intervals_for(&d, &a).unwrap();
+        let IntervalSource::Waviness {
+            target_fpr,
+            master_fpr,
+        } = src
+        else {
+            panic!("{src:?}")
+        };
+        assert_eq!(target_fpr, DEFAULT_FPR);
+        assert_eq!(master_fpr, master_fpr_of(&d, &a, n));
+        let best = (3..=60)
+            .map(|m| master_fpr_of(&d, &a, m).abs_diff(17))
+            .min()
+            .unwrap();
+        assert_eq!(master_fpr.abs_diff(17), best, "n {n}");
+        assert!(
+            (3..n).all(|m| master_fpr_of(&d, &a, m).abs_diff(17) > best),
+            "a smaller n is as near"
+        );
+        // Resolved once, the samples keep it; --interval-deg overrides; --interval
+        // criteria with a stated waviness is refused on one line naming both.
+        let r = a.resolve(&d).unwrap();
+        assert_eq!(intervals_for(&d, &r).unwrap(), (n, src));
+        let (_, s0) = build_profile(&d, &r, 0).unwrap();
+        assert_eq!((s0.intervals, s0.interval_source), (n, src));
+        let g = ActualArgs {
+            interval_deg: Some(5.0),
+            waviness_fpr: Some(57),
+            ..ActualArgs::default()
+        };
+        assert_eq!(intervals_for(&d, &g).unwrap(), (72, IntervalSource::Given));
+        let bad = ActualArgs {
+            interval: IntervalRule::Criteria,
+            waviness_fpr: Some(39),
+            ..ActualArgs::default()
+        };
+        let e = intervals_for(&d, &bad).unwrap_err().to_string();
+        assert!(
+            e.contains("--waviness-fpr 39") && e.contains("--interval criteria"),
+            "{e}"
+        );
+    }
+
+    fn master_fpr_of(d: &Design<f64>, a: &ActualArgs, n: usize) -> usize {
+        master_fpr(d, a, n).unwrap()
+    }
+
+    #[test]
+    fn the_criteria_interval_comes_from_the_master_seed() {
         // Criterion 2 is decided by the sample (camsim-core's profile docs): the
         // choice depends on the master seed, the same for every sample of a study.
         let d = Design::<f64>::reference();
-        let a = ActualArgs::default();
+        let a = ActualArgs {
+            interval: IntervalRule::Criteria,
+            ..ActualArgs::default()
+        };
         let (n, src) = intervals_for(&d, &a).unwrap();
         assert_eq!(src, IntervalSource::Criteria);
         assert!(360 % n == 0 && n <= 360, "{n}");

@@ -46,6 +46,8 @@ pub enum Command {
     Compare(cmd::compare::Args),
     /// The tolerance and waviness grid of VI.4.1 on the more stable program.
     ToleranceStudy(cmd::tolerance_study::Args),
+    /// The waviness (FPR) of an actual cam against its profile point interval, both profile methods, and the criteria of IV.2.3.
+    Waviness(cmd::waviness::Args),
 }
 
 /// Parses a command line (the first item is the program name).
@@ -72,6 +74,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
         Command::Compare(a) => cmd::compare::run(a),
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
+        Command::Waviness(a) => cmd::waviness::run(a),
     }
 }
 

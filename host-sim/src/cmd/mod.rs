@@ -12,3 +12,4 @@ pub mod run;
 pub mod scene;
 pub mod scenes;
 pub mod tolerance_study;
+pub mod waviness;
