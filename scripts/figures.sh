@@ -28,6 +28,9 @@ show jump-speed scenes/undamped-printed.toml
 show run scenes/undamped-printed.toml
 show run --actual --seed 1
 show run --actual --seed 1 --profile-method envelope
+show run --actual --seed 1 --interval criteria
+# docs/MODEL.md §9.6: FPR against the interval, both methods, and the criteria.
+show waviness
 # docs/MODEL.md §8.4: the thesis's method against the envelope, same seed.
 for d in 2 0.5 0.25 0.1; do
     for tol in "" "--roller-tolerance 0 --eccentricity-tolerance 0"; do
@@ -44,6 +47,17 @@ show contact --force 100
 show predict --f32
 show bench --quick
 show scenes
+# The studies at the default waviness (FPR 17) and the thesis's rougher cams (39, 57): README,
+# "Studies" (a few minutes on 2 cores).
+show compare
+for scene in "" scenes/stable-4567-rise.toml; do
+    for f in 17 39 57; do
+        # shellcheck disable=SC2086
+        printf '\n$ camsim montecarlo %s --samples 200 --waviness-fpr %s\n' "$scene" "$f"
+        "$C" montecarlo $scene --samples 200 --waviness-fpr "$f" | grep -E '^profile:|FPR|jump anywhere|run time'
+    done
+done
+show tolerance-study
 
 if [ "${1:-}" = "--firmware" ]; then
     printf '\n$ bash scripts/firmware-ci.sh\n'

@@ -528,6 +528,9 @@ pub fn interval_for_fpr(
         .ok_or_else(|| anyhow::anyhow!("--waviness-fpr {target}: no interval to try"))
 }
 
+/// The envelope's drawn roller radius (in) and rotation-centre offset (x, y, in).
+type EnvelopeParts = (f64, [f64; 2]);
+
 /// The envelope's largest interpolation error of the perfect cam, as a fraction of the
 /// cam tolerance's σ, for an interval [`interval_for_fpr`] may choose: 0.1 (the
 /// contour's spline then adds under 1 % to the profile's variance).
@@ -540,7 +543,7 @@ fn profile_from(
     args: &ActualArgs,
     intervals: usize,
     rng: &mut RandomStream<f64>,
-) -> Result<(HostDeviation, Option<(f64, [f64; 2])>)> {
+) -> Result<(HostDeviation, Option<EnvelopeParts>)> {
     let tol = args.tolerances()?;
     let (program, geometry) = (&design.program, &design.geometry);
     Ok(match args.profile_method {

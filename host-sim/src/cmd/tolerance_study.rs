@@ -536,10 +536,7 @@ fn draw(
                 let (x0, y0) = (col as f64, row as f64);
                 let corners = [(x0, y0), (x0 + 1.0, y0 + 1.0)];
                 chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        corners.clone(),
-                        heat(t).filled(),
-                    )))
+                    .draw_series(std::iter::once(Rectangle::new(corners, heat(t).filled())))
                     .map_err(|x| e(&x))?;
                 chart
                     .draw_series(std::iter::once(Rectangle::new(
