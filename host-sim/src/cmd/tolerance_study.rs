@@ -370,15 +370,31 @@ impl Report for ToleranceReport {
     }
 }
 
-/// The column heading of a cell: the waviness asked (or the interval) and achieved.
-fn column_label(c: &Cell) -> String {
-    match c.target_fpr {
-        Some(f) => format!("FPR {f} ({:.1})", c.fpr.unwrap_or(0.0)),
-        None => format!(
-            "{} deg (FPR {:.1})",
-            c.interval_deg.unwrap_or(0.0),
-            c.fpr.unwrap_or(0.0)
-        ),
+/// The heading of column `j` of the grid (`cols` cells a row): the waviness asked (or
+/// the interval) and the range of the FPR achieved (mean of each cell's cams) down it.
+fn column_label(cells: &[Cell], cols: usize, j: usize) -> String {
+    let (lo, hi) = cells
+        .iter()
+        .skip(j)
+        .step_by(cols.max(1))
+        .filter_map(|c| c.fpr)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    let got = if !lo.is_finite() {
+        String::new()
+    } else if hi - lo < 0.05 {
+        format!("{lo:.1}")
+    } else {
+        format!("{lo:.1}-{hi:.1}")
+    };
+    match cells.get(j) {
+        Some(Cell {
+            target_fpr: Some(f),
+            ..
+        }) => format!("FPR {f} ({got})"),
+        Some(c) => format!("{} deg (FPR {got})", c.interval_deg.unwrap_or(0.0)),
+        None => String::new(),
     }
 }
 
@@ -396,8 +412,8 @@ fn grid_text(out: &mut String, r: &ToleranceReport) {
         if r.theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
     );
     let _ = write!(out, "{:<28}", "cam / roller tolerance");
-    for c in r.cells.iter().take(cols) {
-        let _ = write!(out, " {:>32}", column_label(c));
+    for j in 0..cols.min(r.cells.len()) {
+        let _ = write!(out, " {:>32}", column_label(&r.cells, cols, j));
     }
     let _ = writeln!(out);
     for row in r.cells.chunks(cols) {
@@ -451,7 +467,9 @@ fn draw(
     let rows = cells.len().div_ceil(cols);
     let file = PLOT_FILES[0];
     let e = |x: &dyn std::fmt::Display| anyhow::anyhow!("cannot draw plot {file}: {x}");
-    let xlabels: Vec<String> = cells.iter().take(cols).map(column_label).collect();
+    let xlabels: Vec<String> = (0..cols.min(cells.len()))
+        .map(|j| column_label(cells, cols, j))
+        .collect();
     let ylabels: Vec<String> = cells
         .chunks(cols)
         .map(|r| {
