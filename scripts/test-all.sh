@@ -53,32 +53,75 @@ step "workspace tests"
 cargo test --workspace
 cargo test -p camsim-core --features micromath
 
-step "bench --quick (run time against error, a few points; full runs in BENCHMARKS.md)"
-cargo run --release -q -p camsim -- bench --quick
-step "studies in release: a small Monte Carlo, compare --quick and sensitivity --quick (exit status, JSON)"
+step "every camsim command in release (smoke: exit status 0; with --json valid JSON, no null)"
 cargo build --release -p camsim
 studies=$(mktemp -d)
-./target/release/camsim montecarlo --samples 8 --json > "$studies/montecarlo.json"
-./target/release/camsim compare --quick --json > "$studies/compare.json"
-./target/release/camsim sensitivity --quick --json > "$studies/sensitivity.json"
-# The reduced scenes against the full model (README, "Reduced scenes"): every scene that
-# claims the jump onset within 1 % of the full model's does so.
-./target/release/camsim scenes --quick --json > "$studies/scenes.json"
+# The binary where cargo put it (CARGO_TARGET_DIR or a config may move the target directory).
+C="$(cargo metadata --format-version 1 --no-deps |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')/release/camsim"
+# A report never prints null (an absent value is left out, NaN or an infinity is an error):
+# every --json output is parsed and searched for null.
+check_json() {
+    if command -v jq >/dev/null 2>&1; then
+        jq -e '[.. | select(. == null)] | length == 0' "$1" >/dev/null \
+            || { echo "smoke: $1 is not valid JSON or has a null" >&2; return 1; }
+    else
+        python3 -c '
+import json, sys
+def nulls(v, p):
+    if v is None:
+        yield p
+    elif isinstance(v, dict):
+        for k, x in v.items():
+            yield from nulls(x, p + "." + k)
+    elif isinstance(v, list):
+        for i, x in enumerate(v):
+            yield from nulls(x, p + "[%d]" % i)
+found = list(nulls(json.load(open(sys.argv[1])), ""))
+sys.exit("smoke: %s has null at %s" % (sys.argv[1], ", ".join(found[:5])) if found else 0)
+' "$1"
+    fi
+}
+# smoke NAME ARGS...: runs camsim ARGS (exit status 0 or the step fails), checks the JSON.
+smoke() {
+    local name=$1
+    shift
+    echo "smoke: camsim $*"
+    "$C" "$@" > "$studies/$name.out"
+    case " $* " in *" --json "*) check_json "$studies/$name.out" ;; esac
+}
+smoke laws laws --json
+smoke modal modal --json
+smoke contact contact --force 100 --json
+smoke run run --revolutions 2 --json
+smoke run-actual run --actual --revolutions 2 --json
+smoke jump-speed jump-speed --resolution 10 --json
+smoke scene scene --default
+"$C" scene --check scenes/stable-4567-rise.toml > /dev/null
+smoke bench bench --quick --json
+smoke scenes scenes --quick --json
+smoke predict predict --json
+smoke montecarlo montecarlo --samples 8 --json
+smoke compare compare --quick --json
+smoke tolerance-study tolerance-study --quick --json
+smoke waviness waviness --seeds 1 --json
+smoke sensitivity sensitivity --quick --json
+# Every command camsim lists is smoke-tested above (a new command must be added here).
+for c in $("$C" --help | awk '/^Commands:/{on=1; next} on && /^  [a-z]/{print $1} /^$/{on=0}'); do
+    [ "$c" = help ] && continue
+    [ -e "$studies/$c.out" ] || { echo "smoke: camsim $c is not smoke-tested in scripts/test-all.sh" >&2; exit 1; }
+done
 if command -v jq >/dev/null 2>&1; then
-    jq -e '.summary.samples == 8 and (.summary.jump.p | type == "number")' "$studies/montecarlo.json" >/dev/null
-    jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.json" >/dev/null
+    jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95)' "$studies/montecarlo.out" >/dev/null
+    jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.out" >/dev/null
+    jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
+           and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/scenes.out" >/dev/null
     # VI.4.3's groups at +-30 % on both cams, a baseline per cam at change 0, every output a number.
     jq -e '(.baseline | length) == 2 and all(.baseline[]; .change_pct == 0) and (.cases | length) == 12
            and all(.baseline[], .cases[]; [.rms_displacement_in, .rms_velocity_in_per_s, .rms_acceleration_in_per_s2,
                .rms_angular_velocity_rad_per_s, .contact_stress_avg_psi] | all(type == "number" and . >= 0))
-           and ([.cases[].group] | unique) == ["damping", "mass", "stiffness"]' "$studies/sensitivity.json" >/dev/null
-    jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
-           and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/scenes.json" >/dev/null
-else
-    python3 -m json.tool "$studies/montecarlo.json" >/dev/null
-    python3 -m json.tool "$studies/compare.json" >/dev/null
-    python3 -m json.tool "$studies/sensitivity.json" >/dev/null
-    python3 -m json.tool "$studies/scenes.json" >/dev/null
+           and ([.cases[].group] | unique) == ["damping", "mass", "stiffness"]' "$studies/sensitivity.out" >/dev/null
+    jq -e '(.cells | length) == 9 and all(.cells[]; (.fpr | type == "number") and .summary.jump.lo95 <= .summary.jump.hi95)' "$studies/tolerance-study.out" >/dev/null
 fi
 rm -rf "$studies"
 step "fuzz each target for 20 s (scene parser, measured profile, core model; fuzz/README.md)"

@@ -103,10 +103,24 @@ pub struct ActualArgs {
     #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
     pub eccentricity_tolerance: Option<f64>,
     /// Profile point interval, degrees (360/interval a whole number, at most 3600
-    /// points); default: the smallest whole-degree interval passing the three criteria
-    /// of IV.2.3, checked on a profile drawn from the master seed.
+    /// points); overrides --waviness-fpr and --interval.
     #[arg(long, value_name = "DEG", allow_negative_numbers = true, value_parser = interval_deg)]
     pub interval_deg: Option<f64>,
+    /// The cam's waviness, in the thesis's FPR (VI.4.1: curve portions between
+    /// inflection points of the displacement a revolution, Fig. VI.14; a single
+    /// harmonic of n undulations per revolution, UPR in roundness metrology (ISO
+    /// 12181), has FPR 2n). The interval is the whole number of points a revolution
+    /// whose profile, drawn from the master seed, has the FPR nearest N. Default 17,
+    /// the thesis's study cams at VI.1's tolerances (Table VI.2); 39 its rougher cam,
+    /// 57 its cams at ±0.0025/±0.0005 in.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=2000))]
+    pub waviness_fpr: Option<u32>,
+    /// How the interval is set when --interval-deg is not given: `waviness` (the FPR of
+    /// --waviness-fpr, default 17) or `criteria` (the smallest whole-degree interval
+    /// passing the three criteria of IV.2.3 on the master seed's profile: 2 deg, FPR
+    /// about 140, for the reference design; docs/MODEL.md §9.6).
+    #[arg(long, value_enum, default_value_t = IntervalRule::Waviness)]
+    pub interval: IntervalRule,
     /// Master seed: sample i's profile comes from (seed, i) alone (default 1).
     #[arg(long)]
     pub seed: Option<u64>,
@@ -116,7 +130,26 @@ pub struct ActualArgs {
     /// Normal deviates: sum12 (Appendix B) or polar (exact; alias "exact").
     #[arg(long, value_enum, default_value_t = NormalArg::Sum12)]
     pub normal: NormalArg,
+    /// The interval once chosen ([`ActualArgs::resolve`]): a study's samples do not
+    /// repeat the choice.
+    #[arg(skip)]
+    pub resolved: Option<(usize, IntervalSource)>,
 }
+
+/// How the profile point interval is chosen (`--interval`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IntervalRule {
+    /// The waviness stated by `--waviness-fpr` (default [`DEFAULT_FPR`]).
+    #[default]
+    Waviness,
+    /// The three criteria of IV.2.3.
+    Criteria,
+}
+
+/// The default waviness: FPR 17, the thesis's study cams at VI.1's tolerances
+/// (VI.4.1, Table VI.2, Figs. VI.15-VI.16).
+pub const DEFAULT_FPR: u32 = 17;
 
 impl ActualArgs {
     /// The tolerances (the thesis's VI.1 values where not given).
@@ -142,9 +175,19 @@ impl ActualArgs {
             || self.roller_tolerance.is_some()
             || self.eccentricity_tolerance.is_some()
             || self.interval_deg.is_some()
+            || self.waviness_fpr.is_some()
+            || self.interval != d.interval
             || self.seed.is_some()
             || self.profile_method != d.profile_method
             || self.normal != d.normal
+    }
+
+    /// The options with the interval chosen once ([`intervals_for`]), so that the
+    /// samples built from them do not repeat the choice.
+    pub fn resolve(&self, design: &Design<f64>) -> Result<ActualArgs> {
+        let mut a = self.clone();
+        a.resolved = Some(intervals_for(design, self)?);
+        Ok(a)
     }
 }
 
@@ -176,13 +219,21 @@ fn intervals_of(deg: f64) -> Result<usize, String> {
 }
 
 /// How the interval was set.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum IntervalSource {
     /// `--interval-deg`.
     Given,
     /// The three criteria of IV.2.3 (`choose_interval` on the master seed's stream).
     Criteria,
+    /// The stated waviness (`--waviness-fpr`, default [`DEFAULT_FPR`]): the mean FPR of
+    /// the study's first [`FPR_PROBE_SAMPLES`] cams nearest it ([`interval_for_fpr`]).
+    Waviness {
+        /// The FPR asked for.
+        target_fpr: u32,
+        /// The mean FPR of the first [`FPR_PROBE_SAMPLES`] cams at the chosen interval.
+        probe_fpr: f64,
+    },
 }
 
 impl IntervalSource {
@@ -191,6 +242,23 @@ impl IntervalSource {
         match self {
             IntervalSource::Given => "given",
             IntervalSource::Criteria => "by the criteria of IV.2.3",
+            IntervalSource::Waviness { .. } => "for the waviness asked",
+        }
+    }
+
+    /// The short text a report prints: `given`, `criteria`, `waviness FPR 17 (master
+    /// seed's profile FPR 17)`.
+    pub fn label(self) -> String {
+        match self {
+            IntervalSource::Given => "given".into(),
+            IntervalSource::Criteria => "criteria".into(),
+            IntervalSource::Waviness {
+                target_fpr,
+                probe_fpr,
+            } => format!(
+                "for waviness FPR {target_fpr}: samples 0-{} have FPR {probe_fpr:.2} on average",
+                FPR_PROBE_SAMPLES - 1
+            ),
         }
     }
 }
@@ -307,15 +375,39 @@ pub fn deviation_stats(dev: &HostDeviation) -> Result<DeviationStats> {
     })
 }
 
-/// Intervals per revolution for `args` on `design`: `--interval-deg`, or the smallest
-/// whole-degree interval passing the three criteria of IV.2.3 on a profile drawn from
-/// the master seed's own stream (`RandomStream::new(seed, method)`, the same for every
-/// sample).
+/// Intervals per revolution for `args` on `design`: `--interval-deg`; else with
+/// `--interval criteria` the smallest whole-degree interval passing the three criteria
+/// of IV.2.3 on a profile drawn from the master seed's own stream
+/// (`RandomStream::new(seed, method)`, the same for every sample); else the interval
+/// of the waviness `--waviness-fpr` asks ([`interval_for_fpr`], default
+/// [`DEFAULT_FPR`]). Options already resolved ([`ActualArgs::resolve`]) keep their
+/// choice.
 pub fn intervals_for(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, IntervalSource)> {
+    if let Some(r) = args.resolved {
+        return Ok(r);
+    }
     if let Some(deg) = args.interval_deg {
         let n = intervals_of(deg).map_err(|e| anyhow::anyhow!("--interval-deg {deg}: {e}"))?;
         return Ok((n, IntervalSource::Given));
     }
+    if args.interval == IntervalRule::Criteria {
+        if let Some(f) = args.waviness_fpr {
+            bail!("--waviness-fpr {f}: not with --interval criteria (the criteria choose the interval; give one or the other)");
+        }
+        return criteria_intervals(design, args);
+    }
+    let target = args.waviness_fpr.unwrap_or(DEFAULT_FPR);
+    let (n, probe_fpr) = interval_for_fpr(design, args, target)?;
+    Ok((
+        n,
+        IntervalSource::Waviness {
+            target_fpr: target,
+            probe_fpr,
+        },
+    ))
+}
+
+fn criteria_intervals(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, IntervalSource)> {
     let tol = args.tolerances()?;
     let choice = choose_interval::<f64, 361, 8>(
         &design.program,
@@ -339,6 +431,137 @@ pub fn intervals_for(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, 
     }
 }
 
+/// The FPR of the profile `args` make with `intervals` points a revolution from the
+/// master seed's own stream (`RandomStream::new(seed, method)`, as the criteria use).
+pub fn master_fpr(design: &Design<f64>, args: &ActualArgs, intervals: usize) -> Result<usize> {
+    Ok(deviation_stats(&master_profile(design, args, intervals)?)?.fpr)
+}
+
+/// Cams whose mean FPR sets the interval for a stated waviness: samples 0 to 7 of the
+/// study's seed (the mean's standard error is then about 0.5 at FPR 17).
+pub const FPR_PROBE_SAMPLES: u64 = 8;
+
+/// The mean FPR of samples 0 to [`FPR_PROBE_SAMPLES`] − 1 with `intervals` points.
+pub fn probe_fpr(design: &Design<f64>, args: &ActualArgs, intervals: usize) -> Result<f64> {
+    let mut sum = 0.0;
+    for i in 0..FPR_PROBE_SAMPLES {
+        let mut rng = RandomStream::<f64>::for_sample(args.seed(), i, args.normal.into());
+        let (dev, _) = profile_from(design, args, intervals, &mut rng)?;
+        sum += deviation_stats(&dev)?.fpr as f64;
+    }
+    Ok(sum / FPR_PROBE_SAMPLES as f64)
+}
+
+/// The deviation `args` make with `intervals` points a revolution from the master
+/// seed's own stream (`RandomStream::new(seed, method)`).
+pub fn master_profile(
+    design: &Design<f64>,
+    args: &ActualArgs,
+    intervals: usize,
+) -> Result<HostDeviation> {
+    let mut rng = RandomStream::<f64>::new(args.seed(), args.normal.into());
+    Ok(profile_from(design, args, intervals, &mut rng)?.0)
+}
+
+/// The interval for a stated waviness: the whole number n of points a revolution
+/// (interval 360/n degrees, any n from 3 to 720: a free interval, not only the
+/// divisors of the program's periods that criterion 3 allows, which reach FPR 18-20,
+/// 28-30 and 44-48 but not 39 on the reference program) whose first
+/// [`FPR_PROBE_SAMPLES`] cams (samples 0-7 of the seed, the study's own) have the mean
+/// FPR nearest `target` (within 0.5 ends the search); of equals the smallest n (the
+/// smoothest cam). Returns n and that mean.
+///
+/// The FPR grows about 0.8 a point (docs/MODEL.md §9.6), so n is searched from
+/// target/2 to 2·target + 8 (clamped to 3..=720). With the envelope only the n whose
+/// perfect contour the spline follows within [`ENVELOPE_FIT`] of σ_c are tried (n up to
+/// 360): at VI.1's tolerances 8° and finer, FPR 36 and more, so a smoother envelope cam
+/// than that is not made (the nearest is, and the reports give its FPR).
+pub fn interval_for_fpr(
+    design: &Design<f64>,
+    args: &ActualArgs,
+    target: u32,
+) -> Result<(usize, f64)> {
+    let t = target as usize;
+    let lo = (t / 2).max(3);
+    let hi = (2 * t + 8).min(720).max(lo);
+    let mut best: Option<(f64, usize, f64)> = None; // (|fpr - t|, n, fpr)
+                                                    // The envelope's contour is splined through the setting points: too few of them and
+                                                    // the perfect cam itself is not followed (at VI.1's tolerances its RMS error passes
+                                                    // the tolerance's σ at 15°). Only the n whose zero-tolerance contour follows the lift
+                                                    // within ENVELOPE_FIT of σ_c are tried (8° and finer on the reference design).
+    let fits = |n: usize| -> Result<bool> {
+        if args.profile_method != ProfileMethod::Envelope {
+            return Ok(true);
+        }
+        let perfect = ActualArgs {
+            cam_tolerance: Some(0.0),
+            roller_tolerance: Some(0.0),
+            eccentricity_tolerance: Some(0.0),
+            ..args.clone()
+        };
+        let sigma = args.tolerances()?.cam / 3.0;
+        let rms = deviation_stats(&master_profile(design, &perfect, n)?)?.rms_deviation_in;
+        Ok(rms <= ENVELOPE_FIT * sigma.max(1e-6))
+    };
+    let hi = if args.profile_method == ProfileMethod::Envelope {
+        hi.max(360)
+    } else {
+        hi
+    };
+    for n in lo..=hi {
+        if !fits(n)? {
+            continue;
+        }
+        let fpr = probe_fpr(design, args, n)
+            .with_context(|| format!("--waviness-fpr {target}: the profiles with {n} points"))?;
+        let d = (fpr - t as f64).abs();
+        if best.is_none_or(|b| d < b.0) {
+            best = Some((d, n, fpr));
+        }
+        // The FPR grows with n (about 0.8 a point): past the target by more than the
+        // best's miss plus a margin, no larger n comes nearer.
+        if d < 0.5 || best.is_some_and(|b| fpr > t as f64 && d > b.0 + 8.0) {
+            break;
+        }
+    }
+    best.map(|b| (b.1, b.2))
+        .ok_or_else(|| anyhow::anyhow!("--waviness-fpr {target}: no interval to try"))
+}
+
+/// The envelope's drawn roller radius (in) and rotation-centre offset (x, y, in).
+type EnvelopeParts = (f64, [f64; 2]);
+
+/// The envelope's largest interpolation error of the perfect cam, as a fraction of the
+/// cam tolerance's σ, for an interval [`interval_for_fpr`] may choose: 0.1 (the
+/// contour's spline then adds under 1 % to the profile's variance).
+pub const ENVELOPE_FIT: f64 = 0.1;
+
+/// The deviation `args`' profile method makes with `intervals` points from `rng`, and
+/// the envelope's roller radius and centre offset.
+fn profile_from(
+    design: &Design<f64>,
+    args: &ActualArgs,
+    intervals: usize,
+    rng: &mut RandomStream<f64>,
+) -> Result<(HostDeviation, Option<EnvelopeParts>)> {
+    let tol = args.tolerances()?;
+    let (program, geometry) = (&design.program, &design.geometry);
+    Ok(match args.profile_method {
+        ProfileMethod::Thesis => (
+            DeviatedLift::thesis(program, geometry, &tol, intervals, rng)?,
+            None,
+        ),
+        ProfileMethod::Envelope => {
+            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
+                program, geometry, &tol, intervals, rng,
+            )?);
+            let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
+                .context("the roller's envelope on the actual contour")?;
+            (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
+        }
+    })
+}
+
 /// The actual cam of sample `sample` for `args` on `design`, and its statistics.
 ///
 /// Its random numbers come from `RandomStream::for_sample(seed, sample, method)` alone.
@@ -352,21 +575,7 @@ pub fn build_profile(
     let (intervals, source) = intervals_for(design, args)?;
     let seed = args.seed();
     let mut rng = RandomStream::<f64>::for_sample(seed, sample, args.normal.into());
-    let (program, geometry) = (&design.program, &design.geometry);
-    let (dev, cam_parts): (HostDeviation, _) = match args.profile_method {
-        ProfileMethod::Thesis => (
-            DeviatedLift::thesis(program, geometry, &tol, intervals, &mut rng)?,
-            None,
-        ),
-        ProfileMethod::Envelope => {
-            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
-                program, geometry, &tol, intervals, &mut rng,
-            )?);
-            let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
-                .context("the roller's envelope on the actual contour")?;
-            (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
-        }
-    };
+    let (dev, cam_parts) = profile_from(design, args, intervals, &mut rng)?;
     let ds = deviation_stats(&dev).context("profile statistics")?;
     let stats = ProfileStats {
         method: args.profile_method,
@@ -449,11 +658,65 @@ mod tests {
     }
 
     #[test]
-    fn the_default_interval_comes_from_the_master_seed() {
+    fn the_default_interval_has_the_study_cams_waviness() {
+        // FPR 17 by default: the mean FPR of the first 8 cams at the chosen n is within
+        // 0.5 of 17 or the nearest of every n from 3 to 60 (a wider range than the
+        // search's), and every smaller n is farther (the smoothest of equals).
+        let d = Design::<f64>::reference();
+        let a = ActualArgs::default();
+        let (n, src) = intervals_for(&d, &a).unwrap();
+        let IntervalSource::Waviness {
+            target_fpr,
+            probe_fpr: got,
+        } = src
+        else {
+            panic!("{src:?}")
+        };
+        assert_eq!(target_fpr, DEFAULT_FPR);
+        assert_eq!(got, probe_fpr(&d, &a, n).unwrap());
+        let miss = |m: usize| (probe_fpr(&d, &a, m).unwrap() - 17.0).abs();
+        let best = (3..=60).map(miss).fold(f64::INFINITY, f64::min);
+        assert!(
+            (got - 17.0).abs() < 0.5 || (got - 17.0).abs() == best,
+            "n {n}: {got}"
+        );
+        assert!(
+            (3..n).all(|m| miss(m) > (got - 17.0).abs()),
+            "a smaller n is as near"
+        );
+        // Resolved once, the samples keep it; --interval-deg overrides; --interval
+        // criteria with a stated waviness is refused on one line naming both.
+        let r = a.resolve(&d).unwrap();
+        assert_eq!(intervals_for(&d, &r).unwrap(), (n, src));
+        let (_, s0) = build_profile(&d, &r, 0).unwrap();
+        assert_eq!((s0.intervals, s0.interval_source), (n, src));
+        let g = ActualArgs {
+            interval_deg: Some(5.0),
+            waviness_fpr: Some(57),
+            ..ActualArgs::default()
+        };
+        assert_eq!(intervals_for(&d, &g).unwrap(), (72, IntervalSource::Given));
+        let bad = ActualArgs {
+            interval: IntervalRule::Criteria,
+            waviness_fpr: Some(39),
+            ..ActualArgs::default()
+        };
+        let e = intervals_for(&d, &bad).unwrap_err().to_string();
+        assert!(
+            e.contains("--waviness-fpr 39") && e.contains("--interval criteria"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_criteria_interval_comes_from_the_master_seed() {
         // Criterion 2 is decided by the sample (camsim-core's profile docs): the
         // choice depends on the master seed, the same for every sample of a study.
         let d = Design::<f64>::reference();
-        let a = ActualArgs::default();
+        let a = ActualArgs {
+            interval: IntervalRule::Criteria,
+            ..ActualArgs::default()
+        };
         let (n, src) = intervals_for(&d, &a).unwrap();
         assert_eq!(src, IntervalSource::Criteria);
         assert!(360 % n == 0 && n <= 360, "{n}");

@@ -48,6 +48,8 @@ pub enum Command {
     ToleranceStudy(cmd::tolerance_study::Args),
     /// Masses, dampers and stiffnesses changed by -30 to +30 %: the sensitivity study of VI.4.3 (--per-key: every key's elasticity).
     Sensitivity(cmd::sensitivity::Args),
+    /// The waviness (FPR) of an actual cam against its profile point interval, both profile methods, and the criteria of IV.2.3.
+    Waviness(cmd::waviness::Args),
 }
 
 /// Parses a command line (the first item is the program name).
@@ -75,6 +77,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Compare(a) => cmd::compare::run(a),
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
         Command::Sensitivity(a) => cmd::sensitivity::run(a),
+        Command::Waviness(a) => cmd::waviness::run(a),
     }
 }
 

@@ -246,11 +246,19 @@ fn statistics_are_the_textbook_ones() {
         assert!(format!("{e}").contains("rise.rms_acceleration"), "{e}");
     }
     assert!(Moments::of("x", &[]).is_err());
-    // Binomial: 3 of 10 → p = 0.3, se = √(0.3 · 0.7 / 10).
+    // Binomial: 3 of 10 → p = 0.3 with its Wilson interval [0.10779, 0.60322]
+    // (hand-computed); 0 of 10 is no point: [0, z²/(10 + z²)] = [0, 0.27753].
     let p = Probability::of(3, 10);
     assert_eq!((p.count, p.p), (3, 0.3));
-    assert!((p.se - 0.021f64.sqrt()).abs() < 1e-15);
-    assert_eq!(Probability::of(0, 10).se, 0.0);
+    assert!(
+        (p.lo95 - 0.107_791_3).abs() < 1e-6 && (p.hi95 - 0.603_221_9).abs() < 1e-6,
+        "{p:?}"
+    );
+    let z = Probability::of(0, 10);
+    assert!(
+        z.lo95 == 0.0 && (z.hi95 - 0.277_532_8).abs() < 1e-6,
+        "{z:?}"
+    );
 }
 
 #[test]

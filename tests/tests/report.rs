@@ -469,7 +469,7 @@ fn the_binary_fails_on_one_line_and_ends_quietly_on_a_closed_pipe() {
     assert_eq!(code, Some(2));
     assert_eq!(
         err,
-        "camsim: error: a command is required: laws, modal, contact, run, jump-speed, scene, bench, scenes, predict, montecarlo, compare, tolerance-study, sensitivity (see camsim --help)\n"
+        "camsim: error: a command is required: laws, modal, contact, run, jump-speed, scene, bench, scenes, predict, montecarlo, compare, tolerance-study, sensitivity, waviness (see camsim --help)\n"
     );
     // Speeds of 1e300 rpm: refused by the range, before anything runs.
     for cmd in ["run", "bench", "jump-speed"] {
@@ -511,4 +511,90 @@ fn a_broken_pipe_is_recognised_through_the_context() {
     let other = anyhow::Error::from(std::io::Error::from(std::io::ErrorKind::NotFound));
     assert!(!cli::is_broken_pipe(&other));
     assert!(!cli::is_broken_pipe(&anyhow::anyhow!("broken pipe")));
+}
+
+/// Runs the binary's `main` on `args` in a child; returns the exit code, standard output
+/// and standard error.
+fn binary_output(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(std::env::current_exe().unwrap())
+        .args(["child_cli", "--exact", "--ignored", "--test-threads=1"])
+        .env(ENV_CLI, args.join("\x1f"))
+        .env_remove("RUST_BACKTRACE")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    // The child's own output starts after its READY line.
+    let stdout = stdout
+        .split_once("READY\n")
+        .map_or(stdout.clone(), |(_, rest)| rest.to_string());
+    (
+        out.status.code(),
+        stdout,
+        String::from_utf8_lossy(&out.stderr).to_string(),
+    )
+}
+
+#[test]
+fn every_command_reports_absent_values_as_absent_not_as_non_finite() {
+    // Issue 16: tolerance-study failed in every form because its theoretical cell's
+    // interval (absent by design) was taken for NaN. Each command's --json (quick forms)
+    // exits 0 and prints JSON without a null: an absent value is left out, and a value
+    // absent by design is not refused as non-finite.
+    let cases: &[&[&str]] = &[
+        &["laws", "--json"],
+        &["modal", "--json"],
+        &["contact", "--force", "100", "--json"],
+        &["run", "--revolutions", "1", "--json"],
+        &["run", "--revolutions", "1", "--actual", "--json"],
+        &["jump-speed", "--resolution", "50", "--json"],
+        &["scene", "--default"],
+        &["montecarlo", "--samples", "2", "--vertical", "--json"],
+        &["compare", "--quick", "--json"],
+        &["tolerance-study", "--quick", "--json"],
+        &[
+            "tolerance-study",
+            "--quick",
+            "--samples",
+            "1",
+            "--waviness-fpr",
+            "17",
+            "--json",
+        ],
+        &["waviness", "--seeds", "1", "--json"],
+        &["predict", "--json"],
+        &["scenes", "--quick", "--json"],
+        &["bench", "--quick", "--json"],
+    ];
+    for args in cases {
+        let (code, out, err) = binary_output(args);
+        assert_eq!(code, Some(0), "camsim {}: {err}", args.join(" "));
+        if !args.contains(&"--json") {
+            assert!(!out.trim().is_empty(), "camsim {}", args.join(" "));
+            continue;
+        }
+        let v: serde_json::Value = serde_json::from_str(&out)
+            .unwrap_or_else(|e| panic!("camsim {}: not JSON ({e}): {out}", args.join(" ")));
+        let mut found = Vec::new();
+        nulls(&v, "", &mut found);
+        assert!(
+            found.is_empty(),
+            "camsim {}: null at {found:?}",
+            args.join(" ")
+        );
+    }
+    // The grid's theoretical cell has no interval and no FPR, and passes the check; a
+    // NaN put in its place does not.
+    let (_, out, _) = binary_output(&["tolerance-study", "--quick", "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v["theoretical"].get("interval_deg").is_none());
+    assert!(v["cells"][0]["interval_deg"].is_number() && v["cells"][0]["fpr"].is_number());
+    assert_eq!(camsim::report::non_finite(&v).unwrap(), None);
+    // The typed check: None (absent) passes, Some(NaN) is named.
+    let absent: (Option<f64>, f64) = (None, 1.0);
+    assert_eq!(camsim::report::non_finite(&absent).unwrap(), None);
+    let nan: (Option<f64>, f64) = (Some(f64::NAN), 1.0);
+    assert_eq!(
+        camsim::report::non_finite(&nan).unwrap().as_deref(),
+        Some("[0]")
+    );
 }

@@ -222,6 +222,8 @@ pub struct CompareReport {
     pub seed: u64,
     /// Profile intervals per revolution (the same for every law).
     pub intervals: usize,
+    /// How the interval was set (by default the waviness, FPR 17).
+    pub interval_source: actual::IntervalSource,
     /// Wall-clock time, s.
     pub wall_s: f64,
 }
@@ -378,10 +380,9 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         None => None,
     };
     // One interval for every law: the one the scene's own program gets.
-    let (intervals, _) = actual::intervals_for(&base.design, &args.actual)?;
-    let mut actual_args = args.actual.clone();
+    let mut actual_args = args.actual.resolve(&base.design)?;
     actual_args.actual = true;
-    actual_args.interval_deg = Some(360.0 / intervals as f64);
+    let (intervals, interval_source) = actual::intervals_for(&base.design, &actual_args)?;
     let specs: Vec<(MotionLaw, RunSpec)> = MotionLaw::ALL
         .iter()
         .map(|&l| with_law(&base, l).map(|s| (l, s)))
@@ -487,6 +488,7 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         quick: args.quick,
         seed: args.actual.seed(),
         intervals,
+        interval_source,
         wall_s: t0.elapsed().as_secs_f64(),
     })
 }
@@ -551,8 +553,15 @@ impl Report for CompareReport {
             let p = &l.actual.profile;
             let _ = writeln!(
                 out,
-                "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals ({} deg)",
-                self.seed, p.cam_tolerance_in, p.roller_tolerance_in, p.eccentricity_tolerance_in, p.intervals, p.interval_deg
+                "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals ({:.4} deg, {}); FPR {}",
+                self.seed, p.cam_tolerance_in, p.roller_tolerance_in, p.eccentricity_tolerance_in, p.intervals, p.interval_deg,
+                self.interval_source.label(),
+                {
+                    let (lo, hi) = self.laws.iter().fold((usize::MAX, 0), |(a, b), l| {
+                        (a.min(l.actual.profile.fpr), b.max(l.actual.profile.fpr))
+                    });
+                    if lo == hi { format!("{lo}") } else { format!("{lo}-{hi} (by law)") }
+                }
             );
         }
         let _ = writeln!(

@@ -13,3 +13,4 @@ pub mod scene;
 pub mod scenes;
 pub mod sensitivity;
 pub mod tolerance_study;
+pub mod waviness;

@@ -37,7 +37,7 @@ use camsim_core::DriveLaw;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize, Serializer};
 
-use crate::actual::{self, ActualArgs, IntervalSource};
+use crate::actual::{self, ActualArgs};
 use crate::cmd::run::{spec_from, SceneArgs};
 use crate::output::{AtomicDir, Plan};
 use crate::report::Report;
@@ -297,7 +297,8 @@ pub struct ProfileSettings {
     pub eccentricity_tolerance_in: f64,
     /// Profile points per revolution.
     pub intervals: usize,
-    /// `given` (--interval-deg) or `criteria` (IV.2.3's three, on the master seed).
+    /// `given` (--interval-deg), `criteria` (IV.2.3's three, on the master seed) or
+    /// `waviness FPR n (master seed's profile FPR m)` (--waviness-fpr).
     pub interval_source: String,
 }
 
@@ -307,7 +308,7 @@ pub struct ProfileSettings {
 pub struct Study {
     /// The scene (its `profile` is set per sample).
     pub spec: RunSpec,
-    /// The actual-cam options, `interval_deg` always set.
+    /// The actual-cam options, the interval resolved (`resolved` set).
     pub actual: ActualArgs,
     /// What identifies the study.
     pub settings: StudySettings,
@@ -347,7 +348,7 @@ impl Study {
         let (intervals, source) = actual::intervals_for(&spec.design, actual)?;
         let mut fixed = actual.clone();
         fixed.actual = true;
-        fixed.interval_deg = Some(360.0 / intervals as f64);
+        fixed.resolved = Some((intervals, source));
         let settings = StudySettings {
             camsim_version: env!("CARGO_PKG_VERSION").to_string(),
             samples,
@@ -361,11 +362,7 @@ impl Study {
                 roller_tolerance_in: tol.roller,
                 eccentricity_tolerance_in: tol.eccentricity,
                 intervals,
-                interval_source: match source {
-                    IntervalSource::Given => "given",
-                    IntervalSource::Criteria => "criteria",
-                }
-                .to_string(),
+                interval_source: source.label(),
             },
         };
         Ok(Study {
@@ -557,28 +554,7 @@ impl Moments {
     }
 }
 
-/// How often something happened over the samples.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Probability {
-    /// Samples where it happened.
-    pub count: u64,
-    /// Its fraction p.
-    pub p: f64,
-    /// Binomial standard error √(p(1 − p)/n).
-    pub se: f64,
-}
-
-impl Probability {
-    /// `count` of `n`.
-    pub fn of(count: u64, n: u64) -> Self {
-        let p = count as f64 / n.max(1) as f64;
-        Probability {
-            count,
-            p,
-            se: (p * (1.0 - p) / n.max(1) as f64).sqrt(),
-        }
-    }
-}
+pub use crate::stats::Probability;
 
 /// Named statistics in a fixed order (a JSON object in that order).
 #[derive(Clone, Debug, PartialEq)]
@@ -1057,15 +1033,10 @@ fn moments_table(out: &mut String, columns: &Columns) {
 }
 
 fn probability_text(p: &Probability, n: u64) -> String {
-    if p.count == 0 {
-        // No event in n trials: the one-sided 95 % upper bound is 1 − 0.05^(1/n) ≈ 3/n.
-        format!(
-            "0 of {n} (p = 0; below {:.2e} at 95 % confidence)",
-            1.0 - 0.05f64.powf(1.0 / n as f64)
-        )
-    } else {
-        format!("{} of {n}, p = {:.4} ± {:.4} (1 se)", p.count, p.p, p.se)
-    }
+    format!(
+        "{} of {n}, p = {:.4}, 95 % interval [{:.4}, {:.4}] (Wilson)",
+        p.count, p.p, p.lo95, p.hi95
+    )
 }
 
 impl Report for MonteCarloReport {

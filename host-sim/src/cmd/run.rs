@@ -405,9 +405,9 @@ impl Report for RunReport {
             Some(ProfileReport::Actual(p)) => {
                 let _ = writeln!(
                     out,
-                    "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} in, roller {} in, eccentricity {} in; {} points every {} deg ({})",
+                    "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} in, roller {} in, eccentricity {} in; {} points every {:.4} deg ({})",
                     p.method.name(), p.seed, p.sample, p.normal.name(), p.cam_tolerance_in, p.roller_tolerance_in,
-                    p.eccentricity_tolerance_in, p.intervals, p.interval_deg, p.interval_source.name(),
+                    p.eccentricity_tolerance_in, p.intervals, p.interval_deg, p.interval_source.label(),
                 );
                 if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
                     let _ = writeln!(

@@ -1,12 +1,14 @@
-//! `camsim tolerance-study`: the grid of VI.4.1 on the thesis's more stable program
-//! (4-5-6-7 rise, modified trapezoidal return; `scenes/stable-4567-rise.toml`): the cam
-//! profile tolerance at 0.0025, 0.0005 and 0.0001 in with the roller's at 1/5 of it,
-//! and the waviness (FPR) set through the profile point interval. Each cell is a small
-//! Monte Carlo study ([`crate::cmd::montecarlo`]) whose samples use the same master
-//! seed in every cell (common random numbers: two cells with the same interval draw
-//! the same normal deviates, scaled by their tolerance band), reported as the mean of
+//! `camsim tolerance-study`: the grid of VI.4.1 (Table VI.2 varies both the tolerance
+//! and the waviness) on the thesis's more stable program (4-5-6-7 rise, modified
+//! trapezoidal return; `scenes/stable-4567-rise.toml`): the cam and roller tolerances at
+//! 0.2, 1 and 5 times VI.1's (cam ±0.0001, ±0.0005, ±0.0025 in, the roller's at 1/5 of
+//! it; the eccentricity kept at VI.1's ±0.001 in), by the waviness (FPR 17, 39 and 57,
+//! the thesis's cams; `--waviness-fpr`), or by given intervals (`--interval-deg`). Each
+//! cell is a small Monte Carlo study ([`crate::cmd::montecarlo`]) whose samples use the
+//! same master seed in every cell (common random numbers), reported as the mean of
 //! revolution 2's time responses (RMS deviations) and inertial responses per period,
-//! with the probability of a jump. A theoretical-cam row (no tolerance) comes first.
+//! with the probability of a jump and its 95 % interval. A theoretical-cam row (no
+//! tolerance) comes first; `--plot DIR` draws the grid as heat maps.
 
 use std::path::PathBuf;
 
@@ -17,14 +19,18 @@ use serde::Serialize;
 use crate::actual::{ActualArgs, NormalArg};
 use crate::args::{non_negative_finite, positive_finite};
 use crate::cmd::montecarlo::{self, Moments, Study, Summary};
+use crate::output::AtomicDir;
 use crate::report::Report;
 use crate::sim::RunSpec;
 
-/// The cam profile tolerances of the grid (± in); the roller's is 1/5 of each.
-pub const CAM_TOLERANCES: [f64; 3] = [0.0025, 0.0005, 0.0001];
-/// The default profile point intervals (degrees): about 10, 28 and 57 waves a
-/// revolution (FPR ≈ 0.8 per interval, camsim-core's profile tests).
-pub const INTERVALS_DEG: [f64; 3] = [30.0, 10.0, 5.0];
+/// The factors on VI.1's cam and roller tolerances (±0.0005 and ±0.0001 in) of the
+/// grid's rows, largest first: cam ±0.0025, ±0.0005, ±0.0001 in.
+pub const TOLERANCE_FACTORS: [f64; 3] = [5.0, 1.0, 0.2];
+/// The default waviness axis: the thesis's cams (VI.4.1, Table VI.2): FPR 17 (its
+/// study cams), 39 (a rougher one) and 57 (at ±0.0025/±0.0005 in).
+pub const WAVINESS_FPR: [u32; 3] = [17, 39, 57];
+/// The plots `--plot DIR` writes.
+pub const PLOT_FILES: [&str; 1] = ["tolerance_grid.png"];
 
 /// Command-line options of `camsim tolerance-study`.
 #[derive(clap::Args, Debug, Clone)]
@@ -38,8 +44,13 @@ pub struct Args {
     /// Actual cams per cell (default 8; 1 with --quick).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000))]
     pub samples: Option<u64>,
-    /// Profile point intervals, degrees (each a whole number of intervals a
-    /// revolution; default 30,10,5).
+    /// The waviness axis, FPR (default 17,39,57; FPR 2n is a single harmonic of n
+    /// undulations a revolution): each cell's interval is the one whose profile, drawn
+    /// from the master seed at the cell's tolerances, has the FPR nearest.
+    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = clap::value_parser!(u32).range(2..=2000), conflicts_with = "interval_deg")]
+    pub waviness_fpr: Vec<u32>,
+    /// Profile point intervals, degrees, instead of the waviness axis (each a whole
+    /// number of intervals a revolution).
     #[arg(long, value_name = "DEG", value_delimiter = ',', value_parser = crate::actual::interval_deg)]
     pub interval_deg: Vec<f64>,
     /// Camshaft-bearing and eccentricity tolerance, ± in (kept at VI.1's 0.001 in every
@@ -55,6 +66,13 @@ pub struct Args {
     /// Quick mode: one cam per cell, the vertical scene.
     #[arg(long)]
     pub quick: bool,
+    /// Write the grid as heat maps (P(jump) with its interval, acceleration RMS) into
+    /// DIR (tolerance_grid.png).
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Replace existing --plot files.
+    #[arg(long)]
+    pub force: bool,
     /// Worker threads (default: every core). The result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
@@ -72,15 +90,26 @@ pub struct Cell {
     pub roller_tolerance_in: f64,
     /// Eccentricity tolerance, ± in.
     pub eccentricity_tolerance_in: f64,
-    /// Profile point interval, degrees (none for the theoretical cam).
+    /// The waviness asked for, FPR (absent for the theoretical cam and given intervals).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub target_fpr: Option<u32>,
+    /// Profile point interval, degrees (absent for the theoretical cam).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub interval_deg: Option<f64>,
+    /// The waviness achieved: mean FPR of the cell's cams (absent for the theoretical
+    /// cam).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fpr: Option<f64>,
+    /// Revolution 2's acceleration RMS summed over the periods, mean over the cams,
+    /// in/s².
+    pub acc_rms_sum_in_per_s2: f64,
     /// The cell's Monte Carlo result (revolution 2).
     pub summary: Summary,
 }
 
 impl Cell {
     /// The profiles' waviness (FPR).
-    pub fn fpr(&self) -> Option<&Moments> {
+    pub fn fpr_moments(&self) -> Option<&Moments> {
         self.summary.profile.get("fpr")
     }
 }
@@ -100,8 +129,10 @@ pub struct ToleranceReport {
     pub quick: bool,
     /// The theoretical cam (no tolerance).
     pub theoretical: Cell,
-    /// The grid, by cam tolerance (largest first), then interval.
+    /// The grid, by cam tolerance (largest first), then waviness (the axis's order).
     pub cells: Vec<Cell>,
+    /// Cells a row (the waviness axis's length).
+    pub columns: usize,
     /// Wall-clock time, s.
     pub wall_s: f64,
 }
@@ -148,51 +179,78 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
     let spec = base_spec(args)?;
     let samples = args.samples.unwrap_or(if args.quick { 1 } else { 8 });
     let threads = montecarlo::threads(args.threads);
-    let intervals: Vec<f64> = if args.interval_deg.is_empty() {
-        INTERVALS_DEG.to_vec()
-    } else {
-        args.interval_deg.clone()
+    let mut plan = crate::output::Plan::new(args.force);
+    let plot_target = match &args.plot {
+        Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
+        None => None,
     };
-    let ecc = args.eccentricity_tolerance.unwrap_or(0.001);
-    let cell = |cam: f64, roller: f64, ecc: f64, interval: f64| -> Result<Summary> {
+    // The waviness axis: (FPR asked, interval given).
+    let axis: Vec<(Option<u32>, Option<f64>)> = if !args.interval_deg.is_empty() {
+        args.interval_deg.iter().map(|&d| (None, Some(d))).collect()
+    } else if !args.waviness_fpr.is_empty() {
+        args.waviness_fpr.iter().map(|&f| (Some(f), None)).collect()
+    } else {
+        WAVINESS_FPR.iter().map(|&f| (Some(f), None)).collect()
+    };
+    let reference = camsim_core::Tolerances::<f64>::reference();
+    let ecc = args
+        .eccentricity_tolerance
+        .unwrap_or(reference.eccentricity);
+    let cell = |cam: f64,
+                roller: f64,
+                ecc: f64,
+                fpr: Option<u32>,
+                interval: Option<f64>|
+     -> Result<Cell> {
         let actual = ActualArgs {
             actual: true,
             cam_tolerance: Some(cam),
             roller_tolerance: Some(roller),
             eccentricity_tolerance: Some(ecc),
-            interval_deg: Some(interval),
+            interval_deg: interval,
+            waviness_fpr: fpr,
             seed: args.seed,
             normal: args.normal,
             ..ActualArgs::default()
         };
-        let n = if cam == 0.0 && roller == 0.0 && ecc == 0.0 {
-            1
-        } else {
-            samples
-        };
+        let theoretical = cam == 0.0 && roller == 0.0 && ecc == 0.0;
+        let n = if theoretical { 1 } else { samples };
         let study = Study::from_spec(spec.clone(), &actual, n)?;
         let indices: Vec<u64> = (0..n).collect();
-        montecarlo::summarize(&study.run(&indices, threads, false)?, study.revolution())
+        let summary =
+            montecarlo::summarize(&study.run(&indices, threads, false)?, study.revolution())?;
+        let acc = summary
+            .whole_revolution
+            .get("acc_rms_sum")
+            .map(|m| m.mean)
+            .ok_or_else(|| anyhow::anyhow!("the study has no acceleration RMS"))?;
+        Ok(Cell {
+            cam_tolerance_in: cam,
+            roller_tolerance_in: roller,
+            eccentricity_tolerance_in: ecc,
+            target_fpr: if theoretical { None } else { fpr },
+            interval_deg: (!theoretical).then(|| 360.0 / study.settings.profile.intervals as f64),
+            fpr: if theoretical {
+                None
+            } else {
+                summary.profile.get("fpr").map(|m| m.mean)
+            },
+            acc_rms_sum_in_per_s2: acc,
+            summary,
+        })
     };
-    let theoretical = Cell {
-        cam_tolerance_in: 0.0,
-        roller_tolerance_in: 0.0,
-        eccentricity_tolerance_in: 0.0,
-        interval_deg: None,
-        summary: cell(0.0, 0.0, 0.0, 10.0)?,
-    };
+    let theoretical = cell(0.0, 0.0, 0.0, None, Some(10.0))?;
     let mut cells = Vec::new();
-    for cam in CAM_TOLERANCES {
-        for &iv in &intervals {
-            let roller = cam / 5.0;
-            cells.push(Cell {
-                cam_tolerance_in: cam,
-                roller_tolerance_in: roller,
-                eccentricity_tolerance_in: ecc,
-                interval_deg: Some(iv),
-                summary: cell(cam, roller, ecc, iv)?,
-            });
+    for k in TOLERANCE_FACTORS {
+        for &(fpr, iv) in &axis {
+            let (cam, roller) = (k * reference.cam, k * reference.roller);
+            cells.push(cell(cam, roller, ecc, fpr, iv)?);
         }
+    }
+    if let Some(t) = plot_target {
+        let mut dir = t.open()?;
+        draw(&mut dir, &theoretical, &cells, axis.len(), samples)?;
+        dir.commit()?;
     }
     Ok(ToleranceReport {
         program: [law_of(&spec, true), law_of(&spec, false)],
@@ -201,6 +259,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
         seed: args.seed.unwrap_or(crate::actual::DEFAULT_SEED),
         quick: args.quick,
         theoretical,
+        columns: cells.len() / TOLERANCE_FACTORS.len(),
         cells,
         wall_s: t0.elapsed().as_secs_f64(),
     })
@@ -250,11 +309,12 @@ fn cell_text(out: &mut String, title: &str, c: &Cell) {
     let acc = s.whole_revolution.get("acc_rms_sum");
     let _ = writeln!(
         out,
-        "  sum of rms_a {:.4e} in/s2 (sd {:.2e}), jump anywhere p = {:.3} ± {:.3}",
-        acc.map_or(f64::NAN, |m| m.mean),
-        acc.map_or(f64::NAN, |m| m.sd),
-        s.jump.p,
-        s.jump.se
+        "  sum of rms_a {:.4e} in/s2 (sd {:.2e}), jump anywhere {} of {}: p = {} (95 % Wilson interval)",
+        acc.map_or(0.0, |m| m.mean),
+        acc.map_or(0.0, |m| m.sd),
+        s.jump.count,
+        s.samples,
+        s.jump.text(3)
     );
 }
 
@@ -283,27 +343,240 @@ impl Report for ToleranceReport {
             &self.theoretical,
         );
         for c in &self.cells {
-            let fpr = c.fpr();
+            let fpr = c.fpr_moments();
             let _ = writeln!(out);
             cell_text(
                 &mut out,
                 &format!(
-                    "cam ±{} in, roller ±{} in, eccentricity ±{} in, interval {} deg: FPR {:.1} (sd {:.1}), rms lift deviation {:.3e} in",
+                    "cam ±{} in, roller ±{} in, eccentricity ±{} in, {}interval {:.4} deg: FPR {:.1} (sd {:.1}), rms lift deviation {:.3e} in",
                     c.cam_tolerance_in,
                     c.roller_tolerance_in,
                     c.eccentricity_tolerance_in,
+                    c.target_fpr.map_or(String::new(), |f| format!("waviness asked FPR {f}, ")),
                     c.interval_deg.unwrap_or(0.0),
-                    fpr.map_or(f64::NAN, |m| m.mean),
-                    fpr.map_or(f64::NAN, |m| m.sd),
+                    fpr.map_or(0.0, |m| m.mean),
+                    fpr.map_or(0.0, |m| m.sd),
                     c.summary
                         .profile
                         .get("rms_deviation_in")
-                        .map_or(f64::NAN, |m| m.mean)
+                        .map_or(0.0, |m| m.mean)
                 ),
                 c,
             );
         }
+        grid_text(&mut out, self);
         let _ = writeln!(out, "\nrun time: {:.1} s", self.wall_s);
         out
     }
+}
+
+/// The heading of column `j` of the grid (`cols` cells a row): the waviness asked (or
+/// the interval) and the range of the FPR achieved (mean of each cell's cams) down it.
+fn column_label(cells: &[Cell], cols: usize, j: usize) -> String {
+    let (lo, hi) = cells
+        .iter()
+        .skip(j)
+        .step_by(cols.max(1))
+        .filter_map(|c| c.fpr)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
+    let got = if !lo.is_finite() {
+        String::new()
+    } else if hi - lo < 0.05 {
+        format!("{lo:.1}")
+    } else {
+        format!("{lo:.1}-{hi:.1}")
+    };
+    match cells.get(j) {
+        Some(Cell {
+            target_fpr: Some(f),
+            ..
+        }) => format!("FPR {f} ({got})"),
+        Some(c) => format!("{} deg (FPR {got})", c.interval_deg.unwrap_or(0.0)),
+        None => String::new(),
+    }
+}
+
+/// The summary grid: P(jump) with its interval and the acceleration RMS, a row per
+/// tolerance, a column per waviness.
+fn grid_text(out: &mut String, r: &ToleranceReport) {
+    use std::fmt::Write;
+    let cols = r.columns.max(1);
+    let _ = writeln!(
+        out,
+        "\nthe grid (revolution 2, {} cams a cell): P(jump) [95 % Wilson interval]; acceleration RMS summed over the periods, in/s2 \
+         (theoretical cam: {:.0}, {}); columns: waviness asked (FPR achieved, mean)",
+        r.samples_per_cell,
+        r.theoretical.acc_rms_sum_in_per_s2,
+        if r.theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
+    );
+    let _ = write!(out, "{:<28}", "cam / roller tolerance");
+    for j in 0..cols.min(r.cells.len()) {
+        let _ = write!(out, " {:>32}", column_label(&r.cells, cols, j));
+    }
+    let _ = writeln!(out);
+    for row in r.cells.chunks(cols) {
+        let Some(first) = row.first() else { continue };
+        let _ = write!(
+            out,
+            "{:<28}",
+            format!(
+                "±{} / ±{} in",
+                first.cam_tolerance_in, first.roller_tolerance_in
+            )
+        );
+        for c in row {
+            let _ = write!(
+                out,
+                " {:>32}",
+                format!("{}; {:.0}", c.summary.jump.text(2), c.acc_rms_sum_in_per_s2)
+            );
+        }
+        let _ = writeln!(out);
+    }
+}
+
+/// The label of the category whose cell centre is at `v` (cells are unit squares from
+/// 0; `reversed`: the first label is the top row), empty off the centres.
+fn category(v: f64, labels: &[String], reversed: bool) -> String {
+    let k = v.floor();
+    if (v - k - 0.5).abs() > 1e-6 || k < 0.0 {
+        return String::new();
+    }
+    let k = k as usize;
+    let i = if reversed {
+        labels.len().checked_sub(1 + k)
+    } else {
+        Some(k)
+    };
+    i.and_then(|i| labels.get(i)).cloned().unwrap_or_default()
+}
+
+/// The heat maps: P(jump) (colour, with its interval written in the cell) and the
+/// acceleration RMS (colour on a log scale, value written), tolerance by waviness.
+fn draw(
+    dir: &mut AtomicDir,
+    theoretical: &Cell,
+    cells: &[Cell],
+    cols: usize,
+    samples: u64,
+) -> Result<()> {
+    use plotters::prelude::*;
+    let cols = cols.max(1);
+    let rows = cells.len().div_ceil(cols);
+    let file = PLOT_FILES[0];
+    let e = |x: &dyn std::fmt::Display| anyhow::anyhow!("cannot draw plot {file}: {x}");
+    let xlabels: Vec<String> = (0..cols.min(cells.len()))
+        .map(|j| column_label(cells, cols, j))
+        .collect();
+    let ylabels: Vec<String> = cells
+        .chunks(cols)
+        .map(|r| {
+            r.first().map_or(String::new(), |c| {
+                format!("±{} / ±{} in", c.cam_tolerance_in, c.roller_tolerance_in)
+            })
+        })
+        .collect();
+    let acc: Vec<f64> = cells
+        .iter()
+        .map(|c| c.acc_rms_sum_in_per_s2.max(1e-9).log10())
+        .collect();
+    let (amin, amax) = acc
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    // White (low) to dark red (high).
+    let heat = |t: f64| {
+        let t = if t.is_finite() {
+            t.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        RGBColor(
+            (255.0 - 75.0 * t) as u8,
+            (255.0 - 235.0 * t) as u8,
+            (255.0 - 225.0 * t) as u8,
+        )
+    };
+    crate::cmd::montecarlo::plots::png(dir, file, (1600, 260 * rows as u32 + 160), |root| {
+        let root = root
+            .titled(
+                &format!(
+                    "camsim tolerance-study: revolution 2, {samples} actual cams a cell (theoretical cam: sum of acceleration RMS {:.0} in/s², {})",
+                    theoretical.acc_rms_sum_in_per_s2,
+                    if theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
+                ),
+                ("sans-serif", 22),
+            )
+            .map_err(|x| e(&x))?;
+        let panels = root.split_evenly((1, 2));
+        for (k, area) in panels.iter().enumerate() {
+            let caption = if k == 0 {
+                "P(jump) in revolution 2 [95 % Wilson interval]"
+            } else {
+                "sum over the periods of the acceleration RMS deviation, in/s² (colour: log scale)"
+            };
+            let mut chart = ChartBuilder::on(area)
+                .caption(caption, ("sans-serif", 18))
+                .margin(12)
+                .x_label_area_size(70)
+                .y_label_area_size(190)
+                .build_cartesian_2d(0f64..cols as f64, 0f64..rows as f64)
+                .map_err(|x| e(&x))?;
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .x_labels(2 * cols + 1)
+                .y_labels(2 * rows + 1)
+                .x_label_formatter(&|x| category(*x, &xlabels, false))
+                .y_label_formatter(&|y| category(*y, &ylabels, true))
+                .label_style(("sans-serif", 16))
+                .x_desc("waviness asked: FPR (achieved: mean of the cams)")
+                .y_desc("cam / roller tolerance")
+                .axis_desc_style(("sans-serif", 16))
+                .draw()
+                .map_err(|x| e(&x))?;
+            for (i, c) in cells.iter().enumerate() {
+                let (col, row) = (i % cols, rows - 1 - i / cols);
+                let (t, label) = if k == 0 {
+                    let p = &c.summary.jump;
+                    (p.p, format!("{:.2} [{:.2}, {:.2}]", p.p, p.lo95, p.hi95))
+                } else {
+                    let t = if amax > amin {
+                        (acc[i] - amin) / (amax - amin)
+                    } else {
+                        0.5
+                    };
+                    (t, format!("{:.0}", c.acc_rms_sum_in_per_s2))
+                };
+                let (x0, y0) = (col as f64, row as f64);
+                let corners = [(x0, y0), (x0 + 1.0, y0 + 1.0)];
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(corners, heat(t).filled())))
+                    .map_err(|x| e(&x))?;
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        corners,
+                        BLACK.stroke_width(1),
+                    )))
+                    .map_err(|x| e(&x))?;
+                let color = if t > 0.6 { &WHITE } else { &BLACK };
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        label,
+                        (x0 + 0.5, y0 + 0.5),
+                        ("sans-serif", 20).into_font().color(color).pos(
+                            plotters::style::text_anchor::Pos::new(
+                                plotters::style::text_anchor::HPos::Center,
+                                plotters::style::text_anchor::VPos::Center,
+                            ),
+                        ),
+                    )))
+                    .map_err(|x| e(&x))?;
+            }
+        }
+        Ok(())
+    })
 }
