@@ -825,7 +825,7 @@ impl Report for SensitivityReport {
         let _ = writeln!(
             out,
             "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals \
-             ({} deg, {}), FPR {}; the same cam in every case",
+             ({:.2} deg, {}), FPR {}; the same cam in every case",
             p.seed,
             p.cam_tolerance_in,
             p.roller_tolerance_in,
