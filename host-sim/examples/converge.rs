@@ -1,9 +1,30 @@
 //! Issue 22's experiment: the error of each method against its tolerance on the reference
 //! design (full 22-state scene, static start, 2 revolutions, the load's acceleration RMS
-//! over revolution 2 at 720 cam angles against England at rtol 1e-13), with the RMS error
-//! of every state component, so that the component whose error stops converging shows.
+//! over revolution 2 at 720 cam angles against England at rtol 1e-13: `camsim bench`'s
+//! model, settings, sampler and reference), with the RMS error of every state component,
+//! so that the component whose error stops converging shows. BENCHMARKS.md (issue 22's
+//! section) gives what each mode showed.
 //!
-//! `cargo run --release -p camsim --example converge -- [rpm] [rtol...]`
+//! `cargo run --release -p camsim --example converge -- [rpm] [rtol...]` (500 rpm, rtol
+//! 1e-5 to 1e-8 by default): England, PI-capped England and Dormand-Prince at each rtol.
+//! Modes (environment variables; the first set wins):
+//! - `CONVERGE_EXTRAP=0|1`: England's double step in a plain loop with the classic rule,
+//!   advancing with `y2` (0) or with the fifth-order `y2 + E` (1); with
+//!   `CONVERGE_DWELL_H=<s>` its double step is at most that in the dwells (0-31°, 179-211°).
+//! - `CONVERGE_VARIANT=atolf,vfac[,frac]`: England with atol `atolf·rtol` in, the velocities'
+//!   and speeds' atol times `vfac`, the largest step `frac` of a revolution; with
+//!   `CONVERGE_CAP=<fraction>` PI-capped England with that stiffness-cap fraction instead.
+//! - `CONVERGE_END=1`: the state at 2 nominal periods (no interpolant) per component.
+//! - `CONVERGE_LOCAL=<rtol>`: every accepted step of England: cam angle, double step,
+//!   estimated error ratio, true ratio (the step redone from its start at 1e-13), its worst
+//!   component, the load velocity's true local error; `CONVERGE_VFAC` scales the
+//!   velocities' atol; `CONVERGE_AT=<deg>` also prints each component and the step halved
+//!   five times at the steps starting within 0.05° after that angle.
+//! - `CONVERGE_DUMP=<rtol>`: England's error of every component at every sample.
+//!
+//! Model variants: `CONVERGE_MU=<μ>`, `CONVERGE_VS=<in/s>` (friction and its smoothing),
+//! `CONVERGE_SMOOTH=1` (4-5-6-7 rise and return); the reference is computed on the same
+//! model.
 
 use anyhow::Result;
 use camsim::bench::methods::{run, Method};
@@ -124,6 +145,68 @@ fn main() -> Result<()> {
             }
         }
     }
+    if let Ok(spec) = std::env::var("CONVERGE_EXTRAP") {
+        // CONVERGE_EXTRAP=0|1: England's double step with its classic step-size rule in a
+        // plain loop, advancing with y2 (0) or the fifth-order y2 + E (1: local
+        // extrapolation), sampled through the cubic Hermite of the step ends.
+        let extrap = spec == "1";
+        // CONVERGE_DWELL_H: largest double step in the dwells (0-30 and 180-210 deg).
+        let dwell_h: f64 =
+            std::env::var("CONVERGE_DWELL_H").map_or(f64::MAX, |v| v.parse().unwrap_or(f64::MAX));
+        for &rtol in &rtols {
+            let cfg = solver_config(&model, &settings::<f64>(rtol), REVOLUTIONS)?;
+            let mut sampler = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+            let mut nodes = camsim::bench::sample::NodeHermite::default();
+            let mut y = model.static_state();
+            let mut t = 0.0;
+            let mut h = cfg.h_init;
+            let mut f = [0.0; RegulatedFull::N];
+            let mut evals = 1u64;
+            model.rhs(t, &y, &mut f);
+            let _ = nodes.push(&mut sampler, t, &y, &f);
+            let mut rejected_last = false;
+            loop {
+                let (y2, e) = england_step(&model, t, &y, h);
+                evals += 9;
+                let mut err: f64 = 0.0;
+                for i in 0..RegulatedFull::N {
+                    let sc = cfg.tol.atol[i] + rtol * y[i].abs().max(y2[i].abs());
+                    err = err.max(e[i].abs() / sc);
+                }
+                if !err.is_finite() {
+                    anyhow::bail!("non-finite at t {t}");
+                }
+                if err <= 1.0 {
+                    t += h;
+                    for i in 0..RegulatedFull::N {
+                        y[i] = if extrap { y2[i] + e[i] } else { y2[i] };
+                    }
+                    model.rhs(t, &y, &mut f);
+                    evals += 1;
+                    let fac = (0.9 * err.max(1e-10).powf(-0.2))
+                        .clamp(0.2, if rejected_last { 1.0 } else { 5.0 });
+                    h = (h * fac).min(cfg.h_max);
+                    let deg = model.cam_angle(t, &y).to_degrees() % 360.0;
+                    if deg < 31.0 || (179.0..211.0).contains(&deg) {
+                        h = h.min(dwell_h);
+                    }
+                    rejected_last = false;
+                    if nodes.push(&mut sampler, t, &y, &f).is_break() {
+                        break;
+                    }
+                } else {
+                    h *= (0.9 * err.powf(-0.2)).clamp(0.2, 1.0);
+                    rejected_last = true;
+                }
+            }
+            println!(
+                "extrap {extrap} rtol {rtol:e}: evals {evals} acc err {:.3e} disp err {:.3e}",
+                Samples::rms_diff(&sampler.samples.acc, &r.acc),
+                Samples::rms_diff(&sampler.samples.disp, &r.disp)
+            );
+        }
+        return Ok(());
+    }
     if let Ok(spec) = std::env::var("CONVERGE_VARIANT") {
         // CONVERGE_VARIANT=atolf,vfac,rtolv: England (classic) with atol = atolf·rtol in,
         // velocity atol multiplied by vfac, and rtol of the velocities multiplied by rtolv
@@ -199,7 +282,16 @@ fn main() -> Result<()> {
         // from the same start by England at rtol 1e-13), with the cam angle.
         let rtol: f64 = spec.parse()?;
         let st = settings::<f64>(rtol);
-        let cfg = solver_config(&model, &st, REVOLUTIONS)?;
+        let mut cfg = solver_config(&model, &st, REVOLUTIONS)?;
+        // CONVERGE_VFAC: the velocities' and speeds' atol multiplied by this.
+        if let Ok(f) = std::env::var("CONVERGE_VFAC") {
+            let f: f64 = f.parse()?;
+            for (i, n) in names.iter().enumerate() {
+                if n.starts_with("v:") || n.ends_with("Speed") {
+                    cfg.tol.atol[i] *= f;
+                }
+            }
+        }
         let mut solver = England::new(cfg)?;
         let tight = solver_config(&model, &settings::<f64>(REFERENCE_RTOL), REVOLUTIONS)?;
         let mut y = model.static_state();
@@ -266,13 +358,18 @@ fn main() -> Result<()> {
                     worst = (e, i);
                 }
             }
+            // Last column: the load velocity's true local error, in/s.
+            let load_v = RegulatedFull::LAYOUT
+                .index(StateVar::Velocity(TransDof::Load))
+                .unwrap_or(0);
             println!(
-                "{:.4} {:.3e} {:.3e} {:.3e} {}",
+                "{:.4} {:.3e} {:.3e} {:.3e} {} {:.3e}",
                 model.cam_angle(t0, &y0).to_degrees(),
                 t - t0,
                 est,
                 worst.0,
-                names[worst.1]
+                names[worst.1],
+                yr[load_v] - y[load_v]
             );
         }
         return Ok(());
