@@ -23,7 +23,8 @@
 //! - `CONVERGE_DUMP=<rtol>`: England's error of every component at every sample.
 //!
 //! Model variants: `CONVERGE_MU=<μ>`, `CONVERGE_VS=<in/s>` (friction and its smoothing),
-//! `CONVERGE_SMOOTH=1` (4-5-6-7 rise and return); the reference is computed on the same
+//! `CONVERGE_SMOOTH=1` (4-5-6-7 rise and return), `CONVERGE_STABLE=1`
+//! (`scenes/stable-4567-rise.toml`'s program); the reference is computed on the same
 //! model.
 
 use anyhow::Result;
@@ -127,6 +128,13 @@ fn main() -> Result<()> {
         design.program = camsim_core::CamProgram::with_laws(
             camsim_core::MotionLaw::Poly4567,
             camsim_core::MotionLaw::Poly4567,
+        );
+    }
+    if std::env::var("CONVERGE_STABLE").is_ok() {
+        // scenes/stable-4567-rise.toml: 4-5-6-7 rise, modified trapezoidal return.
+        design.program = camsim_core::CamProgram::with_laws(
+            camsim_core::MotionLaw::Poly4567,
+            camsim_core::MotionLaw::ModifiedTrapezoidal,
         );
     }
     let model = Model::new(design)?;
