@@ -3,80 +3,88 @@
 #![warn(missing_docs)]
 #![doc = include_str!("../README.md")]
 
-mod num;
-pub use num::*;
-// One-dimensional searches (peak scan, jump-onset bracketing and bisection).
-mod search;
-pub use search::*;
+// Foundations: the numeric trait (f32, f64) and the typed errors.
 mod error;
-pub use error::*;
-// Scene keys: the serde names of the design's parameters and the names errors use.
-mod keys;
-pub use keys::key;
+mod num;
+pub use error::{finite, non_negative, positive, Error, ModelLimit, Result, SimFailure};
+pub use num::{rad_per_s_to_rpm, rpm_to_rad_per_s, Real};
 
-// Kinematics: Appendix A motion laws, cam programs, cam geometry (V.1-V.4, V.12, E.6).
-mod motion;
-pub use motion::*;
-mod program;
-pub use program::*;
-mod geometry;
-pub use geometry::*;
+mod kinematics;
+pub use kinematics::geometry::{CamGeometry, CamMassProperties, UndercutReport};
+pub use kinematics::lift::{DeviatedLift, LiftProfile, TheoreticalLift};
+pub use kinematics::motion::{LawValue, MotionLaw};
+pub use kinematics::program::{
+    CamProgram, FollowerLift, ProgramData, Segment, SegmentData, SegmentKind, SegmentType,
+};
 
-// Forces: Hertz contact and jump (V.9-V.11, V.19-V.20) with the damping at the roller
-// (V.13), return spring (V.17-V.18), slide-bearing friction (V.15-V.16).
-mod contact;
-pub use contact::*;
-mod spring;
-pub use spring::*;
+mod forces;
+pub use forces::contact::{
+    bearing_normal_forces, contact_force, coulomb_friction, damped_contact_force,
+    damping_coefficient, spring_damper_force, BearingLevers, ContactForce, HertzContact,
+};
+pub use forces::drive::{
+    backlash_torque, DriveKind, DriveLaw, HORSEPOWER_IN_LB_PER_S, MOTOR_BREAKDOWN_RATIO,
+    MOTOR_RATED_HP, MOTOR_RATED_SLIP,
+};
+pub use forces::spring::{return_spring_preload, series_stiffness, spring_effective_mass, Preload};
 
-// Numerics: England's adaptive Runge-Kutta (Appendix D) and its step-size control,
-// modal analysis (VI.2).
-mod solver;
-pub use solver::*;
-mod controller;
-pub use controller::*;
-mod modal;
-pub use modal::*;
+mod model;
+pub use model::design::{
+    Design, CONTACT_DAMPING_RATIO, LISTED_SPRING_MASS, LISTED_SPRING_RATE, REFERENCE_RPM,
+    REFERENCE_SPRING_RATE, ROLLER_BEARING_DAMPING_RATIO, SPRING_ACTIVE_COILS, SPRING_MASS,
+    SPRING_MEAN_DIAMETER, SPRING_TOTAL_COILS, SPRING_WIRE_DIAMETER, STEEL_DENSITY, STEEL_POISSON,
+    STEEL_SHEAR, STEEL_YOUNGS, STRUCTURAL_DAMPING_RATIO,
+};
+pub use model::dynamics::{state_quantity_name, CamModel, ModelPoint, ValidityBounds};
+pub use model::keys::key;
+pub use model::modal::{
+    generalized_eigen, modal_analysis, rotational_system, translational_system, ModalAnalysis,
+};
+pub use model::quasistatic::{
+    run_bounds, ChainFactor, ChainSolve, FollowerModel, QuasiStatic, CHAIN_NODES,
+};
+pub use model::scene::{
+    ConstCamFull, ConstCamFullModel, ConstCamVertical, ConstCamVerticalModel, ConstMotorFull,
+    ConstMotorFullModel, ConstMotorVertical, ConstMotorVerticalModel, DofSet, Layout,
+    RegulatedFull, RegulatedFullModel, RegulatedMasslessRoller, RegulatedMasslessRollerModel,
+    RegulatedQsCantilever, RegulatedQsCantileverModel, RegulatedQsRod, RegulatedQsRodModel,
+    RegulatedQsShaft, RegulatedQsShaftModel, RegulatedVertical, RegulatedVerticalModel, Scene,
+    SceneId, SceneVisitor, StateMut, StateRef, StateVar, TransDof, QUASI_STATIC_CHAIN,
+    RELATIVE_TO_LIFT, TRANS_DOFS,
+};
 
-// The eleven-degree-of-freedom model (Eqs. IV.1-IV.3): the reference design of VI.1,
-// the motor law, the scenes (state layouts fixed at compile time), the model itself and
-// its streaming per-period responses.
-mod design;
-pub use design::*;
-mod drive;
-pub use drive::*;
-mod scene;
-pub use scene::*;
-mod quasistatic;
-pub use quasistatic::*;
-mod dynamics;
-pub use dynamics::*;
-mod response;
-pub use response::*;
+mod solve;
+pub use solve::controller::{
+    initial_step, spectral_radius, Controller, InitialStep, PiController, StepControl, StiffnessCap,
+};
+pub use solve::solver::{
+    rk4_integrate, rk4_step, Dense, England, EnglandConfig, Event, EventConfig, EventFunction,
+    EventStats, OdeSystem, Report, SolverStats, Tolerance,
+};
 
-// The cam-timing and jump predictor: what a machine feeds it (implemented by the
-// firmware's board modules), the alarm, the steady-state observer and the boot-time table.
-mod predict;
-pub use predict::*;
+mod run;
+pub use run::response::{
+    period_name, simulate, simulate_events, solver_config, Both, ContactEvent, ContactEventFn,
+    ContactEventSettings, JumpInterval, Observer, PeriodStats, ResponseStats, Sample,
+    SolverSettings, Start, Theoretical, SAMPLE_NUMBERS,
+};
+pub use run::search::{Onset, OnsetSearch, Peak, PeakScan, ScanEnds};
 
-// Stochastic profile (IV.2, Appendices B, C, E): random numbers, cubic splines,
-// waviness (FPR, VI.4.1), the actual cam contour and follower lift.
-mod random;
-pub use random::*;
-mod spline;
-pub use spline::*;
-mod waviness;
-pub use waviness::*;
-mod profile;
-pub use profile::*;
-// The exact envelope of the roller circle on an actual contour (beyond the thesis).
-mod envelope;
-pub use envelope::*;
-// The lift the model's roller rides on: the program, or the program plus a deviation.
-mod lift;
-pub use lift::*;
+mod actual;
+pub use actual::envelope::{ActualCam, ENVELOPE_REFINE, ENVELOPE_SUBSTEPS};
+pub use actual::profile::{
+    check_interval, choose_interval, lift_sensitivity, ActualContour, ActualLift, ContourPoint,
+    IntervalCheck, IntervalChoice, LiftSensitivity, Tolerances, CHECK_SUBSTEPS,
+};
+pub use actual::random::{sample_seed, splitmix64, NormalMethod, RandomStream};
+pub use actual::spline::{CubicSpline, SplineEnds, SplineError, SplinePoint};
+pub use actual::waviness::{count_extrema_open, waviness_fpr, waviness_fpr_of};
 
-// Cam speed from a once-per-revolution index pulse: captured timer counts to rpm, with
-// bounce rejection, timeout and range check (fed by the firmware's board adapters).
-mod index_pulse;
-pub use index_pulse::*;
+mod predictor;
+pub use predictor::index_pulse::{
+    CaptureEvent, CaptureTimer, IndexPulse, IndexPulseConfig, Rejection, SpeedReading,
+};
+pub use predictor::predict::{
+    steady_state_at, steady_state_on, timing_points, JumpAlarm, PredictionTable, SpeedPrediction,
+    SteadyState, SteadyStateObserver, TimingPoint, TIMING_FRACTIONS, TIMING_POINTS,
+};

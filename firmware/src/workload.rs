@@ -9,7 +9,7 @@
 //!   `predictor` binary (the product; it instantiates only the chip's model);
 //! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`simulate_revolution`]: the budget
 //!   probes, generic over the scene, which the `budget` binary instantiates for the chip's
-//!   model ([`camsim_chip::ChipModel`], 16 states) and, for comparison, the full 22-state
+//!   model ([`camsim_chip::ChipModel`], the quasi-static-rod scene's 10 states) and, for comparison, the full 22-state
 //!   model ([`camsim_core::RegulatedFullModel`]).
 //!
 //! Another scene is chosen at build time, never parsed as text on the chip: build with

@@ -28,54 +28,10 @@
 use std::ops::ControlFlow;
 
 use camsim_core::{
-    solver_config, CamModel, ConstCamFullModel, ConstCamVerticalModel, ConstMotorFullModel,
-    ConstMotorVerticalModel, Design, DriveLaw, England, Error, OdeSystem, Real, RegulatedFullModel,
-    RegulatedMasslessRollerModel, RegulatedQsCantileverModel, RegulatedQsRodModel,
-    RegulatedQsShaftModel, RegulatedVerticalModel, Sample, Scene, SolverSettings, Start,
+    solver_config, CamModel, Design, DriveKind, DriveLaw, England, Error, OdeSystem, Real, Sample,
+    Scene, SceneId, SceneVisitor, SolverSettings, Start,
 };
 use libfuzzer_sys::fuzz_target;
-
-/// Every number of a sample that must be finite: all of them, except a surface radius of
-/// curvature of +inf, the documented value where the pitch curve is straight (an
-/// inflection of the profile; `CamGeometry::pitch_curvature_radius`), which f32 meets.
-fn numbers<T: Real>(s: &Sample<T>) -> Vec<f64> {
-    let p = &s.point;
-    let mut v = vec![
-        p.t,
-        p.theta_c,
-        p.theta_cp,
-        p.theta_m,
-        p.omega_c,
-        p.omega_cp,
-        p.omega_m,
-        p.alpha_c,
-        p.alpha_cp,
-        p.alpha_m,
-        p.lift.y,
-        p.lift.dy,
-        p.lift.d2y,
-        p.lift.d3y,
-        p.pressure_angle,
-        p.k_h,
-        if p.surface_radius == T::INFINITY {
-            T::ZERO
-        } else {
-            p.surface_radius
-        },
-        p.contact_force,
-        p.friction_follower,
-        p.friction_cantilever,
-        p.torque_out,
-        p.torque_drive,
-        s.angle_deg,
-        s.theory.y,
-        s.theory.v,
-        s.theory.a,
-        s.contact_stress,
-    ];
-    v.extend(p.pos.iter().chain(&p.vel).chain(&p.acc));
-    v.into_iter().map(|x| x.to_f64()).collect()
-}
 
 /// Magnitudes (of every nonzero number of the design) within which an f64 run must give
 /// finite samples: cubes and four-fold products stay far from overflow and underflow.
@@ -152,7 +108,7 @@ fn exercise<T: Real, S: Scene, const N: usize>(
         let Some(s) = sample(&model, t, y) else {
             return ControlFlow::Continue(());
         };
-        let v = numbers(&s);
+        let v: Vec<f64> = s.numbers().iter().map(|x| x.to_f64()).collect();
         if bad.is_none() && v.iter().any(|x| !x.is_finite()) {
             bad = Some((t.to_f64(), v));
         }
@@ -188,31 +144,34 @@ fn sample<T: Real, S: Scene, const N: usize>(
     Some(model.sample(t, y, true))
 }
 
-/// The design made to fit scene `k` (its drive kind), then the scene's model exercised.
+/// The design made to fit scene `k` (`SceneId::ALL[k]`, its drive kind), then the scene's
+/// model exercised.
 fn run<T: Real>(k: u8, mut design: Design<T>, input: &Input) {
+    struct Exercise<'a, T> {
+        design: Design<T>,
+        input: &'a Input<'a>,
+    }
+    impl<T: Real> SceneVisitor for Exercise<'_, T> {
+        type Output = ();
+        fn visit<S: Scene, const N: usize>(self) {
+            exercise(CamModel::<T, S, N>::new(self.design), self.input)
+        }
+    }
     let regulated = matches!(design.drive, DriveLaw::Regulated { .. });
     let k = ((k & 0x07) | ((k >> 5) & 1) << 3) % 10;
-    match k {
-        0 | 1 | 6..=9 if !regulated => return,
-        2 | 3 => design.drive = DriveLaw::ConstantMotorSpeed,
-        4 | 5 => design.drive = DriveLaw::ConstantCamSpeed,
-        _ => {}
+    let Some(&id) = SceneId::ALL.get(usize::from(k)) else {
+        return;
+    };
+    match id.drive() {
+        DriveKind::Regulated if !regulated => return,
+        DriveKind::Regulated => {}
+        DriveKind::ConstantMotorSpeed => design.drive = DriveLaw::ConstantMotorSpeed,
+        DriveKind::ConstantCamSpeed => design.drive = DriveLaw::ConstantCamSpeed,
     }
     if design.validate().is_err() {
         return;
     }
-    match k {
-        0 => exercise(RegulatedFullModel::<T>::new(design), input),
-        1 => exercise(RegulatedVerticalModel::<T>::new(design), input),
-        2 => exercise(ConstMotorFullModel::<T>::new(design), input),
-        3 => exercise(ConstMotorVerticalModel::<T>::new(design), input),
-        4 => exercise(ConstCamFullModel::<T>::new(design), input),
-        5 => exercise(ConstCamVerticalModel::<T>::new(design), input),
-        6 => exercise(RegulatedMasslessRollerModel::<T>::new(design), input),
-        7 => exercise(RegulatedQsCantileverModel::<T>::new(design), input),
-        8 => exercise(RegulatedQsRodModel::<T>::new(design), input),
-        _ => exercise(RegulatedQsShaftModel::<T>::new(design), input),
-    }
+    id.visit(Exercise { design, input });
 }
 
 fuzz_target!(|data: &[u8]| {

@@ -124,7 +124,7 @@ pub fn default_text() -> Result<String> {
     let body = spec_text(&RunSpec::reference())?;
     Ok(format!(
         "# camsim scene: the reference design of Kim (1982), VI.1, with the documented choices\n\
-         # for what the thesis leaves out (core/src/design.rs). Units are in the key names\n\
+         # for what the thesis leaves out (core/src/model/design.rs). Units are in the key names\n\
          # (inch, pound-force, second, radian). Every key is optional: absent keys take these\n\
          # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
          # (and moves the regulated drive's reference with it, like --rpm).\n\

@@ -7,11 +7,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    period_name, simulate, Both, CamModel, ConstCamFull, ConstCamVertical, ConstMotorFull,
-    ConstMotorVertical, Design, DeviatedLift, DofSet, FollowerModel, LiftProfile, Observer,
-    RegulatedFull, RegulatedMasslessRoller, RegulatedQsCantilever, RegulatedQsRod,
-    RegulatedQsShaft, RegulatedVertical, ResponseStats, Sample, Scene, SegmentKind, SolverSettings,
-    SolverStats,
+    period_name, simulate, Both, CamModel, Design, DeviatedLift, DofSet, FollowerModel,
+    LiftProfile, Observer, ResponseStats, Sample, Scene, SceneId, SceneVisitor, SegmentKind,
+    SolverSettings, SolverStats,
 };
 use std::sync::Arc;
 
@@ -87,43 +85,32 @@ pub trait ModelTask {
 
 /// Builds the model of `spec`'s scene (its drive kind and DOFs) and runs `task` on it.
 ///
-/// The scenes the host runs are listed here, once: a new scene is defined in
-/// camsim-core (`scene.rs`) and added to this list.
+/// The scene comes from camsim-core's one list (`SceneId`, defined with the scene types
+/// by `scenes!`): a new scene needs nothing here.
 pub fn with_model<K: ModelTask>(spec: &RunSpec, task: K) -> Result<K::Output> {
+    struct Build<'a, K> {
+        spec: &'a RunSpec,
+        task: K,
+    }
+    impl<K: ModelTask> SceneVisitor for Build<'_, K> {
+        type Output = Result<K::Output>;
+        fn visit<S: Scene, const N: usize>(self) -> Self::Output {
+            let design = self.spec.design.clone();
+            match &self.spec.profile {
+                Some(profile) => self.task.run(&CamModel::<f64, S, N, _>::with_profile(
+                    design,
+                    profile.as_ref(),
+                )?),
+                None => self.task.run(&CamModel::<f64, S, N>::new(design)?),
+            }
+        }
+    }
     let drive = spec.design.drive.kind();
     let dofs = spec.dofs.set();
     let quasi = spec.dofs.follower.quasi_static();
-    macro_rules! dispatch {
-        ($($scene:ident),+ $(,)?) => {$(
-            if drive == <$scene as Scene>::DRIVE
-                && dofs == <$scene as Scene>::DOFS
-                && quasi == <$scene as Scene>::QUASI_STATIC
-            {
-                if let Some(profile) = &spec.profile {
-                    let model = CamModel::<f64, $scene, { <$scene as Scene>::N }, _>::with_profile(
-                        spec.design.clone(),
-                        profile.as_ref(),
-                    )?;
-                    return task.run(&model);
-                }
-                let model =
-                    CamModel::<f64, $scene, { <$scene as Scene>::N }>::new(spec.design.clone())?;
-                return task.run(&model);
-            }
-        )+};
+    if let Some(id) = SceneId::find(drive, dofs, quasi) {
+        return id.visit(Build { spec, task });
     }
-    dispatch!(
-        RegulatedFull,
-        RegulatedVertical,
-        ConstMotorFull,
-        ConstMotorVertical,
-        ConstCamFull,
-        ConstCamVertical,
-        RegulatedMasslessRoller,
-        RegulatedQsCantilever,
-        RegulatedQsRod,
-        RegulatedQsShaft,
-    );
     if spec.dofs.follower != FollowerModel::Full {
         if spec.dofs.horizontal {
             bail!(

@@ -10,9 +10,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use camsim_core::{
-    simulate, steady_state_at, timing_points, CamModel, Design, England, FollowerModel,
-    RegulatedFull, RegulatedMasslessRoller, RegulatedQsCantilever, RegulatedQsRod,
-    RegulatedQsShaft, RegulatedVertical, Scene, SolverSettings, Start, SteadyState,
+    simulate, steady_state_at, timing_points, CamModel, Design, DofSet, DriveKind, England,
+    FollowerModel, RegulatedFull, Scene, SceneId, SceneVisitor, SolverSettings, Start, SteadyState,
     SteadyStateObserver, TIMING_POINTS,
 };
 use serde::Serialize;
@@ -311,18 +310,35 @@ pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
             rpm,
             repeat,
         )?);
-        macro_rules! scene {
-            ($s:ty, $f:expr) => {
-                rows.push(row::<$s, { <$s as Scene>::N }>(
-                    $f, rtol, &truth, rpm, repeat,
-                )?)
-            };
+        // The vertical regulated scene with each follower model (camsim-core's SceneId).
+        struct Row<'a> {
+            follower: FollowerModel,
+            rtol: f64,
+            truth: &'a Truth,
+            rpm: f64,
+            repeat: usize,
         }
-        scene!(RegulatedVertical, FollowerModel::Full);
-        scene!(RegulatedMasslessRoller, FollowerModel::MasslessRoller);
-        scene!(RegulatedQsCantilever, FollowerModel::QuasiStaticCantilever);
-        scene!(RegulatedQsRod, FollowerModel::QuasiStaticRod);
-        scene!(RegulatedQsShaft, FollowerModel::QuasiStaticShaft);
+        impl SceneVisitor for Row<'_> {
+            type Output = Result<SceneRow>;
+            fn visit<S: Scene, const N: usize>(self) -> Self::Output {
+                row::<S, N>(self.follower, self.rtol, self.truth, self.rpm, self.repeat)
+            }
+        }
+        for follower in FollowerModel::ALL {
+            let id = SceneId::find(
+                DriveKind::Regulated,
+                DofSet::VERTICAL,
+                follower.quasi_static(),
+            )
+            .with_context(|| format!("no vertical regulated scene for {}", follower.name()))?;
+            rows.push(id.visit(Row {
+                follower,
+                rtol,
+                truth: &truth,
+                rpm,
+                repeat,
+            })?);
+        }
     }
     Ok(ScenesReport {
         rpm,

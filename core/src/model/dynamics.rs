@@ -221,7 +221,7 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
 impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> {
     /// Builds the model for `design` whose roller rides on `profile` (an actual cam).
     pub fn with_profile(design: Design<T>, profile: P) -> Result<Self> {
-        crate::scene::assert_fits::<S, N>();
+        crate::model::scene::assert_fits::<S, N>();
         design.validate()?;
         if design.drive.kind() != S::DRIVE {
             return Err(Error::InvalidParameter {

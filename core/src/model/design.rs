@@ -5,7 +5,7 @@
 //! each with its reason (docs/MODEL.md §5, §6). Nothing here is tuned to
 //! reproduce a published figure.
 
-use crate::keys::{segment_key, SegmentField};
+use crate::model::keys::{segment_key, SegmentField};
 use crate::{
     non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real, Result,
 };

@@ -499,10 +499,21 @@ impl<'a, T: Real, S: Scene, const N: usize> StateMut<'a, T, S, N> {
     }
 }
 
-/// Defines each scene: its type, its `Scene` impl and its model alias, from its drive
-/// kind (a [`DriveKind`] variant) and its DOF set (a const [`DofSet`] expression).
+/// What a caller does with a scene chosen at run time ([`SceneId::visit`]): the one
+/// dispatch from a scene's id to its type, so that a new scene is one line of `scenes!`.
+pub trait SceneVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Called with the scene's type `S` and its state length `N = S::N`.
+    fn visit<S: Scene, const N: usize>(self) -> Self::Output;
+}
+
+/// Defines each scene: its type, its `Scene` impl, its model alias and its [`SceneId`],
+/// from its drive kind (a [`DriveKind`] variant) and its DOF set (a const [`DofSet`]
+/// expression).
 macro_rules! scenes {
-    ($($(#[$doc:meta])* $scene:ident => $model:ident: $drive:ident, $dofs:expr $(, quasi-static $quasi:expr)?;)+) => {$(
+    ($($(#[$doc:meta])* $scene:ident => $model:ident: $drive:ident, $dofs:expr $(, quasi-static $quasi:expr)?;)+) => {
+        $(
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         pub struct $scene;
@@ -524,7 +535,66 @@ macro_rules! scenes {
         );
         #[doc = concat!("The model of the [`", stringify!($scene), "`] scene.")]
         pub type $model<T> = CamModel<T, $scene, { <$scene as Scene>::N }>;
-    )+};
+        )+
+
+        /// Every scene by name: the run-time handle of the scene types, with their
+        /// properties and the dispatch to the type ([`SceneId::visit`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum SceneId {
+            $(
+            $(#[$doc])*
+            $scene,
+            )+
+        }
+
+        impl SceneId {
+            /// Every scene, in the order of their definition.
+            pub const ALL: &'static [SceneId] = &[$(SceneId::$scene),+];
+
+            /// The scene's type name (for example `"RegulatedFull"`).
+            pub const fn name(self) -> &'static str {
+                match self { $(SceneId::$scene => stringify!($scene),)+ }
+            }
+
+            /// The scene's drive kind.
+            pub const fn drive(self) -> DriveKind {
+                match self { $(SceneId::$scene => <$scene as Scene>::DRIVE,)+ }
+            }
+
+            /// The translational DOFs the scene keeps.
+            pub const fn dofs(self) -> DofSet {
+                match self { $(SceneId::$scene => <$scene as Scene>::DOFS,)+ }
+            }
+
+            /// The DOFs the scene solves quasi-statically.
+            pub const fn quasi_static(self) -> DofSet {
+                match self { $(SceneId::$scene => <$scene as Scene>::QUASI_STATIC,)+ }
+            }
+
+            /// The scene's state length.
+            pub const fn states(self) -> usize {
+                match self { $(SceneId::$scene => <$scene as Scene>::N,)+ }
+            }
+
+            /// Calls `visitor` with the scene's type.
+            pub fn visit<V: SceneVisitor>(self, visitor: V) -> V::Output {
+                match self {
+                    $(SceneId::$scene => visitor.visit::<$scene, { <$scene as Scene>::N }>(),)+
+                }
+            }
+        }
+    };
+}
+
+impl SceneId {
+    /// The scene with this drive, these DOFs and these quasi-static DOFs, if one is
+    /// defined.
+    pub fn find(drive: DriveKind, dofs: DofSet, quasi_static: DofSet) -> Option<SceneId> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|s| s.drive() == drive && s.dofs() == dofs && s.quasi_static() == quasi_static)
+    }
 }
 
 scenes! {
@@ -629,6 +699,34 @@ mod tests {
             DofSet::VERTICAL.without(TransDof::CamY)
         )
         .is_some());
+    }
+
+    /// The ids describe their types, each (drive, DOFs, quasi-static DOFs) is one scene,
+    /// and a visit reaches the id's own type.
+    #[test]
+    fn scene_ids_match_their_types_and_are_found_by_their_properties() {
+        struct States;
+        impl SceneVisitor for States {
+            type Output = (usize, usize, DofSet);
+            fn visit<S: Scene, const N: usize>(self) -> Self::Output {
+                (S::N, N, S::DOFS)
+            }
+        }
+        assert_eq!(SceneId::ALL.len(), 10);
+        for &id in SceneId::ALL {
+            assert_eq!(id.visit(States), (id.states(), id.states(), id.dofs()));
+            assert_eq!(
+                SceneId::find(id.drive(), id.dofs(), id.quasi_static()),
+                Some(id)
+            );
+        }
+        assert_eq!(SceneId::RegulatedFull.states(), 22);
+        assert_eq!(SceneId::RegulatedQsRod.states(), 10);
+        assert_eq!(SceneId::RegulatedQsRod.name(), "RegulatedQsRod");
+        assert_eq!(
+            SceneId::find(DriveKind::ConstantCamSpeed, DofSet::ALL, QuasiStatic::ROD),
+            None
+        );
     }
 
     #[test]

@@ -5,7 +5,7 @@
 //! `y = y_low + h s(1 - u)` with `u = (θ - c)/β₂`. It is not point-symmetric in force;
 //! for the point-symmetric laws the two readings coincide.
 
-use crate::keys::{segment_key, SegmentField};
+use crate::model::keys::{segment_key, SegmentField};
 use crate::{key, Error, MotionLaw, Real, Result};
 
 /// What a program segment does.

@@ -12,7 +12,7 @@ use core::ops::ControlFlow;
 
 use crate::{
     CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
-    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, Tolerance, TransDof,
+    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, Tolerance, TransDof, TRANS_DOFS,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -53,6 +53,59 @@ pub struct Sample<T> {
     pub theory: Theoretical<T>,
     /// Maximum Hertz contact stress, psi (0 when the observer does not need it or off contact).
     pub contact_stress: T,
+}
+
+/// How many numbers [`Sample::numbers`] gives.
+pub const SAMPLE_NUMBERS: usize = 27 + 3 * TRANS_DOFS;
+
+impl<T: Real> Sample<T> {
+    /// Every number of the sample, in a fixed order, for checks that each one is finite:
+    /// the point's scalars, the cam angle, the theoretical response, the contact stress,
+    /// then the positions, velocities and accelerations. A surface radius of curvature
+    /// of +inf, the documented value where the pitch curve is straight (an inflection of
+    /// the profile; `CamGeometry::pitch_curvature_radius`), is given as 0.
+    pub fn numbers(&self) -> [T; SAMPLE_NUMBERS] {
+        let p = &self.point;
+        let mut v = [T::ZERO; SAMPLE_NUMBERS];
+        let scalars = [
+            p.t,
+            p.theta_c,
+            p.theta_cp,
+            p.theta_m,
+            p.omega_c,
+            p.omega_cp,
+            p.omega_m,
+            p.alpha_c,
+            p.alpha_cp,
+            p.alpha_m,
+            p.lift.y,
+            p.lift.dy,
+            p.lift.d2y,
+            p.lift.d3y,
+            p.pressure_angle,
+            p.k_h,
+            if p.surface_radius == T::INFINITY {
+                T::ZERO
+            } else {
+                p.surface_radius
+            },
+            p.contact_force,
+            p.friction_follower,
+            p.friction_cantilever,
+            p.torque_out,
+            p.torque_drive,
+            self.angle_deg,
+            self.theory.y,
+            self.theory.v,
+            self.theory.a,
+            self.contact_stress,
+        ];
+        let all = scalars.iter().chain(&p.pos).chain(&p.vel).chain(&p.acc);
+        for (slot, x) in v.iter_mut().zip(all) {
+            *slot = *x;
+        }
+        v
+    }
 }
 
 /// Receives each sample of a simulation.
