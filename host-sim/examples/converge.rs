@@ -396,6 +396,39 @@ fn main() -> Result<()> {
         }
         return Ok(());
     }
+    if let Ok(spec) = std::env::var("CONVERGE_EPUS") {
+        // CONVERGE_EPUS=f: England classic and PI-capped with error per unit step,
+        // reference double step h_ref = f revolutions at omega0.
+        let f: f64 = spec.parse()?;
+        let period = 2.0 * std::f64::consts::PI / model.design().omega0;
+        let pus = Some(camsim_core::PerUnitStep::new(f * period));
+        for (name, base) in [
+            ("england", camsim_core::StepControl::classic()),
+            ("england_pi_capped", camsim_core::StepControl::pi_capped()),
+        ] {
+            let control = camsim_core::StepControl {
+                per_unit_step: pus,
+                ..base
+            };
+            for &rtol in &rtols {
+                let mut s = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+                let w = camsim::bench::methods::run_england(
+                    &model,
+                    &settings::<f64>(rtol),
+                    control,
+                    REVOLUTIONS,
+                    &mut s,
+                )?;
+                println!(
+                    "{name} per-unit-step {f:e} rev rtol {rtol:e}: evals {} acc err {:.3e} disp err {:.3e}",
+                    w.evals,
+                    Samples::rms_diff(&s.samples.acc, &r.acc),
+                    Samples::rms_diff(&s.samples.disp, &r.disp)
+                );
+            }
+        }
+        return Ok(());
+    }
     for method in [Method::England, Method::EnglandPiCapped, Method::Dopri5] {
         for &rtol in &rtols {
             let (s, evals) = match sampled(&model, method, rtol) {
