@@ -13,8 +13,8 @@ use core::ops::ControlFlow;
 
 use camsim_core::{
     initial_step, rk4_integrate, rk4_step, spectral_radius, Controller, England, EnglandConfig,
-    Error, InitialStep, OdeSystem, PerUnitStep, PiController, Real, SolverStats, StepControl, StiffnessCap,
-    Tolerance,
+    Error, InitialStep, OdeSystem, PerUnitStep, PiController, Real, SolverStats, StepControl,
+    StiffnessCap, Tolerance,
 };
 
 const SQRT_2: f64 = std::f64::consts::SQRT_2;
@@ -1034,8 +1034,7 @@ fn per_unit_step_ratio_scales_by_h_ref_over_h_down_to_the_rounding_floor() {
 }
 
 #[test]
-fn per_unit_step_makes_the_slow_modes_error_follow_the_tolerance_where_stability_holds_the_step(
-) {
+fn per_unit_step_makes_the_slow_modes_error_follow_the_tolerance_where_stability_holds_the_step() {
     // The cam model's dwells in small: a slow mode (w1 = 10 rad/s) carries the motion, a
     // stiff one (w2 = 1e3 rad/s) holds the capped double step at 0.95 · 4√2 / w2 =
     // 5.4e-3 s, where the slow mode's local error is far below the tolerance. With error

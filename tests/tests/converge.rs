@@ -89,7 +89,10 @@ fn assert_converges(what: &str, errs: &[(String, f64)], factor: f64) {
 }
 
 /// The errors over [`RTOLS`] of one way to run, up to the first below [`FLOOR`].
-fn ladder(reference: &[f64], mut acc_at: impl FnMut(f64) -> Result<Vec<f64>>) -> Result<Vec<(String, f64)>> {
+fn ladder(
+    reference: &[f64],
+    mut acc_at: impl FnMut(f64) -> Result<Vec<f64>>,
+) -> Result<Vec<(String, f64)>> {
     let mut errs = Vec::new();
     for rtol in RTOLS {
         let e = Samples::rms_diff(&acc_at(rtol)?, reference);
