@@ -21,6 +21,8 @@
 //!   velocities' atol; `CONVERGE_AT=<deg>` also prints each component and the step halved
 //!   five times at the steps starting within 0.05° after that angle.
 //! - `CONVERGE_DUMP=<rtol>`: England's error of every component at every sample.
+//! - `CONVERGE_EPUS=<h_ref>`: England classic and PI-capped with error per unit step
+//!   (`camsim_core::PerUnitStep`), reference double step `h_ref` revolutions at ω0.
 //!
 //! Model variants: `CONVERGE_MU=<μ>`, `CONVERGE_VS=<in/s>` (friction and its smoothing),
 //! `CONVERGE_SMOOTH=1` (4-5-6-7 rise and return), `CONVERGE_STABLE=1`
