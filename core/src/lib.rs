@@ -55,7 +55,8 @@ pub use model::scene::{
 
 mod solve;
 pub use solve::controller::{
-    initial_step, spectral_radius, Controller, InitialStep, PiController, StepControl, StiffnessCap,
+    initial_step, spectral_radius, Controller, InitialStep, PerUnitStep, PiController, StepControl,
+    StiffnessCap,
 };
 pub use solve::solver::{
     rk4_integrate, rk4_step, rk4_step_from, Dense, England, EnglandConfig, Event, EventConfig,

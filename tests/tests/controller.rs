@@ -13,8 +13,8 @@ use core::ops::ControlFlow;
 
 use camsim_core::{
     initial_step, rk4_integrate, rk4_step, spectral_radius, Controller, England, EnglandConfig,
-    Error, InitialStep, OdeSystem, PiController, Real, SolverStats, StepControl, StiffnessCap,
-    Tolerance,
+    Error, InitialStep, OdeSystem, PerUnitStep, PiController, Real, SolverStats, StepControl,
+    StiffnessCap, Tolerance,
 };
 
 const SQRT_2: f64 = std::f64::consts::SQRT_2;
@@ -225,6 +225,7 @@ fn a_spectral_radius_from_the_system_replaces_the_power_iteration() {
             max_iterations: 0,
             ..StiffnessCap::new()
         }),
+        per_unit_step: None,
     };
     let r = run_two_mode(&sys, 1e-6, 10.0, control);
     // No evaluation outside the steps, and the cap is exactly 0.95 · 4√2 / w2.
@@ -993,4 +994,74 @@ fn rk4_is_fourth_order_and_englands_error_estimate_fifth() {
     assert!((p_est - 5.0).abs() < 0.3, "estimate {p_est}");
     let last = *ratio.last().unwrap();
     assert!((last - 1.0).abs() < 0.1, "estimate/true {ratio:?}");
+}
+
+// ------------------------------------------------------------ error per unit step (issue 22)
+
+#[test]
+fn per_unit_step_ratio_scales_by_h_ref_over_h_down_to_the_rounding_floor() {
+    let p = PerUnitStep::new(1.0_f64);
+    assert_eq!(p.rtol_floor, 1000.0 * f64::EPSILON);
+    // h_ref / h = 4: the ratio is four times the per-step one.
+    assert_eq!(p.ratio(0.1, 0.25, 1e-6), 0.4);
+    // Steps of h_ref or longer: per step.
+    assert_eq!(p.ratio(0.1, 1.0, 1e-6), 0.1);
+    assert_eq!(p.ratio(0.1, 2.0, 1e-6), 0.1);
+    // The effective rtol 1e-9 · 1e-6 would be below 1000 eps: the gain stops at
+    // 1e-9 / 2.22e-13 = 4 504.
+    let g = p.ratio(1.0, 1e-6, 1e-9);
+    assert!((g - 1e-9 / (1000.0 * f64::EPSILON)).abs() < 1e-9 * g);
+    // rtol at the floor: no tightening.
+    assert_eq!(p.ratio(0.5, 1e-3, 1e-13), 0.5);
+    let name = |c: PerUnitStep<f64>| match (StepControl {
+        per_unit_step: Some(c),
+        ..StepControl::classic()
+    })
+    .validate()
+    {
+        Err(Error::InvalidParameter { field, .. }) => field,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(name(PerUnitStep::new(0.0)), "per_unit_step.h_ref");
+    assert_eq!(name(PerUnitStep::new(f64::INFINITY)), "per_unit_step.h_ref");
+    assert_eq!(
+        name(PerUnitStep {
+            rtol_floor: -1.0,
+            ..PerUnitStep::new(1.0)
+        }),
+        "per_unit_step.rtol_floor"
+    );
+}
+
+#[test]
+fn per_unit_step_makes_the_slow_modes_error_follow_the_tolerance_where_stability_holds_the_step() {
+    // The cam model's dwells in small: a slow mode (w1 = 10 rad/s) carries the motion, a
+    // stiff one (w2 = 1e3 rad/s) holds the capped double step at 0.95 · 4√2 / w2 =
+    // 5.4e-3 s, where the slow mode's local error is far below the tolerance. With error
+    // per step the step, and so the slow mode's global error over 10 s (about 1 900
+    // steps), does not change with the tolerance; with error per unit step over
+    // h_ref = 10 s the local errors may add up to about one tolerance, so the global error
+    // must follow the tolerance (two decades of tolerance: at least 30x, against 100x
+    // for exact proportionality), and stay within a few tolerances.
+    let sys = TwoMode::new(10.0, 1e3, 0.3);
+    let t_end = 10.0;
+    let per_step = |tol: f64| run_two_mode(&sys, tol, t_end, StepControl::pi_capped()).err;
+    let per_unit = |tol: f64| {
+        run_two_mode(
+            &sys,
+            tol,
+            t_end,
+            StepControl {
+                per_unit_step: Some(PerUnitStep::new(t_end)),
+                ..StepControl::pi_capped()
+            },
+        )
+        .err
+    };
+    let (s6, s8) = (per_step(1e-6), per_step(1e-8));
+    let (u6, u8) = (per_unit(1e-6), per_unit(1e-8));
+    println!("per step: {s6:.3e} {s8:.3e}; per unit step: {u6:.3e} {u8:.3e}");
+    assert!(s6 / s8 < 3.0, "per step: {s6:e} -> {s8:e}");
+    assert!(u6 / u8 >= 30.0, "per unit step: {u6:e} -> {u8:e}");
+    assert!(u6 < 10.0 * 1e-6 && u8 < 10.0 * 1e-8, "{u6:e} {u8:e}");
 }

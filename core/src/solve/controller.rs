@@ -293,6 +293,83 @@ pub struct StepControl<T> {
     pub initial_step: InitialStep,
     /// Optional cap from the stiffest eigenvalue.
     pub stiffness_cap: Option<StiffnessCap<T>>,
+    /// Optional error-per-unit-step control ([`PerUnitStep`]); `None` (the default):
+    /// error per step.
+    pub per_unit_step: Option<PerUnitStep<T>>,
+}
+
+/// Error per unit step: a double step `h` shorter than the reference step `h_ref` is
+/// accepted only when its error ratio is at most `h / h_ref` (the ratio the step-size rule
+/// sees is `err · h_ref / h`), so the local error allowed per unit of time is the same
+/// whatever the step (Hairer, Nørsett & Wanner, *Solving ODEs I*, II.4, "tolerance
+/// proportionality").
+///
+/// Why: with error per step the global error is bounded by the number of steps times the
+/// tolerance. Where the step is held by stability rather than accuracy (the cam model's
+/// dwells, where the stiff contact mode sets the step and the load's truncation error is
+/// far below the tolerance), the number of steps and each step's error do not depend on
+/// the tolerance, so neither does their sum: the global error stops following `rtol`
+/// (issue 22, BENCHMARKS.md). Per unit step the allowed local errors over an interval
+/// `T` add up to `T / h_ref` tolerances whatever the steps, so the global error follows
+/// the tolerance; the price is smaller steps wherever accuracy sets the step (the ratio
+/// of an order-4 step then scales as `h^4`, not `h^5`).
+///
+/// The tightening is limited so that the effective relative tolerance
+/// `rtol · h / h_ref` never falls below `rtol_floor`: below it rounding, not truncation,
+/// makes the estimate, which then no longer falls with the step, and the step would
+/// shrink to `h_min`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PerUnitStep<T> {
+    /// Reference double step (seconds): steps of at least this size are controlled per
+    /// step as without this option.
+    pub h_ref: T,
+    /// Smallest effective relative tolerance: `1000 ε` (2.2e-13 in `f64`, 1.2e-4 in
+    /// `f32`).
+    pub rtol_floor: T,
+}
+
+impl<T: Real> PerUnitStep<T> {
+    /// Error per unit step with reference double step `h_ref` (seconds) and
+    /// `rtol_floor = 1000 ε`.
+    pub fn new(h_ref: T) -> Self {
+        Self {
+            h_ref,
+            rtol_floor: T::EPSILON * T::from_f64(1000.0),
+        }
+    }
+
+    /// Checks the settings (names the offending field).
+    pub fn validate(&self) -> Result<()> {
+        if !(self.h_ref.is_finite() && self.h_ref > T::ZERO) {
+            return Err(Error::InvalidParameter {
+                field: "per_unit_step.h_ref",
+                rule: "must be positive and finite",
+                value: self.h_ref.to_f64(),
+            });
+        }
+        if !(self.rtol_floor.is_finite() && self.rtol_floor > T::ZERO) {
+            return Err(Error::InvalidParameter {
+                field: "per_unit_step.rtol_floor",
+                rule: "must be positive and finite",
+                value: self.rtol_floor.to_f64(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The error ratio a double step `h` with per-step ratio `err` at relative tolerance
+    /// `rtol` is judged by: `err · min(h_ref / h, rtol / rtol_floor)`, never below `err`.
+    pub fn ratio(&self, err: T, h: T, rtol: T) -> T {
+        if !(h > T::ZERO && h < self.h_ref) {
+            return err;
+        }
+        let gain = (self.h_ref / h).min(rtol / self.rtol_floor);
+        if gain > T::ONE {
+            err * gain
+        } else {
+            err
+        }
+    }
 }
 
 impl<T: Real> StepControl<T> {
@@ -308,6 +385,7 @@ impl<T: Real> StepControl<T> {
             controller: Controller::Pi(PiController::hairer()),
             initial_step: InitialStep::Hairer,
             stiffness_cap: Some(StiffnessCap::new()),
+            per_unit_step: None,
         }
     }
 
@@ -329,6 +407,9 @@ impl<T: Real> StepControl<T> {
         }
         if let Some(cap) = &self.stiffness_cap {
             cap.validate()?;
+        }
+        if let Some(p) = &self.per_unit_step {
+            p.validate()?;
         }
         Ok(())
     }

@@ -762,6 +762,9 @@ impl<T: Real, const N: usize> England<T, N> {
                 };
                 err = err.max(r);
             }
+            if let Some(p) = &self.control.per_unit_step {
+                err = p.ratio(err, h, rtol);
+            }
             // err^(-1/5) step factor (k's are finite, so err is not NaN; it may be +inf).
             let fac_raw = if err > T::ZERO {
                 safety * err.powf(neg_fifth)

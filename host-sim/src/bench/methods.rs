@@ -145,6 +145,39 @@ where
     Ok(work)
 }
 
+/// Error per unit step with one revolution at ω0 as the reference double step: the local
+/// errors England may make over a revolution add up to at most one tolerance, whatever
+/// its steps (issue 22; [`camsim_core::PerUnitStep`]).
+pub fn per_revolution<T: Real, S: Scene, const N: usize>(
+    model: &CamModel<T, S, N>,
+) -> camsim_core::PerUnitStep<T> {
+    camsim_core::PerUnitStep::new(T::TWO * T::PI / model.design().omega0)
+}
+
+/// [`run`] for England's method with any step control (for example with
+/// [`camsim_core::PerUnitStep`]), with the same checks.
+pub fn run_england<T, S, const N: usize>(
+    model: &CamModel<T, S, N>,
+    settings: &SolverSettings<T>,
+    control: StepControl<T>,
+    revolutions: u32,
+    sampler: &mut Sampler<'_, T, S, N>,
+) -> Result<Work>
+where
+    T: Real + FloatNumber,
+    S: Scene,
+    f64: From<T>,
+{
+    let work = england(model, settings, control, revolutions, sampler)?;
+    if sampler.bad_sample {
+        bail!("a sample could not be placed (non-finite solution)");
+    }
+    if !sampler.done && !sampler.separated_in_sampled {
+        bail!("the run ended before the cam turned {revolutions} revolutions");
+    }
+    Ok(work)
+}
+
 /// England's method with `control`, sampled through its dense output.
 fn england<T: Real, S: Scene, const N: usize>(
     model: &CamModel<T, S, N>,

@@ -1,0 +1,197 @@
+//! Issue 22: every method's error must follow its tolerance (or its step) down to the
+//! reference's floor, on the reference design as `camsim bench` measures it (full 22-state
+//! scene, 500 rpm, static start, 2 revolutions; RMS error of the load's acceleration over
+//! revolution 2 at 720 cam angles, each method through its own continuous extension).
+//!
+//! The rule, derived from the methods' orders rather than from measured figures: over a
+//! tolerance ladder one decade apart, an error-controlled method's error must fall by at
+//! least [`PER_DECADE`] per decade (a method whose local error is controlled to `rtol`
+//! has a global error proportional to `rtol`, or to `rtol^(4/5)` with England's
+//! error-per-step control: 6.3x a decade; 3x leaves room for the step-size rule) until it
+//! is below [`FLOOR`]; RK4 at a fixed step must fall by at least [`PER_HALVING`] per halving
+//! of the step (fourth order: 16x).
+//!
+//! The reference is England at rtol 1e-12 (the bench's is 1e-13); at 1e-12 England and
+//! Dormand-Prince agree to 2.8e-7 in/s² (BENCHMARKS.md), so [`FLOOR`] is ten times that:
+//! an error below it would measure the reference.
+//!
+//! England with error per step (classic and PI-capped, what `camsim run` and the bench
+//! use) fails this (issue 22: classic 2.56x, 1.70x, 1.25x a decade from rtol 1e-5 to
+//! 1e-8; its steps in the dwells are held by stability and do not shrink with rtol,
+//! BENCHMARKS.md); those two cases stay ignored and name the issue (run them with
+//! `cargo test -p camsim-tests --test converge -- --include-ignored`). With error per
+//! unit step over one revolution ([`per_revolution`]) both pass: those are the England
+//! cases that run.
+//!
+//! The ladder stops at the first error below [`FLOOR`]: past it the error measures the
+//! reference, and the tightest tolerances cost the most.
+
+use anyhow::Result;
+use camsim::bench::methods::{per_revolution, run, run_england, Method};
+use camsim::bench::sample::{Sampler, Samples};
+use camsim::bench::{design_at, settings, MEASURED, REVOLUTIONS};
+use camsim_core::{CamModel, RegulatedFull, Scene, StepControl};
+
+type Model = CamModel<f64, RegulatedFull, { RegulatedFull::N }>;
+
+/// Smallest fall of an adaptive method's error per decade of rtol.
+const PER_DECADE: f64 = 3.0;
+/// Smallest fall of RK4's error per halving of its fixed step.
+const PER_HALVING: f64 = 8.0;
+/// Errors below this (in/s²) are at the reference's floor.
+const FLOOR: f64 = 3e-6;
+/// The reference's rtol.
+const REFERENCE_RTOL: f64 = 1e-12;
+/// The tolerance ladder.
+const RTOLS: [f64; 5] = [1e-5, 1e-6, 1e-7, 1e-8, 1e-9];
+
+fn acc(model: &Model, method: Method, rtol: f64) -> Result<Vec<f64>> {
+    let mut s = Sampler::new(model, REVOLUTIONS, Some(MEASURED));
+    run(method, model, &settings::<f64>(rtol), REVOLUTIONS, &mut s)?;
+    anyhow::ensure!(
+        s.complete(),
+        "{} at {rtol:e}: samples missing",
+        method.name()
+    );
+    Ok(s.samples.acc)
+}
+
+fn setup() -> Result<(Model, Vec<f64>)> {
+    let model = Model::new(design_at(500.0)?)?;
+    let reference = acc(&model, Method::England, REFERENCE_RTOL)?;
+    Ok((model, reference))
+}
+
+/// Checks that each error falls by `factor` from the one before, until one is below
+/// `FLOOR` (then every later one must stay below `FLOOR · factor`: at the floor the
+/// error is the reference's).
+fn assert_converges(what: &str, errs: &[(String, f64)], factor: f64) {
+    let report: Vec<String> = errs.iter().map(|(k, e)| format!("{k}: {e:.3e}")).collect();
+    for pair in errs.windows(2) {
+        let [(k0, e0), (k1, e1)] = pair else { continue };
+        assert!(
+            e1.is_finite(),
+            "{what}: error not finite at {k1} ({report:?})"
+        );
+        if *e0 < FLOOR {
+            assert!(
+                *e1 < FLOOR * factor,
+                "{what}: error rose off the floor from {k0} to {k1} ({report:?})"
+            );
+        } else {
+            assert!(
+                *e1 <= *e0 / factor,
+                "{what}: error fell only {:.2}x from {k0} to {k1}, less than {factor}x ({report:?})",
+                e0 / e1
+            );
+        }
+    }
+}
+
+/// The errors over [`RTOLS`] of one way to run, up to the first below [`FLOOR`].
+fn ladder(
+    reference: &[f64],
+    mut acc_at: impl FnMut(f64) -> Result<Vec<f64>>,
+) -> Result<Vec<(String, f64)>> {
+    let mut errs = Vec::new();
+    for rtol in RTOLS {
+        let e = Samples::rms_diff(&acc_at(rtol)?, reference);
+        errs.push((format!("rtol {rtol:e}"), e));
+        if e < FLOOR {
+            break;
+        }
+    }
+    Ok(errs)
+}
+
+fn adaptive(method: Method) -> Result<()> {
+    let (model, reference) = setup()?;
+    let errs = ladder(&reference, |rtol| acc(&model, method, rtol))?;
+    assert_converges(method.name(), &errs, PER_DECADE);
+    Ok(())
+}
+
+/// England with `control` plus error per unit step over one revolution.
+fn per_unit_step(name: &str, control: StepControl<f64>) -> Result<()> {
+    let (model, reference) = setup()?;
+    let control = StepControl {
+        per_unit_step: Some(per_revolution(&model)),
+        ..control
+    };
+    let errs = ladder(&reference, |rtol| {
+        let mut s = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+        run_england(&model, &settings::<f64>(rtol), control, REVOLUTIONS, &mut s)?;
+        anyhow::ensure!(s.complete(), "{name} at {rtol:e}: samples missing");
+        Ok(s.samples.acc)
+    })?;
+    assert_converges(name, &errs, PER_DECADE);
+    Ok(())
+}
+
+#[test]
+#[ignore = "issue 22: England's error per step falls 1.7x and 1.25x a decade from rtol 1e-6 to 1e-8 (steps held by stability in the dwells; BENCHMARKS.md)"]
+fn england_error_follows_rtol() -> Result<()> {
+    adaptive(Method::England)
+}
+
+#[test]
+#[ignore = "issue 22: PI-capped England's error per step falls 1.4x and 1.5x a decade from rtol 1e-6 to 1e-8 (steps held by stability in the dwells; BENCHMARKS.md)"]
+fn england_pi_capped_error_follows_rtol() -> Result<()> {
+    adaptive(Method::EnglandPiCapped)
+}
+
+#[test]
+fn england_per_unit_step_error_follows_rtol() -> Result<()> {
+    per_unit_step("england_per_unit_step", StepControl::classic())
+}
+
+#[test]
+fn england_pi_capped_per_unit_step_error_follows_rtol() -> Result<()> {
+    per_unit_step("england_pi_capped_per_unit_step", StepControl::pi_capped())
+}
+
+#[test]
+fn dormand_prince_error_follows_rtol() -> Result<()> {
+    adaptive(Method::Dopri5)
+}
+
+#[test]
+fn rk4_error_falls_at_fourth_order_with_its_step() -> Result<()> {
+    let (model, reference) = setup()?;
+    let mut errs = Vec::new();
+    // From just above the fixed-step stability limit (15 177 steps a revolution).
+    for steps_per_rev in [16_000, 32_000, 64_000] {
+        let mut s = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+        run(
+            Method::Rk4 { steps_per_rev },
+            &model,
+            &settings::<f64>(1e-6),
+            REVOLUTIONS,
+            &mut s,
+        )?;
+        errs.push((
+            format!("T/{steps_per_rev}"),
+            Samples::rms_diff(&s.samples.acc, &reference),
+        ));
+    }
+    assert_converges("rk4_fixed", &errs, PER_HALVING);
+    Ok(())
+}
+
+/// The rule itself: it passes a fourth-order fall, refuses a plateau, and accepts
+/// anything once at the floor.
+#[test]
+fn the_rule_refuses_a_plateau_and_accepts_the_floor() {
+    let e = |v: &[f64]| -> Vec<(String, f64)> {
+        v.iter()
+            .enumerate()
+            .map(|(i, x)| (i.to_string(), *x))
+            .collect()
+    };
+    assert_converges("falls", &e(&[1e-2, 1e-3, 1e-4]), PER_DECADE);
+    assert_converges("to the floor", &e(&[1e-5, 1e-6, 2e-6, 1e-6]), PER_DECADE);
+    let plateau = std::panic::catch_unwind(|| {
+        assert_converges("plateau", &e(&[4.9e-4, 2.9e-4, 2.3e-4]), PER_DECADE)
+    });
+    assert!(plateau.is_err());
+}
