@@ -319,6 +319,12 @@ pub fn report(args: &Args) -> Result<RunReport> {
     let profile_report = profile.as_ref().map(|p| p.1.clone());
     spec.profile = profile.map(|p| std::sync::Arc::new(p.0));
     let mut plan = Plan::new(args.force);
+    if let Some(p) = &args.scene.scene {
+        plan.input("scene file", p);
+    }
+    if let Some(p) = &args.measured {
+        plan.input("--measured", p);
+    }
     let csv_target = match &args.csv {
         Some(p) => Some(plan.file("--csv", p)?.limit(
             csv::estimated_bytes(&spec),
