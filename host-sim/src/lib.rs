@@ -12,4 +12,6 @@ pub mod output;
 pub mod plot;
 pub mod report;
 pub mod scene;
+pub mod shard;
 pub mod sim;
+pub mod study_limits;
