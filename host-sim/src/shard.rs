@@ -19,11 +19,12 @@ use crate::cmd::montecarlo::{SampleRecord, Shard, ShardFile, COLUMNS};
 /// The digest's name in the file, before the hexadecimal value.
 pub const DIGEST_PREFIX: &str = "fnv1a-128:";
 
-/// Most bytes of a shard file read: 2 GB. A record is about 1.9 kB of JSON (8 periods
-/// of 13 columns), so this holds a shard of a million samples, the most a study may
-/// have without `--allow-long` (`camsim montecarlo`'s limits); a larger file is not a
-/// shard this camsim wrote, and a device is not read without end.
-pub const MAX_SHARD_BYTES: u64 = 2_000_000_000;
+/// Most bytes of a shard file read: 8 GB. A record is about 1.5 kB of JSON (measured:
+/// a 20-sample shard of the reference study is 30.9 kB, header included), so this holds
+/// a shard of the largest study run without `--allow-long` (4 million samples, about
+/// 6 GB: `camsim::study_limits`); a larger file is not a shard this camsim wrote, and a
+/// device is not read without end.
+pub const MAX_SHARD_BYTES: u64 = 8_000_000_000;
 
 /// 128-bit FNV-1a of `bytes`.
 fn fnv1a_128(bytes: &[u8]) -> u128 {

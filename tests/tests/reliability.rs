@@ -307,3 +307,141 @@ fn a_wide_jump_speed_bracket_is_stated_as_a_range() {
     let text = render_text(&JumpSpeedReport::new(&r, 800.0, 0.5, 1.0));
     assert!(text.contains("margin +101.8 rpm (+12.7 %)"), "{text}");
 }
+
+/// `camsim montecarlo ARGS` parsed as the binary parses it.
+fn montecarlo(args: &[&str]) -> camsim::cmd::montecarlo::Args {
+    let argv = ["camsim", "montecarlo"].iter().chain(args).copied();
+    match cli::parse_from(argv).unwrap().command {
+        cli::Command::Montecarlo(a) => a,
+        other => panic!("{other:?}"),
+    }
+}
+
+/// The cheapest study the tests run (as tests/montecarlo.rs).
+const CHEAP: [&str; 6] = [
+    "--vertical",
+    "--constant-cam-speed",
+    "--interval-deg",
+    "10",
+    "--seed",
+    "7",
+];
+
+// Point 6: --out fails before the first sample, not after the study.
+#[test]
+fn a_bad_out_name_fails_before_the_first_sample() {
+    let d = scratch("mc-name");
+    let long = d.join(format!("{}.json", "n".repeat(250)));
+    let mut argv = vec!["--samples", "2000", "--threads", "1", "--out", s(&long)];
+    argv.extend_from_slice(&CHEAP);
+    let t0 = Instant::now();
+    let e = camsim::cmd::montecarlo::execute(&montecarlo(&argv)).unwrap_err();
+    let e = format!("{e:#}");
+    assert!(e.contains("cannot create a temporary file"), "{e}");
+    // 2000 samples take minutes; the refusal comes before the first.
+    assert!(t0.elapsed() < Duration::from_secs(20), "{:?}", t0.elapsed());
+    fs::remove_dir_all(&d).unwrap();
+}
+
+// Point 3: a study that cannot fit is refused before any sample, naming the way out.
+#[test]
+fn a_study_past_the_memory_limit_is_refused_at_once() {
+    let mut argv = vec!["--samples", "100000000"];
+    argv.extend_from_slice(&CHEAP);
+    let t0 = Instant::now();
+    let e = camsim::cmd::montecarlo::execute(&montecarlo(&argv)).unwrap_err();
+    let e = format!("{e:#}");
+    assert!(
+        e.contains("--samples 100000000: would hold about 100 GB"),
+        "{e}"
+    );
+    assert!(e.contains("--allow-long"), "{e}");
+    assert!(t0.elapsed() < Duration::from_secs(5));
+}
+
+// Point 7: an edited shard does not merge silently.
+#[test]
+fn edited_or_insane_shards_are_refused_at_merge() {
+    use camsim::cmd::montecarlo::{merge, read_shard, OutputArgs, COLUMNS};
+    let d = scratch("shards");
+    let files: Vec<PathBuf> = (1..=3).map(|k| d.join(format!("s{k}.json"))).collect();
+    for (k, f) in files.iter().enumerate() {
+        let shard = format!("{}/3", k + 1);
+        let mut argv = vec!["--samples", "7", "--threads", "1", "--shard", &shard];
+        argv.extend_from_slice(&["--out", s(f)]);
+        argv.extend_from_slice(&CHEAP);
+        camsim::cmd::montecarlo::execute(&montecarlo(&argv)).unwrap();
+    }
+    assert!(merge(&files, &OutputArgs::default()).is_ok());
+    let merge_err = |edited: &ShardEdit| -> String {
+        let target = d.join("edited.json");
+        let mut file = read_shard(&files[1]).unwrap();
+        let resign = edited(&mut file);
+        if resign {
+            file.digest = camsim::shard::digest(&file).unwrap();
+        }
+        fs::write(&target, serde_json::to_string(&file).unwrap()).unwrap();
+        let e = merge(
+            &[files[0].clone(), target.clone(), files[2].clone()],
+            &OutputArgs::default(),
+        )
+        .unwrap_err();
+        format!("{e:#}")
+    };
+    let col = |n: &str| COLUMNS.iter().position(|c| *c == n).unwrap();
+    // One number changed by hand (the digest left as written).
+    let (fmin, fmax) = (col("contact_force_min"), col("contact_force_max"));
+    let e = merge_err(&move |f| {
+        f.records[0].periods[0].values[fmin] += 1.0;
+        false
+    });
+    assert!(e.contains("digest does not match"), "{e}");
+    // Values no run produces, even with the digest made again.
+    let cases: [(&ShardEdit, &str); 5] = [
+        (
+            &|f| {
+                f.records[0].rms_deviation_in = -5.0;
+                true
+            },
+            "rms_deviation_in = -5",
+        ),
+        (
+            &move |f| {
+                let p = &mut f.records[0].periods[0];
+                p.values[fmin] = p.values[fmax] + 1.0;
+                true
+            },
+            "the minimum must not exceed",
+        ),
+        (
+            &|f| {
+                f.records[0].steps = 0;
+                true
+            },
+            "steps = 0",
+        ),
+        (
+            &|f| {
+                f.shard.index = 0;
+                f.shard.count = 0;
+                true
+            },
+            "must be K/N with 1 <= K <= N",
+        ),
+        (
+            &|f| {
+                f.shard.index = 5;
+                f.shard.count = 3;
+                true
+            },
+            "must be K/N with 1 <= K <= N",
+        ),
+    ];
+    for (edit, want) in cases {
+        let e = merge_err(edit);
+        assert!(e.contains(want), "{want}: {e}");
+    }
+    fs::remove_dir_all(&d).unwrap();
+}
+
+type ShardEdit = dyn Fn(&mut camsim::cmd::montecarlo::ShardFile) -> bool;
