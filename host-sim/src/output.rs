@@ -1083,7 +1083,7 @@ mod imp {
 /// The catchable signals that end a run (interrupt, termination, a dropped terminal or
 /// ssh session, quit, the CPU time limit): each removes every live temporary and exits
 /// with 128 + the signal. SIGKILL cannot be caught: its temporaries are removed by the
-/// next run in the directory ([`create_temp`]).
+/// next run in the directory ([`remove_stale_temporaries`]).
 #[cfg(unix)]
 pub const CLEANUP_SIGNALS: [(i32, &str); 5] = imp::SIGNALS;
 

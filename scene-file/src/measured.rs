@@ -414,7 +414,7 @@ impl Measured {
             }
         }
         if let Some((r, deg)) = worst_radius {
-            if !(r >= MIN_SURFACE_RADIUS_IN) {
+            if r < MIN_SURFACE_RADIUS_IN || r.is_nan() {
                 return Err(format!(
                     "measured profile: the roller's path on it has a convex cam surface radius of {r:.3e} in at {deg:.2} deg, below {MIN_SURFACE_RADIUS_IN} in (the roller of radius {} in bridges a notch or rides over a ridge there: an edge, whose contact stress has no bound; smooth the measurement or check the file)",
                     g.roller_radius
