@@ -10,7 +10,7 @@ pub use error::{finite, non_negative, positive, Error, ModelLimit, Result, SimFa
 pub use num::{rad_per_s_to_rpm, rpm_to_rad_per_s, Real};
 
 mod kinematics;
-pub use kinematics::geometry::{CamGeometry, CamMassProperties, UndercutReport};
+pub use kinematics::geometry::{CamGeometry, CamMassProperties, UndercutReport, SEGMENT_SAMPLES};
 pub use kinematics::lift::{DeviatedLift, LiftProfile, TheoreticalLift};
 pub use kinematics::motion::{LawValue, MotionLaw};
 pub use kinematics::program::{
@@ -30,7 +30,8 @@ pub use forces::spring::{return_spring_preload, series_stiffness, spring_effecti
 
 mod model;
 pub use model::design::{
-    Design, CONTACT_DAMPING_RATIO, LISTED_SPRING_MASS, LISTED_SPRING_RATE, REFERENCE_RPM,
+    Design, CONTACT_DAMPING_RATIO, LISTED_SPRING_MASS, LISTED_SPRING_RATE,
+    MAX_PLAUSIBLE_CONTACT_FORCE_LB, MAX_PLAUSIBLE_CONTACT_STRESS_PSI, REFERENCE_RPM,
     REFERENCE_SPRING_RATE, ROLLER_BEARING_DAMPING_RATIO, SPRING_ACTIVE_COILS, SPRING_MASS,
     SPRING_MEAN_DIAMETER, SPRING_TOTAL_COILS, SPRING_WIRE_DIAMETER, STEEL_DENSITY, STEEL_POISSON,
     STEEL_SHEAR, STEEL_YOUNGS, STRUCTURAL_DAMPING_RATIO,

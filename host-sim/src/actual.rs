@@ -23,7 +23,6 @@ use camsim_core::{
 use clap::ValueEnum;
 use serde::Serialize;
 
-use crate::args::non_negative_finite;
 use crate::sim::{HostDeviation, PROFILE_KNOTS};
 
 /// How an actual cam's lift is made from its tolerances.
@@ -93,14 +92,14 @@ pub struct ActualArgs {
     pub actual: bool,
     /// Cam profile tolerance, ± in (3σ of each coordinate of a cutter setting point;
     /// default 0.0005, the thesis's VI.1).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub cam_tolerance: Option<f64>,
     /// Roller radius tolerance, ± in (default 0.0001).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub roller_tolerance: Option<f64>,
     /// Camshaft-bearing non-roundness and base-circle eccentricity together, ± in
     /// (default 0.001).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub eccentricity_tolerance: Option<f64>,
     /// Profile point interval, degrees (360/interval a whole number, at most 3600
     /// points); overrides --waviness-fpr and --interval.

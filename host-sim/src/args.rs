@@ -174,20 +174,65 @@ pub fn atol(s: &str) -> Result<f64, String> {
     in_range(s, camsim_core::key::ATOL)
 }
 
-/// A contact force, lb: positive and at most 1e7 lb (beyond any cam contact: the
-/// reference's is about 50 lb, and 1e7 lb on the reference pair is a Hertz stress of
-/// 3e7 psi, a hundred times steel's yield).
+/// A contact force, lb: positive, from [`MIN_FORCE_LB`] to [`max_force_lb`] (the force
+/// at which the Hertz band of the reference pair is as wide as the roller: beyond it
+/// Hertz's theory, a narrow band on two cylinders, no longer describes the contact).
 pub fn force(s: &str) -> Result<f64, String> {
     match positive_finite(s)? {
-        x if x <= MAX_FORCE_LB => Ok(x),
-        _ => Err(FORCE_RANGE_RULE.into()),
+        x if x < MIN_FORCE_LB => Err(format!(
+            "must be at least {MIN_FORCE_LB:e} lb (smaller forces underflow the contact band)"
+        )),
+        x if x <= max_force_lb() => Ok(x),
+        _ => Err(force_range_rule()),
     }
 }
 
-/// The largest contact force `--force` takes, lb ([`force`]).
-pub const MAX_FORCE_LB: f64 = 1e7;
-/// The rule of a force above [`MAX_FORCE_LB`].
-pub const FORCE_RANGE_RULE: &str = "must be at most 1e7 lb (far beyond any cam contact)";
+/// The smallest contact force `--force` takes, lb: 1e-6 lb (a band of 6e-7 in, a
+/// thousandth of the finest cam finish; below about 1e-300 lb the band's square root
+/// underflows, and nothing between is a cam contact).
+pub const MIN_FORCE_LB: f64 = 1e-6;
+
+/// The largest contact force `--force` takes, lb: the force at which the contact width
+/// of Eq. V.9 on the reference pair equals the roller's diameter (w grows as √F), about
+/// 1.5e6 lb (the reference's contact force is about 50 lb).
+pub fn max_force_lb() -> f64 {
+    use crate::cmd::contact::{BASE_CIRCLE_DIAMETER_IN, CAM_THICKNESS_IN, ROLLER_DIAMETER_IN};
+    let w1 = camsim_core::HertzContact::<f64>::steel(CAM_THICKNESS_IN).width(
+        1.0,
+        ROLLER_DIAMETER_IN,
+        BASE_CIRCLE_DIAMETER_IN,
+    );
+    // Rounded down to 3 significant digits, so the printed bound is itself accepted.
+    let exact = (ROLLER_DIAMETER_IN / w1).powi(2);
+    let scale = 10f64.powi(exact.log10().floor() as i32 - 2);
+    (exact / scale).floor() * scale
+}
+
+/// The rule of a force above [`max_force_lb`].
+pub fn force_range_rule() -> String {
+    format!(
+        "must be at most {:.3e} lb (there the Hertz band is as wide as the roller: beyond Hertz's theory)",
+        max_force_lb()
+    )
+}
+
+/// The largest manufacturing tolerance (`--cam-tolerance`, `--roller-tolerance`,
+/// `--eccentricity-tolerance`), ± in: 0.1 in, 40 times the thesis's loosest tolerance
+/// (±0.0025 in) and the bound of a measured deviation (`deviation_in`). A larger error
+/// is a different cam, not a machined one; and with the roller's at most 0.1 in on the
+/// reference 0.375 in roller, a drawn radius stays positive (sum-of-12 deviates reach 2
+/// tolerances at most; the exact normal would need 11 standard deviations).
+pub const MAX_TOLERANCE_IN: f64 = 0.1;
+
+/// A tolerance, ± in: zero or positive, at most [`MAX_TOLERANCE_IN`].
+pub fn tolerance_in(s: &str) -> Result<f64, String> {
+    match non_negative_finite(s)? {
+        x if x <= MAX_TOLERANCE_IN => Ok(x),
+        _ => Err(format!(
+            "must be at most {MAX_TOLERANCE_IN} in (40 times a loose machining tolerance: a larger error is a different cam)"
+        )),
+    }
+}
 
 /// A speed resolution, rpm: positive, at most the whole speed range (10 000 rpm); below
 /// the numbers' spacing the bisection ends on neighbouring speeds.

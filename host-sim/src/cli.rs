@@ -127,9 +127,22 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
 }
 
 /// The one line the binary prints (after `camsim: error: `) for a failed command: the
-/// error and its causes, joined.
+/// error and its causes, joined, with control characters escaped ([`one_line`]).
 pub fn error_line(e: &anyhow::Error) -> String {
-    format!("{e:#}").replace('\n', " ")
+    one_line(&format!("{e:#}"))
+}
+
+/// A message made safe for a terminal and kept on one line: line breaks become spaces,
+/// every other control character (an escape sequence in a file name, a NUL) is written
+/// escaped (`\u{1b}`), so that no input can clear the screen or forge a line.
+pub fn one_line(msg: &str) -> String {
+    msg.chars()
+        .map(|c| match c {
+            '\n' => " ".to_string(),
+            c if c.is_control() => c.escape_debug().to_string(),
+            c => c.to_string(),
+        })
+        .collect()
 }
 
 /// Writes one line to standard error (a closed standard error is not worth a panic).
@@ -161,7 +174,7 @@ where
             }
             report_error(&format!(
                 "camsim: error: {} (see camsim --help)",
-                usage_message(&e)
+                one_line(&usage_message(&e))
             ));
             return 2;
         }

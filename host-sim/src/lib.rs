@@ -12,5 +12,7 @@ pub mod output;
 pub mod plot;
 pub mod report;
 pub mod scene;
+pub mod shard;
 pub mod sim;
 pub mod stats;
+pub mod study_limits;

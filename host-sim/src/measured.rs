@@ -9,24 +9,27 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 
 use crate::actual::deviation_stats;
 use crate::sim::{HostDeviation, PROFILE_KNOTS};
 
 pub use camsim_scene_file::measured::{
-    parse, parse_limited, Column, Measured, ParseError, MAX_POINTS, MEASURED_KNOTS,
+    parse, parse_limited, Column, Measured, ParseError, MAX_MEASURED_BYTES, MAX_POINTS,
+    MEASURED_KNOTS,
 };
 
 // The shared reader's spline is the host's deviation spline.
 const _: () = assert!(MEASURED_KNOTS == PROFILE_KNOTS);
 
-/// Reads and parses a measured file; errors name the file and the line.
+/// Reads and parses a measured file as `predict --measured` and the firmware's build
+/// script do (`camsim_scene_file::measured::load_limited`: at most
+/// [`MAX_MEASURED_BYTES`] read, a non-UTF-8 byte named by its line); errors name the
+/// option, the file and the line.
 pub fn load(path: &Path) -> Result<Measured> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read --measured {}", path.display()))?;
-    parse(&text).with_context(|| format!("--measured {}", path.display()))
+    camsim_scene_file::measured::load_limited(path, MAX_POINTS)
+        .map_err(|e| anyhow::anyhow!("--measured {e}"))
 }
 
 /// What a measured profile is (the JSON `profile` of `camsim run --measured`).

@@ -9,16 +9,19 @@
 //!    the same file) and [`FileTarget::limit`] refuses an output whose estimated size is
 //!    over a limit. Planning touches no file, so a refused option leaves everything as it was.
 //! 2. **open**: [`FileTarget::open`] creates a hidden temporary file in the target's own
-//!    directory (`.NAME.camsim-PID-N.tmp`) and returns an [`AtomicFile`], a buffered
+//!    directory (`.NAME.camsim-HOST-PID-N.tmp`) and returns an [`AtomicFile`], a buffered
 //!    [`Write`]r. [`DirTarget::open`] returns an [`AtomicDir`] whose [`AtomicDir::path`]
 //!    gives a temporary of the same form inside DIR for each declared file.
 //! 3. **write** while the simulation runs.
 //! 4. **commit**: [`AtomicFile::commit`] flushes, fsyncs and renames the temporary over
 //!    the target, so the target is either its old self or the complete new file.
 //!    Dropped without a commit (an error returned with `?`, a panic unwinding) the
-//!    temporary is removed and the target is untouched. On SIGINT or SIGTERM the
-//!    temporaries of every live output are removed and the process exits with 130 or
-//!    143 (128 + the signal number).
+//!    temporary is removed and the target is untouched. On SIGINT, SIGTERM, SIGHUP,
+//!    SIGQUIT or SIGXCPU the temporaries of every live output are removed and the
+//!    process exits with 128 + the signal number; a write over the file size limit
+//!    (SIGXFSZ, `ulimit -f`) fails with an error that names the output, and its
+//!    temporary is removed. Temporaries of processes that died uncatchably (SIGKILL) are
+//!    removed by the next output created in the same directory on the same machine.
 //!
 //! ```no_run
 //! # fn main() -> anyhow::Result<()> {
@@ -42,10 +45,11 @@
 //! the temporary is always on DIR's file system (rename stays atomic), and DIR's parent
 //! need not be writable (`--plot .`, `--plot ~`, `--plot /tmp` all work).
 //!
-//! A target that is not a regular file (`/dev/null`, a FIFO) and the process's own
-//! streams (`/dev/stdout`, `/dev/stderr`, `/dev/fd/N`, which may be a shell redirection
-//! to a regular file) are written directly, never truncated: there is nothing to
-//! replace, and renaming over a device node would destroy it.
+//! A target that is not a regular file (a block or character device, a FIFO, a socket,
+//! also behind a symbolic link) is refused: written in place it would overwrite a disk
+//! image or hang on a FIFO with no reader. Two are allowed explicitly and written in
+//! place, never truncated: `/dev/null`, and the process's own streams (`/dev/stdout`,
+//! `/dev/stderr`, `/dev/fd/N`, which may be a shell redirection to a regular file).
 
 use std::collections::BTreeMap;
 use std::ffi::OsString;
@@ -70,6 +74,8 @@ pub const FORCE_OPTION: &str = "--force";
 pub struct Plan {
     force: bool,
     claims: Vec<Claim>,
+    /// The command's input files (option and path): never replaced by an output.
+    inputs: Vec<(String, PathBuf)>,
 }
 
 /// One path an output will write.
@@ -89,16 +95,50 @@ impl Plan {
         Self {
             force,
             claims: Vec::new(),
+            inputs: Vec::new(),
         }
+    }
+
+    /// Declares an input file of the command (`--scene FILE`, `--measured FILE`): no
+    /// output of this plan may replace it, even with force. Declare the inputs before
+    /// the outputs.
+    pub fn input(&mut self, option: &str, path: &Path) -> &mut Self {
+        self.inputs
+            .push((format!("{option} {}", path.display()), path.to_owned()));
+        self
+    }
+
+    /// Refuses an output target that is one of the declared inputs (the same file by
+    /// device and inode, however spelled or linked).
+    fn not_an_input(&self, label: &str, target: &Path) -> Result<()> {
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::MetadataExt;
+            let Ok(t) = fs::metadata(target) else {
+                return Ok(());
+            };
+            for (input, path) in &self.inputs {
+                if let Ok(m) = fs::metadata(path) {
+                    if (m.dev(), m.ino()) == (t.dev(), t.ino()) {
+                        bail!("{label}: is the input {input}: an output never replaces an input, even with {FORCE_OPTION}");
+                    }
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Checks a file output (`option` as the command line names it, e.g. `"--csv"`).
     ///
     /// Refuses, with one line naming the option and the path: a path without a file
-    /// name, a directory, an existing file without force, a missing or unwritable
-    /// parent directory, a dangling symbolic link, a path another output of this plan
-    /// already writes. A symbolic link to a file is followed: the file it points to is
-    /// replaced and the link kept.
+    /// name, a directory, anything but a regular file (a device, a FIFO, a socket, also
+    /// through a symbolic link: writing in place would destroy a disk image or hang on a
+    /// FIFO), an existing file without force, one of the command's inputs, a missing or
+    /// unwritable parent directory, a dangling symbolic link, a path another output of
+    /// this plan already writes. A symbolic link to a file is followed: the file it
+    /// points to is replaced and the link kept. Two non-files are allowed explicitly,
+    /// written in place: the process's own streams (`/dev/stdout`, `/dev/stderr`,
+    /// `/dev/fd/N`) and `/dev/null`.
     pub fn file(&mut self, option: &str, path: &Path) -> Result<FileTarget> {
         let label = format!("{option} {}", path.display());
         if is_direct_path(path) {
@@ -113,9 +153,14 @@ impl Plan {
         }
         let target = resolve(path).map_err(|e| anyhow!("{label}: {e}"))?;
         self.claim(&label, &target, false)?;
+        self.not_an_input(&label, &target)?;
         let direct = match fs::metadata(&target) {
             Ok(m) if m.is_dir() => bail!("{label}: is a directory"),
-            Ok(m) if !m.is_file() => true,
+            Ok(m) if !m.is_file() && is_null_device(&target, &m) => true,
+            Ok(m) if !m.is_file() => bail!(
+                "{label}: is {}, not a regular file: outputs go to a regular file or a new name (/dev/stdout and /dev/null are allowed)",
+                file_kind(&m)
+            ),
             Ok(_) if !self.force => bail!("{label}: exists (use {FORCE_OPTION} to overwrite)"),
             Ok(_) => false,
             Err(e) if absent(&e) => false,
@@ -214,6 +259,46 @@ fn is_direct_path(path: &Path) -> bool {
         || path == Path::new("/dev/stderr")
         || ((path.starts_with("/dev/fd") || path.starts_with("/proc/self/fd"))
             && path.file_name().is_some_and(|n| n != "fd"))
+}
+
+/// Whether a resolved output path is `/dev/null` (a character device there).
+fn is_null_device(target: &Path, m: &fs::Metadata) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        target == Path::new("/dev/null") && m.file_type().is_char_device()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (target, m);
+        false
+    }
+}
+
+/// What a file that is not a regular file is, for messages ("a block device").
+fn file_kind(m: &fs::Metadata) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let t = m.file_type();
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_fifo() {
+            return "a FIFO";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if m.is_dir() {
+        "a directory"
+    } else {
+        "a special file"
+    }
 }
 
 /// The directory part of a resolved path ("." for a bare name).
@@ -373,7 +458,15 @@ impl FileTarget {
             written: 0,
         };
         if let (Some(m), Some(tmp)) = (old, &out.tmp) {
-            // The replacement keeps the replaced file's permissions.
+            // The replacement keeps the replaced file's owner and group (where this
+            // process may give them: root, or a group it belongs to), then its mode
+            // (after the owner: a change of owner clears the set-id bits).
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::MetadataExt;
+                let _ = std::os::unix::fs::chown(tmp, Some(m.uid()), None);
+                let _ = std::os::unix::fs::chown(tmp, None, Some(m.gid()));
+            }
             fs::set_permissions(tmp, m.permissions())
                 .with_context(|| format!("{}: cannot set permissions", out.label))?;
         }
@@ -518,7 +611,13 @@ impl AtomicFile {
     }
 
     fn io_err(&self, e: io::Error) -> io::Error {
-        io::Error::new(e.kind(), format!("{}: write failed: {e}", self.label))
+        // EFBIG: the process's file size limit (`ulimit -f`, SIGXFSZ caught).
+        let hint = if e.raw_os_error() == Some(27) {
+            " (the process's file size limit, ulimit -f)"
+        } else {
+            ""
+        };
+        io::Error::new(e.kind(), format!("{}: write failed: {e}{hint}", self.label))
     }
 }
 
@@ -772,12 +871,110 @@ pub fn live_temporaries() -> Vec<PathBuf> {
 /// Distinguishes the temporaries of one process.
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// The hidden temporary name for `target` in `dir`: `.NAME.camsim-PID-N.tmp`.
+/// The hidden temporary name for `target` in `dir`: `.NAME.camsim-HOST-PID-N.tmp`
+/// (HOST: this machine's name, so that a run on another machine sharing the directory
+/// never takes a live temporary for a stale one).
 fn temp_name(dir: &Path, target: &Path, n: u64) -> PathBuf {
     let mut name = OsString::from(".");
     name.push(target.file_name().unwrap_or_else(|| "out".as_ref()));
-    name.push(format!(".camsim-{}-{n}.tmp", std::process::id()));
+    name.push(format!(
+        ".camsim-{}-{}-{n}.tmp",
+        host_tag(),
+        std::process::id()
+    ));
     dir.join(name)
+}
+
+/// This machine's name as the temporaries carry it (letters, digits, `-` and `_`;
+/// "host" if it has none).
+fn host_tag() -> &'static str {
+    static TAG: OnceLock<String> = OnceLock::new();
+    TAG.get_or_init(|| {
+        let raw = fs::read_to_string("/proc/sys/kernel/hostname")
+            .ok()
+            .or_else(|| std::env::var("HOSTNAME").ok())
+            .unwrap_or_default();
+        let tag: String = raw
+            .trim()
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .take(64)
+            .collect();
+        if tag.is_empty() {
+            "host".to_owned()
+        } else {
+            tag
+        }
+    })
+}
+
+/// The host and process id in a temporary's name (`.NAME.camsim-HOST-PID-N.tmp`, or
+/// `.NAME.camsim-PID-N.tmp` as earlier versions wrote it: host `None`).
+fn temp_owner(name: &str) -> Option<(Option<&str>, u32)> {
+    if !is_temp_name(name) {
+        return None;
+    }
+    let rest = name.strip_suffix(".tmp")?;
+    let rest = &rest[rest.rfind(".camsim-")? + ".camsim-".len()..];
+    let mut parts = rest.rsplitn(3, '-');
+    let _n: u64 = parts.next()?.parse().ok()?;
+    let pid: u32 = parts.next()?.parse().ok()?;
+    Some((parts.next(), pid))
+}
+
+/// Whether process `pid` of this machine is alive (a process of another user counts).
+fn process_alive(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        use nix::errno::Errno;
+        let Ok(p) = i32::try_from(pid) else {
+            return true;
+        };
+        if p <= 0 {
+            return true;
+        }
+        !matches!(
+            nix::sys::signal::kill(nix::unistd::Pid::from_raw(p), None),
+            Err(Errno::ESRCH)
+        )
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        true
+    }
+}
+
+/// Removes the stale temporaries in `dir`: regular files named as this module's
+/// temporaries, made on this machine by a process that no longer runs (killed by
+/// SIGKILL, a power cut). Best effort, returns how many were removed; a file of a live
+/// process, of another machine, or that this user may not remove is left alone.
+pub fn remove_stale_temporaries(dir: &Path) -> usize {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return 0;
+    };
+    let me = std::process::id();
+    let mut removed = 0;
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let Some((host, pid)) = temp_owner(name) else {
+            continue;
+        };
+        if host.is_some_and(|h| h != host_tag()) || pid == me || process_alive(pid) {
+            continue;
+        }
+        if e.file_type().is_ok_and(|t| t.is_file()) && fs::remove_file(e.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
 }
 
 /// Whether a file name is one of this module's temporaries (any process).
@@ -789,6 +986,7 @@ pub fn is_temp_name(name: &str) -> bool {
 /// so that the interrupt handler sees every temporary that exists.
 fn create_temp(dir: &Path, target: &Path) -> io::Result<(File, PathBuf)> {
     install_interrupt_handler()?;
+    remove_stale_temporaries(dir);
     let mut reg = registry();
     if reg.terminating {
         return Err(io::Error::new(io::ErrorKind::Interrupted, "interrupted"));
@@ -824,8 +1022,10 @@ fn create_dir_registered(dir: &Path) -> io::Result<()> {
 }
 
 /// Installs, once per process and before the first temporary exists, the handler that
-/// on SIGINT or SIGTERM removes every live temporary and exits with 128 + the signal
-/// (130, 143). Commands that write no file keep the default signal behaviour.
+/// on SIGINT, SIGTERM, SIGHUP, SIGQUIT or SIGXCPU removes every live temporary and exits
+/// with 128 + the signal (130, 143, 129, 131, 152), and catches SIGXFSZ (the write over
+/// the file size limit then fails with an error). Commands that write no file keep the
+/// default signal behaviour.
 pub fn install_interrupt_handler() -> io::Result<()> {
     static INSTALLED: OnceLock<std::result::Result<(), String>> = OnceLock::new();
     INSTALLED
@@ -844,24 +1044,48 @@ fn clean_for_exit() -> usize {
 
 #[cfg(unix)]
 mod imp {
-    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGXCPU, SIGXFSZ};
     use signal_hook::iterator::Signals;
 
     /// A thread waits for the signals (signal-hook's handler only writes to a pipe, so
-    /// the cleanup runs as ordinary code, free to lock and remove files).
+    /// the cleanup runs as ordinary code, free to lock and remove files). SIGXFSZ
+    /// (over `ulimit -f`) is only caught, not acted on: with a handler the write fails
+    /// with EFBIG instead of killing the process, the error names the output and the
+    /// limit, and the temporary goes with the error like any other.
     pub(super) fn install() -> std::io::Result<()> {
-        let mut signals = Signals::new([SIGINT, SIGTERM])?;
+        let mut signals = Signals::new(super::CLEANUP_SIGNALS.iter().map(|(s, _)| *s))?;
+        signals.add_signal(SIGXFSZ)?;
         std::thread::Builder::new()
             .name("camsim-signals".into())
             .spawn(move || {
-                if let Some(sig) = signals.forever().next() {
+                for sig in signals.forever() {
+                    if sig == SIGXFSZ {
+                        continue;
+                    }
                     super::clean_for_exit();
                     std::process::exit(128 + sig);
                 }
             })?;
         Ok(())
     }
+
+    /// The signals that remove the temporaries and end the process with 128 + the
+    /// signal, and their names.
+    pub(super) const SIGNALS: [(i32, &str); 5] = [
+        (SIGINT, "SIGINT"),
+        (SIGTERM, "SIGTERM"),
+        (SIGHUP, "SIGHUP"),
+        (SIGQUIT, "SIGQUIT"),
+        (SIGXCPU, "SIGXCPU"),
+    ];
 }
+
+/// The catchable signals that end a run (interrupt, termination, a dropped terminal or
+/// ssh session, quit, the CPU time limit): each removes every live temporary and exits
+/// with 128 + the signal. SIGKILL cannot be caught: its temporaries are removed by the
+/// next run in the directory ([`remove_stale_temporaries`]).
+#[cfg(unix)]
+pub const CLEANUP_SIGNALS: [(i32, &str); 5] = imp::SIGNALS;
 
 #[cfg(not(unix))]
 mod imp {
@@ -1159,7 +1383,7 @@ mod tests {
     }
 
     #[test]
-    fn a_device_is_written_in_place_without_force() {
+    fn only_dev_null_and_the_own_streams_are_written_in_place() {
         let mut out = Plan::new(false)
             .file("--csv", Path::new("/dev/null"))
             .unwrap()
@@ -1173,7 +1397,8 @@ mod tests {
             .unwrap()
             .file_type()
             .is_char_device());
-        // A FIFO is written in place too (its reader gets every byte, no rename).
+        // Any other device, with or without force, directly or through a symbolic link,
+        // is refused before anything is opened; so is a FIFO (no hang without a reader).
         let d = scratch("fifo");
         let fifo = d.join("pipe");
         assert!(std::process::Command::new("mkfifo")
@@ -1181,19 +1406,21 @@ mod tests {
             .status()
             .unwrap()
             .success());
-        let reader = {
-            let fifo = fifo.clone();
-            std::thread::spawn(move || fs::read(fifo).unwrap())
-        };
-        let mut out = Plan::new(false)
-            .file("--csv", &fifo)
-            .unwrap()
-            .open()
-            .unwrap();
-        assert!(out.temp_path().is_none());
-        out.write_all(b"through the pipe").unwrap();
-        out.commit().unwrap();
-        assert_eq!(reader.join().unwrap(), b"through the pipe");
+        let link = d.join("zero-link");
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        for (p, kind) in [
+            (Path::new("/dev/zero"), "a character device"),
+            (fifo.as_path(), "a FIFO"),
+            (link.as_path(), "a character device"),
+        ] {
+            for force in [false, true] {
+                let e = msg(Plan::new(force).file("--csv", p).unwrap_err());
+                assert_eq!(
+                    e,
+                    format!("--csv {}: is {kind}, not a regular file: outputs go to a regular file or a new name (/dev/stdout and /dev/null are allowed)", p.display())
+                );
+            }
+        }
         assert!(fs::metadata(&fifo).unwrap().file_type().is_fifo());
         fs::remove_dir_all(&d).unwrap();
         // The process's own streams are direct; a regular file elsewhere under /dev
@@ -1212,6 +1439,93 @@ mod tests {
             .unwrap();
         assert!(out.temp_path().is_none());
         out.commit().unwrap();
+    }
+
+    #[test]
+    fn an_input_is_never_replaced_even_with_force() {
+        let d = scratch("input");
+        let scene = d.join("scene.toml");
+        fs::write(&scene, b"[run]\n").unwrap();
+        let link = d.join("alias.toml");
+        std::os::unix::fs::symlink(&scene, &link).unwrap();
+        for p in [&scene, &link, &d.join("./scene.toml")] {
+            let mut plan = Plan::new(true);
+            plan.input("--scene", &scene);
+            let e = msg(plan.file("--csv", p).unwrap_err());
+            assert!(
+                e.contains(&format!("is the input --scene {}", scene.display())),
+                "{e}"
+            );
+        }
+        assert_eq!(fs::read(&scene).unwrap(), b"[run]\n");
+        let mut plan = Plan::new(true);
+        plan.input("--scene", &scene);
+        assert!(plan.file("--csv", &d.join("other.csv")).is_ok());
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_replaced_file_keeps_its_owner_and_mode() {
+        use std::os::unix::fs::MetadataExt;
+        let d = scratch("owner");
+        let f = d.join("theirs.csv");
+        fs::write(&f, b"old").unwrap();
+        fs::set_permissions(&f, fs::Permissions::from_mode(0o600)).unwrap();
+        // Given to another user where this process may (root); else it stays ours and
+        // the check is the same: the replacement has the old owner and mode.
+        let _ = std::os::unix::fs::chown(&f, Some(65534), Some(65534));
+        let before = fs::metadata(&f).unwrap();
+        let mut out = Plan::new(true).file("--csv", &f).unwrap().open().unwrap();
+        out.write_all(b"new").unwrap();
+        out.commit().unwrap();
+        let after = fs::metadata(&f).unwrap();
+        assert_eq!(fs::read(&f).unwrap(), b"new");
+        assert_eq!((after.uid(), after.gid()), (before.uid(), before.gid()));
+        assert_eq!(after.mode() & 0o7777, 0o600);
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn stale_temporaries_of_dead_processes_are_removed_at_the_next_open() {
+        let d = scratch("stale");
+        // A process that has exited: its id is free (until reused, when the file stays).
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let host = host_tag();
+        let stale = [
+            format!(".out.csv.camsim-{host}-{dead}-0.tmp"),
+            format!(".other.png.camsim-{dead}-3.tmp"),
+        ];
+        let kept = [
+            // A live process (this one's parent), another machine, not a temporary.
+            format!(
+                ".out.csv.camsim-{host}-{}-0.tmp",
+                std::os::unix::process::parent_id()
+            ),
+            format!(".out.csv.camsim-elsewhere-{dead}-0.tmp"),
+            "notes.camsim-1-0.tmp".to_owned(),
+        ];
+        for n in stale.iter().chain(&kept) {
+            fs::write(d.join(n), b"partial").unwrap();
+        }
+        assert_eq!(temp_owner(&stale[0]), Some((Some(host), dead)));
+        assert_eq!(temp_owner(&stale[1]), Some((None, dead)));
+        let out = Plan::new(false)
+            .file("--csv", &d.join("new.csv"))
+            .unwrap()
+            .open()
+            .unwrap();
+        drop(out);
+        let mut left: Vec<String> = fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        let mut expect = kept.to_vec();
+        expect.sort();
+        assert_eq!(left, expect);
+        fs::remove_dir_all(&d).unwrap();
     }
 
     #[test]

@@ -316,6 +316,68 @@ pub fn ensure_finite<R: Serialize + ?Sized>(report: &R) -> Result<()> {
     Ok(())
 }
 
+/// Refuses a report whose contact stress or contact force is beyond a physical bound
+/// (camsim-core's [`camsim_core::MAX_PLAUSIBLE_CONTACT_STRESS_PSI`] and
+/// [`camsim_core::MAX_PLAUSIBLE_CONTACT_FORCE_LB`]): every number under a key that
+/// starts with `contact_stress` or `contact_force` (a column, its statistics) is
+/// checked. `camsim contact` (a calculator at a force the user gives) names its
+/// fields otherwise and is not held to them.
+pub fn ensure_physical<R: Serialize + ?Sized>(report: &R) -> Result<()> {
+    fn walk(
+        v: &serde_json::Value,
+        path: &mut String,
+        bound: Option<(f64, &str)>,
+    ) -> Option<(String, f64, f64, &'static str)> {
+        match v {
+            serde_json::Value::Number(n) => {
+                let (max, unit) = bound?;
+                let x = n.as_f64()?;
+                (x.abs() > max).then(|| {
+                    (
+                        path.clone(),
+                        x,
+                        max,
+                        if unit == "psi" { "psi" } else { "lb" },
+                    )
+                })
+            }
+            serde_json::Value::Array(a) => a.iter().enumerate().find_map(|(i, x)| {
+                let len = path.len();
+                path.push_str(&format!("[{i}]"));
+                let found = walk(x, path, bound);
+                path.truncate(len);
+                found
+            }),
+            serde_json::Value::Object(o) => o.iter().find_map(|(k, x)| {
+                let len = path.len();
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(k);
+                let b = if k.starts_with("contact_stress") {
+                    Some((camsim_core::MAX_PLAUSIBLE_CONTACT_STRESS_PSI, "psi"))
+                } else if k.starts_with("contact_force") {
+                    Some((camsim_core::MAX_PLAUSIBLE_CONTACT_FORCE_LB, "lb"))
+                } else {
+                    bound
+                };
+                let found = walk(x, path, b);
+                path.truncate(len);
+                found
+            }),
+            _ => None,
+        }
+    }
+    let value = serde_json::to_value(report)?;
+    let mut path = String::new();
+    if let Some((at, x, max, unit)) = walk(&value, &mut path, None) {
+        anyhow::bail!(
+            "the result is not physical: {at} = {x:.3e} {unit}, beyond {max:.0e} {unit} (no steel cam carries it: an edge or a notch in the profile, or a model far outside its range; nothing was reported)"
+        );
+    }
+    Ok(())
+}
+
 /// Writes `text` to standard output and flushes it (an error, not a panic, when the
 /// reader has gone: the binary ends quietly on a closed pipe).
 pub fn out(text: &str) -> Result<()> {
@@ -326,9 +388,11 @@ pub fn out(text: &str) -> Result<()> {
 }
 
 /// Prints `report` to standard output, as JSON or as text, after checking that every
-/// number in it is finite ([`ensure_finite`]).
+/// number in it is finite ([`ensure_finite`]) and its contact stresses and forces are
+/// physical ([`ensure_physical`]).
 pub fn print<R: Report>(report: &R, json: bool) -> Result<()> {
     ensure_finite(report)?;
+    ensure_physical(report)?;
     if json {
         out(&format!("{}\n", report.json()?))
     } else {

@@ -147,6 +147,13 @@ pub const PROGRAM_CAPACITY: usize = 8;
 pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
     use std::io::Read;
     let name = path.display();
+    // Only a regular file, a FIFO or a character device (a process substitution, a
+    // pipe) is read; a directory is refused here rather than by an odd read error.
+    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+        return Err(Error::new(format!(
+            "{name}: cannot read {what}: is a directory"
+        )));
+    }
     let file = std::fs::File::open(path)
         .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
     let mut bytes = Vec::new();
@@ -155,7 +162,7 @@ pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
         .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
     if bytes.len() as u64 > max {
         return Err(Error::new(format!(
-            "{name}: {what} is larger than {max} bytes: not a scene"
+            "{name}: {what} is larger than its limit of {max} bytes (read no further)"
         )));
     }
     String::from_utf8(bytes).map_err(|e| {

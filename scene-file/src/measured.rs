@@ -89,6 +89,13 @@ impl Column {
     }
 }
 
+/// The smallest convex cam surface radius a radius profile may imply along the roller's
+/// path, in: 0.01 in, the smallest length a scene may have (docs/MODEL.md §5.16) and the
+/// bound of a `radius_in` value. Below it the surface is an edge: at the reference's
+/// 200 lb peak contact force its Hertz stress would pass 6e5 psi, beyond the static
+/// capacity of hardened bearing steel.
+pub const MIN_SURFACE_RADIUS_IN: f64 = 0.01;
+
 /// A parsed, validated measured revolution.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Measured {
@@ -362,6 +369,63 @@ impl Measured {
     /// The lift deviation this revolution gives on `design` (see the module docs), or why
     /// not (one line). Boxed: the spline holds [`MEASURED_KNOTS`] knots (86 KB).
     pub fn deviation(&self, design: &Design<f64>) -> Result<Box<MeasuredDeviation>, String> {
+        let dev = self.raw_deviation(design)?;
+        self.check_implied(design, &dev)?;
+        Ok(dev)
+    }
+
+    /// What a radius profile implies, checked as the lift form's values are (so that
+    /// every form of a profile meets the same rules): the implied lift within
+    /// [`Column::Lift`]'s range everywhere, and a convex cam surface radius of at least [`MIN_SURFACE_RADIUS_IN`] along the roller's path
+    /// (where the roller bridges a notch or rides over a ridge narrower than itself the
+    /// path has a corner: an edge, not a cam surface, with an unbounded Hertz stress).
+    /// Scanned at 4 points an interval of the deviation's spline.
+    fn check_implied(&self, design: &Design<f64>, dev: &MeasuredDeviation) -> Result<(), String> {
+        use camsim_core::LiftProfile;
+        // The deviation and lift forms' rows are checked as read; what their spline
+        // does between sparse rows is the file's own interpolation, not checked again.
+        if self.column != Column::Radius {
+            return Ok(());
+        }
+        let (lo, hi, why) = Column::Lift.plausible();
+        let g = &design.geometry;
+        let knots = dev.spline().knots();
+        let mut worst_radius: Option<(f64, f64)> = None;
+        for w in knots.windows(2) {
+            for k in 0..4 {
+                let th = w[0] + (w[1] - w[0]) * k as f64 / 4.0;
+                let l = dev.follower(&design.program, th);
+                let deg = th.to_degrees().rem_euclid(360.0);
+                if !(lo..=hi).contains(&l.y) {
+                    return Err(format!(
+                        "measured profile: it implies a lift of {:.4} in at {deg:.2} deg, outside [{lo}, {hi}] in ({why}, the rule of a lift_in column)",
+                        l.y
+                    ));
+                }
+                if self.column == Column::Radius {
+                    let rho = g.pitch_curvature_radius(l.y, l.dy, l.d2y);
+                    if rho > 0.0 {
+                        let surface = rho - g.roller_radius;
+                        if worst_radius.is_none_or(|(r, _)| surface < r) {
+                            worst_radius = Some((surface, deg));
+                        }
+                    }
+                }
+            }
+        }
+        if let Some((r, deg)) = worst_radius {
+            if r < MIN_SURFACE_RADIUS_IN || r.is_nan() {
+                return Err(format!(
+                    "measured profile: the roller's path on it has a convex cam surface radius of {r:.3e} in at {deg:.2} deg, below {MIN_SURFACE_RADIUS_IN} in (the roller of radius {} in bridges a notch or rides over a ridge there: an edge, whose contact stress has no bound; smooth the measurement or check the file)",
+                    g.roller_radius
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The deviation before [`Self::check_implied`].
+    fn raw_deviation(&self, design: &Design<f64>) -> Result<Box<MeasuredDeviation>, String> {
         let program = &design.program;
         let from = |s: CubicSpline<f64, MEASURED_KNOTS>| {
             DeviatedLift::from_spline(s)

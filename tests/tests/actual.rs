@@ -316,7 +316,7 @@ fn bad_measured_files_are_refused_on_one_line_naming_it() {
     }
     let e = run_cli(&["--measured", "/nonexistent/m.csv"]).unwrap_err();
     assert!(
-        e.starts_with("cannot read --measured /nonexistent/m.csv"),
+        e.starts_with("--measured /nonexistent/m.csv: cannot read the measured profile"),
         "{e}"
     );
     // --measured and --actual exclude each other; the profile options need --actual.

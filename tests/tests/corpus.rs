@@ -482,7 +482,153 @@ fn corpus() -> Vec<Case> {
             });
         }
     }
+    issue_20_cases(&mut cases);
     cases
+}
+
+/// Where the corpus's input files of issue 20 are written (removed by the test).
+fn files_dir() -> PathBuf {
+    std::env::temp_dir().join(format!("camsim-corpus-files-{}", std::process::id()))
+}
+
+/// Issue 20: outputs that are not regular files, unbounded and implausible measured
+/// inputs, tolerances without a range, forces beyond the documented bounds.
+fn issue_20_cases(cases: &mut Vec<Case>) {
+    let dir = files_dir();
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let cli = |label: String, args: Vec<String>, option: &str| Case {
+        label,
+        input: Input::Cli {
+            args,
+            option: option.into(),
+        },
+    };
+    // Outputs: devices, a FIFO, a link to a device (with and without --force).
+    assert!(std::process::Command::new("mkfifo")
+        .arg(path("fifo"))
+        .status()
+        .unwrap()
+        .success());
+    std::os::unix::fs::symlink("/dev/zero", path("zero-link")).unwrap();
+    for target in [
+        "/dev/zero".to_owned(),
+        "/dev/full".to_owned(),
+        path("fifo"),
+        path("zero-link"),
+    ] {
+        for force in [false, true] {
+            let mut args: Vec<String> = ["run", "--csv", &target].map(String::from).to_vec();
+            if force {
+                args.push("--force".into());
+            }
+            cases.push(cli(
+                format!("run --csv {target} force={force}"),
+                args,
+                "--csv",
+            ));
+        }
+    }
+    // Measured inputs: endless, too large, binary, implausible radius profiles, a
+    // name with an escape sequence.
+    let radius = |f: &dyn Fn(f64, usize) -> f64, n: usize| {
+        let mut t = String::from("angle_deg,radius_in\n");
+        for k in 0..n {
+            let a = k as f64 * 360.0 / n as f64;
+            t += &format!("{a},{}\n", f(a, k));
+        }
+        t
+    };
+    let mut big = String::from("angle_deg,deviation_in\n");
+    while big.len() < 5_000_000 {
+        big += "# filler filler filler filler filler filler filler\n";
+    }
+    let files: [(&str, Vec<u8>); 6] = [
+        ("big.csv", big.into_bytes()),
+        (
+            "binary.csv",
+            b"angle_deg,deviation_in\n0,0\n\xff\xfe\n".to_vec(),
+        ),
+        (
+            "notch.csv",
+            radius(
+                &|a, _| {
+                    if (100.0..120.0).contains(&a) {
+                        1.5
+                    } else {
+                        2.0
+                    }
+                },
+                3600,
+            )
+            .into_bytes(),
+        ),
+        ("tiny-radius.csv", radius(&|_, _| 0.01, 360).into_bytes()),
+        (
+            "alternating.csv",
+            radius(&|_, k| if k % 2 == 1 { 2.0001 } else { 1.9999 }, 3600).into_bytes(),
+        ),
+        ("lift-below.csv", {
+            let mut t = String::from("angle_deg,lift_in\n");
+            for k in 0..36 {
+                t += &format!("{},-3\n", k * 10);
+            }
+            t.into_bytes()
+        }),
+    ];
+    for (name, bytes) in files {
+        std::fs::write(dir.join(name), bytes).unwrap();
+    }
+    for m in [
+        "/dev/zero".to_owned(),
+        path("big.csv"),
+        path("binary.csv"),
+        path("notch.csv"),
+        path("tiny-radius.csv"),
+        path("alternating.csv"),
+        path("lift-below.csv"),
+        path("fifo-missing\u{1b}[2J.csv"),
+        dir.to_str().unwrap().to_owned(),
+    ] {
+        cases.push(cli(
+            format!("run --measured {m:?}"),
+            ["run", "--measured", &m].map(String::from).to_vec(),
+            "--measured",
+        ));
+    }
+    // Tolerances: every bad value, and values past the 0.1 in range.
+    for opt in [
+        "--cam-tolerance",
+        "--roller-tolerance",
+        "--eccentricity-tolerance",
+    ] {
+        for v in [
+            "-1",
+            "nan",
+            "inf",
+            "1e300",
+            "1",
+            "0.5",
+            "0.1000001",
+            "",
+            "abc",
+        ] {
+            cases.push(cli(
+                format!("run --actual {opt} {v}"),
+                ["run", "--actual", opt, v].map(String::from).to_vec(),
+                opt,
+            ));
+        }
+    }
+    // Forces at and past the documented bounds.
+    for v in ["1e7", "2e6", "5e-324", "1e-7"] {
+        cases.push(cli(
+            format!("contact --force {v}"),
+            ["contact", "--force", v].map(String::from).to_vec(),
+            "--force",
+        ));
+    }
 }
 
 #[test]
@@ -525,6 +671,7 @@ fn every_bad_input_is_refused_cleanly_or_gives_a_finite_plausible_result() {
         a.join().unwrap();
     });
     let _ = std::fs::remove_dir_all(&scratch);
+    let _ = std::fs::remove_dir_all(files_dir());
 
     let mut results = results.into_inner().unwrap();
     results.sort_by_key(|(i, _)| *i);

@@ -99,7 +99,7 @@ fn report_feeds_text_and_json() {
     assert_eq!(v["simulations"], 14);
     let text = render_text(&r);
     assert!(text.starts_with(
-        "jump speed: 698.4 rpm (steady-state separation; contact holds at 697.7 rpm)\n"
+        "jump speed: 698.4 rpm (steady-state separation; contact holds at 697.7 rpm: the onset lies between)\n"
     ));
     assert!(text.contains("margin -101.6 rpm (-12.7 %)  -- the follower JUMPS"));
     assert!(text.ends_with("14 simulations of 2 revolutions, 12 ms\n"));

@@ -27,6 +27,30 @@ fn child_writer() {
     let mode = std::env::var(ENV_MODE).unwrap_or_default();
     let deadline = Instant::now() + Duration::from_secs(10);
     let mut stdout = std::io::stdout();
+    if mode == "fill" {
+        // Writes as fast as it can until a write fails (the file size limit), then says
+        // how it failed; the output is dropped with the error, as a command's `?` does.
+        let mut out = Plan::new(false)
+            .file("--csv", &target)
+            .unwrap()
+            .open()
+            .unwrap();
+        let tmp = out.temp_path().unwrap().to_owned();
+        writeln!(stdout, "READY {}", tmp.display()).unwrap();
+        let row = [b'x'; 1000];
+        let err = loop {
+            if let Err(e) = out.write_all(&row).and_then(|_| out.flush()) {
+                break e;
+            }
+            if Instant::now() > deadline {
+                panic!("no file size limit");
+            }
+        };
+        drop(out);
+        writeln!(stdout, "FAILED {err}").unwrap();
+        stdout.flush().unwrap();
+        return;
+    }
     if mode == "dir" {
         let mut out = Plan::new(false)
             .dir("--plot", &target, &["a.png", "b.png"])
@@ -180,6 +204,53 @@ fn sigint_mid_plot_removes_the_partial_files_and_the_new_directory() {
     assert!(is_temp_name(&tmp.file_name().unwrap().to_string_lossy()));
     assert!(!plots.exists(), "{:?}", listing(&plots));
     assert!(listing(&d).is_empty());
+    fs::remove_dir_all(&d).unwrap();
+}
+
+/// Issue 20, point 5: a dropped ssh session (SIGHUP) and SIGQUIT clean up like SIGINT.
+#[test]
+fn sighup_and_sigquit_mid_write_leave_no_temporary() {
+    for (sig, code) in [("HUP", 129), ("QUIT", 131)] {
+        let d = scratch(&format!("sig-{sig}"));
+        let target = d.join("out.csv");
+        let (got, tmp) = kill_mid_write(&target, "new", sig);
+        assert_eq!(got, Some(code), "SIG{sig}");
+        assert!(!tmp.exists(), "SIG{sig}");
+        assert!(listing(&d).is_empty(), "SIG{sig}: {:?}", listing(&d));
+        fs::remove_dir_all(&d).unwrap();
+    }
+}
+
+/// Issue 20, point 5: over `ulimit -f` the write fails with an error naming the output
+/// and the limit (SIGXFSZ is caught, not fatal), and the temporary goes with the error.
+#[test]
+fn a_write_over_the_file_size_limit_is_an_error_and_leaves_no_temporary() {
+    let d = scratch("ulimit");
+    let target = d.join("big.csv");
+    let exe = std::env::current_exe().unwrap();
+    // 100 blocks of 512 bytes (bash and dash count ulimit -f in 512-byte blocks... or
+    // 1024: either way tens of kB, far below what the child writes in 10 s).
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 100 && exec \"$0\" child_writer --exact --ignored --nocapture --test-threads=1")
+        .arg(&exe)
+        .env(ENV_TARGET, &target)
+        .env(ENV_MODE, "fill")
+        .stderr(Stdio::null())
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{:?}: {text}", out.status);
+    let failed = text
+        .lines()
+        .find_map(|l| l.find("FAILED ").map(|i| l[i + 7..].to_owned()))
+        .unwrap_or_else(|| panic!("no failure reported: {text}"));
+    assert!(
+        failed.contains(&format!("--csv {}: write failed", target.display())),
+        "{failed}"
+    );
+    assert!(failed.contains("ulimit -f"), "{failed}");
+    assert!(listing(&d).is_empty(), "{:?}", listing(&d));
     fs::remove_dir_all(&d).unwrap();
 }
 

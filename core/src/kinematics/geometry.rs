@@ -231,8 +231,11 @@ impl<T: Real> CamGeometry<T> {
     }
 
     /// The tightest convex and concave curvature of the profile for `program` from
-    /// `samples` (at least 16) cam angles, each minimum refined between its neighbours,
-    /// and whether the cam is undercut (Eq. V.12).
+    /// `samples` (at least 16) cam angles, and from [`SEGMENT_SAMPLES`] angles across
+    /// each rise and return however short it is (a 0.01° rise falls between the
+    /// revolution's samples), each minimum refined between its neighbours; and whether
+    /// the cam is undercut (Eq. V.12). A curvature that is not a number (a segment so
+    /// short that the lift's derivatives overflow) counts as an undercut.
     pub fn undercut<const N: usize>(
         &self,
         program: &CamProgram<T, N>,
@@ -241,11 +244,13 @@ impl<T: Real> CamGeometry<T> {
         check_samples(samples)?;
         let step = T::TWO * T::PI / T::from_usize(samples);
         // Objectives to maximize: minus the convex surface radius, minus |concave pitch
-        // radius|; -∞ outside their region.
+        // radius|; -∞ outside their region; +∞ (the worst) where not a number.
         let convex = |th: T| {
             let f = program.follower(th);
             let (num, den) = self.curvature_terms(f.y, f.dy, f.d2y);
-            if den > T::ZERO {
+            if !(num.is_finite() && den.is_finite()) {
+                T::INFINITY
+            } else if den > T::ZERO {
                 self.roller_radius - num / den
             } else {
                 -T::INFINITY
@@ -254,21 +259,48 @@ impl<T: Real> CamGeometry<T> {
         let concave = |th: T| {
             let f = program.follower(th);
             let (num, den) = self.curvature_terms(f.y, f.dy, f.d2y);
-            if den < T::ZERO {
+            if den < T::ZERO && num.is_finite() {
                 num / den
             } else {
                 -T::INFINITY
             }
         };
-        let (cx_at, cx) = argmax_refined(convex, step, samples);
-        let (cc_at, cc) = argmax_refined(concave, step, samples);
+        let (mut cx_at, mut cx) = argmax_refined(convex, step, samples);
+        let (mut cc_at, mut cc) = argmax_refined(concave, step, samples);
+        for seg in program.segments() {
+            if seg.kind == crate::SegmentKind::Dwell {
+                continue;
+            }
+            let start = seg.start_deg.to_radians();
+            let mut width = seg.end_deg.to_radians() - start;
+            if width <= T::ZERO {
+                width += T::TWO * T::PI;
+            }
+            let scan = PeakScan {
+                start,
+                step: width / T::from_usize(SEGMENT_SAMPLES - 1),
+                points: SEGMENT_SAMPLES,
+                ends: ScanEnds::Clamped,
+                iterations: REFINE_ITERATIONS,
+            };
+            if let Some(p) = scan.maximize(convex) {
+                if p.value > cx {
+                    (cx_at, cx) = (wrap_two_pi(p.at), p.value);
+                }
+            }
+            if let Some(p) = scan.maximize(concave) {
+                if p.value > cc {
+                    (cc_at, cc) = (wrap_two_pi(p.at), p.value);
+                }
+            }
+        }
         let min_convex_surface_radius = -cx;
         Ok(UndercutReport {
             min_convex_surface_radius,
             min_convex_at: cx_at,
             min_concave_pitch_radius: -cc,
             min_concave_at: cc_at,
-            undercut: min_convex_surface_radius <= T::ZERO,
+            undercut: min_convex_surface_radius <= T::ZERO || min_convex_surface_radius.is_nan(),
         })
     }
 
@@ -288,6 +320,25 @@ impl<T: Real> CamGeometry<T> {
         };
         let (at, value) = argmax_refined(phi, step, samples);
         (value, at)
+    }
+}
+
+/// Angles scanned across each rise and return by [`CamGeometry::undercut`], whatever
+/// its length: 64, so that a segment's curvature extreme (near its ends for the usual
+/// laws) lies within 1/63 of the segment of a sample before the golden-section refinement.
+pub const SEGMENT_SAMPLES: usize = 64;
+
+/// Golden-section steps of the scans: enough to reach the precision's resolution.
+const REFINE_ITERATIONS: u32 = 80;
+
+/// An angle wrapped into [0, 2π).
+fn wrap_two_pi<T: Real>(at: T) -> T {
+    let two_pi = T::TWO * T::PI;
+    let a = if at < T::ZERO { at + two_pi } else { at };
+    if a >= two_pi {
+        a - two_pi
+    } else {
+        a
     }
 }
 
@@ -610,6 +661,51 @@ mod tests {
         // The same profile followed by a knife edge (surface = pitch curve) is not.
         let knife = CamGeometry::new(0.5, 0.0, 0.25).unwrap();
         assert!(!knife.undercut(&steep, 720).unwrap().undercut);
+    }
+
+    /// Issue 20, point 9: a 1.5 in cycloidal rise on the reference cam is undercut
+    /// however short it is; the revolution's 3600 samples alone missed it below 1°.
+    /// Independent check: near the rise's end, where y'' = -4π² h ε / β² at ε of the
+    /// segment from it and y' is still small, the pitch radius is about
+    /// R² / (R + 4π² h ε / β²), far below the roller once β is a degree or less.
+    #[test]
+    fn a_short_steep_segment_is_undercut_however_short() {
+        let g = CamGeometry::<f64>::reference();
+        let seg = |kind, start_deg, end_deg, lift| Segment {
+            kind,
+            start_deg,
+            end_deg,
+            lift,
+        };
+        for width in [5.0, 1.0, 0.5, 0.1, 0.01, 1e-5] {
+            let p = CamProgram::<f64, 4>::new(&[
+                seg(SegmentKind::Dwell, 0.0, 10.0, 0.0),
+                seg(
+                    SegmentKind::Rise(MotionLaw::Cycloidal),
+                    10.0,
+                    10.0 + width,
+                    1.5,
+                ),
+                seg(SegmentKind::Dwell, 10.0 + width, 180.0, 0.0),
+                seg(SegmentKind::Return(MotionLaw::Cycloidal), 180.0, 360.0, 1.5),
+            ])
+            .unwrap();
+            let u = g.undercut(&p, 3600).unwrap();
+            assert!(u.undercut, "{width} deg: {u:?}");
+            let at = u.min_convex_at.to_degrees();
+            assert!(
+                (10.0 - 1e-6..=10.0 + width + 1e-6).contains(&at),
+                "{width} deg at {at}"
+            );
+            // f32 too (the firmware's precision), where the program is not refused
+            // already (1e-5 deg is below f32's angle tolerance).
+            if let Ok(p32) = p.cast::<f32>() {
+                let u32 = CamGeometry::<f32>::reference()
+                    .undercut(&p32, 3600)
+                    .unwrap();
+                assert!(u32.undercut, "f32 {width} deg: {u32:?}");
+            }
+        }
     }
 
     #[test]

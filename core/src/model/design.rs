@@ -58,6 +58,17 @@ pub const LISTED_SPRING_MASS: f64 = 0.151 / 386.09;
 /// the lower end of V.14's 0.05-0.07 for well-lubricated machine parts (a lubricated
 /// rolling contact is one). docs/MODEL.md §6.2.
 pub const CONTACT_DAMPING_RATIO: f64 = 0.05;
+/// The largest Hertz contact stress a reported result may hold, psi: 1e6 psi, 1.7 times
+/// the static contact capacity of hardened bearing steel (4 000 MPa, 5.8e5 psi, ISO 76)
+/// and 8 times the reference's peak (1.2e5 psi at 800 rpm). Not from the thesis: a
+/// plausibility bound, so that a result no steel cam survives (an edge on a measured
+/// profile, a stress of 1e8 psi) is refused instead of reported as a success.
+pub const MAX_PLAUSIBLE_CONTACT_STRESS_PSI: f64 = 1.0e6;
+/// The largest contact force a reported result may hold, lb: 1e6 lb, where the Hertz
+/// band on the reference pair is nearly as wide as the roller (1.51e6 lb) and 4 000
+/// times the reference's peak (about 230 lb). Not from the thesis, as
+/// [`MAX_PLAUSIBLE_CONTACT_STRESS_PSI`].
+pub const MAX_PLAUSIBLE_CONTACT_FORCE_LB: f64 = 1.0e6;
 
 /// Every parameter of the eleven-degree-of-freedom model (Eqs. IV.1-IV.3).
 ///

@@ -17,7 +17,6 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileStats};
-use crate::args::positive_finite;
 use crate::cmd::montecarlo::plots;
 use crate::output::{AtomicDir, Plan};
 use crate::report::Report;
@@ -30,7 +29,7 @@ pub struct Args {
     /// reference design if omitted).
     pub scene: Option<PathBuf>,
     /// Cam speed, rpm (default: the scene's, 800 for the reference).
-    #[arg(long, allow_negative_numbers = true, value_parser = positive_finite)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::rpm)]
     pub rpm: Option<f64>,
     /// Quick mode for CI: the vertical scene (the horizontal motion does not feed back
     /// into the vertical chain or the drive; docs/MODEL.md §9).

@@ -17,7 +17,8 @@ pub const CAM_THICKNESS_IN: f64 = 0.25;
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Contact force in pounds (positive, up to 1e7).
+    /// Contact force in pounds (1e-6 up to about 1.5e6, where the Hertz band is as
+    /// wide as the roller).
     #[arg(long, value_name = "LB", allow_hyphen_values = true, value_parser = crate::args::force)]
     pub force: f64,
     /// Print JSON instead of a table.
@@ -49,8 +50,14 @@ pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
     if !(force.is_finite() && force > 0.0) {
         bail!("{FORCE_RULE} (got {force})");
     }
-    if force > crate::args::MAX_FORCE_LB {
-        bail!("--force {force:e}: {}", crate::args::FORCE_RANGE_RULE);
+    if force < crate::args::MIN_FORCE_LB {
+        bail!(
+            "--force {force:e}: must be at least {:e} lb (smaller forces underflow the contact band)",
+            crate::args::MIN_FORCE_LB
+        );
+    }
+    if force > crate::args::max_force_lb() {
+        bail!("--force {force:e}: {}", crate::args::force_range_rule());
     }
     let hertz = HertzContact::<f64>::steel(CAM_THICKNESS_IN);
     let (r1, r2) = (ROLLER_DIAMETER_IN / 2.0, BASE_CIRCLE_DIAMETER_IN / 2.0);

@@ -149,20 +149,30 @@ pub fn render_text(r: &JumpSpeedReport) -> String {
     let op = r.operating_rpm;
     match (r.jump_rpm, r.margin_rpm, r.margin_percent) {
         (Some(j), Some(m), Some(pct)) => {
+            let below = r.no_jump_rpm;
             let _ = writeln!(
                 out,
-                "jump speed: {j:.1} rpm (steady-state separation; contact holds at {:.1} rpm)",
-                r.no_jump_rpm
+                "jump speed: {j:.1} rpm (steady-state separation; contact holds at {below:.1} rpm: the onset lies between)",
             );
-            let _ = writeln!(
-                out,
-                "operating point {op:.1} rpm: margin {m:+.1} rpm ({pct:+.1} %){}",
-                if m <= 0.0 {
-                    "  -- the follower JUMPS at the operating speed"
-                } else {
-                    ""
-                }
-            );
+            let jumps = if m <= 0.0 {
+                "  -- the follower JUMPS at the operating speed"
+            } else {
+                ""
+            };
+            // A bracket wider than 1 % of the operating speed is stated as the range it
+            // is: the margin is only known to lie between its ends.
+            if j - below > 0.01 * op {
+                let (m_lo, pct_lo) = (below - op, 100.0 * (below - op) / op);
+                let _ = writeln!(
+                    out,
+                    "operating point {op:.1} rpm: margin between {m_lo:+.1} and {m:+.1} rpm ({pct_lo:+.1} % to {pct:+.1} %; a smaller --resolution narrows it){jumps}"
+                );
+            } else {
+                let _ = writeln!(
+                    out,
+                    "operating point {op:.1} rpm: margin {m:+.1} rpm ({pct:+.1} %){jumps}"
+                );
+            }
         }
         _ => {
             let _ = writeln!(out, "no jump up to {:.0} rpm", r.no_jump_rpm);

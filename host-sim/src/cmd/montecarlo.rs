@@ -55,7 +55,7 @@ pub fn measured_revolution(revolutions: u32) -> u32 {
 /// The shard file's `format` tag.
 pub const SHARD_FORMAT: &str = "camsim-montecarlo-shard";
 /// The shard file's format version.
-pub const SHARD_VERSION: u32 = 1;
+pub const SHARD_VERSION: u32 = 2;
 
 /// Command-line options of `camsim montecarlo`.
 #[derive(clap::Args, Debug, Clone)]
@@ -76,6 +76,10 @@ pub struct Args {
     /// Write every sample's record to FILE (JSON; the shard file `merge` reads).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Run a study past the limits of memory (4 GB of records, 4 million samples) and
+    /// estimated time (24 h) that otherwise refuse it (`camsim::study_limits`).
+    #[arg(long)]
+    pub allow_long: bool,
     /// Common output options.
     #[command(flatten)]
     pub output: OutputArgs,
@@ -432,6 +436,11 @@ impl Study {
             .build()
             .context("cannot start the worker threads")?;
         let bar = progress_bar(indices.len() as u64, progress);
+        let lines = crate::study_limits::ProgressLines::new(
+            "camsim montecarlo",
+            indices.len() as u64,
+            progress && crate::study_limits::ProgressLines::batch(),
+        );
         let stop = AtomicBool::new(false);
         let results: Vec<Option<Result<SampleRecord>>> = pool.install(|| {
             indices
@@ -445,6 +454,7 @@ impl Study {
                         stop.store(true, Ordering::Relaxed);
                     }
                     bar.inc(1);
+                    lines.inc();
                     Some(r)
                 })
                 .collect()
@@ -740,6 +750,9 @@ pub struct ShardFile {
     pub shard: Shard,
     /// Its records, by index.
     pub records: Vec<SampleRecord>,
+    /// The content digest of everything above (`crate::shard::digest`; version 2 on).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub digest: String,
 }
 
 /// The worker threads: `--threads`, or every core.
@@ -781,8 +794,27 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         (Some(dir), None) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         (None, _) => None,
     };
+    // The output's temporary exists before the first sample: a name the file system
+    // refuses fails now, not after the whole study.
+    let mut out_file = match out_target {
+        Some(t) => Some(t.open()?),
+        None => None,
+    };
     let threads = threads(args.threads);
     let indices: Vec<u64> = shard.indices(study.settings.samples).collect();
+    // Memory before any sample, time from the first sample run alone (once more than
+    // the study needs: a sample depends on its index only).
+    crate::study_limits::check_memory(indices.len() as u64, args.allow_long)?;
+    if let Some(&first) = indices.first() {
+        let t = Instant::now();
+        study.run(&[first], 1, false)?;
+        crate::study_limits::check_time(
+            t.elapsed().as_secs_f64(),
+            indices.len() as u64,
+            threads,
+            args.allow_long,
+        )?;
+    }
     let t0 = Instant::now();
     let records = study.run(&indices, threads, true)?;
     let wall_s = t0.elapsed().as_secs_f64();
@@ -806,15 +838,16 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         _ => None,
     };
     let n = records.len() as u64;
-    if let Some(t) = out_target {
-        let file = ShardFile {
+    if let Some(mut f) = out_file.take() {
+        let mut file = ShardFile {
             format: SHARD_FORMAT.into(),
             version: SHARD_VERSION,
             study: study.settings.clone(),
             shard,
             records,
+            digest: String::new(),
         };
-        let mut f = t.open()?;
+        file.digest = crate::shard::digest(&file)?;
         serde_json::to_writer(&mut f, &file)?;
         f.write_all(b"\n")?;
         f.commit()?;
@@ -839,8 +872,8 @@ pub fn execute(args: &Args) -> Result<Outcome> {
 
 /// Reads one shard file.
 pub fn read_shard(path: &Path) -> Result<ShardFile> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read", path.display()))?;
+    let text = camsim_scene_file::read_text(path, crate::shard::MAX_SHARD_BYTES, "the shard file")
+        .map_err(anyhow::Error::msg)?;
     let value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| anyhow!("{}: not JSON: {e}", path.display()))?;
     if value.get("format").and_then(|f| f.as_str()) != Some(SHARD_FORMAT) {
@@ -858,7 +891,10 @@ pub fn read_shard(path: &Path) -> Result<ShardFile> {
         );
     }
     // Parsed from the text (not the Value) so that every number reads back bit for bit.
-    serde_json::from_str(&text).map_err(|e| anyhow!("{}: bad shard file: {e}", path.display()))
+    let file: ShardFile = serde_json::from_str(&text)
+        .map_err(|e| anyhow!("{}: bad shard file: {e}", path.display()))?;
+    crate::shard::verify(path, &file)?;
+    Ok(file)
 }
 
 /// The first difference between two studies' settings, in words.

@@ -19,7 +19,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use serde::Serialize;
 
 use camsim_chip::{
@@ -41,8 +41,9 @@ pub struct Args {
     /// Print JSON (with the raw f32 bit patterns under --f32).
     #[arg(long)]
     pub json: bool,
-    /// Decoded defmt log of the firmware to check bit for bit (needs --f32).
-    #[arg(long)]
+    /// Decoded defmt log of the firmware to check bit for bit (needs --f32; at most
+    /// 16 MB read).
+    #[arg(long, requires = "single")]
     pub check_log: Option<PathBuf>,
     /// Scene file compiled into the firmware (`CAMSIM_SCENE=FILE` at its build); default:
     /// the reference design (`camsim_chip::chip_design`).
@@ -744,6 +745,12 @@ pub fn render_text(r: &PredictReport) -> String {
     out
 }
 
+/// Most bytes of a `--check-log` file read: 16 MB. The host checks 74 parity lines of
+/// about 100 bytes; the decoded log of a firmware run around them (boot, timing and
+/// defmt lines) is tens of kB, so the cap leaves two orders of magnitude and refuses a
+/// device or a runaway capture instead of reading it without end.
+pub const MAX_LOG_BYTES: u64 = 16_000_000;
+
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
     if args.check_log.is_some() && !args.single {
@@ -771,8 +778,8 @@ pub fn run(args: Args) -> Result<()> {
     let report = if args.single {
         let p = compute::<f32>(scene.as_ref(), profile.as_ref())?;
         if let Some(path) = &args.check_log {
-            let log = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
+            let log = camsim_scene_file::read_text(path, MAX_LOG_BYTES, "the firmware log")
+                .map_err(|e| anyhow::anyhow!("--check-log {e}"))?;
             let n = check_parity(&log, &parity_lines(&p))?;
             return crate::report::out(&format!("parity OK: {n} lines (table, jump onset, interpolation checks, every reading of the scripted machine) bit-identical\n"));
         }

@@ -308,7 +308,9 @@ pub fn report(args: &Args) -> Result<RunReport> {
         "the profile options (--cam-tolerance, --seed, --profile-method, ...) need --actual"
     );
     let profile = if let Some(path) = &args.measured {
-        let (dev, stats) = crate::measured::load(path)?.profile(&spec.design)?;
+        let (dev, stats) = crate::measured::load(path)?
+            .profile(&spec.design)
+            .map_err(|e| anyhow::anyhow!("--measured {}: {e:#}", path.display()))?;
         Some((dev, ProfileReport::Measured(stats)))
     } else if args.actual.actual {
         let (dev, stats) = crate::actual::build_profile(&spec.design, &args.actual, 0)?;
@@ -319,6 +321,12 @@ pub fn report(args: &Args) -> Result<RunReport> {
     let profile_report = profile.as_ref().map(|p| p.1.clone());
     spec.profile = profile.map(|p| std::sync::Arc::new(p.0));
     let mut plan = Plan::new(args.force);
+    if let Some(p) = &args.scene.scene {
+        plan.input("scene file", p);
+    }
+    if let Some(p) = &args.measured {
+        plan.input("--measured", p);
+    }
     let csv_target = match &args.csv {
         Some(p) => Some(plan.file("--csv", p)?.limit(
             csv::estimated_bytes(&spec),
@@ -369,6 +377,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
     report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
     report.profile = profile_report;
     crate::report::ensure_finite(&report)?;
+    crate::report::ensure_physical(&report)?;
     if let Some(f) = csv_file {
         f.commit()?;
     }

@@ -6,6 +6,7 @@ use anyhow::Result;
 
 /// Command-line options of `camsim scene`.
 #[derive(clap::Args, Debug)]
+#[command(group(clap::ArgGroup::new("what").required(true).args(["default", "check"])))]
 pub struct Args {
     /// Print the reference design as a complete scene file.
     #[arg(long, conflicts_with = "check")]

@@ -17,7 +17,6 @@ use camsim_core::{MotionLaw, SegmentKind};
 use serde::Serialize;
 
 use crate::actual::{ActualArgs, NormalArg};
-use crate::args::{non_negative_finite, positive_finite};
 use crate::cmd::montecarlo::{self, Moments, Study, Summary};
 use crate::output::AtomicDir;
 use crate::report::Report;
@@ -39,7 +38,7 @@ pub struct Args {
     /// a 4-5-6-7 rise and a modified trapezoidal return).
     pub scene: Option<PathBuf>,
     /// Cam speed, rpm (default: the scene's, 800).
-    #[arg(long, allow_negative_numbers = true, value_parser = positive_finite)]
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::args::rpm)]
     pub rpm: Option<f64>,
     /// Actual cams per cell (default 8; 1 with --quick).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000))]
@@ -55,7 +54,7 @@ pub struct Args {
     pub interval_deg: Vec<f64>,
     /// Camshaft-bearing and eccentricity tolerance, ± in (kept at VI.1's 0.001 in every
     /// cell).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = non_negative_finite)]
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub eccentricity_tolerance: Option<f64>,
     /// Master seed (the same in every cell).
     #[arg(long)]
