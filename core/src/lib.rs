@@ -59,10 +59,11 @@ pub use solve::controller::{
     initial_step, spectral_radius, Controller, InitialStep, PerUnitStep, PiController, StepControl,
     StiffnessCap,
 };
-pub use solve::solver::{
-    rk4_integrate, rk4_step, rk4_step_from, Dense, England, EnglandConfig, Event, EventConfig,
-    EventFunction, EventStats, OdeSystem, Report, SolverStats, Tolerance,
-};
+pub use solve::dense::Dense;
+pub use solve::england::{England, EnglandConfig, SolverStats};
+pub use solve::events::{Event, EventConfig, EventFunction, EventStats, Report};
+pub use solve::rk4::{rk4_integrate, rk4_step, rk4_step_from};
+pub use solve::system::{OdeSystem, Tolerance};
 
 mod run;
 pub use run::response::{
