@@ -8,6 +8,7 @@ pub mod laws;
 pub mod modal;
 pub mod montecarlo;
 pub mod predict;
+pub mod profile;
 pub mod run;
 pub mod scene;
 pub mod scenes;
