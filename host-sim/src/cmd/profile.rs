@@ -36,7 +36,7 @@ pub const DEFAULT_CHORD_ERROR_IN: f64 = 1e-4;
 pub const MAX_CURVE_POINTS: usize = crate::measured::MAX_POINTS;
 
 /// Points inside every chord at which the chordal error is measured after sampling.
-const CHECK_PER_CHORD: usize = 16;
+const CHECK_PER_CHORD: usize = 15;
 
 /// The files `--out` writes.
 pub const SURFACE_RADIUS_FILE: &str = "surface_radius.csv";
