@@ -4,6 +4,7 @@ pub mod bench;
 pub mod compare;
 pub mod contact;
 pub mod jump_speed;
+pub mod jump_speed_actual;
 pub mod laws;
 pub mod modal;
 pub mod montecarlo;
