@@ -807,8 +807,10 @@ fn fmt_tick(v: f64, span: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }
+    // Small ticks by their own size; large ones by the axis's span too, so one axis
+    // never mixes 500000 with 1.00e6.
     let mag = v.abs().max(span.abs() / 10.0);
-    if !(1e-3..1e6).contains(&mag) {
+    if mag < 1e-3 || v.abs().max(span.abs()) >= 1e6 {
         return format!("{v:.2e}");
     }
     // The tick step plotters picks for 8 labels: the smallest 1, 2 or 5 x 10^k >= span / 8.
@@ -1506,6 +1508,8 @@ mod tests {
         assert_eq!(fmt_tick(83.6, 1.2), "83.6");
         assert_eq!(fmt_tick(0.0, 1.0), "0");
         assert_eq!(fmt_tick(2.5e7, 1e7), "2.50e7");
+        // One format on an axis spanning millions (the SVAJ jerk).
+        assert_eq!(fmt_tick(500_000.0, 3.5e6), "5.00e5");
     }
 
     #[test]
