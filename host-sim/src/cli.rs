@@ -42,6 +42,8 @@ pub enum Command {
     Predict(cmd::predict::Args),
     /// Many actual cams in parallel: statistics of every per-period column and the jump probability.
     Montecarlo(cmd::montecarlo::Args),
+    /// The cam as a drawing: surface, pitch curve and cutter path as DXF and CSV; the SVAJ plot.
+    Profile(cmd::profile::Args),
     /// Every motion law on the theoretical and on an actual cam: the study of VI.4.2, ranked.
     Compare(cmd::compare::Args),
     /// The tolerance and waviness grid of VI.4.1 on the more stable program.
@@ -74,6 +76,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Scenes(a) => cmd::scenes::run(a),
         Command::Predict(a) => cmd::predict::run(a),
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
+        Command::Profile(a) => cmd::profile::run(a),
         Command::Compare(a) => cmd::compare::run(a),
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
         Command::Sensitivity(a) => cmd::sensitivity::run(a),

@@ -10,6 +10,7 @@
 //! highest and last point of each pixel column, so peaks survive. Text uses DejaVu Sans,
 //! embedded in the binary (no system fonts needed).
 
+use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::OnceLock;
 
@@ -33,6 +34,8 @@ pub(crate) const FONT: &str = "sans-serif";
 pub const PLOT_SIZE: (u32, u32) = (1200, 600);
 /// Size of a follower-output plot (curves over the theoretical, deviation below), pixels.
 pub const FOLLOWER_PLOT_SIZE: (u32, u32) = (1200, 800);
+/// Size of the SVAJ plot (four panels), pixels.
+pub const SVAJ_PLOT_SIZE: (u32, u32) = (1200, 1400);
 
 const SIMULATED: RGBColor = RGBColor(31, 119, 180);
 const THEORY: RGBColor = RGBColor(214, 39, 40);
@@ -184,21 +187,23 @@ impl Curve {
 
 /// One panel: a y axis description and its curves.
 struct Panel {
-    y_desc: &'static str,
+    y_desc: Cow<'static, str>,
     curves: Vec<Curve>,
 }
 
 /// One PNG file.
 struct Figure {
     file: &'static str,
-    title: &'static str,
+    title: Cow<'static, str>,
     /// The main panel and, for follower outputs, the deviation panel below it.
     panels: Vec<Panel>,
 }
 
 impl Figure {
     fn size(&self) -> (u32, u32) {
-        if self.panels.len() > 1 {
+        if self.panels.len() > 2 {
+            SVAJ_PLOT_SIZE
+        } else if self.panels.len() > 1 {
             FOLLOWER_PLOT_SIZE
         } else {
             PLOT_SIZE
@@ -218,10 +223,10 @@ fn follower_figure(
     let dev: Vec<f64> = sim.iter().zip(theory).map(|(s, t)| s - t).collect();
     Figure {
         file,
-        title,
+        title: title.into(),
         panels: vec![
             Panel {
-                y_desc: desc,
+                y_desc: desc.into(),
                 curves: vec![
                     Curve::new("simulated", sim, SIMULATED, Stroke::Solid(2)),
                     Curve::new(
@@ -233,7 +238,7 @@ fn follower_figure(
                 ],
             },
             Panel {
-                y_desc: dev_desc,
+                y_desc: dev_desc.into(),
                 curves: vec![Curve {
                     label: "simulated − theoretical",
                     values: dev,
@@ -274,9 +279,9 @@ fn figures(d: &PlotData) -> Vec<Figure> {
         ),
         Figure {
             file: "pressure_angle.png",
-            title: "Pressure angle φ",
+            title: "Pressure angle φ".into(),
             panels: vec![Panel {
-                y_desc: "pressure angle φ (deg)",
+                y_desc: "pressure angle φ (deg)".into(),
                 curves: vec![Curve::new(
                     "φ",
                     &d.pressure_angle_deg,
@@ -287,9 +292,9 @@ fn figures(d: &PlotData) -> Vec<Figure> {
         },
         Figure {
             file: "angular_velocity.png",
-            title: "Angular velocities of the drive train",
+            title: "Angular velocities of the drive train".into(),
             panels: vec![Panel {
-                y_desc: "angular velocity (rad/s)",
+                y_desc: "angular velocity (rad/s)".into(),
                 curves: vec![
                     Curve::new("motor", &d.omega_m, SECOND, Stroke::Solid(4)),
                     Curve::new("coupling", &d.omega_cp, THIRD, Stroke::Solid(2)),
@@ -299,9 +304,9 @@ fn figures(d: &PlotData) -> Vec<Figure> {
         },
         Figure {
             file: "contact_force.png",
-            title: "Cam-follower contact force F_c",
+            title: "Cam-follower contact force F_c".into(),
             panels: vec![Panel {
-                y_desc: "contact force F_c (lb)",
+                y_desc: "contact force F_c (lb)".into(),
                 curves: vec![Curve::new(
                     "F_c",
                     &d.contact_force,
@@ -312,9 +317,9 @@ fn figures(d: &PlotData) -> Vec<Figure> {
         },
         Figure {
             file: "contact_stress.png",
-            title: "Maximum Hertz contact stress",
+            title: "Maximum Hertz contact stress".into(),
             panels: vec![Panel {
-                y_desc: "contact stress (psi)",
+                y_desc: "contact stress (psi)".into(),
                 curves: vec![Curve::new(
                     "stress",
                     &d.contact_stress,
@@ -325,9 +330,9 @@ fn figures(d: &PlotData) -> Vec<Figure> {
         },
         Figure {
             file: "torque.png",
-            title: "Cam torque",
+            title: "Cam torque".into(),
             panels: vec![Panel {
-                y_desc: "torque (lb·in)",
+                y_desc: "torque (lb·in)".into(),
                 curves: vec![
                     Curve::new(
                         "output torque T_o",
@@ -348,6 +353,9 @@ struct AngleAxis {
     ticks: Vec<f64>,
     /// Revolution boundaries strictly inside the range, degrees.
     revolutions: Vec<f64>,
+    /// Whether the axis is a run's (revolutions counted and labelled) rather than one
+    /// revolution of the cam's shape (the SVAJ plot).
+    run: bool,
     /// Jump intervals on the continuous axis, degrees.
     jumps: Vec<(f64, f64)>,
     /// Period starts (excluding revolution boundaries), degrees.
@@ -403,6 +411,7 @@ impl AngleAxis {
             range: start..end,
             ticks,
             revolutions,
+            run: true,
             jumps,
             periods,
         }
@@ -589,7 +598,7 @@ fn draw_figure<DB: DrawingBackend>(
     let title_area_h = 44;
     let (title_area, body) = root.split_vertically(title_area_h);
     title_area.draw(&Text::new(
-        fig.title,
+        fig.title.as_ref(),
         (w as i32 / 2, 12),
         (FONT, 26)
             .into_font()
@@ -601,7 +610,16 @@ fn draw_figure<DB: DrawingBackend>(
     ))?;
     let body_h = h.saturating_sub(title_area_h);
     let mut panels_areas = Vec::new();
-    if fig.panels.len() > 1 {
+    if fig.panels.len() > 2 {
+        let n = fig.panels.len() as u32;
+        let mut rest = body;
+        for _ in 1..n {
+            let (top, bottom) = rest.split_vertically(body_h / n);
+            panels_areas.push(top);
+            rest = bottom;
+        }
+        panels_areas.push(rest);
+    } else if fig.panels.len() > 1 {
         let (top, bottom) = body.split_vertically(body_h * 3 / 5);
         panels_areas.push(top);
         panels_areas.push(bottom);
@@ -652,7 +670,7 @@ fn draw_panel<DB: DrawingBackend>(
     };
     let y_fmt = |v: &f64| fmt_tick(*v, y1 - y0);
     let mut mesh = chart.configure_mesh();
-    mesh.y_desc(panel.y_desc)
+    mesh.y_desc(panel.y_desc.as_ref())
         .y_labels(8)
         .x_label_formatter(&x_fmt)
         .y_label_formatter(&y_fmt)
@@ -661,8 +679,10 @@ fn draw_panel<DB: DrawingBackend>(
         .bold_line_style(RGBColor(215, 215, 215))
         .light_line_style(RGBColor(240, 240, 240))
         .y_max_light_lines(1);
-    if x_labels {
+    if x_labels && axis.run {
         mesh.x_desc("cam angle θ (deg, continuous over revolutions)");
+    } else if x_labels {
+        mesh.x_desc("cam angle θ (deg)");
     }
     mesh.draw()?;
 
@@ -713,7 +733,7 @@ fn draw_panel<DB: DrawingBackend>(
     }
     let rev_label = (FONT, 15).into_font().color(&REV_LINE);
     chart.draw_series(std::iter::once(Text::new(
-        "rev 1",
+        if axis.run { "rev 1" } else { "" },
         (axis.range.start + 6.0 * deg_per_px, y1),
         rev_label.clone(),
     )))?;
@@ -787,8 +807,10 @@ fn fmt_tick(v: f64, span: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }
+    // Small ticks by their own size; large ones by the axis's span too, so one axis
+    // never mixes 500000 with 1.00e6.
     let mag = v.abs().max(span.abs() / 10.0);
-    if !(1e-3..1e6).contains(&mag) {
+    if mag < 1e-3 || v.abs().max(span.abs()) >= 1e6 {
         return format!("{v:.2e}");
     }
     // The tick step plotters picks for 8 labels: the smallest 1, 2 or 5 x 10^k >= span / 8.
@@ -887,14 +909,14 @@ fn profile_figure(dev: &HostDeviation) -> (Figure, PlotData) {
     }
     let fig = Figure {
         file: PROFILE_FILE,
-        title: "Profile deviation of the actual cam (lift − program)",
+        title: "Profile deviation of the actual cam (lift − program)".into(),
         panels: vec![
             Panel {
-                y_desc: "lift deviation e (in)",
+                y_desc: "lift deviation e (in)".into(),
                 curves: vec![Curve::new("e(θ)", &e, SIMULATED, Stroke::Solid(1))],
             },
             Panel {
-                y_desc: "de/dθ (in/rad)",
+                y_desc: "de/dθ (in/rad)".into(),
                 curves: vec![Curve::new(
                     "de/dθ (FPR counts its extrema)",
                     &de,
@@ -919,6 +941,95 @@ pub fn draw_profile(out: &mut AtomicDir, data: &PlotData, dev: &HostDeviation) -
         .filter(|p| *p > 0.0 && *p < 360.0)
         .collect();
     let axis = AngleAxis::new(&axis_data, &[]);
+    let (buf, (w, h), _) = render(&fig, &axis, &axis_data)?;
+    let path = out.path(fig.file)?;
+    image::save_buffer_with_format(
+        &path,
+        &buf,
+        w,
+        h,
+        image::ColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| {
+        anyhow!(
+            "cannot write plot {}: {e}",
+            out.dir().join(fig.file).display()
+        )
+    })
+}
+
+/// Points of the SVAJ plot over one revolution (0.05°).
+const SVAJ_SAMPLES: usize = 7200;
+
+/// The SVAJ figure of `design`'s program (DYNACAM's S, V, A, J diagram): lift,
+/// velocity, acceleration and jerk against cam angle, the derivatives in time at the
+/// design's speed ω0 (v = ω dy/dθ, a = ω² d²y/dθ², j = ω³ d³y/dθ³), the segment
+/// boundaries marked.
+fn svaj_figure(design: &camsim_core::Design<f64>, file: &'static str) -> (Figure, PlotData) {
+    let w = design.omega0;
+    let rpm = camsim_core::rad_per_s_to_rpm(w);
+    let mut axis_data = PlotData::default();
+    let (mut s, mut v, mut a, mut j) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for k in 0..=SVAJ_SAMPLES {
+        let deg = k as f64 * 360.0 / SVAJ_SAMPLES as f64;
+        let f = design.program.follower(deg.to_radians());
+        axis_data.angle_deg.push(deg);
+        s.push(f.y);
+        v.push(f.dy * w);
+        a.push(f.d2y * w * w);
+        j.push(f.d3y * w * w * w);
+    }
+    axis_data.period_starts_deg = design
+        .program
+        .segments()
+        .iter()
+        .map(|g| g.start_deg)
+        .filter(|d| *d > 0.0 && *d < 360.0)
+        .collect();
+    let panel = |desc: String, label: &'static str, values: &[f64], color| Panel {
+        y_desc: desc.into(),
+        curves: vec![Curve::new(label, values, color, Stroke::Solid(2))],
+    };
+    let fig = Figure {
+        file,
+        title: format!("SVAJ of the cam program at {rpm:.0} rpm (grey lines: segment boundaries)")
+            .into(),
+        panels: vec![
+            panel("lift s (in)".into(), "lift s", &s, SIMULATED),
+            panel(
+                format!("velocity v (in/s at {rpm:.0} rpm)"),
+                "velocity v",
+                &v,
+                SECOND,
+            ),
+            panel(
+                format!("acceleration a (in/s² at {rpm:.0} rpm)"),
+                "acceleration a",
+                &a,
+                THEORY,
+            ),
+            panel(
+                format!("jerk j (in/s³ at {rpm:.0} rpm)"),
+                "jerk j",
+                &j,
+                THIRD,
+            ),
+        ],
+    };
+    (fig, axis_data)
+}
+
+/// Draws the SVAJ plot of `design`'s program as `file` into `out`.
+pub fn draw_svaj(
+    out: &mut AtomicDir,
+    design: &camsim_core::Design<f64>,
+    file: &'static str,
+) -> Result<()> {
+    ensure_font()?;
+    let (fig, axis_data) = svaj_figure(design, file);
+    let mut axis = AngleAxis::new(&axis_data, &[]);
+    axis.run = false;
     let (buf, (w, h), _) = render(&fig, &axis, &axis_data)?;
     let path = out.path(fig.file)?;
     image::save_buffer_with_format(
@@ -1397,6 +1508,8 @@ mod tests {
         assert_eq!(fmt_tick(83.6, 1.2), "83.6");
         assert_eq!(fmt_tick(0.0, 1.0), "0");
         assert_eq!(fmt_tick(2.5e7, 1e7), "2.50e7");
+        // One format on an axis spanning millions (the SVAJ jerk).
+        assert_eq!(fmt_tick(500_000.0, 3.5e6), "5.00e5");
     }
 
     #[test]

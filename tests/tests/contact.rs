@@ -136,11 +136,14 @@ fn json_keys_are_the_documented_ones() {
     assert_eq!(
         keys,
         [
+            "base_radius_in",
             "contact_width_in",
             "force_lb",
             "k_h_at_force_lb_per_in",
             "k_h_lb_per_in",
-            "max_stress_psi"
+            "max_stress_psi",
+            "roller_radius_in",
+            "thickness_in",
         ]
     );
     assert_eq!(v["force_lb"], 100.0);
@@ -187,6 +190,7 @@ fn bad_force_is_refused_with_one_line_naming_the_flag() {
     }
     one_line(
         contact::run(Args {
+            scene: None,
             force: -7.0,
             json: false,
         })

@@ -183,6 +183,28 @@ impl<T: Real> CamGeometry<T> {
         )
     }
 
+    /// Pitch-curve point (the roller centre) at cam angle θ, cam-fixed frame of
+    /// [`Self::surface_point`]: `(R_a + y)(sin θ, cos θ)` (in).
+    #[inline]
+    pub fn pitch_point(&self, theta: T, y: T) -> (T, T) {
+        let r = self.prime_radius() + y;
+        let (st, ct) = theta.sin_cos();
+        (r * st, r * ct)
+    }
+
+    /// The point at signed distance `d` from the pitch curve along its outward normal
+    /// at cam angle θ (in): `d = -r_r` is the cam surface ([`Self::surface_point`]),
+    /// `d = r_c - r_r` the centre of a cutter (grinding wheel or end mill) of radius
+    /// `r_c` cutting that surface from outside. The outward unit normal of the pitch
+    /// curve is `(-sin(φ - θ), cos(φ - θ))` (Eq. V.1's roller term with its sign
+    /// turned), φ the pressure angle.
+    #[inline]
+    pub fn pitch_offset_point(&self, theta: T, y: T, dy: T, d: T) -> (T, T) {
+        let (px, py) = self.pitch_point(theta, y);
+        let (sd, cd) = (self.pressure_angle(y, dy) - theta).sin_cos();
+        (px - d * sd, py + d * cd)
+    }
+
     /// Area, volume, mass and polar moment of inertia of the cam cut for `program`,
     /// Eqs. V.2-V.4, from `samples` (at least 16) equally spaced cam angles.
     ///
@@ -555,6 +577,31 @@ mod tests {
             // ... and towards the cam centre.
             assert!(sx.hypot(sy) < cx.hypot(cy));
         }
+    }
+
+    #[test]
+    fn offset_points_are_the_pitch_curve_moved_along_its_normal() {
+        let g = CamGeometry::<f64>::reference();
+        let p = CamProgram::<f64>::reference();
+        let ra = g.prime_radius();
+        for k in 0..90 {
+            let th = (k as f64 * 4.0 + 2.1).to_radians();
+            let f = p.follower(th);
+            let (cx, cy) = g.pitch_point(th, f.y);
+            assert!(((cx - (ra + f.y) * th.sin()).abs()) < 1e-15);
+            // d = -r_r is the surface, exactly.
+            let s = g.surface_point(th, f.y, f.dy);
+            let o = g.pitch_offset_point(th, f.y, f.dy, -g.roller_radius);
+            assert!((s.0 - o.0).abs() < 1e-15 && (s.1 - o.1).abs() < 1e-15);
+            // A cutter of radius 2 in: 2 - r_r outside the pitch curve, at distance |d|.
+            let d = 2.0 - g.roller_radius;
+            let (qx, qy) = g.pitch_offset_point(th, f.y, f.dy, d);
+            assert!(((qx - cx).hypot(qy - cy) - d).abs() < 1e-12);
+            assert!(qx.hypot(qy) > cx.hypot(cy));
+        }
+        // On the base circle (a dwell at zero lift) the offset is radial: R_a + d.
+        let (x, y) = g.pitch_offset_point(0.3, 0.0, 0.0, 0.5);
+        assert!((x.hypot(y) - (ra + 0.5)).abs() < 1e-15);
     }
 
     #[test]

@@ -17,6 +17,11 @@ pub const CAM_THICKNESS_IN: f64 = 0.25;
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Scene file (TOML, see `camsim scene --default`): its roller, base circle,
+    /// thickness and materials (`design.geometry`, `design.hertz`); the reference pair if
+    /// omitted.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<std::path::PathBuf>,
     /// Contact force in pounds (1e-6 up to about 1.5e6, where the Hertz band is as
     /// wide as the roller).
     #[arg(long, value_name = "LB", allow_hyphen_values = true, value_parser = crate::args::force)]
@@ -29,6 +34,12 @@ pub struct Args {
 /// Contact quantities of the reference pair at one force.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ContactReport {
+    /// Roller radius r1, in.
+    pub roller_radius_in: f64,
+    /// Base-circle radius r2, in.
+    pub base_radius_in: f64,
+    /// Contact length (cam thickness) t, in.
+    pub thickness_in: f64,
     /// The force F (lb).
     pub force_lb: f64,
     /// K_h of Eq. V.11 (band width at 1 lb), lb/in.
@@ -47,6 +58,19 @@ const FORCE_RULE: &str = "--force must be a positive, finite number of pounds";
 /// Computes the report for the reference steel roller (d1 = 0.75 in) on the base
 /// circle (d2 = 3.0 in), t = 0.25 in, E = 30e6 psi, nu = 0.295.
 pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
+    let hertz = HertzContact::<f64>::steel(CAM_THICKNESS_IN);
+    let (r1, r2) = (ROLLER_DIAMETER_IN / 2.0, BASE_CIRCLE_DIAMETER_IN / 2.0);
+    compute_for(force, &hertz, r1, r2)
+}
+
+/// The report for the roller of radius `r1` on the base circle of radius `r2` (in) with
+/// the materials and thickness of `hertz` (a scene's `design.hertz` and geometry).
+pub fn compute_for(
+    force: f64,
+    hertz: &HertzContact<f64>,
+    r1: f64,
+    r2: f64,
+) -> anyhow::Result<ContactReport> {
     if !(force.is_finite() && force > 0.0) {
         bail!("{FORCE_RULE} (got {force})");
     }
@@ -59,8 +83,6 @@ pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
     if force > crate::args::max_force_lb() {
         bail!("--force {force:e}: {}", crate::args::force_range_rule());
     }
-    let hertz = HertzContact::<f64>::steel(CAM_THICKNESS_IN);
-    let (r1, r2) = (ROLLER_DIAMETER_IN / 2.0, BASE_CIRCLE_DIAMETER_IN / 2.0);
     let k_h = hertz
         .stiffness(r1, r2)
         .context("unit-force Hertz stiffness")?;
@@ -74,24 +96,34 @@ pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
             other => anyhow::anyhow!("--force {force:e}: {other}"),
         })?;
     Ok(ContactReport {
+        roller_radius_in: r1,
+        base_radius_in: r2,
+        thickness_in: hertz.thickness,
         force_lb: force,
         k_h_lb_per_in: k_h,
         k_h_at_force_lb_per_in: k_at,
-        contact_width_in: hertz.width(force, ROLLER_DIAMETER_IN, BASE_CIRCLE_DIAMETER_IN),
-        max_stress_psi: hertz.max_stress(force, ROLLER_DIAMETER_IN, BASE_CIRCLE_DIAMETER_IN),
+        contact_width_in: hertz.width(force, 2.0 * r1, 2.0 * r2),
+        max_stress_psi: hertz.max_stress(force, 2.0 * r1, 2.0 * r2),
     })
 }
 
 /// Renders the report as the human-readable table.
 pub fn render_table(r: &ContactReport) -> String {
     format!(
-        "Hertz contact, steel roller d1 = {ROLLER_DIAMETER_IN} in on base circle d2 = {BASE_CIRCLE_DIAMETER_IN} in, t = {CAM_THICKNESS_IN} in\n\
+        "Hertz contact, roller d1 = {} in on base circle d2 = {} in, t = {} in\n\
          force                      {:>14.6} lb\n\
          K_h (V.11, unit force)     {:>14.6e} lb/in\n\
          K_h at force (F/H)         {:>14.6e} lb/in\n\
          contact width w (V.9)      {:>14.6e} in\n\
          max Hertz stress 2F/(pi b t) {:>12.6e} psi",
-        r.force_lb, r.k_h_lb_per_in, r.k_h_at_force_lb_per_in, r.contact_width_in, r.max_stress_psi
+        2.0 * r.roller_radius_in,
+        2.0 * r.base_radius_in,
+        r.thickness_in,
+        r.force_lb,
+        r.k_h_lb_per_in,
+        r.k_h_at_force_lb_per_in,
+        r.contact_width_in,
+        r.max_stress_psi
     )
 }
 
@@ -103,5 +135,17 @@ impl Report for ContactReport {
 
 /// Runs the command.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    crate::report::print(&compute(args.force)?, args.json)
+    let report = match &args.scene {
+        Some(p) => {
+            let d = crate::scene::load(p)?.design;
+            compute_for(
+                args.force,
+                &d.hertz,
+                d.geometry.roller_radius,
+                d.geometry.base_radius,
+            )?
+        }
+        None => compute(args.force)?,
+    };
+    crate::report::print(&report, args.json)
 }

@@ -27,6 +27,16 @@ pub struct Args {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
+    /// Machined cams instead of the theoretical (`--actual` and its options): the onset
+    /// as a distribution over samples (`jump_speed_actual`).
+    #[command(flatten)]
+    pub actual: crate::actual::ActualArgs,
+    /// With --actual: machined cams drawn, samples 0 to N-1 of --seed (default 20).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10000))]
+    pub samples: Option<u32>,
+    /// With --actual: worker threads (default: every core); the result does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
 }
 
 /// Result of the search.
@@ -200,6 +210,25 @@ pub fn run(args: Args) -> Result<()> {
     let mut scene = args.scene.clone();
     scene.start.get_or_insert(crate::args::StartArg::Static);
     let spec = run_cmd::spec_from(&scene)?;
+    if args.actual.actual {
+        let threads = crate::cmd::montecarlo::threads(args.threads);
+        let samples = args
+            .samples
+            .unwrap_or(crate::cmd::jump_speed_actual::DEFAULT_SAMPLES);
+        let report = crate::cmd::jump_speed_actual::study(
+            &spec,
+            &args.actual,
+            samples,
+            threads,
+            args.resolution,
+            args.max_rpm,
+        )?;
+        return crate::report::print(&report, args.json);
+    }
+    anyhow::ensure!(
+        !args.actual.any_profile_option() && args.samples.is_none() && args.threads.is_none(),
+        "the profile options (--cam-tolerance, --seed, --samples, --threads, ...) need --actual"
+    );
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let t0 = std::time::Instant::now();
     let r = find(&spec, args.resolution, args.max_rpm)?;

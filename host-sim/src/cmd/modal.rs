@@ -16,6 +16,10 @@ use crate::report::Report;
 /// Command-line options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Scene file (TOML, see `camsim scene --default`): its masses, stiffnesses and
+    /// `design.spring_modal_rate_lb_per_in`; the reference design if omitted.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<std::path::PathBuf>,
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -120,7 +124,13 @@ fn system_modes(
 pub fn reference_parameters() -> anyhow::Result<ModalParameters> {
     let d = Design::<f64>::reference();
     d.validate().context("reference design")?;
-    Ok(ModalParameters {
+    Ok(parameters(&d))
+}
+
+/// A design's values that enter Eqs. VI.6 and VI.7 (the follower at y3 = 0, the modal
+/// analysis's return-spring rate `k_rs_modal`).
+pub fn parameters(d: &Design<f64>) -> ModalParameters {
+    ModalParameters {
         i_m: d.i_m,
         i_cp: d.i_cp,
         i_c: d.i_c,
@@ -132,7 +142,7 @@ pub fn reference_parameters() -> anyhow::Result<ModalParameters> {
         k_rb: d.k_rb,
         k_f: d.k_f(0.0),
         k_rs: d.k_rs_modal,
-    })
+    }
 }
 
 /// Runs the modal analysis of both systems of the reference design (Section VI.2).
@@ -240,5 +250,9 @@ impl Report for ModalReport {
 
 /// Runs the command.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    crate::report::print(&analyse()?, args.json)
+    let report = match &args.scene {
+        Some(p) => analyse_with(parameters(&crate::scene::load(p)?.design))?,
+        None => analyse()?,
+    };
+    crate::report::print(&report, args.json)
 }

@@ -45,9 +45,12 @@ pub struct Args {
     /// 16 MB read).
     #[arg(long, requires = "single")]
     pub check_log: Option<PathBuf>,
-    /// Scene file compiled into the firmware (`CAMSIM_SCENE=FILE` at its build); default:
-    /// the reference design (`camsim_chip::chip_design`).
-    #[arg(long)]
+    /// Scene file compiled into the firmware (`CAMSIM_SCENE=FILE` at its build), positional
+    /// like `run`'s; default: the reference design (`camsim_chip::chip_design`).
+    #[arg(value_name = "SCENE")]
+    pub scene_file: Option<PathBuf>,
+    /// The scene file as an option (the same as the positional SCENE).
+    #[arg(long, value_name = "SCENE", conflicts_with = "scene_file")]
     pub scene: Option<PathBuf>,
     /// Measured cam profile compiled into the firmware (`CAMSIM_PROFILE=FILE.csv` at its
     /// build; the CSV of `camsim run --measured`, at most 720 rows); default: the
@@ -756,11 +759,12 @@ pub fn run(args: Args) -> Result<()> {
     if args.check_log.is_some() && !args.single {
         bail!("--check-log compares the firmware's f32 bits: add --f32");
     }
-    let scene = match &args.scene {
+    let scene_path = args.scene.clone().or_else(|| args.scene_file.clone());
+    let scene = match &scene_path {
         Some(p) => Some(crate::scene::load(p)?.design),
         None => None,
     };
-    let design = match &args.scene {
+    let design = match &scene_path {
         Some(p) => p.display().to_string(),
         None => REFERENCE_SCENE.to_string(),
     };

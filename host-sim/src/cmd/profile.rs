@@ -1,0 +1,478 @@
+//! `camsim profile [SCENE] --out DIR`: the cam as a drawing for the machine shop.
+//!
+//! For the inline translating roller follower: the pitch curve (the roller centre's path
+//! in the cam frame), the cam surface (the pitch curve moved inwards by the roller
+//! radius along its normal) and, with `--cutter-radius`, the centre path of a cutter
+//! (grinding wheel or end mill) of that radius cutting the surface from outside (the
+//! surface moved outwards by the cutter radius). Each curve is sampled so that no
+//! chord is farther than `--chord-error` from the curve ([`crate::export`]), and written
+//! as CSV and as closed polylines of one DXF. The surface's polar radius is also written
+//! in the format `camsim run --measured` reads (`surface_radius.csv`, inches), so the
+//! drawing can be simulated back. With `--actual` the cam is a simulated machined one
+//! ([`crate::actual::build_profile`], sample 0 of `--seed`), to compare against a CMM
+//! measurement. `--plot DIR` draws the program's SVAJ diagram (`svaj.png`).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Result};
+use camsim_core::{CamGeometry, FollowerLift};
+use serde::Serialize;
+
+use crate::actual::{ActualArgs, ProfileStats};
+use crate::args::positive_finite;
+use crate::cmd::run::{spec_from, SceneArgs};
+use crate::export::{self, CurvePoint, Layer, Units};
+use crate::output::Plan;
+use crate::report::Report;
+use crate::sim::HostDeviation;
+
+/// The default `--chord-error`, in: 0.0001 in (2.5 µm), a fifth of the thesis's cam
+/// profile tolerance (±0.0005 in, VI.1), so the drawing's chords add little to the
+/// machining error it is meant to stay within.
+pub const DEFAULT_CHORD_ERROR_IN: f64 = 1e-4;
+
+/// The most points one curve may have: what a measured file may hold
+/// ([`crate::measured::MAX_POINTS`]), so the surface reads back.
+pub const MAX_CURVE_POINTS: usize = crate::measured::MAX_POINTS;
+
+/// Points inside every chord at which the chordal error is measured after sampling.
+const CHECK_PER_CHORD: usize = 15;
+
+/// The files `--out` writes.
+pub const SURFACE_RADIUS_FILE: &str = "surface_radius.csv";
+/// The surface's Cartesian points.
+pub const SURFACE_FILE: &str = "surface.csv";
+/// The pitch curve.
+pub const PITCH_FILE: &str = "pitch.csv";
+/// The cutter-centre path (with `--cutter-radius`).
+pub const CUTTER_FILE: &str = "cutter.csv";
+/// The drawing.
+pub const DXF_FILE: &str = "cam.dxf";
+/// The SVAJ plot (`--plot`).
+pub const SVAJ_FILE: &str = "svaj.png";
+
+/// Command-line options.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Args {
+    /// The scene and its overrides (`--rpm` sets the speed of the SVAJ plot).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Write the drawing into DIR: cam.dxf, surface.csv, surface_radius.csv (the format
+    /// of `run --measured`), pitch.csv and, with --cutter-radius, cutter.csv.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Draw the program's lift, velocity, acceleration and jerk against cam angle
+    /// (svaj.png) into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Radius of the cutter (grinding wheel or end mill), in --units: also write its
+    /// centre path.
+    #[arg(long, value_name = "LEN", allow_hyphen_values = true, value_parser = positive_finite)]
+    pub cutter_radius: Option<f64>,
+    /// Largest distance of a chord from the curve, in --units (default 0.0001 in,
+    /// 0.00254 mm: a fifth of the thesis's cam tolerance).
+    #[arg(long, value_name = "LEN", allow_hyphen_values = true, value_parser = positive_finite)]
+    pub chord_error: Option<f64>,
+    /// Length unit of the DXF, of the x/y CSVs and of --cutter-radius and --chord-error
+    /// (surface_radius.csv stays in inches, as `run --measured` reads it).
+    #[arg(long, value_enum, default_value_t = Units::In)]
+    pub units: Units,
+    /// Replace existing files in --out and --plot.
+    #[arg(long)]
+    pub force: bool,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// A simulated machined cam (`--actual` and its options) instead of the theoretical.
+    #[command(flatten)]
+    pub actual: ActualArgs,
+}
+
+/// One sampled curve (the JSON `curves` entries).
+#[derive(Clone, Debug, Serialize)]
+pub struct CurveReport {
+    /// "surface", "pitch" or "cutter".
+    pub name: &'static str,
+    /// Points (the polyline's vertices).
+    pub points: usize,
+    /// The largest distance of the curve from its chords, measured after sampling, in
+    /// `units`.
+    pub max_chord_error: f64,
+    /// The polyline's length, in `units`.
+    pub perimeter: f64,
+}
+
+/// What `camsim profile` reports.
+#[derive(Clone, Debug, Serialize)]
+pub struct ProfileReport {
+    /// Length unit of every length below but the radius file's (in).
+    pub units: Units,
+    /// "theoretical" or "actual".
+    pub cam: &'static str,
+    /// The chordal error bound, in `units`.
+    pub chord_error_bound: f64,
+    /// Base-circle radius, in `units`.
+    pub base_radius: f64,
+    /// Roller radius, in `units`.
+    pub roller_radius: f64,
+    /// Cutter radius, in `units` (with --cutter-radius).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cutter_radius: Option<f64>,
+    /// Smallest radius of curvature of the cam surface where it is convex, in `units`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_convex_surface_radius: Option<f64>,
+    /// Smallest |radius of curvature| of the cam surface where it is concave, in
+    /// `units` (None: convex everywhere).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_concave_surface_radius: Option<f64>,
+    /// Warnings for the shop: a cutter that cannot cut a concave part.
+    pub warnings: Vec<String>,
+    /// The sampled curves.
+    pub curves: Vec<CurveReport>,
+    /// The actual cam's profile (with --actual).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub actual: Option<ProfileStats>,
+    /// The files written (with --out and --plot).
+    pub files: Vec<String>,
+}
+
+impl Report for ProfileReport {
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let u = self.units.name();
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "Cam drawing ({} cam): base circle radius {:.6} {u}, roller radius {:.6} {u}{}",
+            self.cam,
+            self.base_radius,
+            self.roller_radius,
+            self.cutter_radius
+                .map_or(String::new(), |c| format!(", cutter radius {c:.6} {u}"))
+        );
+        if let Some(a) = &self.actual {
+            let _ = writeln!(
+                s,
+                "  actual cam: seed {}, sample {}, method {}, RMS lift deviation {:.3e} in",
+                a.seed,
+                a.sample,
+                a.method.name(),
+                a.rms_deviation_in
+            );
+        }
+        let _ = writeln!(
+            s,
+            "  chordal error bound {:.3e} {u}\n  {:<8} {:>7} {:>18} {:>16}",
+            self.chord_error_bound,
+            "curve",
+            "points",
+            format!("max chord err {u}"),
+            format!("perimeter {u}")
+        );
+        for c in &self.curves {
+            let _ = writeln!(
+                s,
+                "  {:<8} {:>7} {:>18.3e} {:>16.6}",
+                c.name, c.points, c.max_chord_error, c.perimeter
+            );
+        }
+        if let Some(r) = self.min_convex_surface_radius {
+            let _ = writeln!(
+                s,
+                "  smallest convex surface radius of curvature {r:.6} {u}"
+            );
+        }
+        match self.min_concave_surface_radius {
+            Some(r) => {
+                let _ = writeln!(
+                    s,
+                    "  smallest concave surface radius of curvature {r:.6} {u}"
+                );
+            }
+            None => {
+                let _ = writeln!(s, "  the surface is convex everywhere");
+            }
+        }
+        for w in &self.warnings {
+            let _ = writeln!(s, "  warning: {w}");
+        }
+        for f in &self.files {
+            let _ = writeln!(s, "  wrote {f}");
+        }
+        s
+    }
+}
+
+/// The lift of the cam to draw: the program, plus the actual cam's deviation.
+struct Cam<'a> {
+    design: &'a camsim_core::Design<f64>,
+    dev: Option<&'a HostDeviation>,
+}
+
+impl Cam<'_> {
+    fn lift(&self, theta: f64) -> FollowerLift<f64> {
+        let mut f = self.design.program.follower(theta);
+        if let Some(d) = self.dev {
+            let e = d.deviation(theta);
+            f.y += e.y;
+            f.dy += e.dy;
+            f.d2y += e.d2y;
+            f.d3y += e.d3y;
+        }
+        f
+    }
+
+    fn geometry(&self) -> &CamGeometry<f64> {
+        &self.design.geometry
+    }
+
+    /// The point at distance `d` (in) outward from the pitch curve, in the drawing unit.
+    fn offset(&self, theta: f64, d: f64, scale: f64) -> (f64, f64) {
+        let f = self.lift(theta);
+        let (x, y) = self.geometry().pitch_offset_point(theta, f.y, f.dy, d);
+        (x * scale, y * scale)
+    }
+}
+
+/// Polyline length of a closed curve.
+fn perimeter(p: &[CurvePoint]) -> f64 {
+    let n = p.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (p[i], p[(i + 1) % n]);
+            (b.x - a.x).hypot(b.y - a.y)
+        })
+        .sum()
+}
+
+/// The surface points as `run --measured` reads them: polar angle (deg, in [0, 360),
+/// increasing) and radius (in), from points in the drawing unit.
+pub fn polar_rows(points: &[CurvePoint], per_inch: f64) -> Result<Vec<(f64, f64)>> {
+    let mut rows: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| {
+            // The frame of CamGeometry::surface_point: angle 0 on +y, growing towards +x.
+            let a = p.x.atan2(p.y).to_degrees().rem_euclid(360.0);
+            (if a >= 360.0 { 0.0 } else { a }, p.x.hypot(p.y) / per_inch)
+        })
+        .collect();
+    // Rotate so the smallest polar angle comes first; the order must then increase.
+    let first = rows
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
+        .map_or(0, |(i, _)| i);
+    rows.rotate_left(first);
+    for w in rows.windows(2) {
+        if w[1].0 <= w[0].0 {
+            bail!(
+                "the cam surface's polar angle does not grow around the cam (at {:.4} deg): \
+                 it cannot be written as a polar radius",
+                w[0].0
+            );
+        }
+    }
+    Ok(rows)
+}
+
+/// Computes the drawing and writes what `args` asks for.
+pub fn report(args: &Args) -> Result<ProfileReport> {
+    let spec = spec_from(&args.scene)?;
+    let design = &spec.design;
+    anyhow::ensure!(
+        args.actual.actual || !args.actual.any_profile_option(),
+        "the profile options (--cam-tolerance, --seed, --profile-method, ...) need --actual"
+    );
+    let actual = if args.actual.actual {
+        Some(crate::actual::build_profile(design, &args.actual, 0)?)
+    } else {
+        None
+    };
+    let cam = Cam {
+        design,
+        dev: actual.as_ref().map(|a| &a.0),
+    };
+    let scale = args.units.per_inch();
+    let bound = args.chord_error.unwrap_or(DEFAULT_CHORD_ERROR_IN * scale);
+    let g = design.geometry;
+    let rr = g.roller_radius;
+    let cutter_in = args.cutter_radius.map(|c| c / scale);
+
+    // Curvature of the surface over one revolution (Eq. V.12), 0.05° apart.
+    let (mut convex, mut concave): (Option<f64>, Option<f64>) = (None, None);
+    let mut undercut: Option<f64> = None;
+    for k in 0..7200 {
+        let th = (k as f64 * 0.05).to_radians();
+        let f = cam.lift(th);
+        let rho_pitch = g.pitch_curvature_radius(f.y, f.dy, f.d2y);
+        if rho_pitch > 0.0 && rho_pitch <= rr {
+            undercut = Some(th.to_degrees());
+        } else if rho_pitch > rr {
+            let r = rho_pitch - rr;
+            convex = Some(convex.map_or(r, |c| c.min(r)));
+        } else if rho_pitch < 0.0 {
+            let r = rr - rho_pitch;
+            concave = Some(concave.map_or(r, |c| c.min(r)));
+        }
+    }
+    let mut warnings = Vec::new();
+    if let (Some(c), Some(r)) = (cutter_in, concave) {
+        if c > r {
+            warnings.push(format!(
+                "the cutter radius {:.6} {u} is larger than the smallest concave surface radius {:.6} {u}: \
+                 it cannot cut the concave part without gouging",
+                c * scale,
+                r * scale,
+                u = args.units.name()
+            ));
+        }
+    }
+    if let Some(a) = undercut {
+        warnings.push(format!(
+            "the cam is undercut near cam angle {a:.2} deg: the pitch curve's radius of curvature is below the roller radius"
+        ));
+    }
+    let sample = |d: f64| {
+        export::adaptive(
+            |t| cam.offset(t, d, scale),
+            bound,
+            MAX_CURVE_POINTS,
+            "--chord-error",
+        )
+    };
+    let mut curves = vec![("surface", -rr, sample(-rr)?), ("pitch", 0.0, sample(0.0)?)];
+    if let Some(c) = cutter_in {
+        curves.push(("cutter", c - rr, sample(c - rr)?));
+    }
+    let curve_reports: Vec<CurveReport> = curves
+        .iter()
+        .map(|(name, d, pts)| CurveReport {
+            name,
+            points: pts.len(),
+            max_chord_error: export::max_chord_error(
+                |t| cam.offset(t, *d, scale),
+                pts,
+                CHECK_PER_CHORD,
+            ),
+            perimeter: perimeter(pts),
+        })
+        .collect();
+
+    let mut report = ProfileReport {
+        units: args.units,
+        cam: if actual.is_some() {
+            "actual"
+        } else {
+            "theoretical"
+        },
+        chord_error_bound: bound,
+        base_radius: g.base_radius * scale,
+        roller_radius: rr * scale,
+        cutter_radius: args.cutter_radius,
+        min_convex_surface_radius: convex.map(|r| r * scale),
+        min_concave_surface_radius: concave.map(|r| r * scale),
+        warnings,
+        curves: curve_reports,
+        actual: actual.as_ref().map(|a| a.1.clone()),
+        files: Vec::new(),
+    };
+    // Nothing is written for a result with a non-finite number.
+    crate::report::ensure_finite(&report)?;
+
+    let mut files = Vec::new();
+    let mut plan = Plan::new(args.force);
+    let mut names = vec![SURFACE_RADIUS_FILE, SURFACE_FILE, PITCH_FILE, DXF_FILE];
+    if cutter_in.is_some() {
+        names.push(CUTTER_FILE);
+    }
+    let out_target = match &args.out {
+        Some(dir) => Some(plan.dir("--out", dir, &names)?),
+        None => None,
+    };
+    let plot_target = match &args.plot {
+        Some(dir) => Some(plan.dir("--plot", dir, &[SVAJ_FILE])?),
+        None => None,
+    };
+    if let Some(t) = out_target {
+        let u = args.units.name();
+        let mut out = t.open()?;
+        let surface = &curves[0].2;
+        let what = match &actual {
+            Some((_, s)) => format!(
+                "a simulated machined cam (camsim profile --actual, seed {}, sample {})",
+                s.seed, s.sample
+            ),
+            None => "the theoretical cam".to_string(),
+        };
+        let mut radius = format!(
+            "# camsim profile: cam surface polar radius of {what}, from the rotation centre;\n\
+             # polar angle 0 where the follower axis points at cam angle 0, growing with the cam angle.\n\
+             # Chordal error bound {bound:e} {u}. Read back by: camsim run --measured {SURFACE_RADIUS_FILE}\n\
+             angle_deg,radius_in\n"
+        );
+        for (a, r) in polar_rows(surface, scale)? {
+            radius.push_str(&format!("{a:.9},{r:.10}\n"));
+        }
+        out.write(SURFACE_RADIUS_FILE, radius.as_bytes())?;
+        let mut s = format!("cam_angle_deg,x_{u},y_{u},polar_angle_deg,radius_{u}\n");
+        for p in surface {
+            let a = p.x.atan2(p.y).to_degrees().rem_euclid(360.0);
+            s.push_str(&format!(
+                "{:.9},{:.10},{:.10},{a:.9},{:.10}\n",
+                p.theta.to_degrees(),
+                p.x,
+                p.y,
+                p.x.hypot(p.y)
+            ));
+        }
+        out.write(SURFACE_FILE, s.as_bytes())?;
+        for (name, file) in [("pitch", PITCH_FILE), ("cutter", CUTTER_FILE)] {
+            if let Some((_, _, pts)) = curves.iter().find(|c| c.0 == name) {
+                let mut s = format!("cam_angle_deg,x_{u},y_{u}\n");
+                for p in pts {
+                    s.push_str(&format!(
+                        "{:.9},{:.10},{:.10}\n",
+                        p.theta.to_degrees(),
+                        p.x,
+                        p.y
+                    ));
+                }
+                out.write(file, s.as_bytes())?;
+            }
+        }
+        let layers: Vec<Layer> = curves
+            .iter()
+            .map(|(name, _, pts)| Layer {
+                name: match *name {
+                    "surface" => "SURFACE",
+                    "pitch" => "PITCH",
+                    _ => "CUTTER",
+                },
+                color: match *name {
+                    "surface" => 7,
+                    "pitch" => 1,
+                    _ => 5,
+                },
+                points: pts,
+            })
+            .collect();
+        out.write(DXF_FILE, export::dxf(&layers, args.units).as_bytes())?;
+        let dir = out.dir().to_path_buf();
+        out.commit()?;
+        files.extend(names.iter().map(|n| dir.join(n).display().to_string()));
+    }
+    if let Some(t) = plot_target {
+        let mut out = t.open()?;
+        crate::plot::draw_svaj(&mut out, design, SVAJ_FILE)?;
+        let dir = out.dir().to_path_buf();
+        out.commit()?;
+        files.push(dir.join(SVAJ_FILE).display().to_string());
+    }
+    report.files = files;
+    Ok(report)
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    crate::report::print(&report(&args)?, args.json)
+}

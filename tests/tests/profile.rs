@@ -1,0 +1,152 @@
+//! `camsim profile`: the exported cam reads back as the cam it came from.
+//!
+//! Round trip: the surface's polar-radius CSV, read by `camsim run --measured`, is the
+//! theoretical cam within the chordal error. The error measure is the largest |lift
+//! deviation| of the read-back cam from the program over one revolution (the measured
+//! profile's `max_abs_deviation_in`: the roller's exact envelope on the spline through
+//! the exported points, 3600 knots), and the bound is `--chord-error`: the exported
+//! points lie on the surface, and the chords between them stay within the bound, so a
+//! roller on the polygon would read the lift within it; the spline through the points
+//! is closer still. The run on the read-back cam then gives every period's RMS
+//! displacement within the same bound of the theoretical run's.
+
+use std::path::{Path, PathBuf};
+
+use camsim::cli::{parse_from, Command};
+use camsim::cmd::profile::{self, ProfileReport};
+use camsim::export::read_dxf;
+use camsim::measured::MeasuredProfile;
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("camsim-profile-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn export(args: &[&str]) -> ProfileReport {
+    let mut argv = vec!["camsim", "profile"];
+    argv.extend_from_slice(args);
+    let Command::Profile(a) = parse_from(argv).unwrap().command else {
+        panic!("not profile")
+    };
+    profile::report(&a).unwrap()
+}
+
+/// The largest |lift deviation| of the exported surface read back on the reference.
+fn read_back(out: &Path) -> (f64, f64) {
+    let m = camsim::measured::load(&out.join(profile::SURFACE_RADIUS_FILE)).unwrap();
+    let (_, stats) = m.profile(&camsim_core::Design::<f64>::reference()).unwrap();
+    (stats.max_abs_deviation_in, stats.rms_deviation_in)
+}
+
+#[test]
+fn the_exported_surface_reads_back_within_the_chordal_error() {
+    let mut last = f64::INFINITY;
+    for bound in [1e-3, 1e-4, 1e-5] {
+        let out = dir(&format!("rt{bound:e}"));
+        let b = format!("{bound}");
+        let r = export(&["--out", out.to_str().unwrap(), "--chord-error", &b]);
+        // The sampling kept its bound on every curve (measured independently).
+        for c in &r.curves {
+            assert!(c.max_chord_error <= bound, "{c:?}");
+            assert!(c.max_chord_error > bound / 8.0, "needlessly fine: {c:?}");
+        }
+        let (max_dev, _) = read_back(&out);
+        assert!(max_dev <= bound, "{bound}: {max_dev}");
+        // A finer drawing reads back closer.
+        assert!(max_dev < last, "{bound}: {max_dev} after {last}");
+        last = max_dev;
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}
+
+#[test]
+fn the_read_back_run_is_the_theoretical_run_within_the_chordal_error() {
+    let bound = 1e-4;
+    let out = dir("run");
+    export(&["--out", out.to_str().unwrap()]);
+    let run = |extra: &[&str]| {
+        let mut argv = vec!["camsim", "run", "--revolutions", "2"];
+        argv.extend_from_slice(extra);
+        let Command::Run(a) = parse_from(argv).unwrap().command else {
+            panic!("not run")
+        };
+        camsim::cmd::run::report(&a).unwrap()
+    };
+    let theory = run(&[]);
+    let file = out.join(profile::SURFACE_RADIUS_FILE);
+    let measured = run(&["--measured", file.to_str().unwrap()]);
+    assert_eq!(theory.per_period.len(), measured.per_period.len());
+    for (t, m) in theory.per_period.iter().zip(&measured.per_period) {
+        let d = (t.rms_displacement - m.rms_displacement).abs();
+        assert!(d <= bound, "{} {}: {d}", t.revolution, t.period);
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn an_exported_actual_cam_reads_back_as_that_cam() {
+    let bound = 1e-4;
+    let out = dir("actual");
+    let r = export(&["--actual", "--seed", "3", "--out", out.to_str().unwrap()]);
+    let a = r.actual.unwrap();
+    let (max_dev, rms) = read_back(&out);
+    // The machined cam's own deviation (tenths of a thou), read back within the bound.
+    assert!(a.max_abs_deviation_in > 2.0 * bound, "{a:?}");
+    assert!((max_dev - a.max_abs_deviation_in).abs() <= bound);
+    assert!((rms - a.rms_deviation_in).abs() <= bound);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn the_dxf_holds_the_csv_curves_closed_with_units() {
+    let out = dir("dxf");
+    let r = export(&[
+        "--out",
+        out.to_str().unwrap(),
+        "--units",
+        "mm",
+        "--cutter-radius",
+        "12.7",
+    ]);
+    let s = read_dxf(&std::fs::read_to_string(out.join(profile::DXF_FILE)).unwrap()).unwrap();
+    assert_eq!(s.insunits, Some(4));
+    assert!(s.eof);
+    // Surface, pitch, cutter and the centre point.
+    assert_eq!(s.entities, 4);
+    let names: Vec<&str> = s.polylines.iter().map(|p| p.0.as_str()).collect();
+    assert_eq!(names, ["SURFACE", "PITCH", "CUTTER"]);
+    for (p, c) in s.polylines.iter().zip(&r.curves) {
+        assert!(p.1, "{} not closed", p.0);
+        assert_eq!(p.2.len(), c.points);
+    }
+    // The surface in mm: the base circle's 38.1 mm radius at cam angle 0 (a dwell).
+    let (x, y) = s.polylines[0].2[0];
+    assert!((x.hypot(y) - 38.1).abs() < 1e-9, "{x} {y}");
+    // The cutter's centre is r_c - r_r = 3.175 mm outside the pitch curve there.
+    let (x, y) = s.polylines[2].2[0];
+    assert!(
+        (x.hypot(y) - (38.1 + 9.525 + 3.175)).abs() < 1e-9,
+        "{x} {y}"
+    );
+    // The CSV has the same points.
+    let csv = std::fs::read_to_string(out.join(profile::SURFACE_FILE)).unwrap();
+    assert!(csv.starts_with("cam_angle_deg,x_mm,y_mm,polar_angle_deg,radius_mm\n"));
+    assert_eq!(csv.lines().count() - 1, r.curves[0].points);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn a_too_fine_chord_error_is_refused_by_name() {
+    let Command::Profile(a) = parse_from(["camsim", "profile", "--chord-error", "1e-12"])
+        .unwrap()
+        .command
+    else {
+        panic!()
+    };
+    let e = profile::report(&a).unwrap_err().to_string();
+    assert!(
+        e.starts_with("--chord-error 1e-12: needs more than 3600 points"),
+        "{e}"
+    );
+}

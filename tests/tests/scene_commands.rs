@@ -1,0 +1,116 @@
+//! Every command takes a scene (issue 17): `modal SCENE`, `contact SCENE` and `predict
+//! SCENE` read the same file as `run SCENE`.
+
+use camsim::cli::{main_from, parse_from, Command};
+
+fn scene(name: &str, edit: impl Fn(String) -> String) -> std::path::PathBuf {
+    let text = camsim::scene::default_text().unwrap();
+    let p = std::env::temp_dir().join(format!("camsim-scene-{name}-{}.toml", std::process::id()));
+    std::fs::write(&p, edit(text)).unwrap();
+    p
+}
+
+#[test]
+fn contact_takes_the_scenes_pair() {
+    let reference = scene("contact-ref", |t| t);
+    let bigger = scene("contact-r045", |t| {
+        t.replace("roller_radius_in = 0.375", "roller_radius_in = 0.45")
+    });
+    let report = |p: &std::path::Path| {
+        let Command::Contact(a) =
+            parse_from(["camsim", "contact", p.to_str().unwrap(), "--force", "50"])
+                .unwrap()
+                .command
+        else {
+            panic!()
+        };
+        let d = camsim::scene::load(p).unwrap().design;
+        camsim::cmd::contact::compute_for(
+            a.force,
+            &d.hertz,
+            d.geometry.roller_radius,
+            d.geometry.base_radius,
+        )
+        .unwrap()
+    };
+    // The reference scene is the built-in reference pair.
+    let r = report(&reference);
+    assert_eq!(r, camsim::cmd::contact::compute(50.0).unwrap());
+    // Hertz's line contact: the width goes as the square root of the effective radius
+    // r1 r2 / (r1 + r2) at the same force, materials and length.
+    let b = report(&bigger);
+    assert_eq!(b.roller_radius_in, 0.45);
+    let reff = |r1: f64, r2: f64| r1 * r2 / (r1 + r2);
+    let expect = (reff(0.45, 1.5) / reff(0.375, 1.5)).sqrt();
+    assert!(
+        (b.contact_width_in / r.contact_width_in - expect).abs() < 1e-12,
+        "{b:?}"
+    );
+    // The binary takes it (it refused the argument before).
+    assert_eq!(
+        main_from([
+            "camsim",
+            "contact",
+            bigger.to_str().unwrap(),
+            "--force",
+            "50",
+            "--json"
+        ]),
+        0
+    );
+    for p in [reference, bigger] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+#[test]
+fn modal_takes_the_scenes_masses_and_springs() {
+    let reference = scene("modal-ref", |t| t);
+    let stiff = scene("modal-krs", |t| {
+        t.replace(
+            "spring_modal_rate_lb_per_in = 100.0",
+            "spring_modal_rate_lb_per_in = 400.0",
+        )
+    });
+    let analyse = |p: &std::path::Path| {
+        let d = camsim::scene::load(p).unwrap().design;
+        camsim::cmd::modal::analyse_with(camsim::cmd::modal::parameters(&d)).unwrap()
+    };
+    assert_eq!(analyse(&reference), camsim::cmd::modal::analyse().unwrap());
+    let s = analyse(&stiff);
+    assert_eq!(s.parameters.k_rs, 400.0);
+    // A stiffer return spring raises every translational frequency; the rotational
+    // system does not see it.
+    let r = analyse(&reference);
+    for (a, b) in r.translational_hz.iter().zip(&s.translational_hz) {
+        assert!(b > a, "{a} {b}");
+    }
+    assert_eq!(r.rotational_hz, s.rotational_hz);
+    assert_eq!(
+        main_from(["camsim", "modal", stiff.to_str().unwrap(), "--json"]),
+        0
+    );
+    for p in [reference, stiff] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+#[test]
+fn predict_takes_the_scene_positionally_like_run() {
+    let p = scene("predict", |t| t);
+    let path = p.to_str().unwrap();
+    let Command::Predict(a) = parse_from(["camsim", "predict", path]).unwrap().command else {
+        panic!()
+    };
+    assert_eq!(a.scene_file.as_deref(), Some(p.as_path()));
+    let Command::Predict(b) = parse_from(["camsim", "predict", "--scene", path])
+        .unwrap()
+        .command
+    else {
+        panic!()
+    };
+    assert_eq!(b.scene.as_deref(), Some(p.as_path()));
+    // Both at once is a usage error.
+    assert!(parse_from(["camsim", "predict", path, "--scene", path]).is_err());
+    let _ = std::fs::remove_file(p);
+}
