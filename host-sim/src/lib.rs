@@ -7,6 +7,7 @@ pub mod bench;
 pub mod cli;
 pub mod cmd;
 pub mod csv;
+pub mod firmware_log;
 pub mod measured;
 pub mod output;
 pub mod plot;
