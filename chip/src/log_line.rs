@@ -14,7 +14,7 @@ use crate::reading_parity;
 
 /// The clock the budget's real-time factor assumes, Hz: the STM32F4's 168 MHz, one
 /// instruction a cycle (a real M4F with flash wait states needs more cycles than
-/// instructions). The product's boot time is stated at the same clock.
+/// instructions). The QEMU demonstration image's boot time is stated at the same clock.
 pub const CHIP_CLOCK_HZ: u64 = 168_000_000;
 /// Cam speed of the budget's measured revolution, rpm (the reference design's 800 rpm).
 pub const CHIP_NOMINAL_RPM: u64 = 800;

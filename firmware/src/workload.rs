@@ -6,7 +6,7 @@
 //! The binaries call just these items:
 //! - [`chip_design`]: the design compiled in (the reference design of VI.1), both;
 //! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation, the
-//!   `predictor` binary (the product; it instantiates only the chip's model);
+//!   `predictor` binary (the QEMU demonstration image; it instantiates only the chip's model);
 //! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`simulate_revolution`]: the budget
 //!   probes, generic over the scene, which the `budget` binary instantiates for the chip's
 //!   model ([`camsim_chip::ChipModel`], the quasi-static-rod scene's 10 states) and, for comparison, the full 22-state

@@ -6,7 +6,7 @@
 //! this image's own memory. Prints the `budget ...` line that scripts/firmware-ci.sh reads
 //! and exits with success.
 //!
-//! Not the product (that is `predictor`): this image links both models, so its flash and
+//! Not the QEMU demonstration image (that is `predictor`): this image links both models, so its flash and
 //! stack are those of the probes, not of what a board runs.
 
 #![no_std]

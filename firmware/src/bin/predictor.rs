@@ -1,4 +1,4 @@
-//! The product: cam-timing and jump predictor. At boot, with the alarm asserted, builds
+//! The QEMU demonstration image: cam-timing and jump predictor. At boot, with the alarm asserted, builds
 //! the prediction table of the chip's scene (camsim-core's model in f32, configured by
 //! the `camsim-chip` crate) and checks its interpolation against direct simulations;
 //! then runs the chip's speed monitor (`camsim_chip::ChipMonitor`, the board's too) on
