@@ -1,30 +1,30 @@
 #!/usr/bin/env bash
-# Builds the camsim firmware (Cortex-M4F, release) and runs its binaries under QEMU
-# mps2-an386 with -icount shift=0, decodes their defmt output and checks them:
-# - predictor (the product): its memory line
-#     product flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. boot_instr=.. max_instr_per_reading=..
-#   host parity of every `parity ...` line (camsim predict --f32 --check-log), and the
-#   reactions to the faults of the scripted machine (camsim_chip::CHIP_SCRIPT): for each
-#   of a lost speed, a pulse faster than the machine's limit, a bounce, a missed pulse
-#   and a speed outside the table's grid, its warning and a `reaction kind=.. alarm=asserted
-#   pin=LED0 level=low` line (LED0 read back), never a released alarm on a reading that
-#   does not vouch for the speed, and the alarm asserted when the script ends;
-# - boot_fault (the product's boot with an impossible solver budget): exit status 1,
-#   the error reported, the alarm asserted with LED0 read back low;
-# - the release product ELF's panic call sites (scripts/panic-sites.sh): it fails if any
-#   lies outside the logging transport (defmt-semihosting and its semihosting crate);
-# - budget (the instruction probes): its budget line
-#     budget flash_bytes=.. ram_static_bytes=.. stack_peak_bytes=.. ram_bytes=.. instr_per_rhs=.. instr_per_rev=.. realtime_factor=..
+# Builds the camsim firmware (Cortex-M4F, release), runs its binaries under QEMU
+# mps2-an386 with -icount shift=0 and decodes their defmt output; the checks of the
+# decoded logs are Rust, `camsim firmware-check` (host-sim/src/firmware_log.rs, unit-tested
+# on sample logs), reading the lines in the formats of camsim_chip's log-line types
+# (ProductLine, BudgetLine, ReactionLine, ParityLine: defmt::Format on the chip, Display
+# on the host). This script only builds, runs, decodes and calls the checkers:
+# - predictor (the QEMU demonstration image; the product is board_f446): its `product`
+#   memory line, its boot cost, the reactions to the faults of the scripted machine
+#   (camsim_chip::CHIP_SCRIPT: each fault's warning and a `reaction kind=.. alarm=asserted
+#   pin=LED0 level=low` line, never a released alarm, the alarm asserted at the end)
+#   (camsim firmware-check --product), and host parity of every `parity ...` line
+#   (camsim predict --f32 --check-log);
+# - budget (the instruction probes): its `budget` line, the real-time factor recomputed
+#   from instr_per_rev and camsim_chip's clock (camsim firmware-check --budget);
+# - boot_fault (the demonstration image's boot with an impossible solver budget): exit
+#   status 1, the error reported, the alarm asserted with LED0 read back low
+#   (camsim firmware-check --boot-fault);
+# - the release predictor ELF's panic call sites (scripts/panic-sites.sh): it fails if any
+#   lies outside the logging transport (defmt-semihosting and its semihosting crate).
 # For each image, flash and static RAM are cross-checked against `llvm-size -A` on its
-# ELF, counting the same sections on both sides (see firmware/src/memory.rs):
-#   flash      = .vector_table + .text + .rodata + .data (load image)
-#   static RAM = .data + .bss + .uninit
-# and checked against the budget in memory.x (flash <= FLASH, static RAM + stack peak
-# <= RAM). The real-board build (`--features rtt`) is compiled and its sizes checked too
-# (it is not run). Then a scene chosen at build time (CAMSIM_SCENE=scene file) is built,
-# run and checked again, and a measured cam profile (CAMSIM_PROFILE=scenes/measured-wavy.csv)
-# in the product: run, sized against the budget, panic sites and host parity
-# (camsim predict --f32 --measured).
+# ELF (the same sections as firmware/src/memory.rs) and held to the budget in memory.x.
+# The real-board build (`--features rtt`) is compiled and its sizes checked too
+# (camsim firmware-check --fits; it is not run). Then a scene chosen at build time
+# (CAMSIM_SCENE=scene file) is built, run and checked again, and a measured cam profile
+# (CAMSIM_PROFILE=scenes/measured-wavy.csv) in the demonstration image: run, sized
+# against the budget, panic sites and host parity (camsim predict --f32 --measured).
 # Called by scripts/test-all.sh; run from anywhere (it cd's to the repository root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,7 +36,7 @@ PREDICTOR_ELF=$ELF_DIR/predictor
 BUDGET_ELF=$ELF_DIR/budget
 BOOT_FAULT_ELF=$ELF_DIR/boot_fault
 BOOT_FAULT_LOG=target/firmware-boot-fault.log   # the boot-failure test's log
-# Crates whose code may hold the product's panic call sites: the logging transport.
+# Crates whose code may hold the demonstration image's panic call sites: the logging transport.
 TRANSPORT_ORIGINS='^(defmt-semihosting|semihosting)-[0-9]'
 LOG=target/firmware-run.log              # the predictor's log (host parity reads it)
 BUDGET_LOG=target/firmware-budget.log    # the budget probes' log
@@ -91,7 +91,7 @@ run_qemu() {
     [ "${status[0]}" -eq "$expect" ] || fail "QEMU exited with status ${status[0]}, expected $expect (firmware panic or fault?)"
     [ "${status[1]}" -eq 0 ] || fail "defmt-print exited with status ${status[1]}"
 }
-# Runs both binaries (product log $1, budget log $2) and checks their lines.
+# Runs both binaries (demonstration image log $1, budget log $2) and checks their lines.
 run_and_check() {
     local log=$1 budget_log=$2
     shift 2
@@ -103,26 +103,26 @@ run_and_check() {
 run_and_check "$LOG" "$BUDGET_LOG"
 
 # ---------------------------------------------------------------------------
-# A solver failure at boot: the product's boot (board::qemu::boot_or_stop) with an
+# A solver failure at boot: the demonstration image's boot (board::qemu::boot_or_stop) with an
 # impossible step budget must report the error and stop with the alarm asserted.
 # ---------------------------------------------------------------------------
-echo "firmware-ci: boot failure (boot_fault: the product's boot with 1 solver step per revolution)"
+echo "firmware-ci: boot failure (boot_fault: the demonstration image's boot with 1 solver step per revolution)"
 run_qemu "$BOOT_FAULT_ELF" "$BOOT_FAULT_LOG" 1
 check --boot-fault "$BOOT_FAULT_LOG" || fail "boot_fault: see the line above"
 
 # ---------------------------------------------------------------------------
-# No panic on the chip: every panic call site of the release product ELF lies in the
+# No panic on the chip: every panic call site of the release predictor ELF lies in the
 # logging transport. The lister must see them: with nothing allowed it counts them all.
 # ---------------------------------------------------------------------------
 # shellcheck source=scripts/panic-sites.sh
 source scripts/panic-sites.sh
 echo "firmware-ci: panic call sites in $PREDICTOR_ELF (responsible code <- file:line (in the function holding the call))"
 panic_sites "$PREDICTOR_ELF" "$TRANSPORT_ORIGINS"
-[ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the product outside the logging transport (listed above)"
+[ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the demonstration image outside the logging transport (listed above)"
 [ "$PANIC_TOTAL" -gt 0 ] || fail "no panic call site found: the transport has 6; is the lister broken?"
 panic_sites "$PREDICTOR_ELF" >/dev/null
 [ "$PANIC_OUTSIDE" -eq "$PANIC_TOTAL" ] || fail "the panic lister's filter is broken"
-echo "firmware-ci: product panic call sites: $PANIC_TOTAL, all in the logging transport"
+echo "firmware-ci: demonstration image panic call sites: $PANIC_TOTAL, all in the logging transport"
 
 # ---------------------------------------------------------------------------
 # HOST PARITY CHECK: the host runs the same f32 scene through the same core code
@@ -151,8 +151,8 @@ run_and_check "$SCENE_LOG" "$SCENE_BUDGET_LOG" --scene "$SCENE_NAME"
 # ---------------------------------------------------------------------------
 # A measured cam profile compiled in (CAMSIM_PROFILE): firmware/build.rs reads the CSV with
 # the host's reader (camsim_scene_file::measured), turns it into the deviation knots on the
-# design, narrows them to f32 and compiles them into flash; the product splines them at
-# boot and builds its table with the roller on that cam. Only the product carries it (the
+# design, narrows them to f32 and compiles them into flash; the demonstration image splines them at
+# boot and builds its table with the roller on that cam. Only that image carries it (the
 # budget probes do not: see firmware/README.md). Checked: the run, its memory against
 # llvm-size and memory.x, the fault reactions, the panic sites, and host parity with
 # `camsim predict --f32 --measured` (the same reader, knots, narrowing and spline).
@@ -160,14 +160,14 @@ run_and_check "$SCENE_LOG" "$SCENE_BUDGET_LOG" --scene "$SCENE_NAME"
 PROFILE=scenes/measured-wavy.csv
 PROFILE_NAME=$(basename "$PROFILE")
 PROFILE_LOG=target/firmware-run-profile.log
-echo "firmware-ci: build-time measured profile $PROFILE (product)"
+echo "firmware-ci: build-time measured profile $PROFILE (demonstration image)"
 PROFILE_PATH="$PWD/$PROFILE"   # absolute: build.rs runs in firmware/
 (cd firmware && CAMSIM_PROFILE="$PROFILE_PATH" cargo build --release --bin predictor)
 run_qemu "$PREDICTOR_ELF" "$PROFILE_LOG"
 check --product "$PROFILE_LOG" "$PREDICTOR_ELF" --profile "$PROFILE_NAME" \
-    || fail "profile product: see the line above"
+    || fail "profile image: see the line above"
 panic_sites "$PREDICTOR_ELF" "$TRANSPORT_ORIGINS"
-[ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the profile product outside the logging transport (listed above)"
+[ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the profile image outside the logging transport (listed above)"
 ./target/release/camsim predict --f32 --measured "$PROFILE" --check-log "$PROFILE_LOG" \
     || fail "host parity (measured profile): see the line above"
 
