@@ -409,3 +409,45 @@ impl defmt::Format for ReactionLine {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::string::ToString;
+
+    #[test]
+    fn parity_text_is_the_firmwares_format() {
+        // The chip's defmt strings print `{=u32:#010x}` as 0x and eight hex digits and
+        // bools as true/false: the host's text must be the same characters.
+        let t = ParityLine::Table {
+            i: 3,
+            rpm: 0x43c8_0000,
+            force: 0xbf80_0000,
+            jumped: false,
+            timing: [1, 2, 3, 0xa, 0xb, 0xffff_ffff],
+        };
+        assert_eq!(
+            t.to_string(),
+            "parity table i=3 rpm=0x43c80000 force=0xbf800000 jumped=false timing=0x00000001,0x00000002,0x00000003,0x0000000a,0x0000000b,0xffffffff"
+        );
+        assert_eq!(ParityLine::jump(None).to_string(), "parity jump rpm=none");
+        assert_eq!(
+            ParityLine::jump(Some(500.0)).to_string(),
+            "parity jump rpm=0x43fa0000"
+        );
+        let r = ParityLine::reading(7, &SpeedReading::Lost, true);
+        assert_eq!(
+            r.to_string(),
+            "parity reading i=7 kind=lost value=0x00000000 alarm=true"
+        );
+    }
+
+    #[test]
+    fn realtime_factor_is_the_clock_over_the_instructions() {
+        // 168e6 Hz * 60 s / 800 rpm = 12.6e6 cycles a revolution.
+        assert_eq!(realtime_factor(12_600_000), 1.0);
+        assert_eq!(realtime_factor(6_300_000), 2.0);
+        assert!(realtime_factor(0).is_finite());
+    }
+}
