@@ -23,6 +23,12 @@ use camsim_core::{
     SolverSettings, SpeedPrediction, SpeedReading, Start, SteadyState, TheoreticalLift,
 };
 
+mod log_line;
+pub use log_line::{
+    realtime_factor, BudgetLine, MemoryFields, ParityLine, ProductLine, ReactionLine,
+    CHIP_CLOCK_HZ, CHIP_NOMINAL_RPM,
+};
+
 /// The chip's scene: regulated drive, vertical, the follower train quasi-static up to the
 /// load (docs/MODEL.md §10).
 pub type ChipScene = RegulatedQsRod;

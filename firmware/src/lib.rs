@@ -2,8 +2,8 @@
 //! the chip's speed monitor (the fail-safe alarm output and the fault log lines:
 //! [`monitor`]), the budget probes (linker sections, stack painting, SysTick instruction
 //! counting), the model workload, the exception handlers and the panic/exit plumbing.
-//! One concern per binary in `src/bin/`: `predictor` (the product), `budget` (the
-//! instruction probes), `boot_fault` (the product's boot-failure path under test) and,
+//! One concern per binary in `src/bin/`: `predictor` (the QEMU demonstration image), `budget` (the
+//! instruction probes), `boot_fault` (the QEMU demonstration image's boot-failure path under test) and,
 //! with feature `stm32f446`, `board_f446` (the Nucleo-F446RE).
 //!
 //! Failure paths depend on the defmt transport:

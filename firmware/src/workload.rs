@@ -6,7 +6,7 @@
 //! The binaries call just these items:
 //! - [`chip_design`]: the design compiled in (the reference design of VI.1), both;
 //! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation, the
-//!   `predictor` binary (the product; it instantiates only the chip's model);
+//!   `predictor` binary (the QEMU demonstration image; it instantiates only the chip's model);
 //! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`simulate_revolution`]: the budget
 //!   probes, generic over the scene, which the `budget` binary instantiates for the chip's
 //!   model ([`camsim_chip::ChipModel`], the quasi-static-rod scene's 10 states) and, for comparison, the full 22-state
@@ -20,9 +20,7 @@
 
 use core::ops::ControlFlow;
 
-use camsim_chip::{
-    chip_solver_settings, ChipConfig, CHIP_GRID,
-};
+use camsim_chip::{chip_solver_settings, ChipConfig, CHIP_GRID};
 use camsim_core::{
     simulate, CamModel, Design, PredictionTable, Sample, Scene, SolverSettings, SpeedPrediction,
     SteadyState,
@@ -31,13 +29,9 @@ use camsim_core::{
 /// Right-hand-side evaluations timed to get instructions per evaluation.
 pub const RHS_REPS: u32 = 1000;
 
-/// Nominal cam speed of the measured revolution (rpm): the reference design's 800 rpm.
-pub const NOMINAL_RPM: f32 = 800.0;
-/// [`NOMINAL_RPM`] as an integer (for the real-time factor's integer arithmetic).
-pub const NOMINAL_RPM_INT: u64 = 800;
-/// The clock the real-time factor assumes, Hz: the STM32F4's 168 MHz, one instruction a
-/// cycle (a real M4F with flash wait states needs more cycles than instructions).
-pub const CLOCK_HZ: u64 = 168_000_000;
+/// Nominal cam speed of the measured revolution (rpm): `camsim_chip::CHIP_NOMINAL_RPM`,
+/// the reference design's 800 rpm (the real-time factor is `camsim_chip::realtime_factor`).
+pub const NOMINAL_RPM: f32 = camsim_chip::CHIP_NOMINAL_RPM as f32;
 
 /// The scene chosen at build time (`CAMSIM_SCENE`): the chip's `Design<f32>` in postcard,
 /// written by `build.rs`.
@@ -259,6 +253,8 @@ impl Predictor {
 
     /// The model run directly at `rpm` (for the interpolation-accuracy check at boot).
     pub fn direct(&self, rpm: f32) -> Result<SteadyState<f32>, camsim_core::Error> {
-        ChipConfig::new(&self.design).on(self.lift).steady_state(rpm)
+        ChipConfig::new(&self.design)
+            .on(self.lift)
+            .steady_state(rpm)
     }
 }

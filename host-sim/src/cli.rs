@@ -40,6 +40,8 @@ pub enum Command {
     Scenes(cmd::scenes::Args),
     /// The firmware's jump/timing predictor on the host (same scene and scripted machine); --check-log for parity.
     Predict(cmd::predict::Args),
+    /// Check the firmware's decoded QEMU logs: memory against llvm-size and memory.x, real-time factor, fault reactions, boot failure.
+    FirmwareCheck(cmd::firmware_check::Args),
     /// Many actual cams in parallel: statistics of every per-period column and the jump probability.
     Montecarlo(cmd::montecarlo::Args),
     /// The cam as a drawing: surface, pitch curve and cutter path as DXF and CSV; the SVAJ plot.
@@ -75,6 +77,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Bench(a) => cmd::bench::run(a),
         Command::Scenes(a) => cmd::scenes::run(a),
         Command::Predict(a) => cmd::predict::run(a),
+        Command::FirmwareCheck(a) => cmd::firmware_check::run(a),
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
         Command::Profile(a) => cmd::profile::run(a),
         Command::Compare(a) => cmd::compare::run(a),

@@ -1,10 +1,10 @@
-//! The product's boot with a solver failure provoked: the same boot as `predictor`
+//! The QEMU demonstration image's boot with a solver failure provoked: the same boot as `predictor`
 //! (`board::qemu::boot_or_stop`: alarm asserted first, then the prediction table) with an
 //! impossible step budget (one step per revolution), so the table build fails with
-//! `StepBudgetExceeded`. The product's failure path must then report the error and stop
+//! `StepBudgetExceeded`. The QEMU demonstration image's failure path must then report the error and stop
 //! with the alarm in its safe state (LED0 low, read back) and a failure exit (QEMU exit
-//! status 1); scripts/firmware-ci.sh checks all three. Not a product image: a test of the
-//! product's boot-failure path, with the product's own code.
+//! status 1); scripts/firmware-ci.sh checks all three. Not a demonstration image: a test of the
+//! QEMU demonstration image's boot-failure path, with that image's own code.
 
 #![no_std]
 #![no_main]
@@ -34,7 +34,7 @@ fn main() -> ! {
         ..chip_solver_settings()
     };
     defmt::info!(
-        "boot_fault: the product's boot with an impossible solver budget (max_steps_per_rev={=u32})",
+        "boot_fault: the QEMU demonstration image's boot with an impossible solver budget (max_steps_per_rev={=u32})",
         STEPS_PER_REV
     );
     let _ = boot_or_stop(&counter, &mut out, &settings);

@@ -6,13 +6,13 @@
 //! this image's own memory. Prints the `budget ...` line that scripts/firmware-ci.sh reads
 //! and exits with success.
 //!
-//! Not the product (that is `predictor`): this image links both models, so its flash and
+//! Not the QEMU demonstration image (that is `predictor`): this image links both models, so its flash and
 //! stack are those of the probes, not of what a board runs.
 
 #![no_std]
 #![no_main]
 
-use camsim_chip::{ChipScene, CHIP_STATES};
+use camsim_chip::{realtime_factor, BudgetLine, ChipScene, MemoryFields, CHIP_STATES};
 use camsim_core::{Real, RegulatedFull, Scene};
 use camsim_firmware::memory::{paint_stack, MemoryReport};
 use camsim_firmware::timing::InstrCounter;
@@ -102,18 +102,18 @@ fn main() -> ! {
         exit_failure()
     }
     // Real time at 800 rpm is 60/800 s a revolution; at 168 MHz and one instruction a
-    // cycle a revolution's instructions take rev_instr / 168e6 s.
-    let cycles_per_rev_real_time = workload::CLOCK_HZ * 60 / workload::NOMINAL_RPM_INT;
-    let realtime_factor = cycles_per_rev_real_time as f32 / rev_instr.max(1) as f32;
-    defmt::info!(
-        "budget flash_bytes={=u32} ram_static_bytes={=u32} stack_peak_bytes={=u32} ram_bytes={=u32} instr_per_rhs={=u64} instr_per_rev={=u64} realtime_factor={=f32}",
-        mem.flash_bytes,
-        mem.ram_static_bytes,
-        mem.stack_peak_bytes,
-        mem.ram_bytes(),
+    // cycle a revolution's instructions take rev_instr / 168e6 s (camsim_chip::realtime_factor).
+    let line = BudgetLine {
+        memory: MemoryFields {
+            flash_bytes: mem.flash_bytes,
+            ram_static_bytes: mem.ram_static_bytes,
+            stack_peak_bytes: mem.stack_peak_bytes,
+            ram_bytes: mem.ram_bytes(),
+        },
         instr_per_rhs,
-        rev_instr,
-        realtime_factor
-    );
+        instr_per_rev: rev_instr,
+        realtime_factor: realtime_factor(rev_instr),
+    };
+    defmt::info!("{}", line);
     exit_success()
 }

@@ -1,4 +1,4 @@
-//! The product: cam-timing and jump predictor. At boot, with the alarm asserted, builds
+//! The QEMU demonstration image: cam-timing and jump predictor. At boot, with the alarm asserted, builds
 //! the prediction table of the chip's scene (camsim-core's model in f32, configured by
 //! the `camsim-chip` crate) and checks its interpolation against direct simulations;
 //! then runs the chip's speed monitor (`camsim_chip::ChipMonitor`, the board's too) on
@@ -22,7 +22,8 @@
 #![no_main]
 
 use camsim_chip::{
-    chip_solver_settings, reading_parity, ChipMonitor, ChipStep, ScriptedPulseTrain, CHIP_CHECK_RPM,
+    chip_solver_settings, ChipMonitor, ChipStep, MemoryFields, ParityLine, ProductLine,
+    ReactionLine, ScriptedPulseTrain, CHIP_CHECK_RPM, CHIP_CLOCK_HZ,
 };
 use camsim_core::{CaptureTimer, SpeedPrediction, SteadyState};
 use camsim_firmware::board::qemu::{alarm_output, boot_or_stop, stop_safe, ALARM_PIN};
@@ -33,12 +34,7 @@ use camsim_firmware::{exit_failure, exit_success};
 use cortex_m_rt::entry;
 
 /// Clock the boot time is stated at (Hz): a typical Cortex-M4F (e.g. STM32F4) at full speed.
-const STATED_CLOCK_HZ: u64 = 168_000_000;
-
-/// Raw bits of the six timing errors.
-fn timing_bits(t: &[f32; 6]) -> [u32; 6] {
-    t.map(f32::to_bits)
-}
+const STATED_CLOCK_HZ: u64 = CHIP_CLOCK_HZ;
 
 /// Logs one row of the boot table (readable and as parity bits).
 fn log_table_row(i: usize, rpm: f32, s: &SteadyState<f32>) {
@@ -47,11 +43,7 @@ fn log_table_row(i: usize, rpm: f32, s: &SteadyState<f32>) {
         "table rpm={=f32} min_force_lb={=f32} jumped={=bool} timing_deg rise10/50/90={=f32} {=f32} {=f32} return10/50/90={=f32} {=f32} {=f32}",
         rpm, s.min_contact_force, s.jumped, t[0], t[1], t[2], t[3], t[4], t[5]
     );
-    let b = timing_bits(t);
-    defmt::info!(
-        "parity table i={=usize} rpm={=u32:#010x} force={=u32:#010x} jumped={=bool} timing={=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x}",
-        i, rpm.to_bits(), s.min_contact_force.to_bits(), s.jumped, b[0], b[1], b[2], b[3], b[4], b[5]
-    );
+    defmt::info!("{}", ParityLine::table(i as u32, rpm, s));
 }
 
 /// Logs a prediction at a vouched speed (readable and as parity bits).
@@ -61,32 +53,21 @@ fn log_sample(i: u32, p: &SpeedPrediction<f32>, alarm: bool) {
         "sample rpm={=f32} force_margin_lb={=f32} speed_margin_rpm={=f32} in_grid={=bool} alarm={=bool} timing_deg rise10/50/90={=f32} {=f32} {=f32} return10/50/90={=f32} {=f32} {=f32}",
         p.rpm, p.force_margin_lb, p.speed_margin_rpm, p.in_grid, alarm, t[0], t[1], t[2], t[3], t[4], t[5]
     );
-    let b = timing_bits(t);
-    defmt::info!(
-        "parity sample i={=u32} rpm={=u32:#010x} force={=u32:#010x} speed={=u32:#010x} alarm={=bool} timing={=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x}",
-        i, p.rpm.to_bits(), p.force_margin_lb.to_bits(), p.speed_margin_rpm.to_bits(), alarm, b[0], b[1], b[2], b[3], b[4], b[5]
-    );
+    defmt::info!("{}", ParityLine::sample(i, p, alarm));
 }
 
 /// Logs a reading that does not vouch for the speed: why (a warning), the parity line,
 /// and the reaction: the alarm state and LED0's level read back.
 fn log_non_vouched(i: u32, monitor: &ChipMonitor<f32>, step: &ChipStep<f32>, led0_low: bool) {
     log_fault(monitor, &step.reading);
-    let (kind, value) = reading_parity(&step.reading);
-    defmt::info!(
-        "parity reading i={=u32} kind={=str} value={=u32:#010x} alarm={=bool}",
-        i,
-        kind,
-        value,
-        step.alarm
-    );
-    defmt::info!(
-        "reaction kind={=str} alarm={=str} pin={=str} level={=str}",
-        kind,
-        if step.alarm { "asserted" } else { "released" },
-        ALARM_PIN,
-        if led0_low { "low" } else { "high" }
-    );
+    defmt::info!("{}", ParityLine::reading(i, &step.reading, step.alarm));
+    let reaction = ReactionLine {
+        kind: step.reading.kind(),
+        asserted: step.alarm,
+        pin: ALARM_PIN,
+        low: led0_low,
+    };
+    defmt::info!("{}", reaction);
 }
 
 #[entry]
@@ -119,11 +100,11 @@ fn main() -> ! {
     match table.jump_rpm {
         Some(j) => {
             defmt::info!("jump_onset_rpm={=f32}", j);
-            defmt::info!("parity jump rpm={=u32:#010x}", j.to_bits());
+            defmt::info!("{}", ParityLine::jump(Some(j)));
         }
         None => {
             defmt::info!("jump_onset_rpm=none (no jump up to the search limit)");
-            defmt::info!("parity jump rpm=none");
+            defmt::info!("{}", ParityLine::jump(None));
         }
     }
 
@@ -142,11 +123,7 @@ fn main() -> ! {
                         "interp_check rpm={=f32} interp_force_lb={=f32} direct_force_lb={=f32} abs_err_force_lb={=f32} max_abs_err_timing_deg={=f32} direct_jumped={=bool}",
                         rpm, p.force_margin_lb, d.min_contact_force, df, dt, d.jumped
                     );
-                    let b = timing_bits(&d.timing_deg);
-                    defmt::info!(
-                        "parity check rpm={=u32:#010x} force={=u32:#010x} jumped={=bool} timing={=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x},{=u32:#010x}",
-                        rpm.to_bits(), d.min_contact_force.to_bits(), d.jumped, b[0], b[1], b[2], b[3], b[4], b[5]
-                    );
+                    defmt::info!("{}", ParityLine::check(rpm, &d));
                 }
                 Err(e) => defmt::error!("interp_check rpm={=f32} failed: {=str}", rpm, error_name(&e)),
             }
@@ -208,14 +185,16 @@ fn main() -> ! {
     if mem.stack_overflowed() {
         stop_safe(&mut out, "stack overflow")
     }
-    defmt::info!(
-        "product flash_bytes={=u32} ram_static_bytes={=u32} stack_peak_bytes={=u32} ram_bytes={=u32} boot_instr={=u64} max_instr_per_reading={=u64}",
-        mem.flash_bytes,
-        mem.ram_static_bytes,
-        mem.stack_peak_bytes,
-        mem.ram_bytes(),
+    let line = ProductLine {
+        memory: MemoryFields {
+            flash_bytes: mem.flash_bytes,
+            ram_static_bytes: mem.ram_static_bytes,
+            stack_peak_bytes: mem.stack_peak_bytes,
+            ram_bytes: mem.ram_bytes(),
+        },
         boot_instr,
-        max_instr
-    );
+        max_instr_per_reading: max_instr,
+    };
+    defmt::info!("{}", line);
     exit_success()
 }

@@ -2,7 +2,7 @@
 //! QEMU board, as `f446` is the Nucleo's. The index pulses come from the scripted machine
 //! ([`ScriptedPulseTrain`], a [`camsim_core::CaptureTimer`] like the board's TIM2
 //! capture), the alarm goes to the FPGA IO's `LED0` with the board's fail-safe polarity
-//! (LOW = asserted), and the product's boot ([`boot_or_stop`]) stops with the alarm
+//! (LOW = asserted), and the QEMU demonstration image's boot ([`boot_or_stop`]) stops with the alarm
 //! asserted on any failure.
 //!
 //! Memory map used (checked with QEMU 7.2 `info mtree`): code SSRAM at 0x0000_0000,
@@ -116,8 +116,8 @@ pub fn stop_safe(out: &mut AlarmOutput, why: &str) -> ! {
     crate::exit_failure()
 }
 
-/// The product's boot: builds the prediction table of the compiled-in scene with the
-/// solver `settings` (the product passes `camsim_chip::chip_solver_settings()`) while the
+/// The QEMU demonstration image's boot: builds the prediction table of the compiled-in scene with the
+/// solver `settings` (the QEMU demonstration image passes `camsim_chip::chip_solver_settings()`) while the
 /// alarm stays asserted; returns it with the instructions it took. A failure is logged
 /// (`boot: table build failed: <error>`) and stops the firmware with the alarm asserted
 /// ([`stop_safe`]).

@@ -23,8 +23,8 @@ use anyhow::{bail, Result};
 use serde::Serialize;
 
 use camsim_chip::{
-    chip_design, chip_design_from, chip_solver_settings, reading_parity, ChipConfig, ChipDeviation,
-    ChipMonitor, ChipScene, ChipStep, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM,
+    chip_design, chip_design_from, chip_solver_settings, ChipConfig, ChipDeviation, ChipMonitor,
+    ChipScene, ChipStep, ParityLine, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM,
     CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
     CHIP_PROFILE_MAX_KNOTS, CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
 };
@@ -187,59 +187,25 @@ fn compute_on<T: Real, P: LiftProfile<T> + Copy>(
     })
 }
 
-fn hex(x: f32) -> String {
-    format!("{:#010x}", x.to_bits())
-}
-
-fn timing_hex(t: &[f32; 6]) -> String {
-    t.iter().map(|v| hex(*v)).collect::<Vec<_>>().join(",")
-}
-
-/// The `parity ...` lines the firmware prints, in its order, from the host's f32 run.
+/// The `parity ...` lines the firmware prints, in its order, from the host's f32 run
+/// (the text of [`ParityLine`], the type the firmware logs with defmt).
 pub fn parity_lines(p: &Prediction<f32>) -> Vec<String> {
     let mut out = Vec::new();
     for (i, (rpm, s)) in p.table.rpm.iter().zip(p.table.at.iter()).enumerate() {
-        out.push(format!(
-            "parity table i={i} rpm={} force={} jumped={} timing={}",
-            hex(*rpm),
-            hex(s.min_contact_force),
-            s.jumped,
-            timing_hex(&s.timing_deg)
-        ));
+        out.push(ParityLine::table(i as u32, *rpm, s));
     }
-    out.push(match p.table.jump_rpm {
-        Some(j) => format!("parity jump rpm={}", hex(j)),
-        None => "parity jump rpm=none".to_string(),
-    });
+    out.push(ParityLine::jump(p.table.jump_rpm));
     for c in &p.checks {
-        out.push(format!(
-            "parity check rpm={} force={} jumped={} timing={}",
-            hex(c.rpm),
-            hex(c.direct.min_contact_force),
-            c.direct.jumped,
-            timing_hex(&c.direct.timing_deg)
-        ));
+        out.push(ParityLine::check(c.rpm, &c.direct));
     }
     for (i, s) in p.samples.iter().enumerate() {
+        let i = i as u32;
         out.push(match &s.prediction {
-            Some(q) => format!(
-                "parity sample i={i} rpm={} force={} speed={} alarm={} timing={}",
-                hex(q.rpm),
-                hex(q.force_margin_lb),
-                hex(q.speed_margin_rpm),
-                s.alarm,
-                timing_hex(&q.timing_deg)
-            ),
-            None => {
-                let (kind, value) = reading_parity(&s.reading);
-                format!(
-                    "parity reading i={i} kind={kind} value={value:#010x} alarm={}",
-                    s.alarm
-                )
-            }
+            Some(q) => ParityLine::sample(i, q, s.alarm),
+            None => ParityLine::reading(i, &s.reading, s.alarm),
         });
     }
-    out
+    out.iter().map(ParityLine::to_string).collect()
 }
 
 /// The `parity ...` lines of a decoded firmware log (text from `parity ` to the line end).

@@ -1,0 +1,151 @@
+//! `camsim firmware-check`: the checks of the firmware's decoded QEMU logs that
+//! scripts/firmware-ci.sh runs (the script only builds, runs QEMU, decodes and calls
+//! this). The checks themselves are [`crate::firmware_log`]'s.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use anyhow::{bail, Context, Result};
+use clap::ArgGroup;
+
+use crate::firmware_log::{
+    check_boot_fault, check_budget, check_elf_fits, check_memory, check_product_log, check_profile,
+    check_reactions, check_scene, last_memory_line, parse_budget, parse_llvm_size, parse_memory_x,
+    ElfSizes, MemoryBudget,
+};
+
+/// Arguments of `camsim firmware-check`.
+#[derive(clap::Args, Debug)]
+#[command(group(ArgGroup::new("what").required(true).multiple(true).args(["product", "budget", "boot_fault", "fits"])))]
+pub struct Args {
+    /// The QEMU demonstration image's decoded log and its ELF: the `product` memory line
+    /// against `llvm-size -A` and memory.x, the boot cost, the fault reactions.
+    #[arg(long, num_args = 2, value_names = ["LOG", "ELF"])]
+    pub product: Option<Vec<PathBuf>>,
+    /// The budget probes' decoded log and ELF: the `budget` memory line, the instruction
+    /// counts and the real-time factor recomputed from `instr_per_rev`.
+    #[arg(long, num_args = 2, value_names = ["LOG", "ELF"])]
+    pub budget: Option<Vec<PathBuf>>,
+    /// The boot-failure image's decoded log: the error reported, the alarm left asserted.
+    #[arg(long, value_name = "LOG")]
+    pub boot_fault: Option<PathBuf>,
+    /// An ELF built but not run (the real-board build): flash and static RAM within memory.x.
+    #[arg(long, value_name = "ELF")]
+    pub fits: Vec<PathBuf>,
+    /// The build-time scene file's name the product and budget logs must report.
+    #[arg(long, value_name = "NAME")]
+    pub scene: Option<String>,
+    /// The build-time measured profile's name the product log must report.
+    #[arg(long, value_name = "NAME")]
+    pub profile: Option<String>,
+    /// The linker script holding the budget (LENGTH of FLASH and RAM).
+    #[arg(long, value_name = "FILE", default_value = "memory.x")]
+    pub memory_x: PathBuf,
+    /// The `llvm-size` to run on the ELFs.
+    #[arg(long, value_name = "TOOL", default_value = "llvm-size")]
+    pub llvm_size: String,
+}
+
+fn read(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))
+}
+
+/// `llvm-size -A` of `elf`, parsed.
+fn elf_sizes(tool: &str, elf: &Path) -> Result<ElfSizes> {
+    let out = Command::new(tool)
+        .arg("-A")
+        .arg(elf)
+        .output()
+        .with_context(|| format!("--llvm-size {tool}: cannot run it"))?;
+    if !out.status.success() {
+        bail!(
+            "{tool} -A {}: {}",
+            elf.display(),
+            String::from_utf8_lossy(&out.stderr).trim()
+        );
+    }
+    let sizes = parse_llvm_size(&String::from_utf8_lossy(&out.stdout))
+        .with_context(|| elf.display().to_string())?;
+    println!("  {}: {}", elf.display(), sizes.describe());
+    Ok(sizes)
+}
+
+/// The (LOG, ELF) pair of `--product`/`--budget` (clap gives exactly two).
+fn pair(v: &[PathBuf]) -> Result<(&Path, &Path)> {
+    match v {
+        [log, elf] => Ok((log, elf)),
+        _ => bail!("expected LOG ELF"),
+    }
+}
+
+fn product(a: &Args, log_path: &Path, elf: &Path, budget: &MemoryBudget) -> Result<()> {
+    let log = read(log_path)?;
+    let p = check_product_log(&log)?;
+    println!(
+        "firmware-check: cross-check {} with {} -A",
+        elf.display(),
+        a.llvm_size
+    );
+    let sizes = elf_sizes(&a.llvm_size, elf)?;
+    println!("  {}", check_memory(&p.memory, &sizes, budget)?);
+    println!("firmware-check: fault reactions in {}", log_path.display());
+    for line in check_reactions(&log)? {
+        println!("  {line}");
+    }
+    if let Some(name) = &a.scene {
+        check_scene(&log, name)?;
+    }
+    if let Some(name) = &a.profile {
+        check_profile(&log, name)?;
+    }
+    println!("firmware-check: {p}");
+    Ok(())
+}
+
+fn budget_image(a: &Args, log_path: &Path, elf: &Path, budget: &MemoryBudget) -> Result<()> {
+    let log = read(log_path)?;
+    let line = last_memory_line(&log, "budget").context("no 'budget flash_bytes=..' line")?;
+    let b = parse_budget(line)?;
+    println!(
+        "firmware-check: cross-check {} with {} -A",
+        elf.display(),
+        a.llvm_size
+    );
+    let sizes = elf_sizes(&a.llvm_size, elf)?;
+    println!("  {}", check_memory(&b.memory, &sizes, budget)?);
+    check_budget(&b)?;
+    if let Some(name) = &a.scene {
+        check_scene(&log, name)?;
+    }
+    // The line as read (its realtime_factor as the log printed it).
+    println!("firmware-check: {line}");
+    Ok(())
+}
+
+/// Runs the checks named by the arguments; the first failure is the error.
+pub fn run(a: Args) -> Result<()> {
+    let budget = parse_memory_x(&read(&a.memory_x)?)?;
+    println!(
+        "firmware-check: budget from {}: flash {} B, RAM {} B",
+        a.memory_x.display(),
+        budget.flash,
+        budget.ram
+    );
+    for elf in &a.fits {
+        let sizes = elf_sizes(&a.llvm_size, elf)?;
+        check_elf_fits(&sizes, &budget).with_context(|| elf.display().to_string())?;
+    }
+    if let Some(v) = &a.product {
+        let (log, elf) = pair(v)?;
+        product(&a, log, elf, &budget).with_context(|| log.display().to_string())?;
+    }
+    if let Some(v) = &a.budget {
+        let (log, elf) = pair(v)?;
+        budget_image(&a, log, elf, &budget).with_context(|| log.display().to_string())?;
+    }
+    if let Some(log) = &a.boot_fault {
+        check_boot_fault(&read(log)?).with_context(|| log.display().to_string())?;
+        println!("firmware-check: boot failure reported, alarm left asserted (LED0 low), stopped");
+    }
+    Ok(())
+}
