@@ -28,6 +28,9 @@
 # Called by scripts/test-all.sh; run from anywhere (it cd's to the repository root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The host binary where cargo put it (CARGO_TARGET_DIR or a config may move the target directory).
+CAMSIM="$(cargo metadata --format-version 1 --no-deps |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')/release/camsim"
 
 export PATH="$HOME/.cargo/bin:$PATH"
 
@@ -60,7 +63,7 @@ done
 # this script builds, runs QEMU, decodes and calls it.
 echo "firmware-ci: build the host checker (camsim)"
 cargo build -q --release -p camsim
-check() { ./target/release/camsim firmware-check --memory-x memory.x --llvm-size "$LLVM_SIZE" "$@"; }
+check() { "$CAMSIM" firmware-check --memory-x memory.x --llvm-size "$LLVM_SIZE" "$@"; }
 
 # The real board's build (defmt over RTT, panic-probe): it must compile and fit; it is
 # not run (no probe here). Built first: it shares the target directory with the QEMU build.
@@ -131,7 +134,7 @@ echo "firmware-ci: demonstration image panic call sites: $PANIC_TOTAL, all in th
 # state, as raw f32 bits) bit for bit; it fails with a one-line error on a mismatch.
 # ---------------------------------------------------------------------------
 echo "firmware-ci: host parity (camsim predict --f32 --check-log $LOG)"
-./target/release/camsim predict --f32 --check-log "$LOG" || fail "host parity: see the line above"
+"$CAMSIM" predict --f32 --check-log "$LOG" || fail "host parity: see the line above"
 
 # ---------------------------------------------------------------------------
 # A scene chosen at build time: firmware/build.rs reads the scene file (CAMSIM_SCENE)
@@ -147,7 +150,7 @@ echo "firmware-ci: build-time scene $SCENE"
 SCENE_PATH="$PWD/$SCENE"   # absolute: build.rs runs in firmware/
 (cd firmware && CAMSIM_SCENE="$SCENE_PATH" cargo build --release)
 run_and_check "$SCENE_LOG" "$SCENE_BUDGET_LOG" --scene "$SCENE_NAME"
-./target/release/camsim predict --f32 --scene "$SCENE" --check-log "$SCENE_LOG" || fail "host parity (scene): see the line above"
+"$CAMSIM" predict --f32 --scene "$SCENE" --check-log "$SCENE_LOG" || fail "host parity (scene): see the line above"
 # ---------------------------------------------------------------------------
 # A measured cam profile compiled in (CAMSIM_PROFILE): firmware/build.rs reads the CSV with
 # the host's reader (camsim_scene_file::measured), turns it into the deviation knots on the
@@ -168,7 +171,7 @@ check --product "$PROFILE_LOG" "$PREDICTOR_ELF" --profile "$PROFILE_NAME" \
     || fail "profile image: see the line above"
 panic_sites "$PREDICTOR_ELF" "$TRANSPORT_ORIGINS"
 [ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the profile image outside the logging transport (listed above)"
-./target/release/camsim predict --f32 --measured "$PROFILE" --check-log "$PROFILE_LOG" \
+"$CAMSIM" predict --f32 --measured "$PROFILE" --check-log "$PROFILE_LOG" \
     || fail "host parity (measured profile): see the line above"
 
 # Leave the default (reference) firmware built, as a plain `cargo build` would.
