@@ -98,7 +98,8 @@ pub fn f32_math() -> &'static str {
 /// One measured run (every number present: a failed run is in [`BenchReport::failed`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunRow {
-    /// `england`, `england_pi_capped`, `rk4_fixed` or `dopri5_ode_solvers`.
+    /// `england`, `england_pi_capped`, `merson_4_3`, `rk4_fixed`, `dopri5_ode_solvers` or
+    /// `rosenbrock_ros34pw2[_j10]`.
     pub method: String,
     /// The scene (`full_11dof` for the comparison; reduced scenes name themselves).
     pub scene: String,
@@ -314,6 +315,7 @@ fn equal_error(runs: &[RunRow]) -> Vec<EqualError> {
     for method in [
         "england",
         "england_pi_capped",
+        "merson_4_3",
         "rk4_fixed",
         "rosenbrock_ros34pw2",
         "rosenbrock_ros34pw2_j10",
@@ -654,7 +656,12 @@ where
     let model = CamModel::<T, RegulatedFull, { RegulatedFull::N }>::new(design)
         .context("the bench's model in this precision")?;
     let mut cases: Vec<(Method, f64)> = Vec::new();
-    for m in [Method::England, Method::EnglandPiCapped, Method::Dopri5] {
+    for m in [
+        Method::England,
+        Method::EnglandPiCapped,
+        Method::Merson,
+        Method::Dopri5,
+    ] {
         for &r in rtols {
             cases.push((m, r));
         }
@@ -684,6 +691,7 @@ where
             Method::England | Method::EnglandPiCapped => Some(limits.england_double_steps_per_rev),
             Method::Rk4 { .. } => Some(limits.rk4_fixed_steps_per_rev),
             Method::Dopri5 => Some(limits.dopri5_steps_per_rev),
+            Method::Merson => Some(limits.merson_steps_per_rev),
             // A-stable: no explicit stability limit.
             Method::Rosenbrock { .. } => None,
         };
@@ -889,6 +897,7 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
                 "england" => Method::England,
                 "england_pi_capped" => Method::EnglandPiCapped,
                 "dopri5_ode_solvers" => Method::Dopri5,
+                "merson_4_3" => Method::Merson,
                 _ => match run.fixed_steps_per_rev {
                     Some(n) => Method::Rk4 { steps_per_rev: n },
                     None => continue,
