@@ -57,7 +57,9 @@ mod solve;
 pub use solve::controller::{
     initial_step, spectral_radius, Controller, InitialStep, PiController, StepControl, StiffnessCap,
 };
-pub use solve::imaginary::{hermite, Merson, MersonController, MersonStats, PairTableau, MERSON};
+pub use solve::imaginary::{
+    hermite, merson_pi, Merson, MersonStats, PairTableau, IMAGINARY_BOUNDARY, MERSON,
+};
 pub use solve::solver::{
     rk4_integrate, rk4_step, rk4_step_from, Dense, England, EnglandConfig, Event, EventConfig,
     EventFunction, EventStats, OdeSystem, Report, SolverStats, Tolerance,

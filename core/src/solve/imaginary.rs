@@ -32,14 +32,21 @@
 //! Hermite through three consecutive step ends instead.
 //!
 //! Step-size control: `err = max_i |y1_i - ŷ1_i| / (atol_i + rtol · max(|y0_i|, |y1_i|))`
-//! (England's norm, docs/MODEL.md §3.16), accepted if `err <= 1`, next step
-//! `h · clamp(0.9 · err^(-1/4), 0.2, 5)` (exponent `1/(q+1)` for the embedded order
-//! `q = 3`; safety factor and clamps England's classic ones, so that the comparison
-//! isolates the method), no growth right after a rejection, clamped to `[h_min, h_max]`.
+//! (England's norm, docs/MODEL.md §3.16), accepted if `err <= 1`. The next step is set by
+//! Hairer's PI controller ([`PiController`]) with the exponents for an estimate of local
+//! order 4 (`alpha = 0.7/4`, `beta = 0.4/4`; safety 0.9, factors in `[0.2, 10]`, no
+//! growth right after a rejection: the PI-capped England's settings with 5 replaced by 4),
+//! clamped to `[h_min, h_max]`. Optionally ([`Merson::with_cap`]) the step is also capped
+//! at `fraction · √12 / ρ`, `ρ` the Jacobian's spectral radius by power iteration
+//! ([`spectral_radius`], [`StiffnessCap`]'s settings with the boundary √12), so that at
+//! loose tolerances the step sits just inside the stability limit instead of being found
+//! there by rejections.
 
 use core::ops::ControlFlow;
 
-use crate::{EnglandConfig, Error, OdeSystem, Real, Result};
+use crate::{
+    spectral_radius, EnglandConfig, Error, OdeSystem, PiController, Real, Result, StiffnessCap,
+};
 
 /// Stages of the pair.
 pub const STAGES: usize = 5;
@@ -78,12 +85,19 @@ pub const MERSON: PairTableau = PairTableau {
     embedded_order: 3,
 };
 
-/// Safety factor of the step-size rule (England's classic one).
-pub const SAFETY: f64 = 0.9;
-/// Smallest step-size factor after one step (England's).
-pub const FACTOR_MIN: f64 = 0.2;
-/// Largest step-size factor after one step (England's).
-pub const FACTOR_MAX: f64 = 5.0;
+/// Merson's imaginary-axis stability boundary, `|hλ|` (√12).
+pub const IMAGINARY_BOUNDARY: f64 = 3.464_101_615_137_754_6;
+
+/// Hairer's PI controller for an estimate of local order 4 (see the module documentation).
+pub fn merson_pi<T: Real>() -> PiController<T> {
+    PiController::new(
+        T::from_f64(0.7 / 4.0),
+        T::from_f64(0.4 / 4.0),
+        T::from_f64(0.9),
+        T::from_f64(0.2),
+        T::from_f64(10.0),
+    )
+}
 
 /// Work counters of [`Merson::integrate`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -93,52 +107,16 @@ pub struct MersonStats {
     /// Rejected steps.
     pub rejected: u64,
     /// Right-hand-side evaluations: `1 + 5 · accepted + 4 · rejected` (the first stage of
-    /// a step is the previous step's end derivative, and a retry reuses it).
+    /// a step is the previous step's end derivative, and a retry reuses it), plus the
+    /// stiffness cap's power iterations.
     pub rhs_evals: u64,
-}
-
-/// The step-size controller: the elementary rule of the module documentation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MersonController<T> {
-    /// The last step was rejected (no growth on the next).
-    pub after_reject: bool,
-    _t: core::marker::PhantomData<T>,
-}
-
-impl<T: Real> Default for MersonController<T> {
-    fn default() -> Self {
-        Self {
-            after_reject: false,
-            _t: core::marker::PhantomData,
-        }
-    }
-}
-
-impl<T: Real> MersonController<T> {
-    /// The factor on the step after a step of error norm `err` (accepted if `err <= 1`).
-    pub fn factor(&mut self, err: T) -> T {
-        let accepted = err <= T::ONE;
-        let raw = if err > T::ZERO && err.is_finite() {
-            T::from_f64(SAFETY) * err.powf(T::from_f64(-0.25))
-        } else if err.is_finite() {
-            T::from_f64(FACTOR_MAX)
-        } else {
-            T::from_f64(FACTOR_MIN)
-        };
-        let hi = if self.after_reject || !accepted {
-            T::ONE
-        } else {
-            T::from_f64(FACTOR_MAX)
-        };
-        self.after_reject = !accepted;
-        raw.max(T::from_f64(FACTOR_MIN)).min(hi)
-    }
 }
 
 /// Merson's adaptive pair for `N` equations (no allocation; reusable).
 #[derive(Clone, Debug)]
 pub struct Merson<T, const N: usize> {
     config: EnglandConfig<T, N>,
+    cap: Option<StiffnessCap<T>>,
     k: [[T; N]; STAGES],
 }
 
@@ -175,8 +153,28 @@ impl<T: Real, const N: usize> Merson<T, N> {
         }
         Ok(Self {
             config,
+            cap: None,
             k: [[T::ZERO; N]; STAGES],
         })
+    }
+
+    /// As [`Merson::new`], the step also capped by the stiffness estimate with `cap`'s
+    /// fraction, refresh interval and power-iteration settings (its `boundary` is replaced
+    /// by Merson's √12).
+    pub fn with_cap(config: EnglandConfig<T, N>, cap: StiffnessCap<T>) -> Result<Self> {
+        let mut s = Self::new(config)?;
+        if !(cap.fraction > T::ZERO && cap.fraction <= T::ONE) {
+            return Err(Error::InvalidParameter {
+                field: "cap.fraction",
+                rule: "must lie in (0, 1]",
+                value: cap.fraction.to_f64(),
+            });
+        }
+        s.cap = Some(StiffnessCap {
+            boundary: T::from_f64(IMAGINARY_BOUNDARY),
+            ..cap
+        });
+        Ok(s)
     }
 
     /// Integrates `y` from `t0` to `t_end`, calling `node(t, y, f)` at the start and at
@@ -197,7 +195,11 @@ impl<T: Real, const N: usize> Merson<T, N> {
     {
         let cfg = self.config;
         let mut stats = MersonStats::default();
-        let mut ctl = MersonController::<T>::default();
+        let mut ctl = merson_pi::<T>();
+        let mut after_reject = false;
+        let mut h_cap = T::INFINITY;
+        let mut since_cap = u32::MAX;
+        let mut v = [T::ZERO; N];
         let mut t = t0;
         let mut f0 = [T::ZERO; N];
         sys.rhs(t, y, &mut f0);
@@ -216,6 +218,30 @@ impl<T: Real, const N: usize> Merson<T, N> {
                     t: t.to_f64(),
                     steps: cfg.max_steps,
                 });
+            }
+            if let Some(cap) = &self.cap {
+                if since_cap >= cap.refresh_every.max(1) {
+                    let mut evals = 0u32;
+                    let rho = spectral_radius(
+                        sys,
+                        t,
+                        y,
+                        &f0,
+                        &cfg.tol,
+                        &mut v,
+                        cap.max_iterations,
+                        cap.rel_tol,
+                        &mut evals,
+                    )?;
+                    stats.rhs_evals += u64::from(evals);
+                    h_cap = if rho > T::ZERO && rho.is_finite() {
+                        cap.fraction * cap.boundary / rho
+                    } else {
+                        T::INFINITY
+                    };
+                    since_cap = 0;
+                }
+                h = h.min(h_cap).max(cfg.h_min);
             }
             // Land on t_end: stretch by at most 1 %, or take the short last step.
             let rest = t_end - t;
@@ -261,8 +287,10 @@ impl<T: Real, const N: usize> Merson<T, N> {
                     T::INFINITY
                 };
             }
-            let factor = ctl.factor(err);
             if err <= T::ONE {
+                let factor = ctl.accept(err, after_reject);
+                after_reject = false;
+                since_cap = since_cap.saturating_add(1);
                 let t1 = if last { t_end } else { t + hs };
                 sys.rhs(t1, &y1, &mut f0);
                 stats.rhs_evals += 1;
@@ -277,6 +305,8 @@ impl<T: Real, const N: usize> Merson<T, N> {
                     h = (hs * factor).min(cfg.h_max).max(cfg.h_min);
                 }
             } else {
+                let factor = ctl.reject(err);
+                after_reject = true;
                 stats.rejected += 1;
                 if hs <= cfg.h_min {
                     return Err(Error::StepSizeUnderflow {
@@ -530,6 +560,47 @@ mod tests {
             assert!(e < 10.0 * 10.0 * rtol, "rtol {rtol}: {e:e}");
             assert_eq!(st.rhs_evals, 1 + 5 * st.accepted + 4 * st.rejected);
         }
+    }
+
+    /// A stiff oscillator `x'' = -ω² x`, ω = 1000 rad/s.
+    struct Stiff;
+    impl OdeSystem<f64, 2> for Stiff {
+        fn rhs(&self, _t: f64, y: &[f64; 2], d: &mut [f64; 2]) {
+            d[0] = y[1];
+            d[1] = -1e6 * y[0];
+        }
+    }
+
+    #[test]
+    fn the_cap_holds_the_step_at_its_fraction_of_root_12_over_omega() {
+        // A loose tolerance: accuracy would allow far longer steps than stability, so the
+        // capped run takes ω T / (0.95 √12) = 303.9 steps over T = 1 s, and none fails.
+        let cfg = EnglandConfig {
+            tol: Tolerance::scalar(1e-1, 1e-1),
+            h_init: 1e-4,
+            h_min: 1e-12,
+            h_max: 1.0,
+            max_steps: 1_000_000,
+        };
+        let mut m = Merson::with_cap(cfg, StiffnessCap::new()).unwrap();
+        let mut y = [1e-3, 0.0];
+        let st = m
+            .integrate(
+                &Stiff,
+                0.0,
+                &mut y,
+                1.0,
+                |_, _, _| ControlFlow::Continue(()),
+            )
+            .unwrap();
+        let expect = 1e3 / (0.95 * 12f64.sqrt());
+        assert!(
+            (st.accepted as f64) >= expect && (st.accepted as f64) < 1.1 * expect,
+            "{st:?} against {expect}"
+        );
+        assert!(st.rejected <= 3, "{st:?}");
+        // The solution stays bounded (stable): |x| <= the amplitude 1e-3.
+        assert!(y[0].abs() <= 1.0001e-3, "{y:?}");
     }
 
     #[test]

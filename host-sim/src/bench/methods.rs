@@ -13,7 +13,8 @@
 //!   test off (it would stop the run: the problem is stiff by design) and its sparse
 //!   output (no work spent on its own dense output; the bench interpolates);
 //! - Merson's 4(3) pair ([`camsim_core::Merson`]), built for the imaginary axis (√12 of
-//!   stability there over 5 evaluations a step), on the same tolerances as England
+//!   stability there over 5 evaluations a step), with Hairer's PI controller, without and
+//!   with the stiffness cap (0.95 of √12 over the spectral radius), on the same tolerances as England
 //!   (single-step sizes: England's double-step `h_init`, `h_min`, `h_max` halved), its
 //!   step ends sampled through the quintic Hermite like RK4's.
 
@@ -21,8 +22,8 @@ use std::ops::ControlFlow;
 
 use anyhow::{anyhow, bail, Result};
 use camsim_core::{
-    rk4_step_from, solver_config, CamModel, England, EnglandConfig, Merson, OdeSystem, Real,
-    Scene, SolverSettings, StepControl,
+    rk4_step_from, solver_config, CamModel, England, EnglandConfig, Merson, OdeSystem, Real, Scene,
+    SolverSettings, StepControl, StiffnessCap,
 };
 use ode_solvers::dop_shared::{FloatNumber, OutputType, System};
 use ode_solvers::{Dopri5, SVector};
@@ -43,8 +44,13 @@ pub enum Method {
     },
     /// Dormand-Prince 5(4) from `ode_solvers`.
     Dopri5,
-    /// Merson's 4(3) pair ([`camsim_core::MERSON`]), for the imaginary axis.
-    Merson,
+    /// Merson's 4(3) pair ([`camsim_core::MERSON`]), for the imaginary axis, with Hairer's
+    /// PI controller; `capped`: also the stiffness cap at 0.95 of √12 over the spectral
+    /// radius.
+    Merson {
+        /// The stiffness cap on.
+        capped: bool,
+    },
     /// The linearly implicit Rosenbrock-W method ROS34PW2 ([`super::rosenbrock`]), its
     /// Jacobian by forward differences every `jac_every` accepted steps.
     Rosenbrock {
@@ -55,7 +61,7 @@ pub enum Method {
 
 impl Method {
     /// The name in reports and JSON (`england`, `england_pi_capped`, `rk4_fixed`,
-    /// `dopri5_ode_solvers`, `merson_4_3`, `rosenbrock_ros34pw2` with a Jacobian every step,
+    /// `dopri5_ode_solvers`, `merson_4_3`, `merson_4_3_capped`, `rosenbrock_ros34pw2` with a Jacobian every step,
     /// `rosenbrock_ros34pw2_j10` every 10 steps, `rosenbrock_ros34pw2_jn` otherwise).
     pub fn name(&self) -> &'static str {
         match self {
@@ -63,7 +69,8 @@ impl Method {
             Method::EnglandPiCapped => "england_pi_capped",
             Method::Rk4 { .. } => "rk4_fixed",
             Method::Dopri5 => "dopri5_ode_solvers",
-            Method::Merson => "merson_4_3",
+            Method::Merson { capped: false } => "merson_4_3",
+            Method::Merson { capped: true } => "merson_4_3_capped",
             Method::Rosenbrock { jac_every: 1 } => "rosenbrock_ros34pw2",
             Method::Rosenbrock { jac_every: 10 } => "rosenbrock_ros34pw2_j10",
             Method::Rosenbrock { .. } => "rosenbrock_ros34pw2_jn",
@@ -139,7 +146,7 @@ where
         )?,
         Method::Rk4 { steps_per_rev } => rk4(model, steps_per_rev, revolutions, sampler)?,
         Method::Dopri5 => dopri5(model, settings, revolutions, sampler)?,
-        Method::Merson => merson(model, settings, revolutions, sampler)?,
+        Method::Merson { capped } => merson(model, settings, capped, revolutions, sampler)?,
         Method::Rosenbrock { jac_every } => {
             rosenbrock(model, settings, jac_every, revolutions, sampler)?
         }
@@ -187,6 +194,7 @@ fn england<T: Real, S: Scene, const N: usize>(
 fn merson<T: Real, S: Scene, const N: usize>(
     model: &CamModel<T, S, N>,
     settings: &SolverSettings<T>,
+    capped: bool,
     revolutions: u32,
     sampler: &mut Sampler<'_, T, S, N>,
 ) -> Result<Work> {
@@ -200,7 +208,11 @@ fn merson<T: Real, S: Scene, const N: usize>(
         ..config
     };
     let sys = Counted::new(model);
-    let mut solver = Merson::new(single)?;
+    let mut solver = if capped {
+        Merson::with_cap(single, StiffnessCap::new())?
+    } else {
+        Merson::new(single)?
+    };
     let mut y = model.static_state();
     let t_end = end_time(model.design().omega0, revolutions);
     let mut nodes = NodeHermite::default();

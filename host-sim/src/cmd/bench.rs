@@ -212,8 +212,9 @@ impl Report for BenchReport {
             );
             let _ = writeln!(
                 s,
-                "  {:<19} {:>9} {:>10} {:>12} {:>12} {:>11} {:>10} {:>9}",
+                "  {:<19} {:<16} {:>9} {:>10} {:>12} {:>12} {:>11} {:>10} {:>9}",
                 "method",
+                "scene/precision",
                 "peer rtol",
                 "acc err",
                 "peer evals",
@@ -225,8 +226,17 @@ impl Report for BenchReport {
             for e in &self.equal_error {
                 let _ = writeln!(
                     s,
-                    "  {:<19} {:>9.0e} {:>10} {:>12} {:>12.0} {:>11.3} {:>10} {:>9}",
+                    "  {:<19} {:<16} {:>9.0e} {:>10} {:>12} {:>12.0} {:>11.3} {:>10} {:>9}",
                     e.method,
+                    format!(
+                        "{} {}",
+                        if e.scene == "full_11dof" {
+                            "full"
+                        } else {
+                            "chip"
+                        },
+                        e.precision
+                    ),
                     e.peer_rtol,
                     e3(e.err_acc_rms),
                     e.peer_rhs_evals,
