@@ -62,6 +62,9 @@ pub use solve::controller::{
 pub use solve::dense::Dense;
 pub use solve::england::{England, EnglandConfig, SolverStats};
 pub use solve::events::{Event, EventConfig, EventFunction, EventStats, Report};
+pub use solve::imaginary::{
+    hermite, merson_pi, Merson, MersonStats, PairTableau, IMAGINARY_BOUNDARY, MERSON,
+};
 pub use solve::rk4::{rk4_integrate, rk4_step, rk4_step_from};
 pub use solve::system::{OdeSystem, Tolerance};
 

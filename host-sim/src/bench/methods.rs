@@ -11,14 +11,19 @@
 //!   implements it, on the same per-component tolerances (the state is scaled so that the
 //!   crate's scalar absolute tolerance is each component's own), the crate's stiffness
 //!   test off (it would stop the run: the problem is stiff by design) and its sparse
-//!   output (no work spent on its own dense output; the bench interpolates).
+//!   output (no work spent on its own dense output; the bench interpolates);
+//! - Merson's 4(3) pair ([`camsim_core::Merson`]), built for the imaginary axis (√12 of
+//!   stability there over 5 evaluations a step), with Hairer's PI controller, without and
+//!   with the stiffness cap (0.95 of √12 over the spectral radius), on the same tolerances as England
+//!   (single-step sizes: England's double-step `h_init`, `h_min`, `h_max` halved), its
+//!   step ends sampled through the quintic Hermite like RK4's.
 
 use std::ops::ControlFlow;
 
 use anyhow::{anyhow, bail, Result};
 use camsim_core::{
-    rk4_step_from, solver_config, CamModel, England, OdeSystem, Real, Scene, SolverSettings,
-    StepControl,
+    rk4_step_from, solver_config, CamModel, England, EnglandConfig, Merson, OdeSystem, Real, Scene,
+    SolverSettings, StepControl, StiffnessCap,
 };
 use ode_solvers::dop_shared::{FloatNumber, OutputType, System};
 use ode_solvers::{Dopri5, SVector};
@@ -39,6 +44,13 @@ pub enum Method {
     },
     /// Dormand-Prince 5(4) from `ode_solvers`.
     Dopri5,
+    /// Merson's 4(3) pair ([`camsim_core::MERSON`]), for the imaginary axis, with Hairer's
+    /// PI controller; `capped`: also the stiffness cap at 0.95 of √12 over the spectral
+    /// radius.
+    Merson {
+        /// The stiffness cap on.
+        capped: bool,
+    },
     /// The linearly implicit Rosenbrock-W method ROS34PW2 ([`super::rosenbrock`]), its
     /// Jacobian by forward differences every `jac_every` accepted steps.
     Rosenbrock {
@@ -49,7 +61,7 @@ pub enum Method {
 
 impl Method {
     /// The name in reports and JSON (`england`, `england_pi_capped`, `rk4_fixed`,
-    /// `dopri5_ode_solvers`, `rosenbrock_ros34pw2` with a Jacobian every step,
+    /// `dopri5_ode_solvers`, `merson_4_3`, `merson_4_3_capped`, `rosenbrock_ros34pw2` with a Jacobian every step,
     /// `rosenbrock_ros34pw2_j10` every 10 steps, `rosenbrock_ros34pw2_jn` otherwise).
     pub fn name(&self) -> &'static str {
         match self {
@@ -57,6 +69,8 @@ impl Method {
             Method::EnglandPiCapped => "england_pi_capped",
             Method::Rk4 { .. } => "rk4_fixed",
             Method::Dopri5 => "dopri5_ode_solvers",
+            Method::Merson { capped: false } => "merson_4_3",
+            Method::Merson { capped: true } => "merson_4_3_capped",
             Method::Rosenbrock { jac_every: 1 } => "rosenbrock_ros34pw2",
             Method::Rosenbrock { jac_every: 10 } => "rosenbrock_ros34pw2_j10",
             Method::Rosenbrock { .. } => "rosenbrock_ros34pw2_jn",
@@ -132,6 +146,7 @@ where
         )?,
         Method::Rk4 { steps_per_rev } => rk4(model, steps_per_rev, revolutions, sampler)?,
         Method::Dopri5 => dopri5(model, settings, revolutions, sampler)?,
+        Method::Merson { capped } => merson(model, settings, capped, revolutions, sampler)?,
         Method::Rosenbrock { jac_every } => {
             rosenbrock(model, settings, jac_every, revolutions, sampler)?
         }
@@ -202,6 +217,44 @@ fn england<T: Real, S: Scene, const N: usize>(
     Ok(Work {
         accepted: u64::from(stats.accepted),
         rejected: u64::from(stats.rejected),
+        evals: sys.evals(),
+    })
+}
+
+/// Merson's 4(3) pair on England's tolerances (rtol, per-component atol) and step bounds
+/// halved (England's are double steps), its step ends (with `f`, the next step's first
+/// stage, so free) through the quintic Hermite sampler.
+fn merson<T: Real, S: Scene, const N: usize>(
+    model: &CamModel<T, S, N>,
+    settings: &SolverSettings<T>,
+    capped: bool,
+    revolutions: u32,
+    sampler: &mut Sampler<'_, T, S, N>,
+) -> Result<Work> {
+    let config = solver_config(model, settings, revolutions)?;
+    let single = EnglandConfig {
+        h_init: config.h_init * T::HALF,
+        h_min: config.h_min * T::HALF,
+        h_max: config.h_max * T::HALF,
+        // England's budget counts double steps.
+        max_steps: config.max_steps.saturating_mul(2),
+        ..config
+    };
+    let sys = Counted::new(model);
+    let mut solver = if capped {
+        Merson::with_cap(single, StiffnessCap::new())?
+    } else {
+        Merson::new(single)?
+    };
+    let mut y = model.static_state();
+    let t_end = end_time(model.design().omega0, revolutions);
+    let mut nodes = NodeHermite::default();
+    let stats = solver.integrate(&sys, T::ZERO, &mut y, t_end, |t, y, f| {
+        nodes.push(sampler, t, y, f)
+    })?;
+    Ok(Work {
+        accepted: stats.accepted,
+        rejected: stats.rejected,
         evals: sys.evals(),
     })
 }

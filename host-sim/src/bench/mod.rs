@@ -98,7 +98,8 @@ pub fn f32_math() -> &'static str {
 /// One measured run (every number present: a failed run is in [`BenchReport::failed`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunRow {
-    /// `england`, `england_pi_capped`, `rk4_fixed` or `dopri5_ode_solvers`.
+    /// `england`, `england_pi_capped`, `merson_4_3[_capped]`, `rk4_fixed`, `dopri5_ode_solvers` or
+    /// `rosenbrock_ros34pw2[_j10]`.
     pub method: String,
     /// The scene (`full_11dof` for the comparison; reduced scenes name themselves).
     pub scene: String,
@@ -248,8 +249,11 @@ pub struct BenchReport {
     pub bench_seconds: f64,
     /// Resolution of the jump-onset bisection, rpm.
     pub onset_resolution_rpm: f64,
-    /// Each method against Dormand-Prince at equal acceleration error (f64, full scene).
+    /// Each method against Dormand-Prince at equal acceleration error (full scene f64;
+    /// the chip's scene f64 and f32).
     pub equal_error: Vec<EqualError>,
+    /// The chip's scene: its own reference and stability limit.
+    pub chip: ChipInfo,
     /// Fixed memory of a simulation, bytes.
     pub memory: Memory,
 }
@@ -261,6 +265,10 @@ pub struct BenchReport {
 pub struct EqualError {
     /// The method compared.
     pub method: String,
+    /// The scene (`full_11dof`, or the chip's [`CHIP_SCENE`]).
+    pub scene: String,
+    /// `f64` or `f32`.
+    pub precision: String,
     /// Dormand-Prince's rtol.
     pub peer_rtol: f64,
     /// The acceleration error, in/s².
@@ -308,12 +316,20 @@ pub fn cost_at_error(points: &[(f64, f64)], err: f64) -> Option<f64> {
 }
 
 /// [`EqualError`] rows for every method against Dormand-Prince's resolved f64 runs.
-fn equal_error(runs: &[RunRow]) -> Vec<EqualError> {
-    let full = |r: &&RunRow| r.scene == "full_11dof" && r.precision == "f64" && r.acc_err_resolved;
+fn equal_error(runs: &[RunRow], scene: &str, precision: &str) -> Vec<EqualError> {
+    equal_error_of(runs, scene, precision)
+}
+
+/// [`EqualError`] rows for every method against Dormand-Prince's resolved runs of one
+/// scene and precision.
+fn equal_error_of(runs: &[RunRow], scene: &str, precision: &str) -> Vec<EqualError> {
+    let full = |r: &&RunRow| r.scene == scene && r.precision == precision && r.acc_err_resolved;
     let mut out = Vec::new();
     for method in [
         "england",
         "england_pi_capped",
+        "merson_4_3",
+        "merson_4_3_capped",
         "rk4_fixed",
         "rosenbrock_ros34pw2",
         "rosenbrock_ros34pw2_j10",
@@ -342,6 +358,8 @@ fn equal_error(runs: &[RunRow]) -> Vec<EqualError> {
             };
             out.push(EqualError {
                 method: method.into(),
+                scene: scene.into(),
+                precision: precision.into(),
                 peer_rtol: peer.rtol,
                 err_acc_rms: peer.err_acc_rms,
                 peer_rhs_evals: peer.rhs_evals,
@@ -633,9 +651,11 @@ fn row(
     }
 }
 
-/// The runs of one precision: every method over its ladder.
+/// The runs of one precision on scene `S` (`scene` its name in the report): every method
+/// over its ladder.
 #[allow(clippy::too_many_arguments)]
-fn sweep<T>(
+fn sweep<T, S: Scene, const N: usize>(
+    scene: &str,
     precision: &str,
     math: &str,
     rtols: &[f64],
@@ -651,17 +671,22 @@ where
     f64: From<T>,
 {
     let design = design_at(opts.rpm)?.cast::<T>()?;
-    let model = CamModel::<T, RegulatedFull, { RegulatedFull::N }>::new(design)
-        .context("the bench's model in this precision")?;
+    let model = CamModel::<T, S, N>::new(design).context("the bench's model in this precision")?;
     let mut cases: Vec<(Method, f64)> = Vec::new();
-    for m in [Method::England, Method::EnglandPiCapped, Method::Dopri5] {
+    for m in [
+        Method::England,
+        Method::EnglandPiCapped,
+        Method::Merson { capped: false },
+        Method::Merson { capped: true },
+        Method::Dopri5,
+    ] {
         for &r in rtols {
             cases.push((m, r));
         }
     }
     // The linearly implicit method: the full f64 sweep only (its LU factorisations make
     // it the slowest row per step; --quick stays short).
-    if !opts.quick && precision == "f64" {
+    if !opts.quick && precision == "f64" && scene == "full_11dof" {
         for jac_every in [1, 10] {
             // Third order: below 1e-8 its steps (and LU factorisations) multiply.
             for &r in rtols.iter().filter(|&&r| r >= ROSENBROCK_TIGHTEST_RTOL) {
@@ -684,24 +709,18 @@ where
             Method::England | Method::EnglandPiCapped => Some(limits.england_double_steps_per_rev),
             Method::Rk4 { .. } => Some(limits.rk4_fixed_steps_per_rev),
             Method::Dopri5 => Some(limits.dopri5_steps_per_rev),
+            Method::Merson { .. } => Some(limits.merson_steps_per_rev),
             // A-stable: no explicit stability limit.
             Method::Rosenbrock { .. } => None,
         };
         let s = settings::<T>(rtol.max(1e-16));
         match measure_run(method, &model, &s, opts.repeat, false) {
             Ok(mut m) => runs.push(row(
-                method,
-                "full_11dof",
-                precision,
-                math,
-                rtol,
-                &mut m,
-                reference,
-                limit,
+                method, scene, precision, math, rtol, &mut m, reference, limit,
             )),
             Err(e) => failed.push(FailedRun {
                 method: method.name().into(),
-                scene: "full_11dof".into(),
+                scene: scene.into(),
                 precision: precision.into(),
                 math: math.into(),
                 rtol: if method.adaptive() { rtol } else { 0.0 },
@@ -790,6 +809,76 @@ fn reduced_scenes(
     )
 }
 
+/// The chip's scene in the report (the quasi-static rod, [`camsim_chip::ChipScene`]).
+pub const CHIP_SCENE: &str = "chip_qs_rod";
+
+/// The chip's scene's reference (England at [`REFERENCE_RTOL`], f64) and stability limit.
+#[derive(Clone, Debug, Serialize)]
+pub struct ChipInfo {
+    /// Its reference's right-hand-side evaluations.
+    pub reference_rhs_evals: u64,
+    /// Dormand-Prince at the same tolerance against it: RMS difference in load
+    /// acceleration over revolution 2, in/s².
+    pub agree_acc_rms: f64,
+    /// The stability analysis along its reference.
+    pub stability: StabilityLimit,
+}
+
+/// The comparison on the chip's scene: its own reference (the model differs from the full
+/// one), then every method over the ladders in f64 and f32.
+#[allow(clippy::too_many_arguments)]
+fn chip_scene(
+    opts: &Options,
+    rtols: &[f64],
+    rtols32: &[f64],
+    rk4: &[f64],
+    rk4_32: &[f64],
+    runs: &mut Vec<RunRow>,
+    failed: &mut Vec<FailedRun>,
+) -> Result<ChipInfo> {
+    use camsim_chip::{ChipScene, CHIP_STATES};
+    let model = CamModel::<f64, ChipScene, CHIP_STATES>::new(design_at(opts.rpm)?)?;
+    let ref_settings = settings::<f64>(REFERENCE_RTOL);
+    let reference = measure_run(Method::England, &model, &ref_settings, 1, true)
+        .context("the chip scene's reference run")?;
+    let confirm = measure_run(Method::Dopri5, &model, &ref_settings, 1, false)
+        .context("the chip scene's confirming run")?;
+    let r = &reference.samples;
+    let agree = (
+        Samples::rms_diff(&confirm.samples.acc, &r.acc),
+        Samples::rms_diff(&confirm.samples.disp, &r.disp),
+    );
+    let limits = stability::analyse(
+        &model,
+        &settings::<f64>(1e-6),
+        &r.t,
+        &r.states,
+        if opts.quick { 4 } else { 1 },
+    )
+    .context("the chip scene's stability analysis")?;
+    let refs = ReferenceSamples { samples: r, agree };
+    sweep::<f64, ChipScene, CHIP_STATES>(
+        CHIP_SCENE, "f64", "libm", rtols, rk4, opts, &refs, &limits, runs, failed,
+    )?;
+    sweep::<f32, ChipScene, CHIP_STATES>(
+        CHIP_SCENE,
+        "f32",
+        f32_math(),
+        rtols32,
+        rk4_32,
+        opts,
+        &refs,
+        &limits,
+        runs,
+        failed,
+    )?;
+    Ok(ChipInfo {
+        reference_rhs_evals: reference.work.evals,
+        agree_acc_rms: agree.0,
+        stability: limits,
+    })
+}
+
 /// Runs the bench.
 pub fn measure(opts: &Options) -> Result<BenchReport> {
     let start = Instant::now();
@@ -850,7 +939,8 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
             &FULL_RK4_FACTORS_F32,
         )
     };
-    sweep::<f64>(
+    sweep::<f64, RegulatedFull, { RegulatedFull::N }>(
+        "full_11dof",
         "f64",
         "libm",
         rtols,
@@ -861,7 +951,8 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
         &mut runs,
         &mut failed,
     )?;
-    sweep::<f32>(
+    sweep::<f32, RegulatedFull, { RegulatedFull::N }>(
+        "full_11dof",
         "f32",
         f32_math(),
         rtols32,
@@ -875,6 +966,7 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
     if !opts.quick {
         reduced_scenes(opts, &refs, &mut runs, &mut failed)?;
     }
+    let chip = chip_scene(opts, rtols, rtols32, rk4, rk4_32, &mut runs, &mut failed)?;
 
     if opts.onset {
         let onset = jump_onset::<f64>(Method::England, REFERENCE_RTOL)
@@ -889,6 +981,8 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
                 "england" => Method::England,
                 "england_pi_capped" => Method::EnglandPiCapped,
                 "dopri5_ode_solvers" => Method::Dopri5,
+                "merson_4_3" => Method::Merson { capped: false },
+                "merson_4_3_capped" => Method::Merson { capped: true },
                 _ => match run.fixed_steps_per_rev {
                     Some(n) => Method::Rk4 { steps_per_rev: n },
                     None => continue,
@@ -914,8 +1008,11 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
         }
     }
 
-    let equal_error = equal_error(&runs);
+    let mut equal_error = equal_error(&runs, "full_11dof", "f64");
+    equal_error.extend(equal_error_of(&runs, CHIP_SCENE, "f64"));
+    equal_error.extend(equal_error_of(&runs, CHIP_SCENE, "f32"));
     Ok(BenchReport {
+        chip,
         runs,
         failed,
         reference: info,
@@ -1105,6 +1202,6 @@ mod tests {
         assert!(v["runs"][0].get("fixed_steps_per_rev").is_none());
         assert!(v["failed"][0].get("rhs_evals").is_none());
         // One run per method: no front to interpolate along, so no equal-error row.
-        assert!(equal_error(&runs).is_empty());
+        assert!(equal_error(&runs, "full_11dof", "f64").is_empty());
     }
 }

@@ -33,6 +33,8 @@ fn color(method: &str) -> RGBColor {
         "rk4_fixed" => RGBColor(255, 127, 14),
         "rosenbrock_ros34pw2" => RGBColor(148, 103, 189),
         "rosenbrock_ros34pw2_j10" => RGBColor(140, 86, 75),
+        "merson_4_3" => RGBColor(23, 190, 207),
+        "merson_4_3_capped" => RGBColor(188, 189, 34),
         _ => RGBColor(214, 39, 40),
     }
 }

@@ -24,6 +24,8 @@ pub enum Scheme {
     Rk4,
     /// Dormand-Prince 5(4) (the fifth-order solution): RK4's plus `z⁵/120 + z⁶/600`.
     Dopri5,
+    /// Merson's 4(3) pair: RK4's plus `z⁵/144` (√12 on the imaginary axis).
+    Merson,
 }
 
 impl Scheme {
@@ -40,6 +42,7 @@ impl Scheme {
                 1.0 / 120.0,
                 1.0 / 600.0,
             ],
+            Scheme::Merson => &[1.0, 1.0, 1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0, 1.0 / 144.0],
         };
         coef.iter().rev().fold(Complex::new(0.0, 0.0), |acc, c| {
             acc * z + Complex::new(*c, 0.0)
@@ -148,6 +151,10 @@ pub struct StabilityLimit {
     pub rk4_fixed_steps_per_rev: f64,
     /// Fewest Dormand-Prince steps per revolution.
     pub dopri5_steps_per_rev: f64,
+    /// Fewest Merson 4(3) steps per revolution.
+    pub merson_steps_per_rev: f64,
+    /// Merson's stability boundary on the imaginary axis (√12).
+    pub merson_imaginary_boundary: f64,
     /// RK4's stability boundary on the imaginary axis, `|hλ|` (2√2).
     pub rk4_imaginary_boundary: f64,
     /// Dormand-Prince's on the imaginary axis.
@@ -187,6 +194,7 @@ pub fn analyse<S: Scene, const N: usize>(
     let mut sum_england = 0.0;
     let mut sum_rk4 = 0.0;
     let mut sum_dopri = 0.0;
+    let mut sum_merson = 0.0;
     let mut h_rk4_min = f64::INFINITY;
     let (mut rho_min, mut rho_max) = (f64::INFINITY, 0.0f64);
     let mut stiffest = Complex::new(0.0, 0.0);
@@ -229,6 +237,7 @@ pub fn analyse<S: Scene, const N: usize>(
         sum_rk4 += dt / h_rk4;
         sum_england += dt / (2.0 * h_rk4);
         sum_dopri += dt / h_dopri;
+        sum_merson += dt / Scheme::Merson.step_limit(&eig);
         let mut f = [0.0; N];
         model.rhs(t[k], &y, &mut f);
         let mut evals = 0;
@@ -270,6 +279,8 @@ pub fn analyse<S: Scene, const N: usize>(
         rk4_steps_per_rev: sum_rk4 * per_rev,
         rk4_fixed_steps_per_rev: 2.0 * std::f64::consts::PI / model.design().omega0 / h_rk4_min,
         dopri5_steps_per_rev: sum_dopri * per_rev,
+        merson_steps_per_rev: sum_merson * per_rev,
+        merson_imaginary_boundary: Scheme::Merson.ray_limit(Complex::new(0.0, 1.0)),
         rk4_imaginary_boundary: Scheme::Rk4.ray_limit(Complex::new(0.0, 1.0)),
         dopri5_imaginary_boundary: Scheme::Dopri5.ray_limit(Complex::new(0.0, 1.0)),
         rk4_boundary_at_stiffest: Scheme::Rk4.ray_limit(dir),

@@ -110,8 +110,8 @@ impl Report for BenchReport {
             s,
             "stability (Jacobian eigenvalues at {} points of revolution 2): spectral radius {:.3e}-{:.3e} 1/s; stiffest\n  \
              λ = {:.4e} ± {:.4e}i (damping ratio {:.4}); stability boundary |hλ| along it: RK4 {:.3}, Dormand-Prince {:.3}\n  \
-             (imaginary axis: {:.3}, {:.3}); fewest steps per revolution: England {:.0} double steps, RK4 {:.0}\n  \
-             (at a fixed step {:.0}), Dormand-Prince {:.0}; the stiffness cap's power iteration / eigenvalue radius {:.4}-{:.4}",
+             (imaginary axis: {:.3}, {:.3}; Merson 4(3) {:.3}); fewest steps per revolution: England {:.0} double steps,\n  \
+             RK4 {:.0} (at a fixed step {:.0}), Dormand-Prince {:.0}, Merson {:.0}; the stiffness cap's power iteration / eigenvalue radius {:.4}-{:.4}",
             st.points,
             st.rho_min,
             st.rho_max,
@@ -122,10 +122,12 @@ impl Report for BenchReport {
             st.dopri5_boundary_at_stiffest,
             st.rk4_imaginary_boundary,
             st.dopri5_imaginary_boundary,
+            st.merson_imaginary_boundary,
             st.england_double_steps_per_rev,
             st.rk4_steps_per_rev,
             st.rk4_fixed_steps_per_rev,
             st.dopri5_steps_per_rev,
+            st.merson_steps_per_rev,
             st.power_over_eig_min,
             st.power_over_eig_max
         );
@@ -210,8 +212,9 @@ impl Report for BenchReport {
             );
             let _ = writeln!(
                 s,
-                "  {:<19} {:>9} {:>10} {:>12} {:>12} {:>11} {:>10} {:>9}",
+                "  {:<19} {:<16} {:>9} {:>10} {:>12} {:>12} {:>11} {:>10} {:>9}",
                 "method",
+                "scene/precision",
                 "peer rtol",
                 "acc err",
                 "peer evals",
@@ -223,8 +226,17 @@ impl Report for BenchReport {
             for e in &self.equal_error {
                 let _ = writeln!(
                     s,
-                    "  {:<19} {:>9.0e} {:>10} {:>12} {:>12.0} {:>11.3} {:>10} {:>9}",
+                    "  {:<19} {:<16} {:>9.0e} {:>10} {:>12} {:>12.0} {:>11.3} {:>10} {:>9}",
                     e.method,
+                    format!(
+                        "{} {}",
+                        if e.scene == "full_11dof" {
+                            "full"
+                        } else {
+                            "chip"
+                        },
+                        e.precision
+                    ),
                     e.peer_rtol,
                     e3(e.err_acc_rms),
                     e.peer_rhs_evals,
