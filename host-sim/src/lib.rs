@@ -14,3 +14,4 @@ pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod stats;
+pub mod verdict;
