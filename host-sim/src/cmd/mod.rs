@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod compare;
 pub mod contact;
+pub mod design;
 pub mod jump_speed;
 pub mod laws;
 pub mod modal;
