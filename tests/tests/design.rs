@@ -44,8 +44,10 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
         .to_degrees();
     assert!((phi - v.geometry.max_pressure_angle_deg).abs() < 1e-9);
     // A limit below it warns, naming the option.
-    let mut a = RunArgs::default();
-    a.revolutions = Some(2);
+    let mut a = RunArgs {
+        revolutions: Some(2),
+        ..Default::default()
+    };
     a.verdict.pressure_angle_limit = Some(phi - 1.0);
     let r = report(&a).unwrap();
     let w = &r.verdict.unwrap().warnings;
