@@ -121,6 +121,8 @@ smoke jump-actual jump-speed --actual --samples 2 --threads 2 --follower quasi-s
 python3 -c "import json,sys; p=json.load(open(sys.argv[1])); r=json.load(open(sys.argv[2]));
 assert r['profile']['max_abs_deviation_in'] <= p['chord_error_bound'], (r['profile'], p['chord_error_bound'])" \
     "$studies/profile.out" "$studies/roundtrip.out"
+smoke design design spring --quick --json
+smoke design-actual design spring --actual --quick --json
 # Every command camsim lists is smoke-tested above (a new command must be added here).
 for c in $("$C" --help | awk '/^Commands:/{on=1; next} on && /^  [a-z]/{print $1} /^$/{on=0}'); do
     # firmware-check reads the firmware's QEMU logs: the firmware step below runs it.
@@ -137,6 +139,12 @@ if command -v jq >/dev/null 2>&1; then
            and all(.baseline[], .cases[]; [.rms_displacement_in, .rms_velocity_in_per_s, .rms_acceleration_in_per_s2,
                .rms_angular_velocity_rad_per_s, .contact_stress_avg_psi] | all(type == "number" and . >= 0))
            and ([.cases[].group] | unique) == ["damping", "mass", "stiffness"]' "$studies/sensitivity.out" >/dev/null
+    # The verdict opens run; each design search states its answer, bracket, runs and model.
+    jq -e '.verdict.contact.holds == true and (.verdict.contact.min_contact_force_lb > 0)
+           and (.verdict.loads.peak_contact_stress_psi > 0) and (.verdict.geometry.max_pressure_angle_deg > 0)' "$studies/run.out" >/dev/null
+    jq -e '(.spring_rate_lb_per_in > 0) and (.bracket_lb_per_in >= 0) and (.model_runs > 0) and (.model | type == "string")
+           and (.jump_onset_rpm > .checked_at_rpm)' "$studies/design.out" >/dev/null
+    jq -e '(.spring_rate_lb_per_in > 0) and (.p_jump.hi95 <= 0.1) and .samples == 35' "$studies/design-actual.out" >/dev/null
     jq -e '(.cells | length) == 9 and all(.cells[]; (.fpr | type == "number") and .summary.jump.lo95 <= .summary.jump.hi95)' "$studies/tolerance-study.out" >/dev/null
 fi
 rm -rf "$studies"

@@ -148,6 +148,16 @@ pub fn rpm(s: &str) -> Result<f64, String> {
     in_range(s, camsim_core::key::RPM)
 }
 
+/// A pressure-angle limit, degrees: above 0 and below 90.
+pub fn pressure_angle_limit(s: &str) -> Result<f64, String> {
+    let v = number(s)?;
+    if v > 0.0 && v < 90.0 {
+        Ok(v)
+    } else {
+        Err("must be above 0 and below 90 (degrees)".into())
+    }
+}
+
 /// A return-spring rate, lb/in: the range of `design.spring_rate_lb_per_in`.
 pub fn spring_rate(s: &str) -> Result<f64, String> {
     in_range(s, camsim_core::key::K_RS)

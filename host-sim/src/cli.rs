@@ -54,6 +54,9 @@ pub enum Command {
     Sensitivity(cmd::sensitivity::Args),
     /// The waviness (FPR) of an actual cam against its profile point interval, both profile methods, and the criteria of IV.2.3.
     Waviness(cmd::waviness::Args),
+    /// What to build, found by search: `design spring` (the smallest return-spring rate
+    /// holding contact with a margin, or P(jump) <= p on actual cams).
+    Design(cmd::design::Args),
 }
 
 /// Parses a command line (the first item is the program name).
@@ -84,6 +87,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
         Command::Sensitivity(a) => cmd::sensitivity::run(a),
         Command::Waviness(a) => cmd::waviness::run(a),
+        Command::Design(a) => cmd::design::run(a),
     }
 }
 

@@ -18,3 +18,4 @@ pub mod shard;
 pub mod sim;
 pub mod stats;
 pub mod study_limits;
+pub mod verdict;

@@ -377,32 +377,58 @@ pub fn steady_check(rows: &[PeriodRow]) -> Option<SteadyCheck> {
     if last < 2 {
         return None;
     }
+    Some(steady_check_between(rows, [last - 1, last]))
+}
+
+/// The comparison of every pair of consecutive revolutions of a run, the first pair first
+/// (empty with fewer than two revolutions).
+pub fn steady_checks(rows: &[PeriodRow]) -> Vec<SteadyCheck> {
+    let last = rows.iter().map(|r| r.revolution).max().unwrap_or(0);
+    (2..=last)
+        .map(|b| steady_check_between(rows, [b - 1, b]))
+        .collect()
+}
+
+/// The statistics the steady-state check compares, each with the floor of its scale.
+type Stat = fn(&PeriodRow) -> f64;
+const STEADY_STATS: [(&str, Stat, f64); 5] = [
+    ("rms_displacement", |r| r.rms_displacement, 1e-6),
+    ("rms_velocity", |r| r.rms_velocity, 1e-3),
+    ("rms_acceleration", |r| r.rms_acceleration, 1.0),
+    ("torque_avg", |r| r.torque_avg, 1e-2),
+    ("contact_force_avg", |r| r.contact_force_avg, 1e-2),
+];
+
+/// The floor of the scale of a statistic the steady-state check compares (its name as in
+/// [`SteadyCheck::statistic`] after the period), or None for another name.
+pub fn steady_floor(stat: &str) -> Option<f64> {
+    STEADY_STATS
+        .iter()
+        .find(|(n, _, _)| *n == stat)
+        .map(|(_, _, f)| *f)
+}
+
+/// Compares revolution `pair[1]` with `pair[0]`.
+pub fn steady_check_between(rows: &[PeriodRow], pair: [u32; 2]) -> SteadyCheck {
+    let [first, last] = pair;
     let mut worst = SteadyCheck {
-        compared: [last - 1, last],
+        compared: pair,
         max_rel_change: 0.0,
         statistic: String::new(),
     };
     // Each statistic's change is measured against its largest magnitude over the periods
     // of the two revolutions (the scale the solver's absolute error lives on), so a period
     // where a statistic is tiny (a dwell's velocity deviation) does not read as unsteady.
-    type Stat = fn(&PeriodRow) -> f64;
-    let stats: [(&str, Stat, f64); 5] = [
-        ("rms_displacement", |r| r.rms_displacement, 1e-6),
-        ("rms_velocity", |r| r.rms_velocity, 1e-3),
-        ("rms_acceleration", |r| r.rms_acceleration, 1.0),
-        ("torque_avg", |r| r.torque_avg, 1e-2),
-        ("contact_force_avg", |r| r.contact_force_avg, 1e-2),
-    ];
     let both = || {
         rows.iter()
-            .filter(move |r| r.revolution == last || r.revolution == last - 1)
+            .filter(move |r| r.revolution == last || r.revolution == first)
     };
-    for (name, get, floor) in stats {
+    for (name, get, floor) in STEADY_STATS {
         let scale = both().map(|r| get(r).abs()).fold(floor, f64::max);
         for b in rows.iter().filter(|r| r.revolution == last) {
             let Some(a) = rows
                 .iter()
-                .find(|r| r.revolution == last - 1 && r.period == b.period)
+                .find(|r| r.revolution == first && r.period == b.period)
             else {
                 continue;
             };
@@ -413,7 +439,7 @@ pub fn steady_check(rows: &[PeriodRow]) -> Option<SteadyCheck> {
             }
         }
     }
-    Some(worst)
+    worst
 }
 
 #[cfg(test)]

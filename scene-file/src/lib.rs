@@ -189,7 +189,21 @@ pub fn load(path: &Path) -> Result<CheckedScene, Error> {
 /// it, the line, column and key; where the checks refused it, the line that sets the
 /// key (if the text sets it), the key, the value and the rule.
 pub fn parse(text: &str) -> Result<CheckedScene, Error> {
-    let file: SceneFile = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+    let mut file: SceneFile = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+    // A spring rate without a spring mass: the mass follows the rate by the one
+    // wire-and-coil model (camsim-core's `HelicalSpring`, docs/MODEL.md §5.6), as it does
+    // for `--spring-rate`. A file that gives the mass keeps it.
+    let sets = |k: &str| -> bool {
+        toml::from_str::<toml::Table>(text)
+            .ok()
+            .and_then(|t| t.get("design")?.as_table().map(|d| d.contains_key(k)))
+            .unwrap_or(false)
+    };
+    if sets(key::K_RS) && !sets(key::M_SPRING) {
+        if let Ok(spring) = camsim_core::HelicalSpring::of_rate(file.design.k_rs) {
+            file.design.m_spring = spring.mass;
+        }
+    }
     let rpm_conflict = || -> Option<&'static str> {
         let t: toml::Table = toml::from_str(text).ok()?;
         let d = t.get("design")?.as_table()?;

@@ -70,7 +70,17 @@ fn the_shipped_variants_are_the_reference_with_their_keys() {
     want.k_rs = camsim_core::LISTED_SPRING_RATE;
     want.m_spring = camsim_core::LISTED_SPRING_MASS;
     assert_eq!(bits(&spec.design), bits(&want));
-    assert_eq!(spec.design.m_spring, 0.151 / 386.09);
+    // The mass follows the rate by the wire model, as `--spring-rate 60` makes it.
+    assert_eq!(
+        spec.design.m_spring,
+        camsim_core::HelicalSpring::of_rate(60.0).unwrap().mass
+    );
+    let flag = camsim::cmd::run::spec_from(&camsim::cmd::run::SceneArgs {
+        spring_rate: Some(60.0),
+        ..Default::default()
+    })
+    .unwrap();
+    assert_eq!(bits(&flag.design), bits(&spec.design));
     assert_eq!(spec.solver, SolverSettings::reference());
 
     let spec = load("undamped-printed.toml");

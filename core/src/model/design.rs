@@ -51,9 +51,84 @@ pub const SPRING_MASS: f64 = STEEL_DENSITY
     * (core::f64::consts::PI * SPRING_WIRE_DIAMETER * SPRING_WIRE_DIAMETER / 4.0)
     * (core::f64::consts::PI * SPRING_MEAN_DIAMETER)
     * SPRING_TOTAL_COILS;
-/// Mass of the listed 60 lb/in spring (9 active, 11 total coils of the same wire and
-/// diameter), lb·s²/in: 0.151 lb, as the model used before the reference spring changed.
-pub const LISTED_SPRING_MASS: f64 = 0.151 / 386.09;
+/// Mass of the listed 60 lb/in spring, lb·s²/in: 9 active, 11 total coils of the same wire
+/// and diameter, 0.150869 lb, what [`HelicalSpring::of_rate`] gives for 60 lb/in (before
+/// the wire model the listed scene gave the rounded 0.151 lb).
+pub const LISTED_SPRING_MASS: f64 = STEEL_DENSITY
+    * (core::f64::consts::PI * SPRING_WIRE_DIAMETER * SPRING_WIRE_DIAMETER / 4.0)
+    * (core::f64::consts::PI * SPRING_MEAN_DIAMETER)
+    * 11.0;
+/// Coils of a return spring are counted to a quarter turn ([`HelicalSpring::of_rate`]):
+/// the reference's 5.5 and the listed spring's 9 active coils are such counts.
+pub const SPRING_COIL_STEP: f64 = 0.25;
+/// The fewest active coils the wire model gives (a quarter turn): above
+/// G d⁴ / (8 D³ · 0.25) = 2190 lb/in the reference wire cannot make the rate at all and
+/// the mass stays that of 2.25 coils.
+pub const SPRING_MIN_ACTIVE_COILS: f64 = SPRING_COIL_STEP;
+/// A spring's surge (its own first axial mode, both ends fixed) should lie at least this
+/// many times above the cam's rotation frequency: a rule of thumb for cam springs
+/// (Norton, *Cam Design and Manufacturing Handbook*, spring surge: a cam program's
+/// harmonics above about the 13th carry little of its acceleration). `camsim run` warns
+/// below it (docs/MODEL.md §5.6).
+pub const SURGE_HARMONIC_MARGIN: f64 = 13.0;
+/// Allowable Hertz contact stress of the cam and roller, psi: 150 000, the surface
+/// endurance strength of through-hardened steel at 400 Brinell for 10⁸ cycles by
+/// Buckingham's S_C = 0.4 H_B − 10 kpsi (Shigley, *Mechanical Engineering Design*, surface
+/// fatigue). Not in the thesis; `camsim run --allowable-stress` changes it.
+pub const ALLOWABLE_CONTACT_STRESS_PSI: f64 = 150_000.0;
+/// The largest pressure angle of a translating roller follower that `camsim run` accepts
+/// without a warning, degrees: 30, the usual limit for a translating follower (Rothbart,
+/// *Cam Design Handbook*; Norton). `camsim run --pressure-angle-limit` changes it.
+pub const PRESSURE_ANGLE_LIMIT_DEG: f64 = 30.0;
+
+/// A return spring of the reference wire (d = [`SPRING_WIRE_DIAMETER`]) and coil diameter
+/// (D = [`SPRING_MEAN_DIAMETER`]) wound to a rate: the one wire-and-coil model behind
+/// every spring rate (`--spring-rate`, a scene's `spring_rate_lb_per_in` without
+/// `spring_mass_lb_s2_per_in`, `camsim design spring`), so the spring's mass and surge
+/// frequency follow its rate (docs/MODEL.md §5.6).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HelicalSpring<T> {
+    /// The rate asked for, lb/in (the model's K_rs).
+    pub rate: T,
+    /// Active coils n = G d⁴ / (8 D³ k), to the nearest quarter turn, at least
+    /// [`SPRING_MIN_ACTIVE_COILS`].
+    pub active_coils: T,
+    /// Total coils: the active ones and one closed coil at each end.
+    pub total_coils: T,
+    /// Mass of the whole spring, lb·s²/in (steel wire of area π d²/4 over π D per coil).
+    pub mass: T,
+    /// Surge frequency, Hz: the first axial mode of the active coils between fixed ends,
+    /// f = ½ √(k / m_active) (k in lb/in, m in lb·s²/in; Wahl's result, Appendix F.2's
+    /// wave equation without the rotary inertia).
+    pub surge_hz: T,
+}
+
+impl<T: Real> HelicalSpring<T> {
+    /// The spring of rate `rate` lb/in (positive and finite; the error names
+    /// `spring_rate_lb_per_in`).
+    pub fn of_rate(rate: T) -> Result<Self> {
+        positive(crate::key::K_RS, rate)?;
+        let f = T::from_f64;
+        let d = f(SPRING_WIRE_DIAMETER);
+        let big_d = f(SPRING_MEAN_DIAMETER);
+        let exact = f(STEEL_SHEAR) * d * d * d * d / (f(8.0) * big_d * big_d * big_d * rate);
+        let step = f(SPRING_COIL_STEP);
+        let active = ((exact / step + f(0.5)).floor() * step).max(f(SPRING_MIN_ACTIVE_COILS));
+        let total = active + T::TWO;
+        // The same product, in the same order, as SPRING_MASS: bit for bit at 5.5 coils.
+        let per_coil = f(STEEL_DENSITY) * (T::PI * d * d / f(4.0)) * (T::PI * big_d);
+        let mass = per_coil * total;
+        let surge_hz = (rate / (per_coil * active)).sqrt() / T::TWO;
+        Ok(HelicalSpring {
+            rate,
+            active_coils: active,
+            total_coils: total,
+            mass,
+            surge_hz,
+        })
+    }
+}
+
 /// Damping ratio ξ_h of the cam-roller contact, C_h = 2 ξ_h sqrt(K_h M_r) (Eq. V.13): 0.05,
 /// the lower end of V.14's 0.05-0.07 for well-lubricated machine parts (a lubricated
 /// rolling contact is one). docs/MODEL.md §6.2.
@@ -573,6 +648,20 @@ impl<T: Real> Default for Design<T> {
 }
 
 impl<T: Real> Design<T> {
+    /// Sets the return spring rate K_rs and its mass from the one wire-and-coil model
+    /// ([`HelicalSpring::of_rate`]): what `--spring-rate` does.
+    pub fn set_spring_rate(&mut self, rate: T) -> Result<()> {
+        let s = HelicalSpring::of_rate(rate)?;
+        self.k_rs = rate;
+        self.m_spring = s.mass;
+        Ok(())
+    }
+
+    /// The return spring as the wire-and-coil model makes it at this design's rate.
+    pub fn spring(&self) -> Result<HelicalSpring<T>> {
+        HelicalSpring::of_rate(self.k_rs)
+    }
+
     /// Moves the design to a new cam speed (rpm): ω0 and the drive's reference speed.
     ///
     /// The error names `rpm` ([`crate::key::RPM`]; the host's scene key is `run.rpm`, its
@@ -732,6 +821,34 @@ mod spring_tests {
             (d.k_rs, d.k_rs_modal, d.m_spring),
             (100.0, 100.0, SPRING_MASS)
         );
+    }
+
+    /// The wire model against the hand figures above: 100 lb/in is the reference's 5.5
+    /// active coils (its mass bit for bit), 60 lb/in the listed spring's 9 (11 total:
+    /// 0.150869 lb); the surge ½ √(k/m_active) by hand; the mass falls as the rate rises.
+    #[test]
+    fn wire_model_gives_mass_and_surge_from_the_rate() {
+        let s = HelicalSpring::<f64>::of_rate(100.0).unwrap();
+        assert_eq!((s.active_coils, s.total_coils), (5.5, 7.5));
+        assert_eq!(s.mass, SPRING_MASS);
+        let l = HelicalSpring::<f64>::of_rate(LISTED_SPRING_RATE).unwrap();
+        assert_eq!((l.active_coils, l.total_coils), (9.0, 11.0));
+        let lb = 11.0 * 0.048_361_1 * 0.2836;
+        assert!((l.mass * 386.09 / lb - 1.0).abs() < 1e-6);
+        // Surge by hand: m_active = 5.5 coils of 0.0483611 in³ at 0.2836/386.09.
+        let m_active = 5.5 * 0.048_361_1 * 0.2836 / 386.09;
+        let f = 0.5 * (100.0 / m_active).sqrt();
+        assert!((s.surge_hz / f - 1.0).abs() < 1e-6, "{} {f}", s.surge_hz);
+        assert!(HelicalSpring::<f64>::of_rate(200.0).unwrap().mass < s.mass);
+        assert!(HelicalSpring::<f64>::of_rate(-1.0).is_err());
+        assert!(HelicalSpring::<f64>::of_rate(f64::NAN).is_err());
+        // Beyond the wire: the fewest coils, a finite mass and surge.
+        let stiff = HelicalSpring::<f64>::of_rate(1e6).unwrap();
+        assert_eq!(stiff.active_coils, SPRING_MIN_ACTIVE_COILS);
+        assert!(stiff.surge_hz.is_finite());
+        let mut d = Design::<f64>::reference();
+        d.set_spring_rate(60.0).unwrap();
+        assert_eq!((d.k_rs, d.m_spring), (60.0, l.mass));
     }
 }
 

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod compare;
 pub mod contact;
+pub mod design;
 pub mod firmware_check;
 pub mod jump_speed;
 pub mod jump_speed_actual;

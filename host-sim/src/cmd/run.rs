@@ -96,6 +96,41 @@ pub struct Args {
     /// surface polar radius, followed by the roller's exact envelope); see the README.
     #[arg(long, value_name = "FILE.csv", conflicts_with = "actual")]
     pub measured: Option<PathBuf>,
+    /// The verdict's limits and its jump margin.
+    #[command(flatten)]
+    pub verdict: VerdictArgs,
+}
+
+/// What the verdict that opens `camsim run` judges against.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct VerdictArgs {
+    /// Allowable Hertz contact stress, psi (default 150 000: through-hardened steel at
+    /// 400 HB, 1e8 cycles, Buckingham's S_C = 0.4 H_B - 10 kpsi as Shigley gives it).
+    #[arg(long, value_name = "PSI", allow_hyphen_values = true, value_parser = args::positive_finite)]
+    pub allowable_stress: Option<f64>,
+    /// Largest pressure angle without a warning, degrees (default 30, the usual limit for
+    /// a translating follower; 0-90).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = args::pressure_angle_limit)]
+    pub pressure_angle_limit: Option<f64>,
+    /// Also find the jump onset and the margin to it (a bisection of about 15
+    /// two-revolution runs from the static start, as `camsim jump-speed`).
+    #[arg(long)]
+    pub margin: bool,
+}
+
+impl VerdictArgs {
+    /// The limits asked for, the defaults otherwise.
+    pub fn limits(&self) -> crate::verdict::Limits {
+        let d = crate::verdict::Limits::default();
+        crate::verdict::Limits {
+            allowable_contact_stress_psi: self
+                .allowable_stress
+                .unwrap_or(d.allowable_contact_stress_psi),
+            pressure_angle_limit_deg: self
+                .pressure_angle_limit
+                .unwrap_or(d.pressure_angle_limit_deg),
+        }
+    }
 }
 
 impl Default for Args {
@@ -110,6 +145,7 @@ impl Default for Args {
             plot: None,
             force: false,
             json: false,
+            verdict: VerdictArgs::default(),
         }
     }
 }
@@ -142,7 +178,10 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
             .map_err(|e| camsim_scene_file::refusal("design", e))?;
     }
     if let Some(k) = args.spring_rate {
-        spec.design.k_rs = k;
+        // The rate and the mass that goes with it (the one wire-and-coil model).
+        spec.design
+            .set_spring_rate(k)
+            .map_err(|e| anyhow::anyhow!("--spring-rate {k}: {e}"))?;
     }
     if let Some(d) = args.preload_length {
         spec.design.delta_rs = d;
@@ -213,6 +252,10 @@ impl ProfileReport {
 /// struct; `wall_ms` is a timing; `fpr` and `profile` only for an actual or measured cam).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunReport {
+    /// The verdict: contact, geometry, loads, spring, margin, steady state, warnings
+    /// (set by [`report`]; absent from a bare [`RunReport::new`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<crate::verdict::Verdict>,
     /// Waviness frequency per revolution of the profile (VI.4.1; actual and measured
     /// cams only).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -274,6 +317,7 @@ impl RunReport {
             })
             .collect();
         RunReport {
+            verdict: None,
             fpr: None,
             profile: None,
             per_period,
@@ -347,8 +391,12 @@ pub fn report(args: &Args) -> Result<RunReport> {
         None => None,
     };
     let mut plot_data = plot_target.as_ref().map(|_| plot::PlotData::default());
+    let mut watch =
+        crate::verdict::Watch::new(crate::verdict::Watch::steady_from(spec.revolutions));
     let result = {
         let mut obs = |s: &camsim_core::Sample<f64>| {
+            use camsim_core::Observer;
+            let _ = watch.observe(s);
             if let Some(p) = plot_data.as_mut() {
                 p.push(s);
             }
@@ -376,6 +424,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
     let mut report = RunReport::new(&spec, &result);
     report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
     report.profile = profile_report;
+    report.verdict = Some(verdict(&spec, &report, &watch, &args.verdict)?);
     crate::report::ensure_finite(&report)?;
     crate::report::ensure_physical(&report)?;
     if let Some(f) = csv_file {
@@ -385,6 +434,54 @@ pub fn report(args: &Args) -> Result<RunReport> {
         p.commit()?;
     }
     Ok(report)
+}
+
+/// The verdict of a finished run (`--margin`: the jump-onset search on the scene as it
+/// is, theoretical cam, static start).
+fn verdict(
+    spec: &RunSpec,
+    report: &RunReport,
+    watch: &crate::verdict::Watch,
+    args: &VerdictArgs,
+) -> Result<crate::verdict::Verdict> {
+    use crate::verdict as v;
+    let limits = args.limits();
+    let contact = v::contact(
+        &spec.design,
+        &report.jumps,
+        &report.periods,
+        watch,
+        spec.revolutions,
+    )?;
+    let geometry = v::geometry(&spec.design, &limits)?;
+    let loads = v::loads(watch, &limits)?;
+    let spring = v::spring(&spec.design)?;
+    let jump_margin = if args.margin {
+        let mut s = spec.clone();
+        s.solver.start = camsim_core::Start::Static;
+        let rpm = report.rpm;
+        let r = crate::cmd::jump_speed::find(&s, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        Some(v::MarginVerdict {
+            jump_onset_rpm: r.jump_rpm,
+            holds_at_rpm: r.no_jump_rpm,
+            margin_percent: r.jump_rpm.map(|j| 100.0 * (j / rpm - 1.0)),
+            bracket_rpm: r.jump_rpm.map_or(0.0, |j| j - r.no_jump_rpm),
+            simulations: r.simulations,
+        })
+    } else {
+        None
+    };
+    let steady = v::steady(&report.per_period, &sim::steady_checks(&report.per_period));
+    let warnings = v::warnings(&contact, &geometry, &loads, &spring, jump_margin.as_ref());
+    Ok(v::Verdict {
+        contact,
+        geometry,
+        loads,
+        spring,
+        jump_margin,
+        steady,
+        warnings,
+    })
 }
 
 /// Runs the command.
@@ -405,6 +502,9 @@ impl Report for RunReport {
             "camsim run: {} revolutions at {:.1} rpm, {} DOF model, preload F_p = {:.3} lb",
             self.revolutions, self.rpm, self.dofs, self.preload_lb
         );
+        if let Some(v) = &self.verdict {
+            let _ = writeln!(out, "{}", crate::verdict::text(v));
+        }
         let deviation = |rms: f64, mean: f64, max: f64, curv: f64, fpr: usize| {
             format!(
                 "  lift deviation: rms {rms:.3e} in, mean {mean:.3e} in, max |e| {max:.3e} in, rms d2e/dtheta2 {curv:.3e} in/rad^2; FPR {fpr}"
@@ -533,16 +633,23 @@ impl Report for RunReport {
                 );
             }
         }
-        if let Some(c) = &self.steady_state {
-            let _ = writeln!(
-                out,
-                "steady state: revolution {} vs {}: largest relative change of the per-period statistics {:.2e} ({}){}",
-                c.compared[1],
-                c.compared[0],
-                c.max_rel_change,
-                c.statistic,
-                if c.max_rel_change > 0.01 { "  -- NOT steady (jumps make it irregular, or run more revolutions)" } else { "" }
-            );
+        match (&self.verdict, &self.steady_state) {
+            (
+                Some(crate::verdict::Verdict {
+                    steady: Some(st), ..
+                }),
+                _,
+            ) => {
+                let _ = writeln!(out, "steady state: {}", st.summary);
+            }
+            (_, Some(c)) => {
+                let _ = writeln!(
+                    out,
+                    "steady state: revolution {} vs {}: largest relative change of the per-period statistics {:.2e} ({})",
+                    c.compared[1], c.compared[0], c.max_rel_change, c.statistic
+                );
+            }
+            _ => {}
         }
         let _ = writeln!(
             out,

@@ -1,0 +1,446 @@
+//! `camsim design`: what must be built, found by search on the model.
+//!
+//! `camsim design spring`: the smallest return-spring rate (at the scene's preload length;
+//! its mass follows the rate by the wire-and-coil model, core's `HelicalSpring`) that
+//! holds contact with a margin: on the theoretical cam, contact in steady state at
+//! `(1 + margin/100)` times the operating speed ([`crate::sim::jumps_at`], the jump
+//! predicate of `camsim jump-speed`); with `--actual`, the upper end of the 95 % Wilson
+//! interval of P(jump) at the operating speed over `--samples` actual cams at most
+//! `--p-max` (the Monte Carlo of `camsim montecarlo`, on the quasi-static-cantilever
+//! follower that README "Reduced scenes" shows adequate on actual cams). The search is
+//! core's [`OnsetSearch`] (doubling from [`START_RATE`], then bisection to
+//! `--resolution`): bounded, and deterministic (the same cams, seeded, at every rate,
+//! collected by index whatever the thread count).
+
+use std::time::Instant;
+
+use anyhow::{bail, Result};
+use camsim_core::{FollowerModel, Onset, OnsetSearch, Start};
+use serde::Serialize;
+
+use crate::actual::ActualArgs;
+use crate::cmd::montecarlo::{threads, Study};
+use crate::cmd::run::{spec_from, SceneArgs};
+use crate::report::Report;
+use crate::sim::{self, RunSpec};
+use crate::stats::Probability;
+
+/// Command-line options of `camsim design`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// What to design.
+    #[command(subcommand)]
+    pub what: What,
+}
+
+/// The design searches.
+#[derive(clap::Subcommand, Debug)]
+pub enum What {
+    /// The smallest return-spring rate that holds contact with a margin (theoretical cam),
+    /// or with P(jump) <= --p-max on actual cams (--actual).
+    Spring(SpringArgs),
+}
+
+/// Command-line options of `camsim design spring`.
+#[derive(clap::Args, Debug)]
+pub struct SpringArgs {
+    /// The scene and its overrides (the operating speed is its --rpm).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Speed margin on the theoretical cam, percent: contact must hold at (1 + margin/100)
+    /// times the operating speed (0-100).
+    #[arg(long, default_value_t = 15.0, allow_hyphen_values = true, value_parser = margin_percent)]
+    pub margin: f64,
+    /// Judge on actual cams instead: the upper 95 % bound of P(jump) at the operating
+    /// speed must be at most --p-max.
+    #[arg(long)]
+    pub actual: bool,
+    /// Largest acceptable P(jump) (its upper 95 % Wilson bound), with --actual (0-1).
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true, value_parser = crate::args::unit_interval, requires = "actual")]
+    pub p_max: f64,
+    /// Actual cams per rate, with --actual (default: the fewest whose upper bound can be
+    /// at most --p-max with no jump, 381 for 0.01).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=1_000_000), requires = "actual")]
+    pub samples: Option<u64>,
+    /// Master seed of the actual cams (the same cams at every rate).
+    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, requires = "actual")]
+    pub seed: u64,
+    /// Worker threads (default: every core). The answer does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// Bracket width the search stops at, lb/in.
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::positive_finite)]
+    pub resolution: f64,
+    /// Largest rate searched, lb/in.
+    #[arg(long, default_value_t = MAX_RATE, allow_hyphen_values = true, value_parser = crate::args::spring_rate)]
+    pub max_rate: f64,
+    /// CI's quick mode: resolution 10 lb/in; with --actual, --p-max at least 0.1 (35 cams).
+    #[arg(long)]
+    pub quick: bool,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The quick mode's least --p-max (35 actual cams a rate).
+pub const QUICK_P_MAX: f64 = 0.1;
+
+/// The search's first rate, lb/in.
+pub const START_RATE: f64 = 10.0;
+/// The default largest rate, lb/in: the reference wire's stiffest spring of two active
+/// coils (G d⁴ / (8 D³ · 2) = 274 lb/in) is well below it.
+pub const MAX_RATE: f64 = 1000.0;
+
+fn margin_percent(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if (0.0..=100.0).contains(&x) => Ok(x),
+        Ok(_) => Err("must be between 0 and 100 (percent)".into()),
+        Err(_) => Err("not a number".into()),
+    }
+}
+
+/// The fewest samples whose Wilson upper bound with no jump is at most `p`.
+pub fn samples_for(p: f64) -> u64 {
+    let mut n = 1u64;
+    while n < 10_000_000 && Probability::of(0, n).hi95 > p {
+        n = (n + 1).max(n + n / 8);
+    }
+    // Back down to the least such n.
+    while n > 1 && Probability::of(0, n - 1).hi95 <= p {
+        n -= 1;
+    }
+    n
+}
+
+/// What was checked at the chosen rate.
+#[derive(Clone, Debug, Serialize)]
+pub struct SpringReport {
+    /// The smallest rate found that passes, lb/in.
+    pub spring_rate_lb_per_in: f64,
+    /// The largest rate tried that fails, lb/in (absent: the first rate tried passed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failing_rate_lb_per_in: Option<f64>,
+    /// Bracket width, lb/in (the answer is within it of the true smallest rate).
+    pub bracket_lb_per_in: f64,
+    /// The spring's preload at assembly, lb.
+    pub preload_lb: f64,
+    /// Preload length, in.
+    pub preload_length_in: f64,
+    /// Its mass by the wire-and-coil model, lb.
+    pub spring_mass_lb: f64,
+    /// Its active coils.
+    pub active_coils: f64,
+    /// Its surge frequency, Hz.
+    pub surge_hz: f64,
+    /// Operating speed, rpm.
+    pub operating_rpm: f64,
+    /// The criterion, in words.
+    pub criterion: String,
+    /// Theoretical cam: the speed contact was required at, rpm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub checked_at_rpm: Option<f64>,
+    /// Theoretical cam: the jump onset of the chosen spring, rpm (a second search).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jump_onset_rpm: Option<f64>,
+    /// Its bracket, rpm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jump_onset_bracket_rpm: Option<f64>,
+    /// Actual cams: P(jump) at the chosen rate with its 95 % interval.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p_jump: Option<Probability>,
+    /// Actual cams: samples per rate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub samples: Option<u64>,
+    /// Actual cams: the master seed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seed: Option<u64>,
+    /// Which model produced the answer.
+    pub model: String,
+    /// Rates tried (lb/in) in order, each with whether it passed.
+    pub tried: Vec<(f64, bool)>,
+    /// Model runs of the search (each of 2 revolutions), and of the onset check.
+    pub model_runs: u64,
+    /// Wall time, s.
+    pub wall_s: f64,
+}
+
+fn describe(spec: &RunSpec) -> String {
+    format!(
+        "{} follower, {} DOFs, rtol {:e}, atol {:e} in, largest step {} rev, static start, 2 revolutions",
+        spec.dofs.follower.name(),
+        spec.dofs.set().name(),
+        spec.solver.rtol,
+        spec.solver.atol,
+        spec.solver.max_step_fraction
+    )
+}
+
+/// The spring search.
+pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
+    let t0 = Instant::now();
+    let mut spec = spec_from(&args.scene)?;
+    spec.solver.start = Start::Static;
+    spec.revolutions = 2;
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
+    let resolution = if args.quick {
+        args.resolution.max(10.0)
+    } else {
+        args.resolution
+    };
+    if args.max_rate <= START_RATE {
+        bail!(
+            "--max-rate {}: must be above the search's first rate {START_RATE} lb/in",
+            args.max_rate
+        );
+    }
+    let search = OnsetSearch::new(START_RATE, Some(2.0), args.max_rate, resolution)?;
+    let mut tried: Vec<(f64, bool)> = Vec::new();
+    let mut runs: u64 = 0;
+    let with_rate = |base: &RunSpec, k: f64| -> Result<RunSpec> {
+        let mut s = base.clone();
+        s.design.set_spring_rate(k)?;
+        s.design
+            .validate()
+            .map_err(|e| camsim_scene_file::refusal("design", e))?;
+        Ok(s)
+    };
+    let mut report = if args.actual {
+        // The Monte Carlo's model: the quasi-static cantilever, vertical (README "Reduced
+        // scenes": adequate for P(jump) on actual cams), at the study tolerances there.
+        let mut mc = spec.clone();
+        mc.dofs.horizontal = false;
+        mc.dofs.follower = FollowerModel::QuasiStaticCantilever;
+        mc.solver.rtol = 1e-4;
+        mc.solver.atol = 1e-8;
+        mc.solver.max_step_fraction = 0.01;
+        let p_max = if args.quick {
+            args.p_max.max(QUICK_P_MAX)
+        } else {
+            args.p_max
+        };
+        let n = args.samples.unwrap_or_else(|| samples_for(p_max));
+        let actual = ActualArgs {
+            actual: true,
+            seed: Some(args.seed),
+            ..ActualArgs::default()
+        };
+        let nthreads = threads(args.threads);
+        let indices: Vec<u64> = (0..n).collect();
+        let mut last_p: Option<(f64, Probability)> = None;
+        let onset = search.find(|k| -> Result<bool> {
+            // A spring that lets the perfect cam separate fails without its Monte Carlo
+            // (far below the answer the follower is thrown off the cam and out of the
+            // model's range, which a study counts as a failed sample).
+            let perfect = with_rate(&mc, k)?;
+            runs += 1;
+            if sim::jumps_at(&perfect, op_rpm)
+                .map_err(|e| e.context(format!("spring rate {k} lb/in")))?
+            {
+                tried.push((k, false));
+                return Ok(false);
+            }
+            let study = Study::from_spec(perfect, &actual, n)?;
+            let recs = match study.run(&indices, nthreads, true) {
+                Ok(r) => r,
+                // A sample thrown out of the model's range did not hold contact.
+                Err(e) if format!("{e:#}").contains("left its valid range") => {
+                    runs += n;
+                    tried.push((k, false));
+                    return Ok(false);
+                }
+                Err(e) => return Err(e),
+            };
+            runs += n;
+            let count = recs.iter().filter(|r| r.jump()).count() as u64;
+            let p = Probability::of(count, n);
+            let ok = p.hi95 <= p_max;
+            if ok {
+                last_p = Some((k, p));
+            }
+            tried.push((k, ok));
+            Ok(ok)
+        })?;
+        let (rate, below) = answer(onset, args.max_rate, "P(jump) above --p-max")?;
+        let p = last_p.filter(|(k, _)| *k == rate).map(|(_, p)| p);
+        SpringReport {
+            spring_rate_lb_per_in: rate,
+            failing_rate_lb_per_in: below,
+            bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
+            preload_lb: 0.0,
+            preload_length_in: spec.design.delta_rs,
+            spring_mass_lb: 0.0,
+            active_coils: 0.0,
+            surge_hz: 0.0,
+            operating_rpm: op_rpm,
+            criterion: format!(
+                "upper 95 % Wilson bound of P(jump) in revolution 2 at {op_rpm:.1} rpm over {n} actual cams (seed {}) at most {}",
+                args.seed, p_max
+            ),
+            checked_at_rpm: None,
+            jump_onset_rpm: None,
+            jump_onset_bracket_rpm: None,
+            p_jump: p,
+            samples: Some(n),
+            seed: Some(args.seed),
+            model: describe(&mc),
+            tried,
+            model_runs: runs,
+            wall_s: 0.0,
+        }
+    } else {
+        let at_rpm = op_rpm * (1.0 + args.margin / 100.0);
+        camsim_core::key::SPEED_RPM
+            .check(camsim_core::key::RPM, at_rpm)
+            .map_err(|e| anyhow::anyhow!("--margin {}: {e}", args.margin))?;
+        let onset = search.find(|k| -> Result<bool> {
+            let s = with_rate(&spec, k)?;
+            runs += 1;
+            let ok = !sim::jumps_at(&s, at_rpm)?;
+            tried.push((k, ok));
+            Ok(ok)
+        })?;
+        let (rate, below) = answer(onset, args.max_rate, "separates")?;
+        // The chosen spring's own jump onset: the margin it really has.
+        let chosen = with_rate(&spec, rate)?;
+        let js = crate::cmd::jump_speed::find(&chosen, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        runs += u64::from(js.simulations);
+        SpringReport {
+            spring_rate_lb_per_in: rate,
+            failing_rate_lb_per_in: below,
+            bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
+            preload_lb: 0.0,
+            preload_length_in: spec.design.delta_rs,
+            spring_mass_lb: 0.0,
+            active_coils: 0.0,
+            surge_hz: 0.0,
+            operating_rpm: op_rpm,
+            criterion: format!(
+                "steady-state contact (revolution 2, static start) at {at_rpm:.1} rpm = {op_rpm:.1} rpm + {} %, theoretical cam",
+                args.margin
+            ),
+            checked_at_rpm: Some(at_rpm),
+            jump_onset_rpm: js.jump_rpm,
+            jump_onset_bracket_rpm: js.jump_rpm.map(|j| j - js.no_jump_rpm),
+            p_jump: None,
+            samples: None,
+            seed: None,
+            model: describe(&spec),
+            tried,
+            model_runs: runs,
+            wall_s: 0.0,
+        }
+    };
+    let chosen = with_rate(&spec, report.spring_rate_lb_per_in)?;
+    let hs = chosen.design.spring()?;
+    report.preload_lb = chosen.design.preload()?;
+    report.spring_mass_lb = hs.mass * 386.09;
+    report.active_coils = hs.active_coils;
+    report.surge_hz = hs.surge_hz;
+    report.wall_s = t0.elapsed().as_secs_f64();
+    crate::report::ensure_finite(&report)?;
+    Ok(report)
+}
+
+/// The passing rate and the failing one below it from the search's outcome.
+fn answer(onset: Onset<f64>, max: f64, fails: &str) -> Result<(f64, Option<f64>)> {
+    match onset {
+        Onset::AtStart(k) => Ok((k, None)),
+        Onset::Bracketed { below, at } => Ok((at, Some(below))),
+        Onset::Beyond(_) => bail!(
+            "no spring up to --max-rate {max} lb/in passes (the follower {fails} at every rate tried): a larger preload length, a gentler program or a lower speed"
+        ),
+    }
+}
+
+impl Report for SpringReport {
+    fn json(&self) -> serde_json::Result<String> {
+        crate::report::sorted_pretty_json(self)
+    }
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "camsim design spring: {:.1} lb/in at preload length {} in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
+            self.spring_rate_lb_per_in,
+            self.preload_length_in,
+            self.preload_lb,
+            self.active_coils,
+            self.spring_mass_lb,
+            self.surge_hz
+        );
+        match self.failing_rate_lb_per_in {
+            Some(b) => {
+                let _ = writeln!(
+                    out,
+                    "  bracket: fails at {b:.1} lb/in, passes at {:.1} lb/in (width {:.2} lb/in)",
+                    self.spring_rate_lb_per_in, self.bracket_lb_per_in
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "  the first rate tried passes: any rate up to it may do"
+                );
+            }
+        }
+        let _ = writeln!(out, "  criterion: {}", self.criterion);
+        if let (Some(j), Some(b)) = (self.jump_onset_rpm, self.jump_onset_bracket_rpm) {
+            let _ = writeln!(
+                out,
+                "  check: its jump onset is {j:.1} rpm (bracket {b:.1} rpm), {:+.1} % over {:.1} rpm",
+                100.0 * (j / self.operating_rpm - 1.0),
+                self.operating_rpm
+            );
+        }
+        if let (Some(p), Some(n)) = (&self.p_jump, self.samples) {
+            let _ = writeln!(
+                out,
+                "  P(jump) at the chosen rate: {} of {n}: {} (95 % Wilson)",
+                p.count,
+                p.text(4)
+            );
+        }
+        let _ = writeln!(out, "  model: {}", self.model);
+        let tried: Vec<String> = self
+            .tried
+            .iter()
+            .map(|(k, ok)| format!("{k:.1}{}", if *ok { "+" } else { "-" }))
+            .collect();
+        let _ = writeln!(out, "  rates tried (lb/in, + passes): {}", tried.join(" "));
+        let _ = writeln!(
+            out,
+            "  {} model runs of 2 revolutions, {:.1} s",
+            self.model_runs, self.wall_s
+        );
+        out
+    }
+}
+
+/// Runs the command.
+pub fn run(args: Args) -> Result<()> {
+    match args.what {
+        What::Spring(a) => {
+            let r = spring(&a)?;
+            crate::report::print(&r, a.json)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_for_is_the_least_n_whose_empty_upper_bound_is_p() {
+        // 0 of n: Wilson's upper end is z²/(n + z²), so n >= z² (1 - p)/p.
+        let z2 = crate::stats::Z95 * crate::stats::Z95;
+        for p in [0.01, 0.05, 0.1] {
+            let n = samples_for(p);
+            assert!(Probability::of(0, n).hi95 <= p);
+            assert!(Probability::of(0, n - 1).hi95 > p);
+            assert_eq!(n, (z2 * (1.0 - p) / p).ceil() as u64, "{p}");
+        }
+        assert_eq!(samples_for(0.01), 381);
+    }
+}

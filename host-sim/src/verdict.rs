@@ -1,0 +1,756 @@
+//! The verdict that opens `camsim run`: does contact hold, is the geometry sound, are the
+//! loads within the material's allowable, is the spring clear of surge, did the
+//! statistics settle. Every number carries its unit in its JSON key and its text.
+
+use std::ops::ControlFlow;
+
+use anyhow::Result;
+use camsim_core::{Design, HelicalSpring, Observer, PeakScan, Sample, ScanEnds};
+use serde::Serialize;
+
+use crate::sim::{PeriodRow, SteadyCheck};
+
+/// One horsepower, lb·in/s.
+pub const HP_LB_IN_PER_S: f64 = 6600.0;
+/// One lb·in/s in watts.
+pub const W_PER_LB_IN_PER_S: f64 = 0.112_984_829;
+
+/// The limits a verdict judges against (`--allowable-stress`, `--pressure-angle-limit`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Limits {
+    /// Allowable Hertz contact stress, psi.
+    pub allowable_contact_stress_psi: f64,
+    /// Largest pressure angle without a warning, degrees.
+    pub pressure_angle_limit_deg: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            allowable_contact_stress_psi: camsim_core::ALLOWABLE_CONTACT_STRESS_PSI,
+            pressure_angle_limit_deg: camsim_core::PRESSURE_ANGLE_LIMIT_DEG,
+        }
+    }
+}
+
+/// Where an extreme occurred.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct At {
+    /// Revolution, from 1.
+    pub revolution: u32,
+    /// Cam angle within it, degrees.
+    pub cam_angle_deg: f64,
+}
+
+/// The extremes of the steady revolutions, watched sample by sample.
+#[derive(Clone, Debug)]
+pub struct Watch {
+    /// First revolution watched (2 when the run has two or more, else 1).
+    pub from_revolution: u32,
+    /// Smallest contact force in contact, lb, and where.
+    pub min_force: Option<(f64, At)>,
+    /// Largest |cam output torque|, lb·in (signed value), and where.
+    pub peak_torque: Option<(f64, At)>,
+    /// Largest motor power T_i ω_m, lb·in/s, and where.
+    pub peak_power: Option<(f64, At)>,
+    /// Largest Hertz stress, psi, and where.
+    pub peak_stress: Option<(f64, At)>,
+}
+
+impl Watch {
+    /// A watch of the revolutions from `from_revolution` on.
+    pub fn new(from_revolution: u32) -> Self {
+        Watch {
+            from_revolution,
+            min_force: None,
+            peak_torque: None,
+            peak_power: None,
+            peak_stress: None,
+        }
+    }
+
+    /// The revolution a run of `revolutions` judges from: 2 (the thesis's steady state),
+    /// or 1 for a one-revolution run.
+    pub fn steady_from(revolutions: u32) -> u32 {
+        if revolutions >= 2 {
+            2
+        } else {
+            1
+        }
+    }
+}
+
+fn keep(slot: &mut Option<(f64, At)>, v: f64, at: At, better: impl Fn(f64, f64) -> bool) {
+    if !v.is_finite() {
+        return;
+    }
+    match slot {
+        Some((old, _)) if !better(v, *old) => {}
+        _ => *slot = Some((v, at)),
+    }
+}
+
+impl Observer<f64> for Watch {
+    fn needs_stress(&self) -> bool {
+        true
+    }
+    fn observe(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
+        if s.revolution < self.from_revolution {
+            return ControlFlow::Continue(());
+        }
+        let at = At {
+            revolution: s.revolution,
+            cam_angle_deg: s.angle_deg,
+        };
+        let p = &s.point;
+        if p.in_contact {
+            keep(&mut self.min_force, p.contact_force, at, |a, b| a < b);
+        }
+        keep(&mut self.peak_torque, p.torque_out, at, |a, b| {
+            a.abs() > b.abs()
+        });
+        keep(
+            &mut self.peak_power,
+            p.torque_drive * p.omega_m,
+            at,
+            |a, b| a > b,
+        );
+        keep(&mut self.peak_stress, s.contact_stress, at, |a, b| a > b);
+        ControlFlow::Continue(())
+    }
+}
+
+/// One separation in the steady revolutions.
+#[derive(Clone, Debug, Serialize)]
+pub struct Separation {
+    /// Revolution of the lift-off.
+    pub revolution: u32,
+    /// The period it starts in.
+    pub period: String,
+    /// Cam angle of the lift-off, degrees.
+    pub from_deg: f64,
+    /// Cam angle of the landing, degrees.
+    pub to_deg: f64,
+    /// Time off the cam, ms.
+    pub duration_ms: f64,
+}
+
+/// Does contact hold.
+#[derive(Clone, Debug, Serialize)]
+pub struct ContactVerdict {
+    /// True when the follower never leaves the cam in the judged revolutions.
+    pub holds: bool,
+    /// The revolutions judged (first, last).
+    pub revolutions: [u32; 2],
+    /// The separations in them (bursts of bounces merged per period).
+    pub separations: Vec<Separation>,
+    /// Cam angle off the cam in all of them, degrees.
+    pub off_cam_deg: f64,
+    /// Separations in revolution 1 before the judged ones (the start transient).
+    pub start_transient_separations: usize,
+    /// Smallest contact force while in contact, lb.
+    pub min_contact_force_lb: f64,
+    /// Where.
+    pub min_contact_force_at: At,
+    /// The period of the smallest contact force.
+    pub min_contact_force_period: String,
+}
+
+/// The cam's shape.
+#[derive(Clone, Debug, Serialize)]
+pub struct GeometryVerdict {
+    /// Largest |pressure angle| of the theoretical profile, degrees.
+    pub max_pressure_angle_deg: f64,
+    /// Cam angle where, degrees.
+    pub max_pressure_angle_at_deg: f64,
+    /// The limit judged against, degrees.
+    pub pressure_angle_limit_deg: f64,
+    /// Smallest radius of curvature of the pitch curve where it is convex, in.
+    pub min_pitch_radius_in: f64,
+    /// Cam angle where, degrees.
+    pub min_pitch_radius_at_deg: f64,
+    /// Undercut margin: that radius minus the roller radius (the cam surface's smallest
+    /// convex radius), in; at or below 0 the roller cannot cut the profile.
+    pub undercut_margin_in: f64,
+}
+
+/// Forces and power.
+#[derive(Clone, Debug, Serialize)]
+pub struct LoadsVerdict {
+    /// Largest |output torque on the cam| T_o, lb·in (signed).
+    pub peak_cam_torque_lb_in: f64,
+    /// Where.
+    pub peak_cam_torque_at: At,
+    /// Largest motor power T_i ω_m, hp.
+    pub peak_motor_power_hp: f64,
+    /// The same, W.
+    pub peak_motor_power_w: f64,
+    /// Where.
+    pub peak_motor_power_at: At,
+    /// Largest Hertz contact stress, psi.
+    pub peak_contact_stress_psi: f64,
+    /// Where.
+    pub peak_contact_stress_at: At,
+    /// The allowable, psi.
+    pub allowable_contact_stress_psi: f64,
+    /// Where the default allowable comes from.
+    pub allowable_source: &'static str,
+    /// Peak stress over the allowable.
+    pub stress_ratio: f64,
+}
+
+/// The return spring as the wire-and-coil model makes it.
+#[derive(Clone, Debug, Serialize)]
+pub struct SpringVerdict {
+    /// Rate, lb/in.
+    pub rate_lb_per_in: f64,
+    /// Mass the model uses, lb (weight).
+    pub mass_lb: f64,
+    /// Active coils of the wire model.
+    pub active_coils: f64,
+    /// Surge frequency of the wire model, Hz.
+    pub surge_hz: f64,
+    /// Cam rotation frequency, Hz.
+    pub cam_hz: f64,
+    /// Surge over the cam frequency: the harmonic of the cam motion at the surge.
+    pub surge_harmonic: f64,
+    /// The least harmonic ratio accepted without a warning.
+    pub least_harmonic: f64,
+}
+
+/// The jump margin (`--margin`).
+#[derive(Clone, Debug, Serialize)]
+pub struct MarginVerdict {
+    /// Lowest speed with steady-state separation, rpm (absent: none up to the search's top).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jump_onset_rpm: Option<f64>,
+    /// Highest speed checked that holds contact, rpm.
+    pub holds_at_rpm: f64,
+    /// The onset over the operating speed, minus 1, in percent (absent without an onset).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub margin_percent: Option<f64>,
+    /// Bracket width of the onset, rpm.
+    pub bracket_rpm: f64,
+    /// Simulations the search ran (2 revolutions each, static start).
+    pub simulations: u32,
+}
+
+/// Whether the statistics settled, in words.
+#[derive(Clone, Debug, Serialize)]
+pub struct SteadyVerdict {
+    /// False only when the last revolutions' statistics really differ.
+    pub settled: bool,
+    /// What changed most, by how much, and what that means.
+    pub summary: String,
+}
+
+/// The verdict block.
+#[derive(Clone, Debug, Serialize)]
+pub struct Verdict {
+    /// Contact.
+    pub contact: ContactVerdict,
+    /// Geometry.
+    pub geometry: GeometryVerdict,
+    /// Loads.
+    pub loads: LoadsVerdict,
+    /// The return spring.
+    pub spring: SpringVerdict,
+    /// The jump margin, when asked (`--margin`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jump_margin: Option<MarginVerdict>,
+    /// Steady state (absent for a one-revolution run).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steady: Option<SteadyVerdict>,
+    /// Every warning, one line each.
+    pub warnings: Vec<String>,
+}
+
+/// The source of the default allowable contact stress.
+pub const ALLOWABLE_SOURCE: &str = "through-hardened steel, 400 HB, 1e8 cycles: Buckingham's S_C = 0.4 H_B - 10 kpsi (Shigley); --allowable-stress PSI to change";
+
+/// Largest |pressure angle| of the theoretical profile (deg, at deg), smallest convex
+/// pitch radius (in, at deg) and the undercut margin (in).
+pub fn geometry(design: &Design<f64>, limits: &Limits) -> Result<GeometryVerdict> {
+    let g = &design.geometry;
+    let prog = &design.program;
+    let n = 3600;
+    let scan = PeakScan {
+        start: 0.0,
+        step: std::f64::consts::TAU / n as f64,
+        points: n,
+        ends: ScanEnds::Periodic,
+        iterations: 60,
+    };
+    let phi = |th: f64| {
+        let th = th.rem_euclid(std::f64::consts::TAU);
+        let f = prog.follower(th);
+        g.pressure_angle(f.y, f.dy).abs()
+    };
+    let peak = scan
+        .maximize(phi)
+        .ok_or_else(|| anyhow::anyhow!("no pressure angle could be evaluated"))?;
+    let u = g.undercut(prog, n)?;
+    let pitch = u.min_convex_surface_radius + g.roller_radius;
+    Ok(GeometryVerdict {
+        max_pressure_angle_deg: peak.value.to_degrees(),
+        max_pressure_angle_at_deg: peak.at.rem_euclid(std::f64::consts::TAU).to_degrees(),
+        pressure_angle_limit_deg: limits.pressure_angle_limit_deg,
+        min_pitch_radius_in: pitch,
+        min_pitch_radius_at_deg: u.min_convex_at.to_degrees(),
+        undercut_margin_in: u.min_convex_surface_radius,
+    })
+}
+
+/// The spring verdict of `design` at its speed.
+pub fn spring(design: &Design<f64>) -> Result<SpringVerdict> {
+    let s = HelicalSpring::of_rate(design.k_rs)?;
+    let cam_hz = camsim_core::rad_per_s_to_rpm(design.omega0) / 60.0;
+    Ok(SpringVerdict {
+        rate_lb_per_in: design.k_rs,
+        mass_lb: design.m_spring * 386.09,
+        active_coils: s.active_coils,
+        surge_hz: s.surge_hz,
+        cam_hz,
+        surge_harmonic: s.surge_hz / cam_hz,
+        least_harmonic: camsim_core::SURGE_HARMONIC_MARGIN,
+    })
+}
+
+/// What a run's steady-state comparison means to a designer. `rows` are the per-period
+/// rows of every revolution; `checks` the comparison of each pair of consecutive
+/// revolutions from the first, the last pair last.
+///
+/// The statistics have settled when the last revolution differs from the one before by at
+/// most 1 % (of the statistic's largest magnitude over the periods), or when the change is
+/// dying out fast enough that what remains after the last revolution is at most 1 %: with
+/// the change before it `d1` and the last `d2`, a change that shrinks by `q = d2/d1` a
+/// revolution leaves `d2 q / (1 - q)` to come. Separations in the last revolution make every
+/// revolution different: not settled, and said so.
+pub fn steady(rows: &[PeriodRow], checks: &[SteadyCheck]) -> Option<SteadyVerdict> {
+    let last = checks.last()?;
+    let rev = last.compared[1];
+    let jumps_last = rows.iter().any(|r| r.revolution == rev && r.jump);
+    let d2 = last.max_rel_change;
+    let what = describe(rows, last);
+    if jumps_last {
+        return Some(SteadyVerdict {
+            settled: false,
+            summary: format!(
+                "NOT settled: the follower leaves the cam in revolution {rev}, so no two revolutions are alike; {what}"
+            ),
+        });
+    }
+    if d2 <= 0.01 {
+        return Some(SteadyVerdict {
+            settled: true,
+            summary: format!("settled: {what}"),
+        });
+    }
+    // The change before the last one, of the same statistic in the same period.
+    let before = checks
+        .len()
+        .checked_sub(2)
+        .and_then(|i| checks.get(i))
+        .and_then(|c| change_of(rows, c.compared, &last.statistic));
+    match before {
+        Some(d1) if d1 > d2 => {
+            let q = d2 / d1;
+            let remaining = d2 * q / (1.0 - q);
+            if remaining <= 0.01 {
+                Some(SteadyVerdict {
+                    settled: true,
+                    summary: format!(
+                        "settled: {what}; the change shrinks {:.1}-fold a revolution, so about {:.2} % more is to come",
+                        1.0 / q,
+                        100.0 * remaining
+                    ),
+                })
+            } else {
+                Some(SteadyVerdict {
+                    settled: false,
+                    summary: format!(
+                        "NOT settled: {what}; it shrinks only {:.1}-fold a revolution, about {:.1} % more to come: run more revolutions (--revolutions)",
+                        1.0 / q,
+                        100.0 * remaining
+                    ),
+                })
+            }
+        }
+        Some(_) => Some(SteadyVerdict {
+            settled: false,
+            summary: format!(
+                "NOT settled: {what}; the change does not shrink from one revolution to the next: run more revolutions (--revolutions), or the response is not periodic"
+            ),
+        }),
+        None => Some(SteadyVerdict {
+            settled: false,
+            summary: format!(
+                "NOT settled: {what}; with only these revolutions it cannot be told whether it is dying out: run more revolutions (--revolutions)"
+            ),
+        }),
+    }
+}
+
+/// The designer's name of a statistic and its unit.
+fn label(stat: &str) -> (&'static str, &'static str) {
+    match stat {
+        "rms_displacement" => ("displacement deviation RMS", "in"),
+        "rms_velocity" => ("velocity deviation RMS", "in/s"),
+        "rms_acceleration" => ("acceleration deviation RMS", "in/s^2"),
+        "torque_avg" => ("average cam torque", "lb in"),
+        "contact_force_avg" => ("average contact force", "lb"),
+        _ => ("statistic", ""),
+    }
+}
+
+fn value_of(r: &PeriodRow, stat: &str) -> Option<f64> {
+    Some(match stat {
+        "rms_displacement" => r.rms_displacement,
+        "rms_velocity" => r.rms_velocity,
+        "rms_acceleration" => r.rms_acceleration,
+        "torque_avg" => r.torque_avg,
+        "contact_force_avg" => r.contact_force_avg,
+        _ => return None,
+    })
+}
+
+/// The relative change of `statistic` ("period.name") between the revolutions `pair`,
+/// on the scale [`crate::sim::steady_check`] uses (its largest magnitude over the periods of
+/// both, or its floor).
+fn change_of(rows: &[PeriodRow], pair: [u32; 2], statistic: &str) -> Option<f64> {
+    let (period, stat) = statistic.split_once('.')?;
+    let floor = crate::sim::steady_floor(stat)?;
+    let scale = rows
+        .iter()
+        .filter(|r| r.revolution == pair[0] || r.revolution == pair[1])
+        .filter_map(|r| value_of(r, stat))
+        .map(f64::abs)
+        .fold(floor, f64::max);
+    let a = rows
+        .iter()
+        .find(|r| r.revolution == pair[0] && r.period == period)?;
+    let b = rows
+        .iter()
+        .find(|r| r.revolution == pair[1] && r.period == period)?;
+    Some((value_of(a, stat)? - value_of(b, stat)?).abs() / scale)
+}
+
+/// "the low dwell's acceleration deviation RMS went from 202 to 218 in/s^2 between
+/// revolutions 2 and 3 (3.3 % of its largest value in any period)".
+fn describe(rows: &[PeriodRow], c: &SteadyCheck) -> String {
+    let Some((period, stat)) = c.statistic.split_once('.') else {
+        return format!(
+            "revolutions {} and {} agree (largest change {:.2} %)",
+            c.compared[0],
+            c.compared[1],
+            100.0 * c.max_rel_change
+        );
+    };
+    let (name, unit) = label(stat);
+    let get = |rev: u32| {
+        rows.iter()
+            .find(|r| r.revolution == rev && r.period == period)
+            .and_then(|r| value_of(r, stat))
+    };
+    match (get(c.compared[0]), get(c.compared[1])) {
+        (Some(a), Some(b)) => format!(
+            "the largest change from revolution {} to {} is the {} of the {} period, {} to {} {unit} ({:.2} % of its largest value in any period)",
+            c.compared[0],
+            c.compared[1],
+            name,
+            period,
+            short(a),
+            short(b),
+            100.0 * c.max_rel_change
+        ),
+        _ => format!(
+            "revolutions {} and {} differ by {:.2} % at most",
+            c.compared[0],
+            c.compared[1],
+            100.0 * c.max_rel_change
+        ),
+    }
+}
+
+/// A number with 4 significant digits, plain where that reads well.
+fn short(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || (1e-2..1e5).contains(&a) {
+        let digits = if a >= 1000.0 {
+            0
+        } else if a >= 100.0 {
+            1
+        } else if a >= 10.0 {
+            2
+        } else {
+            3
+        };
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// The warnings of a verdict (pressure angle, undercut, stress, surge, separation).
+pub fn warnings(
+    contact: &ContactVerdict,
+    geometry: &GeometryVerdict,
+    loads: &LoadsVerdict,
+    spring: &SpringVerdict,
+    margin: Option<&MarginVerdict>,
+) -> Vec<String> {
+    let mut w = Vec::new();
+    if !contact.holds {
+        w.push(format!(
+            "the follower leaves the cam {} time(s) in revolutions {}-{}, {:.2} deg of cam angle in all",
+            contact.separations.len(),
+            contact.revolutions[0],
+            contact.revolutions[1],
+            contact.off_cam_deg
+        ));
+    }
+    if geometry.max_pressure_angle_deg > geometry.pressure_angle_limit_deg {
+        w.push(format!(
+            "pressure angle {:.1} deg at cam angle {:.1} deg exceeds the limit {:.1} deg (--pressure-angle-limit)",
+            geometry.max_pressure_angle_deg,
+            geometry.max_pressure_angle_at_deg,
+            geometry.pressure_angle_limit_deg
+        ));
+    }
+    if geometry.undercut_margin_in <= 0.0 {
+        w.push(format!(
+            "undercut: the pitch curve's radius {:.4} in at {:.1} deg is below the roller radius",
+            geometry.min_pitch_radius_in, geometry.min_pitch_radius_at_deg
+        ));
+    }
+    if loads.stress_ratio > 1.0 {
+        w.push(format!(
+            "contact stress {:.0} psi exceeds the allowable {:.0} psi by {:.1} % (--allowable-stress)",
+            loads.peak_contact_stress_psi,
+            loads.allowable_contact_stress_psi,
+            100.0 * (loads.stress_ratio - 1.0)
+        ));
+    }
+    if spring.surge_harmonic < spring.least_harmonic {
+        w.push(format!(
+            "spring surge {:.0} Hz is only {:.1} times the cam's {:.2} Hz: harmonic {} of the cam motion excites it (keep the surge above the {:.0}th harmonic: a stiffer, lighter spring)",
+            spring.surge_hz,
+            spring.surge_harmonic,
+            spring.cam_hz,
+            spring.surge_harmonic.round().max(1.0),
+            spring.least_harmonic
+        ));
+    }
+    if let Some(m) = margin {
+        if let Some(p) = m.margin_percent {
+            if p <= 0.0 {
+                w.push(format!(
+                    "the jump onset {:.1} rpm is at or below the operating speed",
+                    m.jump_onset_rpm.unwrap_or(f64::NAN)
+                ));
+            }
+        }
+    }
+    w
+}
+
+/// Text of an [`At`].
+pub fn at_text(a: &At) -> String {
+    format!(
+        "cam angle {:.1} deg of revolution {}",
+        a.cam_angle_deg, a.revolution
+    )
+}
+
+/// The verdict block as text.
+pub fn text(v: &Verdict) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let c = &v.contact;
+    let _ = writeln!(
+        out,
+        "VERDICT (revolutions {}-{})",
+        c.revolutions[0], c.revolutions[1]
+    );
+    if c.holds {
+        let _ = writeln!(
+            out,
+            "  contact:   HOLDS; smallest contact force {:.2} lb at {} ({})",
+            c.min_contact_force_lb,
+            at_text(&c.min_contact_force_at),
+            c.min_contact_force_period
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "  contact:   the follower LEAVES the cam ({:.2} deg of cam angle off it); smallest force in contact {:.2} lb at {}",
+            c.off_cam_deg,
+            c.min_contact_force_lb,
+            at_text(&c.min_contact_force_at)
+        );
+        for s in &c.separations {
+            let _ = writeln!(
+                out,
+                "             revolution {}, {}: off from {:.2} to {:.2} deg, {:.3} ms",
+                s.revolution, s.period, s.from_deg, s.to_deg, s.duration_ms
+            );
+        }
+    }
+    if c.start_transient_separations > 0 && c.revolutions[0] > 1 {
+        let _ = writeln!(
+            out,
+            "             (revolution 1, the start transient, separated {} time(s): not judged)",
+            c.start_transient_separations
+        );
+    }
+    let g = &v.geometry;
+    let _ = writeln!(
+        out,
+        "  geometry:  largest pressure angle {:.2} deg at cam angle {:.1} deg (limit {:.0} deg); smallest pitch-curve radius {:.4} in at {:.1} deg, undercut margin {:.4} in",
+        g.max_pressure_angle_deg,
+        g.max_pressure_angle_at_deg,
+        g.pressure_angle_limit_deg,
+        g.min_pitch_radius_in,
+        g.min_pitch_radius_at_deg,
+        g.undercut_margin_in
+    );
+    let l = &v.loads;
+    let _ = writeln!(
+        out,
+        "  loads:     peak cam torque {:.1} lb in at {}; peak motor power {:.3} hp ({:.0} W) at {}",
+        l.peak_cam_torque_lb_in,
+        at_text(&l.peak_cam_torque_at),
+        l.peak_motor_power_hp,
+        l.peak_motor_power_w,
+        at_text(&l.peak_motor_power_at)
+    );
+    let _ = writeln!(
+        out,
+        "             peak contact stress {:.0} psi at {}: {:.0} % of the allowable {:.0} psi ({})",
+        l.peak_contact_stress_psi,
+        at_text(&l.peak_contact_stress_at),
+        100.0 * l.stress_ratio,
+        l.allowable_contact_stress_psi,
+        l.allowable_source
+    );
+    let s = &v.spring;
+    let _ = writeln!(
+        out,
+        "  spring:    {:.1} lb/in, {:.2} active coils, {:.4} lb; surge {:.0} Hz = {:.1} x the cam's {:.2} Hz",
+        s.rate_lb_per_in, s.active_coils, s.mass_lb, s.surge_hz, s.surge_harmonic, s.cam_hz
+    );
+    match &v.jump_margin {
+        Some(m) => match (m.jump_onset_rpm, m.margin_percent) {
+            (Some(j), Some(p)) => {
+                let _ = writeln!(
+                    out,
+                    "  margin:    jump onset {j:.1} rpm (contact holds at {:.1} rpm; bracket {:.1} rpm), {p:+.1} % over the operating speed; {} simulations",
+                    m.holds_at_rpm, m.bracket_rpm, m.simulations
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    out,
+                    "  margin:    no jump up to {:.0} rpm; {} simulations",
+                    m.holds_at_rpm, m.simulations
+                );
+            }
+        },
+        None => {
+            let _ = writeln!(
+                out,
+                "  margin:    not computed (--margin: a search of about 15 two-revolution runs)"
+            );
+        }
+    }
+    if let Some(st) = &v.steady {
+        let _ = writeln!(out, "  steady:    {}", st.summary);
+    }
+    if v.warnings.is_empty() {
+        let _ = writeln!(out, "  warnings:  none");
+    } else {
+        for w in &v.warnings {
+            let _ = writeln!(out, "  WARNING:   {w}");
+        }
+    }
+    out
+}
+
+/// The contact verdict from the run's jumps and watch.
+pub fn contact(
+    design: &Design<f64>,
+    jumps: &[crate::cmd::run::JumpRow],
+    periods: &[&'static str],
+    watch: &Watch,
+    revolutions: u32,
+) -> Result<ContactVerdict> {
+    let rpm = camsim_core::rad_per_s_to_rpm(design.omega0);
+    let from = watch.from_revolution;
+    let mut separations: Vec<Separation> = Vec::new();
+    let mut off = 0.0;
+    let mut transient = 0;
+    let ms_per_deg = 60_000.0 / (360.0 * rpm);
+    let mut last_key: Option<(u32, usize)> = None;
+    for j in jumps {
+        if j.revolution < from {
+            transient += 1;
+            continue;
+        }
+        off += j.end_deg - j.start_deg;
+        let period = periods.get(j.period).copied().unwrap_or("?").to_string();
+        match separations.last_mut() {
+            Some(s) if last_key == Some((j.revolution, j.period)) => {
+                s.to_deg = j.end_deg;
+                s.duration_ms += (j.end_deg - j.start_deg) * ms_per_deg;
+            }
+            _ => separations.push(Separation {
+                revolution: j.revolution,
+                period,
+                from_deg: j.start_deg,
+                to_deg: j.end_deg,
+                duration_ms: (j.end_deg - j.start_deg) * ms_per_deg,
+            }),
+        }
+        last_key = Some((j.revolution, j.period));
+    }
+    let (f, at) = watch.min_force.ok_or_else(|| {
+        anyhow::anyhow!("the follower was never on the cam in the judged revolutions")
+    })?;
+    let seg = design.program.segment_at(at.cam_angle_deg.to_radians());
+    Ok(ContactVerdict {
+        holds: separations.is_empty(),
+        revolutions: [from, revolutions],
+        separations,
+        off_cam_deg: off,
+        start_transient_separations: transient,
+        min_contact_force_lb: f,
+        min_contact_force_at: at,
+        min_contact_force_period: periods.get(seg).copied().unwrap_or("?").to_string(),
+    })
+}
+
+/// The loads verdict from the watch.
+pub fn loads(watch: &Watch, limits: &Limits) -> Result<LoadsVerdict> {
+    let missing = || anyhow::anyhow!("no sample in the judged revolutions");
+    let (t, t_at) = watch.peak_torque.ok_or_else(missing)?;
+    let (p, p_at) = watch.peak_power.ok_or_else(missing)?;
+    let (s, s_at) = watch.peak_stress.ok_or_else(missing)?;
+    Ok(LoadsVerdict {
+        peak_cam_torque_lb_in: t,
+        peak_cam_torque_at: t_at,
+        peak_motor_power_hp: p / HP_LB_IN_PER_S,
+        peak_motor_power_w: p * W_PER_LB_IN_PER_S,
+        peak_motor_power_at: p_at,
+        peak_contact_stress_psi: s,
+        peak_contact_stress_at: s_at,
+        allowable_contact_stress_psi: limits.allowable_contact_stress_psi,
+        allowable_source: if limits.allowable_contact_stress_psi
+            == camsim_core::ALLOWABLE_CONTACT_STRESS_PSI
+        {
+            ALLOWABLE_SOURCE
+        } else {
+            "--allowable-stress"
+        },
+        stress_ratio: s / limits.allowable_contact_stress_psi,
+    })
+}

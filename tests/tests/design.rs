@@ -1,0 +1,90 @@
+//! `camsim run`'s verdict and `camsim design spring` (issue 17).
+
+use camsim::cmd::design::{spring, SpringArgs};
+use camsim::cmd::run::{report, Args as RunArgs, SceneArgs};
+
+fn spring_args(actual: bool, threads: u32) -> SpringArgs {
+    SpringArgs {
+        scene: SceneArgs::default(),
+        margin: 15.0,
+        actual,
+        p_max: 0.01,
+        samples: None,
+        seed: 1,
+        threads: Some(threads),
+        resolution: 1.0,
+        max_rate: 1000.0,
+        quick: true,
+        json: false,
+    }
+}
+
+/// The verdict's extremes against the per-period table the statistics keep on their own:
+/// the smallest contact force and the peak stress of the judged revolutions (2-3) are the
+/// table's, and the pressure angle is the closed form tan φ = y' / (R_a + y) at its angle.
+#[test]
+fn verdict_agrees_with_the_table_and_the_geometry() {
+    let r = report(&RunArgs::default()).unwrap();
+    let v = r.verdict.as_ref().unwrap();
+    let judged = r.per_period.iter().filter(|p| p.revolution >= 2);
+    let fmin = judged
+        .clone()
+        .map(|p| p.contact_force_min)
+        .fold(f64::INFINITY, f64::min);
+    let smax = judged.map(|p| p.contact_stress_max).fold(0.0, f64::max);
+    assert_eq!(v.contact.min_contact_force_lb, fmin);
+    assert_eq!(v.loads.peak_contact_stress_psi, smax);
+    assert!(v.contact.holds && v.warnings.is_empty(), "{:?}", v.warnings);
+    let d = camsim_core::Design::<f64>::reference();
+    let th = v.geometry.max_pressure_angle_at_deg.to_radians();
+    let f = d.program.follower(th);
+    let phi = (f.dy / (d.geometry.prime_radius() + f.y))
+        .atan()
+        .abs()
+        .to_degrees();
+    assert!((phi - v.geometry.max_pressure_angle_deg).abs() < 1e-9);
+    // A limit below it warns, naming the option.
+    let mut a = RunArgs {
+        revolutions: Some(2),
+        ..Default::default()
+    };
+    a.verdict.pressure_angle_limit = Some(phi - 1.0);
+    let r = report(&a).unwrap();
+    let w = &r.verdict.unwrap().warnings;
+    assert!(
+        w.iter().any(|w| w.contains("--pressure-angle-limit")),
+        "{w:?}"
+    );
+}
+
+/// The theoretical search's answer holds contact at 920 rpm and the rate a bracket below
+/// does not (the predicate re-run outside the search), and its own jump onset is above
+/// 920 rpm.
+#[test]
+fn design_spring_theoretical_brackets_the_criterion() {
+    let r = spring(&spring_args(false, 1)).unwrap();
+    let below = r.failing_rate_lb_per_in.unwrap();
+    assert!(r.bracket_lb_per_in <= 10.0 && r.bracket_lb_per_in > 0.0);
+    let mut spec = camsim::cmd::run::spec_from(&SceneArgs::default()).unwrap();
+    spec.solver.start = camsim_core::Start::Static;
+    spec.revolutions = 2;
+    let at = |k: f64| {
+        let mut s = spec.clone();
+        s.design.set_spring_rate(k).unwrap();
+        camsim::sim::jumps_at(&s, 920.0).unwrap()
+    };
+    assert!(!at(r.spring_rate_lb_per_in));
+    assert!(at(below));
+    assert!(r.jump_onset_rpm.unwrap() > 920.0);
+}
+
+/// The actual-cam search gives the same answer, bit for bit, on 1 and 2 threads.
+#[test]
+fn design_spring_actual_is_the_same_on_one_and_two_threads() {
+    let one = spring(&spring_args(true, 1)).unwrap();
+    let two = spring(&spring_args(true, 2)).unwrap();
+    assert_eq!(one.spring_rate_lb_per_in, two.spring_rate_lb_per_in);
+    assert_eq!(one.tried, two.tried);
+    assert_eq!(one.p_jump, two.p_jump);
+    assert!(one.p_jump.unwrap().hi95 <= 0.1);
+}
