@@ -123,6 +123,8 @@ assert r['profile']['max_abs_deviation_in'] <= p['chord_error_bound'], (r['profi
     "$studies/profile.out" "$studies/roundtrip.out"
 smoke design design spring --quick --json
 smoke design-actual design spring --actual --quick --json
+smoke design-speed design speed --quick --json
+smoke design-tolerance design tolerance --quick --json
 # Every command camsim lists is smoke-tested above (a new command must be added here).
 for c in $("$C" --help | awk '/^Commands:/{on=1; next} on && /^  [a-z]/{print $1} /^$/{on=0}'); do
     # firmware-check reads the firmware's QEMU logs: the firmware step below runs it.

@@ -88,3 +88,45 @@ fn design_spring_actual_is_the_same_on_one_and_two_threads() {
     assert_eq!(one.p_jump, two.p_jump);
     assert!(one.p_jump.unwrap().hi95 <= 0.1);
 }
+
+fn mc_args(threads: u32) -> camsim::cmd::design::McArgs {
+    camsim::cmd::design::McArgs {
+        scene: SceneArgs::default(),
+        p_max: 0.01,
+        samples: None,
+        seed: 1,
+        threads: Some(threads),
+        quick: true,
+        json: false,
+    }
+}
+
+/// `design speed` and `design tolerance` (quick): the same answer on 1 and 2 threads; the
+/// answer passes (its upper Wilson bound at most the quick mode's 0.1) and is the largest
+/// value tried below the failing one; a speed above the theoretical cam's onset cannot
+/// pass, since there the perfect cam separates and every cam counts as jumping.
+#[test]
+fn design_speed_and_tolerance_bracket_their_criterion_on_any_thread_count() {
+    use camsim::cmd::design::mc_search;
+    for speed in [true, false] {
+        let a = mc_search(&mc_args(1), speed).unwrap();
+        let b = mc_search(&mc_args(2), speed).unwrap();
+        assert_eq!(
+            (a.answer, a.failing, &a.tried),
+            (b.answer, b.failing, &b.tried)
+        );
+        let p = a.p_jump.unwrap();
+        assert!(p.hi95 <= 0.1, "{p:?}");
+        let failing = a.failing.unwrap();
+        assert!(failing > a.answer);
+        assert!(a
+            .tried
+            .iter()
+            .all(|&(x, ok)| if ok { x <= a.answer } else { x >= failing }));
+        if speed {
+            assert!(a.answer < a.theoretical_onset_rpm.unwrap());
+        } else {
+            assert_eq!(a.cam_tolerance_in.unwrap(), 0.0005 * a.answer);
+        }
+    }
+}

@@ -39,6 +39,297 @@ pub enum What {
     /// The smallest return-spring rate that holds contact with a margin (theoretical cam),
     /// or with P(jump) <= --p-max on actual cams (--actual).
     Spring(SpringArgs),
+    /// The highest cam speed at which P(jump) on actual cams is <= --p-max (its upper 95 %
+    /// bound), beside the theoretical cam's jump onset.
+    Speed(McArgs),
+    /// The loosest cam and roller tolerance (a factor on VI.1's ±0.0005/±0.0001 in) at
+    /// which P(jump) on actual cams at the operating speed is <= --p-max.
+    Tolerance(McArgs),
+}
+
+/// Command-line options of the Monte Carlo searches (`design speed`, `design tolerance`).
+#[derive(clap::Args, Debug)]
+pub struct McArgs {
+    /// The scene and its overrides (the operating speed is its --rpm).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Largest acceptable P(jump) (its upper 95 % Wilson bound) (0-1).
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true, value_parser = crate::args::unit_interval)]
+    pub p_max: f64,
+    /// Actual cams a step (default: the fewest whose upper bound can be at most --p-max
+    /// with no jump, 381 for 0.01).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    pub samples: Option<u64>,
+    /// Master seed of the actual cams (the same cams at every step).
+    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED)]
+    pub seed: u64,
+    /// Worker threads (default: every core). The answer does not depend on it.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub threads: Option<u32>,
+    /// CI's quick mode: a coarse bracket and --p-max at least 0.1 (35 cams a step).
+    #[arg(long)]
+    pub quick: bool,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The Monte Carlo model of the design searches: the quasi-static cantilever, vertical
+/// (README "Reduced scenes": adequate for P(jump) on actual cams), at rtol 1e-4.
+fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
+    let mut mc = spec.clone();
+    mc.dofs.horizontal = false;
+    mc.dofs.follower = FollowerModel::QuasiStaticCantilever;
+    mc.solver.rtol = 1e-4;
+    mc.solver.atol = 1e-8;
+    mc.solver.max_step_fraction = 0.01;
+    mc
+}
+
+/// P(jump) in revolution 2 over `n` actual cams of `mc` (`actual`'s tolerances and seed).
+/// When the perfect cam already separates every cam counts as jumping, without its Monte
+/// Carlo; a cam thrown out of the model's valid range did not hold contact. Adds the model
+/// runs to `runs`.
+fn p_jump_on_actual_cams(
+    mc: &RunSpec,
+    actual: &ActualArgs,
+    n: u64,
+    nthreads: usize,
+    runs: &mut u64,
+) -> Result<Probability> {
+    let op_rpm = camsim_core::rad_per_s_to_rpm(mc.design.omega0);
+    *runs += 1;
+    if sim::jumps_at(mc, op_rpm)? {
+        return Ok(Probability::of(n, n));
+    }
+    let study = Study::from_spec(mc.clone(), actual, n)?;
+    let indices: Vec<u64> = (0..n).collect();
+    *runs += n;
+    match study.run(&indices, nthreads, true) {
+        Ok(recs) => Ok(Probability::of(
+            recs.iter().filter(|r| r.jump()).count() as u64,
+            n,
+        )),
+        Err(e) if format!("{e:#}").contains("left its valid range") => Ok(Probability::of(n, n)),
+        Err(e) => Err(e),
+    }
+}
+
+/// What a Monte Carlo design search found.
+#[derive(Clone, Debug, Serialize)]
+pub struct McSearchReport {
+    /// `speed` or `tolerance`.
+    pub search: String,
+    /// The answer: the highest passing speed (rpm) or the loosest passing tolerance factor.
+    pub answer: f64,
+    /// Its unit: `rpm` or `factor on VI.1's tolerances`.
+    pub unit: String,
+    /// The nearest value tried that fails (absent: none failed up to the search's limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failing: Option<f64>,
+    /// Width of the final bracket, in the answer's unit.
+    pub bracket: f64,
+    /// With `design tolerance`: the cam profile tolerance at the answer, ± in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cam_tolerance_in: Option<f64>,
+    /// With `design tolerance`: the roller tolerance at the answer, ± in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub roller_tolerance_in: Option<f64>,
+    /// With `design speed`: the theoretical cam's jump onset (full model), rpm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub theoretical_onset_rpm: Option<f64>,
+    /// The operating speed, rpm.
+    pub operating_rpm: f64,
+    /// P(jump) at the answer with its 95 % Wilson interval.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p_jump: Option<Probability>,
+    /// The criterion.
+    pub criterion: String,
+    /// Actual cams a step.
+    pub samples: u64,
+    /// Master seed.
+    pub seed: u64,
+    /// The model that produced the answer.
+    pub model: String,
+    /// Every value tried and whether it passed.
+    pub tried: Vec<(f64, bool)>,
+    /// Model runs (2 revolutions each).
+    pub model_runs: u64,
+    /// Wall time, s.
+    pub wall_s: f64,
+}
+
+/// `design speed` and `design tolerance`: core's [`OnsetSearch`] for the first value
+/// (rising speed, rising tolerance) at which the upper Wilson bound exceeds --p-max; the
+/// answer is the largest value tried below it that passes. P(jump) is assumed to rise
+/// with the speed and the tolerance (the report says so).
+pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
+    let t0 = Instant::now();
+    let mut spec = spec_from(&args.scene)?;
+    spec.solver.start = Start::Static;
+    spec.revolutions = 2;
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
+    let mc = monte_carlo_model(&spec);
+    let p_max = if args.quick {
+        args.p_max.max(QUICK_P_MAX)
+    } else {
+        args.p_max
+    };
+    let n = args.samples.unwrap_or_else(|| samples_for(p_max));
+    let nthreads = threads(args.threads);
+    let reference = camsim_core::Tolerances::<f64>::reference();
+    let mut runs = 0u64;
+    let mut tried: Vec<(f64, bool)> = Vec::new();
+    let mut passed: Vec<(f64, Probability)> = Vec::new();
+    // (start, growth, max, resolution) of the search over the value that makes it fail.
+    let (start, max, resolution) = if speed {
+        (
+            100.0,
+            crate::cmd::jump_speed::MAX_RPM,
+            if args.quick { 100.0 } else { 5.0 },
+        )
+    } else {
+        (0.1, 20.0, if args.quick { 0.5 } else { 0.05 })
+    };
+    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
+    let onset = search.find(|x| -> Result<bool> {
+        let mut s = mc.clone();
+        let mut actual = ActualArgs {
+            actual: true,
+            seed: Some(args.seed),
+            ..ActualArgs::default()
+        };
+        if speed {
+            s.design.set_speed_rpm(x)?;
+        } else {
+            actual.cam_tolerance = Some(reference.cam * x);
+            actual.roller_tolerance = Some(reference.roller * x);
+        }
+        let p = p_jump_on_actual_cams(&s, &actual, n, nthreads, &mut runs)
+            .map_err(|e| e.context(format!("at {x}")))?;
+        let ok = p.hi95 <= p_max;
+        tried.push((x, ok));
+        if ok {
+            passed.push((x, p));
+        }
+        Ok(!ok)
+    })?;
+    let (answer, failing) = match onset {
+        Onset::Bracketed { below, at } => (below, Some(at)),
+        Onset::Beyond(m) => (m, None),
+        Onset::AtStart(x) => bail!(
+            "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
+            if speed { "rpm" } else { "times VI.1's tolerances" }
+        ),
+    };
+    let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
+    let theoretical_onset_rpm = if speed {
+        let js = crate::cmd::jump_speed::find(&spec, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        runs += u64::from(js.simulations);
+        js.jump_rpm
+    } else {
+        None
+    };
+    let report = McSearchReport {
+        search: if speed { "speed" } else { "tolerance" }.into(),
+        answer,
+        unit: if speed {
+            "rpm".into()
+        } else {
+            "factor on VI.1's tolerances (cam 0.0005 in, roller 0.0001 in)".into()
+        },
+        failing,
+        bracket: failing.map_or(0.0, |f| f - answer),
+        cam_tolerance_in: (!speed).then_some(reference.cam * answer),
+        roller_tolerance_in: (!speed).then_some(reference.roller * answer),
+        theoretical_onset_rpm,
+        operating_rpm: op_rpm,
+        p_jump,
+        criterion: format!(
+            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, default waviness) at most {p_max}{}; P(jump) assumed to rise with the {}",
+            args.seed,
+            if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
+            if speed { "speed" } else { "tolerance" }
+        ),
+        samples: n,
+        seed: args.seed,
+        model: describe(&mc),
+        tried,
+        model_runs: runs,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    crate::report::ensure_finite(&report)?;
+    Ok(report)
+}
+
+impl Report for McSearchReport {
+    fn json(&self) -> serde_json::Result<String> {
+        crate::report::sorted_pretty_json(self)
+    }
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        if self.search == "speed" {
+            let _ = writeln!(
+                out,
+                "camsim design speed: {:.1} rpm on actual cams",
+                self.answer
+            );
+            if let Some(t) = self.theoretical_onset_rpm {
+                let _ = writeln!(
+                    out,
+                    "  theoretical cam's jump onset: {t:.1} rpm (full model)"
+                );
+            }
+        } else {
+            let _ = writeln!(
+                out,
+                "camsim design tolerance: {:.3} x VI.1's tolerances: cam ±{:.5} in, roller ±{:.6} in",
+                self.answer,
+                self.cam_tolerance_in.unwrap_or(0.0),
+                self.roller_tolerance_in.unwrap_or(0.0)
+            );
+        }
+        match self.failing {
+            Some(f) => {
+                let _ = writeln!(
+                    out,
+                    "  bracket: passes at {:.4}, fails at {f:.4} (width {:.4} {})",
+                    self.answer, self.bracket, self.unit
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "  nothing failed up to the search's limit {:.4}",
+                    self.answer
+                );
+            }
+        }
+        if let Some(p) = &self.p_jump {
+            let _ = writeln!(
+                out,
+                "  P(jump) at the answer: {} of {}: {} (95 % Wilson)",
+                p.count,
+                self.samples,
+                p.text(4)
+            );
+        }
+        let _ = writeln!(out, "  criterion: {}", self.criterion);
+        let _ = writeln!(out, "  model: {}", self.model);
+        let tried: Vec<String> = self
+            .tried
+            .iter()
+            .map(|(x, ok)| format!("{x:.3}{}", if *ok { "+" } else { "-" }))
+            .collect();
+        let _ = writeln!(out, "  values tried (+ passes): {}", tried.join(" "));
+        let _ = writeln!(
+            out,
+            "  {} model runs of 2 revolutions, {:.1} s",
+            self.model_runs, self.wall_s
+        );
+        out
+    }
 }
 
 /// Command-line options of `camsim design spring`.
@@ -422,6 +713,14 @@ pub fn run(args: Args) -> Result<()> {
     match args.what {
         What::Spring(a) => {
             let r = spring(&a)?;
+            crate::report::print(&r, a.json)
+        }
+        What::Speed(a) => {
+            let r = mc_search(&a, true)?;
+            crate::report::print(&r, a.json)
+        }
+        What::Tolerance(a) => {
+            let r = mc_search(&a, false)?;
             crate::report::print(&r, a.json)
         }
     }
