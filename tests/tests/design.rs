@@ -96,6 +96,7 @@ fn mc_args(threads: u32) -> camsim::cmd::design::McArgs {
         samples: None,
         seed: 1,
         threads: Some(threads),
+        waviness_fpr: None,
         quick: true,
         json: false,
     }

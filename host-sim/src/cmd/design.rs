@@ -66,6 +66,10 @@ pub struct McArgs {
     /// Worker threads (default: every core). The answer does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+    /// The cams' waviness, FPR (default 17, the thesis's study cams; 39 and 57 its
+    /// rougher ones): the tolerance that passes depends strongly on it.
+    #[arg(long, value_name = "FPR", value_parser = clap::value_parser!(u32).range(2..=2000))]
+    pub waviness_fpr: Option<u32>,
     /// CI's quick mode: a coarse bracket and --p-max at least 0.1 (35 cams a step).
     #[arg(long)]
     pub quick: bool,
@@ -197,6 +201,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         let mut actual = ActualArgs {
             actual: true,
             seed: Some(args.seed),
+            waviness_fpr: args.waviness_fpr,
             ..ActualArgs::default()
         };
         if speed {
@@ -246,8 +251,9 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         operating_rpm: op_rpm,
         p_jump,
         criterion: format!(
-            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, default waviness) at most {p_max}{}; P(jump) assumed to rise with the {}",
+            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness FPR {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
             args.seed,
+            args.waviness_fpr.map_or_else(|| "17 (default)".to_string(), |f| f.to_string()),
             if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
             if speed { "speed" } else { "tolerance" }
         ),
