@@ -80,6 +80,8 @@ pub struct ActualOnsetReport {
     pub max_onset_rpm: Option<f64>,
     /// Samples whose onset is at or below the operating speed (they jump in operation).
     pub jump_at_operating: usize,
+    /// That share as P(jump) at the operating speed, with its 95 % Wilson interval.
+    pub p_jump_at_operating: crate::stats::Probability,
     /// Simulations run (every sample's and the theoretical search's).
     pub simulations: u32,
     /// Worker threads.
@@ -111,11 +113,12 @@ impl Report for ActualOnsetReport {
         let _ =
             writeln!(
             s,
-            "  theoretical cam: {} rpm; operating point {:.1} rpm: {} of {} samples jump at it{}",
+            "  theoretical cam: {} rpm; operating point {:.1} rpm: {} of {} samples jump at it, P(jump) {} (95 % Wilson){}",
             f(self.theoretical_jump_rpm),
             self.operating_rpm,
             self.jump_at_operating,
             self.samples,
+            self.p_jump_at_operating.text(3),
             if self.beyond_max > 0 {
                 format!("; {} without onset up to {} rpm", self.beyond_max, self.max_rpm)
             } else {
@@ -167,6 +170,7 @@ pub fn study(
     }
     let mut sorted: Vec<f64> = onsets.iter().map(|o| o.unwrap_or(f64::INFINITY)).collect();
     sorted.sort_by(f64::total_cmp);
+    let jump_at_operating = onsets.iter().filter(|o| o.is_some_and(|r| r <= op)).count();
     Ok(ActualOnsetReport {
         samples: onsets.len(),
         seed: actual.seed(),
@@ -182,7 +186,11 @@ pub fn study(
         median_rpm: quantile(&sorted, 0.5),
         q75_rpm: quantile(&sorted, 0.75),
         max_onset_rpm: quantile(&sorted, 1.0),
-        jump_at_operating: onsets.iter().filter(|o| o.is_some_and(|r| r <= op)).count(),
+        jump_at_operating,
+        p_jump_at_operating: crate::stats::Probability::of(
+            jump_at_operating as u64,
+            onsets.len() as u64,
+        ),
         simulations,
         threads: threads.max(1),
         wall_ms: t0.elapsed().as_secs_f64() * 1e3,
