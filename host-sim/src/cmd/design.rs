@@ -78,6 +78,13 @@ pub struct McArgs {
     pub json: bool,
 }
 
+/// The P(jump) limit of a Monte Carlo search (at least [`QUICK_P_MAX`] in the quick mode)
+/// and its actual cams a step (`samples`, or the fewest that can pass).
+fn p_max_and_samples(p_max: f64, quick: bool, samples: Option<u64>) -> (f64, u64) {
+    let p = if quick { p_max.max(QUICK_P_MAX) } else { p_max };
+    (p, samples.unwrap_or_else(|| samples_for(p)))
+}
+
 /// The Monte Carlo model of the design searches: the quasi-static cantilever, vertical
 /// (README "Reduced scenes": adequate for P(jump) on actual cams), at rtol 1e-4.
 fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
@@ -174,12 +181,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     spec.revolutions = 2;
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let mc = monte_carlo_model(&spec);
-    let p_max = if args.quick {
-        args.p_max.max(QUICK_P_MAX)
-    } else {
-        args.p_max
-    };
-    let n = args.samples.unwrap_or_else(|| samples_for(p_max));
+    let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
     let nthreads = threads(args.threads);
     let reference = camsim_core::Tolerances::<f64>::reference();
     let mut runs = 0u64;
@@ -502,54 +504,18 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         Ok(s)
     };
     let mut report = if args.actual {
-        // The Monte Carlo's model: the quasi-static cantilever, vertical (README "Reduced
-        // scenes": adequate for P(jump) on actual cams), at the study tolerances there.
-        let mut mc = spec.clone();
-        mc.dofs.horizontal = false;
-        mc.dofs.follower = FollowerModel::QuasiStaticCantilever;
-        mc.solver.rtol = 1e-4;
-        mc.solver.atol = 1e-8;
-        mc.solver.max_step_fraction = 0.01;
-        let p_max = if args.quick {
-            args.p_max.max(QUICK_P_MAX)
-        } else {
-            args.p_max
-        };
-        let n = args.samples.unwrap_or_else(|| samples_for(p_max));
+        let mc = monte_carlo_model(&spec);
+        let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
         let actual = ActualArgs {
             actual: true,
             seed: Some(args.seed),
             ..ActualArgs::default()
         };
         let nthreads = threads(args.threads);
-        let indices: Vec<u64> = (0..n).collect();
         let mut last_p: Option<(f64, Probability)> = None;
         let onset = search.find(|k| -> Result<bool> {
-            // A spring that lets the perfect cam separate fails without its Monte Carlo
-            // (far below the answer the follower is thrown off the cam and out of the
-            // model's range, which a study counts as a failed sample).
-            let perfect = with_rate(&mc, k)?;
-            runs += 1;
-            if sim::jumps_at(&perfect, op_rpm)
-                .map_err(|e| e.context(format!("spring rate {k} lb/in")))?
-            {
-                tried.push((k, false));
-                return Ok(false);
-            }
-            let study = Study::from_spec(perfect, &actual, n)?;
-            let recs = match study.run(&indices, nthreads, true) {
-                Ok(r) => r,
-                // A sample thrown out of the model's range did not hold contact.
-                Err(e) if format!("{e:#}").contains("left its valid range") => {
-                    runs += n;
-                    tried.push((k, false));
-                    return Ok(false);
-                }
-                Err(e) => return Err(e),
-            };
-            runs += n;
-            let count = recs.iter().filter(|r| r.jump()).count() as u64;
-            let p = Probability::of(count, n);
+            let p = p_jump_on_actual_cams(&with_rate(&mc, k)?, &actual, n, nthreads, &mut runs)
+                .map_err(|e| e.context(format!("spring rate {k} lb/in")))?;
             let ok = p.hi95 <= p_max;
             if ok {
                 last_p = Some((k, p));
