@@ -73,8 +73,8 @@ mod run;
 pub use run::grid::{simulate_on_grid, AngleGrid};
 pub use run::response::{
     period_name, simulate, simulate_events, solver_config, Both, ContactEvent, ContactEventFn,
-    ContactEventSettings, JumpInterval, Observer, PeriodStats, ResponseStats, Sample,
-    SolverSettings, Start, Theoretical, SAMPLE_NUMBERS,
+    ContactEventSettings, GridPointKind, JumpInterval, Observer, PeriodStats, ResponseStats,
+    Sample, SolverSettings, Start, Theoretical, SAMPLE_NUMBERS,
 };
 pub use run::search::{Onset, OnsetSearch, Peak, PeakScan, ScanEnds};
 

@@ -154,42 +154,43 @@ pub struct RunResult {
 
 /// Runs a simulation, feeding `extra` every sample too.
 pub fn run<O: Observer<f64>>(spec: &RunSpec, extra: &mut O) -> Result<RunResult> {
-    run_on_grid::<O, Nothing>(spec, extra, None)
+    run_on_grid(spec, extra, AngleGrid::segment_starts())
 }
 
-/// [`run`], and with `grid` the samples on a cam-angle grid to its observer too (through
-/// the solver's dense output; the steps, the statistics and `extra`'s samples are those
-/// of [`run`], bit for bit).
-pub fn run_on_grid<O: Observer<f64>, G: Observer<f64>>(
+/// [`run`] with `extra` fed the samples on the cam-angle grid `grid` as well
+/// ([`Observer::observe_grid`]). The statistics close each period at its segment start
+/// (every grid has them), whatever else the grid holds; the steps, the statistics and
+/// `extra`'s solver samples do not depend on `grid`.
+pub fn run_on_grid<O: Observer<f64>>(
     spec: &RunSpec,
     extra: &mut O,
-    grid: Option<(AngleGrid<f64>, &mut G)>,
+    grid: AngleGrid<f64>,
 ) -> Result<RunResult> {
     anyhow::ensure!(
         (1..=16).contains(&spec.revolutions),
         "revolutions = {}: must be between 1 and 16",
         spec.revolutions
     );
-    struct Simulate<'a, O, G> {
+    struct Simulate<'a, O> {
         spec: &'a RunSpec,
         stats: &'a mut Stats,
         extra: &'a mut O,
-        grid: Option<(AngleGrid<f64>, &'a mut G)>,
+        grid: AngleGrid<f64>,
     }
-    impl<O: Observer<f64>, G: Observer<f64>> ModelTask for Simulate<'_, O, G> {
+    impl<O: Observer<f64>> ModelTask for Simulate<'_, O> {
         type Output = (SolverStats, f64, SceneSize);
         fn run<S: Scene, const N: usize, P: LiftProfile<f64>>(
             self,
             m: &CamModel<f64, S, N, P>,
         ) -> Result<Self::Output> {
             let spec = self.spec;
-            let nodes = &mut Both(self.stats, self.extra);
-            let s = match self.grid {
-                Some((grid, on_grid)) => {
-                    simulate_on_grid(m, &spec.solver, spec.revolutions, grid, nodes, on_grid)
-                }
-                None => simulate(m, &spec.solver, spec.revolutions, nodes),
-            }
+            let s = simulate_on_grid(
+                m,
+                &spec.solver,
+                spec.revolutions,
+                self.grid,
+                &mut Both(self.stats, self.extra),
+            )
             .context("simulation failed")?;
             let l = S::LAYOUT;
             let size = SceneSize {

@@ -268,7 +268,8 @@ fn run_json_has_no_null_numbers_and_the_text_shows_the_same_values() {
 }
 
 /// By default the CSV is on the cam-angle grid: a row every 0.5°, 720 a revolution
-/// (the reference program's segment starts are whole degrees, on the grid), each at its
+/// (the reference program's segment starts are whole degrees, on the grid) and the end
+/// (the last revolution's 360°), each at its
 /// angle exactly, the period and revolution as the grid labels them; and with
 /// `--csv-every-deg 7` the 52 multiples of 7° below 360 and the four segment starts off
 /// them.
@@ -304,10 +305,15 @@ fn the_csv_is_on_the_cam_angle_grid_by_default() {
         let rows: Vec<Vec<f64>> = lines
             .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
             .collect();
-        assert_eq!(rows.len(), 2 * per_rev, "--csv-every-deg {step}");
+        // And the run's end: revolution 2 at 360°.
+        assert_eq!(rows.len(), 2 * per_rev + 1, "--csv-every-deg {step}");
+        assert_eq!(
+            (rows[2 * per_rev][rev], rows[2 * per_rev][angle]),
+            (2.0, 360.0)
+        );
         for (i, v) in rows.iter().enumerate() {
             assert!(v.iter().all(|x| x.is_finite()));
-            assert_eq!(v[rev], (i / per_rev + 1) as f64);
+            assert_eq!(v[rev], (i / per_rev + 1).min(2) as f64);
             let abs = 360.0 * (v[rev] - 1.0) + v[angle];
             assert!((v[theta] - abs.to_radians()).abs() < 1e-9, "row {i}: {v:?}");
         }

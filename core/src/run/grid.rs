@@ -11,15 +11,16 @@
 
 use core::ops::ControlFlow;
 
+use crate::run::response::GridPointKind;
 use crate::run::response::RunState;
 use crate::{
     CamModel, CamProgram, Dense, Error, LiftProfile, Observer, Real, Result, Sample, Scene,
     SolverSettings, SolverStats,
 };
 
-/// A uniform cam-angle grid for output: every `step_deg` degrees from 0 in each
-/// revolution, plus the start of every program segment (so each period's first sample is
-/// at its first angle).
+/// A cam-angle grid: every `step_deg` degrees from 0 in each revolution, plus the start
+/// of every program segment and the run's end; or only the segment starts and the end
+/// ([`AngleGrid::segment_starts`], what the per-period statistics need).
 ///
 /// ```
 /// use camsim_core::AngleGrid;
@@ -28,7 +29,7 @@ use crate::{
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AngleGrid<T> {
-    step_deg: T,
+    step_deg: Option<T>,
 }
 
 impl<T: Real> AngleGrid<T> {
@@ -47,18 +48,28 @@ impl<T: Real> AngleGrid<T> {
                 value: step_deg.to_f64(),
             });
         }
-        Ok(Self { step_deg })
+        Ok(Self {
+            step_deg: Some(step_deg),
+        })
     }
 
-    /// The grid step, degrees.
-    pub fn step_deg(&self) -> T {
+    /// Only the segment starts and the run's end.
+    pub fn segment_starts() -> Self {
+        Self { step_deg: None }
+    }
+
+    /// The grid step, degrees (none for [`AngleGrid::segment_starts`]).
+    pub fn step_deg(&self) -> Option<T> {
         self.step_deg
     }
 
-    /// How many grid points one revolution has (the multiples of the step below 360°; the
-    /// segment starts that fall between them come on top).
+    /// How many multiples of the step one revolution has below 360° (the segment starts
+    /// that fall between them come on top; none without a step).
     pub fn points_per_revolution(&self) -> u64 {
-        let q = T::from_f64(360.0) / self.step_deg;
+        let Some(step) = self.step_deg else {
+            return 0;
+        };
+        let q = T::from_f64(360.0) / step;
         // ceil(q) as -floor(-q); `as` saturates (the step is at least MIN_STEP_DEG).
         let n = (-(-q).floor()).to_f64();
         if n >= 1.0 {
@@ -78,14 +89,21 @@ struct GridPoint<T> {
     revolution: u32,
     /// Angle within the revolution, degrees.
     within_deg: T,
-    /// The program segment it is in (a segment's start belongs to that segment).
+    /// The program segment it is in (a segment's start belongs to that segment; the
+    /// run's end to the last segment).
     segment: usize,
+    /// What the point is.
+    kind: GridPointKind,
 }
 
-/// Walks the grid's points in order, revolution after revolution.
+/// Walks the grid's points in order, revolution after revolution, to the run's end.
 struct Cursor<'a, T, const M: usize> {
     grid: AngleGrid<T>,
     program: &'a CamProgram<T, M>,
+    /// Revolutions in the run.
+    revolutions: u32,
+    /// The run's end, rad (the end point's angle, exactly as the run ends).
+    target: T,
     /// Revolution, from 0.
     rev: u32,
     /// Next multiple of the step.
@@ -95,43 +113,59 @@ struct Cursor<'a, T, const M: usize> {
 }
 
 impl<'a, T: Real, const M: usize> Cursor<'a, T, M> {
-    fn new(grid: AngleGrid<T>, program: &'a CamProgram<T, M>) -> Self {
+    fn new(grid: AngleGrid<T>, program: &'a CamProgram<T, M>, revolutions: u32, target: T) -> Self {
         Self {
             grid,
             program,
+            revolutions,
+            target,
             rev: 0,
             k: 0,
             j: 0,
         }
     }
 
+    /// The next point; after the end, the end again.
     fn next_point(&mut self) -> GridPoint<T> {
         let full = T::from_f64(360.0);
         // Two angles closer than this are one point (the step's multiples are computed,
         // the segment starts given: 0.5° · 180 may miss 90° by a rounding).
         let same = full * T::EPSILON * T::from_f64(16.0);
         let segs = self.program.segments();
+        let last = segs.len().saturating_sub(1);
         loop {
-            let a = self.grid.step_deg * T::from_usize(self.k as usize);
-            let a = if a < full - same { Some(a) } else { None };
+            if self.rev >= self.revolutions {
+                return GridPoint {
+                    theta: self.target,
+                    revolution: self.revolutions,
+                    within_deg: full,
+                    segment: last,
+                    kind: GridPointKind::End,
+                };
+            }
+            let a = self
+                .grid
+                .step_deg
+                .map(|step| step * T::from_usize(self.k as usize))
+                .filter(|a| *a < full - same);
             let b = segs.get(self.j).map(|s| s.start_deg);
-            let within = match (a, b) {
+            let (within, kind) = match (a, b) {
                 (Some(a), Some(b)) if (a - b).abs() <= same => {
                     self.k = self.k.saturating_add(1);
                     self.j += 1;
-                    b
+                    (b, GridPointKind::SegmentStart)
                 }
                 (Some(a), Some(b)) if b < a => {
                     self.j += 1;
-                    b
+                    (b, GridPointKind::SegmentStart)
                 }
                 (Some(a), _) => {
                     self.k = self.k.saturating_add(1);
-                    a
+                    (a, GridPointKind::Step)
                 }
                 (None, Some(b)) => {
                     self.j += 1;
-                    b
+                    (b, GridPointKind::SegmentStart)
                 }
                 (None, None) => {
                     self.rev = self.rev.saturating_add(1);
@@ -151,6 +185,7 @@ impl<'a, T: Real, const M: usize> Cursor<'a, T, M> {
                 revolution: self.rev.saturating_add(1),
                 within_deg: within,
                 segment,
+                kind,
             };
         }
     }
@@ -196,46 +231,46 @@ fn time_at<T: Real>(theta: &Dense<'_, T, 1>, target: T) -> T {
     t
 }
 
-/// [`crate::simulate`], with a second observer fed on a cam-angle grid: `nodes` receives
-/// exactly what [`crate::simulate`]'s observer would (the start, midpoint and end of every
-/// accepted step, bit for bit the same points), `on_grid` the samples at the grid's
-/// angles below the run's end, in order, taken from each step's continuous extension
-/// (their `revolution`, `angle_deg` and `segment` are the grid's exact values). Either
-/// observer may stop the run. Validity checks, end of run and errors as
-/// [`crate::simulate`]. The extension costs one model evaluation per step more than
-/// [`crate::simulate`] (`f` at each step's end) and three per step for the cam angle.
-pub fn simulate_on_grid<T, S, const N: usize, P, O, G>(
+/// [`crate::simulate`] with samples on a cam-angle grid as well: `observer` receives
+/// exactly what [`crate::simulate`]'s would through [`Observer::observe`] (the start,
+/// midpoint and end of every accepted step, bit for bit the same points), and through
+/// [`Observer::observe_grid`] a sample at each of the grid's points up to the run's end
+/// (its last revolution's 360°, [`GridPointKind::End`]), in time order with the
+/// solver's samples. A grid sample comes from its step's continuous extension at the
+/// time the interpolated cam angle reaches the point; its `revolution`, `angle_deg` and
+/// `segment` are the grid's exact values. Validity checks, end of run and errors as
+/// [`crate::simulate`]; the observer may stop the run from either method. The extension
+/// costs one model evaluation per run more than [`crate::simulate`], and each grid
+/// point one [`CamModel::sample`].
+pub fn simulate_on_grid<T, S, const N: usize, P, O>(
     model: &CamModel<T, S, N, P>,
     settings: &SolverSettings<T>,
     revolutions: u32,
     grid: AngleGrid<T>,
-    nodes: &mut O,
-    on_grid: &mut G,
+    observer: &mut O,
 ) -> Result<SolverStats>
 where
     T: Real,
     S: Scene,
     P: LiftProfile<T>,
     O: Observer<T>,
-    G: Observer<T>,
 {
     let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
     let program = &model.design().program;
-    let mut cursor = Cursor::new(grid, program);
+    let mut cursor = Cursor::new(grid, program, revolutions, run.target());
     let mut next = cursor.next_point();
-    let stress = on_grid.needs_stress();
+    let stress = observer.needs_stress();
     let mut failed: Option<Error> = None;
-    let result = if run.take(model, nodes, T::ZERO, &y).is_break() {
+    let mut start = model.sample(T::ZERO, &y, stress);
+    let result = if run.take_sample(model, observer, &start).is_break() {
         Ok(solver.stats())
     } else {
         solver.integrate_dense(model, T::ZERO, &mut y, t_end, |d| {
-            let [y0, y1, y2] = d.nodes();
+            let [_, y1, y2] = d.nodes();
+            let mid = model.sample(d.t_mid(), y1, stress);
+            let end = model.sample(d.t_end(), y2, stress);
             let times = [d.t_start(), d.t_mid(), d.t_end()];
-            let p = [
-                model.evaluate(times[0], y0),
-                model.evaluate(times[1], y1),
-                model.evaluate(times[2], y2),
-            ];
+            let p = [&start.point, &mid.point, &end.point];
             let th = [[p[0].theta_c], [p[1].theta_c], [p[2].theta_c]];
             let om = [[p[0].omega_c], [p[1].omega_c], [p[2].omega_c]];
             let theta = match Dense::new(times, [&th[0], &th[1], &th[2]], [&om[0], &om[1], &om[2]])
@@ -247,23 +282,35 @@ where
                 }
             };
             let mut ys = [T::ZERO; N];
-            while next.theta < th[2][0] && next.theta < run.target() {
-                let t = time_at(&theta, next.theta);
-                d.eval(t, &mut ys);
-                let mut s: Sample<T> = model.sample(t, &ys, stress);
-                s.revolution = next.revolution;
-                s.angle_deg = next.within_deg;
-                s.segment = next.segment;
-                if on_grid.observe(&s).is_break() {
-                    run.stop();
+            for node in [&mid, &end] {
+                // The grid's points before this node (the end when the node reaches it).
+                let th_node = node.point.theta_c;
+                while next.theta < th_node
+                    || (next.kind == GridPointKind::End && next.theta <= th_node)
+                {
+                    let t = time_at(&theta, next.theta);
+                    d.eval(t, &mut ys);
+                    let mut s: Sample<T> = model.sample(t, &ys, stress);
+                    s.revolution = next.revolution;
+                    s.angle_deg = next.within_deg;
+                    s.segment = next.segment;
+                    let kind = next.kind;
+                    if observer.observe_grid(&s, kind).is_break() {
+                        run.stop();
+                        return ControlFlow::Break(());
+                    }
+                    if kind == GridPointKind::End {
+                        // Nothing after the end: the node reaching it ends the run.
+                        break;
+                    }
+                    next = cursor.next_point();
+                }
+                if run.take_sample(model, observer, node).is_break() {
                     return ControlFlow::Break(());
                 }
-                next = cursor.next_point();
             }
-            if run.take(model, nodes, d.t_mid(), y1).is_break() {
-                return ControlFlow::Break(());
-            }
-            run.take(model, nodes, d.t_end(), y2)
+            start = end;
+            ControlFlow::Continue(())
         })
     };
     if let Some(e) = failed {

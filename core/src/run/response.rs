@@ -116,6 +116,25 @@ pub trait Observer<T> {
     }
     /// Takes one sample; `Break` stops the simulation early.
     fn observe(&mut self, sample: &Sample<T>) -> ControlFlow<()>;
+    /// Takes one sample at a point of a cam-angle grid ([`crate::simulate_on_grid`]), in
+    /// time order with the solver's samples; `kind` tells what the point is. Ignored
+    /// unless an observer overrides it.
+    fn observe_grid(&mut self, sample: &Sample<T>, kind: GridPointKind) -> ControlFlow<()> {
+        let _ = (sample, kind);
+        ControlFlow::Continue(())
+    }
+}
+
+/// What a point of a cam-angle grid is ([`Observer::observe_grid`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GridPointKind {
+    /// A multiple of the grid's step (not a segment start).
+    Step,
+    /// The start of a program segment (a period; also a multiple of the step if the
+    /// grid has one there): the sample ends the previous period and starts this one.
+    SegmentStart,
+    /// The end of the run (the last revolution's 360°): it closes the last period.
+    End,
 }
 
 impl<T, F: FnMut(&Sample<T>) -> ControlFlow<()>> Observer<T> for F {
@@ -134,6 +153,15 @@ impl<T, A: Observer<T>, B: Observer<T>> Observer<T> for Both<'_, A, B> {
     fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
         let a = self.0.observe(s);
         let b = self.1.observe(s);
+        if a.is_break() || b.is_break() {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    }
+    fn observe_grid(&mut self, s: &Sample<T>, kind: GridPointKind) -> ControlFlow<()> {
+        let a = self.0.observe_grid(s, kind);
+        let b = self.1.observe_grid(s, kind);
         if a.is_break() || b.is_break() {
             ControlFlow::Break(())
         } else {
@@ -381,6 +409,18 @@ impl<T: Real> RunState<T> {
         y: &[T; N],
     ) -> ControlFlow<()> {
         let sample = model.sample(t, y, observer.needs_stress());
+        self.take_sample(model, observer, &sample)
+    }
+
+    /// [`RunState::take`] of a sample already formed (`model.sample(t, y, stress)` with
+    /// the stress as the observer needs it).
+    pub(crate) fn take_sample<S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>>(
+        &mut self,
+        model: &CamModel<T, S, N, P>,
+        observer: &mut O,
+        sample: &Sample<T>,
+    ) -> ControlFlow<()> {
+        let t = sample.point.t;
         if let Err((limit, value, bound)) = model.check_validity(&sample.point) {
             self.left = Some(Error::OutOfModel {
                 limit,
@@ -396,7 +436,7 @@ impl<T: Real> RunState<T> {
             self.done = true;
             return ControlFlow::Break(());
         }
-        let flow = observer.observe(&sample);
+        let flow = observer.observe(sample);
         self.stopped = flow.is_break();
         flow
     }
@@ -792,6 +832,61 @@ impl<T: Real, const R: usize, const P: usize, const J: usize> ResponseStats<T, R
     }
 }
 
+impl<T: Real, const R: usize, const P: usize, const J: usize> ResponseStats<T, R, P, J> {
+    /// The cell of `revolution` (from 1) and `segment`, if recorded.
+    fn cell_mut(&mut self, revolution: u32, segment: usize) -> Option<&mut PeriodStats<T>> {
+        (revolution as usize)
+            .checked_sub(1)
+            .and_then(|r| self.periods.get_mut(r))
+            .and_then(|row| row.get_mut(segment))
+    }
+
+    /// A sample enters its cell's extremes and count.
+    fn enter(cell: &mut PeriodStats<T>, s: &Sample<T>) {
+        if cell.samples == 0 {
+            cell.first(s);
+        }
+        cell.extremes(s);
+        cell.samples = cell.samples.saturating_add(1);
+    }
+
+    /// The trapezoidal time integrals from `q` to `s` into `cell`.
+    fn integrate(cell: &mut PeriodStats<T>, q: &Sample<T>, s: &Sample<T>, w: T) {
+        let p = &s.point;
+        let dt = p.t - q.point.t;
+        if dt > T::ZERO {
+            let h = dt * T::HALF;
+            let e = |a: &Sample<T>| {
+                let pt = &a.point;
+                (
+                    (pt.load_displacement() - a.theory.y).sq(),
+                    (pt.load_velocity() - a.theory.v).sq(),
+                    (pt.load_acceleration() - a.theory.a).sq(),
+                )
+            };
+            let (y0, v0, a0) = e(q);
+            let (y1, v1, a1) = e(s);
+            cell.duration += dt;
+            cell.sum_dy2 += h * (y0 + y1);
+            cell.sum_dv2 += h * (v0 + v1);
+            cell.sum_da2 += h * (a0 + a1);
+            cell.sum_torque += h * (q.point.torque_out + p.torque_out);
+            cell.sum_force += h * (q.point.contact_force + p.contact_force);
+            cell.sum_rel_m += h * ((q.point.omega_m + p.omega_m) / w - T::TWO);
+            cell.sum_rel_cp += h * ((q.point.omega_cp + p.omega_cp) / w - T::TWO);
+            cell.sum_rel_c += h * ((q.point.omega_c + p.omega_c) / w - T::TWO);
+        }
+    }
+}
+
+/// The statistics of the solver's samples: time integrals by the trapezoidal rule
+/// between consecutive samples of one period, extremes over them. On a grid
+/// ([`crate::simulate_on_grid`]) each period's first and last interval are closed too:
+/// the sample at a segment start ([`GridPointKind::SegmentStart`]) ends the previous
+/// period's integrals and starts this one's, and the run's end
+/// ([`GridPointKind::End`]) closes the last; without the grid the pieces between a
+/// period's last sample and the next period's first are left out (an error of the order
+/// of one step per period, which does not fall with the tolerance).
 impl<T: Real, const R: usize, const P: usize, const J: usize> Observer<T>
     for ResponseStats<T, R, P, J>
 {
@@ -818,46 +913,37 @@ impl<T: Real, const R: usize, const P: usize, const J: usize> Observer<T>
             _ => {}
         }
         self.revolutions_seen = self.revolutions_seen.max(s.revolution.min(R as u32));
-        let cell = (s.revolution as usize)
-            .checked_sub(1)
-            .and_then(|r| self.periods.get_mut(r))
-            .and_then(|row| row.get_mut(s.segment));
-        if let Some(cell) = cell {
-            if cell.samples == 0 {
-                cell.first(s);
-            }
-            cell.extremes(s);
-            cell.samples = cell.samples.saturating_add(1);
+        let prev = self.prev;
+        let w = self.omega_ref;
+        if let Some(cell) = self.cell_mut(s.revolution, s.segment) {
+            Self::enter(cell, s);
             // Trapezoidal time integrals from the previous sample when it is in the same cell.
-            if let Some(q) = self
-                .prev
+            if let Some(q) = prev
                 .as_ref()
                 .filter(|q| q.revolution == s.revolution && q.segment == s.segment)
             {
-                let dt = p.t - q.point.t;
-                if dt > T::ZERO {
-                    let h = dt * T::HALF;
-                    let w = self.omega_ref;
-                    let e = |a: &Sample<T>| {
-                        let pt = &a.point;
-                        (
-                            (pt.load_displacement() - a.theory.y).sq(),
-                            (pt.load_velocity() - a.theory.v).sq(),
-                            (pt.load_acceleration() - a.theory.a).sq(),
-                        )
-                    };
-                    let (y0, v0, a0) = e(q);
-                    let (y1, v1, a1) = e(s);
-                    cell.duration += dt;
-                    cell.sum_dy2 += h * (y0 + y1);
-                    cell.sum_dv2 += h * (v0 + v1);
-                    cell.sum_da2 += h * (a0 + a1);
-                    cell.sum_torque += h * (q.point.torque_out + p.torque_out);
-                    cell.sum_force += h * (q.point.contact_force + p.contact_force);
-                    cell.sum_rel_m += h * ((q.point.omega_m + p.omega_m) / w - T::TWO);
-                    cell.sum_rel_cp += h * ((q.point.omega_cp + p.omega_cp) / w - T::TWO);
-                    cell.sum_rel_c += h * ((q.point.omega_c + p.omega_c) / w - T::TWO);
-                }
+                Self::integrate(cell, q, s, w);
+            }
+        }
+        self.prev = Some(*s);
+        ControlFlow::Continue(())
+    }
+
+    fn observe_grid(&mut self, s: &Sample<T>, kind: GridPointKind) -> ControlFlow<()> {
+        if kind == GridPointKind::Step {
+            return ControlFlow::Continue(());
+        }
+        let w = self.omega_ref;
+        // The interval from the previous sample to this one lies in the previous one's
+        // period (this sample is where that period ends).
+        if let Some(q) = self.prev {
+            if let Some(cell) = self.cell_mut(q.revolution, q.segment) {
+                Self::integrate(cell, &q, s, w);
+            }
+        }
+        if kind == GridPointKind::SegmentStart {
+            if let Some(cell) = self.cell_mut(s.revolution, s.segment) {
+                Self::enter(cell, s);
             }
         }
         self.prev = Some(*s);

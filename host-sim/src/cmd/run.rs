@@ -63,9 +63,10 @@ pub const DEFAULT_CSV_EVERY_DEG: f64 = 0.5;
 /// `--csv-every-deg`: a grid step the core's [`camsim_core::AngleGrid`] accepts.
 fn csv_every_deg(s: &str) -> Result<f64, String> {
     let x = args::positive_finite(s)?;
-    camsim_core::AngleGrid::new(x)
-        .map(|g| g.step_deg())
-        .map_err(|_| "must be between 3.6e-4 and 360 degrees".into())
+    match camsim_core::AngleGrid::new(x) {
+        Ok(_) => Ok(x),
+        Err(_) => Err("must be between 3.6e-4 and 360 degrees".into()),
+    }
 }
 
 /// The default of `--max-csv-mb`: 1000 MB = 1 GB.
@@ -417,39 +418,24 @@ pub fn report(args: &Args) -> Result<RunReport> {
         Some(dir) => Some(plan.dir("--plot", dir, &plot::FILES)?),
         None => None,
     };
-    let csv_out = match csv_target {
+    let mut csv_out = match csv_target {
         Some(t) => Some(CsvOut::new(t.open()?)),
         None => None,
     };
     let mut plot_data = plot_target.as_ref().map(|_| plot::PlotData::default());
     let mut watch =
         crate::verdict::Watch::new(crate::verdict::Watch::steady_from(spec.revolutions));
-    // The CSV's rows come from the steps (--csv-every-step) or from the angle grid.
-    let (mut step_csv, mut grid_csv) = match (csv_out, grid) {
-        (Some(c), Some(g)) => (None, Some((c, g))),
-        (c, _) => (c, None),
-    };
     let result = {
-        let mut obs = |s: &camsim_core::Sample<f64>| {
-            use camsim_core::Observer;
-            let _ = watch.observe(s);
-            if let Some(p) = plot_data.as_mut() {
-                p.push(s);
-            }
-            match step_csv.as_mut() {
-                Some(c) => c.row(s),
-                None => std::ops::ControlFlow::Continue(()),
-            }
+        let every_step = args.csv_every_step;
+        let mut obs = RunObserver {
+            watch: &mut watch,
+            plot: plot_data.as_mut(),
+            csv: csv_out.as_mut(),
+            every_step,
         };
-        match grid_csv.as_mut() {
-            Some((c, g)) => {
-                let mut rows = |s: &camsim_core::Sample<f64>| c.row(s);
-                sim::run_on_grid(&spec, &mut obs, Some((*g, &mut rows)))?
-            }
-            None => sim::run(&spec, &mut obs)?,
-        }
+        let grid = grid.unwrap_or_else(camsim_core::AngleGrid::segment_starts);
+        sim::run_on_grid(&spec, &mut obs, grid)?
     };
-    let csv_out = step_csv.or(grid_csv.map(|(c, _)| c));
     let csv_file = csv_out.map(CsvOut::into_file).transpose()?;
     let plots = match (plot_target, plot_data) {
         (Some(t), Some(data)) => {
@@ -477,6 +463,39 @@ pub fn report(args: &Args) -> Result<RunReport> {
         p.commit()?;
     }
     Ok(report)
+}
+
+/// What `camsim run` watches during the simulation: the verdict's watch and the plots on
+/// the solver's samples, the CSV on the solver's samples (--csv-every-step) or on the
+/// cam-angle grid.
+struct RunObserver<'a> {
+    watch: &'a mut crate::verdict::Watch,
+    plot: Option<&'a mut plot::PlotData>,
+    csv: Option<&'a mut CsvOut>,
+    every_step: bool,
+}
+
+impl camsim_core::Observer<f64> for RunObserver<'_> {
+    fn observe(&mut self, s: &camsim_core::Sample<f64>) -> std::ops::ControlFlow<()> {
+        let _ = self.watch.observe(s);
+        if let Some(p) = self.plot.as_mut() {
+            p.push(s);
+        }
+        match self.csv.as_mut().filter(|_| self.every_step) {
+            Some(c) => c.row(s),
+            None => std::ops::ControlFlow::Continue(()),
+        }
+    }
+    fn observe_grid(
+        &mut self,
+        s: &camsim_core::Sample<f64>,
+        _: camsim_core::GridPointKind,
+    ) -> std::ops::ControlFlow<()> {
+        match self.csv.as_mut().filter(|_| !self.every_step) {
+            Some(c) => c.row(s),
+            None => std::ops::ControlFlow::Continue(()),
+        }
+    }
 }
 
 /// The verdict of a finished run (`--margin`: the jump-onset search on the scene as it
