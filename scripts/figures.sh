@@ -74,10 +74,11 @@ end() {
     printf '```\n<!-- /figure -->\n' >>"$CURRENT"
     merge
 }
-# show ARGS...: runs camsim ARGS and records the command line and its whole output.
+# show ARGS...: runs camsim ARGS and records the command line and its whole output (without
+# the progress lines a long search prints on standard error when it is not a terminal).
 show() {
     printf '$ camsim %s\n' "$*" >>"$CURRENT"
-    "$C" "$@" >>"$CURRENT" 2>&1
+    "$C" "$@" 2>&1 | grep -Ev '^camsim [a-z -]+: [0-9]+/[0-9]+ [a-z]+ \(' >>"$CURRENT"
     printf '\n' >>"$CURRENT"
 }
 # refused ARGS...: runs camsim ARGS that may fail (a figure of what is refused), recording its
@@ -92,7 +93,7 @@ refused() {
 filtered() {
     local re="$1"
     shift
-    printf '$ camsim %s | grep -E %q\n' "$*" "$re" >>"$CURRENT"
+    printf "\$ camsim %s | grep -E '%s'\n" "$*" "$re" >>"$CURRENT"
     "$C" "$@" 2>&1 | grep -E "$re" >>"$CURRENT"
     printf '\n' >>"$CURRENT"
 }
