@@ -12,6 +12,7 @@ pub use num::{rad_per_s_to_rpm, rpm_to_rad_per_s, Real};
 mod kinematics;
 pub use kinematics::geometry::{CamGeometry, CamMassProperties, UndercutReport, SEGMENT_SAMPLES};
 pub use kinematics::lift::{DeviatedLift, LiftProfile, TheoreticalLift};
+pub use kinematics::table::{ContactTerms, LiftTable, TABLE_SEGMENT_MULTIPLE};
 pub use kinematics::motion::{LawValue, MotionLaw};
 pub use kinematics::program::{
     CamProgram, FollowerLift, ProgramData, Segment, SegmentData, SegmentKind, SegmentType,
