@@ -19,8 +19,9 @@
 
 use camsim_core::{
     steady_state, CamModel, CaptureEvent, CaptureTimer, Design, DeviatedLift, IndexPulse,
-    IndexPulseConfig, JumpAlarm, LiftProfile, LiftTable, PredictionTable, Real, RegulatedQsRod, Result, Scene,
-    SolverSettings, SpeedPrediction, SpeedReading, Start, SteadyState, TheoreticalLift,
+    IndexPulseConfig, JumpAlarm, LiftProfile, LiftTable, PredictionTable, Real, RegulatedQsRod,
+    Result, Scene, SolverSettings, SpeedPrediction, SpeedReading, Start, SteadyState,
+    TheoreticalLift,
 };
 
 mod log_line;

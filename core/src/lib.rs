@@ -12,11 +12,11 @@ pub use num::{rad_per_s_to_rpm, rpm_to_rad_per_s, Real};
 mod kinematics;
 pub use kinematics::geometry::{CamGeometry, CamMassProperties, UndercutReport, SEGMENT_SAMPLES};
 pub use kinematics::lift::{DeviatedLift, LiftProfile, TheoreticalLift};
-pub use kinematics::table::{ContactTerms, LiftTable, TABLE_SEGMENT_MULTIPLE};
 pub use kinematics::motion::{LawValue, MotionLaw};
 pub use kinematics::program::{
     CamProgram, FollowerLift, ProgramData, Segment, SegmentData, SegmentKind, SegmentType,
 };
+pub use kinematics::table::{ContactTerms, LiftTable, TABLE_SEGMENT_MULTIPLE};
 
 mod forces;
 pub use forces::contact::{

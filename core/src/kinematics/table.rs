@@ -376,7 +376,9 @@ mod tests {
                     w4 = w4.max((d4 / f.powi(4) / w_closed(th)).abs());
                 }
                 if th - e > a && th + e < b {
-                    k2 = k2.max(((k_closed(th + e) - 2.0 * kc + k_closed(th - e)) / (e * e * kc)).abs());
+                    k2 = k2.max(
+                        ((k_closed(th + e) - 2.0 * kc + k_closed(th - e)) / (e * e * kc)).abs(),
+                    );
                 }
             }
             let bound = match seg.kind {
@@ -407,10 +409,20 @@ mod tests {
                 std::println!("step {step} deg segment {si}: err {err:?} bound {bound:?} k_h, w rel {rel:?} bound {rel_bound:?}");
                 for q in 0..3 {
                     // The f64 evaluation's rounding: a few ulps of the lift's scale.
-                    assert!(err[q] <= bound[q] + 1e-12, "step {step} segment {si} q {q}: {} > {}", err[q], bound[q]);
+                    assert!(
+                        err[q] <= bound[q] + 1e-12,
+                        "step {step} segment {si} q {q}: {} > {}",
+                        err[q],
+                        bound[q]
+                    );
                 }
                 for q in 0..2 {
-                    assert!(rel[q] <= rel_bound[q] + 1e-14, "step {step} segment {si}: relative {q} {} > {}", rel[q], rel_bound[q]);
+                    assert!(
+                        rel[q] <= rel_bound[q] + 1e-14,
+                        "step {step} segment {si}: relative {q} {} > {}",
+                        rel[q],
+                        rel_bound[q]
+                    );
                 }
             }
         }

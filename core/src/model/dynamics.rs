@@ -521,9 +521,9 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         let k_h = match k_h_table {
             Some(k) => {
                 if outputs {
-                    p.surface_radius =
-                        d.geometry
-                            .surface_curvature_radius(lift.y, lift.dy, lift.d2y);
+                    p.surface_radius = d
+                        .geometry
+                        .surface_curvature_radius(lift.y, lift.dy, lift.d2y);
                 }
                 k
             }

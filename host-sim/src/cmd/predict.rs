@@ -24,8 +24,7 @@ use serde::Serialize;
 
 use camsim_chip::{
     chip_design, chip_design_from, chip_solver_settings, ChipConfig, ChipDeviation, ChipMonitor,
-    ChipTable,
-    ChipScene, ChipStep, ParityLine, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM,
+    ChipScene, ChipStep, ChipTable, ParityLine, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM,
     CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
     CHIP_PROFILE_MAX_KNOTS, CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
 };
