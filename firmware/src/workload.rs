@@ -8,7 +8,8 @@
 //! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation, the
 //!   `predictor` binary (the QEMU demonstration image; it instantiates only the chip's model);
 //! - [`chip_table`]: the chip's lift table, filled once at boot (both);
-//! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`simulate_revolution`]: the budget
+//! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`revolution_model`],
+//!   [`simulate_revolution`]: the budget
 //!   probes, generic over the scene and the lift, which the `budget` binary instantiates for the chip's
 //!   model ([`camsim_chip::ChipModel`], the quasi-static-rod scene's 10 states) and, for comparison, the full 22-state
 //!   model ([`camsim_core::RegulatedFullModel`]).
@@ -216,22 +217,32 @@ pub struct Revolution {
     pub load_in_per_s: f32,
 }
 
-/// Simulates one cam revolution of scene `S`'s model (`N = S::N`) at `rpm` with the
-/// chip's solver settings, the roller on `profile`.
+/// The model of scene `S` (`N = S::N`) for the chip's design at `rpm` with the roller on
+/// `profile`, for [`simulate_revolution`]. Building it validates the design (its undercut
+/// scan is most of the cost: about 1.9 M instructions on the chip), which the steady state
+/// pays once per speed, not per revolution: the budget times it apart.
 #[inline(never)]
-pub fn simulate_revolution<S: Scene, const N: usize, P: LiftProfile<f32>>(
+pub fn revolution_model<S: Scene, const N: usize, P: LiftProfile<f32>>(
     profile: P,
     rpm: f32,
-) -> Option<Revolution> {
+) -> Option<CamModel<f32, S, N, P>> {
     let mut d = chip_design();
     d.set_speed_rpm(rpm).ok()?;
-    let model = CamModel::<f32, S, N, P>::with_profile(d, profile).ok()?;
+    CamModel::<f32, S, N, P>::with_profile(d, profile).ok()
+}
+
+/// Simulates one cam revolution of `model` (built by [`revolution_model`]) with the chip's
+/// solver settings, sampled as the predictor's runs are.
+#[inline(never)]
+pub fn simulate_revolution<S: Scene, const N: usize, P: LiftProfile<f32>>(
+    model: &CamModel<f32, S, N, P>,
+) -> Option<Revolution> {
     let mut last = (0.0f32, 0.0f32);
     let mut obs = |s: &Sample<f32>| {
         last = (s.point.load_displacement(), s.point.load_velocity());
         ControlFlow::Continue(())
     };
-    let stats = simulate(&model, &chip_solver_settings(), 1, &mut obs).ok()?;
+    let stats = simulate(model, &chip_solver_settings(), 1, &mut obs).ok()?;
     Some(Revolution {
         rhs_evals: stats.rhs_evals,
         steps: stats.accepted + stats.rejected,
