@@ -402,6 +402,79 @@ mod tests {
 
     use crate::SegmentKind;
 
+    /// In `f32` (the chip's table) the same bounds hold up to `f32`'s rounding: the knots'
+    /// values and the Hermite sum's few operations (16 ulps of the largest of |f| and
+    /// h |f'| of the segment, f = y, y', y''), and the cam angle itself rounded to `f32`
+    /// (half an ulp of 2π times the largest |f'|).
+    #[test]
+    fn f32_table_keeps_within_the_bound_plus_rounding() {
+        let d64 = Design::<f64>::reference();
+        let scale = |q: usize, si: usize| {
+            let seg = d64.program.segments()[si];
+            let (a, b) = (seg.start_deg.to_radians(), seg.end_deg.to_radians());
+            (0..=1000)
+                .map(|i| {
+                    let l = d64.program.follower(a + (b - a) * i as f64 / 1000.0);
+                    [l.y, l.dy, l.d2y, l.d3y][q].abs()
+                })
+                .fold(0.0, f64::max)
+        };
+        for (si, (err, bound, rel, rel_bound)) in errors::<f32>(1.0).into_iter().enumerate() {
+            let h = 1f64.to_radians();
+            let eps = f32::EPSILON as f64;
+            for q in 0..3 {
+                let rounding = 16.0 * eps * scale(q, si).max(h * scale(q + 1, si))
+                    + scale(q + 1, si) * core::f64::consts::PI * eps;
+                assert!(
+                    err[q] <= bound[q] + rounding,
+                    "segment {si} q {q}: {} > {} + {rounding}",
+                    err[q],
+                    bound[q]
+                );
+            }
+            for q in 0..2 {
+                assert!(rel[q] <= rel_bound[q] + 16.0 * f32::EPSILON as f64);
+            }
+        }
+    }
+
+    /// The grid: every segment's interval count a multiple of 8 with intervals at most the
+    /// step; a table too small for the program, or a bad step, is an error and leaves it
+    /// empty (a flat lift, the stiffness left to the closed form).
+    #[test]
+    fn grid_counts_and_refusals() {
+        let d = Design::<f64>::reference();
+        let mut t = Box::new(LiftTable::<f64, 400>::EMPTY);
+        t.fill(&d, &TheoreticalLift, 1f64.to_radians()).unwrap();
+        // 30° -> 32 intervals, 150° -> 152: 32 + 152 + 32 + 152 intervals, 4 closing knots.
+        assert_eq!(t.knots(), 372);
+        for p in &t.pieces[..t.pieces_len] {
+            assert_eq!(p.n % TABLE_SEGMENT_MULTIPLE, 0);
+            assert!(p.h <= 1f64.to_radians() * (1.0 + 1e-12));
+        }
+        let mut small = Box::new(LiftTable::<f64, 371>::EMPTY);
+        assert!(matches!(
+            small.fill(&d, &TheoreticalLift, 1f64.to_radians()),
+            Err(Error::Capacity { capacity: 371, .. })
+        ));
+        assert_eq!(small.knots(), 0);
+        assert_eq!(small.follower(&d.program, 1.0), FollowerLift::default());
+        assert!(small.follower_and_contact(&d.program, 1.0).1.is_none());
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(t.fill(&d, &TheoreticalLift, bad).is_err());
+            assert_eq!(t.knots(), 0);
+        }
+        // At a knot the table gives the closed form's own values (t = 0).
+        t.fill(&d, &TheoreticalLift, 1f64.to_radians()).unwrap();
+        let th = 30f64.to_radians() + 5.0 * t.pieces[1].h;
+        let (l, _) = t.follower_and_contact(&d.program, th);
+        let e = d.program.follower(th);
+        assert!((l.y - e.y).abs() < 1e-15 && (l.d2y - e.d2y).abs() < 1e-12);
+        // Wrapped: a revolution later, the same lift.
+        let (l2, _) = t.follower_and_contact(&d.program, th + 2.0 * core::f64::consts::PI);
+        assert!((l2.y - l.y).abs() < 1e-12);
+    }
+
     #[test]
     fn f64_table_keeps_within_the_hermite_bound() {
         for step in [1.0, 2.0] {
