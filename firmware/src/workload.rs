@@ -24,7 +24,7 @@ use core::ops::ControlFlow;
 
 use camsim_chip::{chip_solver_settings, ChipConfig, ChipTable, CHIP_GRID};
 use camsim_core::{
-    simulate, CamModel, Design, LiftProfile, PredictionTable, Sample, Scene, SolverSettings,
+    simulate, CamModel, Design, LiftProfile, Observer, PredictionTable, Sample, Scene, SolverSettings,
     SpeedPrediction, SteadyState,
 };
 
@@ -232,23 +232,40 @@ pub fn revolution_model<S: Scene, const N: usize, P: LiftProfile<f32>>(
 }
 
 /// Simulates one cam revolution of `model` (built by [`revolution_model`]) with the chip's
-/// solver settings, sampled as the predictor's runs are.
+/// solver settings, sampled as the predictor's runs are (no contact stress, no outputs).
 #[inline(never)]
 pub fn simulate_revolution<S: Scene, const N: usize, P: LiftProfile<f32>>(
     model: &CamModel<f32, S, N, P>,
 ) -> Option<Revolution> {
-    let mut last = (0.0f32, 0.0f32);
-    let mut obs = |s: &Sample<f32>| {
-        last = (s.point.load_displacement(), s.point.load_velocity());
-        ControlFlow::Continue(())
-    };
+    let mut obs = LastLoad::default();
     let stats = simulate(model, &chip_solver_settings(), 1, &mut obs).ok()?;
     Some(Revolution {
         rhs_evals: stats.rhs_evals,
         steps: stats.accepted + stats.rejected,
-        load_in: last.0,
-        load_in_per_s: last.1,
+        load_in: obs.load.0,
+        load_in_per_s: obs.load.1,
     })
+}
+
+/// The revolution probe's observer: the last sample's load, asking for what the
+/// predictor's observer (`camsim_core::SteadyStateObserver`) asks for: neither the contact
+/// stress nor the outputs (pressure angle, theoretical response).
+#[derive(Default)]
+struct LastLoad {
+    load: (f32, f32),
+}
+
+impl Observer<f32> for LastLoad {
+    fn needs_stress(&self) -> bool {
+        false
+    }
+    fn needs_outputs(&self) -> bool {
+        false
+    }
+    fn observe(&mut self, s: &Sample<f32>) -> ControlFlow<()> {
+        self.load = (s.point.load_displacement(), s.point.load_velocity());
+        ControlFlow::Continue(())
+    }
 }
 
 /// The chip's predictor: the boot-time table over the scene's speed grid, interpolated,

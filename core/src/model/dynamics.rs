@@ -463,7 +463,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// angle itself: the forces use its sine and cosine), for the right-hand side. One copy
     /// for both uses (inlined into each it costs the chip's flash; firmware/README.md).
     #[inline(never)]
-    fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
+    pub(crate) fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
         let d = &self.d;
         let mut p = ModelPoint {
             t,
