@@ -65,5 +65,5 @@ show sensitivity --per-key
 
 if [ "${1:-}" = "--firmware" ]; then
     printf '\n$ bash scripts/firmware-ci.sh\n'
-    bash scripts/firmware-ci.sh | grep -E '(product|budget) flash_bytes=|jump_onset_rpm|parity OK|firmware-ci: OK|flash +=|static RAM ='
+    bash scripts/firmware-ci.sh | grep -E '(product|budget) flash_bytes=|model (chip|full)|lift table knots|jump_onset_rpm|parity OK|firmware-ci: OK|flash +=|static RAM ='
 fi

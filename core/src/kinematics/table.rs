@@ -46,6 +46,19 @@ pub struct ContactTerms<T> {
     pub inv_hyp: T,
 }
 
+/// One knot's quantities.
+type Knot<T> = [T; PER_KNOT];
+
+/// The interval holding a cam angle: its two knots, the position `t ∈ [0, 1]` in it, its
+/// length and the inverse.
+struct Interval<'a, T> {
+    a: &'a Knot<T>,
+    b: &'a Knot<T>,
+    t: T,
+    h: T,
+    inv_h: T,
+}
+
 /// One program segment's run of knots.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Piece<T> {
@@ -77,7 +90,7 @@ impl<T: Real> Piece<T> {
 /// copied through the stack.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LiftTable<T, const K: usize, const S: usize = 8> {
-    knots: [[T; PER_KNOT]; K],
+    knots: [Knot<T>; K],
     pieces: [Piece<T>; S],
     pieces_len: usize,
     knots_len: usize,
@@ -222,7 +235,7 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
     /// The interval holding `theta` (rad, any real): its two knots, the position `t` in
     /// it and its length.
     #[inline(always)]
-    fn locate(&self, theta: T) -> Option<(&[T; PER_KNOT], &[T; PER_KNOT], T, T, T)> {
+    fn locate(&self, theta: T) -> Option<Interval<'_, T>> {
         let th = crate::kinematics::program::wrap_angle(theta);
         let pieces = self.pieces.get(..self.pieces_len)?;
         let p = pieces.iter().find(|p| th < p.end).or(pieces.last())?;
@@ -231,13 +244,19 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
         let t = u - T::from_usize(i);
         let a = self.knots.get(p.first + i)?;
         let b = self.knots.get(p.first + i + 1)?;
-        Some((a, b, t, p.h, p.inv_h))
+        Some(Interval {
+            a,
+            b,
+            t,
+            h: p.h,
+            inv_h: p.inv_h,
+        })
     }
 
     /// The interpolated lift and contact terms at `theta`; `None` for an empty table.
     #[inline(always)]
     fn interpolate(&self, theta: T) -> Option<(FollowerLift<T>, ContactTerms<T>)> {
-        let (a, b, t, h, inv_h) = self.locate(theta)?;
+        let Interval { a, b, t, h, inv_h } = self.locate(theta)?;
         let [y0, d0, a0, j0, k0, w0, dw0] = *a;
         let [y1, d1, a1, j1, k1, w1, dw1] = *b;
         let (y, _) = hermite(y0, h * d0, y1, h * d1, t);
