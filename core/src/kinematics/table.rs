@@ -20,7 +20,7 @@
 //! A law whose `y'''` jumps at an internal junction (parabolic, cubic No. 1, trapezoidal)
 //! has one side's `y'''` at that knot: `y''` then errs by `O(h · jump)` in the intervals
 //! next to it. A measured profile's deviation spline is only `C²` at its own knots; its
-//! table error is measured, not bounded (firmware/README.md).
+//! table error is measured, not bounded (docs/FIRMWARE.md).
 //!
 //! The table serves the design it was built for ([`LiftTable::fill`]): its `follower`
 //! ignores the program it is given. Nothing panics: an empty (unfilled) table gives a
