@@ -260,15 +260,16 @@ where
     let mut cursor = Cursor::new(grid, program, revolutions, run.target());
     let mut next = cursor.next_point();
     let stress = observer.needs_stress();
+    let outputs = observer.needs_outputs();
     let mut failed: Option<Error> = None;
-    let mut start = model.sample(T::ZERO, &y, stress);
+    let mut start = model.sample_with(T::ZERO, &y, stress, outputs);
     let result = if run.take_sample(model, observer, &start).is_break() {
         Ok(solver.stats())
     } else {
         solver.integrate_dense(model, T::ZERO, &mut y, t_end, |d| {
             let [_, y1, y2] = d.nodes();
-            let mid = model.sample(d.t_mid(), y1, stress);
-            let end = model.sample(d.t_end(), y2, stress);
+            let mid = model.sample_with(d.t_mid(), y1, stress, outputs);
+            let end = model.sample_with(d.t_end(), y2, stress, outputs);
             let times = [d.t_start(), d.t_mid(), d.t_end()];
             let p = [&start.point, &mid.point, &end.point];
             let th = [[p[0].theta_c], [p[1].theta_c], [p[2].theta_c]];
@@ -290,7 +291,7 @@ where
                 {
                     let t = time_at(&theta, next.theta);
                     d.eval(t, &mut ys);
-                    let mut s: Sample<T> = model.sample(t, &ys, stress);
+                    let mut s: Sample<T> = model.sample_with(t, &ys, stress, outputs);
                     s.revolution = next.revolution;
                     s.angle_deg = next.within_deg;
                     s.segment = next.segment;
