@@ -11,8 +11,7 @@
 
 use core::ops::ControlFlow;
 
-use crate::run::response::GridPointKind;
-use crate::run::response::RunState;
+use crate::run::response::{GridPointKind, RunStart, RunState};
 use crate::{
     CamModel, CamProgram, Dense, Error, LiftProfile, Observer, Real, Result, Sample, Scene,
     SolverSettings, SolverStats,
@@ -255,7 +254,12 @@ where
     P: LiftProfile<T>,
     O: Observer<T>,
 {
-    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
+    let RunStart {
+        mut solver,
+        mut run,
+        t_end,
+        mut y,
+    } = RunState::start(model, settings, revolutions)?;
     let program = &model.design().program;
     let mut cursor = Cursor::new(grid, program, revolutions, run.target());
     let mut next = cursor.next_point();
