@@ -10,7 +10,6 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
 
-
 /// The longest a study may be estimated to run without `--allow-long`: 24 hours, the
 /// usual wall-time limit of a batch queue; beyond it a run is lost to the queue's kill.
 pub const MAX_STUDY_SECONDS: f64 = 24.0 * 3600.0;

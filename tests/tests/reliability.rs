@@ -100,6 +100,42 @@ fn an_output_never_replaces_the_scene_or_the_measured_input() {
     assert!(fs::read_to_string(&measured)
         .unwrap()
         .starts_with("angle_deg"));
+    // Every command that writes files: montecarlo --out, and a plot directory holding
+    // the scene under a plot's name (compare, montecarlo --plot), refused before any run.
+    let text = "[run]\nrevolutions = 1\n";
+    let e = outcome(&[
+        "montecarlo",
+        s(&scene),
+        "--samples",
+        "2",
+        "--out",
+        s(&scene),
+        "--force",
+    ]);
+    assert!(
+        e.starts_with(&format!("--out {}: is the input scene file", s(&scene))),
+        "{e}"
+    );
+    let plots = d.join("plots");
+    fs::create_dir_all(&plots).unwrap();
+    for (cmd, name) in [
+        ("compare", "rankings.png"),
+        ("montecarlo", "histograms.png"),
+    ] {
+        let inside = plots.join(name);
+        fs::write(&inside, text).unwrap();
+        let mut args = vec![cmd, s(&inside), "--plot", s(&plots), "--force"];
+        if cmd == "montecarlo" {
+            args.extend(["--samples", "2"]);
+        }
+        let e = outcome(&args);
+        assert!(
+            e.contains(&format!("{}: is the input scene file", s(&inside))),
+            "{cmd}: {e}"
+        );
+        assert_eq!(fs::read_to_string(&inside).unwrap(), text);
+    }
+    assert_eq!(fs::read_to_string(&scene).unwrap(), text);
     fs::remove_dir_all(&d).unwrap();
 }
 

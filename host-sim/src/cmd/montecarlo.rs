@@ -508,7 +508,10 @@ impl Study {
         );
         let stop = AtomicBool::new(false);
         type Part = (StudyStats, Option<(u64, anyhow::Error)>);
-        fn lowest(a: Option<(u64, anyhow::Error)>, b: Option<(u64, anyhow::Error)>) -> Option<(u64, anyhow::Error)> {
+        fn lowest(
+            a: Option<(u64, anyhow::Error)>,
+            b: Option<(u64, anyhow::Error)>,
+        ) -> Option<(u64, anyhow::Error)> {
             match (a, b) {
                 (Some(x), Some(y)) => Some(if y.0 < x.0 { y } else { x }),
                 (x, y) => x.or(y),
@@ -665,6 +668,9 @@ pub fn execute(args: &Args) -> Result<Outcome> {
     let out = &args.output;
     // Every output checked before any sample runs.
     let mut plan = Plan::new(out.force);
+    if let Some(p) = &args.study.scene.scene {
+        plan.input("scene file", p);
+    }
     let out_target = match &args.out {
         Some(p) => Some(plan.file("--out", p)?),
         None => None,
@@ -806,6 +812,9 @@ fn settings_difference(a: &StudySettings, b: &StudySettings) -> String {
 /// Merges shard files into the result of their study (every sample exactly once).
 pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
     let mut plan = Plan::new(out.force);
+    for f in files {
+        plan.input("shard file", f);
+    }
     let plot_target = match &out.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
@@ -872,7 +881,11 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
         first.sort_unstable();
         first.truncate(5);
         let first: Vec<String> = first.iter().map(|i| i.to_string()).collect();
-        let shards: Vec<String> = missing.iter().take(5).map(|k| format!("{k}/{count}")).collect();
+        let shards: Vec<String> = missing
+            .iter()
+            .take(5)
+            .map(|k| format!("{k}/{count}"))
+            .collect();
         bail!(
             "{lost} of the study's {n} samples are missing (first: {}; shards {}); give every shard's file",
             first.join(", "),
@@ -1080,7 +1093,10 @@ fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<()> 
         let c = COLUMNS.iter().position(|x| *x == col);
         for p in &stats.periods {
             if let Some(s) = c.and_then(|c| p.columns.get(c)) {
-                panels.push((format!("{}: {}", p.period, label(col)), s.display_bins(bins)));
+                panels.push((
+                    format!("{}: {}", p.period, label(col)),
+                    s.display_bins(bins),
+                ));
             }
         }
     }

@@ -449,7 +449,11 @@ impl<'de> Deserialize<'de> for Stream {
         let (min, max) = match (r.n, r.min, r.max) {
             (0, None, None) => (0.0, 0.0),
             (n, Some(a), Some(b)) if n > 0 => (a, b),
-            _ => return Err(D::Error::custom("min and max must be given when n > 0, and only then")),
+            _ => {
+                return Err(D::Error::custom(
+                    "min and max must be given when n > 0, and only then",
+                ))
+            }
         };
         Ok(Stream {
             n: r.n,
@@ -575,7 +579,11 @@ mod tests {
             // The bins are not so wide that the test cannot fail: some error shows.
             assert!(worst > 0.0, "{name}");
             // Memory: bins, not samples.
-            assert!(s.bins() < 30_000 && s.bins() < v.len() / 6, "{name}: {}", s.bins());
+            assert!(
+                s.bins() < 30_000 && s.bins() < v.len() / 6,
+                "{name}: {}",
+                s.bins()
+            );
             // The exact moments.
             let mean = v.iter().sum::<f64>() / v.len() as f64;
             assert!((s.mean() - mean).abs() <= 1e-12 * mean.abs().max(1.0));
@@ -608,7 +616,9 @@ mod tests {
             assert_eq!(m.display_bins(20), whole.display_bins(20));
         }
         // An edited count does not pass the check.
-        let text = serde_json::to_string(&whole).unwrap().replacen("\"n\":3000", "\"n\":3001", 1);
+        let text = serde_json::to_string(&whole)
+            .unwrap()
+            .replacen("\"n\":3000", "\"n\":3001", 1);
         let back: Stream = serde_json::from_str(&text).unwrap();
         assert!(back.check("x").is_err());
     }

@@ -148,7 +148,10 @@ impl StudyStats {
             }
             s.jumps += u64::from(p.jump);
         }
-        for (c, st) in REVOLUTION_COLUMNS.iter().zip(self.whole_revolution.iter_mut()) {
+        for (c, st) in REVOLUTION_COLUMNS
+            .iter()
+            .zip(self.whole_revolution.iter_mut())
+        {
             st.add(c, revolution_value(r, c))?;
         }
         self.jumps += u64::from(r.jump());
@@ -181,7 +184,11 @@ impl StudyStats {
             }
             a.jumps += b.jumps;
         }
-        for (x, y) in self.whole_revolution.iter_mut().zip(&other.whole_revolution) {
+        for (x, y) in self
+            .whole_revolution
+            .iter_mut()
+            .zip(&other.whole_revolution)
+        {
             x.merge(y);
         }
         self.jumps += other.jumps;
@@ -211,10 +218,7 @@ impl StudyStats {
         for p in &self.periods {
             let mut columns = Vec::new();
             for (col, st) in COLUMNS.iter().zip(&p.columns) {
-                columns.push((
-                    col.to_string(),
-                    st.moments(&format!("{}.{col}", p.period))?,
-                ));
+                columns.push((col.to_string(), st.moments(&format!("{}.{col}", p.period))?));
             }
             periods.push(PeriodSummary {
                 period: p.period.clone(),
@@ -262,7 +266,10 @@ impl StudyStats {
         }
         ensure!(
             self.whole_revolution.len() == REVOLUTION_COLUMNS.len()
-                && self.periods.iter().all(|p| p.columns.len() == COLUMNS.len())
+                && self
+                    .periods
+                    .iter()
+                    .all(|p| p.columns.len() == COLUMNS.len())
                 && !self.periods.is_empty(),
             "the statistics do not have the study's columns"
         );
@@ -323,7 +330,11 @@ impl StudyStats {
                 self.jumps
             );
             for (lo, mid, hi) in [
-                ("contact_force_min", "contact_force_avg", "contact_force_max"),
+                (
+                    "contact_force_min",
+                    "contact_force_avg",
+                    "contact_force_max",
+                ),
                 ("torque_min", "torque_avg", "torque_max"),
             ] {
                 let get = |n: &str| {
