@@ -1058,7 +1058,7 @@ pub const PLOT_FILES: [&str; 2] = ["histograms.png", "period_histograms.png"];
 fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<()> {
     let n = stats.samples;
     let bins = ((n as f64).sqrt().ceil() as usize).clamp(5, 50);
-    let mut panels: Vec<(String, (f64, f64, Vec<u32>))> = REVOLUTION_COLUMNS
+    let mut panels: Vec<(String, plots::Binned)> = REVOLUTION_COLUMNS
         .iter()
         .zip(&stats.whole_revolution)
         .map(|(c, s)| {
@@ -1183,6 +1183,9 @@ pub mod plots {
         (lo, hi, counts)
     }
 
+    /// A histogram binned for a plot: (lo, hi, counts of equal bins over lo..hi).
+    pub type Binned = (f64, f64, Vec<u32>);
+
     /// A grid of histograms, `cols` panels a row, titled `title`, as `file` in `dir`.
     pub fn histograms(
         dir: &mut AtomicDir,
@@ -1191,7 +1194,7 @@ pub mod plots {
         panels: &[(String, Vec<f64>)],
         cols: usize,
     ) -> Result<()> {
-        let binned: Vec<(String, (f64, f64, Vec<u32>))> = panels
+        let binned: Vec<(String, Binned)> = panels
             .iter()
             .map(|(name, values)| {
                 let bins = ((values.len() as f64).sqrt().ceil() as usize).clamp(5, 50);
@@ -1206,7 +1209,7 @@ pub mod plots {
         dir: &mut AtomicDir,
         file: &str,
         title: &str,
-        panels: &[(String, (f64, f64, Vec<u32>))],
+        panels: &[(String, Binned)],
         cols: usize,
     ) -> Result<()> {
         let cols = cols.max(1);
