@@ -148,7 +148,7 @@ impl Error {
     /// The refusal, kept on one line: control characters (line breaks, NULs and the like
     /// that a key or a file name copied from the input may carry) are written escaped
     /// (`\r`, `\0`).
-    fn new(message: impl Into<String>) -> Self {
+    pub(crate) fn new(message: impl Into<String>) -> Self {
         let message: String = message.into();
         let message = if message.chars().any(char::is_control) {
             message
@@ -943,6 +943,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("/nonexistent/a\\nb.toml: cannot read"), "{e}");
+        // A measured file's name too (issue 18).
+        let dir = std::env::temp_dir().join(format!("camsim-k18-esc-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a\u{1b}[2J\rb.csv");
+        std::fs::write(&p, "angle_deg,lift_in\nx,0\n").unwrap();
+        let e = measured::load_limited(&p, 10).unwrap_err();
+        assert!(!e.contains(|c: char| c.is_control()), "{e:?}");
+        assert!(e.contains("a\\u{1b}[2J\\rb.csv: line 2: angle_deg"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

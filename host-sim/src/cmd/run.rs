@@ -140,16 +140,24 @@ pub struct VerdictArgs {
 }
 
 impl VerdictArgs {
-    /// The limits asked for, the defaults otherwise.
-    pub fn limits(&self) -> crate::verdict::Limits {
-        let d = crate::verdict::Limits::default();
+    /// The limits asked for, the scene's (`[limits]`, or the defaults) otherwise.
+    pub fn limits(&self, scene: &camsim_scene_file::Limits) -> crate::verdict::Limits {
         crate::verdict::Limits {
             allowable_contact_stress_psi: self
                 .allowable_stress
-                .unwrap_or(d.allowable_contact_stress_psi),
+                .unwrap_or(scene.allowable_contact_stress_psi),
             pressure_angle_limit_deg: self
                 .pressure_angle_limit
-                .unwrap_or(d.pressure_angle_limit_deg),
+                .unwrap_or(scene.pressure_angle_limit_deg),
+            allowable_source: if self.allowable_stress.is_some() {
+                "--allowable-stress"
+            } else if scene.allowable_contact_stress_psi
+                != camsim_core::ALLOWABLE_CONTACT_STRESS_PSI
+            {
+                "the scene's limits.allowable_contact_stress_psi (or _mpa)"
+            } else {
+                crate::verdict::ALLOWABLE_SOURCE
+            },
         }
     }
 }
@@ -488,7 +496,7 @@ fn verdict(
     args: &VerdictArgs,
 ) -> Result<crate::verdict::Verdict> {
     use crate::verdict as v;
-    let limits = args.limits();
+    let limits = args.limits(&spec.limits);
     let contact = v::contact(
         &spec.design,
         &report.jumps,
