@@ -285,9 +285,52 @@ pub fn si_name(table: &str, inch: &str) -> Option<String> {
         .map(UnitKey::si)
 }
 
+/// [`UNIT_KEYS`] as the Markdown table docs/MODEL.md §1.4 prints (a test checks the
+/// document holds exactly this table).
+pub fn markdown_table() -> String {
+    let mut out = String::from(
+        "| table | inch key | SI key | SI per inch unit |\n| --- | --- | --- | --- |\n",
+    );
+    for k in UNIT_KEYS {
+        out += &format!(
+            "| `[{}]` | `{}` ({}) | `{}` ({}) | {:?} |\n",
+            k.table(),
+            k.inch(),
+            k.unit.inch_symbol,
+            k.si(),
+            k.unit.si_symbol,
+            k.unit.si_per_inch
+        );
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    #[ignore]
+    fn print_the_table() {
+        print!("{}", markdown_table());
+    }
+
+    #[test]
+    fn the_model_document_lists_the_table() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/MODEL.md");
+        let doc = std::fs::read_to_string(path).unwrap();
+        let (begin, end) = ("<!-- unit-keys:begin -->\n", "<!-- unit-keys:end -->");
+        let body = doc
+            .split_once(begin)
+            .and_then(|(_, r)| r.split_once(end))
+            .map(|(t, _)| t)
+            .expect("docs/MODEL.md has the unit-keys markers");
+        assert_eq!(
+            body,
+            markdown_table(),
+            "docs/MODEL.md's key table differs from units::UNIT_KEYS: paste markdown_table()"
+        );
+    }
 
     #[test]
     fn every_design_key_with_an_inch_unit_is_in_the_table() {
