@@ -347,8 +347,7 @@ fn toml_float(v: f64) -> String {
     }
 }
 
-type Visit<'a, 'v> =
-    dyn FnMut(&mut toml::de::DeTable<'a>, &str, &str) -> Result<(), Error> + 'v;
+type Visit<'a, 'v> = dyn FnMut(&mut toml::de::DeTable<'a>, &str, &str) -> Result<(), Error> + 'v;
 
 /// Calls `visit(table, path without indices, path with indices)` on `table` and every
 /// table under it (arrays of tables and inline tables included), parents first.
@@ -508,8 +507,12 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
             ));
         }
     }
-    file.check()
-        .map_err(|e| located(text, &explain(&in_user_units(&e.message, &reading), &reading)))
+    file.check().map_err(|e| {
+        located(
+            text,
+            &explain(&in_user_units(&e.message, &reading), &reading),
+        )
+    })
 }
 
 /// `msg` (a refusal starting with an inch-family key path and ` = value`) written with
@@ -525,7 +528,10 @@ fn in_user_units(msg: &str, reading: &Reading) -> String {
             continue;
         }
         let (si, sym) = (c.si_path(), c.unit.inch_symbol);
-        return match (rest.strip_prefix(" = ").and_then(|r| r.split_once(": ")), c.si_value) {
+        return match (
+            rest.strip_prefix(" = ").and_then(|r| r.split_once(": ")),
+            c.si_value,
+        ) {
             (Some((v, rule)), Some(x)) => {
                 // The inch value to 7 significant digits: what the rule's bounds compare.
                 let v = v
@@ -658,12 +664,10 @@ fn toml_error(text: &str, e: &toml::de::Error) -> Error {
     }
     let path = line_paths(text).get(line - 1).cloned().unwrap_or_default();
     let msg = did_you_mean(&msg, &path).unwrap_or(msg);
-    Error::new(
-        match Some(&path).filter(|k| !k.is_empty()) {
-            Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
-            None => format!("line {line}, column {col}: {msg}"),
-        },
-    )
+    Error::new(match Some(&path).filter(|k| !k.is_empty()) {
+        Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
+        None => format!("line {line}, column {col}: {msg}"),
+    })
 }
 
 /// Edit distance (Levenshtein) of `a` and `b`, in characters.
@@ -1072,12 +1076,18 @@ mod tests {
             assert!((xa - xb).abs() <= 1e-13 * xa.abs(), "{ka}: {xa} vs {xb}");
             moved += usize::from(xa != x0);
         }
-        assert!(moved >= n, "{moved} of {n} scaled values differ from the reference");
+        assert!(
+            moved >= n,
+            "{moved} of {n} scaled values differ from the reference"
+        );
         // Both pass the checks, and the derived spring (the mass follows the rate)
         // is the same.
         let (ca, cb) = (parse(&inch).unwrap(), parse(&si).unwrap());
         assert!((ca.design.m_spring - cb.design.m_spring).abs() <= 1e-13 * ca.design.m_spring);
-        assert_eq!(ca.limits.pressure_angle_limit_deg, cb.limits.pressure_angle_limit_deg);
+        assert_eq!(
+            ca.limits.pressure_angle_limit_deg,
+            cb.limits.pressure_angle_limit_deg
+        );
         // 50.8 mm is 2 in; 17.512683524647638 N/mm is 100 lb/in.
         let s = parse("[design]\nspring_rate_n_per_mm = 17.512683524647638\n[design.geometry]\nbase_radius_mm = 50.8\n").unwrap();
         assert!((s.design.k_rs - 100.0).abs() < 1e-12);
@@ -1112,28 +1122,41 @@ mod tests {
             "{e}"
         );
         // Not a number: the type error at the user's line and key.
-        let e = parse("[design]\ne2_mm = \"long\"\n").unwrap_err().to_string();
-        assert!(e.starts_with("line 2, column 9: design.e2_mm: invalid type: string"), "{e}");
+        let e = parse("[design]\ne2_mm = \"long\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 2, column 9: design.e2_mm: invalid type: string"),
+            "{e}"
+        );
     }
 
     #[test]
     fn unknown_keys_get_the_nearest_names() {
-        let e = parse("[design]\nk_rb_lb_per_inch = 1\n").unwrap_err().to_string();
+        let e = parse("[design]\nk_rb_lb_per_inch = 1\n")
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             e,
             "line 2, column 1: design.k_rb_lb_per_inch: unknown field `k_rb_lb_per_inch`: did you mean `k_rb_lb_per_in`?"
         );
         // A key without its unit: both families.
-        let e = parse("[design]\nspring_rate = 60\n").unwrap_err().to_string();
+        let e = parse("[design]\nspring_rate = 60\n")
+            .unwrap_err()
+            .to_string();
         assert!(
             e.ends_with("did you mean `spring_rate_lb_per_in` or `spring_rate_n_per_mm`?"),
             "{e}"
         );
         // An SI misspelling finds the SI name.
-        let e = parse("[design.geometry]\nbase_radius_nm = 50\n").unwrap_err().to_string();
+        let e = parse("[design.geometry]\nbase_radius_nm = 50\n")
+            .unwrap_err()
+            .to_string();
         assert!(e.ends_with("did you mean `base_radius_mm`?"), "{e}");
         // Nothing near: no list of every key.
-        let e = parse("[run]\nflux_capacitor = 1\n").unwrap_err().to_string();
+        let e = parse("[run]\nflux_capacitor = 1\n")
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             e,
             "line 2, column 1: run.flux_capacitor: unknown field `flux_capacitor`: not a key of [run] (`camsim scene --default` writes every key)"
@@ -1154,27 +1177,52 @@ mod tests {
             "{e}"
         );
         // The same in mm names the mm key.
-        let e = parse(&text.replace("lift_in = 3", "lift_mm = 76.2")).unwrap_err().to_string();
-        assert!(e.starts_with("line 9: design.program.segment[0].lift_mm = 76.2: it makes design.e2_in"), "{e}");
+        let e = parse(&text.replace("lift_in = 3", "lift_mm = 76.2"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "line 9: design.program.segment[0].lift_mm = 76.2: it makes design.e2_in"
+            ),
+            "{e}"
+        );
         // A file that sets e2 itself gets the refusal on its own line.
         let e = parse(&text.replace("spring_rate_lb_per_in = 100", "e2_in = 2"))
             .unwrap_err()
             .to_string();
-        assert!(e.starts_with("line 2: design.e2_in = 2: cantilever length"), "{e}");
+        assert!(
+            e.starts_with("line 2: design.e2_in = 2: cantilever length"),
+            "{e}"
+        );
     }
 
     #[test]
     fn limits_are_scene_keys_in_either_family() {
         let s = parse("").unwrap();
         assert_eq!(s.limits, Limits::default());
-        assert_eq!(s.limits.allowable_contact_stress_psi, camsim_core::ALLOWABLE_CONTACT_STRESS_PSI);
-        let s = parse("[limits]\nallowable_contact_stress_mpa = 1000\npressure_angle_limit_deg = 35\n").unwrap();
+        assert_eq!(
+            s.limits.allowable_contact_stress_psi,
+            camsim_core::ALLOWABLE_CONTACT_STRESS_PSI
+        );
+        let s =
+            parse("[limits]\nallowable_contact_stress_mpa = 1000\npressure_angle_limit_deg = 35\n")
+                .unwrap();
         assert!((s.limits.allowable_contact_stress_psi - 145_037.737_730_209).abs() < 1e-6);
         assert_eq!(s.limits.pressure_angle_limit_deg, 35.0);
-        let e = parse("[limits]\npressure_angle_limit_deg = 90\n").unwrap_err().to_string();
-        assert_eq!(e, "line 2: limits.pressure_angle_limit_deg = 90: must be above 0 and below 90 (degrees)");
-        let e = parse("[limits]\nallowable_contact_stress_mpa = -1\n").unwrap_err().to_string();
-        assert!(e.starts_with("line 2: limits.allowable_contact_stress_mpa = -1 ("), "{e}");
+        let e = parse("[limits]\npressure_angle_limit_deg = 90\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "line 2: limits.pressure_angle_limit_deg = 90: must be above 0 and below 90 (degrees)"
+        );
+        let e = parse("[limits]\nallowable_contact_stress_mpa = -1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 2: limits.allowable_contact_stress_mpa = -1 ("),
+            "{e}"
+        );
     }
 
     #[test]
@@ -1184,7 +1232,10 @@ mod tests {
         let p = dir.join("wavy.csv");
         std::fs::write(&p, "# a profile\nangle_deg,deviation_in\n0,0\n").unwrap();
         let e = load(&p).unwrap_err().to_string();
-        assert!(e.contains("a measured profile (CSV)? give it as `--measured "), "{e}");
+        assert!(
+            e.contains("a measured profile (CSV)? give it as `--measured "),
+            "{e}"
+        );
         let p = dir.join("wavy.txt");
         std::fs::write(&p, "angle_deg,lift_in\n0,0\n").unwrap();
         assert!(load(&p).unwrap_err().to_string().contains("--measured"));

@@ -776,7 +776,10 @@ mod tests {
             let mut t = format!("angle_deg,{header}\n");
             for k in 0..72 {
                 let a = 5.0 * k as f64;
-                t += &format!("{a},{}\n", (y(a) + 0.001 * (3.0 * a.to_radians()).sin()) * scale);
+                t += &format!(
+                    "{a},{}\n",
+                    (y(a) + 0.001 * (3.0 * a.to_radians()).sin()) * scale
+                );
             }
             t
         };
@@ -806,15 +809,23 @@ mod tests {
             .unwrap()
             .deviation(&design)
             .unwrap_err();
-        assert!(e.contains("is the file in inches? then head its column lift_in"), "{e}");
+        assert!(
+            e.contains("is the file in inches? then head its column lift_in"),
+            "{e}"
+        );
         // Issue 18's file: four rows of 0.1 in a lift column.
         let e = parse("angle_deg,lift_in\n0,0.1\n90,0.1\n180,0.1\n270,0.1\n")
             .unwrap()
             .deviation(&design)
             .unwrap_err();
-        assert!(e.contains("departs from the scene's program lift by"), "{e}");
+        assert!(
+            e.contains("departs from the scene's program lift by"),
+            "{e}"
+        );
         // Range errors speak the file's unit.
-        let e = parse("angle_deg,radius_mm\n0,5000\n").unwrap_err().to_string();
+        let e = parse("angle_deg,radius_mm\n0,5000\n")
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             e,
             "line 2: radius_mm 5000 must lie in [0.254, 2540] mm (a cam radius, as the scene's lengths)"

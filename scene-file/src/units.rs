@@ -266,15 +266,18 @@ pub const UNIT_KEYS: &[UnitKey] = &[
 /// The dimensional key of `table` whose inch or SI name is `name`, and whether `name` is
 /// the SI one.
 pub fn lookup(table: &str, name: &str) -> Option<(&'static UnitKey, bool)> {
-    UNIT_KEYS.iter().filter(|k| k.table() == table).find_map(|k| {
-        if k.inch() == name {
-            Some((k, false))
-        } else if k.si() == name {
-            Some((k, true))
-        } else {
-            None
-        }
-    })
+    UNIT_KEYS
+        .iter()
+        .filter(|k| k.table() == table)
+        .find_map(|k| {
+            if k.inch() == name {
+                Some((k, false))
+            } else if k.si() == name {
+                Some((k, true))
+            } else {
+                None
+            }
+        })
 }
 
 /// The SI name of a table's inch-family key, if it has one.
@@ -364,7 +367,10 @@ mod tests {
         assert!(si);
         assert_eq!(k.inch(), "spring_rate_lb_per_in");
         assert_eq!(
-            lookup("design.geometry", "base_radius_mm").unwrap().0.inch(),
+            lookup("design.geometry", "base_radius_mm")
+                .unwrap()
+                .0
+                .inch(),
             "base_radius_in"
         );
         assert_eq!(

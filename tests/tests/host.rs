@@ -311,9 +311,60 @@ fn a_stalled_drive_names_the_spring_against_the_drive() {
     let (h, beta) = (rise.lift, (rise.end_deg - rise.start_deg).to_radians());
     let mean = d.k_rs * (d.delta_rs * h + h * h / 2.0) / beta;
     let max_slope = (0..3600)
-        .map(|i| d.program.follower(i as f64 * std::f64::consts::TAU / 3600.0).dy)
+        .map(|i| {
+            d.program
+                .follower(i as f64 * std::f64::consts::TAU / 3600.0)
+                .dy
+        })
         .fold(0.0, f64::max);
-    assert!(peak >= mean && peak <= d.k_rs * (d.delta_rs + h) * max_slope + 1.0, "{peak} {mean}");
+    assert!(
+        peak >= mean && peak <= d.k_rs * (d.delta_rs + h) * max_slope + 1.0,
+        "{peak} {mean}"
+    );
     // A spring the drive turns gives no hint (a run that does not stall).
-    assert!(sim::run(&RunSpec { revolutions: 1, ..RunSpec::reference() }, &mut sim::Nothing).is_ok());
+    assert!(sim::run(
+        &RunSpec {
+            revolutions: 1,
+            ..RunSpec::reference()
+        },
+        &mut sim::Nothing
+    )
+    .is_ok());
+}
+
+/// Issue 17: the verdict's limits are scene keys (`[limits]`, SI or inch), the options
+/// override them, the core's constants are the defaults.
+#[test]
+fn the_verdict_limits_come_from_the_scene_and_the_options_override() {
+    use camsim::cmd::run::VerdictArgs;
+    let spec =
+        parse("[limits]\nallowable_contact_stress_mpa = 1000\npressure_angle_limit_deg = 25\n")
+            .unwrap();
+    let l = VerdictArgs::default().limits(&spec.limits);
+    // 1000 MPa = 1e9 Pa / 6894.757293168 Pa/psi.
+    assert!((l.allowable_contact_stress_psi - 1e9 / 6_894.757_293_168).abs() < 1e-6);
+    assert_eq!(l.pressure_angle_limit_deg, 25.0);
+    assert!(l
+        .allowable_source
+        .contains("limits.allowable_contact_stress_psi"));
+    let args = VerdictArgs {
+        allowable_stress: Some(120_000.0),
+        pressure_angle_limit: Some(35.0),
+        ..VerdictArgs::default()
+    };
+    let l = args.limits(&spec.limits);
+    assert_eq!(
+        (l.allowable_contact_stress_psi, l.pressure_angle_limit_deg),
+        (120_000.0, 35.0)
+    );
+    assert_eq!(l.allowable_source, "--allowable-stress");
+    let l = VerdictArgs::default().limits(&RunSpec::reference().limits);
+    assert_eq!(
+        (l.allowable_contact_stress_psi, l.pressure_angle_limit_deg),
+        (
+            camsim_core::ALLOWABLE_CONTACT_STRESS_PSI,
+            camsim_core::PRESSURE_ANGLE_LIMIT_DEG
+        )
+    );
+    assert_eq!(l.allowable_source, camsim::verdict::ALLOWABLE_SOURCE);
 }
