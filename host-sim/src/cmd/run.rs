@@ -125,12 +125,14 @@ pub struct Args {
 /// What the verdict that opens `camsim run` judges against.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct VerdictArgs {
-    /// Allowable Hertz contact stress, psi (default 150 000: through-hardened steel at
+    /// Allowable Hertz contact stress, psi (default: the scene's
+    /// limits.allowable_contact_stress_psi or _mpa, else 150 000: through-hardened steel at
     /// 400 HB, 1e8 cycles, Buckingham's S_C = 0.4 H_B - 10 kpsi as Shigley gives it).
     #[arg(long, value_name = "PSI", allow_hyphen_values = true, value_parser = args::positive_finite)]
     pub allowable_stress: Option<f64>,
-    /// Largest pressure angle without a warning, degrees (default 30, the usual limit for
-    /// a translating follower; 0-90).
+    /// Largest pressure angle without a warning, degrees (default: the scene's
+    /// limits.pressure_angle_limit_deg, else 30, the usual limit for a translating
+    /// follower; 0-90).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = args::pressure_angle_limit)]
     pub pressure_angle_limit: Option<f64>,
     /// Also find the jump onset and the margin to it (a bisection of about 15
