@@ -344,9 +344,7 @@ fn the_verdict_limits_come_from_the_scene_and_the_options_override() {
     // 1000 MPa = 1e9 Pa / 6894.757293168 Pa/psi.
     assert!((l.allowable_contact_stress_psi - 1e9 / 6_894.757_293_168).abs() < 1e-6);
     assert_eq!(l.pressure_angle_limit_deg, 25.0);
-    assert!(l
-        .allowable_source
-        .contains("limits.allowable_contact_stress_psi"));
+    assert_eq!(l.allowable_source, "the scene's [limits]");
     let args = VerdictArgs {
         allowable_stress: Some(120_000.0),
         pressure_angle_limit: Some(35.0),

@@ -156,7 +156,7 @@ impl VerdictArgs {
             } else if scene.allowable_contact_stress_psi
                 != camsim_core::ALLOWABLE_CONTACT_STRESS_PSI
             {
-                "the scene's limits.allowable_contact_stress_psi (or _mpa)"
+                "the scene's [limits]"
             } else {
                 crate::verdict::ALLOWABLE_SOURCE
             },
