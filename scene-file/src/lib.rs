@@ -91,15 +91,17 @@ impl Limits {
         let s = self.allowable_contact_stress_psi;
         if !(s.is_finite() && s > 0.0) {
             return Err(Error::new(format!(
-                "limits.{} = {s}: must be positive and finite (psi)",
-                units::ALLOWABLE_CONTACT_STRESS
+                "limits.{} = {}: must be positive and finite (psi)",
+                units::ALLOWABLE_CONTACT_STRESS,
+                short(s)
             )));
         }
         let a = self.pressure_angle_limit_deg;
         if !(a > 0.0 && a < 90.0) {
             return Err(Error::new(format!(
-                "limits.{} = {a}: must be above 0 and below 90 (degrees)",
-                units::PRESSURE_ANGLE_LIMIT
+                "limits.{} = {}: must be above 0 and below 90 (degrees)",
+                units::PRESSURE_ANGLE_LIMIT,
+                short(a)
             )));
         }
         Ok(())
@@ -539,7 +541,7 @@ fn in_user_units(msg: &str, reading: &Reading) -> String {
                     .ok()
                     .and_then(|v| format!("{v:.6e}").parse::<f64>().ok())
                     .map_or(v.to_string(), |v| v.to_string());
-                format!("{si} = {x} ({v} {sym}): {rule}")
+                format!("{si} = {} ({v} {sym}): {rule}", short(x))
             }
             _ => format!("{si}{rest}"),
         };
@@ -668,6 +670,15 @@ fn toml_error(text: &str, e: &toml::de::Error) -> Error {
         Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
         None => format!("line {line}, column {col}: {msg}"),
     })
+}
+
+/// Plain digits, or an exponent where they would run long (1e300), as core's errors.
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 /// Edit distance (Levenshtein) of `a` and `b`, in characters.
