@@ -310,7 +310,12 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
     revolutions: u32,
     observer: &mut O,
 ) -> Result<SolverStats> {
-    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
+    let RunStart {
+        mut solver,
+        mut run,
+        t_end,
+        mut y,
+    } = RunState::start(model, settings, revolutions)?;
     let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
         run.take(model, observer, t, y)
     });
@@ -333,15 +338,26 @@ pub(crate) struct RunState<T> {
     left: Option<Error>,
 }
 
+/// What [`RunState::start`] sets up for a run.
+pub(crate) struct RunStart<T, const N: usize> {
+    /// The solver, configured from the settings.
+    pub(crate) solver: England<T, N>,
+    /// The run's state.
+    pub(crate) run: RunState<T>,
+    /// The end time: generous (four times the nominal), a stalled drive is an error.
+    pub(crate) t_end: T,
+    /// The initial state.
+    pub(crate) y: [T; N],
+}
+
 impl<T: Real> RunState<T> {
     /// The solver, the run's state, the end time and the initial state of a run of
     /// `revolutions` revolutions.
-    #[allow(clippy::type_complexity)]
     pub(crate) fn start<S: Scene, const N: usize, P: LiftProfile<T>>(
         model: &CamModel<T, S, N, P>,
         settings: &SolverSettings<T>,
         revolutions: u32,
-    ) -> Result<(England<T, N>, Self, T, [T; N])> {
+    ) -> Result<RunStart<T, N>> {
         if revolutions == 0 {
             return Err(Error::InvalidParameter {
                 field: "revolutions",
@@ -380,7 +396,12 @@ impl<T: Real> RunState<T> {
             last: (1, T::ZERO, T::ZERO),
             left: None,
         };
-        Ok((solver, run, t_end, y))
+        Ok(RunStart {
+            solver,
+            run,
+            t_end,
+            y,
+        })
     }
 
     /// One accepted sample at (t, y): checked against the model's validity bounds, then
@@ -549,7 +570,12 @@ where
     O: Observer<T>,
     E: FnMut(&ContactEvent<T>),
 {
-    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
+    let RunStart {
+        mut solver,
+        mut run,
+        t_end,
+        mut y,
+    } = RunState::start(model, settings, revolutions)?;
     let d = model.design();
     let ev_config = crate::EventConfig::new(events.tol_fraction_rev * T::TWO * T::PI / d.omega0);
     let gfn = ContactEventFn(model);
