@@ -213,11 +213,15 @@ fn implausible_radius_profiles_are_refused() {
     let alt = radius(&|_, k| if k % 2 == 1 { 2.0001 } else { 1.9999 }, 3600);
     let e = alt.deviation(&design).unwrap_err();
     assert!(e.contains("convex cam surface radius"), "{e}");
-    // A smooth radius profile passes (a circle of the prime radius: the roller's
-    // centre 0.375 in out on a base circle of 1.5 in, its lift 0 everywhere).
+    // A smooth radius profile that is not the scene's cam (a circle of the base
+    // radius: lift 0 everywhere, 1.5 in below the program's rise) is refused as
+    // another cam (issue 18: a gap beyond a deviation's 0.1 in).
     let circle = radius(&|_, _| 1.5, 360);
-    let dev = circle.deviation(&design).unwrap();
-    assert!(dev.spline().values().iter().all(|e| e.is_finite()));
+    let e = circle.deviation(&design).unwrap_err();
+    assert!(
+        e.contains("departs from the scene's program lift by 1.5000 in"),
+        "{e}"
+    );
 }
 
 #[test]
