@@ -87,7 +87,7 @@ fn p_max_and_samples(p_max: f64, quick: bool, samples: Option<u64>) -> (f64, u64
 
 /// The Monte Carlo model of the design searches: the quasi-static cantilever, vertical
 /// (README "Reduced scenes": adequate for P(jump) on actual cams), at rtol 1e-4.
-fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
+pub fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
     let mut mc = spec.clone();
     mc.dofs.horizontal = false;
     mc.dofs.follower = FollowerModel::QuasiStaticCantilever;
