@@ -15,7 +15,7 @@ pub mod profile;
 pub mod run;
 pub mod scene;
 pub mod scenes;
-pub mod sweep;
 pub mod sensitivity;
+pub mod sweep;
 pub mod tolerance_study;
 pub mod waviness;

@@ -154,7 +154,10 @@ impl Observer<f64> for Watch {
         }
         if p.in_contact {
             if p.contact_force.is_finite() {
-                self.force_min = Some(self.force_min.map_or(p.contact_force, |o| o.min(p.contact_force)));
+                self.force_min = Some(
+                    self.force_min
+                        .map_or(p.contact_force, |o| o.min(p.contact_force)),
+                );
             }
             max_into(&mut self.force_max, p.contact_force);
         } else {
@@ -301,9 +304,7 @@ impl ActualPoint {
             left_model_range: rs.iter().filter(|r| r.left_model_range).count() as u64,
             min_contact_force_lb: band(|r| Some(r.min_contact_force_lb)),
             peak_contact_force_lb: band(|r| r.peak_contact_force_lb),
-            rms_acceleration_deviation_in_per_s2: band(|r| {
-                r.rms_acceleration_deviation_in_per_s2
-            }),
+            rms_acceleration_deviation_in_per_s2: band(|r| r.rms_acceleration_deviation_in_per_s2),
             peak_cam_torque_lb_in: band(|r| r.peak_cam_torque_lb_in),
             peak_contact_stress_psi: band(|r| r.peak_contact_stress_psi),
             peak_drive_power_hp: band(|r| r.peak_drive_power_hp),
@@ -583,7 +584,14 @@ impl Report for SweepReport {
         let _ = writeln!(
             out,
             "  {:>8}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
-            "rpm", "contact", "Fc min lb", "Fc max lb", "a rms in/s2", "T peak lb in", "stress psi", "power hp"
+            "rpm",
+            "contact",
+            "Fc min lb",
+            "Fc max lb",
+            "a rms in/s2",
+            "T peak lb in",
+            "stress psi",
+            "power hp"
         );
         for p in &self.theoretical {
             let r = &p.response;
@@ -882,19 +890,24 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
         // The legend: two rows of entries in a strip of its own.
         let (legend, body) = rest.split_vertically(LEGEND_H);
         let font = (crate::plot::FONT, 16).into_font().color(&BLACK);
-        let mut entries: Vec<(u8, String)> = vec![(
-            0,
-            format!("theoretical cam ({})", model_name(&r.model)),
-        )];
+        let mut entries: Vec<(u8, String)> =
+            vec![(0, format!("theoretical cam ({})", model_name(&r.model)))];
         if r.theoretical.iter().any(|p| p.response.jump) {
             entries.push((1, "theoretical cam: the follower jumps (P(jump) 1)".into()));
         }
         if let Some(a) = &r.actual {
             entries.push((
                 2,
-                format!("{} actual cams: median ({})", a.samples, model_name(&a.model)),
+                format!(
+                    "{} actual cams: median ({})",
+                    a.samples,
+                    model_name(&a.model)
+                ),
             ));
-            entries.push((3, "actual cams: 5-95 % band; P(jump): 95 % Wilson interval".into()));
+            entries.push((
+                3,
+                "actual cams: 5-95 % band; P(jump): 95 % Wilson interval".into(),
+            ));
         }
         if let Some(o) = &r.theoretical_onset {
             entries.push((
@@ -911,7 +924,10 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
         if x_range.contains(&r.operating_rpm) {
             entries.push((5, format!("operating speed {:.0} rpm", r.operating_rpm)));
         }
-        let clipped = r.theoretical.iter().any(|p| p.response.jump && !p.response.left_model_range);
+        let clipped = r
+            .theoretical
+            .iter()
+            .any(|p| p.response.jump && !p.response.left_model_range);
         if clipped {
             entries.push((
                 7,
@@ -934,7 +950,9 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
                         vec![sym, (sym.0 + 30, sym.1)],
                         THEORY.stroke_width(2),
                     ))
-                    .and_then(|_| legend.draw(&Circle::new((sym.0 + 15, sym.1), 4, THEORY.filled()))),
+                    .and_then(|_| {
+                        legend.draw(&Circle::new((sym.0 + 15, sym.1), 4, THEORY.filled()))
+                    }),
                 1 => legend.draw(&Cross::new((sym.0 + 15, sym.1), 6, JUMPS.stroke_width(3))),
                 2 => legend.draw(&PathElement::new(
                     vec![sym, (sym.0 + 30, sym.1)],
@@ -1059,7 +1077,10 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
                     let mut poly = lo_run.clone();
                     poly.extend(hi_run.iter().rev().copied());
                     chart
-                        .draw_series(std::iter::once(Polygon::new(poly, ACTUAL.mix(0.3).filled())))
+                        .draw_series(std::iter::once(Polygon::new(
+                            poly,
+                            ACTUAL.mix(0.3).filled(),
+                        )))
                         .map_err(|e| err(&e))?;
                 }
                 if pjump {
@@ -1126,14 +1147,27 @@ mod tests {
         assert_eq!(g.step_rpm(), 50.0);
         let s = g.speeds();
         assert_eq!((s.len(), s[0], s[1], s[18]), (19, 300.0, 350.0, 1200.0));
-        for bad in ["300:1200:1", "1200:300:5", "a:b:c", "300:1200", "0:100:3", "300:1200:x"] {
+        for bad in [
+            "300:1200:1",
+            "1200:300:5",
+            "a:b:c",
+            "300:1200",
+            "0:100:3",
+            "300:1200:x",
+        ] {
             assert!(parse_rpm_grid(bad).is_err(), "{bad}");
         }
     }
 
     #[test]
     fn onset_on_the_grid() {
-        let p = [(1.0, false), (2.0, false), (3.0, true), (4.0, false), (5.0, true)];
+        let p = [
+            (1.0, false),
+            (2.0, false),
+            (3.0, true),
+            (4.0, false),
+            (5.0, true),
+        ];
         let o = grid_onset(&p).unwrap();
         assert_eq!(o.holds_at_rpm, Some(2.0));
         assert_eq!(o.jumps_at_rpm, 3.0);
