@@ -14,6 +14,8 @@ fn spring_args(actual: bool, threads: u32) -> SpringArgs {
         threads: Some(threads),
         resolution: 1.0,
         max_rate: 1000.0,
+        preload: false,
+        max_preload_length: camsim::cmd::design::MAX_PRELOAD_LENGTH,
         quick: true,
         json: false,
     }
@@ -130,4 +132,32 @@ fn design_speed_and_tolerance_bracket_their_criterion_on_any_thread_count() {
             assert_eq!(a.cam_tolerance_in.unwrap(), 0.0005 * a.answer);
         }
     }
+}
+
+/// `design spring --preload`: the rate held, the preload length searched. Its answer holds
+/// contact at 920 rpm and the length a bracket below does not (the predicate re-run
+/// outside the search); the rate reported is the scene's.
+#[test]
+fn design_spring_preload_brackets_the_criterion() {
+    let mut a = spring_args(false, 1);
+    a.preload = true;
+    let r = spring(&a).unwrap();
+    assert_eq!(r.searched, "preload length");
+    assert_eq!(r.spring_rate_lb_per_in, 100.0);
+    let (pass, fail) = (r.preload_length_in, r.failing_preload_length_in.unwrap());
+    assert!(fail < pass && pass - fail <= 0.1 + 1e-12, "{fail} {pass}");
+    assert_eq!(r.preload_bracket_in, Some(pass - fail));
+    let mut spec = camsim::cmd::run::spec_from(&SceneArgs::default()).unwrap();
+    spec.solver.start = camsim_core::Start::Static;
+    spec.revolutions = 2;
+    let at = |d: f64| {
+        let mut s = spec.clone();
+        s.design.delta_rs = d;
+        camsim::sim::jumps_at(&s, 920.0).unwrap()
+    };
+    assert!(!at(pass));
+    assert!(at(fail));
+    // The reference's 0.5 in does not hold at 920 rpm (its onset is 902 rpm): the answer
+    // is longer.
+    assert!(pass > 0.5);
 }

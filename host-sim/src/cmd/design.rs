@@ -373,13 +373,29 @@ pub struct SpringArgs {
     /// Largest rate searched, lb/in.
     #[arg(long, default_value_t = MAX_RATE, allow_hyphen_values = true, value_parser = crate::args::spring_rate)]
     pub max_rate: f64,
-    /// CI's quick mode: resolution 10 lb/in; with --actual, --p-max at least 0.1 (35 cams).
+    /// Search the spring's preload length δ_rs instead of its rate: the shortest
+    /// compression at assembly (at the scene's or --spring-rate's rate) that passes.
+    #[arg(long)]
+    pub preload: bool,
+    /// Largest preload length searched with --preload, in.
+    #[arg(long, default_value_t = MAX_PRELOAD_LENGTH, value_name = "IN", allow_hyphen_values = true, value_parser = crate::args::positive_finite, requires = "preload")]
+    pub max_preload_length: f64,
+    /// CI's quick mode: resolution 10 lb/in (0.1 in with --preload); with --actual,
+    /// --p-max at least 0.1 (35 cams).
     #[arg(long)]
     pub quick: bool,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
 }
+
+/// The preload search's first length, in: a tenth of the reference's 0.5 in.
+pub const START_PRELOAD_LENGTH: f64 = 0.05;
+/// The default largest preload length, in: 20 times the reference's 0.5 in, beyond any
+/// compression the reference spring's coils could take.
+pub const MAX_PRELOAD_LENGTH: f64 = 10.0;
+/// The preload search's bracket width, in (0.1 in the quick mode).
+pub const PRELOAD_RESOLUTION: f64 = 0.005;
 
 /// The quick mode's least --p-max (35 actual cams a rate).
 pub const QUICK_P_MAX: f64 = 0.1;
@@ -414,13 +430,23 @@ pub fn samples_for(p: f64) -> u64 {
 /// What was checked at the chosen rate.
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringReport {
-    /// The smallest rate found that passes, lb/in.
+    /// What the search varied: `spring rate` (at the preload length) or `preload length`
+    /// (at the rate, with --preload).
+    pub searched: String,
+    /// The smallest rate found that passes, lb/in (with --preload: the rate held).
     pub spring_rate_lb_per_in: f64,
     /// The largest rate tried that fails, lb/in (absent: the first rate tried passed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failing_rate_lb_per_in: Option<f64>,
-    /// Bracket width, lb/in (the answer is within it of the true smallest rate).
+    /// Bracket width, lb/in (the answer is within it of the true smallest rate; 0 with
+    /// --preload, where the rate is held).
     pub bracket_lb_per_in: f64,
+    /// With --preload: the longest preload length tried that fails, in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failing_preload_length_in: Option<f64>,
+    /// With --preload: the bracket width, in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preload_bracket_in: Option<f64>,
     /// The spring's preload at assembly, lb.
     pub preload_lb: f64,
     /// Preload length, in.
@@ -481,28 +507,53 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let resolution = if args.quick {
-        args.resolution.max(10.0)
+    let preload = args.preload;
+    let (start, max, resolution) = if preload {
+        let res = if args.quick { 0.1 } else { PRELOAD_RESOLUTION };
+        if args.max_preload_length <= START_PRELOAD_LENGTH {
+            bail!(
+                "--max-preload-length {}: must be above the search's first length {START_PRELOAD_LENGTH} in",
+                args.max_preload_length
+            );
+        }
+        (START_PRELOAD_LENGTH, args.max_preload_length, res)
     } else {
-        args.resolution
+        let res = if args.quick {
+            args.resolution.max(10.0)
+        } else {
+            args.resolution
+        };
+        if args.max_rate <= START_RATE {
+            bail!(
+                "--max-rate {}: must be above the search's first rate {START_RATE} lb/in",
+                args.max_rate
+            );
+        }
+        (START_RATE, args.max_rate, res)
     };
-    if args.max_rate <= START_RATE {
-        bail!(
-            "--max-rate {}: must be above the search's first rate {START_RATE} lb/in",
-            args.max_rate
-        );
-    }
-    let search = OnsetSearch::new(START_RATE, Some(2.0), args.max_rate, resolution)?;
+    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut runs: u64 = 0;
-    let with_rate = |base: &RunSpec, k: f64| -> Result<RunSpec> {
+    // The spring with the searched value: its rate (its mass following it), or its
+    // preload length at the rate held.
+    let with_rate = |base: &RunSpec, x: f64| -> Result<RunSpec> {
         let mut s = base.clone();
-        s.design.set_spring_rate(k)?;
+        if preload {
+            s.design.delta_rs = x;
+        } else {
+            s.design.set_spring_rate(x)?;
+        }
         s.design
             .validate()
             .map_err(|e| camsim_scene_file::refusal("design", e))?;
         Ok(s)
     };
+    let what = if preload {
+        "preload length"
+    } else {
+        "spring rate"
+    };
+    let unit = if preload { "in" } else { "lb/in" };
     let mut report = if args.actual {
         let mc = monte_carlo_model(&spec);
         let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
@@ -515,7 +566,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         let mut last_p: Option<(f64, Probability)> = None;
         let onset = search.find(|k| -> Result<bool> {
             let p = p_jump_on_actual_cams(&with_rate(&mc, k)?, &actual, n, nthreads, &mut runs)
-                .map_err(|e| e.context(format!("spring rate {k} lb/in")))?;
+                .map_err(|e| e.context(format!("{what} {k} {unit}")))?;
             let ok = p.hi95 <= p_max;
             if ok {
                 last_p = Some((k, p));
@@ -523,12 +574,15 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             tried.push((k, ok));
             Ok(ok)
         })?;
-        let (rate, below) = answer(onset, args.max_rate, "P(jump) above --p-max")?;
+        let (rate, below) = answer(onset, max, preload, "P(jump) above --p-max")?;
         let p = last_p.filter(|(k, _)| *k == rate).map(|(_, p)| p);
         SpringReport {
+            searched: what.into(),
             spring_rate_lb_per_in: rate,
             failing_rate_lb_per_in: below,
             bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
+            failing_preload_length_in: None,
+            preload_bracket_in: None,
             preload_lb: 0.0,
             preload_length_in: spec.design.delta_rs,
             spring_mass_lb: 0.0,
@@ -562,15 +616,18 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             tried.push((k, ok));
             Ok(ok)
         })?;
-        let (rate, below) = answer(onset, args.max_rate, "separates")?;
+        let (rate, below) = answer(onset, max, preload, "separates")?;
         // The chosen spring's own jump onset: the margin it really has.
         let chosen = with_rate(&spec, rate)?;
         let js = crate::cmd::jump_speed::find(&chosen, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
         SpringReport {
+            searched: what.into(),
             spring_rate_lb_per_in: rate,
             failing_rate_lb_per_in: below,
             bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
+            failing_preload_length_in: None,
+            preload_bracket_in: None,
             preload_lb: 0.0,
             preload_length_in: spec.design.delta_rs,
             spring_mass_lb: 0.0,
@@ -593,7 +650,21 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             wall_s: 0.0,
         }
     };
-    let chosen = with_rate(&spec, report.spring_rate_lb_per_in)?;
+    if preload {
+        // The answer is a length: the rate is the scene's.
+        let length = report.spring_rate_lb_per_in;
+        report.failing_preload_length_in = report.failing_rate_lb_per_in.take();
+        report.preload_bracket_in = Some(report.bracket_lb_per_in);
+        report.bracket_lb_per_in = 0.0;
+        report.spring_rate_lb_per_in = spec.design.k_rs;
+        report.preload_length_in = length;
+    }
+    let answer_value = if preload {
+        report.preload_length_in
+    } else {
+        report.spring_rate_lb_per_in
+    };
+    let chosen = with_rate(&spec, answer_value)?;
     let hs = chosen.design.spring()?;
     report.preload_lb = chosen.design.preload()?;
     report.spring_mass_lb = hs.mass * 386.09;
@@ -604,11 +675,15 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     Ok(report)
 }
 
-/// The passing rate and the failing one below it from the search's outcome.
-fn answer(onset: Onset<f64>, max: f64, fails: &str) -> Result<(f64, Option<f64>)> {
+/// The passing value (rate or preload length) and the failing one below it from the
+/// search's outcome.
+fn answer(onset: Onset<f64>, max: f64, preload: bool, fails: &str) -> Result<(f64, Option<f64>)> {
     match onset {
         Onset::AtStart(k) => Ok((k, None)),
         Onset::Bracketed { below, at } => Ok((at, Some(below))),
+        Onset::Beyond(_) if preload => bail!(
+            "no preload length up to --max-preload-length {max} in passes (the follower {fails} at every length tried): a stiffer spring, a gentler program or a lower speed"
+        ),
         Onset::Beyond(_) => bail!(
             "no spring up to --max-rate {max} lb/in passes (the follower {fails} at every rate tried): a larger preload length, a gentler program or a lower speed"
         ),
@@ -622,17 +697,48 @@ impl Report for SpringReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        let _ = writeln!(
-            out,
-            "camsim design spring: {:.1} lb/in at preload length {} in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
-            self.spring_rate_lb_per_in,
-            self.preload_length_in,
-            self.preload_lb,
-            self.active_coils,
-            self.spring_mass_lb,
-            self.surge_hz
-        );
-        match self.failing_rate_lb_per_in {
+        if self.searched == "preload length" {
+            let _ = writeln!(
+                out,
+                "camsim design spring --preload: preload length {:.3} in at the rate held, {:.1} lb/in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
+                self.preload_length_in,
+                self.spring_rate_lb_per_in,
+                self.preload_lb,
+                self.active_coils,
+                self.spring_mass_lb,
+                self.surge_hz
+            );
+            match (self.failing_preload_length_in, self.preload_bracket_in) {
+                (Some(b), Some(w)) => {
+                    let _ = writeln!(
+                        out,
+                        "  searched: the preload length; bracket: fails at {b:.3} in, passes at {:.3} in (width {w:.3} in)",
+                        self.preload_length_in
+                    );
+                }
+                _ => {
+                    let _ = writeln!(
+                        out,
+                        "  searched: the preload length; the first length tried passes: any length up to it may do"
+                    );
+                }
+            }
+        } else {
+            let _ = writeln!(
+                out,
+                "camsim design spring: {:.1} lb/in at preload length {} in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
+                self.spring_rate_lb_per_in,
+                self.preload_length_in,
+                self.preload_lb,
+                self.active_coils,
+                self.spring_mass_lb,
+                self.surge_hz
+            );
+        }
+        match self
+            .failing_rate_lb_per_in
+            .filter(|_| self.searched != "preload length")
+        {
             Some(b) => {
                 let _ = writeln!(
                     out,
@@ -640,12 +746,13 @@ impl Report for SpringReport {
                     self.spring_rate_lb_per_in, self.bracket_lb_per_in
                 );
             }
-            None => {
+            None if self.searched != "preload length" => {
                 let _ = writeln!(
                     out,
                     "  the first rate tried passes: any rate up to it may do"
                 );
             }
+            None => {}
         }
         let _ = writeln!(out, "  criterion: {}", self.criterion);
         if let (Some(j), Some(b)) = (self.jump_onset_rpm, self.jump_onset_bracket_rpm) {
@@ -668,9 +775,23 @@ impl Report for SpringReport {
         let tried: Vec<String> = self
             .tried
             .iter()
-            .map(|(k, ok)| format!("{k:.1}{}", if *ok { "+" } else { "-" }))
+            .map(|(k, ok)| {
+                if self.searched == "preload length" {
+                    format!("{k:.3}{}", if *ok { "+" } else { "-" })
+                } else {
+                    format!("{k:.1}{}", if *ok { "+" } else { "-" })
+                }
+            })
             .collect();
-        let _ = writeln!(out, "  rates tried (lb/in, + passes): {}", tried.join(" "));
+        if self.searched == "preload length" {
+            let _ = writeln!(
+                out,
+                "  preload lengths tried (in, + passes): {}",
+                tried.join(" ")
+            );
+        } else {
+            let _ = writeln!(out, "  rates tried (lb/in, + passes): {}", tried.join(" "));
+        }
         let _ = writeln!(
             out,
             "  {} model runs of 2 revolutions, {:.1} s",

@@ -77,7 +77,14 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str) -> anyhow::Result<()
                 ),
             ))
             .map_err(|e| err(&e))?;
-        let (legend, body) = rest.split_vertically(100);
+        let (legend, body) = rest.split_vertically(125);
+        legend
+            .draw(&Text::new(
+                "Not drawn: the impulses at a velocity or acceleration jump (straight-line at its ends, parabolic and cubic-1 at mid-stroke).",
+                (110, 96),
+                (crate::plot::FONT, 15).into_font().color(&RGBColor(90, 90, 90)),
+            ))
+            .map_err(|e| err(&e))?;
         for (k, law) in MotionLaw::ALL.iter().enumerate() {
             let color = LAW_COLORS.get(k).copied().unwrap_or(BLACK);
             let x = 110 + (k % 4) as i32 * 270;
