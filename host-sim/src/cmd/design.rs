@@ -70,6 +70,14 @@ pub struct McArgs {
     /// rougher ones): the tolerance that passes depends strongly on it.
     #[arg(long, value_name = "FPR", value_parser = clap::value_parser!(u32).range(2..=2000))]
     pub waviness_fpr: Option<u32>,
+    /// `design tolerance` only: search the roughest waviness instead, the highest FPR
+    /// (the shortest waves: the acceleration a wave imposes grows as FPR², docs/MODEL.md
+    /// §9.6) that passes at the tolerance --tolerance-factor.
+    #[arg(long, conflicts_with = "waviness_fpr")]
+    pub waviness: bool,
+    /// With --waviness: the tolerances held, a factor on VI.1's (default 1).
+    #[arg(long, value_name = "FACTOR", allow_hyphen_values = true, value_parser = crate::args::positive_finite, requires = "waviness")]
+    pub tolerance_factor: Option<f64>,
     /// CI's quick mode: a coarse bracket and --p-max at least 0.1 (35 cams a step).
     #[arg(long)]
     pub quick: bool,
@@ -133,8 +141,11 @@ pub struct McSearchReport {
     pub search: String,
     /// The answer: the highest passing speed (rpm) or the loosest passing tolerance factor.
     pub answer: f64,
-    /// Its unit: `rpm` or `factor on VI.1's tolerances`.
+    /// Its unit: `rpm`, `factor on VI.1's tolerances` or `FPR`.
     pub unit: String,
+    /// With `design tolerance --waviness`: the factor on VI.1's tolerances held.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance_factor: Option<f64>,
     /// The nearest value tried that fails (absent: none failed up to the search's limit).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failing: Option<f64>,
@@ -176,6 +187,12 @@ pub struct McSearchReport {
 /// with the speed and the tolerance (the report says so).
 pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     let t0 = Instant::now();
+    anyhow::ensure!(
+        !(speed && args.waviness),
+        "--waviness: only `design tolerance` searches the waviness"
+    );
+    let waviness = args.waviness;
+    let factor = args.tolerance_factor.unwrap_or(1.0);
     let mut spec = spec_from(&args.scene)?;
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
@@ -194,6 +211,10 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
             crate::cmd::jump_speed::MAX_RPM,
             if args.quick { 100.0 } else { 5.0 },
         )
+    } else if waviness {
+        // FPR: from 8 doubling to the finest waviness the profile can be given (720
+        // points a revolution, about FPR 570), to one wave.
+        (8.0, 512.0, if args.quick { 16.0 } else { 1.0 })
     } else {
         (0.1, 20.0, if args.quick { 0.5 } else { 0.05 })
     };
@@ -206,8 +227,14 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
             waviness_fpr: args.waviness_fpr,
             ..ActualArgs::default()
         };
+        // A waviness is a whole number of waves.
+        let x = if waviness { x.round() } else { x };
         if speed {
             s.design.set_speed_rpm(x)?;
+        } else if waviness {
+            actual.waviness_fpr = Some(x as u32);
+            actual.cam_tolerance = Some(reference.cam * factor);
+            actual.roller_tolerance = Some(reference.roller * factor);
         } else {
             actual.cam_tolerance = Some(reference.cam * x);
             actual.roller_tolerance = Some(reference.roller * x);
@@ -222,11 +249,18 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         Ok(!ok)
     })?;
     let (answer, failing) = match onset {
+        Onset::Bracketed { below, at } if waviness => (below.round(), Some(at.round())),
         Onset::Bracketed { below, at } => (below, Some(at)),
         Onset::Beyond(m) => (m, None),
         Onset::AtStart(x) => bail!(
             "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
-            if speed { "rpm" } else { "times VI.1's tolerances" }
+            if speed {
+                "rpm"
+            } else if waviness {
+                "FPR: a tighter --tolerance-factor"
+            } else {
+                "times VI.1's tolerances"
+            }
         ),
     };
     let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
@@ -238,26 +272,48 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         None
     };
     let report = McSearchReport {
-        search: if speed { "speed" } else { "tolerance" }.into(),
+        search: if speed {
+            "speed"
+        } else if waviness {
+            "waviness"
+        } else {
+            "tolerance"
+        }
+        .into(),
         answer,
         unit: if speed {
             "rpm".into()
+        } else if waviness {
+            "FPR".into()
         } else {
             "factor on VI.1's tolerances (cam 0.0005 in, roller 0.0001 in)".into()
         },
+        tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed).then_some(reference.cam * answer),
-        roller_tolerance_in: (!speed).then_some(reference.roller * answer),
+        cam_tolerance_in: (!speed).then_some(reference.cam * if waviness { factor } else { answer }),
+        roller_tolerance_in: (!speed)
+            .then_some(reference.roller * if waviness { factor } else { answer }),
         theoretical_onset_rpm,
         operating_rpm: op_rpm,
         p_jump,
         criterion: format!(
-            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness FPR {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
+            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
             args.seed,
-            args.waviness_fpr.map_or_else(|| "17 (default)".to_string(), |f| f.to_string()),
+            if waviness {
+                format!("searched, tolerances {factor} x VI.1's")
+            } else {
+                args.waviness_fpr
+                    .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
+            },
             if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
-            if speed { "speed" } else { "tolerance" }
+            if speed {
+                "speed"
+            } else if waviness {
+                "FPR (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+            } else {
+                "tolerance"
+            }
         ),
         samples: n,
         seed: args.seed,
@@ -289,6 +345,19 @@ impl Report for McSearchReport {
                     "  theoretical cam's jump onset: {t:.1} rpm (full model)"
                 );
             }
+        } else if self.search == "waviness" {
+            let _ = writeln!(
+                out,
+                "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{:.5} in, roller ±{:.6} in)",
+                self.answer,
+                self.tolerance_factor.unwrap_or(1.0),
+                self.cam_tolerance_in.unwrap_or(0.0),
+                self.roller_tolerance_in.unwrap_or(0.0)
+            );
+            let _ = writeln!(
+                out,
+                "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+            );
         } else {
             let _ = writeln!(
                 out,
@@ -328,7 +397,10 @@ impl Report for McSearchReport {
         let tried: Vec<String> = self
             .tried
             .iter()
-            .map(|(x, ok)| format!("{x:.3}{}", if *ok { "+" } else { "-" }))
+            .map(|(x, ok)| {
+                let d = if self.search == "waviness" { 0 } else { 3 };
+                format!("{x:.d$}{}", if *ok { "+" } else { "-" })
+            })
             .collect();
         let _ = writeln!(out, "  values tried (+ passes): {}", tried.join(" "));
         let _ = writeln!(
