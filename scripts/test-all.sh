@@ -94,6 +94,9 @@ smoke laws laws --json
 smoke modal modal --json
 smoke contact contact --force 100 --json
 smoke run run --revolutions 2 --json
+smoke run-csv run --revolutions 1 --csv "$studies/run-grid.csv" --csv-every-deg 1 --json
+test "$(wc -l < "$studies/run-grid.csv")" -eq 361 || { echo "smoke: run --csv-every-deg 1 is not 360 rows" >&2; exit 1; }
+smoke run-csv-steps run --revolutions 1 --csv "$studies/run-steps.csv" --csv-every-step --json
 smoke run-actual run --actual --revolutions 2 --json
 smoke jump-speed jump-speed --resolution 10 --json
 smoke scene scene --default

@@ -70,6 +70,7 @@ pub use solve::rk4::{rk4_integrate, rk4_step, rk4_step_from};
 pub use solve::system::{OdeSystem, Tolerance};
 
 mod run;
+pub use run::grid::{simulate_on_grid, AngleGrid};
 pub use run::response::{
     period_name, simulate, simulate_events, solver_config, Both, ContactEvent, ContactEventFn,
     ContactEventSettings, JumpInterval, Observer, PeriodStats, ResponseStats, Sample,

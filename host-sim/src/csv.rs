@@ -233,8 +233,21 @@ pub fn estimated_rows(spec: &RunSpec) -> u64 {
 /// The bytes `--csv` is expected to write for `spec` ([`estimated_rows`] rows of
 /// [`ROW_BYTES`] and the header).
 pub fn estimated_bytes(spec: &RunSpec) -> u64 {
-    estimated_rows(spec)
-        .saturating_mul(ROW_BYTES)
+    rows_bytes(estimated_rows(spec))
+}
+
+/// The most rows `--csv` gets on the cam-angle grid `grid` for `spec`: every grid point
+/// and every segment start (those on the grid count once) of every revolution.
+pub fn grid_rows(spec: &RunSpec, grid: &camsim_core::AngleGrid<f64>) -> u64 {
+    let segments = spec.design.program.segments().len() as u64;
+    grid.points_per_revolution()
+        .saturating_add(segments)
+        .saturating_mul(u64::from(spec.revolutions))
+}
+
+/// The bytes of `rows` rows of [`ROW_BYTES`] and the header.
+pub fn rows_bytes(rows: u64) -> u64 {
+    rows.saturating_mul(ROW_BYTES)
         .saturating_add(HEADER.len() as u64 + 1)
 }
 

@@ -7,9 +7,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    period_name, simulate, Both, CamModel, Design, DeviatedLift, DofSet, FollowerModel,
-    LiftProfile, Observer, ResponseStats, Sample, Scene, SceneId, SceneVisitor, SegmentKind,
-    SolverSettings, SolverStats,
+    period_name, simulate, simulate_on_grid, AngleGrid, Both, CamModel, Design, DeviatedLift,
+    DofSet, FollowerModel, LiftProfile, Observer, ResponseStats, Sample, Scene, SceneId,
+    SceneVisitor, SegmentKind, SolverSettings, SolverStats,
 };
 use std::sync::Arc;
 
@@ -154,29 +154,42 @@ pub struct RunResult {
 
 /// Runs a simulation, feeding `extra` every sample too.
 pub fn run<O: Observer<f64>>(spec: &RunSpec, extra: &mut O) -> Result<RunResult> {
+    run_on_grid::<O, Nothing>(spec, extra, None)
+}
+
+/// [`run`], and with `grid` the samples on a cam-angle grid to its observer too (through
+/// the solver's dense output; the steps, the statistics and `extra`'s samples are those
+/// of [`run`], bit for bit).
+pub fn run_on_grid<O: Observer<f64>, G: Observer<f64>>(
+    spec: &RunSpec,
+    extra: &mut O,
+    grid: Option<(AngleGrid<f64>, &mut G)>,
+) -> Result<RunResult> {
     anyhow::ensure!(
         (1..=16).contains(&spec.revolutions),
         "revolutions = {}: must be between 1 and 16",
         spec.revolutions
     );
-    struct Simulate<'a, O> {
+    struct Simulate<'a, O, G> {
         spec: &'a RunSpec,
         stats: &'a mut Stats,
         extra: &'a mut O,
+        grid: Option<(AngleGrid<f64>, &'a mut G)>,
     }
-    impl<O: Observer<f64>> ModelTask for Simulate<'_, O> {
+    impl<O: Observer<f64>, G: Observer<f64>> ModelTask for Simulate<'_, O, G> {
         type Output = (SolverStats, f64, SceneSize);
         fn run<S: Scene, const N: usize, P: LiftProfile<f64>>(
             self,
             m: &CamModel<f64, S, N, P>,
         ) -> Result<Self::Output> {
             let spec = self.spec;
-            let s = simulate(
-                m,
-                &spec.solver,
-                spec.revolutions,
-                &mut Both(self.stats, self.extra),
-            )
+            let nodes = &mut Both(self.stats, self.extra);
+            let s = match self.grid {
+                Some((grid, on_grid)) => {
+                    simulate_on_grid(m, &spec.solver, spec.revolutions, grid, nodes, on_grid)
+                }
+                None => simulate(m, &spec.solver, spec.revolutions, nodes),
+            }
             .context("simulation failed")?;
             let l = S::LAYOUT;
             let size = SceneSize {
@@ -194,6 +207,7 @@ pub fn run<O: Observer<f64>>(spec: &RunSpec, extra: &mut O) -> Result<RunResult>
             spec,
             stats: &mut stats,
             extra,
+            grid,
         },
     )?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;

@@ -140,17 +140,29 @@ fn a_refused_or_failed_run_never_creates_or_touches_the_csv() {
     }
     // Refused after parsing, before the simulation.
     let bad_scene = bad_scene.to_str().unwrap();
-    let refusals: [(Vec<&str>, &str); 5] = [
+    let refusals: [(Vec<&str>, &str); 6] = [
         // Another output refused: the CSV (planned first) is not created either.
         (vec!["--plot", plot_dir], "velocity.png exists (use --force"),
-        // The size guard: 16 revolutions are estimated at 1.63 GB.
+        // The size guard: one row per step, 16 revolutions are estimated at 1.63 GB.
         (
-            vec!["--revolutions", "16"],
+            vec!["--revolutions", "16", "--csv-every-step"],
             "would be about 1.63 GB, over the 1.00 GB limit (use --max-csv-mb N",
         ),
         (
-            vec!["--revolutions", "1", "--max-csv-mb", "1"],
+            vec![
+                "--revolutions",
+                "1",
+                "--max-csv-mb",
+                "1",
+                "--csv-every-step",
+            ],
             "would be about 102 MB, over the 1.00 MB limit",
+        ),
+        // On the angle grid the rows are counted: every 0.001° is 360 000 points and the
+        // four segment starts a revolution, 16 revolutions of 850 B rows: 4.90 GB.
+        (
+            vec!["--revolutions", "16", "--csv-every-deg", "0.001"],
+            "would be about 4.90 GB, over the 1.00 GB limit",
         ),
         (
             vec!["/nonexistent/scene.toml"],
@@ -255,11 +267,70 @@ fn run_json_has_no_null_numbers_and_the_text_shows_the_same_values() {
     assert!(text.starts_with("camsim run: 2 revolutions at 800.0 rpm, 11 DOF model"));
 }
 
+/// By default the CSV is on the cam-angle grid: a row every 0.5°, 720 a revolution
+/// (the reference program's segment starts are whole degrees, on the grid), each at its
+/// angle exactly, the period and revolution as the grid labels them; and with
+/// `--csv-every-deg 7` the 52 multiples of 7° below 360 and the four segment starts off
+/// them.
+#[test]
+fn the_csv_is_on_the_cam_angle_grid_by_default() {
+    let d = scratch("grid");
+    let starts: Vec<f64> = camsim_core::Design::<f64>::reference()
+        .program
+        .segments()
+        .iter()
+        .map(|s| s.start_deg)
+        .collect();
+    for (step, per_rev) in [
+        ("0.5", 720usize),
+        ("7", 52 + starts.iter().filter(|a| *a % 7.0 != 0.0).count()),
+    ] {
+        let csv = d.join(format!("grid-{step}.csv"));
+        let args = quick(&[
+            "--revolutions",
+            "2",
+            "--csv-every-deg",
+            step,
+            "--csv",
+            csv.to_str().unwrap(),
+        ]);
+        run_cli(&strs(&args)).unwrap();
+        let text = fs::read_to_string(&csv).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(lines.next(), Some(camsim::csv::HEADER));
+        let header: Vec<&str> = camsim::csv::HEADER.split(',').collect();
+        let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+        let (rev, angle, theta) = (col("revolution"), col("cam_angle_deg"), col("theta_c_rad"));
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len(), 2 * per_rev, "--csv-every-deg {step}");
+        for (i, v) in rows.iter().enumerate() {
+            assert!(v.iter().all(|x| x.is_finite()));
+            assert_eq!(v[rev], (i / per_rev + 1) as f64);
+            let abs = 360.0 * (v[rev] - 1.0) + v[angle];
+            assert!((v[theta] - abs.to_radians()).abs() < 1e-9, "row {i}: {v:?}");
+        }
+        if step == "0.5" {
+            let angles: Vec<f64> = rows[..720].iter().map(|v| v[angle]).collect();
+            let want: Vec<f64> = (0..720).map(|k| 0.5 * k as f64).collect();
+            assert_eq!(angles, want);
+        }
+    }
+    fs::remove_dir_all(&d).unwrap();
+}
+
 #[test]
 fn the_csv_has_the_documented_header_and_one_finite_row_per_sample() {
     let d = scratch("rows");
     let csv = d.join("run.csv");
-    let args = quick(&["--revolutions", "2", "--csv", csv.to_str().unwrap()]);
+    let args = quick(&[
+        "--revolutions",
+        "2",
+        "--csv-every-step",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
     let r = run_cli(&strs(&args)).unwrap();
     // The samples of the same run, counted by an observer.
     let spec = {
@@ -380,6 +451,7 @@ fn an_interrupted_run_leaves_nothing_behind() {
         "100",
         "--revolutions",
         "3",
+        "--csv-every-step",
         "--csv",
         csv.to_str().unwrap(),
         "--plot",
@@ -395,6 +467,7 @@ fn an_interrupted_run_leaves_nothing_behind() {
         "100",
         "--revolutions",
         "3",
+        "--csv-every-step",
         "--csv",
         old.to_str().unwrap(),
         "--force",

@@ -2,5 +2,6 @@
 //! statistics (VI.4), and the one-dimensional searches over runs (peak scan, jump-onset
 //! bracketing and bisection).
 
+pub(crate) mod grid;
 pub(crate) mod response;
 pub(crate) mod search;

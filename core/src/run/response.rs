@@ -308,7 +308,7 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
 /// What [`simulate`] and [`simulate_events`] share: the setup of a run, what each sample
 /// passes through (the validity check, the end of the run, the observer) and how the
 /// solver's failures are told.
-struct RunState<T> {
+pub(crate) struct RunState<T> {
     /// The cam angle that ends the run, rad.
     target: T,
     /// The run reached `target`.
@@ -325,7 +325,7 @@ impl<T: Real> RunState<T> {
     /// The solver, the run's state, the end time and the initial state of a run of
     /// `revolutions` revolutions.
     #[allow(clippy::type_complexity)]
-    fn start<S: Scene, const N: usize, P: LiftProfile<T>>(
+    pub(crate) fn start<S: Scene, const N: usize, P: LiftProfile<T>>(
         model: &CamModel<T, S, N, P>,
         settings: &SolverSettings<T>,
         revolutions: u32,
@@ -373,7 +373,7 @@ impl<T: Real> RunState<T> {
 
     /// One accepted sample at (t, y): checked against the model's validity bounds, then
     /// the end of the run, then the observer.
-    fn take<S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>>(
+    pub(crate) fn take<S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>>(
         &mut self,
         model: &CamModel<T, S, N, P>,
         observer: &mut O,
@@ -401,11 +401,21 @@ impl<T: Real> RunState<T> {
         flow
     }
 
+    /// The cam angle that ends the run, rad.
+    pub(crate) fn target(&self) -> T {
+        self.target
+    }
+
+    /// An observer outside [`RunState::take`] stopped the run.
+    pub(crate) fn stop(&mut self) {
+        self.stopped = true;
+    }
+
     /// The run's result: the solver's (`result`) unless the model left its range, with
     /// the solver's failures told by the cam angle of the last accepted sample and the
     /// quantity or scene key concerned; a run that neither reached its end nor was
     /// stopped has stalled.
-    fn finish<S: Scene, const N: usize, P: LiftProfile<T>, R>(
+    pub(crate) fn finish<S: Scene, const N: usize, P: LiftProfile<T>, R>(
         self,
         model: &CamModel<T, S, N, P>,
         settings: &SolverSettings<T>,

@@ -57,6 +57,17 @@ pub struct SceneArgs {
     pub follower: Option<args::FollowerArg>,
 }
 
+/// The default of `--csv-every-deg`: a row every half degree of cam angle.
+pub const DEFAULT_CSV_EVERY_DEG: f64 = 0.5;
+
+/// `--csv-every-deg`: a grid step the core's [`camsim_core::AngleGrid`] accepts.
+fn csv_every_deg(s: &str) -> Result<f64, String> {
+    let x = args::positive_finite(s)?;
+    camsim_core::AngleGrid::new(x)
+        .map(|g| g.step_deg())
+        .map_err(|_| "must be between 3.6e-4 and 360 degrees".into())
+}
+
 /// The default of `--max-csv-mb`: 1000 MB = 1 GB.
 pub const DEFAULT_MAX_CSV_MB: u64 = 1000;
 
@@ -69,13 +80,23 @@ pub struct Args {
     /// Revolutions to simulate, 1-16 (default 3, or the scene's).
     #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=16))]
     pub revolutions: Option<u32>,
-    /// Write one CSV row per sample to FILE (written whole at the end of a successful
-    /// run; an existing FILE needs --force).
+    /// Write the response to FILE as CSV: one row every --csv-every-deg degrees of cam
+    /// angle (written whole at the end of a successful run; an existing FILE needs --force).
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// --csv's row spacing, degrees of cam angle (3.6e-4 to 360; default 0.5), plus a row
+    /// at every segment's start; taken from the solver's continuous output, as accurate as
+    /// its steps.
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_CSV_EVERY_DEG, allow_hyphen_values = true, value_parser = csv_every_deg, conflicts_with = "csv_every_step")]
+    pub csv_every_deg: f64,
+    /// --csv gets one row per solver sample (the midpoint and end of every step: uneven,
+    /// and hundreds of times larger than the default grid) instead of the angle grid.
+    #[arg(long)]
+    pub csv_every_step: bool,
     /// Largest --csv file, MB (10^6 bytes; the default is 1 GB). The size is estimated
-    /// before the run (about 850 B a row, 120 000 rows a revolution at rtol 1e-6) and a
-    /// larger one is refused; a run that writes more stops with an error and leaves no file.
+    /// before the run (about 850 B a row; the grid's rows are counted, --csv-every-step's
+    /// estimated from the tolerance) and a larger one is refused; a run that writes more
+    /// stops with an error and leaves no file.
     #[arg(long, value_name = "MB", default_value_t = DEFAULT_MAX_CSV_MB, allow_hyphen_values = true, value_parser = megabytes)]
     pub max_csv_mb: u64,
     /// Write PNG plots against cam angle into DIR (created if missing; its parent must
@@ -141,6 +162,8 @@ impl Default for Args {
             scene: SceneArgs::default(),
             revolutions: None,
             csv: None,
+            csv_every_deg: DEFAULT_CSV_EVERY_DEG,
+            csv_every_step: false,
             max_csv_mb: DEFAULT_MAX_CSV_MB,
             plot: None,
             force: false,
@@ -371,9 +394,17 @@ pub fn report(args: &Args) -> Result<RunReport> {
     if let Some(p) = &args.measured {
         plan.input("--measured", p);
     }
+    // The grid's step was checked by the option's parser.
+    let grid = match args.csv_every_step {
+        false => Some(camsim_core::AngleGrid::new(args.csv_every_deg)?),
+        true => None,
+    };
     let csv_target = match &args.csv {
         Some(p) => Some(plan.file("--csv", p)?.limit(
-            csv::estimated_bytes(&spec),
+            match &grid {
+                Some(g) => csv::rows_bytes(csv::grid_rows(&spec, g)),
+                None => csv::estimated_bytes(&spec),
+            },
             args.max_csv_mb.saturating_mul(1_000_000),
             "--max-csv-mb N",
         )?),
@@ -386,13 +417,18 @@ pub fn report(args: &Args) -> Result<RunReport> {
         Some(dir) => Some(plan.dir("--plot", dir, &plot::FILES)?),
         None => None,
     };
-    let mut csv_out = match csv_target {
+    let csv_out = match csv_target {
         Some(t) => Some(CsvOut::new(t.open()?)),
         None => None,
     };
     let mut plot_data = plot_target.as_ref().map(|_| plot::PlotData::default());
     let mut watch =
         crate::verdict::Watch::new(crate::verdict::Watch::steady_from(spec.revolutions));
+    // The CSV's rows come from the steps (--csv-every-step) or from the angle grid.
+    let (mut step_csv, mut grid_csv) = match (csv_out, grid) {
+        (Some(c), Some(g)) => (None, Some((c, g))),
+        (c, _) => (c, None),
+    };
     let result = {
         let mut obs = |s: &camsim_core::Sample<f64>| {
             use camsim_core::Observer;
@@ -400,13 +436,20 @@ pub fn report(args: &Args) -> Result<RunReport> {
             if let Some(p) = plot_data.as_mut() {
                 p.push(s);
             }
-            match csv_out.as_mut() {
+            match step_csv.as_mut() {
                 Some(c) => c.row(s),
                 None => std::ops::ControlFlow::Continue(()),
             }
         };
-        sim::run(&spec, &mut obs)?
+        match grid_csv.as_mut() {
+            Some((c, g)) => {
+                let mut rows = |s: &camsim_core::Sample<f64>| c.row(s);
+                sim::run_on_grid(&spec, &mut obs, Some((*g, &mut rows)))?
+            }
+            None => sim::run(&spec, &mut obs)?,
+        }
     };
+    let csv_out = step_csv.or(grid_csv.map(|(c, _)| c));
     let csv_file = csv_out.map(CsvOut::into_file).transpose()?;
     let plots = match (plot_target, plot_data) {
         (Some(t), Some(data)) => {

@@ -1,0 +1,273 @@
+//! Output on a cam-angle grid: a run's samples at fixed cam angles (every `step_deg`
+//! degrees, and at every program segment's start), taken from the solver's continuous
+//! extension ([`crate::Dense`]) instead of at the steps the solver happens to take.
+//!
+//! Why: the solver's steps crowd where the dynamics are fast and thin out in dwells, so a
+//! file of step samples is large (about 9 000 rows per revolution on the reference design)
+//! and uneven; a designer wants the response at, say, every half degree, the same for every
+//! run and every tolerance. The grid's samples are as accurate as the step's own nodes
+//! (the extension is `O(h⁶)` between them, docs/MODEL.md §5.10), and asking for them does
+//! not change the steps: the nodes are bit for bit those of [`crate::simulate`].
+
+use core::ops::ControlFlow;
+
+use crate::run::response::RunState;
+use crate::{
+    CamModel, CamProgram, Dense, Error, LiftProfile, Observer, Real, Result, Sample, Scene,
+    SolverSettings, SolverStats,
+};
+
+/// A uniform cam-angle grid for output: every `step_deg` degrees from 0 in each
+/// revolution, plus the start of every program segment (so each period's first sample is
+/// at its first angle).
+///
+/// ```
+/// use camsim_core::AngleGrid;
+/// assert!(AngleGrid::new(0.5_f64).is_ok());
+/// assert!(AngleGrid::new(0.0_f64).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AngleGrid<T> {
+    step_deg: T,
+}
+
+impl<T: Real> AngleGrid<T> {
+    /// The smallest grid step, degrees (a million points per revolution at 3.6e-4°).
+    pub const MIN_STEP_DEG: f64 = 3.6e-4;
+
+    /// A grid every `step_deg` degrees: finite, at least [`Self::MIN_STEP_DEG`], at most 360.
+    pub fn new(step_deg: T) -> Result<Self> {
+        if !(step_deg.is_finite()
+            && step_deg >= T::from_f64(Self::MIN_STEP_DEG)
+            && step_deg <= T::from_f64(360.0))
+        {
+            return Err(Error::InvalidParameter {
+                field: "grid_step_deg",
+                rule: "must be between 3.6e-4 and 360 degrees",
+                value: step_deg.to_f64(),
+            });
+        }
+        Ok(Self { step_deg })
+    }
+
+    /// The grid step, degrees.
+    pub fn step_deg(&self) -> T {
+        self.step_deg
+    }
+
+    /// How many grid points one revolution has (the multiples of the step below 360°; the
+    /// segment starts that fall between them come on top).
+    pub fn points_per_revolution(&self) -> u64 {
+        let q = T::from_f64(360.0) / self.step_deg;
+        // ceil(q) as -floor(-q); `as` saturates (the step is at least MIN_STEP_DEG).
+        let n = (-(-q).floor()).to_f64();
+        if n >= 1.0 {
+            n as u64
+        } else {
+            1
+        }
+    }
+}
+
+/// One grid point: where it is, exactly as the grid defines it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct GridPoint<T> {
+    /// Unwrapped cam angle, rad.
+    theta: T,
+    /// Revolution, from 1.
+    revolution: u32,
+    /// Angle within the revolution, degrees.
+    within_deg: T,
+    /// The program segment it is in (a segment's start belongs to that segment).
+    segment: usize,
+}
+
+/// Walks the grid's points in order, revolution after revolution.
+struct Cursor<'a, T, const M: usize> {
+    grid: AngleGrid<T>,
+    program: &'a CamProgram<T, M>,
+    /// Revolution, from 0.
+    rev: u32,
+    /// Next multiple of the step.
+    k: u32,
+    /// Next segment start.
+    j: usize,
+}
+
+impl<'a, T: Real, const M: usize> Cursor<'a, T, M> {
+    fn new(grid: AngleGrid<T>, program: &'a CamProgram<T, M>) -> Self {
+        Self {
+            grid,
+            program,
+            rev: 0,
+            k: 0,
+            j: 0,
+        }
+    }
+
+    fn next_point(&mut self) -> GridPoint<T> {
+        let full = T::from_f64(360.0);
+        // Two angles closer than this are one point (the step's multiples are computed,
+        // the segment starts given: 0.5° · 180 may miss 90° by a rounding).
+        let same = full * T::EPSILON * T::from_f64(16.0);
+        let segs = self.program.segments();
+        loop {
+            let a = self.grid.step_deg * T::from_usize(self.k as usize);
+            let a = if a < full - same { Some(a) } else { None };
+            let b = segs.get(self.j).map(|s| s.start_deg);
+            let within = match (a, b) {
+                (Some(a), Some(b)) if (a - b).abs() <= same => {
+                    self.k = self.k.saturating_add(1);
+                    self.j += 1;
+                    b
+                }
+                (Some(a), Some(b)) if b < a => {
+                    self.j += 1;
+                    b
+                }
+                (Some(a), _) => {
+                    self.k = self.k.saturating_add(1);
+                    a
+                }
+                (None, Some(b)) => {
+                    self.j += 1;
+                    b
+                }
+                (None, None) => {
+                    self.rev = self.rev.saturating_add(1);
+                    self.k = 0;
+                    self.j = 0;
+                    continue;
+                }
+            };
+            // The segment: the last one that starts at or before this angle.
+            let segment = segs
+                .iter()
+                .rposition(|s| s.start_deg <= within + same)
+                .unwrap_or(0);
+            let theta = (full * T::from_usize(self.rev as usize) + within).to_radians();
+            return GridPoint {
+                theta,
+                revolution: self.rev.saturating_add(1),
+                within_deg: within,
+                segment,
+            };
+        }
+    }
+}
+
+/// The time in `[t0, t2]` where the interpolated cam angle `theta` reaches `target`:
+/// Newton's method on the scalar interpolant, kept inside a shrinking bracket (bisection
+/// where a Newton step would leave it).
+fn time_at<T: Real>(theta: &Dense<'_, T, 1>, target: T) -> T {
+    let (mut lo, mut hi) = (theta.t_start(), theta.t_end());
+    let [a, _, c] = theta.nodes();
+    let (th0, th2) = (a[0], c[0]);
+    let mut t = if th2 > th0 {
+        lo + (hi - lo) * ((target - th0) / (th2 - th0)).clamp(T::ZERO, T::ONE)
+    } else {
+        lo
+    };
+    let mut v = [T::ZERO];
+    for _ in 0..60 {
+        theta.eval(t, &mut v);
+        let g = v[0] - target;
+        if g == T::ZERO {
+            break;
+        }
+        if g < T::ZERO {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        theta.eval_derivative(t, &mut v);
+        let newton = t - g / v[0];
+        let next = if newton > lo && newton < hi && newton.is_finite() {
+            newton
+        } else {
+            T::HALF * (lo + hi)
+        };
+        if (next - t).abs() <= T::EPSILON * t.abs().max(hi - lo) || hi - lo <= T::ZERO {
+            t = next;
+            break;
+        }
+        t = next;
+    }
+    t
+}
+
+/// [`crate::simulate`], with a second observer fed on a cam-angle grid: `nodes` receives
+/// exactly what [`crate::simulate`]'s observer would (the start, midpoint and end of every
+/// accepted step, bit for bit the same points), `on_grid` the samples at the grid's
+/// angles below the run's end, in order, taken from each step's continuous extension
+/// (their `revolution`, `angle_deg` and `segment` are the grid's exact values). Either
+/// observer may stop the run. Validity checks, end of run and errors as
+/// [`crate::simulate`]. The extension costs one model evaluation per step more than
+/// [`crate::simulate`] (`f` at each step's end) and three per step for the cam angle.
+pub fn simulate_on_grid<T, S, const N: usize, P, O, G>(
+    model: &CamModel<T, S, N, P>,
+    settings: &SolverSettings<T>,
+    revolutions: u32,
+    grid: AngleGrid<T>,
+    nodes: &mut O,
+    on_grid: &mut G,
+) -> Result<SolverStats>
+where
+    T: Real,
+    S: Scene,
+    P: LiftProfile<T>,
+    O: Observer<T>,
+    G: Observer<T>,
+{
+    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
+    let program = &model.design().program;
+    let mut cursor = Cursor::new(grid, program);
+    let mut next = cursor.next_point();
+    let stress = on_grid.needs_stress();
+    let mut failed: Option<Error> = None;
+    let result = if run.take(model, nodes, T::ZERO, &y).is_break() {
+        Ok(solver.stats())
+    } else {
+        solver.integrate_dense(model, T::ZERO, &mut y, t_end, |d| {
+            let [y0, y1, y2] = d.nodes();
+            let times = [d.t_start(), d.t_mid(), d.t_end()];
+            let p = [
+                model.evaluate(times[0], y0),
+                model.evaluate(times[1], y1),
+                model.evaluate(times[2], y2),
+            ];
+            let th = [[p[0].theta_c], [p[1].theta_c], [p[2].theta_c]];
+            let om = [[p[0].omega_c], [p[1].omega_c], [p[2].omega_c]];
+            let theta = match Dense::new(times, [&th[0], &th[1], &th[2]], [&om[0], &om[1], &om[2]])
+            {
+                Ok(theta) => theta,
+                Err(e) => {
+                    failed = Some(e);
+                    return ControlFlow::Break(());
+                }
+            };
+            let mut ys = [T::ZERO; N];
+            while next.theta < th[2][0] && next.theta < run.target() {
+                let t = time_at(&theta, next.theta);
+                d.eval(t, &mut ys);
+                let mut s: Sample<T> = model.sample(t, &ys, stress);
+                s.revolution = next.revolution;
+                s.angle_deg = next.within_deg;
+                s.segment = next.segment;
+                if on_grid.observe(&s).is_break() {
+                    run.stop();
+                    return ControlFlow::Break(());
+                }
+                next = cursor.next_point();
+            }
+            if run.take(model, nodes, d.t_mid(), y1).is_break() {
+                return ControlFlow::Break(());
+            }
+            run.take(model, nodes, d.t_end(), y2)
+        })
+    };
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    run.finish(model, settings, result)
+}
