@@ -99,9 +99,41 @@ fn mc_args(threads: u32) -> camsim::cmd::design::McArgs {
         seed: 1,
         threads: Some(threads),
         waviness_fpr: None,
+        waviness: false,
+        tolerance_factor: None,
         quick: true,
         json: false,
     }
+}
+
+/// `design tolerance --waviness` (quick): the roughest waviness (the highest FPR) that
+/// passes at VI.1's tolerances; the same on 1 and 2 threads, a whole number of waves,
+/// every FPR tried at or below it passes and every one at or above the failing one fails,
+/// and the cam tolerance is the one held. At 4 x the tolerances it can only be smoother.
+#[test]
+fn design_tolerance_waviness_brackets_the_roughest_fpr() {
+    use camsim::cmd::design::mc_search;
+    let args = |threads, factor| camsim::cmd::design::McArgs {
+        waviness: true,
+        tolerance_factor: Some(factor),
+        ..mc_args(threads)
+    };
+    let a = mc_search(&args(1, 1.0), false).unwrap();
+    let b = mc_search(&args(2, 1.0), false).unwrap();
+    assert_eq!(
+        (a.answer, a.failing, &a.tried),
+        (b.answer, b.failing, &b.tried)
+    );
+    assert_eq!(a.search, "waviness");
+    assert_eq!(a.answer.fract(), 0.0);
+    let failing = a.failing.unwrap();
+    assert!(a
+        .tried
+        .iter()
+        .all(|&(x, ok)| if ok { x <= a.answer } else { x >= failing }));
+    assert_eq!(a.cam_tolerance_in, Some(0.0005));
+    let loose = mc_search(&args(2, 4.0), false).unwrap();
+    assert!(loose.answer <= a.answer, "{} > {}", loose.answer, a.answer);
 }
 
 /// `design speed` and `design tolerance` (quick): the same answer on 1 and 2 threads; the

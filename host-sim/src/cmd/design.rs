@@ -367,11 +367,12 @@ impl Report for McSearchReport {
                 self.roller_tolerance_in.unwrap_or(0.0)
             );
         }
+        let d = if self.search == "waviness" { 0 } else { 4 };
         match self.failing {
             Some(f) => {
                 let _ = writeln!(
                     out,
-                    "  bracket: passes at {:.4}, fails at {f:.4} (width {:.4} {})",
+                    "  bracket: passes at {:.d$}, fails at {f:.d$} (width {:.d$} {})",
                     self.answer, self.bracket, self.unit
                 );
             }
