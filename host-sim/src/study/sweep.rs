@@ -552,13 +552,16 @@ fn band_text(b: Option<&Band>, prec: usize) -> String {
     )
 }
 
-fn onset_text(o: &GridOnset, step: f64) -> String {
+fn onset_text(o: &GridOnset, step: f64, narrow: &str) -> String {
     let mut s = match o.holds_at_rpm {
         Some(h) => format!(
-            "between {h:.1} and {:.1} rpm (the grid's step {step:.1} rpm; `camsim jump-speed` narrows it)",
+            "between {h:.1} and {:.1} rpm (the grid's step {step:.1} rpm; `{narrow}` narrows it)",
             o.jumps_at_rpm
         ),
-        None => format!("at or below {:.1} rpm, the grid's first speed", o.jumps_at_rpm),
+        None => format!(
+            "at or below {:.1} rpm, the grid's first speed",
+            o.jumps_at_rpm
+        ),
     };
     if let Some(a) = o.holds_again_above_rpm {
         s.push_str(&format!(
@@ -610,7 +613,11 @@ impl Report for SweepReport {
         }
         match &self.theoretical_onset {
             Some(o) => {
-                let _ = writeln!(out, "  jump onset {}", onset_text(o, self.step_rpm));
+                let _ = writeln!(
+                    out,
+                    "  jump onset {}",
+                    onset_text(o, self.step_rpm, "camsim jump-speed")
+                );
             }
             None => {
                 let _ = writeln!(out, "  contact holds at every speed of the grid");
@@ -642,13 +649,13 @@ impl Report for SweepReport {
             );
             let _ = writeln!(
                 out,
-                "  {:>8}  {:<24} {:<26} {:<26} {:<26}",
+                "  {:>8}  {:<24} {:<26} {:<26} {}",
                 "rpm", "P(jump)", "Fc min lb", "a rms in/s2", "T peak lb in"
             );
             for p in &a.points {
                 let _ = writeln!(
                     out,
-                    "  {:>8.1}  {:<24} {:<26} {:<26} {:<26}",
+                    "  {:>8.1}  {:<24} {:<26} {:<26} {}",
                     p.rpm,
                     p.p_jump.text(3),
                     band_text(p.min_contact_force_lb.as_ref(), 2),
@@ -661,7 +668,7 @@ impl Report for SweepReport {
                     let _ = writeln!(
                         out,
                         "  first actual cam jumps {}",
-                        onset_text(o, self.step_rpm)
+                        onset_text(o, self.step_rpm, "camsim jump-speed --actual")
                     );
                 }
                 None => {
