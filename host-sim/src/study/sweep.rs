@@ -649,8 +649,8 @@ impl Report for SweepReport {
             );
             let _ = writeln!(
                 out,
-                "  {:>8}  {:<24} {:<26} {:<26} {}",
-                "rpm", "P(jump)", "Fc min lb", "a rms in/s2", "T peak lb in"
+                "  {:>8}  {:<24} {:<26} {:<26} T peak lb in",
+                "rpm", "P(jump)", "Fc min lb", "a rms in/s2"
             );
             for p in &a.points {
                 let _ = writeln!(
