@@ -297,7 +297,7 @@ if want firmware firmware; then
         "The QEMU demonstration image's product line (image size, static RAM, peak stack, boot instructions), the instruction probes' budget line (instructions per right-hand side and per revolution, real-time factor at 168 MHz), the host parity and the build-time scene and measured-profile images."
     printf '$ bash scripts/firmware-ci.sh | grep -E ...\n' >>"$CURRENT"
     bash scripts/firmware-ci.sh 2>&1 |
-        grep -E '(product|budget) flash_bytes=|jump_onset_rpm|parity OK|firmware-ci: (OK|build-time|demonstration image panic)|flash +=|static RAM =' \
+        grep -E '(product|budget) flash_bytes=|model (chip|full)|lift table knots|jump_onset_rpm|parity OK|firmware-ci: (OK|build-time|demonstration image panic)|flash +=|static RAM =' \
             >>"$CURRENT"
     end
 fi

@@ -16,6 +16,7 @@ pub use kinematics::motion::{LawValue, MotionLaw};
 pub use kinematics::program::{
     CamProgram, FollowerLift, ProgramData, Segment, SegmentData, SegmentKind, SegmentType,
 };
+pub use kinematics::table::{ContactTerms, LiftTable, TABLE_SEGMENT_MULTIPLE};
 
 mod forces;
 pub use forces::contact::{

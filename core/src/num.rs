@@ -50,6 +50,9 @@ pub trait Real:
     const INFINITY: Self;
     /// Not a number (marks a value that could not be measured).
     const NAN: Self;
+    /// Where `tanh` rounds to exactly 1 in this precision: for `x` above it
+    /// `1 - 2/(exp(2x) + 1)` is 1 (the friction's smooth sign skips its `exp` there).
+    const TANH_SATURATES: Self;
 
     /// Converts an `f64` constant (rounds for `f32`).
     fn from_f64(x: f64) -> Self;
@@ -59,6 +62,9 @@ pub trait Real:
     fn from_usize(n: usize) -> Self;
     /// Widens to `f64` (for reports and errors only, never in hot paths).
     fn to_f64(self) -> f64;
+    /// Truncates towards zero to a `usize` (Rust's saturating cast: negative and NaN
+    /// give 0, too large gives `usize::MAX`); one instruction on the chip, no `f64`.
+    fn to_usize_trunc(self) -> usize;
     /// Converts to another precision through `f64`, `U::from_f64(self.to_f64())`: exact
     /// when widening, rounded to nearest when narrowing to `f32`. How a design changes
     /// precision ([`Design::cast`](crate::Design::cast)); not for hot paths.
@@ -160,6 +166,11 @@ macro_rules! real_common {
         const MIN_POSITIVE: Self = <$t>::MIN_POSITIVE;
         const INFINITY: Self = <$t>::INFINITY;
         const NAN: Self = <$t>::NAN;
+        // 1 - 2/(exp(2x) + 1) rounds to exactly 1 above: 2/exp(2x) is then below a
+        // quarter of EPSILON, under half the spacing of the numbers just below 1
+        // (f32: exp(19) = 1.8e8, 2/1.8e8 = 1.1e-8 < 3.0e-8; f64: exp(39) = 8.7e16,
+        // 2.3e-17 < 5.6e-17).
+        const TANH_SATURATES: Self = if <$t>::EPSILON > 1e-10 { 9.5 } else { 19.5 };
 
         #[inline(always)]
         fn from_f64(x: f64) -> Self {
@@ -176,6 +187,10 @@ macro_rules! real_common {
         #[inline(always)]
         fn to_f64(self) -> f64 {
             self as f64
+        }
+        #[inline(always)]
+        fn to_usize_trunc(self) -> usize {
+            self as usize
         }
         #[inline(always)]
         fn abs(self) -> Self {

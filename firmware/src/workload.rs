@@ -7,8 +7,10 @@
 //! - [`chip_design`]: the design compiled in (the reference design of VI.1), both;
 //! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation, the
 //!   `predictor` binary (the QEMU demonstration image; it instantiates only the chip's model);
-//! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`simulate_revolution`]: the budget
-//!   probes, generic over the scene, which the `budget` binary instantiates for the chip's
+//! - [`chip_table`]: the chip's lift table, filled once at boot (both);
+//! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`revolution_model`],
+//!   [`simulate_revolution`]: the budget
+//!   probes, generic over the scene and the lift, which the `budget` binary instantiates for the chip's
 //!   model ([`camsim_chip::ChipModel`], the quasi-static-rod scene's 10 states) and, for comparison, the full 22-state
 //!   model ([`camsim_core::RegulatedFullModel`]).
 //!
@@ -20,11 +22,29 @@
 
 use core::ops::ControlFlow;
 
-use camsim_chip::{chip_solver_settings, ChipConfig, CHIP_GRID};
+use camsim_chip::{chip_solver_settings, ChipConfig, ChipTable, CHIP_GRID};
 use camsim_core::{
-    simulate, CamModel, Design, PredictionTable, Sample, Scene, SolverSettings, SpeedPrediction,
-    SteadyState,
+    simulate, CamModel, Design, LiftProfile, Observer, PredictionTable, Sample, Scene, SolverSettings,
+    SpeedPrediction, SteadyState,
 };
+
+/// The chip's lift table (`camsim_chip::ChipTable`, `camsim_chip::ChipConfig::tabulate`)
+/// for `design` on `lift`, filled in place in a `static` (static RAM:
+/// `ChipTable::<f32>::bytes()`). Never panics: a second call (the `static` is filled once)
+/// or a table that does not fit is an error.
+pub fn chip_table(
+    design: &Design<f32>,
+    lift: LiftRef,
+) -> Result<&'static ChipTable<f32>, camsim_core::Error> {
+    let Some(slot) = cortex_m::singleton!(: ChipTable<f32> = ChipTable::EMPTY) else {
+        return Err(camsim_core::Error::InvalidParameter {
+            field: "lift table",
+            rule: "the lift table is built once, at boot",
+            value: 2.0,
+        });
+    };
+    Ok(ChipConfig::new(design).on(lift).tabulate(slot)?.lift)
+}
 
 /// Right-hand-side evaluations timed to get instructions per evaluation.
 pub const RHS_REPS: u32 = 1000;
@@ -147,14 +167,18 @@ pub fn chip_design() -> Design<f32> {
     }
 }
 
-/// The model of scene `S` (`N = S::N`) for the chip's design at [`NOMINAL_RPM`] and a mid-rise state
-/// (100 degrees, on the reference program's rise) for [`evaluate_rhs`]; `None` if the
-/// model cannot be built. Kept out of the timed span: building a model validates the
-/// design (including its undercut scan), which costs millions of instructions.
-pub fn rhs_probe<S: Scene, const N: usize>() -> Option<(CamModel<f32, S, N>, [f32; N])> {
+/// The model of scene `S` (`N = S::N`) for the chip's design at [`NOMINAL_RPM`] with the
+/// roller on `profile` (the chip's lift table, or the closed form for comparison), and a
+/// mid-rise state (100 degrees, on the reference program's rise) for [`evaluate_rhs`];
+/// `None` if the model cannot be built. Kept out of the timed span: building a model
+/// validates the design (including its undercut scan), which costs millions of
+/// instructions.
+pub fn rhs_probe<S: Scene, const N: usize, P: LiftProfile<f32>>(
+    profile: P,
+) -> Option<(CamModel<f32, S, N, P>, [f32; N])> {
     let mut d = chip_design();
     d.set_speed_rpm(NOMINAL_RPM).ok()?;
-    let model = CamModel::<f32, S, N>::new(d).ok()?;
+    let model = CamModel::<f32, S, N, P>::with_profile(d, profile).ok()?;
     let y = model.state_from(100.0f32.to_radians(), &[0.0; 8], &[0.0; 8]);
     Some((model, y))
 }
@@ -162,8 +186,8 @@ pub fn rhs_probe<S: Scene, const N: usize>() -> Option<(CamModel<f32, S, N>, [f3
 /// Evaluates the model's right-hand side `reps` times at `y`; returns a checksum so the
 /// work cannot be optimised away.
 #[inline(never)]
-pub fn evaluate_rhs<S: Scene, const N: usize>(
-    model: &CamModel<f32, S, N>,
+pub fn evaluate_rhs<S: Scene, const N: usize, P: LiftProfile<f32>>(
+    model: &CamModel<f32, S, N, P>,
     y: &[f32; N],
     reps: u32,
 ) -> f32 {
@@ -193,33 +217,63 @@ pub struct Revolution {
     pub load_in_per_s: f32,
 }
 
-/// Simulates one cam revolution of scene `S`'s model (`N = S::N`) at [`NOMINAL_RPM`]
-/// with the chip's solver settings.
+/// The model of scene `S` (`N = S::N`) for the chip's design at `rpm` with the roller on
+/// `profile`, for [`simulate_revolution`]. Building it validates the design (its undercut
+/// scan is most of the cost: about 1.9 M instructions on the chip), which the steady state
+/// pays once per speed, not per revolution: the budget times it apart.
 #[inline(never)]
-pub fn simulate_revolution<S: Scene, const N: usize>() -> Option<Revolution> {
+pub fn revolution_model<S: Scene, const N: usize, P: LiftProfile<f32>>(
+    profile: P,
+    rpm: f32,
+) -> Option<CamModel<f32, S, N, P>> {
     let mut d = chip_design();
-    d.set_speed_rpm(NOMINAL_RPM).ok()?;
-    let model = CamModel::<f32, S, N>::new(d).ok()?;
-    let mut last = (0.0f32, 0.0f32);
-    let mut obs = |s: &Sample<f32>| {
-        last = (s.point.load_displacement(), s.point.load_velocity());
-        ControlFlow::Continue(())
-    };
-    let stats = simulate(&model, &chip_solver_settings(), 1, &mut obs).ok()?;
+    d.set_speed_rpm(rpm).ok()?;
+    CamModel::<f32, S, N, P>::with_profile(d, profile).ok()
+}
+
+/// Simulates one cam revolution of `model` (built by [`revolution_model`]) with the chip's
+/// solver settings, sampled as the predictor's runs are (no contact stress, no outputs).
+#[inline(never)]
+pub fn simulate_revolution<S: Scene, const N: usize, P: LiftProfile<f32>>(
+    model: &CamModel<f32, S, N, P>,
+) -> Option<Revolution> {
+    let mut obs = LastLoad::default();
+    let stats = simulate(model, &chip_solver_settings(), 1, &mut obs).ok()?;
     Some(Revolution {
         rhs_evals: stats.rhs_evals,
         steps: stats.accepted + stats.rejected,
-        load_in: last.0,
-        load_in_per_s: last.1,
+        load_in: obs.load.0,
+        load_in_per_s: obs.load.1,
     })
 }
 
+/// The revolution probe's observer: the last sample's load, asking for what the
+/// predictor's observer (`camsim_core::SteadyStateObserver`) asks for: neither the contact
+/// stress nor the outputs (pressure angle, theoretical response).
+#[derive(Default)]
+struct LastLoad {
+    load: (f32, f32),
+}
+
+impl Observer<f32> for LastLoad {
+    fn needs_stress(&self) -> bool {
+        false
+    }
+    fn needs_outputs(&self) -> bool {
+        false
+    }
+    fn observe(&mut self, s: &Sample<f32>) -> ControlFlow<()> {
+        self.load = (s.point.load_displacement(), s.point.load_velocity());
+        ControlFlow::Continue(())
+    }
+}
+
 /// The chip's predictor: the boot-time table over the scene's speed grid, interpolated,
-/// on the compiled-in lift ([`ChipLift`]).
+/// on the compiled-in lift ([`ChipLift`]) through the chip's lift table.
 #[derive(Clone, Debug)]
 pub struct Predictor {
     design: Design<f32>,
-    lift: LiftRef,
+    lift: &'static ChipTable<f32>,
     /// The table computed at boot.
     pub table: PredictionTable<f32, CHIP_GRID>,
 }
@@ -234,7 +288,7 @@ impl Predictor {
     /// step budget).
     pub fn boot_with(settings: &SolverSettings<f32>) -> Result<Self, camsim_core::Error> {
         let design = chip_design();
-        let lift = chip_lift()?;
+        let lift = chip_table(&design, chip_lift()?)?;
         let table = ChipConfig::new(&design)
             .on(lift)
             .with_settings(*settings)

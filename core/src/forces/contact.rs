@@ -507,11 +507,16 @@ pub fn coulomb_friction<T: Real>(mu: T, normal: T, velocity: T, v_smooth: T) -> 
 }
 
 /// `tanh(x)` as `sign(x) (1 - 2 / (exp(2|x|) + 1))`, overflow-safe (exp(inf) = inf
-/// gives exactly 1) and odd by construction.
+/// gives exactly 1) and odd by construction. Above [`Real::TANH_SATURATES`] that
+/// expression rounds to exactly 1, which is returned without the `exp` (the same bits).
 #[inline]
 fn smooth_sign<T: Real>(x: T) -> T {
     let ax = x.abs();
-    let t = T::ONE - T::TWO / ((T::TWO * ax).exp() + T::ONE);
+    let t = if ax > T::TANH_SATURATES {
+        T::ONE
+    } else {
+        T::ONE - T::TWO / ((T::TWO * ax).exp() + T::ONE)
+    };
     if x < T::ZERO {
         -t
     } else {
@@ -522,6 +527,29 @@ fn smooth_sign<T: Real>(x: T) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The short cut above `TANH_SATURATES` gives the bits the full expression gives:
+    /// exactly 1, from the threshold up to where exp overflows (and beyond).
+    #[test]
+    fn smooth_sign_saturates_to_the_same_bits() {
+        fn full<T: Real>(x: T) -> T {
+            T::ONE - T::TWO / ((T::TWO * x).exp() + T::ONE)
+        }
+        let mut x = f32::TANH_SATURATES;
+        while x < 200.0 {
+            assert_eq!(full(x), 1.0, "f32 at {x}");
+            assert_eq!(smooth_sign(-x), -1.0);
+            x = x * 1.001 + 1e-3;
+        }
+        let mut x = f64::TANH_SATURATES;
+        while x < 800.0 {
+            assert_eq!(full(x), 1.0, "f64 at {x}");
+            x = x * 1.001 + 1e-3;
+        }
+        // Below the threshold it is not yet 1 somewhere (the threshold is not far off).
+        assert!(full(8.0f32) < 1.0 && full(18.0f64) < 1.0);
+        assert!(smooth_sign(f32::NAN).is_nan());
+    }
 
     const R1: f64 = 0.375;
     const R2: f64 = 1.5;

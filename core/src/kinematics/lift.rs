@@ -26,12 +26,27 @@
 //! assert!((l.y - (program.follower(0.0).y + 1e-3)).abs() < 1e-12);
 //! ```
 
-use crate::{CamProgram, CubicSpline, Error, FollowerLift, Real, Result, SplinePoint};
+use crate::{
+    CamProgram, ContactTerms, CubicSpline, Error, FollowerLift, Real, Result, SplinePoint,
+};
 
 /// Where the dynamic model takes the follower lift from.
 pub trait LiftProfile<T: Real> {
     /// The lift and its cam-angle derivatives at `theta` (rad, any real) for `program`.
     fn follower<const K: usize>(&self, program: &CamProgram<T, K>, theta: T) -> FollowerLift<T>;
+
+    /// [`Self::follower`] and, where the profile tabulates them ([`crate::LiftTable`]),
+    /// the Hertz contact stiffness and the pressure angle's inverse hypotenuse
+    /// ([`ContactTerms`]); `None` leaves them to the closed forms (the model's Eqs.
+    /// V.9-V.12 at the lift's curvature, and a square root).
+    #[inline(always)]
+    fn follower_and_contact<const K: usize>(
+        &self,
+        program: &CamProgram<T, K>,
+        theta: T,
+    ) -> (FollowerLift<T>, Option<ContactTerms<T>>) {
+        (self.follower(program, theta), None)
+    }
 }
 
 /// The theoretical cam: the program's closed-form lift (the default of every model).
@@ -153,5 +168,13 @@ impl<T: Real, L: LiftProfile<T>> LiftProfile<T> for &L {
     #[inline(always)]
     fn follower<const K: usize>(&self, program: &CamProgram<T, K>, theta: T) -> FollowerLift<T> {
         (**self).follower(program, theta)
+    }
+    #[inline(always)]
+    fn follower_and_contact<const K: usize>(
+        &self,
+        program: &CamProgram<T, K>,
+        theta: T,
+    ) -> (FollowerLift<T>, Option<ContactTerms<T>>) {
+        (**self).follower_and_contact(program, theta)
     }
 }

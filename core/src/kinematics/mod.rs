@@ -5,3 +5,4 @@ pub(crate) mod geometry;
 pub(crate) mod lift;
 pub(crate) mod motion;
 pub(crate) mod program;
+pub(crate) mod table;

@@ -572,7 +572,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
 
 /// `theta` wrapped into `[0, 2π)` (2π itself maps to 0; NaN stays NaN).
 #[inline]
-fn wrap_angle<T: Real>(theta: T) -> T {
+pub(crate) fn wrap_angle<T: Real>(theta: T) -> T {
     let two_pi = T::TWO * T::PI;
     if theta >= T::ZERO && theta < two_pi {
         return theta;

@@ -463,7 +463,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// angle itself: the forces use its sine and cosine), for the right-hand side. One copy
     /// for both uses (inlined into each it costs the chip's flash; docs/FIRMWARE.md).
     #[inline(never)]
-    fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
+    pub(crate) fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
         let d = &self.d;
         let mut p = ModelPoint {
             t,
@@ -493,26 +493,48 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         p.vel = st.velocities();
 
         // --- contact geometry at the current cam angle ---
-        let lift = self.lift(p.theta_c);
+        let (lift, table) = self
+            .profile
+            .follower_and_contact(&self.d.program, p.theta_c);
         p.lift = lift;
-        // Pressure angle: tan φ = (dy/dθ) / (R_a + y); cos and sin without the atan.
+        // Pressure angle: tan φ = (dy/dθ) / (R_a + y); cos and sin without the atan (and
+        // from the lift table's 1/hypotenuse without the square root, docs/MODEL.md §3.21).
         let rpy = self.prime_radius + lift.y;
-        let hyp = (rpy * rpy + lift.dy * lift.dy).sqrt();
-        let (cos_phi, sin_phi) = if hyp > T::ZERO {
-            (rpy / hyp, lift.dy / hyp)
-        } else {
-            (T::ONE, T::ZERO)
+        let (cos_phi, sin_phi) = match table {
+            Some(c) => (rpy * c.inv_hyp, lift.dy * c.inv_hyp),
+            None => {
+                let hyp = (rpy * rpy + lift.dy * lift.dy).sqrt();
+                if hyp > T::ZERO {
+                    (rpy / hyp, lift.dy / hyp)
+                } else {
+                    (T::ONE, T::ZERO)
+                }
+            }
         };
+        let k_h_table = table.map(|c| c.k_h);
         if outputs {
             p.pressure_angle = lift.dy.atan2(rpy);
         }
-        p.surface_radius = d
-            .geometry
-            .surface_curvature_radius(lift.y, lift.dy, lift.d2y);
-        // Hertz stiffness at the contact point (Eqs. V.9-V.11).
-        let k_h = d
-            .hertz
-            .stiffness_fast(d.geometry.roller_radius, p.surface_radius);
+        // Hertz stiffness at the contact point (Eqs. V.9-V.11): from the lift table where
+        // the profile is one (docs/MODEL.md §3.21), the surface radius then only for the
+        // outputs.
+        let k_h = match k_h_table {
+            Some(k) => {
+                if outputs {
+                    p.surface_radius = d
+                        .geometry
+                        .surface_curvature_radius(lift.y, lift.dy, lift.d2y);
+                }
+                k
+            }
+            None => {
+                p.surface_radius = d
+                    .geometry
+                    .surface_curvature_radius(lift.y, lift.dy, lift.d2y);
+                d.hertz
+                    .stiffness_fast(d.geometry.roller_radius, p.surface_radius)
+            }
+        };
         p.k_h = k_h;
         // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10); the
         // rods' stiffnesses it used (at the carrier's y3) serve the forces below too.

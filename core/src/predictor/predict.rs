@@ -190,6 +190,9 @@ impl<T: Real> Observer<T> for SteadyStateObserver<T> {
     fn needs_stress(&self) -> bool {
         false
     }
+    fn needs_outputs(&self) -> bool {
+        false
+    }
     fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
         if s.revolution < self.revolution {
             return ControlFlow::Continue(());

@@ -11,7 +11,7 @@
 
 use core::ops::ControlFlow;
 
-use crate::run::response::RunState;
+use crate::run::response::{RunStart, RunState};
 use crate::{
     CamModel, CamProgram, Dense, Error, LiftProfile, Observer, Real, Result, Sample, Scene,
     SolverSettings, SolverStats,
@@ -219,7 +219,12 @@ where
     O: Observer<T>,
     G: Observer<T>,
 {
-    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
+    let RunStart {
+        mut solver,
+        mut run,
+        t_end,
+        mut y,
+    } = RunState::start(model, settings, revolutions)?;
     let program = &model.design().program;
     let mut cursor = Cursor::new(grid, program);
     let mut next = cursor.next_point();

@@ -114,6 +114,15 @@ pub trait Observer<T> {
     fn needs_stress(&self) -> bool {
         true
     }
+    /// Whether this observer reads the figures only outputs carry: the pressure angle and
+    /// the surface radius of the point ([`ModelPoint::pressure_angle`],
+    /// [`ModelPoint::surface_radius`]) and the theoretical response ([`Sample::theory`]).
+    /// `false` lets [`simulate`] skip them (an `atan2`, the curvature and the motion law's
+    /// closed form a sample): they are then 0 (the surface radius too where the lift is
+    /// tabulated, docs/MODEL.md §3.21). Every other figure is the same either way.
+    fn needs_outputs(&self) -> bool {
+        true
+    }
     /// Takes one sample; `Break` stops the simulation early.
     fn observe(&mut self, sample: &Sample<T>) -> ControlFlow<()>;
 }
@@ -130,6 +139,9 @@ pub struct Both<'a, A, B>(pub &'a mut A, pub &'a mut B);
 impl<T, A: Observer<T>, B: Observer<T>> Observer<T> for Both<'_, A, B> {
     fn needs_stress(&self) -> bool {
         self.0.needs_stress() || self.1.needs_stress()
+    }
+    fn needs_outputs(&self) -> bool {
+        self.0.needs_outputs() || self.1.needs_outputs()
     }
     fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
         let a = self.0.observe(s);
@@ -298,7 +310,12 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
     revolutions: u32,
     observer: &mut O,
 ) -> Result<SolverStats> {
-    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
+    let RunStart {
+        mut solver,
+        mut run,
+        t_end,
+        mut y,
+    } = RunState::start(model, settings, revolutions)?;
     let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
         run.take(model, observer, t, y)
     });
@@ -321,15 +338,26 @@ pub(crate) struct RunState<T> {
     left: Option<Error>,
 }
 
+/// What [`RunState::start`] sets up for a run.
+pub(crate) struct RunStart<T, const N: usize> {
+    /// The solver, configured from the settings.
+    pub(crate) solver: England<T, N>,
+    /// The run's state.
+    pub(crate) run: RunState<T>,
+    /// The end time: generous (four times the nominal), a stalled drive is an error.
+    pub(crate) t_end: T,
+    /// The initial state.
+    pub(crate) y: [T; N],
+}
+
 impl<T: Real> RunState<T> {
     /// The solver, the run's state, the end time and the initial state of a run of
     /// `revolutions` revolutions.
-    #[allow(clippy::type_complexity)]
     pub(crate) fn start<S: Scene, const N: usize, P: LiftProfile<T>>(
         model: &CamModel<T, S, N, P>,
         settings: &SolverSettings<T>,
         revolutions: u32,
-    ) -> Result<(England<T, N>, Self, T, [T; N])> {
+    ) -> Result<RunStart<T, N>> {
         if revolutions == 0 {
             return Err(Error::InvalidParameter {
                 field: "revolutions",
@@ -368,7 +396,12 @@ impl<T: Real> RunState<T> {
             last: (1, T::ZERO, T::ZERO),
             left: None,
         };
-        Ok((solver, run, t_end, y))
+        Ok(RunStart {
+            solver,
+            run,
+            t_end,
+            y,
+        })
     }
 
     /// One accepted sample at (t, y): checked against the model's validity bounds, then
@@ -380,7 +413,7 @@ impl<T: Real> RunState<T> {
         t: T,
         y: &[T; N],
     ) -> ControlFlow<()> {
-        let sample = model.sample(t, y, observer.needs_stress());
+        let sample = model.sample_with(t, y, observer.needs_stress(), observer.needs_outputs());
         if let Err((limit, value, bound)) = model.check_validity(&sample.point) {
             self.left = Some(Error::OutOfModel {
                 limit,
@@ -537,7 +570,12 @@ where
     O: Observer<T>,
     E: FnMut(&ContactEvent<T>),
 {
-    let (mut solver, mut run, t_end, mut y) = RunState::start(model, settings, revolutions)?;
+    let RunStart {
+        mut solver,
+        mut run,
+        t_end,
+        mut y,
+    } = RunState::start(model, settings, revolutions)?;
     let d = model.design();
     let ev_config = crate::EventConfig::new(events.tol_fraction_rev * T::TWO * T::PI / d.omega0);
     let gfn = ContactEventFn(model);
@@ -584,7 +622,15 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
 
     /// A full output sample at (t, y); `stress` computes the Hertz contact stress.
     pub fn sample(&self, t: T, y: &[T; N], stress: bool) -> Sample<T> {
-        let p = self.evaluate(t, y);
+        self.sample_with(t, y, stress, true)
+    }
+
+    /// [`Self::sample`]; `outputs = false` (and no stress) skips what only some observers
+    /// read ([`Observer::needs_outputs`]): the pressure angle, the surface radius where the
+    /// lift is tabulated, and the theoretical response, left at 0.
+    pub fn sample_with(&self, t: T, y: &[T; N], stress: bool, outputs: bool) -> Sample<T> {
+        let outputs = outputs || stress;
+        let p = self.evaluate_with(t, y, outputs);
         let d = self.design();
         let two_pi = T::TWO * T::PI;
         let turns = (p.theta_c / two_pi).floor();
@@ -599,7 +645,11 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         let w = d.omega0;
         // The perfect cam's response (VI.4), not the lift the roller rides on: on an
         // actual cam the deviation from it includes the profile's own error.
-        let theory = Theoretical::of(&d.program.follower(p.theta_c), w);
+        let theory = if outputs {
+            Theoretical::of(&d.program.follower(p.theta_c), w)
+        } else {
+            Theoretical::default()
+        };
         let contact_stress = if stress && p.in_contact {
             // Roller diameter and the signed diameter of the cam surface at the contact.
             d.hertz.max_stress(

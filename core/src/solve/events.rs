@@ -4,7 +4,7 @@
 
 use core::ops::ControlFlow;
 
-use super::england::{stage, StepMode};
+use super::england::{stage, Attempt, StepMode};
 use super::{Dense, England, OdeSystem};
 use crate::{Error, Real, Result, SolverStats};
 
@@ -106,30 +106,19 @@ impl<T: Real, const N: usize> England<T, N> {
         let mut f1 = [T::ZERO; N];
         let mut f2 = [T::ZERO; N];
         let mut y_ev = [T::ZERO; N];
-        // An event time being integrated to (the new-side end of a located bracket),
-        // with the event found there.
-        let mut target: Option<T> = None;
-        // The step size planned before the approach to an event began (restored after it).
-        let mut h_keep: Option<T> = None;
-        // The last attempt was rejected (the retry from the same point must not grow).
-        let mut rejected = false;
-        // Steps discarded in a row from the same point (bounded: then the step is kept).
-        let mut discards = 0u32;
-        // Force the next attempt (to `target`) through the error test.
-        let mut force_next = false;
-        let two_tol = T::TWO * config.tol_t;
-        // Two tolerances with room for the rounding of t + 2 tol - t.
-        let force_width = T::from_f64(2.5) * config.tol_t;
+        let mut ap = Approach::new(config);
         while t < t_end {
-            let t_start = t;
-            let y0 = *y;
-            let f0 = self.f0;
-            let h_before = self.h;
-            let stop = target.map_or(t_end, |b| b.min(t_end));
+            let start = StepStart {
+                t,
+                y0: *y,
+                f0: self.f0,
+                h_before: self.h,
+            };
+            let stop = ap.target.map_or(t_end, |b| b.min(t_end));
             // The step across the event, accepted as is: the target lies within two
             // tolerances, or a rejected attempt ended within one past the event.
-            let force = target.is_some() && (force_next || stop - t_start <= force_width);
-            force_next = false;
+            let force = ap.target.is_some() && (ap.force_next || stop - start.t <= ap.force_width);
+            ap.force_next = false;
             let at = self.step_impl(
                 sys,
                 &mut t,
@@ -137,138 +126,174 @@ impl<T: Real, const N: usize> England<T, N> {
                 stop,
                 &mut mid,
                 StepMode::Once {
-                    rejected_before: rejected,
+                    rejected_before: ap.rejected,
                     force,
                 },
             )?;
-            let s = at.s;
-            rejected = !at.accepted;
+            ap.rejected = !at.accepted;
             if !at.accepted {
-                // A rejected attempt: did g change side by its (auxiliary) end? Then the
-                // rejection is probably the event's; aim the next attempt at it instead
-                // of letting the error control close in on it.
-                let g_try = event.event(at.t_end, &self.arg);
-                ev.event_evals = ev.event_evals.saturating_add(1);
-                if side(g_try) != side(g_prev) && s > T::ZERO {
-                    for (a, k5) in f1.iter_mut().zip(self.k5.iter()) {
-                        *a = *k5 / s;
-                    }
-                    for (a, k9) in f2.iter_mut().zip(self.k9.iter()) {
-                        *a = *k9 / s;
-                    }
-                    let y_try = self.arg;
-                    let dense = Dense::new(
-                        [t_start, t_start + s, at.t_end],
-                        [&y0, &mid.1, &y_try],
-                        [&f0, &f1, &f2],
-                    )?;
-                    let (a, mut b) = locate(
-                        event,
-                        &dense,
-                        t_start,
-                        g_prev,
-                        at.t_end,
-                        g_try,
-                        config,
-                        &mut ev.event_evals,
-                    );
-                    if at.t_end - a <= config.tol_t {
-                        // The attempt ends within a tolerance past the event: its error is
-                        // the event's (a jump in f it straddles), not the step's; retry it
-                        // as is and accept it.
-                        force_next = true;
-                        b = at.t_end;
-                    } else if target.is_some() {
-                        // Aimed at an estimate and rejected again: at least halve.
-                        b = b.min(t_start + T::HALF * (at.t_end - t_start));
-                    }
-                    let b = b.max(t_start + two_tol);
-                    h_keep.get_or_insert(h_before);
-                    target = Some(b);
-                    self.h = self.h.max(b - t_start);
-                }
+                self.aim_at_crossing(event, config, &start, &mid.1, &at, g_prev, &mut ap, &mut ev)?;
                 continue;
             }
             for (a, k5) in f1.iter_mut().zip(self.k5.iter()) {
-                *a = *k5 / s;
+                *a = *k5 / at.s;
             }
             stage(sys, t, y, T::ONE, &mut f2, &mut self.stats.rhs_evals)?;
             let g = event.event(t, y);
             ev.event_evals = ev.event_evals.saturating_add(1);
             let crossed = side(g) != side(g_prev);
-            if target.is_some_and(|b| t >= b) || crossed {
-                target = None;
+            if ap.target.is_some_and(|b| t >= b) || crossed {
+                ap.target = None;
             }
-
-            if crossed {
-                let dense = Dense::new([t_start, mid.0, t], [&y0, &mid.1, y], [&f0, &f1, &f2])?;
-                let (a, b) = locate(
-                    event,
-                    &dense,
-                    t_start,
-                    g_prev,
-                    t,
-                    g,
-                    config,
-                    &mut ev.event_evals,
-                );
-                let at_end = t - b <= config.tol_t;
-                let mut found = Event {
-                    t: b,
-                    bracket: b - a,
-                    rising: side(g),
-                    restarted: false,
-                };
-                if !at_end && b - t_start > config.tol_t && discards < 4 {
-                    // Discard the step and re-integrate from its start to b.
-                    discards += 1;
-                    ev.discarded_steps = ev.discarded_steps.saturating_add(1);
-                    self.stats.accepted = self.stats.accepted.saturating_sub(1);
-                    // Its accepted attempt: k2..k9 (f0 was ready) and f at its end.
-                    self.aux_evals = self.aux_evals.saturating_add(9);
-                    t = t_start;
-                    *y = y0;
-                    self.f0 = f0;
-                    h_keep.get_or_insert(h_before);
-                    self.h = h_before.max(b - t_start);
-                    target = Some(b.max(t_start + two_tol));
-                    continue;
-                }
-                // The root lies at an end of the step (or the discards ran out): keep it.
-                discards = 0;
+            let (y0, f0) = (&start.y0, &start.f0);
+            let dense = Dense::new([start.t, mid.0, t], [y0, &mid.1, y], [f0, &f1, &f2])?;
+            if !crossed {
+                ap.discards = 0;
                 self.f0 = f2;
                 g_prev = g;
-                if at_end {
-                    found.t = t;
-                    found.restarted = true;
-                    y_ev = *y;
-                } else {
-                    dense.eval(b, &mut y_ev);
-                }
                 if observer(Report::Step(&dense)).is_break() {
-                    self.aux_evals = self.aux_evals.saturating_add(1);
-                    return Ok((self.stats, ev));
-                }
-                ev.events = ev.events.saturating_add(1);
-                self.restart_after_event(h_keep.take().unwrap_or(h_before));
-                if observer(Report::Event(found, &y_ev)).is_break() {
-                    self.aux_evals = self.aux_evals.saturating_add(1);
-                    return Ok((self.stats, ev));
+                    return Ok(self.end_events(ev));
                 }
                 continue;
             }
-            discards = 0;
-
+            let (a, b) = locate(
+                event,
+                &dense,
+                start.t,
+                g_prev,
+                t,
+                g,
+                config,
+                &mut ev.event_evals,
+            );
+            let at_end = t - b <= config.tol_t;
+            let mut found = Event {
+                t: b,
+                bracket: b - a,
+                rising: side(g),
+                restarted: false,
+            };
+            if !at_end && b - start.t > config.tol_t && ap.discards < 4 {
+                // Discard the step and re-integrate from its start to b.
+                self.discard_step(&start, b, &mut ap, &mut ev);
+                t = start.t;
+                *y = start.y0;
+                continue;
+            }
+            // The root lies at an end of the step (or the discards ran out): keep it.
+            ap.discards = 0;
             self.f0 = f2;
             g_prev = g;
-            let dense = Dense::new([t_start, mid.0, t], [&y0, &mid.1, y], [&f0, &f1, &f2])?;
+            if at_end {
+                found.t = t;
+                found.restarted = true;
+                y_ev = *y;
+            } else {
+                dense.eval(b, &mut y_ev);
+            }
             if observer(Report::Step(&dense)).is_break() {
-                self.aux_evals = self.aux_evals.saturating_add(1);
-                return Ok((self.stats, ev));
+                return Ok(self.end_events(ev));
+            }
+            ev.events = ev.events.saturating_add(1);
+            self.restart_after_event(ap.h_keep.take().unwrap_or(start.h_before));
+            if observer(Report::Event(found, &y_ev)).is_break() {
+                return Ok(self.end_events(ev));
             }
         }
+        Ok(self.end_events(ev))
+    }
+
+    /// The counters at the end of [`England::integrate_events`]: its final evaluation of
+    /// `f` (for a next step that does not come) counted as auxiliary.
+    fn end_events(&mut self, ev: EventStats) -> (SolverStats, EventStats) {
         self.aux_evals = self.aux_evals.saturating_add(1);
-        Ok((self.stats, ev))
+        (self.stats, ev)
+    }
+
+    /// After a rejected attempt from `start` (midpoint `y1`): did `g` change side by its
+    /// auxiliary end ŷ2 (`self.arg`)? Then the rejection is probably the event's: aim the
+    /// next attempt at the root, located on the interpolant of `y0`, `y1`, `ŷ2` with
+    /// `f0`, `k5/s`, `k9/s`, instead of letting the error control close in on it.
+    #[allow(clippy::too_many_arguments)]
+    fn aim_at_crossing<E: EventFunction<T, N>>(
+        &mut self,
+        event: &E,
+        config: &EventConfig<T>,
+        start: &StepStart<T, N>,
+        y1: &[T; N],
+        at: &Attempt<T>,
+        g_prev: T,
+        ap: &mut Approach<T>,
+        ev: &mut EventStats,
+    ) -> Result<()> {
+        let s = at.s;
+        let g_try = event.event(at.t_end, &self.arg);
+        ev.event_evals = ev.event_evals.saturating_add(1);
+        let crossed = side(g_try) != side(g_prev) && s > T::ZERO;
+        if !crossed {
+            return Ok(());
+        }
+        let mut f1 = [T::ZERO; N];
+        let mut f2 = [T::ZERO; N];
+        for (a, k5) in f1.iter_mut().zip(self.k5.iter()) {
+            *a = *k5 / s;
+        }
+        for (a, k9) in f2.iter_mut().zip(self.k9.iter()) {
+            *a = *k9 / s;
+        }
+        let y_try = self.arg;
+        let t_start = start.t;
+        let dense = Dense::new(
+            [t_start, t_start + s, at.t_end],
+            [&start.y0, y1, &y_try],
+            [&start.f0, &f1, &f2],
+        )?;
+        let (a, mut b) = locate(
+            event,
+            &dense,
+            t_start,
+            g_prev,
+            at.t_end,
+            g_try,
+            config,
+            &mut ev.event_evals,
+        );
+        if at.t_end - a <= config.tol_t {
+            // The attempt ends within a tolerance past the event: its error is the
+            // event's (a jump in f it straddles), not the step's; retry it as is and
+            // accept it.
+            ap.force_next = true;
+            b = at.t_end;
+        } else if ap.target.is_some() {
+            // Aimed at an estimate and rejected again: at least halve.
+            b = b.min(t_start + T::HALF * (at.t_end - t_start));
+        }
+        let b = b.max(t_start + ap.two_tol);
+        ap.h_keep.get_or_insert(start.h_before);
+        ap.target = Some(b);
+        self.h = self.h.max(b - t_start);
+        Ok(())
+    }
+
+    /// Discards an accepted step from `start` that crossed an event at `b` (its
+    /// evaluations stay counted) and aims the re-integration at `b`; the caller puts
+    /// `(t, y)` back at the start.
+    fn discard_step(
+        &mut self,
+        start: &StepStart<T, N>,
+        b: T,
+        ap: &mut Approach<T>,
+        ev: &mut EventStats,
+    ) {
+        ap.discards += 1;
+        ev.discarded_steps = ev.discarded_steps.saturating_add(1);
+        self.stats.accepted = self.stats.accepted.saturating_sub(1);
+        // Its accepted attempt: k2..k9 (f0 was ready) and f at its end.
+        self.aux_evals = self.aux_evals.saturating_add(9);
+        self.f0 = start.f0;
+        ap.h_keep.get_or_insert(start.h_before);
+        self.h = start.h_before.max(b - start.t);
+        ap.target = Some(b.max(start.t + ap.two_tol));
     }
 
     /// After an event: forget the controller's history (a PI controller's previous
@@ -328,6 +353,53 @@ impl<T: Real> EventConfig<T> {
             });
         }
         Ok(())
+    }
+}
+
+/// Where an attempt of [`England::integrate_events`] starts.
+struct StepStart<T, const N: usize> {
+    /// Time.
+    t: T,
+    /// State.
+    y0: [T; N],
+    /// `f(t, y0)`.
+    f0: [T; N],
+    /// The step size planned at the start.
+    h_before: T,
+}
+
+/// The state of [`England::integrate_events`]'s approach to an event, kept between
+/// attempts.
+struct Approach<T> {
+    /// An event time being integrated to (the new-side end of a located bracket).
+    target: Option<T>,
+    /// The step size planned before the approach to an event began (restored after it).
+    h_keep: Option<T>,
+    /// The last attempt was rejected (the retry from the same point must not grow).
+    rejected: bool,
+    /// Steps discarded in a row from the same point (bounded: then the step is kept).
+    discards: u32,
+    /// Force the next attempt (to `target`) through the error test.
+    force_next: bool,
+    /// Two event tolerances: the shortest step aimed at an event.
+    two_tol: T,
+    /// Two tolerances with room for the rounding of `t + 2 tol - t`: an attempt to the
+    /// target at most this long is accepted whatever its error.
+    force_width: T,
+}
+
+impl<T: Real> Approach<T> {
+    /// No approach under way.
+    fn new(config: &EventConfig<T>) -> Self {
+        Self {
+            target: None,
+            h_keep: None,
+            rejected: false,
+            discards: 0,
+            force_next: false,
+            two_tol: T::TWO * config.tol_t,
+            force_width: T::from_f64(2.5) * config.tol_t,
+        }
     }
 }
 

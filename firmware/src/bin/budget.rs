@@ -12,31 +12,58 @@
 #![no_std]
 #![no_main]
 
-use camsim_chip::{realtime_factor, BudgetLine, ChipScene, MemoryFields, CHIP_STATES};
-use camsim_core::{Real, RegulatedFull, Scene};
+use camsim_chip::{
+    realtime_factor, BudgetLine, ChipScene, ChipTable, MemoryFields, CHIP_CLOCK_HZ, CHIP_GRID,
+    CHIP_GRID_RPM, CHIP_STATES,
+};
+use camsim_core::{LiftProfile, Real, RegulatedFull, Scene, TheoreticalLift};
 use camsim_firmware::memory::{paint_stack, MemoryReport};
 use camsim_firmware::timing::InstrCounter;
 use camsim_firmware::workload;
 use camsim_firmware::{exit_failure, exit_success};
 use cortex_m_rt::entry;
 
-/// Measures instructions per RHS and per revolution of scene `S`'s model (`N = S::N`).
-fn measure_model<S: Scene, const N: usize>(
+/// Measures instructions per RHS and per revolution (at [`workload::NOMINAL_RPM`]) of
+/// scene `S`'s model (`N = S::N`) with the roller on `profile`. The revolution is the
+/// integration and its sampling; building the model (validating the design, once per
+/// speed) is timed apart (`model_build_instr`).
+fn measure_model<S: Scene, const N: usize, P: LiftProfile<f32> + Copy>(
     counter: &InstrCounter,
     name: &str,
+    profile: P,
 ) -> Option<(u64, u64)> {
-    let (model, y) = workload::rhs_probe::<S, N>()?;
+    let (model, y) = workload::rhs_probe::<S, N, P>(profile)?;
     let (checksum, rhs_instr) =
         counter.measure(|| workload::evaluate_rhs(&model, &y, workload::RHS_REPS));
     let per_rhs = rhs_instr / u64::from(workload::RHS_REPS);
-    let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution::<S, N>());
+    let (model, build_instr) = counter
+        .measure(|| workload::revolution_model::<S, N, P>(profile, workload::NOMINAL_RPM));
+    let model = model?;
+    let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution(&model));
     let rev = rev?;
     defmt::info!(
-        "model {=str} states={=usize} instr_per_rhs={=u64} instr_per_rev={=u64} rev_rhs_evals={=u32} rev_steps={=u32} instr_per_rev_per_eval={=u64} rhs_checksum={=f32} load_in={=f32} load_in_per_s={=f32} load_bits={=u32:#010x}",
+        "model {=str} states={=usize} instr_per_rhs={=u64} instr_per_rev={=u64} rev_rhs_evals={=u32} rev_steps={=u32} instr_per_rev_per_eval={=u64} model_build_instr={=u64} rhs_checksum={=f32} load_in={=f32} load_in_per_s={=f32} load_bits={=u32:#010x}",
         name, N, per_rhs, rev_instr, rev.rhs_evals, rev.steps,
-        rev_instr / u64::from(rev.rhs_evals.max(1)), checksum, rev.load_in, rev.load_in_per_s, rev.load_in.to_bits()
+        rev_instr / u64::from(rev.rhs_evals.max(1)), build_instr, checksum, rev.load_in, rev.load_in_per_s, rev.load_in.to_bits()
     );
     Some((per_rhs, rev_instr))
+}
+
+/// One revolution of the chip's model at `rpm` (the table's top speed): its instructions,
+/// evaluations and real-time factor (simulated time 60/rpm s over the instructions at
+/// 168 MHz).
+fn measure_at_speed<P: LiftProfile<f32> + Copy>(counter: &InstrCounter, rpm: f32, profile: P) {
+    let model = workload::revolution_model::<ChipScene, CHIP_STATES, P>(profile, rpm);
+    let (rev, rev_instr) = counter.measure(|| model.as_ref().and_then(workload::simulate_revolution));
+    let Some(rev) = rev else {
+        defmt::error!("chip model at {=f32} rpm failed", rpm);
+        exit_failure()
+    };
+    let factor = CHIP_CLOCK_HZ as f32 * 60.0 / rpm / rev_instr.max(1) as f32;
+    defmt::info!(
+        "model chip at rpm={=f32} instr_per_rev={=u64} rev_rhs_evals={=u32} rev_steps={=u32} instr_per_rev_per_eval={=u64} realtime_factor={=f32}",
+        rpm, rev_instr, rev.rhs_evals, rev.steps, rev_instr / u64::from(rev.rhs_evals.max(1)), factor
+    );
 }
 
 /// Instructions per call of the elementary functions an RHS uses (mean of 100 calls,
@@ -83,17 +110,37 @@ fn main() -> ! {
     counter.calibrate();
     defmt::info!("scene={=str}", workload::SCENE_NAME);
 
-    // The full 22-state model for comparison, then the chip's model (the budget line).
-    if measure_model::<RegulatedFull, { RegulatedFull::N }>(&counter, "full").is_none() {
+    // The full 22-state model for comparison (closed-form lift), then the chip's model on
+    // its lift table (the budget line) at 800 rpm and at the table's top speed. (A second
+    // chip model on the closed-form lift does not fit the flash beside both.)
+    if measure_model::<RegulatedFull, { RegulatedFull::N }, _>(&counter, "full", TheoreticalLift)
+        .is_none()
+    {
         defmt::error!("full model measurement failed");
         exit_failure()
     }
+    let design = workload::chip_design();
+    let table = match workload::chip_lift().and_then(|l| workload::chip_table(&design, l)) {
+        Ok(t) => t,
+        Err(_) => {
+            defmt::error!("the chip's lift table failed");
+            exit_failure()
+        }
+    };
+    defmt::info!(
+        "lift table knots={=usize} max_interval_deg={=f32} bytes={=usize}",
+        table.knots(),
+        table.max_interval().to_degrees(),
+        ChipTable::<f32>::bytes()
+    );
     let Some((instr_per_rhs, rev_instr)) =
-        measure_model::<ChipScene, CHIP_STATES>(&counter, "chip")
+        measure_model::<ChipScene, CHIP_STATES, _>(&counter, "chip", table)
     else {
         defmt::error!("chip model measurement failed");
         exit_failure()
     };
+    let top = CHIP_GRID_RPM[CHIP_GRID - 1] as f32;
+    measure_at_speed(&counter, top, table);
     measure_math(&counter);
 
     // Memory of THIS image (both models and the probes), for the llvm-size cross-check.

@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use camsim_chip::{
     chip_design, chip_design_from, chip_solver_settings, ChipConfig, ChipDeviation, ChipMonitor,
-    ChipScene, ChipStep, ParityLine, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM,
+    ChipScene, ChipStep, ChipTable, ParityLine, ScriptedPulseTrain, CHIP_ALARM_OFF_MARGIN_RPM,
     CHIP_ALARM_ON_MARGIN_RPM, CHIP_CHECK_RPM, CHIP_GRID, CHIP_GRID_RPM, CHIP_MAX_RPM,
     CHIP_PROFILE_MAX_KNOTS, CHIP_RESOLUTION_RPM, CHIP_STATES, CHIP_TICK_HZ,
 };
@@ -154,7 +154,12 @@ fn compute_on<T: Real, P: LiftProfile<T> + Copy>(
     design: &Design<T>,
     profile: P,
 ) -> Result<Prediction<T>> {
-    let chip = ChipConfig::new(design).on(profile);
+    // The lift table the firmware fills at boot (camsim_chip::ChipConfig::tabulate).
+    let mut lift_table = Box::new(ChipTable::<T>::EMPTY);
+    let chip = ChipConfig::new(design)
+        .on(profile)
+        .tabulate(&mut lift_table)
+        .map_err(|e| anyhow::anyhow!("the lift table (at boot on the chip): {e}"))?;
     let table = chip
         .prediction_table()
         .map_err(|e| anyhow::anyhow!("the predictor's table (at boot on the chip): {e}"))?;
