@@ -562,14 +562,20 @@ impl Study {
 
 /// A progress bar on standard error when it is a terminal and `want`, hidden otherwise.
 fn progress_bar(len: u64, want: bool) -> indicatif::ProgressBar {
+    progress_bar_of(len, want, "samples")
+}
+
+/// A progress bar of `len` items called `unit` on standard error when it is a terminal
+/// and `want`, hidden otherwise (the studies and the design searches share it).
+pub fn progress_bar_of(len: u64, want: bool, unit: &str) -> indicatif::ProgressBar {
     use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
     if !want || !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:40}] {pos}/{len} samples, {per_sec}, eta {eta}",
-    ) {
+    if let Ok(style) = ProgressStyle::with_template(&format!(
+        "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit}, {{per_sec}}, eta {{eta}}"
+    )) {
         bar.set_style(style.progress_chars("=> "));
     }
     bar
