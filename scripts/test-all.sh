@@ -128,6 +128,11 @@ smoke design design spring --quick --json
 smoke design-actual design spring --actual --quick --json
 smoke design-speed design speed --quick --json
 smoke design-tolerance design tolerance --quick --json
+smoke design-preload design spring --preload --quick --json
+smoke design-waviness design tolerance --waviness --quick --json
+smoke sweep sweep --rpm 700:1000:4 --csv "$studies/sweep.csv" --plot "$studies/sweep" --json
+smoke sweep-actual sweep --rpm 850:950:3 --actual --samples 4 --threads 2 --json
+smoke laws-plot laws --plot "$studies/laws"
 # Every command camsim lists is smoke-tested above (a new command must be added here).
 for c in $("$C" --help | awk '/^Commands:/{on=1; next} on && /^  [a-z]/{print $1} /^$/{on=0}'); do
     # firmware-check reads the firmware's QEMU logs: the firmware step below runs it.

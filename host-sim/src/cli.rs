@@ -54,6 +54,9 @@ pub enum Command {
     Sensitivity(cmd::sensitivity::Args),
     /// The waviness (FPR) of an actual cam against its profile point interval, both profile methods, and the criteria of IV.2.3.
     Waviness(cmd::waviness::Args),
+    /// The operating map: contact force, vibration, torque, stress and jumps at every speed
+    /// of a grid, on the theoretical cam and (--actual) as P(jump) and bands over actual cams.
+    Sweep(cmd::sweep::Args),
     /// What to build, found by search: `design spring` (the smallest return-spring rate
     /// holding contact with a margin, or P(jump) <= p on actual cams).
     Design(cmd::design::Args),
@@ -87,6 +90,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
         Command::Sensitivity(a) => cmd::sensitivity::run(a),
         Command::Waviness(a) => cmd::waviness::run(a),
+        Command::Sweep(a) => cmd::sweep::run(a),
         Command::Design(a) => cmd::design::run(a),
     }
 }

@@ -197,6 +197,10 @@ impl Plan {
         self.claim(&label, &resolved, true)?;
         for name in names {
             self.claim(&label, &resolved.join(name), false)?;
+            self.not_an_input(
+                &format!("{option} {}", dir.join(name).display()),
+                &resolved.join(name),
+            )?;
         }
         let exists = match fs::metadata(&resolved) {
             Ok(m) if m.is_dir() => true,

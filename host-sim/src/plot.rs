@@ -803,7 +803,7 @@ fn draw_panel<DB: DrawingBackend>(
 }
 
 /// Formats a y tick: plain decimals sized to the axis span, scientific for very large or small values.
-fn fmt_tick(v: f64, span: f64) -> String {
+pub(crate) fn fmt_tick(v: f64, span: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }

@@ -39,6 +39,7 @@ pub fn run_spec(scene: CheckedScene) -> RunSpec {
         solver: scene.solver,
         revolutions: scene.revolutions,
         profile: None,
+        limits: scene.limits,
     }
 }
 
@@ -53,6 +54,7 @@ fn scene_file(spec: &RunSpec) -> SceneFile {
         },
         solver: spec.solver,
         design: spec.design.clone(),
+        limits: spec.limits,
     }
 }
 
@@ -74,6 +76,14 @@ const HOST_KEYS: &[(&str, &str)] = &[
         "largest double step, fraction of a revolution",
     ),
     ("solver.max_steps_per_rev", "step budget per revolution"),
+    (
+        "limits.allowable_contact_stress_psi",
+        "allowable Hertz contact stress of the verdict (--allowable-stress)",
+    ),
+    (
+        "limits.pressure_angle_limit_deg",
+        "largest pressure angle without a warning, 0-90 (--pressure-angle-limit)",
+    ),
     (
         "solver.start",
         "\"thesis\" (VI.1) or \"static\" (static equilibrium)",
@@ -125,7 +135,9 @@ pub fn default_text() -> Result<String> {
     Ok(format!(
         "# camsim scene: the reference design of Kim (1982), VI.1, with the documented choices\n\
          # for what the thesis leaves out (core/src/model/design.rs). Units are in the key names\n\
-         # (inch, pound-force, second, radian). Every key is optional: absent keys take these\n\
+         # (inch, pound-force, second, radian); every key with a unit also reads in SI, the\n\
+         # same name with the SI unit (base_radius_mm, spring_rate_n_per_mm, youngs_mpa, _kg).\n\
+         # Every key is optional: absent keys take these\n\
          # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
          # (and moves the regulated drive's reference with it, like --rpm).\n\
          # drive: \"constant-cam-speed\", \"constant-motor-speed\" or a [design.drive.regulated] table.\n\

@@ -2,29 +2,31 @@
 //! the records, written with the shard and checked at `merge`, and sanity checks on the
 //! header and on every record.
 //!
-//! The digest is 128-bit FNV-1a over the shard's JSON as written without its `digest`
-//! key (serde_json writes every `f64` in its shortest round-trip form, so a shard read
+//! A shard (version 3) holds its samples' statistics, not their records
+//! (`crate::stats::study`). The digest is 128-bit FNV-1a over the shard's JSON as written
+//! without its `digest` key (serde_json writes every `f64` in its shortest round-trip form, so a shard read
 //! back and written again gives the same bytes). It catches corruption (a truncated
 //! copy, a flipped bit) and casual edits (one number changed by hand); it is not a
 //! signature: anyone who edits a shard and recomputes the digest with this code gets a
 //! shard that merges. The sanity checks refuse values no run produces (a negative RMS,
-//! a contact force minimum above its maximum, zero solver steps) whatever the digest.
+//! a contact force minimum above its maximum, zero solver steps, histogram counts that
+//! do not add up to the samples) whatever the digest.
 
 use std::path::Path;
 
 use anyhow::{bail, Result};
 
-use crate::cmd::montecarlo::{SampleRecord, Shard, ShardFile, COLUMNS};
+use crate::cmd::montecarlo::{Shard, ShardFile};
 
 /// The digest's name in the file, before the hexadecimal value.
 pub const DIGEST_PREFIX: &str = "fnv1a-128:";
 
-/// Most bytes of a shard file read: 8 GB. A record is about 1.5 kB of JSON (measured:
-/// a 20-sample shard of the reference study is 30.9 kB, header included), so this holds
-/// a shard of the largest study run without `--allow-long` (4 million samples, about
-/// 6 GB: `camsim::study_limits`); a larger file is not a shard this camsim wrote, and a
-/// device is not read without end.
-pub const MAX_SHARD_BYTES: u64 = 8_000_000_000;
+/// Most bytes of a shard file read: 1 GB. A shard holds statistics, not records: its
+/// size grows with the histogram bins occupied, not with the samples (measured: about
+/// 0.3 MB for 1 000 samples of the reference study, see BENCHMARKS.md, "Memory of a Monte
+/// Carlo study"; at most 1 024 bins a factor of two of each column's range). A larger file
+/// is not a shard this camsim wrote, and a device is not read without end.
+pub const MAX_SHARD_BYTES: u64 = 1_000_000_000;
 
 /// 128-bit FNV-1a of `bytes`.
 fn fnv1a_128(bytes: &[u8]) -> u128 {
@@ -61,16 +63,18 @@ pub fn verify(path: &Path, file: &ShardFile) -> Result<()> {
             "{name}: the shard's digest does not match its content: the file was changed after it was written (corrupted or edited); run the shard again"
         );
     }
-    let Shard { index, count } = file.shard;
-    for r in &file.records {
-        if r.index % count != index - 1 {
-            bail!(
-                "{name}: sample {} does not belong to shard {index}/{count}",
-                r.index
-            );
-        }
-        check_record(r).map_err(|e| anyhow::anyhow!("{name}: sample {}: {e}", r.index))?;
+    let want = file.shard.len(file.study.samples);
+    if file.samples != want {
+        bail!(
+            "{name}: shard {} of a study of {} samples holds {want} samples, not {}",
+            file.shard,
+            file.study.samples,
+            file.samples
+        );
     }
+    file.stats
+        .check(file.samples)
+        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     Ok(())
 }
 
@@ -83,54 +87,6 @@ pub fn check_header(shard: Shard, samples: u64) -> Result<()> {
     }
     if count == 0 || index == 0 || index > count {
         bail!("shard {index}/{count}: must be K/N with 1 <= K <= N");
-    }
-    Ok(())
-}
-
-/// What every record of a run satisfies: steps taken, a finite non-negative RMS
-/// deviation, periods with finite values, non-negative RMS columns and stress, and each
-/// minimum at most its average and maximum.
-pub fn check_record(r: &SampleRecord) -> Result<()> {
-    if r.steps == 0 {
-        bail!("steps = 0: every run takes solver steps");
-    }
-    if !(r.rms_deviation_in.is_finite() && r.rms_deviation_in >= 0.0) {
-        bail!(
-            "rms_deviation_in = {}: must be finite and not negative",
-            r.rms_deviation_in
-        );
-    }
-    if r.periods.is_empty() {
-        bail!("no periods");
-    }
-    let col = |name: &str| COLUMNS.iter().position(|c| *c == name);
-    for p in &r.periods {
-        for (c, v) in COLUMNS.iter().zip(p.values.iter()) {
-            if !v.is_finite() {
-                bail!("period {}: {c} = {v}: not finite", p.period);
-            }
-            if (c.starts_with("rms_") || *c == "contact_stress_max") && *v < 0.0 {
-                bail!("period {}: {c} = {v}: must not be negative", p.period);
-            }
-        }
-        for (lo, mid, hi) in [
-            (
-                "contact_force_min",
-                "contact_force_avg",
-                "contact_force_max",
-            ),
-            ("torque_min", "torque_avg", "torque_max"),
-        ] {
-            let get = |n: &str| col(n).and_then(|i| p.values.get(i)).copied();
-            if let (Some(a), Some(m), Some(b)) = (get(lo), get(mid), get(hi)) {
-                if !(a <= m && m <= b) {
-                    bail!(
-                        "period {}: {lo} = {a}, {mid} = {m}, {hi} = {b}: the minimum must not exceed the average or the maximum",
-                        p.period
-                    );
-                }
-            }
-        }
     }
     Ok(())
 }

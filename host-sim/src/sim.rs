@@ -54,6 +54,9 @@ pub struct RunSpec {
     pub revolutions: u32,
     /// The actual cam's deviation from the program (None: the theoretical cam).
     pub profile: Option<Arc<HostDeviation>>,
+    /// What the verdict judges against: the scene's `[limits]` (the defaults without
+    /// one); `run --allowable-stress` and `--pressure-angle-limit` override them.
+    pub limits: camsim_scene_file::Limits,
 }
 
 impl RunSpec {
@@ -68,8 +71,44 @@ impl RunSpec {
             solver: SolverSettings::reference(),
             revolutions: 3,
             profile: None,
+            limits: camsim_scene_file::Limits::default(),
         }
     }
+}
+
+/// Why a regulated drive may stall, for the refusal of a run whose cam stopped: the
+/// torque the return spring alone asks of the cam, K_rs (δ_rs + y) y'(θ) at its largest
+/// over the program (quasi-static: no inertia, no friction), against the drive's torque
+/// limit. None for the ideal drives (they cannot stall).
+pub fn stall_hint(design: &Design<f64>) -> Option<String> {
+    let camsim_core::DriveLaw::Regulated { t_max, .. } = design.drive else {
+        return None;
+    };
+    let n = 3600;
+    let (mut peak, mut at) = (0.0_f64, 0.0_f64);
+    for i in 0..n {
+        let th = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+        let l = design.program.follower(th);
+        let t = design.k_rs * (design.delta_rs + l.y) * l.dy;
+        if t > peak {
+            (peak, at) = (t, th.to_degrees());
+        }
+    }
+    let spring = format!(
+        "the return spring (K_rs = {} lb/in: --spring-rate, design.spring_rate_lb_per_in) alone takes up to {peak:.0} lb in of cam torque (at {at:.1} deg, K_rs (delta_rs + y) dy/dtheta)",
+        design.k_rs
+    );
+    let drive = format!(
+        "the drive's torque limit of {t_max:.0} lb in (design.drive.regulated.t_max_lb_in)"
+    );
+    Some(if peak > t_max {
+        format!("{spring}, more than {drive}: a softer spring or a stronger drive")
+    } else {
+        format!(
+            "{spring}, {:.0} % of {drive}; with the follower's inertia and friction the drive runs out: a softer spring, a lower speed or a stronger drive",
+            100.0 * peak / t_max
+        )
+    })
 }
 
 /// What a caller does with the model of a run's scene ([`with_model`] builds it).
@@ -191,7 +230,22 @@ pub fn run_on_grid<O: Observer<f64>>(
                 self.grid,
                 &mut Both(self.stats, self.extra),
             )
-            .context("simulation failed")?;
+            .map_err(|e| {
+                let stalled = matches!(
+                    e,
+                    camsim_core::Error::OutOfModel {
+                        limit: camsim_core::ModelLimit::CamSpeed,
+                        ..
+                    } | camsim_core::Error::SimulationFailed {
+                        failure: camsim_core::SimFailure::Stalled,
+                        ..
+                    }
+                );
+                match stall_hint(&spec.design).filter(|_| stalled) {
+                    Some(hint) => anyhow::anyhow!("simulation failed: {e}. Why: {hint}"),
+                    None => anyhow::Error::new(e).context("simulation failed"),
+                }
+            })?;
             let l = S::LAYOUT;
             let size = SceneSize {
                 dofs: l.degrees_of_freedom(),

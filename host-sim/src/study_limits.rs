@@ -1,6 +1,6 @@
-//! Bounds on long studies (`camsim montecarlo`): an estimate of memory before the first
-//! sample and of time after it, a refusal past the stated limits unless `--allow-long`
-//! asks for it, and progress lines on standard error when it is not a terminal (a batch
+//! Bounds on long studies (`camsim montecarlo`): an estimate of time after the first
+//! sample, a refusal past the stated limit unless `--allow-long` asks for it (memory needs
+//! no limit: the statistics stream, `crate::stats::study`), and progress lines on standard error when it is not a terminal (a batch
 //! job's log), where the progress bar is hidden.
 
 use std::io::Write;
@@ -10,39 +10,12 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
 
-use crate::output::human_bytes;
-
-/// Memory a study holds per sample until its statistics are computed, bytes: 1 kB.
-/// Measured (docs/BENCHMARKS.md, "Memory of a Monte Carlo study"): the maximum RSS grows by
-/// 0.83 kB a sample between 1 000 and 10 000 samples (the record: 8 periods of 13
-/// columns, the period names, the sample's numbers), rounded up.
-pub const BYTES_PER_SAMPLE: u64 = 1_000;
-
-/// The most memory a study may plan to hold without `--allow-long`: 4 GB (4 million
-/// samples; a laptop's or a batch node's share without swapping). Larger studies are
-/// split with `--shard K/N` and merged, or asked for.
-pub const MAX_STUDY_BYTES: u64 = 4_000_000_000;
-
 /// The longest a study may be estimated to run without `--allow-long`: 24 hours, the
 /// usual wall-time limit of a batch queue; beyond it a run is lost to the queue's kill.
 pub const MAX_STUDY_SECONDS: f64 = 24.0 * 3600.0;
 
-/// The option that lifts both limits.
+/// The option that lifts the limit.
 pub const ALLOW_LONG: &str = "--allow-long";
-
-/// Refuses a study of `samples` samples (this process's share) whose records would
-/// need more than [`MAX_STUDY_BYTES`], unless `allow`.
-pub fn check_memory(samples: u64, allow: bool) -> Result<u64> {
-    let bytes = samples.saturating_mul(BYTES_PER_SAMPLE);
-    if bytes > MAX_STUDY_BYTES && !allow {
-        bail!(
-            "--samples {samples}: would hold about {} in memory, over the {} limit of a study (split it with --shard K/N and merge, or use {ALLOW_LONG})",
-            human_bytes(bytes),
-            human_bytes(MAX_STUDY_BYTES)
-        );
-    }
-    Ok(bytes)
-}
 
 /// Refuses a study whose first sample took `first_s` seconds when `samples` samples on
 /// `threads` threads would take longer than [`MAX_STUDY_SECONDS`], unless `allow`;
@@ -155,12 +128,6 @@ mod tests {
 
     #[test]
     fn limits_refuse_and_name_the_way_out() {
-        assert_eq!(check_memory(10_000, false).unwrap(), 10_000_000);
-        assert!(check_memory(4_000_000, false).is_ok());
-        let e = check_memory(100_000_000, false).unwrap_err().to_string();
-        assert!(e.contains("100 GB") && e.contains("4.00 GB limit"), "{e}");
-        assert!(e.contains("--allow-long") && e.contains("--shard"), "{e}");
-        assert!(check_memory(100_000_000, true).is_ok());
         // 1 s a sample, 2 threads: 172 800 samples is exactly a day.
         assert_eq!(check_time(1.0, 172_800, 2, false).unwrap(), 86_400.0);
         let e = check_time(1.0, 172_802, 2, false).unwrap_err().to_string();

@@ -22,6 +22,9 @@ pub struct Limits {
     pub allowable_contact_stress_psi: f64,
     /// Largest pressure angle without a warning, degrees.
     pub pressure_angle_limit_deg: f64,
+    /// Where the allowable comes from (the default's source, the scene, the option).
+    #[serde(skip)]
+    pub allowable_source: &'static str,
 }
 
 impl Default for Limits {
@@ -29,6 +32,7 @@ impl Default for Limits {
         Limits {
             allowable_contact_stress_psi: camsim_core::ALLOWABLE_CONTACT_STRESS_PSI,
             pressure_angle_limit_deg: camsim_core::PRESSURE_ANGLE_LIMIT_DEG,
+            allowable_source: ALLOWABLE_SOURCE,
         }
     }
 }
@@ -266,7 +270,7 @@ pub struct Verdict {
 }
 
 /// The source of the default allowable contact stress.
-pub const ALLOWABLE_SOURCE: &str = "through-hardened steel, 400 HB, 1e8 cycles: Buckingham's S_C = 0.4 H_B - 10 kpsi (Shigley); --allowable-stress PSI to change";
+pub const ALLOWABLE_SOURCE: &str = "through-hardened steel, 400 HB, 1e8 cycles: Buckingham's S_C = 0.4 H_B - 10 kpsi (Shigley); limits.allowable_contact_stress_psi (or _mpa) in the scene, or --allowable-stress PSI, to change";
 
 /// Largest |pressure angle| of the theoretical profile (deg, at deg), smallest convex
 /// pitch radius (in, at deg) and the undercut margin (in).
@@ -511,7 +515,7 @@ pub fn warnings(
     }
     if geometry.max_pressure_angle_deg > geometry.pressure_angle_limit_deg {
         w.push(format!(
-            "pressure angle {:.1} deg at cam angle {:.1} deg exceeds the limit {:.1} deg (--pressure-angle-limit)",
+            "pressure angle {:.1} deg at cam angle {:.1} deg exceeds the limit {:.1} deg (limits.pressure_angle_limit_deg, --pressure-angle-limit)",
             geometry.max_pressure_angle_deg,
             geometry.max_pressure_angle_at_deg,
             geometry.pressure_angle_limit_deg
@@ -525,7 +529,7 @@ pub fn warnings(
     }
     if loads.stress_ratio > 1.0 {
         w.push(format!(
-            "contact stress {:.0} psi exceeds the allowable {:.0} psi by {:.1} % (--allowable-stress)",
+            "contact stress {:.0} psi exceeds the allowable {:.0} psi by {:.1} % (limits.allowable_contact_stress_psi, --allowable-stress)",
             loads.peak_contact_stress_psi,
             loads.allowable_contact_stress_psi,
             100.0 * (loads.stress_ratio - 1.0)
@@ -744,13 +748,7 @@ pub fn loads(watch: &Watch, limits: &Limits) -> Result<LoadsVerdict> {
         peak_contact_stress_psi: s,
         peak_contact_stress_at: s_at,
         allowable_contact_stress_psi: limits.allowable_contact_stress_psi,
-        allowable_source: if limits.allowable_contact_stress_psi
-            == camsim_core::ALLOWABLE_CONTACT_STRESS_PSI
-        {
-            ALLOWABLE_SOURCE
-        } else {
-            "--allowable-stress"
-        },
+        allowable_source: limits.allowable_source,
         stress_ratio: s / limits.allowable_contact_stress_psi,
     })
 }

@@ -21,6 +21,7 @@ use camsim_core::{key, Design, FollowerModel, SolverSettings};
 use serde::{Deserialize, Serialize};
 
 pub mod measured;
+pub mod units;
 
 /// Revolutions a run simulates unless `run.revolutions` says otherwise.
 pub const DEFAULT_REVOLUTIONS: u32 = 3;
@@ -58,6 +59,55 @@ impl Default for RunOptions {
     }
 }
 
+/// `[limits]`: what the verdict of `camsim run` judges against (issue 17): the
+/// allowable contact stress (psi, or `allowable_contact_stress_mpa`) and the largest
+/// pressure angle without a warning. `camsim run --allowable-stress` and
+/// `--pressure-angle-limit` override them; absent, the core's documented defaults.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Limits {
+    /// Allowable Hertz contact stress, psi
+    /// ([`camsim_core::ALLOWABLE_CONTACT_STRESS_PSI`] unless given).
+    pub allowable_contact_stress_psi: f64,
+    /// Largest pressure angle without a warning, degrees, above 0 and below 90
+    /// ([`camsim_core::PRESSURE_ANGLE_LIMIT_DEG`] unless given).
+    pub pressure_angle_limit_deg: f64,
+}
+
+impl Default for Limits {
+    /// The core's documented defaults.
+    fn default() -> Self {
+        Limits {
+            allowable_contact_stress_psi: camsim_core::ALLOWABLE_CONTACT_STRESS_PSI,
+            pressure_angle_limit_deg: camsim_core::PRESSURE_ANGLE_LIMIT_DEG,
+        }
+    }
+}
+
+impl Limits {
+    /// The limits checked: the stress positive and finite, the angle in (0, 90)
+    /// degrees (errors start with the key).
+    pub fn check(&self) -> Result<(), Error> {
+        let s = self.allowable_contact_stress_psi;
+        if !(s.is_finite() && s > 0.0) {
+            return Err(Error::new(format!(
+                "limits.{} = {}: must be positive and finite (psi)",
+                units::ALLOWABLE_CONTACT_STRESS,
+                short(s)
+            )));
+        }
+        let a = self.pressure_angle_limit_deg;
+        if !(a > 0.0 && a < 90.0) {
+            return Err(Error::new(format!(
+                "limits.{} = {}: must be above 0 and below 90 (degrees)",
+                units::PRESSURE_ANGLE_LIMIT,
+                short(a)
+            )));
+        }
+        Ok(())
+    }
+}
+
 /// A whole scene file as it reads and writes (nothing checked yet: [`SceneFile::check`]).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -68,6 +118,8 @@ pub struct SceneFile {
     pub solver: SolverSettings<f64>,
     /// `[design]`.
     pub design: Design<f64>,
+    /// `[limits]`.
+    pub limits: Limits,
 }
 
 /// A scene file read and checked: what a run or a build uses.
@@ -83,6 +135,8 @@ pub struct CheckedScene {
     pub horizontal_motion: bool,
     /// The follower's model.
     pub follower: FollowerModel,
+    /// The verdict's limits, checked by [`Limits::check`].
+    pub limits: Limits,
 }
 
 /// Why a scene file was refused: one line (the file, where it can be told the line and
@@ -96,7 +150,7 @@ impl Error {
     /// The refusal, kept on one line: control characters (line breaks, NULs and the like
     /// that a key or a file name copied from the input may carry) are written escaped
     /// (`\r`, `\0`).
-    fn new(message: impl Into<String>) -> Self {
+    pub(crate) fn new(message: impl Into<String>) -> Self {
         let message: String = message.into();
         let message = if message.chars().any(char::is_control) {
             message
@@ -179,50 +233,399 @@ pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
 }
 
 /// Reads and checks a scene file (errors start with the file's name; at most
-/// [`MAX_SCENE_BYTES`] are read).
+/// [`MAX_SCENE_BYTES`] are read). A file that is not TOML but reads as a measured
+/// profile (a `.csv` name, or an `angle_deg,...` header) is refused with a hint to give
+/// it as a measured profile instead.
 pub fn load(path: &Path) -> Result<CheckedScene, Error> {
     let text = read_text(path, MAX_SCENE_BYTES, "the scene file")?;
-    parse(&text).map_err(|e| Error::new(format!("{}: {e}", path.display())))
+    parse(&text).map_err(|e| {
+        let name = path.display();
+        let header = text
+            .trim_start_matches('\u{feff}')
+            .lines()
+            .map(str::trim)
+            .find(|l| !l.is_empty() && !l.starts_with('#'))
+            .unwrap_or("");
+        let csv = path
+            .extension()
+            .is_some_and(|x| x.eq_ignore_ascii_case("csv"))
+            || header.to_ascii_lowercase().starts_with("angle_deg");
+        if csv {
+            Error::new(format!(
+                "{name}: not a scene file (TOML) but a measured profile (CSV)? give it as `--measured {name}` (camsim run, camsim predict) with the scene, if any, as the positional argument ({e})"
+            ))
+        } else {
+            Error::new(format!("{name}: {e}"))
+        }
+    })
+}
+
+/// An SI key the reader converted to its inch-family key ([`units`]).
+#[derive(Debug, Clone)]
+struct Converted {
+    /// The table, with indices (`design.program.segment[1]`).
+    table: String,
+    /// The user's name (`lift_mm`).
+    si: String,
+    /// The inch-family name it became (`lift_in`).
+    inch: &'static str,
+    /// Its unit.
+    unit: &'static units::Unit,
+    /// The user's value, if a number.
+    si_value: Option<f64>,
+}
+
+impl Converted {
+    fn si_path(&self) -> String {
+        format!("{}.{}", self.table, self.si)
+    }
+    fn inch_path(&self) -> String {
+        format!("{}.{}", self.table, self.inch)
+    }
+}
+
+/// A key the file sets: its inch-family path with indices (`design.program.segment[1].lift_in`),
+/// the user's path (`...lift_mm`), its value in the inch family if it is a number, and
+/// the value as the user wrote it.
+#[derive(Debug, Clone)]
+struct Present {
+    inch_path: String,
+    user_path: String,
+    value: Option<f64>,
+    raw: String,
+}
+
+/// What the first reading of a file found: the conversions and every key set.
+#[derive(Debug, Default)]
+struct Reading {
+    converted: Vec<Converted>,
+    present: Vec<Present>,
+}
+
+impl Reading {
+    /// Whether the file sets `path` (inch-family, with indices) in either family.
+    fn sets(&self, path: &str) -> bool {
+        self.present.iter().any(|p| p.inch_path == path)
+    }
+}
+
+fn join(a: &str, b: &str) -> String {
+    if a.is_empty() {
+        b.to_string()
+    } else {
+        format!("{a}.{b}")
+    }
+}
+
+/// A TOML number's value (integers and floats; underscores allowed).
+fn number_of(v: &toml::de::DeValue<'_>) -> Option<(f64, String)> {
+    use toml::de::DeValue;
+    match v {
+        DeValue::Float(f) => {
+            let t = f.as_str().replace('_', "");
+            let x = match t.trim_start_matches(['+', '-']) {
+                "nan" => f64::NAN,
+                _ => t.parse().ok()?,
+            };
+            Some((x, f.as_str().to_string()))
+        }
+        DeValue::Integer(i) => {
+            let t = i.as_str().replace('_', "");
+            let x = i64::from_str_radix(&t, i.radix()).ok()? as f64;
+            Some((x, i.to_string()))
+        }
+        _ => None,
+    }
+}
+
+/// A float as TOML writes it (Rust's shortest round-trip digits; `nan`, `inf`).
+fn toml_float(v: f64) -> String {
+    if v.is_nan() {
+        "nan".into()
+    } else if v.is_infinite() {
+        if v > 0.0 { "inf" } else { "-inf" }.into()
+    } else {
+        format!("{v:?}")
+    }
+}
+
+type Visit<'a, 'v> = dyn FnMut(&mut toml::de::DeTable<'a>, &str, &str) -> Result<(), Error> + 'v;
+
+/// Calls `visit(table, path without indices, path with indices)` on `table` and every
+/// table under it (arrays of tables and inline tables included), parents first.
+fn walk<'a>(
+    table: &mut toml::de::DeTable<'a>,
+    norm: &str,
+    disp: &str,
+    visit: &mut Visit<'a, '_>,
+) -> Result<(), Error> {
+    use toml::de::DeValue;
+    visit(table, norm, disp)?;
+    for (k, v) in table.iter_mut() {
+        let name: &str = k.get_ref();
+        let (n, d) = (join(norm, name), join(disp, name));
+        match v.get_mut() {
+            DeValue::Table(t) => walk(t, &n, &d, visit)?,
+            DeValue::Array(a) => {
+                for (i, e) in a.iter_mut().enumerate() {
+                    if let DeValue::Table(t) = e.get_mut() {
+                        walk(t, &n, &format!("{d}[{i}]"), visit)?;
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The first reading: which keys the file sets, which are SI keys to convert, and the
+/// refusal of a quantity given in both families.
+fn survey(text: &str) -> Result<Reading, Error> {
+    let mut root = toml::de::DeTable::parse(text)
+        .map_err(|e| toml_error(text, &e))?
+        .into_inner();
+    let mut reading = Reading::default();
+    walk(&mut root, "", "", &mut |t, norm, disp| {
+        for (k, v) in t.iter() {
+            let name: &str = k.get_ref();
+            let user_path = join(disp, name);
+            let num = number_of(v.get_ref());
+            let raw = num.as_ref().map(|(_, r)| r.clone()).unwrap_or_default();
+            match units::lookup(norm, name) {
+                Some((uk, true)) => {
+                    let inch = uk.inch();
+                    if t.contains_key(inch) {
+                        return Err(located(
+                            text,
+                            &format!(
+                                "{user_path} and {}: both give the {} (once in {}, once in {}): give one of them",
+                                join(disp, inch),
+                                uk.stem().replace('_', " "),
+                                uk.unit.si_symbol,
+                                uk.unit.inch_symbol
+                            ),
+                        ));
+                    }
+                    let si_value = num.map(|(x, _)| x);
+                    reading.converted.push(Converted {
+                        table: disp.to_string(),
+                        si: name.to_string(),
+                        inch,
+                        unit: uk.unit,
+                        si_value,
+                    });
+                    reading.present.push(Present {
+                        inch_path: join(disp, inch),
+                        user_path,
+                        value: si_value.map(|x| x / uk.unit.si_per_inch),
+                        raw,
+                    });
+                }
+                _ => reading.present.push(Present {
+                    inch_path: user_path.clone(),
+                    user_path,
+                    value: num.map(|(x, _)| x),
+                    raw,
+                }),
+            }
+        }
+        Ok(())
+    })?;
+    Ok(reading)
+}
+
+/// The scene file of `text`, its SI keys converted to the inch family ([`units`]), and
+/// what the reading found.
+fn read_scene(text: &str) -> Result<(SceneFile, Reading), Error> {
+    use toml::de::DeValue;
+    use toml::Spanned;
+    let reading = survey(text)?;
+    // The converted values as TOML number text, parsed below into the values of the
+    // renamed keys (the parsed table borrows its text).
+    let mut numbers = String::new();
+    let mut ranges = Vec::with_capacity(reading.converted.len());
+    for c in &reading.converted {
+        let start = numbers.len();
+        if let Some(v) = c.si_value {
+            numbers.push_str(&toml_float(v / c.unit.si_per_inch));
+        }
+        ranges.push(start..numbers.len());
+        numbers.push(' ');
+    }
+    let mut root = toml::de::DeTable::parse(text).map_err(|e| toml_error(text, &e))?;
+    let span = root.span();
+    let mut next = 0;
+    walk(root.get_mut(), "", "", &mut |t, _, disp| {
+        while let Some(c) = reading.converted.get(next).filter(|c| c.table == disp) {
+            let range = ranges.get(next).cloned().unwrap_or(0..0);
+            next += 1;
+            let Some((k, v)) = t.remove_entry(c.si.as_str()) else {
+                continue;
+            };
+            let value = match numbers.get(range).filter(|n| !n.is_empty()) {
+                Some(n) => DeValue::parse(n)
+                    .map(|p| Spanned::new(v.span(), p.into_inner()))
+                    .unwrap_or(v),
+                None => v,
+            };
+            t.insert(
+                Spanned::new(k.span(), std::borrow::Cow::Borrowed(c.inch)),
+                value,
+            );
+        }
+        Ok(())
+    })?;
+    let de = toml::de::Deserializer::from(Spanned::new(span, root.into_inner()));
+    let file = SceneFile::deserialize(de).map_err(|e| toml_error(text, &e))?;
+    Ok((file, reading))
 }
 
 /// Parses and checks scene text. Errors are one line: where TOML or serde refused
 /// it, the line, column and key; where the checks refused it, the line that sets the
-/// key (if the text sets it), the key, the value and the rule.
+/// key (if the text sets it), the key, the value and the rule; for a key the file does
+/// not set, the line of the user's key that makes the default fail (see
+/// [`CAUSES`]). Keys in SI units are converted as read ([`units`]); a refusal names them
+/// as the file wrote them.
 pub fn parse(text: &str) -> Result<CheckedScene, Error> {
-    let mut file: SceneFile = toml::from_str(text).map_err(|e| toml_error(text, &e))?;
+    let (mut file, reading) = read_scene(text)?;
     // A spring rate without a spring mass: the mass follows the rate by the one
     // wire-and-coil model (camsim-core's `HelicalSpring`, docs/MODEL.md §5.6), as it does
     // for `--spring-rate`. A file that gives the mass keeps it.
-    let sets = |k: &str| -> bool {
-        toml::from_str::<toml::Table>(text)
-            .ok()
-            .and_then(|t| t.get("design")?.as_table().map(|d| d.contains_key(k)))
-            .unwrap_or(false)
-    };
+    let sets = |k: &str| reading.sets(&format!("design.{k}"));
     if sets(key::K_RS) && !sets(key::M_SPRING) {
         if let Ok(spring) = camsim_core::HelicalSpring::of_rate(file.design.k_rs) {
             file.design.m_spring = spring.mass;
         }
     }
-    let rpm_conflict = || -> Option<&'static str> {
-        let t: toml::Table = toml::from_str(text).ok()?;
-        let d = t.get("design")?.as_table()?;
-        if d.contains_key(key::OMEGA0) {
-            return Some(key::OMEGA0);
-        }
-        let r = d.get("drive")?.get("regulated")?.as_table()?;
-        let omega_ref = key::DRIVE_OMEGA_REF.rsplit('.').next()?;
-        r.contains_key(omega_ref).then_some(key::DRIVE_OMEGA_REF)
-    };
     if file.run.rpm.is_some() {
-        if let Some(k) = rpm_conflict() {
+        if let Some(k) = [key::OMEGA0, key::DRIVE_OMEGA_REF]
+            .into_iter()
+            .find(|k| sets(k))
+        {
             return Err(located(
                 text,
                 &format!("run.rpm and design.{k} both set the cam speed: give one of them"),
             ));
         }
     }
-    file.check().map_err(|e| located(text, &e.message))
+    file.check().map_err(|e| {
+        located(
+            text,
+            &explain(&in_user_units(&e.message, &reading), &reading),
+        )
+    })
+}
+
+/// `msg` (a refusal starting with an inch-family key path and ` = value`) written with
+/// the key as the file gave it, if the file gave it in SI: `design.geometry.base_radius_mm
+/// = 0.1 (0.003937 in): must lie in [0.01, 100] in (...)`.
+fn in_user_units(msg: &str, reading: &Reading) -> String {
+    for c in &reading.converted {
+        let inch = c.inch_path();
+        let Some(rest) = msg.strip_prefix(inch.as_str()) else {
+            continue;
+        };
+        if !(rest.starts_with(' ') || rest.starts_with(':')) {
+            continue;
+        }
+        let (si, sym) = (c.si_path(), c.unit.inch_symbol);
+        return match (
+            rest.strip_prefix(" = ").and_then(|r| r.split_once(": ")),
+            c.si_value,
+        ) {
+            (Some((v, rule)), Some(x)) => {
+                // The inch value to 7 significant digits: what the rule's bounds compare.
+                let v = v
+                    .parse::<f64>()
+                    .ok()
+                    .and_then(|v| format!("{v:.6e}").parse::<f64>().ok())
+                    .map_or(v.to_string(), |v| v.to_string());
+                format!("{si} = {} ({v} {sym}): {rule}", short(x))
+            }
+            _ => format!("{si}{rest}"),
+        };
+    }
+    msg.to_string()
+}
+
+/// Keys whose rule involves other keys: when the file does not set the refused key, the
+/// refusal is put on the line of the user's key that makes its (default) value fail.
+/// `*` stands for any segment's index.
+pub const CAUSES: &[(&str, &[&str])] = &[
+    (
+        "design.e2_in",
+        &[
+            "design.program.segment[*].lift_in",
+            "design.geometry.roller_radius_in",
+        ],
+    ),
+    (
+        "design.geometry.roller_radius_in",
+        &[
+            "design.geometry.base_radius_in",
+            "design.program.segment[*].lift_in",
+            "design.program.segment[*].law",
+            "design.program.segment[*].end_deg",
+            "design.program.segment[*].start_deg",
+        ],
+    ),
+    (
+        "design.geometry.base_radius_in",
+        &[
+            "design.geometry.roller_radius_in",
+            "design.program.segment[*].lift_in",
+        ],
+    ),
+];
+
+/// Whether `path` (with indices) matches `pattern` (`[*]` for any index).
+fn matches(pattern: &str, path: &str) -> bool {
+    match pattern.split_once("[*]") {
+        None => pattern == path,
+        Some((head, tail)) => path
+            .strip_prefix(head)
+            .and_then(|r| r.strip_prefix('['))
+            .and_then(|r| r.split_once(']'))
+            .is_some_and(|(i, r)| i.parse::<usize>().is_ok() && r == tail),
+    }
+}
+
+/// A refusal of a key the file does not set, put on the user's key that causes it
+/// ([`CAUSES`]): the cause with the largest value among the first pattern the file sets.
+fn explain(msg: &str, reading: &Reading) -> String {
+    let Some((head, rule)) = msg.split_once(": ") else {
+        return msg.to_string();
+    };
+    let refused = head.split(' ').next().unwrap_or("");
+    if reading.sets(refused) {
+        return msg.to_string();
+    }
+    let Some((_, causes)) = CAUSES.iter().find(|(k, _)| *k == refused) else {
+        return msg.to_string();
+    };
+    for pattern in *causes {
+        let cause = reading
+            .present
+            .iter()
+            .filter(|p| matches(pattern, &p.inch_path))
+            .fold(None, |best: Option<&Present>, p| match best {
+                Some(b) if b.value.unwrap_or(0.0) >= p.value.unwrap_or(0.0) => Some(b),
+                _ => Some(p),
+            });
+        if let Some(p) = cause {
+            let value = if p.raw.is_empty() {
+                String::new()
+            } else {
+                format!(" = {}", p.raw)
+            };
+            return format!(
+                "{}{value}: it makes {head} (not in the file: the reference's value) fail: {rule}",
+                p.user_path
+            );
+        }
+    }
+    msg.to_string()
 }
 
 /// A core check's refusal in `section` (`design`, `solver`): its key under the section,
@@ -261,12 +664,129 @@ fn toml_error(text: &str, e: &toml::de::Error) -> Error {
             key::PROGRAM_SEGMENT
         ));
     }
-    Error::new(
-        match line_paths(text).get(line - 1).filter(|k| !k.is_empty()) {
-            Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
-            None => format!("line {line}, column {col}: {msg}"),
-        },
-    )
+    let path = line_paths(text).get(line - 1).cloned().unwrap_or_default();
+    let msg = did_you_mean(&msg, &path).unwrap_or(msg);
+    Error::new(match Some(&path).filter(|k| !k.is_empty()) {
+        Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
+        None => format!("line {line}, column {col}: {msg}"),
+    })
+}
+
+/// Plain digits, or an exponent where they would run long (1e300), as core's errors.
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// Edit distance (Levenshtein) of `a` and `b`, in characters.
+fn distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diag = row.first().copied().unwrap_or(0);
+        if let Some(first) = row.first_mut() {
+            *first = i + 1;
+        }
+        for (j, cb) in b.iter().enumerate() {
+            let up = row.get(j + 1).copied().unwrap_or(usize::MAX);
+            let left = row.get(j).copied().unwrap_or(usize::MAX);
+            let v = (diag + usize::from(ca != *cb))
+                .min(up.saturating_add(1))
+                .min(left.saturating_add(1));
+            diag = up;
+            if let Some(x) = row.get_mut(j + 1) {
+                *x = v;
+            }
+        }
+    }
+    row.last().copied().unwrap_or(0)
+}
+
+/// serde's "unknown field `x`, expected one of `a`, `b`, ..." (a line listing every key
+/// of the table) as "unknown field `x`: did you mean `a`?": the keys nearest by edit
+/// distance, SI names ([`units`]) included, or the keys that start with the name (a key
+/// written without its unit). `path` is the key's path (`design.k_rb`).
+fn did_you_mean(msg: &str, path: &str) -> Option<String> {
+    let rest = msg.strip_prefix("unknown field `")?;
+    let (name, rest) = rest.split_once('`')?;
+    let expected = rest.split_once("expected")?.1;
+    let table = path.rsplit_once('.').map_or("", |(t, _)| t);
+    let norm: String = {
+        // The table without indices (`design.program.segment`).
+        let mut out = String::new();
+        let mut skip = false;
+        for c in table.chars() {
+            match c {
+                '[' => skip = true,
+                ']' => skip = false,
+                _ if !skip => out.push(c),
+                _ => {}
+            }
+        }
+        out
+    };
+    let mut candidates: Vec<String> = Vec::new();
+    for c in expected.split('`').skip(1).step_by(2) {
+        candidates.push(c.to_string());
+        if let Some(si) = units::si_name(&norm, c) {
+            candidates.push(si);
+        }
+    }
+    if norm == "limits" {
+        candidates.push(format!(
+            "{}_{}",
+            units::ALLOWABLE_CONTACT_STRESS
+                .strip_suffix(units::STRESS.inch)
+                .and_then(|s| s.strip_suffix('_'))
+                .unwrap_or(""),
+            units::STRESS.si
+        ));
+    }
+    let lower = name.to_ascii_lowercase();
+    let prefixed: Vec<&String> = candidates
+        .iter()
+        .filter(|c| c.starts_with(&format!("{lower}_")))
+        .collect();
+    let near: Vec<&String> = if prefixed.is_empty() {
+        let best = candidates
+            .iter()
+            .map(|c| distance(&lower, c))
+            .min()
+            .unwrap_or(usize::MAX);
+        let allowed = (name.chars().count() / 3).max(2);
+        if best > allowed {
+            Vec::new()
+        } else {
+            candidates
+                .iter()
+                .filter(|c| distance(&lower, c) == best)
+                .collect()
+        }
+    } else {
+        prefixed
+    };
+    let list = |v: &[&String]| {
+        v.iter()
+            .take(4)
+            .map(|c| format!("`{c}`"))
+            .collect::<Vec<_>>()
+            .join(" or ")
+    };
+    let shown_table = if table.is_empty() {
+        "the file's top level".to_string()
+    } else {
+        format!("[{table}]")
+    };
+    Some(if near.is_empty() {
+        format!(
+            "unknown field `{name}`: not a key of {shown_table} (`camsim scene --default` writes every key)"
+        )
+    } else {
+        format!("unknown field `{name}`: did you mean {}?", list(&near))
+    })
 }
 
 /// `msg` with every long number it quotes in backticks written in short scientific form:
@@ -376,6 +896,7 @@ impl SceneFile {
         self.solver
             .validate()
             .map_err(|error| refusal("solver", error))?;
+        self.limits.check()?;
         let mut design = self.design.clone();
         if let Some(rpm) = self.run.rpm {
             // The core's rules for a speed in rpm (positive, finite, 1-10 000 rpm), its
@@ -401,6 +922,7 @@ impl SceneFile {
             revolutions,
             horizontal_motion: self.run.horizontal_motion,
             follower,
+            limits: self.limits,
         })
     }
 }
@@ -436,6 +958,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("/nonexistent/a\\nb.toml: cannot read"), "{e}");
+        // A measured file's name too (issue 18).
+        let dir = std::env::temp_dir().join(format!("camsim-k18-esc-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("a\u{1b}[2J\rb.csv");
+        std::fs::write(&p, "angle_deg,lift_in\nx,0\n").unwrap();
+        let e = measured::load_limited(&p, 10).unwrap_err();
+        assert!(!e.contains(|c: char| c.is_control()), "{e:?}");
+        assert!(e.contains("a\\u{1b}[2J\\rb.csv: line 2: angle_deg"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
@@ -476,5 +1007,249 @@ mod tests {
             e.starts_with("/nonexistent/x.toml: cannot read the scene file"),
             "{e}"
         );
+    }
+
+    /// The reference scene as the host writes it, every dimensional value scaled by
+    /// 1.05 (off the defaults, so a key ignored would show), once with the inch keys and
+    /// once with the SI keys (values times the exact factors).
+    fn scaled_scene_in_both_families() -> (String, String, usize) {
+        let text = toml::to_string(&SceneFile::default()).unwrap();
+        let paths = line_paths(&text);
+        let (mut inch, mut si, mut n) = (String::new(), String::new(), 0);
+        for (line, path) in text.lines().zip(&paths) {
+            let norm: String = path
+                .split('[')
+                .map(|p| p.split_once(']').map_or(p, |(_, r)| r))
+                .collect();
+            let (table, name) = norm.rsplit_once('.').unwrap_or(("", &norm));
+            match (units::lookup(table, name), line.split_once(" = ")) {
+                (Some((uk, false)), Some((k, v))) => {
+                    let x: f64 = v.trim().parse().unwrap();
+                    let x = x * 1.05;
+                    n += usize::from(x != 0.0);
+                    inch += &format!("{k} = {x:?}\n");
+                    si += &format!(
+                        "{} = {:?}\n",
+                        k.replace(uk.inch(), &uk.si()),
+                        x * uk.unit.si_per_inch
+                    );
+                }
+                _ => {
+                    inch += &format!("{line}\n");
+                    si += &format!("{line}\n");
+                }
+            }
+        }
+        (inch, si, n)
+    }
+
+    fn numbers(file: &SceneFile) -> Vec<(String, f64)> {
+        fn flat(prefix: &str, v: &toml::Value, out: &mut Vec<(String, f64)>) {
+            match v {
+                toml::Value::Table(t) => {
+                    for (k, v) in t {
+                        flat(&format!("{prefix}.{k}"), v, out);
+                    }
+                }
+                toml::Value::Array(a) => {
+                    for (i, v) in a.iter().enumerate() {
+                        flat(&format!("{prefix}[{i}]"), v, out);
+                    }
+                }
+                toml::Value::Float(x) => out.push((prefix.to_string(), *x)),
+                toml::Value::Integer(x) => out.push((prefix.to_string(), *x as f64)),
+                _ => {}
+            }
+        }
+        let mut out = Vec::new();
+        flat("", &toml::Value::try_from(file).unwrap(), &mut out);
+        out
+    }
+
+    #[test]
+    fn a_scene_in_si_units_is_the_same_scene_in_inch() {
+        let (inch, si, n) = scaled_scene_in_both_families();
+        // Every dimensional key of the table appears: the design's, the segments'
+        // lifts, the solver's atol and the limits' stress.
+        assert!(n >= units::UNIT_KEYS.len() - 2, "{n}");
+        assert!(si.contains("spring_rate_n_per_mm = "), "{si}");
+        assert!(si.contains("base_radius_mm = "), "{si}");
+        assert!(si.contains("lift_mm = "), "{si}");
+        assert!(si.contains("allowable_contact_stress_mpa = "), "{si}");
+        let (a, _) = read_scene(&inch).unwrap();
+        let (b, _) = read_scene(&si).unwrap();
+        let (na, nb) = (numbers(&a), numbers(&b));
+        let reference = numbers(&SceneFile::default());
+        assert_eq!(na.len(), nb.len());
+        let mut moved = 0;
+        for (((ka, xa), (kb, xb)), (_, x0)) in na.iter().zip(&nb).zip(&reference) {
+            assert_eq!(ka, kb);
+            assert!((xa - xb).abs() <= 1e-13 * xa.abs(), "{ka}: {xa} vs {xb}");
+            moved += usize::from(xa != x0);
+        }
+        assert!(
+            moved >= n,
+            "{moved} of {n} scaled values differ from the reference"
+        );
+        // Both pass the checks, and the derived spring (the mass follows the rate)
+        // is the same.
+        let (ca, cb) = (parse(&inch).unwrap(), parse(&si).unwrap());
+        assert!((ca.design.m_spring - cb.design.m_spring).abs() <= 1e-13 * ca.design.m_spring);
+        assert_eq!(
+            ca.limits.pressure_angle_limit_deg,
+            cb.limits.pressure_angle_limit_deg
+        );
+        // 50.8 mm is 2 in; 17.512683524647638 N/mm is 100 lb/in.
+        let s = parse("[design]\nspring_rate_n_per_mm = 17.512683524647638\n[design.geometry]\nbase_radius_mm = 50.8\n").unwrap();
+        assert!((s.design.k_rs - 100.0).abs() < 1e-12);
+        assert!((s.design.geometry.base_radius - 2.0).abs() < 1e-15);
+        // Families mix freely.
+        let s = parse("[design]\nspring_rate_lb_per_in = 60\ne2_mm = 101.6\n").unwrap();
+        assert_eq!((s.design.k_rs, s.design.e2), (60.0, 4.0));
+    }
+
+    #[test]
+    fn one_quantity_given_twice_names_both_keys() {
+        let e = parse("[design]\nspring_rate_lb_per_in = 60\nspring_rate_n_per_mm = 10\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "line 3: design.spring_rate_n_per_mm and design.spring_rate_lb_per_in: both give the spring rate (once in N/mm, once in lb/in): give one of them"
+        );
+        let e = parse("[[design.program.segment]]\nkind = \"dwell\"\nstart_deg = 0\nend_deg = 360\nlift_in = 0\nlift_mm = 0\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("line 6: design.program.segment[0].lift_mm and design.program.segment[0].lift_in: both give the lift"), "{e}");
+    }
+
+    #[test]
+    fn a_refused_si_value_is_named_as_written() {
+        let e = parse("[design.geometry]\nbase_radius_mm = 0.1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 2: design.geometry.base_radius_mm = 0.1 (0.003937008 in): must lie in [0.01, 100] in"),
+            "{e}"
+        );
+        // Not a number: the type error at the user's line and key.
+        let e = parse("[design]\ne2_mm = \"long\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 2, column 9: design.e2_mm: invalid type: string"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn unknown_keys_get_the_nearest_names() {
+        let e = parse("[design]\nk_rb_lb_per_inch = 1\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "line 2, column 1: design.k_rb_lb_per_inch: unknown field `k_rb_lb_per_inch`: did you mean `k_rb_lb_per_in`?"
+        );
+        // A key without its unit: both families.
+        let e = parse("[design]\nspring_rate = 60\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.ends_with("did you mean `spring_rate_lb_per_in` or `spring_rate_n_per_mm`?"),
+            "{e}"
+        );
+        // An SI misspelling finds the SI name.
+        let e = parse("[design.geometry]\nbase_radius_nm = 50\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.ends_with("did you mean `base_radius_mm`?"), "{e}");
+        // Nothing near: no list of every key.
+        let e = parse("[run]\nflux_capacitor = 1\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "line 2, column 1: run.flux_capacitor: unknown field `flux_capacitor`: not a key of [run] (`camsim scene --default` writes every key)"
+        );
+        assert!(e.len() < 200);
+        let e = parse("[limit]\n").unwrap_err().to_string();
+        assert!(e.contains("did you mean `limits`?"), "{e}");
+    }
+
+    #[test]
+    fn a_derived_refusal_is_put_on_the_users_key() {
+        // The reference's e2 (2 in) and roller (0.5 in) with a 3 in lift: the user set
+        // the lift, not e2.
+        let text = "[design]\nspring_rate_lb_per_in = 100\n\n[[design.program.segment]]\nkind = \"rise\"\nlaw = \"cycloidal\"\nstart_deg = 0\nend_deg = 180\nlift_in = 3\n\n[[design.program.segment]]\nkind = \"return\"\nlaw = \"cycloidal\"\nstart_deg = 180\nend_deg = 360\nlift_in = 3\n";
+        let e = parse(text).unwrap_err().to_string();
+        assert!(
+            e.starts_with("line 9: design.program.segment[0].lift_in = 3: it makes design.e2_in = 2 (not in the file: the reference's value) fail: cantilever length must exceed"),
+            "{e}"
+        );
+        // The same in mm names the mm key.
+        let e = parse(&text.replace("lift_in = 3", "lift_mm = 76.2"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "line 9: design.program.segment[0].lift_mm = 76.2: it makes design.e2_in"
+            ),
+            "{e}"
+        );
+        // A file that sets e2 itself gets the refusal on its own line.
+        let e = parse(&text.replace("spring_rate_lb_per_in = 100", "e2_in = 2"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 2: design.e2_in = 2: cantilever length"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn limits_are_scene_keys_in_either_family() {
+        let s = parse("").unwrap();
+        assert_eq!(s.limits, Limits::default());
+        assert_eq!(
+            s.limits.allowable_contact_stress_psi,
+            camsim_core::ALLOWABLE_CONTACT_STRESS_PSI
+        );
+        let s =
+            parse("[limits]\nallowable_contact_stress_mpa = 1000\npressure_angle_limit_deg = 35\n")
+                .unwrap();
+        assert!((s.limits.allowable_contact_stress_psi - 145_037.737_730_209).abs() < 1e-6);
+        assert_eq!(s.limits.pressure_angle_limit_deg, 35.0);
+        let e = parse("[limits]\npressure_angle_limit_deg = 90\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "line 2: limits.pressure_angle_limit_deg = 90: must be above 0 and below 90 (degrees)"
+        );
+        let e = parse("[limits]\nallowable_contact_stress_mpa = -1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 2: limits.allowable_contact_stress_mpa = -1 ("),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_measured_profile_given_as_a_scene_gets_a_hint() {
+        let dir = std::env::temp_dir().join(format!("camsim-keys18-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("wavy.csv");
+        std::fs::write(&p, "# a profile\nangle_deg,deviation_in\n0,0\n").unwrap();
+        let e = load(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("a measured profile (CSV)? give it as `--measured "),
+            "{e}"
+        );
+        let p = dir.join("wavy.txt");
+        std::fs::write(&p, "angle_deg,lift_in\n0,0\n").unwrap();
+        assert!(load(&p).unwrap_err().to_string().contains("--measured"));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -21,6 +21,9 @@
 //!   lift follows by the exact envelope of the design's roller circle on that contour
 //!   (camsim-core's `envelope` module, docs/MODEL.md §8.4).
 //!
+//! Each header may end in `_mm` instead (`angle_deg,lift_mm`, `radius_mm`,
+//! `deviation_mm`): the values are millimetres, read as exactly 1/25.4 in.
+//!
 //! The rows must have finite numbers, angles strictly increasing from a first angle in
 //! `[0, 360)`, and cover one revolution: either a last row at exactly first + 360 deg
 //! repeating the first row's value (it closes the revolution and is dropped) or a
@@ -30,7 +33,9 @@
 //! loosest tolerance), a lift within [-0.1, 100] in, a radius within [0.01, 100] in (the
 //! scene's lengths). At least 4 and at most [`MAX_POINTS`] rows ([`parse_limited`]: fewer,
 //! e.g. the chip's capacity). The profile is the periodic cubic spline through the rows
-//! (any spacing): [`Measured::deviation`].
+//! (any spacing): [`Measured::deviation`]. A lift or radius profile must follow the
+//! scene's program within the deviation's ±0.1 in (a larger gap is another cam, or a
+//! file whose unit is not its header's: the refusal says which unit would fit).
 //!
 //! Every error names the line it is about: `line 7: angle_deg "1O" is not a number`.
 
@@ -89,6 +94,63 @@ impl Column {
     }
 }
 
+/// A measured file's length unit: its column header's suffix (`lift_in`, `lift_mm`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Unit {
+    /// `_in`: inches, the thesis's unit.
+    #[serde(rename = "in")]
+    Inch,
+    /// `_mm`: millimetres (exactly 1/25.4 in).
+    #[serde(rename = "mm")]
+    Millimetre,
+}
+
+impl Unit {
+    /// The suffix (`in`, `mm`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Unit::Inch => "in",
+            Unit::Millimetre => "mm",
+        }
+    }
+
+    /// The unit's count in one inch (1, or exactly 25.4).
+    pub fn per_inch(self) -> f64 {
+        match self {
+            Unit::Inch => 1.0,
+            Unit::Millimetre => crate::units::MM_PER_IN,
+        }
+    }
+
+    /// The unit in words (`inches`).
+    pub fn long(self) -> &'static str {
+        match self {
+            Unit::Inch => "inches",
+            Unit::Millimetre => "millimetres",
+        }
+    }
+
+    /// The other unit.
+    fn other(self) -> Unit {
+        match self {
+            Unit::Inch => Unit::Millimetre,
+            Unit::Millimetre => Unit::Inch,
+        }
+    }
+}
+
+impl Column {
+    /// The header name in `unit` (`lift_mm`).
+    pub fn header(self, unit: Unit) -> String {
+        let name = self.name();
+        format!(
+            "{}_{}",
+            name.strip_suffix("_in").unwrap_or(name),
+            unit.name()
+        )
+    }
+}
+
 /// The smallest convex cam surface radius a radius profile may imply along the roller's
 /// path, in: 0.01 in, the smallest length a scene may have (docs/MODEL.md §5.16) and the
 /// bound of a `radius_in` value. Below it the surface is an edge: at the reference's
@@ -101,6 +163,8 @@ pub const MIN_SURFACE_RADIUS_IN: f64 = 0.01;
 pub struct Measured {
     /// What `values_in` are.
     pub column: Column,
+    /// The file's length unit (its header's suffix); `values_in` are in inches.
+    pub unit: Unit,
     /// Angles, degrees: strictly increasing, the first in `[0, 360)`, all below the first
     /// + 360 (a closing row is dropped).
     pub angles_deg: Vec<f64>,
@@ -126,7 +190,7 @@ impl fmt::Display for ParseError {
 impl std::error::Error for ParseError {}
 
 const HEADERS: &str =
-    "\"angle_deg,deviation_in\", \"angle_deg,lift_in\" or \"angle_deg,radius_in\"";
+    "\"angle_deg,deviation_in\", \"angle_deg,lift_in\" or \"angle_deg,radius_in\" (or _mm for millimetres)";
 
 fn err(line: usize, message: impl Into<String>) -> ParseError {
     ParseError {
@@ -175,6 +239,7 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
     let max_points = max_points.min(MAX_POINTS);
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut column = None;
+    let mut unit = Unit::Inch;
     let (mut angles, mut values, mut lines) = (Vec::new(), Vec::new(), Vec::new());
     let mut closed = false;
     let mut last_line = 0;
@@ -189,10 +254,17 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
         let Some(col) = column else {
             column = Some(match fields.as_slice() {
                 [a, b] if a.eq_ignore_ascii_case("angle_deg") => {
-                    match b.to_ascii_lowercase().as_str() {
-                        "deviation_in" => Column::Deviation,
-                        "lift_in" => Column::Lift,
-                        "radius_in" => Column::Radius,
+                    let b = b.to_ascii_lowercase();
+                    let (name, u) = match b.rsplit_once('_') {
+                        Some((n, "in")) => (n, Unit::Inch),
+                        Some((n, "mm")) => (n, Unit::Millimetre),
+                        _ => ("", Unit::Inch),
+                    };
+                    unit = u;
+                    match name {
+                        "deviation" => Column::Deviation,
+                        "lift" => Column::Lift,
+                        "radius" => Column::Radius,
                         _ => {
                             return Err(err(
                                 line,
@@ -223,24 +295,30 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
             ));
         }
         let angle = number(line, "angle_deg", a)?;
-        let value = number(line, col.name(), v)?;
+        let header = col.header(unit);
+        let value = number(line, &header, v)?;
         if col == Column::Radius && value <= 0.0 {
             return Err(err(
                 line,
-                format!("radius_in must be positive, found {value}"),
+                format!("{header} must be positive, found {value}"),
             ));
         }
         let (lo, hi, why) = col.plausible();
+        let (lo, hi) = (lo * unit.per_inch(), hi * unit.per_inch());
         if !(lo..=hi).contains(&value) {
             return Err(err(
                 line,
                 format!(
-                    "{} {} must lie in [{lo}, {hi}] in ({why})",
-                    col.name(),
-                    short(value)
+                    "{header} {} must lie in [{}, {}] {} ({why})",
+                    short(value),
+                    short(lo),
+                    short(hi),
+                    unit.name()
                 ),
             ));
         }
+        // Kept in inches.
+        let value = value / unit.per_inch();
         match (angles.first(), angles.last(), lines.last()) {
             (Some(&first), Some(&prev), Some(&prev_line)) => {
                 if angle <= prev {
@@ -329,6 +407,7 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
     }
     Ok(Measured {
         column,
+        unit,
         angles_deg: angles,
         values_in: values,
     })
@@ -342,7 +421,9 @@ pub const MAX_MEASURED_BYTES: u64 = 4 << 20;
 pub fn load_limited(path: &Path, max_points: usize) -> Result<Measured, String> {
     let text = crate::read_text(path, MAX_MEASURED_BYTES, "the measured profile")
         .map_err(|e| e.to_string())?;
-    parse_limited(&text, max_points).map_err(|e| format!("{}: {e}", path.display()))
+    // The name escaped as a scene file's is (`crate::Error`): one line whatever it holds.
+    parse_limited(&text, max_points)
+        .map_err(|e| crate::Error::new(format!("{}: {e}", path.display())).to_string())
 }
 
 /// The envelope's output knots for a contour of `intervals` rows: 8 per row, within the
@@ -384,8 +465,11 @@ impl Measured {
         use camsim_core::LiftProfile;
         // The deviation and lift forms' rows are checked as read; what their spline
         // does between sparse rows is the file's own interpolation, not checked again.
-        if self.column != Column::Radius {
+        if self.column == Column::Deviation {
             return Ok(());
+        }
+        if self.column == Column::Lift {
+            return self.check_follows(design, dev);
         }
         let (lo, hi, why) = Column::Lift.plausible();
         let g = &design.geometry;
@@ -421,7 +505,59 @@ impl Measured {
                 ));
             }
         }
-        Ok(())
+        self.check_follows(design, dev)
+    }
+
+    /// The largest |deviation| at the spline's knots, in, and its cam angle, degrees.
+    fn worst(dev: &MeasuredDeviation) -> (f64, f64) {
+        let s = dev.spline();
+        s.knots()
+            .iter()
+            .zip(s.values())
+            .fold((0.0, 0.0), |(w, at), (k, v)| {
+                if v.abs() > w || v.is_nan() {
+                    (v.abs(), k.to_degrees().rem_euclid(360.0))
+                } else {
+                    (w, at)
+                }
+            })
+    }
+
+    /// A lift or radius profile must follow the scene's program within a deviation's
+    /// plausibility range (±0.1 in, as a `deviation_in` column): a larger gap is another
+    /// cam, or the file's unit is not its header's. Read in the other unit, a file that
+    /// then follows the program is named as such: a millimetre file headed `_in`.
+    fn check_follows(&self, design: &Design<f64>, dev: &MeasuredDeviation) -> Result<(), String> {
+        let (lo, hi, why) = Column::Deviation.plausible();
+        let (worst, at) = Self::worst(dev);
+        if worst <= hi.max(-lo) {
+            return Ok(());
+        }
+        let header = self.column.header(self.unit);
+        let other = self.unit.other();
+        let scale = self.unit.per_inch() / other.per_inch();
+        let alt = Measured {
+            unit: other,
+            values_in: self.values_in.iter().map(|v| v * scale).collect(),
+            ..self.clone()
+        };
+        let hint = match alt.raw_deviation(design).map(|d| Self::worst(&d)) {
+            Ok((w, _)) if w <= hi.max(-lo) => format!(
+                "read in {} (a {} header) the file follows it within {w:.4} in: is the file in {}? then head its column {}",
+                other.long(),
+                self.column.header(other),
+                other.long(),
+                self.column.header(other),
+            ),
+            _ => format!(
+                "is it this scene's cam (its program, base circle and roller), and is the file in {} as its header ({header}) says?",
+                self.unit.long()
+            ),
+        };
+        Err(format!(
+            "measured profile: its {header} column departs from the scene's program lift by {:.4} in at {at:.2} deg, beyond the [{lo}, {hi}] in of a deviation ({why}): {hint}",
+            if worst.is_nan() { f64::NAN } else { worst }
+        ))
     }
 
     /// The deviation before [`Self::check_implied`].
@@ -612,13 +748,88 @@ mod tests {
         assert_eq!(v, vec![0.001, 0.0, -0.001, 0.0, 0.001]);
         assert!((k[4] - k[0] - 2.0 * std::f64::consts::PI).abs() < 1e-12);
         // A lift column subtracts the program's lift.
-        let m = parse("angle_deg,lift_in\n0,0\n90,0\n180,0\n270,0\n").unwrap();
+        let y = |deg: f64| {
+            Design::<f64>::reference()
+                .program
+                .follower(deg.to_radians())
+                .y
+        };
+        let text = format!(
+            "angle_deg,lift_in\n0,{}\n90,{}\n180,{}\n270,{}\n",
+            y(0.0),
+            y(90.0) + 0.01,
+            y(180.0),
+            y(270.0)
+        );
+        let m = parse(&text).unwrap();
         let (_, v) = m.deviation_knots(&Design::reference()).unwrap();
-        let y = Design::<f64>::reference()
-            .program
-            .follower(90f64.to_radians())
-            .y;
-        assert_eq!(v[1], -y);
+        assert!((v[1] - 0.01).abs() < 1e-15, "{v:?}");
+    }
+
+    /// Issue 18: a measured file in millimetres reads with a `_mm` header, and one in
+    /// millimetres headed `_in` is refused with the hint, not run as another cam.
+    #[test]
+    fn millimetre_files_read_and_mislabelled_ones_are_refused() {
+        let design = Design::<f64>::reference();
+        let y = |deg: f64| design.program.follower(deg.to_radians()).y;
+        let rows = |scale: f64, header: &str| {
+            let mut t = format!("angle_deg,{header}\n");
+            for k in 0..72 {
+                let a = 5.0 * k as f64;
+                t += &format!(
+                    "{a},{}\n",
+                    (y(a) + 0.001 * (3.0 * a.to_radians()).sin()) * scale
+                );
+            }
+            t
+        };
+        let inch = parse(&rows(1.0, "lift_in")).unwrap();
+        let mm = parse(&rows(25.4, "lift_mm")).unwrap();
+        assert_eq!((mm.unit, inch.unit), (Unit::Millimetre, Unit::Inch));
+        let (a, b) = (
+            inch.deviation_knots(&design).unwrap().1,
+            mm.deviation_knots(&design).unwrap().1,
+        );
+        for (a, b) in a.iter().zip(&b) {
+            assert!((a - b).abs() < 1e-14, "{a} {b}");
+        }
+        // A 0.001 in waviness of 3 waves: the deviation at 30 deg is 0.001 sin(90 deg).
+        assert!((a[6] - 0.001).abs() < 1e-12, "{}", a[6]);
+        // Millimetres under an inch header.
+        let e = parse(&rows(25.4, "lift_in"))
+            .unwrap()
+            .deviation(&design)
+            .unwrap_err();
+        assert!(
+            e.contains("read in millimetres (a lift_mm header) the file follows it within 0.0010 in: is the file in millimetres? then head its column lift_mm"),
+            "{e}"
+        );
+        // Inches under a millimetre header.
+        let e = parse(&rows(1.0, "lift_mm"))
+            .unwrap()
+            .deviation(&design)
+            .unwrap_err();
+        assert!(
+            e.contains("is the file in inches? then head its column lift_in"),
+            "{e}"
+        );
+        // Issue 18's file: four rows of 0.1 in a lift column.
+        let e = parse("angle_deg,lift_in\n0,0.1\n90,0.1\n180,0.1\n270,0.1\n")
+            .unwrap()
+            .deviation(&design)
+            .unwrap_err();
+        assert!(
+            e.contains("departs from the scene's program lift by"),
+            "{e}"
+        );
+        // Range errors speak the file's unit.
+        let e = parse("angle_deg,radius_mm\n0,5000\n")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "line 2: radius_mm 5000 must lie in [0.254, 2540] mm (a cam radius, as the scene's lengths)"
+        );
     }
 
     #[test]

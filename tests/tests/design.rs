@@ -14,6 +14,8 @@ fn spring_args(actual: bool, threads: u32) -> SpringArgs {
         threads: Some(threads),
         resolution: 1.0,
         max_rate: 1000.0,
+        preload: false,
+        max_preload_length: camsim::cmd::design::MAX_PRELOAD_LENGTH,
         quick: true,
         json: false,
     }
@@ -97,9 +99,41 @@ fn mc_args(threads: u32) -> camsim::cmd::design::McArgs {
         seed: 1,
         threads: Some(threads),
         waviness_fpr: None,
+        waviness: false,
+        tolerance_factor: None,
         quick: true,
         json: false,
     }
+}
+
+/// `design tolerance --waviness` (quick): the roughest waviness (the highest FPR) that
+/// passes at VI.1's tolerances; the same on 1 and 2 threads, a whole number of waves,
+/// every FPR tried at or below it passes and every one at or above the failing one fails,
+/// and the cam tolerance is the one held. At 4 x the tolerances it can only be smoother.
+#[test]
+fn design_tolerance_waviness_brackets_the_roughest_fpr() {
+    use camsim::cmd::design::mc_search;
+    let args = |threads, factor| camsim::cmd::design::McArgs {
+        waviness: true,
+        tolerance_factor: Some(factor),
+        ..mc_args(threads)
+    };
+    let a = mc_search(&args(1, 1.0), false).unwrap();
+    let b = mc_search(&args(2, 1.0), false).unwrap();
+    assert_eq!(
+        (a.answer, a.failing, &a.tried),
+        (b.answer, b.failing, &b.tried)
+    );
+    assert_eq!(a.search, "waviness");
+    assert_eq!(a.answer.fract(), 0.0);
+    let failing = a.failing.unwrap();
+    assert!(a
+        .tried
+        .iter()
+        .all(|&(x, ok)| if ok { x <= a.answer } else { x >= failing }));
+    assert_eq!(a.cam_tolerance_in, Some(0.0005));
+    let loose = mc_search(&args(2, 4.0), false).unwrap();
+    assert!(loose.answer <= a.answer, "{} > {}", loose.answer, a.answer);
 }
 
 /// `design speed` and `design tolerance` (quick): the same answer on 1 and 2 threads; the
@@ -130,4 +164,32 @@ fn design_speed_and_tolerance_bracket_their_criterion_on_any_thread_count() {
             assert_eq!(a.cam_tolerance_in.unwrap(), 0.0005 * a.answer);
         }
     }
+}
+
+/// `design spring --preload`: the rate held, the preload length searched. Its answer holds
+/// contact at 920 rpm and the length a bracket below does not (the predicate re-run
+/// outside the search); the rate reported is the scene's.
+#[test]
+fn design_spring_preload_brackets_the_criterion() {
+    let mut a = spring_args(false, 1);
+    a.preload = true;
+    let r = spring(&a).unwrap();
+    assert_eq!(r.searched, "preload length");
+    assert_eq!(r.spring_rate_lb_per_in, 100.0);
+    let (pass, fail) = (r.preload_length_in, r.failing_preload_length_in.unwrap());
+    assert!(fail < pass && pass - fail <= 0.1 + 1e-12, "{fail} {pass}");
+    assert_eq!(r.preload_bracket_in, Some(pass - fail));
+    let mut spec = camsim::cmd::run::spec_from(&SceneArgs::default()).unwrap();
+    spec.solver.start = camsim_core::Start::Static;
+    spec.revolutions = 2;
+    let at = |d: f64| {
+        let mut s = spec.clone();
+        s.design.delta_rs = d;
+        camsim::sim::jumps_at(&s, 920.0).unwrap()
+    };
+    assert!(!at(pass));
+    assert!(at(fail));
+    // The reference's 0.5 in does not hold at 920 rpm (its onset is 902 rpm): the answer
+    // is longer.
+    assert!(pass > 0.5);
 }

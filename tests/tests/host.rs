@@ -275,3 +275,99 @@ fn an_undercut_cam_is_refused_naming_the_roller() {
         .replace("base_radius_in = 0.1", "base_radius_in = 3.0");
     assert!(parse(&ok).is_ok());
 }
+
+/// Issue 18: a spring the drive cannot turn stalls it, and the refusal says so: the
+/// spring's quasi-static torque K_rs (δ_rs + y) y' against the drive's torque limit.
+#[test]
+fn a_stalled_drive_names_the_spring_against_the_drive() {
+    let mut spec = RunSpec::reference();
+    spec.revolutions = 1;
+    spec.design.set_spring_rate(17.5e3).unwrap();
+    let Err(e) = sim::run(&spec, &mut sim::Nothing) else {
+        panic!("a 17 500 lb/in spring ran")
+    };
+    let e = format!("{e:#}");
+    assert!(e.contains("the drive stalled"), "{e}");
+    assert!(
+        e.contains("Why: the return spring (K_rs = 17500 lb/in"),
+        "{e}"
+    );
+    assert!(
+        e.contains("more than the drive's torque limit of 345 lb in"),
+        "{e}"
+    );
+    // The peak torque it quotes lies between the rise's mean (the spring's energy
+    // over the rise, K_rs (δ h + h²/2) / β) and K_rs (δ + h) times the largest slope.
+    let d = &spec.design;
+    let hint = sim::stall_hint(d).unwrap();
+    let peak: f64 = hint
+        .split("alone takes up to ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .unwrap()
+        .parse()
+        .unwrap();
+    let rise = d
+        .program
+        .segments()
+        .iter()
+        .find(|s| matches!(s.kind, camsim_core::SegmentKind::Rise(_)))
+        .unwrap();
+    let (h, beta) = (rise.lift, (rise.end_deg - rise.start_deg).to_radians());
+    let mean = d.k_rs * (d.delta_rs * h + h * h / 2.0) / beta;
+    let max_slope = (0..3600)
+        .map(|i| {
+            d.program
+                .follower(i as f64 * std::f64::consts::TAU / 3600.0)
+                .dy
+        })
+        .fold(0.0, f64::max);
+    assert!(
+        peak >= mean && peak <= d.k_rs * (d.delta_rs + h) * max_slope + 1.0,
+        "{peak} {mean}"
+    );
+    // A spring the drive turns gives no hint (a run that does not stall).
+    assert!(sim::run(
+        &RunSpec {
+            revolutions: 1,
+            ..RunSpec::reference()
+        },
+        &mut sim::Nothing
+    )
+    .is_ok());
+}
+
+/// Issue 17: the verdict's limits are scene keys (`[limits]`, SI or inch), the options
+/// override them, the core's constants are the defaults.
+#[test]
+fn the_verdict_limits_come_from_the_scene_and_the_options_override() {
+    use camsim::cmd::run::VerdictArgs;
+    let spec =
+        parse("[limits]\nallowable_contact_stress_mpa = 1000\npressure_angle_limit_deg = 25\n")
+            .unwrap();
+    let l = VerdictArgs::default().limits(&spec.limits);
+    // 1000 MPa = 1e9 Pa / 6894.757293168 Pa/psi.
+    assert!((l.allowable_contact_stress_psi - 1e9 / 6_894.757_293_168).abs() < 1e-6);
+    assert_eq!(l.pressure_angle_limit_deg, 25.0);
+    assert_eq!(l.allowable_source, "the scene's [limits]");
+    let args = VerdictArgs {
+        allowable_stress: Some(120_000.0),
+        pressure_angle_limit: Some(35.0),
+        ..VerdictArgs::default()
+    };
+    let l = args.limits(&spec.limits);
+    assert_eq!(
+        (l.allowable_contact_stress_psi, l.pressure_angle_limit_deg),
+        (120_000.0, 35.0)
+    );
+    assert_eq!(l.allowable_source, "--allowable-stress");
+    let l = VerdictArgs::default().limits(&RunSpec::reference().limits);
+    assert_eq!(
+        (l.allowable_contact_stress_psi, l.pressure_angle_limit_deg),
+        (
+            camsim_core::ALLOWABLE_CONTACT_STRESS_PSI,
+            camsim_core::PRESSURE_ANGLE_LIMIT_DEG
+        )
+    );
+    assert_eq!(l.allowable_source, camsim::verdict::ALLOWABLE_SOURCE);
+}

@@ -112,54 +112,70 @@ fn merge_err(files: &[&Path]) -> String {
     line
 }
 
-#[test]
-fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
-    let n = 7u64;
-    let files: Vec<PathBuf> = (1..=3).map(|k| tmp(&format!("s{k}of3.json"))).collect();
-    for (k, f) in files.iter().enumerate() {
-        match shard(k + 1, 3, n, f, "7") {
-            Outcome::Shard(r) => {
-                // Strided: shard K holds the samples i ≡ K − 1 (mod 3).
-                let expect = (k as u64..n).step_by(3).count() as u64;
-                assert_eq!(r.samples, expect);
-            }
-            Outcome::Study(_) => panic!("a shard run printed a study"),
-        }
-        let file = montecarlo::read_shard(f).unwrap();
-        let idx: Vec<u64> = file.records.iter().map(|r| r.index).collect();
-        assert_eq!(idx, (k as u64..n).step_by(3).collect::<Vec<_>>());
-    }
-    // Merged in any order of the files.
-    let order = [files[2].clone(), files[0].clone(), files[1].clone()];
-    let merged = merge(&order, &OutputArgs::default()).unwrap();
-    let single = match execute(&montecarlo_args(
-        &[&["--samples", "7", "--threads", "3"], &CHEAP[..]].concat(),
+fn single(samples: &str, threads: &str) -> montecarlo::MonteCarloReport {
+    match execute(&montecarlo_args(
+        &[&["--samples", samples, "--threads", threads], &CHEAP[..]].concat(),
     ))
     .unwrap()
     {
-        Outcome::Study(r) => r,
+        Outcome::Study(r) => *r,
         Outcome::Shard(_) => panic!("not a shard run"),
-    };
-    assert_eq!(merged.study, single.study);
+    }
+}
+
+#[test]
+fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
+    let n = 7u64;
+    let single = single("7", "1");
+    // 1 and 2 threads: the same bits (the samples finish in another order).
+    let two = self::single("7", "2");
     assert_eq!(
-        serde_json::to_string(&merged.summary).unwrap(),
+        serde_json::to_string(&two.summary).unwrap(),
         serde_json::to_string(&single.summary).unwrap()
     );
-    assert_eq!(merged.summary, single.summary);
-    // The shards' records are the single run's, read back bit for bit.
-    let mut recs: Vec<SampleRecord> = files
-        .iter()
-        .flat_map(|f| montecarlo::read_shard(f).unwrap().records)
-        .collect();
-    recs.sort_by_key(|r| r.index);
+    // The streamed statistics are those of the records, bit for bit (summarize adds the
+    // records in index order; the study added them as the threads finished).
     let s = study(7);
     let direct = s.run(&(0..7).collect::<Vec<_>>(), 2, false).unwrap();
-    assert_eq!(bits(&recs), bits(&direct));
+    assert_eq!(
+        serde_json::to_string(&montecarlo::summarize(&direct, 2).unwrap()).unwrap(),
+        serde_json::to_string(&single.summary).unwrap()
+    );
+    // 1-, 2- and 3-way splits, merged in any order of the files.
+    for ways in [1usize, 2, 3] {
+        let files: Vec<PathBuf> = (1..=ways)
+            .map(|k| tmp(&format!("s{k}of{ways}.json")))
+            .collect();
+        for (k, f) in files.iter().enumerate() {
+            match shard(k + 1, ways, n, f, "7") {
+                Outcome::Shard(r) => {
+                    // Strided: shard K holds the samples i ≡ K − 1 (mod N).
+                    let expect = (k as u64..n).step_by(ways).count() as u64;
+                    assert_eq!(r.samples, expect);
+                }
+                Outcome::Study(_) => panic!("a shard run printed a study"),
+            }
+            let file = montecarlo::read_shard(f).unwrap();
+            assert_eq!(file.samples, (k as u64..n).step_by(ways).count() as u64);
+            assert_eq!(file.stats.samples, file.samples);
+        }
+        let mut order = files.clone();
+        order.reverse();
+        let merged = merge(&order, &OutputArgs::default()).unwrap();
+        assert_eq!(merged.study, single.study);
+        assert_eq!(
+            serde_json::to_string(&merged.summary).unwrap(),
+            serde_json::to_string(&single.summary).unwrap(),
+            "{ways}-way"
+        );
+        assert_eq!(merged.summary, single.summary);
+    }
+    let files: Vec<PathBuf> = (1..=3).map(|k| tmp(&format!("s{k}of3.json"))).collect();
 
     // Refusals, each one line.
     let e = merge_err(&[&files[0], &files[1]]);
     assert!(
-        e.contains("2 of the study's 7 samples are missing (first: 2, 5)"),
+        e.contains("2 of the study's 7 samples are missing (first: 2, 5; shards 3/3)"),
         "{e}"
     );
     let e = merge_err(&[&files[0], &files[1], &files[2], &files[0]]);
@@ -169,9 +185,12 @@ fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
     std::fs::copy(&files[1], &copy).unwrap();
     let e = merge_err(&[&files[0], &files[1], &files[2], &copy]);
     assert!(
-        e.contains("sample 1 is in") && e.contains("exactly one shard"),
+        e.contains("shard 2/3 is in") && e.contains("exactly one shard"),
         "{e}"
     );
+    // Shards of two splits.
+    let e = merge_err(&[&files[0], &tmp("s2of2.json")]);
+    assert!(e.contains("one split K/N with one N"), "{e}");
     // Another study: a different seed, or a different number of samples.
     let other = tmp("other-seed.json");
     shard(1, 3, n, &other, "8");
@@ -193,6 +212,13 @@ fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
     std::fs::write(&junk, text.replace("\"steps\":", "\"stepz\":")).unwrap();
     let e = merge_err(&[&junk]);
     assert!(e.contains("bad shard file") && e.contains("stepz"), "{e}");
+    // A version 2 shard (every sample's record) is named as such.
+    std::fs::write(&junk, text.replace("\"version\":3", "\"version\":2")).unwrap();
+    let e = merge_err(&[&junk]);
+    assert!(
+        e.contains("shard file version 2 (this camsim reads version 3)"),
+        "{e}"
+    );
     if let Some(dir) = junk.parent() {
         let _ = std::fs::remove_dir_all(dir);
     }

@@ -84,6 +84,49 @@ pub struct Options {
     pub repeat: u32,
     /// Measure the jump-onset speed.
     pub onset: bool,
+    /// Run past [`MAX_BENCH_SECONDS`] of estimated time (`--allow-long`).
+    pub allow_long: bool,
+}
+
+/// The longest a bench may be estimated to run without `--allow-long`: 1 hour. The
+/// bench is run by hand or in CI (`--quick`), never as a batch job, and an hour holds the
+/// default full bench (`--repeat 5`) even on a loaded machine (about 34 min estimated at
+/// a 2.8 s reference run, load 15 on 2 cores).
+pub const MAX_BENCH_SECONDS: f64 = 3600.0;
+
+/// The bench's time in units of its reference run's (the first thing it runs, timed):
+/// `(fixed, per repetition)`, for `--quick` and for the full bench; the ratios hold across
+/// machines and loads as far as every run slows alike. Measured (BENCHMARKS.md, "How long
+/// the bench runs"): `--quick` 4.3 references at `--repeat 1` and 5.9 at 3 (10.7 s and
+/// 16.9 s); the full bench 247 references at `--repeat 1` (698 s, reference 2.83 s),
+/// split about evenly between the fixed part (reference, stability, jump onsets) and
+/// the repetitions, an estimate: no second full run was measured.
+pub const BENCH_TIME_IN_REFERENCES: [(f64, f64); 2] = [
+    (QUICK_FIXED, QUICK_PER_REPEAT),
+    (FULL_FIXED, FULL_PER_REPEAT),
+];
+const QUICK_FIXED: f64 = 3.5;
+const QUICK_PER_REPEAT: f64 = 0.9;
+const FULL_FIXED: f64 = 130.0;
+const FULL_PER_REPEAT: f64 = 120.0;
+
+/// The estimated wall time, s, of a bench of `repeat` repetitions whose reference run took
+/// `reference_s`.
+pub fn estimate_seconds(reference_s: f64, quick: bool, repeat: u32) -> f64 {
+    let (fixed, per) = BENCH_TIME_IN_REFERENCES[usize::from(!quick)];
+    reference_s * (fixed + per * f64::from(repeat))
+}
+
+/// Refuses a bench estimated past [`MAX_BENCH_SECONDS`] unless `allow`.
+pub fn check_time(estimate_s: f64, repeat: u32, allow: bool) -> Result<()> {
+    if estimate_s > MAX_BENCH_SECONDS && !allow {
+        anyhow::bail!(
+            "--repeat {repeat}: the bench would take about {} (from its reference run), over the {} limit (use a smaller --repeat, or --allow-long)",
+            crate::study_limits::duration(estimate_s),
+            crate::study_limits::duration(MAX_BENCH_SECONDS)
+        );
+    }
+    Ok(())
 }
 
 /// The f32 math of this build.
@@ -247,6 +290,10 @@ pub struct BenchReport {
     pub repeat: u32,
     /// Wall time of the whole bench, s.
     pub bench_seconds: f64,
+    /// Wall time of its reference run (the first thing it runs), s.
+    pub reference_seconds: f64,
+    /// The time estimated from the reference run before the rest ran, s.
+    pub estimated_seconds: f64,
     /// Resolution of the jump-onset bisection, rpm.
     pub onset_resolution_rpm: f64,
     /// Each method against Dormand-Prince at equal acceleration error (full scene f64;
@@ -886,8 +933,12 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
 
     // The reference and its confirmation by a different method.
     let ref_settings = settings::<f64>(REFERENCE_RTOL);
+    let t_ref = Instant::now();
     let reference = measure_run(Method::England, &model, &ref_settings, 1, true)
         .context("the reference run")?;
+    let reference_s = t_ref.elapsed().as_secs_f64();
+    let estimated_s = estimate_seconds(reference_s, opts.quick, opts.repeat);
+    check_time(estimated_s, opts.repeat, opts.allow_long)?;
     let confirm = measure_run(Method::Dopri5, &model, &ref_settings, 1, false)
         .context("the confirming reference run")?;
     let r = &reference.samples;
@@ -1022,6 +1073,8 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
         quick: opts.quick,
         repeat: opts.repeat,
         bench_seconds: start.elapsed().as_secs_f64(),
+        reference_seconds: reference_s,
+        estimated_seconds: estimated_s,
         onset_resolution_rpm: ONSET_RESOLUTION,
         equal_error,
         memory: Memory::of_this_build(),
@@ -1031,6 +1084,27 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_bench_past_the_hour_is_refused_unless_asked_for() {
+        // The estimate is linear in --repeat: fixed + repeat x per-repetition references.
+        let (f, p) = BENCH_TIME_IN_REFERENCES[1];
+        assert_eq!(estimate_seconds(2.0, false, 10), 2.0 * (f + 10.0 * p));
+        let (f, p) = BENCH_TIME_IN_REFERENCES[0];
+        assert_eq!(estimate_seconds(2.0, true, 3), 2.0 * (f + 3.0 * p));
+        // The full bench's default at a 2.5 s reference is well inside the hour; --repeat
+        // 100 is not.
+        assert!(check_time(estimate_seconds(2.5, false, 5), 5, false).is_ok());
+        let long = estimate_seconds(2.5, false, 100);
+        let e = check_time(long, 100, false).unwrap_err().to_string();
+        assert!(
+            e.starts_with("--repeat 100: the bench would take about")
+                && e.contains("over the 1.0 h limit")
+                && e.contains("--allow-long"),
+            "{e}"
+        );
+        assert!(check_time(long, 100, true).is_ok());
+    }
 
     #[test]
     fn cost_at_error_interpolates_along_the_front() {

@@ -374,6 +374,9 @@ pub fn report(args: &Args) -> Result<CompareReport> {
     let t0 = std::time::Instant::now();
     let base = base_spec(args)?;
     let mut plan = Plan::new(args.force);
+    if let Some(p) = &args.scene {
+        plan.input("scene file", p);
+    }
     let plot_target = match &args.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,

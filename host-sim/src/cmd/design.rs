@@ -70,6 +70,14 @@ pub struct McArgs {
     /// rougher ones): the tolerance that passes depends strongly on it.
     #[arg(long, value_name = "FPR", value_parser = clap::value_parser!(u32).range(2..=2000))]
     pub waviness_fpr: Option<u32>,
+    /// `design tolerance` only: search the roughest waviness instead, the highest FPR
+    /// (the shortest waves: the acceleration a wave imposes grows as FPR², docs/MODEL.md
+    /// §9.6) that passes at the tolerance --tolerance-factor.
+    #[arg(long, conflicts_with = "waviness_fpr")]
+    pub waviness: bool,
+    /// With --waviness: the tolerances held, a factor on VI.1's (default 1).
+    #[arg(long, value_name = "FACTOR", allow_hyphen_values = true, value_parser = crate::args::positive_finite, requires = "waviness")]
+    pub tolerance_factor: Option<f64>,
     /// CI's quick mode: a coarse bracket and --p-max at least 0.1 (35 cams a step).
     #[arg(long)]
     pub quick: bool,
@@ -87,7 +95,7 @@ fn p_max_and_samples(p_max: f64, quick: bool, samples: Option<u64>) -> (f64, u64
 
 /// The Monte Carlo model of the design searches: the quasi-static cantilever, vertical
 /// (docs/RESULTS.md "Reduced scenes": adequate for P(jump) on actual cams), at rtol 1e-4.
-fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
+pub fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
     let mut mc = spec.clone();
     mc.dofs.horizontal = false;
     mc.dofs.follower = FollowerModel::QuasiStaticCantilever;
@@ -133,8 +141,11 @@ pub struct McSearchReport {
     pub search: String,
     /// The answer: the highest passing speed (rpm) or the loosest passing tolerance factor.
     pub answer: f64,
-    /// Its unit: `rpm` or `factor on VI.1's tolerances`.
+    /// Its unit: `rpm`, `factor on VI.1's tolerances` or `FPR`.
     pub unit: String,
+    /// With `design tolerance --waviness`: the factor on VI.1's tolerances held.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance_factor: Option<f64>,
     /// The nearest value tried that fails (absent: none failed up to the search's limit).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failing: Option<f64>,
@@ -176,6 +187,12 @@ pub struct McSearchReport {
 /// with the speed and the tolerance (the report says so).
 pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     let t0 = Instant::now();
+    anyhow::ensure!(
+        !(speed && args.waviness),
+        "--waviness: only `design tolerance` searches the waviness"
+    );
+    let waviness = args.waviness;
+    let factor = args.tolerance_factor.unwrap_or(1.0);
     let mut spec = spec_from(&args.scene)?;
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
@@ -194,6 +211,10 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
             crate::cmd::jump_speed::MAX_RPM,
             if args.quick { 100.0 } else { 5.0 },
         )
+    } else if waviness {
+        // FPR: from 8 doubling to the finest waviness the profile can be given (720
+        // points a revolution, about FPR 570), to one wave.
+        (8.0, 512.0, if args.quick { 16.0 } else { 1.0 })
     } else {
         (0.1, 20.0, if args.quick { 0.5 } else { 0.05 })
     };
@@ -206,8 +227,14 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
             waviness_fpr: args.waviness_fpr,
             ..ActualArgs::default()
         };
+        // A waviness is a whole number of waves.
+        let x = if waviness { x.round() } else { x };
         if speed {
             s.design.set_speed_rpm(x)?;
+        } else if waviness {
+            actual.waviness_fpr = Some(x as u32);
+            actual.cam_tolerance = Some(reference.cam * factor);
+            actual.roller_tolerance = Some(reference.roller * factor);
         } else {
             actual.cam_tolerance = Some(reference.cam * x);
             actual.roller_tolerance = Some(reference.roller * x);
@@ -222,11 +249,18 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         Ok(!ok)
     })?;
     let (answer, failing) = match onset {
+        Onset::Bracketed { below, at } if waviness => (below.round(), Some(at.round())),
         Onset::Bracketed { below, at } => (below, Some(at)),
         Onset::Beyond(m) => (m, None),
         Onset::AtStart(x) => bail!(
             "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
-            if speed { "rpm" } else { "times VI.1's tolerances" }
+            if speed {
+                "rpm"
+            } else if waviness {
+                "FPR: a tighter --tolerance-factor"
+            } else {
+                "times VI.1's tolerances"
+            }
         ),
     };
     let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
@@ -238,26 +272,48 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         None
     };
     let report = McSearchReport {
-        search: if speed { "speed" } else { "tolerance" }.into(),
+        search: if speed {
+            "speed"
+        } else if waviness {
+            "waviness"
+        } else {
+            "tolerance"
+        }
+        .into(),
         answer,
         unit: if speed {
             "rpm".into()
+        } else if waviness {
+            "FPR".into()
         } else {
             "factor on VI.1's tolerances (cam 0.0005 in, roller 0.0001 in)".into()
         },
+        tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed).then_some(reference.cam * answer),
-        roller_tolerance_in: (!speed).then_some(reference.roller * answer),
+        cam_tolerance_in: (!speed).then_some(reference.cam * if waviness { factor } else { answer }),
+        roller_tolerance_in: (!speed)
+            .then_some(reference.roller * if waviness { factor } else { answer }),
         theoretical_onset_rpm,
         operating_rpm: op_rpm,
         p_jump,
         criterion: format!(
-            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness FPR {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
+            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
             args.seed,
-            args.waviness_fpr.map_or_else(|| "17 (default)".to_string(), |f| f.to_string()),
+            if waviness {
+                format!("searched, tolerances {factor} x VI.1's")
+            } else {
+                args.waviness_fpr
+                    .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
+            },
             if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
-            if speed { "speed" } else { "tolerance" }
+            if speed {
+                "speed"
+            } else if waviness {
+                "FPR (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+            } else {
+                "tolerance"
+            }
         ),
         samples: n,
         seed: args.seed,
@@ -289,6 +345,19 @@ impl Report for McSearchReport {
                     "  theoretical cam's jump onset: {t:.1} rpm (full model)"
                 );
             }
+        } else if self.search == "waviness" {
+            let _ = writeln!(
+                out,
+                "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{:.5} in, roller ±{:.6} in)",
+                self.answer,
+                self.tolerance_factor.unwrap_or(1.0),
+                self.cam_tolerance_in.unwrap_or(0.0),
+                self.roller_tolerance_in.unwrap_or(0.0)
+            );
+            let _ = writeln!(
+                out,
+                "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+            );
         } else {
             let _ = writeln!(
                 out,
@@ -298,11 +367,12 @@ impl Report for McSearchReport {
                 self.roller_tolerance_in.unwrap_or(0.0)
             );
         }
+        let d = if self.search == "waviness" { 0 } else { 4 };
         match self.failing {
             Some(f) => {
                 let _ = writeln!(
                     out,
-                    "  bracket: passes at {:.4}, fails at {f:.4} (width {:.4} {})",
+                    "  bracket: passes at {:.d$}, fails at {f:.d$} (width {:.d$} {})",
                     self.answer, self.bracket, self.unit
                 );
             }
@@ -328,7 +398,10 @@ impl Report for McSearchReport {
         let tried: Vec<String> = self
             .tried
             .iter()
-            .map(|(x, ok)| format!("{x:.3}{}", if *ok { "+" } else { "-" }))
+            .map(|(x, ok)| {
+                let d = if self.search == "waviness" { 0 } else { 3 };
+                format!("{x:.d$}{}", if *ok { "+" } else { "-" })
+            })
             .collect();
         let _ = writeln!(out, "  values tried (+ passes): {}", tried.join(" "));
         let _ = writeln!(
@@ -373,13 +446,29 @@ pub struct SpringArgs {
     /// Largest rate searched, lb/in.
     #[arg(long, default_value_t = MAX_RATE, allow_hyphen_values = true, value_parser = crate::args::spring_rate)]
     pub max_rate: f64,
-    /// CI's quick mode: resolution 10 lb/in; with --actual, --p-max at least 0.1 (35 cams).
+    /// Search the spring's preload length δ_rs instead of its rate: the shortest
+    /// compression at assembly (at the scene's or --spring-rate's rate) that passes.
+    #[arg(long)]
+    pub preload: bool,
+    /// Largest preload length searched with --preload, in.
+    #[arg(long, default_value_t = MAX_PRELOAD_LENGTH, value_name = "IN", allow_hyphen_values = true, value_parser = crate::args::positive_finite, requires = "preload")]
+    pub max_preload_length: f64,
+    /// CI's quick mode: resolution 10 lb/in (0.1 in with --preload); with --actual,
+    /// --p-max at least 0.1 (35 cams).
     #[arg(long)]
     pub quick: bool,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
 }
+
+/// The preload search's first length, in: a tenth of the reference's 0.5 in.
+pub const START_PRELOAD_LENGTH: f64 = 0.05;
+/// The default largest preload length, in: 20 times the reference's 0.5 in, beyond any
+/// compression the reference spring's coils could take.
+pub const MAX_PRELOAD_LENGTH: f64 = 10.0;
+/// The preload search's bracket width, in (0.1 in the quick mode).
+pub const PRELOAD_RESOLUTION: f64 = 0.005;
 
 /// The quick mode's least --p-max (35 actual cams a rate).
 pub const QUICK_P_MAX: f64 = 0.1;
@@ -414,13 +503,23 @@ pub fn samples_for(p: f64) -> u64 {
 /// What was checked at the chosen rate.
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringReport {
-    /// The smallest rate found that passes, lb/in.
+    /// What the search varied: `spring rate` (at the preload length) or `preload length`
+    /// (at the rate, with --preload).
+    pub searched: String,
+    /// The smallest rate found that passes, lb/in (with --preload: the rate held).
     pub spring_rate_lb_per_in: f64,
     /// The largest rate tried that fails, lb/in (absent: the first rate tried passed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failing_rate_lb_per_in: Option<f64>,
-    /// Bracket width, lb/in (the answer is within it of the true smallest rate).
+    /// Bracket width, lb/in (the answer is within it of the true smallest rate; 0 with
+    /// --preload, where the rate is held).
     pub bracket_lb_per_in: f64,
+    /// With --preload: the longest preload length tried that fails, in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failing_preload_length_in: Option<f64>,
+    /// With --preload: the bracket width, in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preload_bracket_in: Option<f64>,
     /// The spring's preload at assembly, lb.
     pub preload_lb: f64,
     /// Preload length, in.
@@ -481,28 +580,53 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let resolution = if args.quick {
-        args.resolution.max(10.0)
+    let preload = args.preload;
+    let (start, max, resolution) = if preload {
+        let res = if args.quick { 0.1 } else { PRELOAD_RESOLUTION };
+        if args.max_preload_length <= START_PRELOAD_LENGTH {
+            bail!(
+                "--max-preload-length {}: must be above the search's first length {START_PRELOAD_LENGTH} in",
+                args.max_preload_length
+            );
+        }
+        (START_PRELOAD_LENGTH, args.max_preload_length, res)
     } else {
-        args.resolution
+        let res = if args.quick {
+            args.resolution.max(10.0)
+        } else {
+            args.resolution
+        };
+        if args.max_rate <= START_RATE {
+            bail!(
+                "--max-rate {}: must be above the search's first rate {START_RATE} lb/in",
+                args.max_rate
+            );
+        }
+        (START_RATE, args.max_rate, res)
     };
-    if args.max_rate <= START_RATE {
-        bail!(
-            "--max-rate {}: must be above the search's first rate {START_RATE} lb/in",
-            args.max_rate
-        );
-    }
-    let search = OnsetSearch::new(START_RATE, Some(2.0), args.max_rate, resolution)?;
+    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut runs: u64 = 0;
-    let with_rate = |base: &RunSpec, k: f64| -> Result<RunSpec> {
+    // The spring with the searched value: its rate (its mass following it), or its
+    // preload length at the rate held.
+    let with_rate = |base: &RunSpec, x: f64| -> Result<RunSpec> {
         let mut s = base.clone();
-        s.design.set_spring_rate(k)?;
+        if preload {
+            s.design.delta_rs = x;
+        } else {
+            s.design.set_spring_rate(x)?;
+        }
         s.design
             .validate()
             .map_err(|e| camsim_scene_file::refusal("design", e))?;
         Ok(s)
     };
+    let what = if preload {
+        "preload length"
+    } else {
+        "spring rate"
+    };
+    let unit = if preload { "in" } else { "lb/in" };
     let mut report = if args.actual {
         let mc = monte_carlo_model(&spec);
         let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
@@ -515,7 +639,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         let mut last_p: Option<(f64, Probability)> = None;
         let onset = search.find(|k| -> Result<bool> {
             let p = p_jump_on_actual_cams(&with_rate(&mc, k)?, &actual, n, nthreads, &mut runs)
-                .map_err(|e| e.context(format!("spring rate {k} lb/in")))?;
+                .map_err(|e| e.context(format!("{what} {k} {unit}")))?;
             let ok = p.hi95 <= p_max;
             if ok {
                 last_p = Some((k, p));
@@ -523,12 +647,15 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             tried.push((k, ok));
             Ok(ok)
         })?;
-        let (rate, below) = answer(onset, args.max_rate, "P(jump) above --p-max")?;
+        let (rate, below) = answer(onset, max, preload, "P(jump) above --p-max")?;
         let p = last_p.filter(|(k, _)| *k == rate).map(|(_, p)| p);
         SpringReport {
+            searched: what.into(),
             spring_rate_lb_per_in: rate,
             failing_rate_lb_per_in: below,
             bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
+            failing_preload_length_in: None,
+            preload_bracket_in: None,
             preload_lb: 0.0,
             preload_length_in: spec.design.delta_rs,
             spring_mass_lb: 0.0,
@@ -562,15 +689,18 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             tried.push((k, ok));
             Ok(ok)
         })?;
-        let (rate, below) = answer(onset, args.max_rate, "separates")?;
+        let (rate, below) = answer(onset, max, preload, "separates")?;
         // The chosen spring's own jump onset: the margin it really has.
         let chosen = with_rate(&spec, rate)?;
         let js = crate::cmd::jump_speed::find(&chosen, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
         SpringReport {
+            searched: what.into(),
             spring_rate_lb_per_in: rate,
             failing_rate_lb_per_in: below,
             bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
+            failing_preload_length_in: None,
+            preload_bracket_in: None,
             preload_lb: 0.0,
             preload_length_in: spec.design.delta_rs,
             spring_mass_lb: 0.0,
@@ -593,7 +723,21 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             wall_s: 0.0,
         }
     };
-    let chosen = with_rate(&spec, report.spring_rate_lb_per_in)?;
+    if preload {
+        // The answer is a length: the rate is the scene's.
+        let length = report.spring_rate_lb_per_in;
+        report.failing_preload_length_in = report.failing_rate_lb_per_in.take();
+        report.preload_bracket_in = Some(report.bracket_lb_per_in);
+        report.bracket_lb_per_in = 0.0;
+        report.spring_rate_lb_per_in = spec.design.k_rs;
+        report.preload_length_in = length;
+    }
+    let answer_value = if preload {
+        report.preload_length_in
+    } else {
+        report.spring_rate_lb_per_in
+    };
+    let chosen = with_rate(&spec, answer_value)?;
     let hs = chosen.design.spring()?;
     report.preload_lb = chosen.design.preload()?;
     report.spring_mass_lb = hs.mass * 386.09;
@@ -604,11 +748,15 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     Ok(report)
 }
 
-/// The passing rate and the failing one below it from the search's outcome.
-fn answer(onset: Onset<f64>, max: f64, fails: &str) -> Result<(f64, Option<f64>)> {
+/// The passing value (rate or preload length) and the failing one below it from the
+/// search's outcome.
+fn answer(onset: Onset<f64>, max: f64, preload: bool, fails: &str) -> Result<(f64, Option<f64>)> {
     match onset {
         Onset::AtStart(k) => Ok((k, None)),
         Onset::Bracketed { below, at } => Ok((at, Some(below))),
+        Onset::Beyond(_) if preload => bail!(
+            "no preload length up to --max-preload-length {max} in passes (the follower {fails} at every length tried): a stiffer spring, a gentler program or a lower speed"
+        ),
         Onset::Beyond(_) => bail!(
             "no spring up to --max-rate {max} lb/in passes (the follower {fails} at every rate tried): a larger preload length, a gentler program or a lower speed"
         ),
@@ -622,17 +770,48 @@ impl Report for SpringReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        let _ = writeln!(
-            out,
-            "camsim design spring: {:.1} lb/in at preload length {} in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
-            self.spring_rate_lb_per_in,
-            self.preload_length_in,
-            self.preload_lb,
-            self.active_coils,
-            self.spring_mass_lb,
-            self.surge_hz
-        );
-        match self.failing_rate_lb_per_in {
+        if self.searched == "preload length" {
+            let _ = writeln!(
+                out,
+                "camsim design spring --preload: preload length {:.3} in at the rate held, {:.1} lb/in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
+                self.preload_length_in,
+                self.spring_rate_lb_per_in,
+                self.preload_lb,
+                self.active_coils,
+                self.spring_mass_lb,
+                self.surge_hz
+            );
+            match (self.failing_preload_length_in, self.preload_bracket_in) {
+                (Some(b), Some(w)) => {
+                    let _ = writeln!(
+                        out,
+                        "  searched: the preload length; bracket: fails at {b:.3} in, passes at {:.3} in (width {w:.3} in)",
+                        self.preload_length_in
+                    );
+                }
+                _ => {
+                    let _ = writeln!(
+                        out,
+                        "  searched: the preload length; the first length tried passes: any length up to it may do"
+                    );
+                }
+            }
+        } else {
+            let _ = writeln!(
+                out,
+                "camsim design spring: {:.1} lb/in at preload length {} in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
+                self.spring_rate_lb_per_in,
+                self.preload_length_in,
+                self.preload_lb,
+                self.active_coils,
+                self.spring_mass_lb,
+                self.surge_hz
+            );
+        }
+        match self
+            .failing_rate_lb_per_in
+            .filter(|_| self.searched != "preload length")
+        {
             Some(b) => {
                 let _ = writeln!(
                     out,
@@ -640,12 +819,13 @@ impl Report for SpringReport {
                     self.spring_rate_lb_per_in, self.bracket_lb_per_in
                 );
             }
-            None => {
+            None if self.searched != "preload length" => {
                 let _ = writeln!(
                     out,
                     "  the first rate tried passes: any rate up to it may do"
                 );
             }
+            None => {}
         }
         let _ = writeln!(out, "  criterion: {}", self.criterion);
         if let (Some(j), Some(b)) = (self.jump_onset_rpm, self.jump_onset_bracket_rpm) {
@@ -668,9 +848,23 @@ impl Report for SpringReport {
         let tried: Vec<String> = self
             .tried
             .iter()
-            .map(|(k, ok)| format!("{k:.1}{}", if *ok { "+" } else { "-" }))
+            .map(|(k, ok)| {
+                if self.searched == "preload length" {
+                    format!("{k:.3}{}", if *ok { "+" } else { "-" })
+                } else {
+                    format!("{k:.1}{}", if *ok { "+" } else { "-" })
+                }
+            })
             .collect();
-        let _ = writeln!(out, "  rates tried (lb/in, + passes): {}", tried.join(" "));
+        if self.searched == "preload length" {
+            let _ = writeln!(
+                out,
+                "  preload lengths tried (in, + passes): {}",
+                tried.join(" ")
+            );
+        } else {
+            let _ = writeln!(out, "  rates tried (lb/in, + passes): {}", tried.join(" "));
+        }
         let _ = writeln!(
             out,
             "  {} model runs of 2 revolutions, {:.1} s",

@@ -149,7 +149,11 @@ pub fn study(
         .num_threads(threads.max(1))
         .build()
         .context("cannot start the worker threads")?;
+    // A progress bar on a terminal: the theoretical search and every sample's.
+    let bar =
+        crate::cmd::montecarlo::progress_bar_of(u64::from(samples) + 1, true, "onset searches");
     let theory = find(spec, resolution, max_rpm).context("the theoretical cam")?;
+    bar.inc(1);
     let results: Vec<Result<JumpSpeed>> = pool.install(|| {
         (0..u64::from(samples))
             .into_par_iter()
@@ -157,10 +161,13 @@ pub fn study(
                 let (dev, _) = crate::actual::build_profile(&spec.design, actual, i)?;
                 let mut s = spec.clone();
                 s.profile = Some(Arc::new(dev));
-                find(&s, resolution, max_rpm).with_context(|| format!("sample {i}"))
+                let r = find(&s, resolution, max_rpm).with_context(|| format!("sample {i}"));
+                bar.inc(1);
+                r
             })
             .collect()
     });
+    bar.finish_and_clear();
     let mut onsets = Vec::with_capacity(results.len());
     let mut simulations = theory.simulations;
     for r in results {

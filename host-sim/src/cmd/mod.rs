@@ -16,5 +16,6 @@ pub mod run;
 pub mod scene;
 pub mod scenes;
 pub mod sensitivity;
+pub mod sweep;
 pub mod tolerance_study;
 pub mod waviness;

@@ -5,25 +5,28 @@
 //! `RandomStream::for_sample(S, i, method)` alone; it is simulated for
 //! `--revolutions` (default 2) and the per-period statistics of its revolution 2 (cycle
 //! II; revolution 1 in a reduced study of one revolution), the columns of `camsim run`'s
-//! table, are kept as one [`SampleRecord`]. The records
-//! are collected by index and reduced in index order (never in the order the threads
-//! finish), so the [`Summary`] is the same bit for bit for any `--threads`, and for any
-//! split into shards (`--shard K/N`, then `camsim montecarlo merge`).
+//! table, make one [`SampleRecord`], which is added to the study's streamed statistics
+//! ([`StudyStats`], `crate::stats::study`) and dropped: memory does not grow with the
+//! samples. Every statistic is order-independent (exact sums, integer counts, fixed
+//! histogram bins), so the [`Summary`] is the same bit for bit for any `--threads`, any
+//! order the samples finish in, and any split into shards (`--shard K/N`, then
+//! `camsim montecarlo merge`).
 //!
 //! Shards are strided: shard `K` of `N` runs the samples `i ≡ K − 1 (mod N)`. Every
 //! shard then sees the whole seed range and finishes in about the same time; a shard
 //! file (JSON, written atomically through [`crate::output`]) holds the study's settings
-//! and every record of the shard, and the merge checks that the files belong to one
-//! study and cover every sample exactly once before it reduces them with the same code
-//! as a single-machine run.
+//! and the statistics of the shard's samples, and the merge checks that the files belong
+//! to one study and are every shard K of one N exactly once before it adds them up.
 //!
-//! Statistics of a column over the samples ([`Moments`]): the mean (sum in index
-//! order over n), the sample standard deviation (n − 1, two passes), the minimum and
-//! maximum, and the 5th, 50th and 95th percentiles by linear interpolation between
-//! order statistics at rank `(n − 1)p` (Hyndman and Fan's type 7). The probability
-//! of a jump is the fraction of samples with a separation in the period (or anywhere
-//! in revolution 2) and its binomial standard error `√(p(1 − p)/n)`. A non-finite
-//! statistic anywhere is an error, never a result.
+//! Statistics of a column over the samples ([`Moments`], `crate::stats::stream`): the
+//! mean (the exact sum rounded once, over n), the sample standard deviation (n − 1; the
+//! exact Σ(x − mean)², rounded once), the minimum and maximum, and the 5th, 50th and
+//! 95th percentiles by linear interpolation between order statistics at rank
+//! `(n − 1)p` (Hyndman and Fan's type 7), each order statistic read from a histogram
+//! bin of 2⁻¹⁰ relative width (within 0.098 % of its value; exact while a bin holds at
+//! most two samples). The probability of a jump is the fraction of samples with a
+//! separation in the period (or anywhere in revolution 2) with its 95 % Wilson
+//! interval. A non-finite statistic anywhere is an error, never a result.
 
 use std::collections::BTreeMap;
 use std::io::{IsTerminal, Write};
@@ -35,7 +38,7 @@ use std::time::Instant;
 use anyhow::{anyhow, bail, Context, Result};
 use camsim_core::DriveLaw;
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize, Serializer};
+use serde::{Deserialize, Serialize};
 
 use crate::actual::{self, ActualArgs};
 use crate::cmd::run::{spec_from, SceneArgs};
@@ -55,7 +58,7 @@ pub fn measured_revolution(revolutions: u32) -> u32 {
 /// The shard file's `format` tag.
 pub const SHARD_FORMAT: &str = "camsim-montecarlo-shard";
 /// The shard file's format version.
-pub const SHARD_VERSION: u32 = 2;
+pub const SHARD_VERSION: u32 = 3;
 
 /// Command-line options of `camsim montecarlo`.
 #[derive(clap::Args, Debug, Clone)]
@@ -73,11 +76,11 @@ pub struct Args {
     /// Run only shard K of N (K from 1): the samples i with i mod N = K - 1. Needs --out.
     #[arg(long, value_name = "K/N", value_parser = parse_shard, requires = "out")]
     pub shard: Option<Shard>,
-    /// Write every sample's record to FILE (JSON; the shard file `merge` reads).
+    /// Write the samples' statistics to FILE (JSON; the shard file `merge` reads).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Run a study past the limits of memory (4 GB of records, 4 million samples) and
-    /// estimated time (24 h) that otherwise refuse it (`camsim::study_limits`).
+    /// Run a study past the limit of estimated time (24 h on its threads) that otherwise
+    /// refuses it (`camsim::study_limits`).
     #[arg(long)]
     pub allow_long: bool,
     /// Common output options.
@@ -159,6 +162,13 @@ impl Shard {
     /// The sample indices of this shard among `samples`: K − 1, K − 1 + N, ...
     pub fn indices(self, samples: u64) -> impl Iterator<Item = u64> {
         (self.index - 1..samples).step_by(self.count as usize)
+    }
+
+    /// How many of `samples` this shard holds.
+    pub fn len(self, samples: u64) -> u64 {
+        samples
+            .saturating_sub(self.index - 1)
+            .div_ceil(self.count.max(1))
     }
 }
 
@@ -476,227 +486,106 @@ impl Study {
         anyhow::ensure!(out.len() == indices.len(), "a sample failed");
         Ok(out)
     }
+
+    /// Runs the samples of `shard` on a local pool of `threads` threads, with progress
+    /// (`progress`: a bar on a terminal, lines otherwise), and returns their statistics:
+    /// each record is added to a thread's [`StudyStats`] and dropped, so memory does not
+    /// grow with the samples, and the result does not depend on the threads. The first
+    /// failure stops the samples not yet started; the error names the lowest failing
+    /// index among those that ran.
+    pub fn run_stats(&self, shard: Shard, threads: usize, progress: bool) -> Result<StudyStats> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads.max(1))
+            .stack_size(16 << 20)
+            .build()
+            .context("cannot start the worker threads")?;
+        let count = shard.len(self.settings.samples);
+        let bar = progress_bar(count, progress);
+        let lines = crate::study_limits::ProgressLines::new(
+            "camsim montecarlo",
+            count,
+            progress && crate::study_limits::ProgressLines::batch(),
+        );
+        let stop = AtomicBool::new(false);
+        type Part = (StudyStats, Option<(u64, anyhow::Error)>);
+        fn lowest(
+            a: Option<(u64, anyhow::Error)>,
+            b: Option<(u64, anyhow::Error)>,
+        ) -> Option<(u64, anyhow::Error)> {
+            match (a, b) {
+                (Some(x), Some(y)) => Some(if y.0 < x.0 { y } else { x }),
+                (x, y) => x.or(y),
+            }
+        }
+        let (stats, err): Part = pool.install(|| {
+            use rayon::iter::IntoParallelIterator;
+            (0..count)
+                .into_par_iter()
+                .map(|j| shard.index - 1 + j * shard.count)
+                .fold(
+                    || (StudyStats::default(), None),
+                    |(mut acc, err): Part, i| {
+                        if stop.load(Ordering::Relaxed) {
+                            return (acc, err);
+                        }
+                        let r = self.sample(i).and_then(|rec| acc.add(&rec));
+                        bar.inc(1);
+                        lines.inc();
+                        match r {
+                            Ok(()) => (acc, err),
+                            Err(e) => {
+                                stop.store(true, Ordering::Relaxed);
+                                (acc, lowest(err, Some((i, e))))
+                            }
+                        }
+                    },
+                )
+                .reduce(
+                    || (StudyStats::default(), None),
+                    |(mut a, ea): Part, (b, eb): Part| {
+                        let e = match a.merge(&b) {
+                            Ok(()) => None,
+                            Err(e) => Some((u64::MAX, e)),
+                        };
+                        (a, lowest(lowest(ea, eb), e))
+                    },
+                )
+        });
+        bar.finish_and_clear();
+        if let Some((i, e)) = err {
+            return Err(e.context(format!("sample {i} (seed {}) failed", self.settings.seed)));
+        }
+        anyhow::ensure!(stats.samples == count, "a sample failed");
+        Ok(stats)
+    }
 }
 
 /// A progress bar on standard error when it is a terminal and `want`, hidden otherwise.
 fn progress_bar(len: u64, want: bool) -> indicatif::ProgressBar {
+    progress_bar_of(len, want, "samples")
+}
+
+/// A progress bar of `len` items called `unit` on standard error when it is a terminal
+/// and `want`, hidden otherwise (the studies and the design searches share it).
+pub fn progress_bar_of(len: u64, want: bool, unit: &str) -> indicatif::ProgressBar {
     use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
     if !want || !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:40}] {pos}/{len} samples, {per_sec}, eta {eta}",
-    ) {
+    if let Ok(style) = ProgressStyle::with_template(&format!(
+        "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {unit}, {{per_sec}}, eta {{eta}}"
+    )) {
         bar.set_style(style.progress_chars("=> "));
     }
     bar
 }
 
-/// Mean, standard deviation and percentiles of one statistic over the samples.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Moments {
-    /// Mean.
-    pub mean: f64,
-    /// Sample standard deviation (n − 1; 0 for one sample).
-    pub sd: f64,
-    /// 5th percentile.
-    pub p5: f64,
-    /// Median.
-    pub p50: f64,
-    /// 95th percentile.
-    pub p95: f64,
-    /// Smallest.
-    pub min: f64,
-    /// Largest.
-    pub max: f64,
-}
-
-/// The percentile `p` (0..1) of sorted values: linear between the order statistics
-/// at rank `(n − 1)p` (type 7).
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    let n = sorted.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    let h = (n - 1) as f64 * p;
-    let lo = h.floor() as usize;
-    let hi = (lo + 1).min(n - 1);
-    let (a, b) = (sorted[lo], sorted[hi]);
-    a + (h - lo as f64) * (b - a)
-}
-
-impl Moments {
-    /// The moments of `values` (in index order; at least one, all finite).
-    pub fn of(what: &str, values: &[f64]) -> Result<Self> {
-        anyhow::ensure!(!values.is_empty(), "{what}: no samples");
-        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-            bail!("{what}: a sample is {v}");
-        }
-        let n = values.len() as f64;
-        let mean = values.iter().sum::<f64>() / n;
-        let sd = if values.len() > 1 {
-            (values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0)).sqrt()
-        } else {
-            0.0
-        };
-        let mut sorted = values.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        let m = Moments {
-            mean,
-            sd,
-            p5: percentile(&sorted, 0.05),
-            p50: percentile(&sorted, 0.50),
-            p95: percentile(&sorted, 0.95),
-            min: sorted[0],
-            max: sorted[sorted.len() - 1],
-        };
-        for (k, v) in [
-            ("mean", m.mean),
-            ("sd", m.sd),
-            ("p5", m.p5),
-            ("p50", m.p50),
-            ("p95", m.p95),
-        ] {
-            anyhow::ensure!(v.is_finite(), "{what}: the {k} is {v}");
-        }
-        Ok(m)
-    }
-}
-
+pub use crate::stats::stream::Moments;
+pub use crate::stats::study::{
+    revolution_value, summarize, Columns, PeriodSummary, StudyStats, Summary, REVOLUTION_COLUMNS,
+};
 pub use crate::stats::Probability;
-
-/// Named statistics in a fixed order (a JSON object in that order).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Columns(pub Vec<(String, Moments)>);
-
-impl Serialize for Columns {
-    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        use serde::ser::SerializeMap;
-        let mut m = s.serialize_map(Some(self.0.len()))?;
-        for (k, v) in &self.0 {
-            m.serialize_entry(k, v)?;
-        }
-        m.end()
-    }
-}
-
-impl Columns {
-    /// The statistics of `name`, if present.
-    pub fn get(&self, name: &str) -> Option<&Moments> {
-        self.0.iter().find(|(k, _)| k == name).map(|(_, m)| m)
-    }
-}
-
-/// One period of revolution 2 over the samples.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct PeriodSummary {
-    /// Period name.
-    pub period: String,
-    /// Every column of the run table.
-    pub columns: Columns,
-    /// Probability of a separation in this period.
-    pub jump: Probability,
-}
-
-/// Whole-revolution statistics of revolution 2 (one value per sample each).
-pub const REVOLUTION_COLUMNS: [&str; 6] = [
-    "acc_rms_sum",
-    "contact_force_min",
-    "contact_force_max",
-    "torque_max",
-    "torque_min",
-    "contact_stress_max",
-];
-
-/// The value of a whole-revolution statistic of one sample: the sum of the periods'
-/// acceleration RMS (the sensitivity index of VI.4.2), or the extreme of the periods'
-/// extremes.
-fn revolution_value(r: &SampleRecord, name: &str) -> f64 {
-    fn col<'a>(r: &'a SampleRecord, c: &'a str) -> impl Iterator<Item = f64> + 'a {
-        r.periods.iter().filter_map(move |p| p.get(c))
-    }
-    match name {
-        "acc_rms_sum" => col(r, "rms_acceleration").sum(),
-        "contact_force_min" | "torque_min" => col(r, name).fold(f64::INFINITY, f64::min),
-        _ => col(r, name).fold(f64::NEG_INFINITY, f64::max),
-    }
-}
-
-/// A study's result over its samples.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Summary {
-    /// Samples reduced.
-    pub samples: u64,
-    /// The revolution the statistics are of.
-    pub revolution: u32,
-    /// Every period of the program.
-    pub periods: Vec<PeriodSummary>,
-    /// Whole-revolution statistics ([`REVOLUTION_COLUMNS`]).
-    pub whole_revolution: Columns,
-    /// Probability of a separation anywhere in the revolution.
-    pub jump: Probability,
-    /// The profiles: waviness FPR and RMS lift deviation, in.
-    pub profile: Columns,
-    /// Accepted solver steps per sample.
-    pub steps: Moments,
-}
-
-/// Reduces records of `revolution` (sorted by index, every index of the study once)
-/// in index order.
-pub fn summarize(records: &[SampleRecord], revolution: u32) -> Result<Summary> {
-    let first = records
-        .first()
-        .ok_or_else(|| anyhow!("no samples to summarize"))?;
-    let n = records.len() as u64;
-    let names: Vec<&str> = first.periods.iter().map(|p| p.period.as_str()).collect();
-    for r in records {
-        let theirs: Vec<&str> = r.periods.iter().map(|p| p.period.as_str()).collect();
-        anyhow::ensure!(
-            theirs == names,
-            "sample {} has the periods {theirs:?}, sample {} {names:?}",
-            r.index,
-            first.index
-        );
-    }
-    let mut periods = Vec::new();
-    for (k, name) in names.iter().enumerate() {
-        let mut columns = Vec::new();
-        for (c, col) in COLUMNS.iter().enumerate() {
-            let v: Vec<f64> = records.iter().map(|r| r.periods[k].values[c]).collect();
-            columns.push((col.to_string(), Moments::of(&format!("{name}.{col}"), &v)?));
-        }
-        let jumps = records.iter().filter(|r| r.periods[k].jump).count() as u64;
-        periods.push(PeriodSummary {
-            period: name.to_string(),
-            columns: Columns(columns),
-            jump: Probability::of(jumps, n),
-        });
-    }
-    let mut whole = Vec::new();
-    for c in REVOLUTION_COLUMNS {
-        let v: Vec<f64> = records.iter().map(|r| revolution_value(r, c)).collect();
-        whole.push((c.to_string(), Moments::of(c, &v)?));
-    }
-    let fpr: Vec<f64> = records.iter().map(|r| r.fpr as f64).collect();
-    let rms: Vec<f64> = records.iter().map(|r| r.rms_deviation_in).collect();
-    let steps: Vec<f64> = records.iter().map(|r| f64::from(r.steps)).collect();
-    Ok(Summary {
-        samples: n,
-        revolution,
-        periods,
-        whole_revolution: Columns(whole),
-        jump: Probability::of(records.iter().filter(|r| r.jump()).count() as u64, n),
-        profile: Columns(vec![
-            ("fpr".into(), Moments::of("fpr", &fpr)?),
-            (
-                "rms_deviation_in".into(),
-                Moments::of("rms_deviation_in", &rms)?,
-            ),
-        ]),
-        steps: Moments::of("steps", &steps)?,
-    })
-}
 
 /// Run time of a study on this machine (not part of the result).
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -748,8 +637,10 @@ pub struct ShardFile {
     pub study: StudySettings,
     /// Which shard.
     pub shard: Shard,
-    /// Its records, by index.
-    pub records: Vec<SampleRecord>,
+    /// Its samples (those of [`Shard::indices`]).
+    pub samples: u64,
+    /// Their statistics (version 3 on; version 2 held every sample's record).
+    pub stats: StudyStats,
     /// The content digest of everything above (`crate::shard::digest`; version 2 on).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub digest: String,
@@ -783,6 +674,9 @@ pub fn execute(args: &Args) -> Result<Outcome> {
     let out = &args.output;
     // Every output checked before any sample runs.
     let mut plan = Plan::new(out.force);
+    if let Some(p) = &args.study.scene.scene {
+        plan.input("scene file", p);
+    }
     let out_target = match &args.out {
         Some(p) => Some(plan.file("--out", p)?),
         None => None,
@@ -801,50 +695,51 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         None => None,
     };
     let threads = threads(args.threads);
-    let indices: Vec<u64> = shard.indices(study.settings.samples).collect();
-    // Memory before any sample, time from the first sample run alone (once more than
-    // the study needs: a sample depends on its index only).
-    crate::study_limits::check_memory(indices.len() as u64, args.allow_long)?;
-    if let Some(&first) = indices.first() {
+    let count = shard.len(study.settings.samples);
+    // Memory does not grow with the samples (streamed statistics); time is estimated
+    // from the first sample run alone (once more than the study needs: a sample depends
+    // on its index only).
+    if let Some(first) = shard.indices(study.settings.samples).next() {
         let t = Instant::now();
-        study.run(&[first], 1, false)?;
+        study.sample(first)?;
         crate::study_limits::check_time(
             t.elapsed().as_secs_f64(),
-            indices.len() as u64,
+            count,
             threads,
             args.allow_long,
         )?;
     }
     let t0 = Instant::now();
-    let records = study.run(&indices, threads, true)?;
+    let stats = study.run_stats(shard, threads, true)?;
     let wall_s = t0.elapsed().as_secs_f64();
     let timing = Timing {
         threads,
         wall_s,
-        samples_per_s: records.len() as f64 / wall_s,
-        samples_per_s_per_thread: records.len() as f64 / wall_s / threads as f64,
+        samples_per_s: stats.samples as f64 / wall_s,
+        samples_per_s_per_thread: stats.samples as f64 / wall_s / threads as f64,
     };
     let summary = if args.shard.is_none() {
-        Some(summarize(&records, study.revolution())?)
+        Some(stats.summary(study.revolution())?)
     } else {
         None
     };
     let mut plots = match (plot_target, &summary) {
         (Some(t), Some(_)) => {
             let mut dir = t.open()?;
-            draw(&mut dir, &records, study.revolution())?;
+            draw(&mut dir, &stats, study.revolution())?;
             Some(dir)
         }
         _ => None,
     };
-    let n = records.len() as u64;
+    let n = stats.samples;
     if let Some(mut f) = out_file.take() {
         let mut file = ShardFile {
             format: SHARD_FORMAT.into(),
             version: SHARD_VERSION,
             study: study.settings.clone(),
             shard,
-            records,
+            samples: n,
+            stats,
             digest: String::new(),
         };
         file.digest = crate::shard::digest(&file)?;
@@ -923,15 +818,19 @@ fn settings_difference(a: &StudySettings, b: &StudySettings) -> String {
 /// Merges shard files into the result of their study (every sample exactly once).
 pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
     let mut plan = Plan::new(out.force);
+    for f in files {
+        plan.input("shard file", f);
+    }
     let plot_target = match &out.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
     let first_path = files.first().ok_or_else(|| anyhow!("no shard files"))?;
     let mut study: Option<StudySettings> = None;
-    // index -> the file that has it.
+    // shard K -> the file that has it, all of one split N.
     let mut owner: BTreeMap<u64, usize> = BTreeMap::new();
-    let mut records: Vec<SampleRecord> = Vec::new();
+    let mut split: Option<(u64, usize)> = None;
+    let mut stats = StudyStats::default();
     let mut seen: Vec<PathBuf> = Vec::new();
     for (f, path) in files.iter().enumerate() {
         let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
@@ -950,46 +849,65 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
             ),
             Some(_) => {}
         }
-        let n = shard.study.samples;
-        for r in shard.records {
-            anyhow::ensure!(
-                r.index < n,
-                "{}: sample {} is outside the study's 0..{n}",
+        let Shard { index, count } = shard.shard;
+        match split {
+            None => split = Some((count, f)),
+            Some((n, g)) if n != count => bail!(
+                "{} is shard {index}/{count} and {} a shard of {n}: the shards of a study are one split K/N with one N",
                 path.display(),
-                r.index
-            );
-            if let Some(&other) = owner.get(&r.index) {
-                bail!(
-                    "sample {} is in {} and in {} (each sample must come from exactly one shard)",
-                    r.index,
-                    files[other].display(),
-                    path.display()
-                );
-            }
-            owner.insert(r.index, f);
-            records.push(r);
+                files[g].display()
+            ),
+            Some(_) => {}
         }
+        if let Some(&other) = owner.get(&index) {
+            bail!(
+                "shard {index}/{count} is in {} and in {} (each sample must come from exactly one shard)",
+                files[other].display(),
+                path.display()
+            );
+        }
+        owner.insert(index, f);
+        stats
+            .merge(&shard.stats)
+            .map_err(|e| anyhow!("{}: {e}", path.display()))?;
     }
     let study = study.ok_or_else(|| anyhow!("no shard files"))?;
     let n = study.samples;
-    if owner.len() as u64 != n {
-        let missing: Vec<String> = (0..n)
-            .filter(|i| !owner.contains_key(i))
+    let count = split.map_or(1, |s| s.0);
+    let missing: Vec<u64> = (1..=count).filter(|k| !owner.contains_key(k)).collect();
+    let lost: u64 = missing
+        .iter()
+        .map(|&k| Shard { index: k, count }.len(n))
+        .sum();
+    if lost > 0 {
+        let mut first: Vec<u64> = missing
+            .iter()
+            .flat_map(|&k| Shard { index: k, count }.indices(n).take(5))
+            .collect();
+        first.sort_unstable();
+        first.truncate(5);
+        let first: Vec<String> = first.iter().map(|i| i.to_string()).collect();
+        let shards: Vec<String> = missing
+            .iter()
             .take(5)
-            .map(|i| i.to_string())
+            .map(|k| format!("{k}/{count}"))
             .collect();
         bail!(
-            "{} of the study's {n} samples are missing (first: {}); give every shard's file",
-            n - owner.len() as u64,
-            missing.join(", ")
+            "{lost} of the study's {n} samples are missing (first: {}; shards {}); give every shard's file",
+            first.join(", "),
+            shards.join(", ")
         );
     }
-    records.sort_by_key(|r| r.index);
+    anyhow::ensure!(
+        stats.samples == n,
+        "the shards hold {} samples, the study {n}",
+        stats.samples
+    );
     let revolution = measured_revolution(study.revolutions);
-    let summary = summarize(&records, revolution)?;
+    let summary = stats.summary(revolution)?;
     if let Some(t) = plot_target {
         let mut dir = t.open()?;
-        draw(&mut dir, &records, revolution)?;
+        draw(&mut dir, &stats, revolution)?;
         dir.commit()?;
     }
     Ok(MonteCarloReport {
@@ -1141,61 +1059,59 @@ impl Report for MonteCarloReport {
 /// The plots `--plot DIR` writes.
 pub const PLOT_FILES: [&str; 2] = ["histograms.png", "period_histograms.png"];
 
-/// Draws the histograms of a study's records into `dir`.
-fn draw(dir: &mut AtomicDir, records: &[SampleRecord], revolution: u32) -> Result<()> {
-    let n = records.len();
-    let mut panels: Vec<(String, Vec<f64>)> = REVOLUTION_COLUMNS
+/// Draws the histograms of a study's statistics into `dir` (from each stream's
+/// histogram: counts of samples, the bins of each panel equal over its range).
+fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<()> {
+    let n = stats.samples;
+    let bins = ((n as f64).sqrt().ceil() as usize).clamp(5, 50);
+    let mut panels: Vec<(String, plots::Binned)> = REVOLUTION_COLUMNS
         .iter()
-        .map(|c| {
+        .zip(&stats.whole_revolution)
+        .map(|(c, s)| {
             (
                 format!("revolution {revolution}: {}", label(c)),
-                records.iter().map(|r| revolution_value(r, c)).collect(),
+                s.display_bins(bins),
             )
         })
         .collect();
-    panels.push((
-        "profile FPR".into(),
-        records.iter().map(|r| r.fpr as f64).collect(),
-    ));
+    panels.push(("profile FPR".into(), stats.fpr.display_bins(bins)));
     panels.push((
         "profile rms lift deviation, in".into(),
-        records.iter().map(|r| r.rms_deviation_in).collect(),
+        stats.rms_deviation_in.display_bins(bins),
     ));
-    let jumps = records.iter().filter(|r| r.jump()).count();
-    plots::histograms(
+    plots::histograms_binned(
         dir,
         PLOT_FILES[0],
-        &format!("{n} actual cams: revolution {revolution}, {jumps} with a jump"),
+        &format!(
+            "{n} actual cams: revolution {revolution}, {} with a jump",
+            stats.jumps
+        ),
         &panels,
         4,
     )?;
     let mut panels = Vec::new();
-    let names: Vec<String> = records
-        .first()
-        .map(|r| r.periods.iter().map(|p| p.period.clone()).collect())
-        .unwrap_or_default();
     for col in [
         "rms_acceleration",
         "contact_force_min",
         "torque_max",
         "contact_stress_max",
     ] {
-        for (k, name) in names.iter().enumerate() {
-            panels.push((
-                format!("{name}: {}", label(col)),
-                records
-                    .iter()
-                    .filter_map(|r| r.periods.get(k).and_then(|p| p.get(col)))
-                    .collect(),
-            ));
+        let c = COLUMNS.iter().position(|x| *x == col);
+        for p in &stats.periods {
+            if let Some(s) = c.and_then(|c| p.columns.get(c)) {
+                panels.push((
+                    format!("{}: {}", p.period, label(col)),
+                    s.display_bins(bins),
+                ));
+            }
         }
     }
-    plots::histograms(
+    plots::histograms_binned(
         dir,
         PLOT_FILES[1],
         &format!("{n} actual cams: revolution {revolution} by period"),
         &panels,
-        names.len().max(1),
+        stats.periods.len().max(1),
     )
 }
 
@@ -1273,6 +1189,9 @@ pub mod plots {
         (lo, hi, counts)
     }
 
+    /// A histogram binned for a plot: (lo, hi, counts of equal bins over lo..hi).
+    pub type Binned = (f64, f64, Vec<u32>);
+
     /// A grid of histograms, `cols` panels a row, titled `title`, as `file` in `dir`.
     pub fn histograms(
         dir: &mut AtomicDir,
@@ -1281,15 +1200,32 @@ pub mod plots {
         panels: &[(String, Vec<f64>)],
         cols: usize,
     ) -> Result<()> {
+        let binned: Vec<(String, Binned)> = panels
+            .iter()
+            .map(|(name, values)| {
+                let bins = ((values.len() as f64).sqrt().ceil() as usize).clamp(5, 50);
+                (name.clone(), bin(values, bins))
+            })
+            .collect();
+        histograms_binned(dir, file, title, &binned, cols)
+    }
+
+    /// A grid of histograms already binned (`(lo, hi, counts)` a panel, equal bins).
+    pub fn histograms_binned(
+        dir: &mut AtomicDir,
+        file: &str,
+        title: &str,
+        panels: &[(String, Binned)],
+        cols: usize,
+    ) -> Result<()> {
         let cols = cols.max(1);
         let rows = panels.len().div_ceil(cols).max(1);
         let size = (360 * cols as u32, 60 + 280 * rows as u32);
         png(dir, file, size, |root| {
             let root = root.titled(title, ("sans-serif", 24)).map_err(err(file))?;
             let areas = root.split_evenly((rows, cols));
-            for ((name, values), area) in panels.iter().zip(areas.iter()) {
-                let bins = ((values.len() as f64).sqrt().ceil() as usize).clamp(5, 50);
-                let (lo, hi, counts) = bin(values, bins);
+            for ((name, (lo, hi, counts)), area) in panels.iter().zip(areas.iter()) {
+                let (lo, hi) = (*lo, *hi);
                 let top = counts.iter().copied().max().unwrap_or(1).max(1);
                 let mut chart = ChartBuilder::on(area)
                     .caption(name, ("sans-serif", 15))

@@ -381,6 +381,9 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
 
     let mut files = Vec::new();
     let mut plan = Plan::new(args.force);
+    if let Some(p) = &args.scene.scene {
+        plan.input("scene file", p);
+    }
     let mut names = vec![SURFACE_RADIUS_FILE, SURFACE_FILE, PITCH_FILE, DXF_FILE];
     if cutter_in.is_some() {
         names.push(CUTTER_FILE);

@@ -126,12 +126,14 @@ pub struct Args {
 /// What the verdict that opens `camsim run` judges against.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct VerdictArgs {
-    /// Allowable Hertz contact stress, psi (default 150 000: through-hardened steel at
+    /// Allowable Hertz contact stress, psi (default: the scene's
+    /// limits.allowable_contact_stress_psi or _mpa, else 150 000: through-hardened steel at
     /// 400 HB, 1e8 cycles, Buckingham's S_C = 0.4 H_B - 10 kpsi as Shigley gives it).
     #[arg(long, value_name = "PSI", allow_hyphen_values = true, value_parser = args::positive_finite)]
     pub allowable_stress: Option<f64>,
-    /// Largest pressure angle without a warning, degrees (default 30, the usual limit for
-    /// a translating follower; 0-90).
+    /// Largest pressure angle without a warning, degrees (default: the scene's
+    /// limits.pressure_angle_limit_deg, else 30, the usual limit for a translating
+    /// follower; 0-90).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = args::pressure_angle_limit)]
     pub pressure_angle_limit: Option<f64>,
     /// Also find the jump onset and the margin to it (a bisection of about 15
@@ -141,16 +143,24 @@ pub struct VerdictArgs {
 }
 
 impl VerdictArgs {
-    /// The limits asked for, the defaults otherwise.
-    pub fn limits(&self) -> crate::verdict::Limits {
-        let d = crate::verdict::Limits::default();
+    /// The limits asked for, the scene's (`[limits]`, or the defaults) otherwise.
+    pub fn limits(&self, scene: &camsim_scene_file::Limits) -> crate::verdict::Limits {
         crate::verdict::Limits {
             allowable_contact_stress_psi: self
                 .allowable_stress
-                .unwrap_or(d.allowable_contact_stress_psi),
+                .unwrap_or(scene.allowable_contact_stress_psi),
             pressure_angle_limit_deg: self
                 .pressure_angle_limit
-                .unwrap_or(d.pressure_angle_limit_deg),
+                .unwrap_or(scene.pressure_angle_limit_deg),
+            allowable_source: if self.allowable_stress.is_some() {
+                "--allowable-stress"
+            } else if scene.allowable_contact_stress_psi
+                != camsim_core::ALLOWABLE_CONTACT_STRESS_PSI
+            {
+                "the scene's [limits]"
+            } else {
+                crate::verdict::ALLOWABLE_SOURCE
+            },
         }
     }
 }
@@ -507,7 +517,7 @@ fn verdict(
     args: &VerdictArgs,
 ) -> Result<crate::verdict::Verdict> {
     use crate::verdict as v;
-    let limits = args.limits();
+    let limits = args.limits(&spec.limits);
     let contact = v::contact(
         &spec.design,
         &report.jumps,

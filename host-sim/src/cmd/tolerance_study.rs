@@ -179,6 +179,9 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
     let samples = args.samples.unwrap_or(if args.quick { 1 } else { 8 });
     let threads = montecarlo::threads(args.threads);
     let mut plan = crate::output::Plan::new(args.force);
+    if let Some(p) = &args.scene {
+        plan.input("scene file", p);
+    }
     let plot_target = match &args.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,

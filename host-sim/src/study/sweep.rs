@@ -1,0 +1,1193 @@
+//! `camsim sweep`: the operating map. The response of the mechanism at every speed of a
+//! grid: revolution 2 from the static start (the steady state `camsim jump-speed` judges),
+//! on the theoretical cam and, with actual cams, as a distribution over machined cams.
+//!
+//! Per speed: whether the follower separates (the predicate of [`crate::sim::jumps_at`]:
+//! a separation in revolution 2, or a run that leaves the model's valid range after the
+//! follower left the cam), the smallest and largest contact force, the RMS deviation of
+//! the load's acceleration from the program over the revolution (the residual vibration),
+//! the peak cam torque, the peak Hertz stress and the peak drive power. On actual cams:
+//! P(jump) with its 95 % Wilson interval, and the median and the 5-95 % band of each
+//! quantity. Every speed and every cam is an independent run; the runs go in parallel on
+//! a local pool and are collected by index, so the result does not depend on the thread
+//! count. The actual cams are the same at every speed (sample i of the master seed).
+
+use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use camsim_core::{Observer, Sample};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::actual::ActualArgs;
+use crate::report::Report;
+use crate::sim::{self, HostDeviation, RunSpec};
+use crate::stats::Probability;
+
+/// The most speeds a grid may have.
+pub const MAX_POINTS: u32 = 1000;
+
+/// The default number of actual cams a speed (P(jump)'s Wilson interval about ±0.1 wide
+/// at p = 1/2, ±0.04 at p = 0.05).
+pub const DEFAULT_SAMPLES: u64 = 100;
+
+/// A grid of cam speeds: `points` equally spaced speeds from `from` to `to`, rpm.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RpmGrid {
+    /// First speed, rpm.
+    pub from_rpm: f64,
+    /// Last speed, rpm.
+    pub to_rpm: f64,
+    /// Number of speeds (at least 2).
+    pub points: u32,
+}
+
+impl RpmGrid {
+    /// Spacing of the speeds, rpm.
+    pub fn step_rpm(&self) -> f64 {
+        (self.to_rpm - self.from_rpm) / f64::from(self.points.max(2) - 1)
+    }
+
+    /// The speeds, rpm, rising (the last is exactly `to_rpm`).
+    pub fn speeds(&self) -> Vec<f64> {
+        let n = self.points.max(2);
+        (0..n)
+            .map(|k| {
+                if k + 1 == n {
+                    self.to_rpm
+                } else {
+                    self.from_rpm + f64::from(k) * self.step_rpm()
+                }
+            })
+            .collect()
+    }
+}
+
+/// `--rpm FROM:TO:N`: N (2 to [`MAX_POINTS`]) equally spaced speeds from FROM to TO,
+/// rpm, FROM below TO, both within a cam speed's plausibility range.
+pub fn parse_rpm_grid(s: &str) -> Result<RpmGrid, String> {
+    let parts: Vec<&str> = s.split(':').map(str::trim).collect();
+    let [a, b, n] = parts.as_slice() else {
+        return Err("must be FROM:TO:N (rpm, rpm, number of speeds), e.g. 300:1200:19".into());
+    };
+    let from = crate::args::rpm(a).map_err(|e| format!("FROM {a}: {e}"))?;
+    let to = crate::args::rpm(b).map_err(|e| format!("TO {b}: {e}"))?;
+    let points: u32 = n
+        .parse()
+        .map_err(|_| format!("N {n}: must be a whole number of speeds (2 to {MAX_POINTS})"))?;
+    if !(2..=MAX_POINTS).contains(&points) {
+        return Err(format!(
+            "N {n}: must be 2 to {MAX_POINTS} speeds (a sweep needs at least its two ends)"
+        ));
+    }
+    if from >= to {
+        return Err(format!("FROM {a} must be below TO {b} (speeds rise)"));
+    }
+    Ok(RpmGrid {
+        from_rpm: from,
+        to_rpm: to,
+        points,
+    })
+}
+
+/// The response of one run (revolution 2 from the static start).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Response {
+    /// The follower separated from the cam in revolution 2 (or the run left the model's
+    /// valid range after it had separated).
+    pub jump: bool,
+    /// The run ended early, outside the model's valid range, after the follower had left
+    /// the cam: only the contact force (0) is known.
+    pub left_model_range: bool,
+    /// Smallest contact force in revolution 2, lb (0 when the follower leaves the cam).
+    pub min_contact_force_lb: f64,
+    /// Largest contact force in revolution 2, lb.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_contact_force_lb: Option<f64>,
+    /// RMS of the load acceleration's deviation from the program over revolution 2
+    /// (time-weighted over its periods), in/s².
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_acceleration_deviation_in_per_s2: Option<f64>,
+    /// Largest |output torque on the cam| in revolution 2, lb·in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_cam_torque_lb_in: Option<f64>,
+    /// Largest Hertz contact stress in revolution 2, psi.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_contact_stress_psi: Option<f64>,
+    /// Largest drive power (drive torque × motor speed) in revolution 2, hp.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_drive_power_hp: Option<f64>,
+}
+
+/// The extremes of revolution 2 and whether the follower left the cam, sample by sample.
+#[derive(Default)]
+struct Watch {
+    separated: bool,
+    separated_steady: bool,
+    force_min: Option<f64>,
+    force_max: Option<f64>,
+    torque: Option<f64>,
+    stress: Option<f64>,
+    power: Option<f64>,
+}
+
+fn max_into(slot: &mut Option<f64>, v: f64) {
+    if v.is_finite() {
+        *slot = Some(slot.map_or(v, |o| o.max(v)));
+    }
+}
+
+impl Observer<f64> for Watch {
+    fn needs_stress(&self) -> bool {
+        true
+    }
+    fn observe(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
+        let p = &s.point;
+        if !p.in_contact {
+            self.separated = true;
+        }
+        if s.revolution < 2 {
+            return ControlFlow::Continue(());
+        }
+        if p.in_contact {
+            if p.contact_force.is_finite() {
+                self.force_min = Some(
+                    self.force_min
+                        .map_or(p.contact_force, |o| o.min(p.contact_force)),
+                );
+            }
+            max_into(&mut self.force_max, p.contact_force);
+        } else {
+            self.separated_steady = true;
+        }
+        max_into(&mut self.torque, p.torque_out.abs());
+        max_into(&mut self.stress, s.contact_stress);
+        max_into(&mut self.power, p.torque_drive * p.omega_m);
+        ControlFlow::Continue(())
+    }
+}
+
+/// Whether an error is the model leaving its valid range (docs/MODEL.md §3.20).
+fn out_of_model(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        matches!(
+            c.downcast_ref::<camsim_core::Error>(),
+            Some(camsim_core::Error::OutOfModel { .. })
+        )
+    }) || format!("{e:#}").contains("left its valid range")
+}
+
+/// The response of `spec` (2 revolutions) at `rpm`. A run that fails after the follower
+/// left the cam is a jump ([`sim::jumps_at`]'s rule); one that leaves the model's valid
+/// range with the follower on the cam is a jump when `out_of_range_jumps` (the design
+/// searches' rule on actual cams), an error otherwise.
+pub fn respond(spec: &RunSpec, rpm: f64, out_of_range_jumps: bool) -> Result<Response> {
+    let mut s = spec.clone();
+    s.revolutions = 2;
+    s.design.set_speed_rpm(rpm)?;
+    let mut w = Watch::default();
+    let r = match sim::run(&s, &mut w) {
+        Ok(r) => r,
+        Err(e) if w.separated || (out_of_range_jumps && out_of_model(&e)) => {
+            return Ok(Response {
+                jump: true,
+                left_model_range: true,
+                ..Response::default()
+            })
+        }
+        Err(e) => return Err(e.context(format!("simulation at {rpm:.1} rpm failed"))),
+    };
+    let names = sim::period_names(&s.design);
+    let (mut t, mut sum) = (0.0, 0.0);
+    for i in 0..names.len() {
+        if let Some(p) = r.stats.period(2, i) {
+            t += p.duration;
+            sum += p.duration * p.rms_acceleration().powi(2);
+        }
+    }
+    let jump = w.separated_steady;
+    Ok(Response {
+        jump,
+        left_model_range: false,
+        min_contact_force_lb: if jump {
+            0.0
+        } else {
+            w.force_min.unwrap_or(0.0)
+        },
+        peak_contact_force_lb: w.force_max,
+        rms_acceleration_deviation_in_per_s2: (t > 0.0).then(|| (sum / t).sqrt()),
+        peak_cam_torque_lb_in: w.torque,
+        peak_contact_stress_psi: w.stress,
+        peak_drive_power_hp: w.power.map(|p| p / crate::verdict::HP_LB_IN_PER_S),
+    })
+}
+
+/// The theoretical cam at one speed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TheoryPoint {
+    /// Cam speed, rpm.
+    pub rpm: f64,
+    /// The response.
+    #[serde(flatten)]
+    pub response: Response,
+}
+
+/// The 5 %, 50 % and 95 % quantiles of a quantity over the actual cams (type 7), over
+/// the cams whose run gave it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Band {
+    /// 5 % quantile.
+    pub p05: f64,
+    /// Median.
+    pub median: f64,
+    /// 95 % quantile.
+    pub p95: f64,
+    /// Cams that gave the quantity.
+    pub cams: u64,
+}
+
+impl Band {
+    /// The band of `values` (None when empty).
+    pub fn of(mut values: Vec<f64>) -> Option<Band> {
+        values.retain(|v| v.is_finite());
+        values.sort_by(f64::total_cmp);
+        let q = |p| crate::cmd::jump_speed_actual::quantile(&values, p);
+        Some(Band {
+            p05: q(0.05)?,
+            median: q(0.5)?,
+            p95: q(0.95)?,
+            cams: values.len() as u64,
+        })
+    }
+}
+
+/// The actual cams at one speed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ActualPoint {
+    /// Cam speed, rpm.
+    pub rpm: f64,
+    /// P(jump) in revolution 2 with its 95 % Wilson interval.
+    pub p_jump: Probability,
+    /// Runs that left the model's valid range (counted as jumps; their other quantities
+    /// are missing from the bands).
+    pub left_model_range: u64,
+    /// Smallest contact force, lb (0 for a cam whose follower jumps).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_contact_force_lb: Option<Band>,
+    /// Largest contact force, lb.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_contact_force_lb: Option<Band>,
+    /// RMS acceleration deviation over the revolution, in/s².
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rms_acceleration_deviation_in_per_s2: Option<Band>,
+    /// Peak |cam torque|, lb·in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_cam_torque_lb_in: Option<Band>,
+    /// Peak Hertz stress, psi.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_contact_stress_psi: Option<Band>,
+    /// Peak drive power, hp.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_drive_power_hp: Option<Band>,
+}
+
+impl ActualPoint {
+    fn of(rpm: f64, rs: &[Response]) -> Self {
+        let n = rs.len() as u64;
+        let band = |f: fn(&Response) -> Option<f64>| Band::of(rs.iter().filter_map(f).collect());
+        ActualPoint {
+            rpm,
+            p_jump: Probability::of(rs.iter().filter(|r| r.jump).count() as u64, n),
+            left_model_range: rs.iter().filter(|r| r.left_model_range).count() as u64,
+            min_contact_force_lb: band(|r| Some(r.min_contact_force_lb)),
+            peak_contact_force_lb: band(|r| r.peak_contact_force_lb),
+            rms_acceleration_deviation_in_per_s2: band(|r| r.rms_acceleration_deviation_in_per_s2),
+            peak_cam_torque_lb_in: band(|r| r.peak_cam_torque_lb_in),
+            peak_contact_stress_psi: band(|r| r.peak_contact_stress_psi),
+            peak_drive_power_hp: band(|r| r.peak_drive_power_hp),
+        }
+    }
+}
+
+/// Where the jumps begin on the grid.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GridOnset {
+    /// The highest speed of the grid below the first jump, rpm (absent: the first speed
+    /// jumps).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub holds_at_rpm: Option<f64>,
+    /// The first speed of the grid that jumps, rpm.
+    pub jumps_at_rpm: f64,
+    /// The first speed above it where contact holds again (a resonance window), rpm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub holds_again_above_rpm: Option<f64>,
+}
+
+/// The first jump of a rising list of (rpm, jumps).
+pub fn grid_onset(points: &[(f64, bool)]) -> Option<GridOnset> {
+    let k = points.iter().position(|p| p.1)?;
+    let at = points.get(k)?.0;
+    Some(GridOnset {
+        holds_at_rpm: k.checked_sub(1).and_then(|j| points.get(j)).map(|p| p.0),
+        jumps_at_rpm: at,
+        holds_again_above_rpm: points.iter().skip(k + 1).find(|p| !p.1).map(|p| p.0),
+    })
+}
+
+/// The actual cams of a sweep.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ActualSweep {
+    /// Actual cams a speed (the same cams at every speed).
+    pub samples: u64,
+    /// Master seed.
+    pub seed: u64,
+    /// How the cams are made (tolerances, waviness, interval).
+    pub profile: crate::cmd::montecarlo::ProfileSettings,
+    /// The model the actual cams ran on.
+    pub model: String,
+    /// Per speed.
+    pub points: Vec<ActualPoint>,
+    /// The first speed at which any actual cam jumps.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_jump: Option<GridOnset>,
+}
+
+/// What `camsim sweep` reports.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepReport {
+    /// The speeds.
+    pub grid: RpmGrid,
+    /// The grid's step, rpm.
+    pub step_rpm: f64,
+    /// The scene's operating speed, rpm.
+    pub operating_rpm: f64,
+    /// The model of the theoretical cam's runs.
+    pub model: String,
+    /// The theoretical cam, per speed.
+    pub theoretical: Vec<TheoryPoint>,
+    /// The theoretical cam's jump onset on the grid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub theoretical_onset: Option<GridOnset>,
+    /// The actual cams (with `--actual`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub actual: Option<ActualSweep>,
+    /// Model runs (2 revolutions each).
+    pub model_runs: u64,
+    /// Worker threads.
+    pub threads: usize,
+    /// Wall time, s.
+    pub wall_s: f64,
+}
+
+/// What a sweep runs.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The scene (its speed is the operating speed; the solver's start is taken as given).
+    pub spec: RunSpec,
+    /// The speeds.
+    pub grid: RpmGrid,
+    /// Actual cams: their options and their number a speed.
+    pub actual: Option<(ActualArgs, u64)>,
+    /// Worker threads.
+    pub threads: usize,
+    /// A progress bar on a terminal.
+    pub progress: bool,
+}
+
+/// A model in words.
+pub fn describe(spec: &RunSpec) -> String {
+    format!(
+        "{} follower model, {} DOFs, rtol {:e}, atol {:e} in, largest step {} rev, {} start, revolution 2 of 2",
+        spec.dofs.follower.name(),
+        spec.dofs.set().name(),
+        spec.solver.rtol,
+        spec.solver.atol,
+        spec.solver.max_step_fraction,
+        format!("{:?}", spec.solver.start).to_lowercase()
+    )
+}
+
+/// Runs the sweep.
+pub fn run(sw: &Sweep) -> Result<SweepReport> {
+    let t0 = Instant::now();
+    let speeds = sw.grid.speeds();
+    let nspeeds = speeds.len();
+    let op_rpm = camsim_core::rad_per_s_to_rpm(sw.spec.design.omega0);
+    let mut spec = sw.spec.clone();
+    spec.revolutions = 2;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(sw.threads.max(1))
+        // A profile (three arrays of 3601 f64) is built on the stack.
+        .stack_size(16 << 20)
+        .build()
+        .context("cannot start the worker threads")?;
+    // The actual cams: the Monte Carlo model of the design searches, the interval chosen
+    // once, every cam built once and ridden at every speed.
+    let actual = match &sw.actual {
+        Some((args, n)) => {
+            let mc = crate::cmd::design::monte_carlo_model(&spec);
+            let study = crate::cmd::montecarlo::Study::from_spec(mc.clone(), args, *n)?;
+            let profiles: Vec<Result<Arc<HostDeviation>>> = pool.install(|| {
+                (0..*n)
+                    .into_par_iter()
+                    .map(|i| {
+                        crate::actual::build_profile(&mc.design, &study.actual, i)
+                            .map(|(d, _)| Arc::new(d))
+                            .with_context(|| format!("actual cam {i}"))
+                    })
+                    .collect()
+            });
+            let profiles = profiles.into_iter().collect::<Result<Vec<_>>>()?;
+            Some((mc, study.settings, profiles))
+        }
+        None => None,
+    };
+    let per_speed = actual.as_ref().map_or(0, |a| a.2.len());
+    // Jobs: every speed's theoretical run, then every (speed, cam).
+    let total = nspeeds * (1 + per_speed);
+    let bar = crate::cmd::montecarlo::progress_bar_of(total as u64, sw.progress, "runs");
+    let stop = AtomicBool::new(false);
+    let results: Vec<Option<Result<Response>>> = pool.install(|| {
+        (0..total)
+            .into_par_iter()
+            .map(|j| {
+                if stop.load(Ordering::Relaxed) {
+                    return None;
+                }
+                let r = if j < nspeeds {
+                    let rpm = speeds.get(j).copied().unwrap_or(op_rpm);
+                    respond(&spec, rpm, false).context("the theoretical cam")
+                } else {
+                    let k = (j - nspeeds) / per_speed.max(1);
+                    let i = (j - nspeeds) % per_speed.max(1);
+                    let rpm = speeds.get(k).copied().unwrap_or(op_rpm);
+                    match &actual {
+                        Some((mc, _, profiles)) => {
+                            let mut s = mc.clone();
+                            s.profile = profiles.get(i).cloned();
+                            respond(&s, rpm, true).with_context(|| format!("actual cam {i}"))
+                        }
+                        None => Err(anyhow::anyhow!("no actual cams")),
+                    }
+                };
+                if r.is_err() {
+                    stop.store(true, Ordering::Relaxed);
+                }
+                bar.inc(1);
+                Some(r)
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let mut responses = Vec::with_capacity(total);
+    for r in results {
+        match r {
+            Some(r) => responses.push(r?),
+            None => anyhow::bail!("a run failed"),
+        }
+    }
+    let theoretical: Vec<TheoryPoint> = speeds
+        .iter()
+        .zip(&responses)
+        .map(|(&rpm, &response)| TheoryPoint { rpm, response })
+        .collect();
+    let theoretical_onset = grid_onset(
+        &theoretical
+            .iter()
+            .map(|p| (p.rpm, p.response.jump))
+            .collect::<Vec<_>>(),
+    );
+    let actual = match actual {
+        Some((mc, settings, _)) => {
+            let rest = responses.get(nspeeds..).unwrap_or(&[]);
+            let points: Vec<ActualPoint> = speeds
+                .iter()
+                .zip(rest.chunks(per_speed.max(1)))
+                .map(|(&rpm, rs)| ActualPoint::of(rpm, rs))
+                .collect();
+            let first_jump = grid_onset(
+                &points
+                    .iter()
+                    .map(|p| (p.rpm, p.p_jump.count > 0))
+                    .collect::<Vec<_>>(),
+            );
+            Some(ActualSweep {
+                samples: per_speed as u64,
+                seed: settings.seed,
+                profile: settings.profile,
+                model: describe(&mc),
+                points,
+                first_jump,
+            })
+        }
+        None => None,
+    };
+    let report = SweepReport {
+        grid: sw.grid,
+        step_rpm: sw.grid.step_rpm(),
+        operating_rpm: op_rpm,
+        model: describe(&spec),
+        theoretical,
+        theoretical_onset,
+        actual,
+        model_runs: total as u64,
+        threads: sw.threads.max(1),
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    crate::report::ensure_finite(&report)?;
+    Ok(report)
+}
+
+fn opt(v: Option<f64>, prec: usize) -> String {
+    v.map_or_else(|| "-".to_string(), |x| format!("{x:.prec$}"))
+}
+
+fn band_text(b: Option<&Band>, prec: usize) -> String {
+    b.map_or_else(
+        || "-".to_string(),
+        |b| format!("{:.p$} [{:.p$}, {:.p$}]", b.median, b.p05, b.p95, p = prec),
+    )
+}
+
+fn onset_text(o: &GridOnset, step: f64, narrow: &str) -> String {
+    let mut s = match o.holds_at_rpm {
+        Some(h) => format!(
+            "between {h:.1} and {:.1} rpm (the grid's step {step:.1} rpm; `{narrow}` narrows it)",
+            o.jumps_at_rpm
+        ),
+        None => format!(
+            "at or below {:.1} rpm, the grid's first speed",
+            o.jumps_at_rpm
+        ),
+    };
+    if let Some(a) = o.holds_again_above_rpm {
+        s.push_str(&format!(
+            "; contact holds again at {a:.1} rpm (a window between resonances)"
+        ));
+    }
+    s
+}
+
+impl Report for SweepReport {
+    fn json(&self) -> serde_json::Result<String> {
+        crate::report::sorted_pretty_json(self)
+    }
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "camsim sweep: {} speeds from {:.1} to {:.1} rpm (step {:.1} rpm); revolution 2 of each run; operating speed {:.1} rpm",
+            self.grid.points, self.grid.from_rpm, self.grid.to_rpm, self.step_rpm, self.operating_rpm
+        );
+        let _ = writeln!(out, "\ntheoretical cam ({}):", self.model);
+        let _ = writeln!(
+            out,
+            "  {:>8}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
+            "rpm",
+            "contact",
+            "Fc min lb",
+            "Fc max lb",
+            "a rms in/s2",
+            "T peak lb in",
+            "stress psi",
+            "power hp"
+        );
+        for p in &self.theoretical {
+            let r = &p.response;
+            let _ = writeln!(
+                out,
+                "  {:>8.1}  {:<7} {:>10.2} {:>10} {:>13} {:>13} {:>11} {:>9}",
+                p.rpm,
+                if r.jump { "JUMPS" } else { "holds" },
+                r.min_contact_force_lb,
+                opt(r.peak_contact_force_lb, 2),
+                opt(r.rms_acceleration_deviation_in_per_s2, 1),
+                opt(r.peak_cam_torque_lb_in, 2),
+                opt(r.peak_contact_stress_psi, 0),
+                opt(r.peak_drive_power_hp, 3)
+            );
+        }
+        match &self.theoretical_onset {
+            Some(o) => {
+                let _ = writeln!(
+                    out,
+                    "  jump onset {}",
+                    onset_text(o, self.step_rpm, "camsim jump-speed")
+                );
+            }
+            None => {
+                let _ = writeln!(out, "  contact holds at every speed of the grid");
+            }
+        }
+        if self.theoretical.iter().any(|p| p.response.left_model_range) {
+            let _ = writeln!(
+                out,
+                "  (-: the run left the model's valid range after the follower left the cam)"
+            );
+        }
+        if let Some(a) = &self.actual {
+            let pr = &a.profile;
+            let _ = writeln!(
+                out,
+                "\n{} actual cams a speed, the same at every speed (seed {}; cam ±{} in, roller ±{} in, eccentricity ±{} in; {} profile, {}) on the {}:",
+                a.samples,
+                a.seed,
+                pr.cam_tolerance_in,
+                pr.roller_tolerance_in,
+                pr.eccentricity_tolerance_in,
+                pr.method,
+                pr.interval_source,
+                a.model
+            );
+            let _ = writeln!(
+                out,
+                "  median [5 %, 95 %] over the cams; P(jump) with its 95 % Wilson interval"
+            );
+            let _ = writeln!(
+                out,
+                "  {:>8}  {:<24} {:<26} {:<26} T peak lb in",
+                "rpm", "P(jump)", "Fc min lb", "a rms in/s2"
+            );
+            for p in &a.points {
+                let _ = writeln!(
+                    out,
+                    "  {:>8.1}  {:<24} {:<26} {:<26} {}",
+                    p.rpm,
+                    p.p_jump.text(3),
+                    band_text(p.min_contact_force_lb.as_ref(), 2),
+                    band_text(p.rms_acceleration_deviation_in_per_s2.as_ref(), 0),
+                    band_text(p.peak_cam_torque_lb_in.as_ref(), 1)
+                );
+            }
+            match &a.first_jump {
+                Some(o) => {
+                    let _ = writeln!(
+                        out,
+                        "  first actual cam jumps {}",
+                        onset_text(o, self.step_rpm, "camsim jump-speed --actual")
+                    );
+                }
+                None => {
+                    let _ = writeln!(out, "  no actual cam jumps on the grid");
+                }
+            }
+            let lost: u64 = a.points.iter().map(|p| p.left_model_range).sum();
+            if lost > 0 {
+                let _ = writeln!(
+                    out,
+                    "  {lost} runs left the model's valid range: counted as jumps, left out of the bands"
+                );
+            }
+        }
+        let _ = writeln!(
+            out,
+            "\n{} model runs of 2 revolutions on {} threads, {:.1} s",
+            self.model_runs, self.threads, self.wall_s
+        );
+        out
+    }
+}
+
+/// The CSV header of [`csv_rows`].
+pub fn csv_header(actual: bool) -> Vec<String> {
+    let mut h: Vec<String> = [
+        "rpm",
+        "jump",
+        "min_contact_force_lb",
+        "peak_contact_force_lb",
+        "rms_acceleration_deviation_in_per_s2",
+        "peak_cam_torque_lb_in",
+        "peak_contact_stress_psi",
+        "peak_drive_power_hp",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    if actual {
+        h.extend(
+            ["actual_p_jump", "actual_p_jump_lo95", "actual_p_jump_hi95"]
+                .iter()
+                .map(|s| s.to_string()),
+        );
+        for q in BANDED {
+            for s in ["p05", "median", "p95"] {
+                h.push(format!("actual_{q}_{s}"));
+            }
+        }
+    }
+    h
+}
+
+/// The banded quantities' names, in CSV order.
+const BANDED: [&str; 6] = [
+    "min_contact_force_lb",
+    "peak_contact_force_lb",
+    "rms_acceleration_deviation_in_per_s2",
+    "peak_cam_torque_lb_in",
+    "peak_contact_stress_psi",
+    "peak_drive_power_hp",
+];
+
+/// One CSV row per speed (empty fields for values a run did not give).
+pub fn csv_rows(r: &SweepReport) -> Vec<Vec<String>> {
+    let f = |v: Option<f64>| v.map_or_else(String::new, |x| format!("{x}"));
+    r.theoretical
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let t = &p.response;
+            let mut row = vec![
+                format!("{}", p.rpm),
+                u8::from(t.jump).to_string(),
+                format!("{}", t.min_contact_force_lb),
+                f(t.peak_contact_force_lb),
+                f(t.rms_acceleration_deviation_in_per_s2),
+                f(t.peak_cam_torque_lb_in),
+                f(t.peak_contact_stress_psi),
+                f(t.peak_drive_power_hp),
+            ];
+            if let Some(a) = r.actual.as_ref().and_then(|a| a.points.get(k)) {
+                row.push(format!("{}", a.p_jump.p));
+                row.push(format!("{}", a.p_jump.lo95));
+                row.push(format!("{}", a.p_jump.hi95));
+                for b in [
+                    &a.min_contact_force_lb,
+                    &a.peak_contact_force_lb,
+                    &a.rms_acceleration_deviation_in_per_s2,
+                    &a.peak_cam_torque_lb_in,
+                    &a.peak_contact_stress_psi,
+                    &a.peak_drive_power_hp,
+                ] {
+                    row.push(f(b.map(|b| b.p05)));
+                    row.push(f(b.map(|b| b.median)));
+                    row.push(f(b.map(|b| b.p95)));
+                }
+            }
+            row
+        })
+        .collect()
+}
+
+/// Height of the sweep plot's legend strip (four rows of two entries), pixels.
+const LEGEND_H: u32 = 120;
+
+/// Size of the sweep plot, pixels.
+pub const PLOT_SIZE: (u32, u32) = (1200, 1800);
+
+/// Colours: the theoretical cam, its jumps, the actual cams, the onset, the operating speed.
+const THEORY: plotters::style::RGBColor = plotters::style::RGBColor(31, 119, 180);
+const JUMPS: plotters::style::RGBColor = plotters::style::RGBColor(214, 39, 40);
+const ACTUAL: plotters::style::RGBColor = plotters::style::RGBColor(255, 127, 14);
+const ONSET: plotters::style::RGBColor = plotters::style::RGBColor(255, 150, 150);
+const OPERATING: plotters::style::RGBColor = plotters::style::RGBColor(90, 90, 90);
+
+/// One panel of the sweep plot: its y axis title, the theoretical cam's values and the
+/// actual cams' bands.
+struct SweepPanel {
+    y_desc: &'static str,
+    theory: Vec<Option<f64>>,
+    band: Vec<Option<Band>>,
+}
+
+/// Splits (x, Option<y>) points into runs of consecutive present values.
+fn runs(xs: &[f64], ys: &[Option<f64>]) -> Vec<Vec<(f64, f64)>> {
+    let mut out: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+    for (&x, y) in xs.iter().zip(ys) {
+        match y {
+            Some(y) if y.is_finite() => {
+                if let Some(last) = out.last_mut() {
+                    last.push((x, *y));
+                }
+            }
+            _ => out.push(Vec::new()),
+        }
+    }
+    out.retain(|r| !r.is_empty());
+    out
+}
+
+/// Draws the sweep plot: one panel a quantity against cam speed, the theoretical cam as a
+/// line with its points (a cross where the follower jumps), the actual cams' median and
+/// 5-95 % band, P(jump) with its Wilson interval in the last panel; the theoretical jump
+/// onset's bracket shaded and the operating speed dashed in every panel; the legend in a
+/// strip of its own above the panels, off the data.
+pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> Result<()> {
+    use plotters::prelude::*;
+    let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("cannot draw plot {file}: {e}");
+    let xs: Vec<f64> = r.theoretical.iter().map(|p| p.rpm).collect();
+    let th = |f: fn(&Response) -> Option<f64>| -> Vec<Option<f64>> {
+        r.theoretical.iter().map(|p| f(&p.response)).collect()
+    };
+    let bands = |f: fn(&ActualPoint) -> Option<Band>| -> Vec<Option<Band>> {
+        r.actual
+            .as_ref()
+            .map(|a| a.points.iter().map(f).collect())
+            .unwrap_or_default()
+    };
+    let panels = [
+        SweepPanel {
+            y_desc: "smallest contact force (lb)",
+            theory: th(|t| Some(t.min_contact_force_lb)),
+            band: bands(|a| a.min_contact_force_lb),
+        },
+        SweepPanel {
+            y_desc: "largest contact force (lb)",
+            theory: th(|t| t.peak_contact_force_lb),
+            band: bands(|a| a.peak_contact_force_lb),
+        },
+        SweepPanel {
+            y_desc: "RMS accel. deviation (in/s²)",
+            theory: th(|t| t.rms_acceleration_deviation_in_per_s2),
+            band: bands(|a| a.rms_acceleration_deviation_in_per_s2),
+        },
+        SweepPanel {
+            y_desc: "peak cam torque (lb·in)",
+            theory: th(|t| t.peak_cam_torque_lb_in),
+            band: bands(|a| a.peak_cam_torque_lb_in),
+        },
+        SweepPanel {
+            y_desc: "peak contact stress (psi)",
+            theory: th(|t| t.peak_contact_stress_psi),
+            band: bands(|a| a.peak_contact_stress_psi),
+        },
+        SweepPanel {
+            y_desc: "P(jump)",
+            theory: th(|t| Some(if t.jump { 1.0 } else { 0.0 })),
+            band: r
+                .actual
+                .as_ref()
+                .map(|a| {
+                    a.points
+                        .iter()
+                        .map(|p| {
+                            Some(Band {
+                                p05: p.p_jump.lo95,
+                                median: p.p_jump.p,
+                                p95: p.p_jump.hi95,
+                                cams: a.samples,
+                            })
+                        })
+                        .collect()
+                })
+                .unwrap_or_default(),
+        },
+    ];
+    let span = r.grid.to_rpm - r.grid.from_rpm;
+    let x_range = (r.grid.from_rpm - 0.02 * span)..(r.grid.to_rpm + 0.02 * span);
+    let model_name = |m: &str| m.split(',').next().unwrap_or(m).to_string();
+    crate::cmd::montecarlo::plots::png(dir, file, PLOT_SIZE, |root| {
+        let (w, _) = root.dim_in_pixel();
+        let (title, rest) = root.split_vertically(50);
+        title
+            .draw(&Text::new(
+                "Operating map: the response against cam speed (revolution 2 of each run)",
+                (w as i32 / 2, 14),
+                (crate::plot::FONT, 26).into_font().color(&BLACK).pos(
+                    plotters::style::text_anchor::Pos::new(
+                        plotters::style::text_anchor::HPos::Center,
+                        plotters::style::text_anchor::VPos::Top,
+                    ),
+                ),
+            ))
+            .map_err(|e| err(&e))?;
+        // The legend: two rows of entries in a strip of its own.
+        let (legend, body) = rest.split_vertically(LEGEND_H);
+        let font = (crate::plot::FONT, 16).into_font().color(&BLACK);
+        let mut entries: Vec<(u8, String)> =
+            vec![(0, format!("theoretical cam ({})", model_name(&r.model)))];
+        if r.theoretical.iter().any(|p| p.response.jump) {
+            entries.push((1, "theoretical cam: the follower jumps (P(jump) 1)".into()));
+        }
+        if let Some(a) = &r.actual {
+            entries.push((
+                2,
+                format!(
+                    "{} actual cams: median ({})",
+                    a.samples,
+                    model_name(&a.model)
+                ),
+            ));
+            entries.push((
+                3,
+                "actual cams: 5-95 % band; P(jump): 95 % Wilson interval".into(),
+            ));
+        }
+        if let Some(o) = &r.theoretical_onset {
+            entries.push((
+                4,
+                match o.holds_at_rpm {
+                    Some(h) => format!(
+                        "theoretical jump onset lies here ({h:.0}-{:.0} rpm)",
+                        o.jumps_at_rpm
+                    ),
+                    None => format!("jumps from the first speed, {:.0} rpm", o.jumps_at_rpm),
+                },
+            ));
+        }
+        if x_range.contains(&r.operating_rpm) {
+            entries.push((5, format!("operating speed {:.0} rpm", r.operating_rpm)));
+        }
+        let clipped = r
+            .theoretical
+            .iter()
+            .any(|p| p.response.jump && !p.response.left_model_range);
+        if clipped {
+            entries.push((
+                7,
+                "off the scale (impacts after a jump): drawn on the top edge".into(),
+            ));
+        }
+        if r.theoretical.iter().any(|p| p.response.left_model_range) {
+            entries.push((
+                6,
+                "no point: the run left the model's range after the jump".into(),
+            ));
+        }
+        for (k, (kind, label)) in entries.iter().enumerate() {
+            let x = 110 + (k % 2) as i32 * 540;
+            let y = 10 + (k / 2) as i32 * 26;
+            let sym = (x, y + 9);
+            let res = match kind {
+                0 => legend
+                    .draw(&PathElement::new(
+                        vec![sym, (sym.0 + 30, sym.1)],
+                        THEORY.stroke_width(2),
+                    ))
+                    .and_then(|_| {
+                        legend.draw(&Circle::new((sym.0 + 15, sym.1), 4, THEORY.filled()))
+                    }),
+                1 => legend.draw(&Cross::new((sym.0 + 15, sym.1), 6, JUMPS.stroke_width(3))),
+                2 => legend.draw(&PathElement::new(
+                    vec![sym, (sym.0 + 30, sym.1)],
+                    ACTUAL.stroke_width(3),
+                )),
+                3 => legend.draw(&Rectangle::new(
+                    [(sym.0, sym.1 - 8), (sym.0 + 30, sym.1 + 8)],
+                    ACTUAL.mix(0.3).filled(),
+                )),
+                4 => legend.draw(&Rectangle::new(
+                    [(sym.0, sym.1 - 8), (sym.0 + 30, sym.1 + 8)],
+                    ONSET.mix(0.5).filled(),
+                )),
+                5 => legend.draw(&plotters::element::DashedPathElement::new(
+                    vec![sym, (sym.0 + 30, sym.1)],
+                    7,
+                    5,
+                    OPERATING.stroke_width(2),
+                )),
+                7 => legend.draw(&TriangleMarker::new((sym.0 + 15, sym.1), 8, JUMPS.filled())),
+                _ => Ok(()),
+            };
+            res.map_err(|e| err(&e))?;
+            legend
+                .draw(&Text::new(label.clone(), (x + 38, y), font.clone()))
+                .map_err(|e| err(&e))?;
+        }
+        let areas = body.split_evenly((panels.len(), 1));
+        let last = panels.len() - 1;
+        for (k, (panel, area)) in panels.iter().zip(areas.iter()).enumerate() {
+            let pjump = k == last;
+            // The axis spans the speeds where the theoretical cam holds: after a jump the
+            // impacts' values are larger by orders of magnitude and would flatten the
+            // range a designer works in. Values above it are drawn on the top edge.
+            let holds: Vec<bool> = r.theoretical.iter().map(|p| !p.response.jump).collect();
+            let any_holds = holds.iter().any(|h| *h);
+            let keep = |i: usize| !any_holds || holds.get(i).copied().unwrap_or(false);
+            let mut lo: f64 = 0.0;
+            let mut hi: f64 = f64::NEG_INFINITY;
+            for (i, v) in panel.theory.iter().enumerate() {
+                if let Some(v) = v.filter(|_| keep(i)) {
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+            }
+            for (i, b) in panel.band.iter().enumerate() {
+                if let Some(b) = b.filter(|_| keep(i)) {
+                    lo = lo.min(b.p05);
+                    hi = hi.max(b.p95);
+                }
+            }
+            if pjump || !hi.is_finite() || hi <= lo {
+                hi = if pjump { 1.0 } else { lo + 1.0 };
+            }
+            let pad = 0.06 * (hi - lo);
+            let (y0, y1) = (lo - if lo < 0.0 { pad } else { 0.03 * (hi - lo) }, hi + pad);
+            let mut chart = ChartBuilder::on(area)
+                .margin_left(10)
+                .margin_right(25)
+                .margin_top(8)
+                .margin_bottom(4)
+                .x_label_area_size(if pjump { 55 } else { 30 })
+                .y_label_area_size(105)
+                .build_cartesian_2d(x_range.clone(), y0..y1)
+                .map_err(|e| err(&e))?;
+            let yfmt = |v: &f64| crate::plot::fmt_tick(*v, y1 - y0);
+            let clamp = |v: Option<f64>| v.map(|v| v.min(y1));
+            let theory: Vec<Option<f64>> = panel.theory.iter().map(|v| clamp(*v)).collect();
+            let band: Vec<Option<Band>> = panel
+                .band
+                .iter()
+                .map(|b| {
+                    b.map(|b| Band {
+                        p05: b.p05.min(y1),
+                        median: b.median.min(y1),
+                        p95: b.p95.min(y1),
+                        cams: b.cams,
+                    })
+                })
+                .collect();
+
+            let xfmt = |v: &f64| format!("{v:.0}");
+            let mut mesh = chart.configure_mesh();
+            mesh.y_desc(panel.y_desc)
+                .y_labels(6)
+                .x_labels(12)
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&yfmt)
+                .label_style((crate::plot::FONT, 16))
+                .axis_desc_style((crate::plot::FONT, 18))
+                .bold_line_style(RGBColor(215, 215, 215))
+                .light_line_style(RGBColor(240, 240, 240));
+            if pjump {
+                mesh.x_desc("cam speed (rpm)");
+            }
+            mesh.draw().map_err(|e| err(&e))?;
+            if let Some(o) = &r.theoretical_onset {
+                let a = o.holds_at_rpm.unwrap_or(x_range.start);
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(a, y0), (o.jumps_at_rpm, y1)],
+                        ONSET.mix(0.5).filled(),
+                    )))
+                    .map_err(|e| err(&e))?;
+            }
+            if x_range.contains(&r.operating_rpm) {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        vec![(r.operating_rpm, y0), (r.operating_rpm, y1)],
+                        8,
+                        5,
+                        OPERATING.stroke_width(2),
+                    ))
+                    .map_err(|e| err(&e))?;
+            }
+            // The actual cams' band and median (P(jump): its interval as error bars too).
+            if !band.is_empty() {
+                let lows: Vec<Option<f64>> = band.iter().map(|b| b.map(|b| b.p05)).collect();
+                let highs: Vec<Option<f64>> = band.iter().map(|b| b.map(|b| b.p95)).collect();
+                let meds: Vec<Option<f64>> = band.iter().map(|b| b.map(|b| b.median)).collect();
+                for (lo_run, hi_run) in runs(&xs, &lows).into_iter().zip(runs(&xs, &highs)) {
+                    let mut poly = lo_run.clone();
+                    poly.extend(hi_run.iter().rev().copied());
+                    chart
+                        .draw_series(std::iter::once(Polygon::new(
+                            poly,
+                            ACTUAL.mix(0.3).filled(),
+                        )))
+                        .map_err(|e| err(&e))?;
+                }
+                if pjump {
+                    // Each speed's Wilson interval as a vertical bar.
+                    chart
+                        .draw_series(xs.iter().zip(&band).filter_map(|(&x, b)| {
+                            b.map(|b| {
+                                PathElement::new(
+                                    vec![(x, b.p05), (x, b.p95)],
+                                    ACTUAL.stroke_width(2),
+                                )
+                            })
+                        }))
+                        .map_err(|e| err(&e))?;
+                }
+                for run in runs(&xs, &meds) {
+                    chart
+                        .draw_series(LineSeries::new(run, ACTUAL.stroke_width(3)))
+                        .map_err(|e| err(&e))?;
+                }
+            }
+            // The theoretical cam.
+            for run in runs(&xs, &theory) {
+                chart
+                    .draw_series(LineSeries::new(run.clone(), THEORY.stroke_width(2)))
+                    .map_err(|e| err(&e))?;
+                chart
+                    .draw_series(run.iter().map(|&p| Circle::new(p, 4, THEORY.filled())))
+                    .map_err(|e| err(&e))?;
+            }
+            chart
+                .draw_series(
+                    r.theoretical
+                        .iter()
+                        .zip(&theory)
+                        .filter(|(p, _)| p.response.jump)
+                        .filter_map(|(p, v)| {
+                            v.filter(|v| *v < y1 || pjump)
+                                .map(|v| Cross::new((p.rpm, v), 6, JUMPS.stroke_width(3)))
+                        }),
+                )
+                .map_err(|e| err(&e))?;
+            // Values above the axis: a triangle on the top edge.
+            chart
+                .draw_series(
+                    xs.iter()
+                        .zip(&panel.theory)
+                        .filter_map(|(&x, v)| v.filter(|v| *v > y1).map(|_| x))
+                        .map(|x| TriangleMarker::new((x, y1), 8, JUMPS.filled())),
+                )
+                .map_err(|e| err(&e))?;
+        }
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_parsing() {
+        let g = parse_rpm_grid("300:1200:19").unwrap();
+        assert_eq!(g.step_rpm(), 50.0);
+        let s = g.speeds();
+        assert_eq!((s.len(), s[0], s[1], s[18]), (19, 300.0, 350.0, 1200.0));
+        for bad in [
+            "300:1200:1",
+            "1200:300:5",
+            "a:b:c",
+            "300:1200",
+            "0:100:3",
+            "300:1200:x",
+        ] {
+            assert!(parse_rpm_grid(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn onset_on_the_grid() {
+        let p = [
+            (1.0, false),
+            (2.0, false),
+            (3.0, true),
+            (4.0, false),
+            (5.0, true),
+        ];
+        let o = grid_onset(&p).unwrap();
+        assert_eq!(o.holds_at_rpm, Some(2.0));
+        assert_eq!(o.jumps_at_rpm, 3.0);
+        assert_eq!(o.holds_again_above_rpm, Some(4.0));
+        assert!(grid_onset(&[(1.0, false)]).is_none());
+        let o = grid_onset(&[(1.0, true)]).unwrap();
+        assert_eq!(o.holds_at_rpm, None);
+    }
+
+    #[test]
+    fn band_quantiles() {
+        let b = Band::of((0..=100).map(f64::from).collect()).unwrap();
+        assert_eq!((b.p05, b.median, b.p95, b.cams), (5.0, 50.0, 95.0, 101));
+        assert!(Band::of(vec![]).is_none());
+    }
+}
