@@ -55,6 +55,9 @@ cargo test -p camsim-core --features micromath
 
 step "every camsim command in release (smoke: exit status 0; with --json valid JSON, no null)"
 cargo build --release -p camsim
+# docs/CLI.md is generated from every command's --help: a synopsis that went stale fails here
+# (regenerate with `bash scripts/cli-doc.sh`).
+bash scripts/cli-doc.sh --check
 studies=$(mktemp -d)
 # The binary where cargo put it (CARGO_TARGET_DIR or a config may move the target directory).
 C="$(cargo metadata --format-version 1 --no-deps |
