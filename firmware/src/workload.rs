@@ -24,8 +24,8 @@ use core::ops::ControlFlow;
 
 use camsim_chip::{chip_solver_settings, ChipConfig, ChipTable, CHIP_GRID};
 use camsim_core::{
-    simulate, CamModel, Design, LiftProfile, Observer, PredictionTable, Sample, Scene, SolverSettings,
-    SpeedPrediction, SteadyState,
+    simulate, CamModel, Design, LiftProfile, Observer, PredictionTable, Sample, Scene,
+    SolverSettings, SpeedPrediction, SteadyState,
 };
 
 /// The chip's lift table (`camsim_chip::ChipTable`, `camsim_chip::ChipConfig::tabulate`)

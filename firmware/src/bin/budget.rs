@@ -36,8 +36,8 @@ fn measure_model<S: Scene, const N: usize, P: LiftProfile<f32> + Copy>(
     let (checksum, rhs_instr) =
         counter.measure(|| workload::evaluate_rhs(&model, &y, workload::RHS_REPS));
     let per_rhs = rhs_instr / u64::from(workload::RHS_REPS);
-    let (model, build_instr) = counter
-        .measure(|| workload::revolution_model::<S, N, P>(profile, workload::NOMINAL_RPM));
+    let (model, build_instr) =
+        counter.measure(|| workload::revolution_model::<S, N, P>(profile, workload::NOMINAL_RPM));
     let model = model?;
     let (rev, rev_instr) = counter.measure(|| workload::simulate_revolution(&model));
     let rev = rev?;
@@ -54,7 +54,8 @@ fn measure_model<S: Scene, const N: usize, P: LiftProfile<f32> + Copy>(
 /// 168 MHz).
 fn measure_at_speed<P: LiftProfile<f32> + Copy>(counter: &InstrCounter, rpm: f32, profile: P) {
     let model = workload::revolution_model::<ChipScene, CHIP_STATES, P>(profile, rpm);
-    let (rev, rev_instr) = counter.measure(|| model.as_ref().and_then(workload::simulate_revolution));
+    let (rev, rev_instr) =
+        counter.measure(|| model.as_ref().and_then(workload::simulate_revolution));
     let Some(rev) = rev else {
         defmt::error!("chip model at {=f32} rpm failed", rpm);
         exit_failure()

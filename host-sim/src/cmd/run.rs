@@ -652,11 +652,14 @@ impl Report for RunReport {
                     "stress", "aord_m", "aord_cp", "aord_c", "jump"
                 );
             }
+            // A value that rounds to zero at two decimals prints as 0.00, not -0.00 (a dwell's
+            // torque is zero to rounding, with either sign).
+            let z = |x: f64| if x.abs() < 0.005 { 0.0 } else { x };
             let _ = writeln!(
                 out,
                 "{:<11} {:>10.3e} {:>10.3e} {:>10.3e} {:>9.2} {:>9.2} {:>9.2} {:>8.2} {:>8.2} {:>8.2} {:>9.0} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}",
-                r.period, r.rms_displacement, r.rms_velocity, r.rms_acceleration, r.torque_avg, r.torque_max,
-                r.torque_min, r.contact_force_min, r.contact_force_max, r.contact_force_avg, r.contact_stress_max,
+                r.period, r.rms_displacement, r.rms_velocity, r.rms_acceleration, z(r.torque_avg), z(r.torque_max),
+                z(r.torque_min), z(r.contact_force_min), z(r.contact_force_max), z(r.contact_force_avg), r.contact_stress_max,
                 r.aord_motor, r.aord_coupling, r.aord_cam, if r.jump { "yes" } else { "no" }
             );
         }
