@@ -548,6 +548,9 @@ mod tests {
         }
         // Below the threshold it is not yet 1 somewhere (the threshold is not far off).
         assert!(full(8.0f32) < 1.0 && full(18.0f64) < 1.0);
+        // libm's exp keeps a NaN; micromath's fast exp does not promise to (the model's
+        // non-finite checks catch it either way).
+        #[cfg(not(feature = "micromath"))]
         assert!(smooth_sign(f32::NAN).is_nan());
     }
 

@@ -424,8 +424,11 @@ mod tests {
     /// In `f32` (the chip's table) the same bounds hold up to `f32`'s rounding: the knots'
     /// values and the Hermite sum's few operations (16 ulps of the largest of |f| and
     /// h |f'| of the segment, f = y, y', y''), and the cam angle itself rounded to `f32`
-    /// (half an ulp of 2π times the largest |f'|).
+    /// (half an ulp of 2π times the largest |f'|). With the micromath backend the laws'
+    /// own sin and cos err by far more than the table (about 1e-4 relative), so the
+    /// bound is checked on libm only.
     #[test]
+    #[cfg(not(feature = "micromath"))]
     fn f32_table_keeps_within_the_bound_plus_rounding() {
         let d64 = Design::<f64>::reference();
         let scale = |q: usize, si: usize| {
