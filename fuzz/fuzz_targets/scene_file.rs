@@ -36,6 +36,7 @@ fuzz_target!(|data: &[u8]| {
                 },
                 solver: scene.solver,
                 design: scene.design.clone(),
+                limits: scene.limits,
             };
             let written = toml::to_string(&file).expect("an accepted scene serializes");
             match parse(&written) {
