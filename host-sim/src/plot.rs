@@ -582,6 +582,27 @@ fn plot_err<E: std::fmt::Display>(file: &str) -> impl FnOnce(E) -> anyhow::Error
     move |e| anyhow!("cannot draw plot {file}: {e}")
 }
 
+/// A figure's title: `text` in `size` px, centred across `area`, its top `top` px down.
+pub(crate) fn draw_title<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    size: u32,
+    top: i32,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let (w, _) = area.dim_in_pixel();
+    area.draw(&Text::new(
+        text,
+        (w as i32 / 2, top),
+        (FONT, size)
+            .into_font()
+            .color(&BLACK)
+            .pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Center,
+                plotters::style::text_anchor::VPos::Top,
+            )),
+    ))
+}
+
 /// Pixel ranges (x, y) of a panel's plotting area.
 type PixelArea = (Range<i32>, Range<i32>);
 
@@ -593,21 +614,11 @@ fn draw_figure<DB: DrawingBackend>(
     xs: &[f64],
 ) -> Result<Vec<PixelArea>, DrawingAreaErrorKind<DB::ErrorType>> {
     root.fill(&WHITE)?;
-    let (w, h) = root.dim_in_pixel();
+    let (_, h) = root.dim_in_pixel();
     let mut areas = Vec::new();
     let title_area_h = 44;
     let (title_area, body) = root.split_vertically(title_area_h);
-    title_area.draw(&Text::new(
-        fig.title.as_ref(),
-        (w as i32 / 2, 12),
-        (FONT, 26)
-            .into_font()
-            .color(&BLACK)
-            .pos(plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Center,
-                plotters::style::text_anchor::VPos::Top,
-            )),
-    ))?;
+    draw_title(&title_area, fig.title.as_ref(), 26, 12)?;
     let body_h = h.saturating_sub(title_area_h);
     let mut panels_areas = Vec::new();
     if fig.panels.len() > 2 {

@@ -63,20 +63,14 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str) -> anyhow::Result<()
         ("J: d³s/du³", |x| x.j),
     ];
     crate::cmd::montecarlo::plots::png(dir, file, PLOT_SIZE, |root| {
-        let (w, _) = root.dim_in_pixel();
         let (title, rest) = root.split_vertically(50);
-        title
-            .draw(&Text::new(
-                "Motion laws (Appendix A), normalized: a unit rise over a unit angle, u = θ/β",
-                (w as i32 / 2, 14),
-                (crate::plot::FONT, 24).into_font().color(&BLACK).pos(
-                    plotters::style::text_anchor::Pos::new(
-                        plotters::style::text_anchor::HPos::Center,
-                        plotters::style::text_anchor::VPos::Top,
-                    ),
-                ),
-            ))
-            .map_err(|e| err(&e))?;
+        crate::plot::draw_title(
+            &title,
+            "Motion laws (Appendix A), normalized: a unit rise over a unit angle, u = θ/β",
+            24,
+            14,
+        )
+        .map_err(|e| err(&e))?;
         let (legend, body) = rest.split_vertically(125);
         legend
             .draw(&Text::new(

@@ -880,20 +880,14 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
     let x_range = (r.grid.from_rpm - 0.02 * span)..(r.grid.to_rpm + 0.02 * span);
     let model_name = |m: &str| m.split(',').next().unwrap_or(m).to_string();
     crate::cmd::montecarlo::plots::png(dir, file, PLOT_SIZE, |root| {
-        let (w, _) = root.dim_in_pixel();
         let (title, rest) = root.split_vertically(50);
-        title
-            .draw(&Text::new(
-                "Operating map: the response against cam speed (revolution 2 of each run)",
-                (w as i32 / 2, 14),
-                (crate::plot::FONT, 26).into_font().color(&BLACK).pos(
-                    plotters::style::text_anchor::Pos::new(
-                        plotters::style::text_anchor::HPos::Center,
-                        plotters::style::text_anchor::VPos::Top,
-                    ),
-                ),
-            ))
-            .map_err(|e| err(&e))?;
+        crate::plot::draw_title(
+            &title,
+            "Operating map: the response against cam speed (revolution 2 of each run)",
+            26,
+            14,
+        )
+        .map_err(|e| err(&e))?;
         // The legend: two rows of entries in a strip of its own.
         let (legend, body) = rest.split_vertically(LEGEND_H);
         let font = (crate::plot::FONT, 16).into_font().color(&BLACK);
