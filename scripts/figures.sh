@@ -48,7 +48,7 @@ show modal
 show contact --force 100
 show predict --f32
 show bench --quick
-show scenes
+show models
 # The studies at the default waviness (FPR 17) and the thesis's rougher cams (39, 57): README,
 # "Studies" (a few minutes on 2 cores).
 show compare

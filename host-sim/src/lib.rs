@@ -17,5 +17,6 @@ pub mod scene;
 pub mod shard;
 pub mod sim;
 pub mod stats;
+pub mod study;
 pub mod study_limits;
 pub mod verdict;

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use anyhow::{bail, Result};
 
-use crate::cmd::montecarlo::{SampleRecord, Shard, ShardFile, COLUMNS};
+use crate::study::montecarlo::{SampleRecord, Shard, ShardFile, COLUMNS};
 
 /// The digest's name in the file, before the hexadecimal value.
 pub const DIGEST_PREFIX: &str = "fnv1a-128:";

@@ -636,7 +636,7 @@ fn every_command_reports_absent_values_as_absent_not_as_non_finite() {
         ],
         &["waviness", "--seeds", "1", "--json"],
         &["predict", "--json"],
-        &["scenes", "--quick", "--json"],
+        &["models", "--quick", "--json"],
         &["bench", "--quick", "--json"],
     ];
     for args in cases {

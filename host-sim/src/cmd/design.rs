@@ -19,11 +19,11 @@ use camsim_core::{FollowerModel, Onset, OnsetSearch, Start};
 use serde::Serialize;
 
 use crate::actual::ActualArgs;
-use crate::cmd::montecarlo::{threads, Study};
-use crate::cmd::run::{spec_from, SceneArgs};
+use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
+use crate::study::montecarlo::{threads, Study};
 
 /// Command-line options of `camsim design`.
 #[derive(clap::Args, Debug)]

@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use camsim_core::{Onset, OnsetSearch};
 
-use crate::cmd::run as run_cmd;
+use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
 use crate::sim;
 
@@ -16,7 +16,7 @@ use crate::sim;
 pub struct Args {
     /// The scene and its overrides (`--start` defaults to "static" here).
     #[command(flatten)]
-    pub scene: run_cmd::SceneArgs,
+    pub scene: SceneArgs,
     /// Bisection resolution, rpm (positive, at most 10 000; below the numbers' spacing
     /// the bisection ends on neighbouring speeds).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::resolution_rpm)]
@@ -209,9 +209,9 @@ impl Report for JumpSpeedReport {
 pub fn run(args: Args) -> Result<()> {
     let mut scene = args.scene.clone();
     scene.start.get_or_insert(crate::args::StartArg::Static);
-    let spec = run_cmd::spec_from(&scene)?;
+    let spec = spec_from(&scene)?;
     if args.actual.actual {
-        let threads = crate::cmd::montecarlo::threads(args.threads);
+        let threads = crate::study::montecarlo::threads(args.threads);
         let samples = args
             .samples
             .unwrap_or(crate::cmd::jump_speed_actual::DEFAULT_SAMPLES);
@@ -225,10 +225,12 @@ pub fn run(args: Args) -> Result<()> {
         )?;
         return crate::report::print(&report, args.json);
     }
-    anyhow::ensure!(
-        !args.actual.any_profile_option() && args.samples.is_none() && args.threads.is_none(),
-        "the profile options (--cam-tolerance, --seed, --samples, --threads, ...) need --actual"
-    );
+    args.actual.ensure_actual_if_options()?;
+    if args.samples.is_some() || args.threads.is_some() {
+        return Err(crate::args::usage(
+            "--samples and --threads run actual cams: add --actual (without it the theoretical cam runs)",
+        ));
+    }
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let t0 = std::time::Instant::now();
     let r = find(&spec, args.resolution, args.max_rpm)?;

@@ -27,8 +27,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileStats};
-use crate::cmd::montecarlo::plots;
+use crate::args::OutputArgs;
 use crate::output::{AtomicDir, Plan};
+use crate::plot::study as plots;
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 
@@ -50,6 +51,9 @@ pub const PLOT_FILES: [&str; 1] = ["sensitivity.png"];
 
 /// Command-line options of `camsim sensitivity`.
 #[derive(clap::Args, Debug, Clone, Default)]
+#[command(mut_arg("actual", |a| a.hide(true)))]
+#[command(mut_arg("plot", |a| a.help("Write a tornado-style bar chart (sensitivity.png) into DIR")))]
+#[command(mut_arg("force", |a| a.help("Replace an existing --plot file")))]
 pub struct Args {
     /// Scene file (the reference design if omitted).
     pub scene: Option<PathBuf>,
@@ -67,18 +71,12 @@ pub struct Args {
     /// Worker threads (default: every core). The result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Print JSON instead of tables.
-    #[arg(long)]
-    pub json: bool,
-    /// Write a tornado-style bar chart (sensitivity.png) into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Replace an existing --plot file.
-    #[arg(long)]
-    pub force: bool,
-    /// The actual cam (sample 0 of --seed; both cams always run, --actual changes nothing).
+    /// The actual cam (sample 0 of --seed): both cams always run.
     #[command(flatten)]
     pub actual: ActualArgs,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 /// A group of dynamic characteristics changed together (VI.4.3).
@@ -692,10 +690,11 @@ fn base_spec(args: &Args) -> Result<RunSpec> {
 
 /// Runs the study.
 pub fn report(args: &Args) -> Result<SensitivityReport> {
+    args.actual.refuse_actual_flag("sensitivity")?;
     let t0 = std::time::Instant::now();
     let spec = base_spec(args)?;
-    let mut plan = Plan::new(args.force);
-    let plot_target = match &args.plot {
+    let mut plan = Plan::new(args.output.force);
+    let plot_target = match &args.output.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
@@ -717,7 +716,7 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
             }
         }
     }
-    let threads = crate::cmd::montecarlo::threads(args.threads);
+    let threads = crate::study::montecarlo::threads(args.threads);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .stack_size(16 << 20)
@@ -785,7 +784,7 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.json)
+    crate::report::print(&report(&args)?, args.output.json)
 }
 
 /// The change of `v` from `base`, % (None when the baseline is 0).

@@ -1,0 +1,4 @@
+//! The studies as a library: each computes its report from a scene and options, with no
+//! command-line parsing (the thin `cmd` module of each parses, prints and writes files).
+
+pub mod montecarlo;
