@@ -214,8 +214,9 @@ impl ActualArgs {
         if self.actual || given.is_empty() {
             return Ok(());
         }
+        let verb = if given.len() == 1 { "shapes" } else { "shape" };
         Err(crate::args::usage(format!(
-            "{} shapes an actual cam: add --actual (without it the theoretical cam runs)",
+            "{} {verb} an actual cam: add --actual (without it the theoretical cam runs)",
             given.join(", ")
         )))
     }

@@ -242,7 +242,7 @@ pub const MIN_FORCE_LB: f64 = 1e-6;
 /// of Eq. V.9 on the reference pair equals the roller's diameter (w grows as √F), about
 /// 1.5e6 lb (the reference's contact force is about 50 lb).
 pub fn max_force_lb() -> f64 {
-    use crate::cmd::contact::{BASE_CIRCLE_DIAMETER_IN, CAM_THICKNESS_IN, ROLLER_DIAMETER_IN};
+    use crate::study::contact::{BASE_CIRCLE_DIAMETER_IN, CAM_THICKNESS_IN, ROLLER_DIAMETER_IN};
     let w1 = camsim_core::HertzContact::<f64>::steel(CAM_THICKNESS_IN).width(
         1.0,
         ROLLER_DIAMETER_IN,

@@ -75,6 +75,12 @@ where
     Cli::try_parse_from(args)
 }
 
+/// The command tree as clap builds it (its commands, options and help).
+pub fn command() -> clap::Command {
+    use clap::CommandFactory;
+    Cli::command()
+}
+
 /// Runs a parsed command.
 pub fn execute(cli: Cli) -> Result<()> {
     match cli.command {

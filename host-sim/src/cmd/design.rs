@@ -191,7 +191,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     let (start, max, resolution) = if speed {
         (
             100.0,
-            crate::cmd::jump_speed::MAX_RPM,
+            crate::study::jump_speed::MAX_RPM,
             if args.quick { 100.0 } else { 5.0 },
         )
     } else {
@@ -231,7 +231,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     };
     let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
     let theoretical_onset_rpm = if speed {
-        let js = crate::cmd::jump_speed::find(&spec, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        let js = crate::study::jump_speed::find(&spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
         js.jump_rpm
     } else {
@@ -565,7 +565,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         let (rate, below) = answer(onset, args.max_rate, "separates")?;
         // The chosen spring's own jump onset: the margin it really has.
         let chosen = with_rate(&spec, rate)?;
-        let js = crate::cmd::jump_speed::find(&chosen, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
         SpringReport {
             spring_rate_lb_per_in: rate,

@@ -6,7 +6,6 @@ pub mod contact;
 pub mod design;
 pub mod firmware_check;
 pub mod jump_speed;
-pub mod jump_speed_actual;
 pub mod laws;
 pub mod modal;
 pub mod models;

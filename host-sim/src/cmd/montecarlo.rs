@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 
-use crate::args::{OutputArgs, StudyArgs};
+pub use crate::args::{OutputArgs, StudyArgs};
 use crate::output::Plan;
 use crate::plot::montecarlo::{draw, PLOT_FILES};
 pub use crate::study::montecarlo::{

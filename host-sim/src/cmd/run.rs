@@ -16,6 +16,7 @@ use crate::output::Plan;
 use crate::plot;
 use crate::report::{sorted_pretty_json, Report};
 use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
+pub use crate::verdict::JumpRow;
 
 /// The default of `--csv-every-deg`: a row every half degree of cam angle.
 pub const DEFAULT_CSV_EVERY_DEG: f64 = 0.5;
@@ -124,20 +125,6 @@ impl Default for Args {
             verdict: VerdictArgs::default(),
         }
     }
-}
-
-/// One separation interval (the JSON `jumps` entries).
-#[derive(Clone, Debug, Serialize)]
-pub struct JumpRow {
-    /// Revolution of the onset, from 1.
-    pub revolution: u32,
-    /// Cam angle of the onset within that revolution, degrees.
-    pub start_deg: f64,
-    /// Cam angle of the landing, degrees (on the onset revolution's scale).
-    pub end_deg: f64,
-    /// Index of the period of the onset (text only).
-    #[serde(skip)]
-    pub period: usize,
 }
 
 /// What an actual or measured cam's profile is (the JSON `profile`).
@@ -389,7 +376,7 @@ fn verdict(
         let mut s = spec.clone();
         s.solver.start = camsim_core::Start::Static;
         let rpm = report.rpm;
-        let r = crate::cmd::jump_speed::find(&s, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        let r = crate::study::jump_speed::find(&s, 1.0, crate::study::jump_speed::MAX_RPM)?;
         Some(v::MarginVerdict {
             jump_onset_rpm: r.jump_rpm,
             holds_at_rpm: r.no_jump_rpm,

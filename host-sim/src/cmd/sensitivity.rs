@@ -13,10 +13,9 @@
 //!
 //! `--per-key` ([`per_key`]): d ln(output) / d ln(key) by central differences at ±1 %
 //! of every numeric design key ([`key_scaled`]) on the five outputs (theoretical cam)
-//! and on the jump-onset speed ([`crate::cmd::jump_speed::find`]), ranked by the
+//! and on the jump-onset speed ([`crate::study::jump_speed::find`]), ranked by the
 //! onset's.
 
-use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -517,7 +516,7 @@ pub fn per_key_keys(design: &Design<f64>) -> Result<Vec<(&'static str, &'static 
 pub fn onset_rpm(spec: &RunSpec, resolution: f64) -> Result<Option<f64>> {
     let mut s = spec.clone();
     s.solver.start = Start::Static;
-    Ok(crate::cmd::jump_speed::find(&s, resolution, crate::cmd::jump_speed::MAX_RPM)?.jump_rpm)
+    Ok(crate::study::jump_speed::find(&s, resolution, crate::study::jump_speed::MAX_RPM)?.jump_rpm)
 }
 
 /// `--per-key`'s result.
@@ -574,7 +573,11 @@ pub fn per_key_with(
         .stack_size(16 << 20)
         .build()
         .context("cannot start the worker threads")?;
-    let bar = progress_bar(jobs.len() as u64, progress);
+    let bar = crate::study_limits::progress_bar(
+        jobs.len() as u64,
+        progress,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} perturbed designs, eta {eta}",
+    );
     let results: Vec<Result<KeyPoint>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(i, f)| {
@@ -630,21 +633,6 @@ pub fn per_key_with(
             .then(rest(b).total_cmp(&rest(a)))
     });
     Ok(out)
-}
-
-/// A progress bar on standard error when it is a terminal and `want`, hidden otherwise.
-fn progress_bar(len: u64, want: bool) -> indicatif::ProgressBar {
-    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-    if !want || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:40}] {pos}/{len} perturbed designs, eta {eta}",
-    ) {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
 }
 
 /// What `camsim sensitivity` prints.

@@ -29,7 +29,6 @@
 //! files and their merge ([`shard`]) and the printed report ([`report`]); the histograms
 //! are [`crate::plot::montecarlo`], the command line `crate::cmd::montecarlo`.
 
-use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -353,7 +352,11 @@ impl Study {
             .stack_size(16 << 20)
             .build()
             .context("cannot start the worker threads")?;
-        let bar = progress_bar(indices.len() as u64, progress);
+        let bar = crate::study_limits::progress_bar(
+            indices.len() as u64,
+            progress,
+            "{elapsed_precise} [{bar:40}] {pos}/{len} samples, {per_sec}, eta {eta}",
+        );
         let lines = crate::study_limits::ProgressLines::new(
             "camsim montecarlo",
             indices.len() as u64,
@@ -394,21 +397,6 @@ impl Study {
         anyhow::ensure!(out.len() == indices.len(), "a sample failed");
         Ok(out)
     }
-}
-
-/// A progress bar on standard error when it is a terminal and `want`, hidden otherwise.
-fn progress_bar(len: u64, want: bool) -> indicatif::ProgressBar {
-    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-    if !want || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:40}] {pos}/{len} samples, {per_sec}, eta {eta}",
-    ) {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
 }
 
 /// The worker threads: `--threads`, or every core.

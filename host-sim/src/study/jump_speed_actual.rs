@@ -14,8 +14,8 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::jump_speed::{find, JumpSpeed};
 use crate::actual::ActualArgs;
-use crate::cmd::jump_speed::{find, JumpSpeed};
 use crate::report::Report;
 use crate::sim::RunSpec;
 
