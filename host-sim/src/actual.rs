@@ -650,6 +650,13 @@ pub fn build_profile(
     Ok((dev, stats))
 }
 
+/// The command-line name of a [`ValueEnum`] value.
+pub fn value_name<V: ValueEnum>(v: &V) -> String {
+    v.to_possible_value()
+        .map(|p| p.get_name().to_string())
+        .unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -774,11 +781,4 @@ mod tests {
         let (_, s9) = build_profile(&d, &a, 9).unwrap();
         assert_eq!((s0.intervals, s9.intervals), (n, n));
     }
-}
-
-/// The command-line name of a [`ValueEnum`] value.
-pub fn value_name<V: ValueEnum>(v: &V) -> String {
-    v.to_possible_value()
-        .map(|p| p.get_name().to_string())
-        .unwrap_or_default()
 }

@@ -389,11 +389,7 @@ pub fn report(args: &Args) -> Result<CompareReport> {
     let jobs: Vec<(usize, bool)> = (0..specs.len())
         .flat_map(|i| [(i, false), (i, true)])
         .collect();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(crate::study::montecarlo::threads(args.threads))
-        .stack_size(16 << 20)
-        .build()
-        .context("cannot start the worker threads")?;
+    let pool = crate::study::pool(crate::study::montecarlo::threads(args.threads))?;
     type Job = Result<(CamStudy, Option<ProfileStats>)>;
     let results: Vec<Job> = pool.install(|| {
         jobs.par_iter()

@@ -568,11 +568,7 @@ pub fn per_key_with(
     let jobs: Vec<(usize, f64)> = (0..keys.len())
         .flat_map(|i| [(i, 1.0 + KEY_STEP), (i, 1.0 - KEY_STEP)])
         .collect();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
-        .stack_size(16 << 20)
-        .build()
-        .context("cannot start the worker threads")?;
+    let pool = crate::study::pool(threads)?;
     let bar = crate::study_limits::progress_bar(
         jobs.len() as u64,
         progress,
@@ -705,11 +701,7 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
         }
     }
     let threads = crate::study::montecarlo::threads(args.threads);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .stack_size(16 << 20)
-        .build()
-        .context("cannot start the worker threads")?;
+    let pool = crate::study::pool(threads)?;
     let results: Vec<Result<Case>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(g, c, actual)| {

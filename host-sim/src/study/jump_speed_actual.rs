@@ -145,10 +145,7 @@ pub fn study(
 ) -> Result<ActualOnsetReport> {
     let t0 = std::time::Instant::now();
     let op = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
-        .build()
-        .context("cannot start the worker threads")?;
+    let pool = super::pool(threads)?;
     let theory = find(spec, resolution, max_rpm).context("the theoretical cam")?;
     let results: Vec<Result<JumpSpeed>> = pool.install(|| {
         (0..u64::from(samples))

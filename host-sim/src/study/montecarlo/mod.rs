@@ -32,7 +32,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use camsim_core::DriveLaw;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -346,12 +346,7 @@ impl Study {
         threads: usize,
         progress: bool,
     ) -> Result<Vec<SampleRecord>> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads.max(1))
-            // A profile (three arrays of 3601 f64) is built on the stack.
-            .stack_size(16 << 20)
-            .build()
-            .context("cannot start the worker threads")?;
+        let pool = super::pool(threads)?;
         let bar = crate::study_limits::progress_bar(
             indices.len() as u64,
             progress,
