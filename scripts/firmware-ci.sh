@@ -156,7 +156,7 @@ run_and_check "$SCENE_LOG" "$SCENE_BUDGET_LOG" --scene "$SCENE_NAME"
 # the host's reader (camsim_scene_file::measured), turns it into the deviation knots on the
 # design, narrows them to f32 and compiles them into flash; the demonstration image splines them at
 # boot and builds its table with the roller on that cam. Only that image carries it (the
-# budget probes do not: see firmware/README.md). Checked: the run, its memory against
+# budget probes do not: see docs/FIRMWARE.md). Checked: the run, its memory against
 # llvm-size and memory.x, the fault reactions, the panic sites, and host parity with
 # `camsim predict --f32 --measured` (the same reader, knots, narrowing and spline).
 # ---------------------------------------------------------------------------

@@ -6,7 +6,7 @@
 //! [`ScriptedPulseTrain`], a [`CaptureTimer`] like the board's timer capture). The
 //! predictor itself (table, observer, alarm, onset search, index pulse) is `camsim_core`'s.
 //!
-//! Chosen by measurement (the figures are in firmware/README.md and `camsim scenes`): the
+//! Chosen by measurement (the figures are in docs/FIRMWARE.md and `camsim scenes`): the
 //! quasi-static-rod scene (regulated drive, vertical, the roller, the cantilever portion
 //! and the follower rod quasi-static, the train's mass on the load: 10 states,
 //! docs/MODEL.md §10), the fastest scene whose jump onset stays within 1 % of the full
@@ -76,7 +76,7 @@ pub fn chip_design_from<T: Real>(scene: &Design<f64>) -> Result<Design<T>> {
 /// controller, not the cap, sets them), from static equilibrium. The thesis's all-zero start
 /// leaves a start-up impact whose roller ringing is still there in the second revolution,
 /// so it is not a steady state (docs/MODEL.md §5.11, §7.3; its effect on the jump speed
-/// is measured in firmware/README.md).
+/// is measured in docs/FIRMWARE.md).
 pub fn chip_solver_settings<T: Real>() -> SolverSettings<T> {
     SolverSettings {
         rtol: T::from_f64(1e-2),
@@ -170,7 +170,7 @@ impl<'a, T: Real, P: LiftProfile<T> + Copy> ChipConfig<'a, T, P> {
 /// Most knots of a measured profile's deviation spline the chip carries (its rows and the
 /// closing knot: 720 rows, one every 0.5°). Each knot costs 8 B of flash (angle and
 /// deviation, f32) and 12 B of RAM (the spline's knot, value and second derivative) plus
-/// 4 B of stack while the spline is solved at boot (firmware/README.md has the measured
+/// 4 B of stack while the spline is solved at boot (docs/FIRMWARE.md has the measured
 /// figures).
 pub const CHIP_PROFILE_MAX_KNOTS: usize = 721;
 

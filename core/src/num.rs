@@ -358,7 +358,7 @@ pub fn rad_per_s_to_rpm<T: Real>(rad_per_s: T) -> T {
 /// Single-precision sine and cosine computed in single precision.
 ///
 /// libm's `sinf`/`cosf` evaluate in `f64`: on the Cortex-M4F's single-precision FPU that
-/// is software double arithmetic (its cost is measured in firmware/README.md).
+/// is software double arithmetic (its cost is measured in docs/FIRMWARE.md).
 /// This is Cephes' `sinf`/`cosf` (S. L. Moshier): reduction by π/4 in three parts
 /// (Cody-Waite, exact for |x| < 8192) and minimax polynomials on [-π/4, π/4]; peak error
 /// within 2 ulp (tested against `f64` below). Larger, infinite and NaN arguments fall back

@@ -2,7 +2,7 @@
 //! design (full 22-state scene, static start, 2 revolutions, the load's acceleration RMS
 //! over revolution 2 at 720 cam angles against England at rtol 1e-13: `camsim bench`'s
 //! model, settings, sampler and reference), with the RMS error of every state component,
-//! so that the component whose error stops converging shows. BENCHMARKS.md (issue 22's
+//! so that the component whose error stops converging shows. docs/BENCHMARKS.md (issue 22's
 //! section) gives what each mode showed.
 //!
 //! `cargo run --release -p camsim --example converge -- [rpm] [rtol...]` (500 rpm, rtol

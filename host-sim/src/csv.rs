@@ -205,7 +205,7 @@ pub const ROW_BYTES: u64 = 850;
 /// Accepted double steps per revolution assumed at rtol 1e-6: an upper bound set by the
 /// most demanding shipped scene, the printed undamped model from the thesis start
 /// (`scenes/undamped-printed.toml`, whose ringing and impacts need short steps; its step
-/// count is in README.md), rounded up. The damped reference needs far fewer.
+/// count is in docs/FIGURES.md#run), rounded up. The damped reference needs far fewer.
 pub const STEPS_PER_REV: f64 = 60_000.0;
 
 /// The rows `--csv` is expected to get for `spec`, before it runs: two samples per

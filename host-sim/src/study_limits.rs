@@ -13,7 +13,7 @@ use anyhow::{bail, Result};
 use crate::output::human_bytes;
 
 /// Memory a study holds per sample until its statistics are computed, bytes: 1 kB.
-/// Measured (BENCHMARKS.md, "Memory of a Monte Carlo study"): the maximum RSS grows by
+/// Measured (docs/BENCHMARKS.md, "Memory of a Monte Carlo study"): the maximum RSS grows by
 /// 0.83 kB a sample between 1 000 and 10 000 samples (the record: 8 periods of 13
 /// columns, the period names, the sample's numbers), rounded up.
 pub const BYTES_PER_SAMPLE: u64 = 1_000;

@@ -1,5 +1,5 @@
 //! Contact events with and without location on the weak-spring model: a measurement,
-//! not a check (BENCHMARKS.md). Run with
+//! not a check (docs/BENCHMARKS.md). Run with
 //! `cargo run --release -p camsim-tests --example events`.
 
 use camsim_tests::weak_spring::{model_run, rms_diff, weak_spring_model, GRID};

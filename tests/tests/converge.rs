@@ -12,13 +12,13 @@
 //! of the step (fourth order: 16x).
 //!
 //! The reference is England at rtol 1e-12 (the bench's is 1e-13); at 1e-12 England and
-//! Dormand-Prince agree to 2.8e-7 in/s² (BENCHMARKS.md), so [`FLOOR`] is ten times that:
+//! Dormand-Prince agree to 2.8e-7 in/s² (docs/BENCHMARKS.md), so [`FLOOR`] is ten times that:
 //! an error below it would measure the reference.
 //!
 //! England with error per step (classic and PI-capped, what `camsim run` and the bench
 //! use) fails this (issue 22: classic 2.56x, 1.70x, 1.25x a decade from rtol 1e-5 to
 //! 1e-8; its steps in the dwells are held by stability and do not shrink with rtol,
-//! BENCHMARKS.md); those two cases stay ignored and name the issue (run them with
+//! docs/BENCHMARKS.md); those two cases stay ignored and name the issue (run them with
 //! `cargo test -p camsim-tests --test converge -- --include-ignored`). With error per
 //! unit step over one revolution ([`per_revolution`]) both pass: those are the England
 //! cases that run.

@@ -254,7 +254,7 @@ fn onset<S: Scene, const N: usize>() -> f64 {
 #[test]
 fn the_follower_reductions_find_the_jump_onset_within_one_percent_the_shaft_does_not() {
     let full = onset::<RegulatedVertical, { RegulatedVertical::N }>();
-    // The full model's onset (README: 902.3 rpm at 1 rpm resolution).
+    // The full model's onset (docs/FIGURES.md#jump-speed, at 1 rpm resolution).
     assert!((full - 902.3).abs() < 1.5, "{full}");
     for (name, o) in [
         (

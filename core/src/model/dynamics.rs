@@ -461,7 +461,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
 
     /// [`Self::evaluate`]; `outputs = false` skips what only observers read (the pressure
     /// angle itself: the forces use its sine and cosine), for the right-hand side. One copy
-    /// for both uses (inlined into each it costs the chip's flash; firmware/README.md).
+    /// for both uses (inlined into each it costs the chip's flash; docs/FIRMWARE.md).
     #[inline(never)]
     fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
         let d = &self.d;

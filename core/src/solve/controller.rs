@@ -309,7 +309,7 @@ pub struct StepControl<T> {
 /// dwells, where the stiff contact mode sets the step and the load's truncation error is
 /// far below the tolerance), the number of steps and each step's error do not depend on
 /// the tolerance, so neither does their sum: the global error stops following `rtol`
-/// (issue 22, BENCHMARKS.md). Per unit step the allowed local errors over an interval
+/// (issue 22, docs/BENCHMARKS.md). Per unit step the allowed local errors over an interval
 /// `T` add up to `T / h_ref` tolerances whatever the steps, so the global error follows
 /// the tolerance; the price is smaller steps wherever accuracy sets the step (the ratio
 /// of an order-4 step then scales as `h^4`, not `h^5`).

@@ -30,7 +30,7 @@
 //!   step's alarm; log with [`crate::monitor`]'s lines;
 //! - logging and failures: build with `--no-default-features --features rtt` for defmt
 //!   over RTT and panics through `panic-probe` (no semihosting on a failure path), and
-//!   run with `probe-rs run --chip <chip>` (see the firmware README, "A real board");
+//!   run with `probe-rs run --chip <chip>` (see docs/FIRMWARE.md, "A real board");
 //! - memory: the chip's own origins with the budget's lengths (`build/board_memory.rs`).
 
 pub mod qemu;

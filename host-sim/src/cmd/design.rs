@@ -7,7 +7,7 @@
 //! predicate of `camsim jump-speed`); with `--actual`, the upper end of the 95 % Wilson
 //! interval of P(jump) at the operating speed over `--samples` actual cams at most
 //! `--p-max` (the Monte Carlo of `camsim montecarlo`, on the quasi-static-cantilever
-//! follower that README "Reduced scenes" shows adequate on actual cams). The search is
+//! follower that docs/RESULTS.md "Reduced scenes" shows adequate on actual cams). The search is
 //! core's [`OnsetSearch`] (doubling from [`START_RATE`], then bisection to
 //! `--resolution`): bounded, and deterministic (the same cams, seeded, at every rate,
 //! collected by index whatever the thread count).
@@ -86,7 +86,7 @@ fn p_max_and_samples(p_max: f64, quick: bool, samples: Option<u64>) -> (f64, u64
 }
 
 /// The Monte Carlo model of the design searches: the quasi-static cantilever, vertical
-/// (README "Reduced scenes": adequate for P(jump) on actual cams), at rtol 1e-4.
+/// (docs/RESULTS.md "Reduced scenes": adequate for P(jump) on actual cams), at rtol 1e-4.
 fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
     let mut mc = spec.clone();
     mc.dofs.horizontal = false;

@@ -67,7 +67,7 @@ pub struct Args {
     pub actual: ActualArgs,
     /// Simulate a measured profile: a CSV with the header `angle_deg,deviation_in`
     /// (lift deviation), `angle_deg,lift_in` (lift) or `angle_deg,radius_in` (cam
-    /// surface polar radius, followed by the roller's exact envelope); see the README.
+    /// surface polar radius, followed by the roller's exact envelope); see docs/COMMANDS.md.
     #[arg(long, value_name = "FILE.csv", conflicts_with = "actual")]
     pub measured: Option<PathBuf>,
     /// The verdict's limits and its jump margin.
