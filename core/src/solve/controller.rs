@@ -167,6 +167,72 @@ pub enum Controller<T> {
     Pi(PiController<T>),
 }
 
+/// England's original rule ([`Controller::Classic`]): safety factor 0.9.
+const CLASSIC_SAFETY: f64 = 0.9;
+/// England's original rule: exponent `-1/5` of the error ratio (local error ∝ `h^5`).
+const CLASSIC_EXPONENT: f64 = -0.2;
+/// England's original rule: smallest step-size factor.
+const CLASSIC_FAC_MIN: f64 = 0.2;
+/// England's original rule: largest step-size factor.
+const CLASSIC_FAC_MAX: f64 = 5.0;
+
+impl<T: Real> Controller<T> {
+    /// England's raw factor `0.9 err^(-1/5)` (`T::MAX` for a zero error; 0 for `+inf`).
+    fn classic_raw(err: T) -> T {
+        if err > T::ZERO {
+            T::from_f64(CLASSIC_SAFETY) * err.powf(T::from_f64(CLASSIC_EXPONENT))
+        } else {
+            T::MAX
+        }
+    }
+
+    /// Factor for the next step after an accepted step with error ratio `err`
+    /// (`after_rejection`: the step was a retry, so the factor is at most 1).
+    pub fn accept(&mut self, err: T, after_rejection: bool) -> T {
+        self.accept_raw(err, after_rejection).0
+    }
+
+    /// `(clamped factor, factor before the clamp)`, both at most 1 after a rejection
+    /// (the second tells a step shortened to meet an end time whether the planned size
+    /// would have passed).
+    pub(crate) fn accept_raw(&mut self, err: T, after_rejection: bool) -> (T, T) {
+        match self {
+            Controller::Classic => {
+                let raw = Self::classic_raw(err);
+                let cap = if after_rejection {
+                    T::ONE
+                } else {
+                    T::from_f64(CLASSIC_FAC_MAX)
+                };
+                let unbounded = if after_rejection {
+                    raw.min(T::ONE)
+                } else {
+                    raw
+                };
+                (raw.clamp(T::from_f64(CLASSIC_FAC_MIN), cap), unbounded)
+            }
+            Controller::Pi(pi) => pi.accept_raw(err, after_rejection),
+        }
+    }
+
+    /// Factor (at most 1) for the retry of a step rejected with error ratio `err > 1`.
+    pub fn reject(&mut self, err: T) -> T {
+        match self {
+            Controller::Classic => {
+                Self::classic_raw(err).clamp(T::from_f64(CLASSIC_FAC_MIN), T::ONE)
+            }
+            Controller::Pi(pi) => pi.reject(err),
+        }
+    }
+
+    /// Forgets the history (a PI controller's previous error; nothing for the classic rule).
+    pub fn reset(&mut self) {
+        if let Controller::Pi(pi) = self {
+            pi.reset();
+        }
+    }
+}
+
 /// How [`England`](crate::England) chooses its first step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum InitialStep {

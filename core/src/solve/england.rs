@@ -37,9 +37,7 @@
 use core::ops::ControlFlow;
 
 use super::{Dense, OdeSystem, Tolerance};
-use crate::{
-    initial_step, spectral_radius, Controller, Error, InitialStep, Real, Result, StepControl,
-};
+use crate::{initial_step, spectral_radius, Error, InitialStep, Real, Result, StepControl};
 
 /// Settings of [`England`]; every step size is a double-step size (time advanced by one
 /// accepted step).
@@ -198,6 +196,106 @@ pub(super) struct Attempt<T> {
     pub(super) t_end: T,
     /// Accepted (else rejected, with `once`).
     pub(super) accepted: bool,
+}
+
+/// England's tableau as data (the formulas of the module documentation): stage nodes,
+/// the weights of each stage's argument, of the two half steps' updates, of `k9`'s
+/// argument and of the error estimate `E`. Each combination is evaluated left to right as
+/// `w_1 k_1 + w_2 k_2 + ...` ([`weighted`]), which for these weights is bit for bit the
+/// original `-k1 - 96 k2 + ...` (a product with `-1` or a negative weight is exact
+/// negation).
+pub(super) struct Tableau;
+
+impl Tableau {
+    /// Stage nodes within a half step `s`, as fractions of `s`: `k1` at 0, `k2` and `k3`
+    /// at `s/2`, `k4` at `s` (and `k5..k8` the same from the midpoint).
+    pub(super) const C: [f64; 4] = [0.0, 0.5, 0.5, 1.0];
+    /// `k2`'s argument: `y0 + A2 k1`.
+    pub(super) const A2: f64 = 0.5;
+    /// `k3`'s argument: `y0 + A3 (k1 + k2)`.
+    pub(super) const A3: f64 = 0.25;
+    /// `k4`'s argument: `y0 + A4 · (k2, k3)`, i.e. `(y0 - k2) + 2 k3` (summed from `y0`).
+    pub(super) const A4: [f64; 2] = [-1.0, 2.0];
+    /// A half step's update: `y1 = y0 + B_SCALE · B · (k1, k3, k4)` (`k2` does not enter),
+    /// i.e. `(k1 + 4 k3 + k4)/6`.
+    pub(super) const B: [f64; 3] = [1.0, 4.0, 1.0];
+    /// Factor of [`Tableau::B`].
+    pub(super) const B_SCALE: f64 = 1.0 / 6.0;
+    /// `k9`'s argument: `y0 + A9_SCALE · A9 · (k1, ..., k7)`.
+    pub(super) const A9: [f64; 7] = [-1.0, -96.0, 92.0, -121.0, 144.0, 6.0, -12.0];
+    /// Factor of [`Tableau::A9`].
+    pub(super) const A9_SCALE: f64 = 1.0 / 6.0;
+    /// The error estimate: `E = E_SCALE · E · (k1, k3, k4, k5, k7, k9)` (`k2`, `k6`, `k8`
+    /// do not enter).
+    pub(super) const E: [f64; 6] = [-1.0, 4.0, 17.0, -23.0, 4.0, -1.0];
+    /// Factor of [`Tableau::E`].
+    pub(super) const E_SCALE: f64 = 1.0 / 90.0;
+}
+
+/// The last step before an end time may stretch the planned size by at most this factor
+/// (1 %) to land on it instead of leaving a sliver.
+const STRETCH: f64 = 1.01;
+
+/// `w_1 k_1 + w_2 k_2 + ...`, summed left to right starting from `w_1 k_1` (not from 0, which
+/// would turn a `-0` into `+0`).
+#[inline(always)]
+fn weighted<T: Real, const M: usize>(w: &[f64; M], k: [T; M]) -> T {
+    let mut terms = w.iter().zip(k);
+    let Some((w1, k1)) = terms.next() else {
+        return T::ZERO;
+    };
+    terms.fold(T::from_f64(*w1) * k1, |acc, (wi, ki)| {
+        acc + T::from_f64(*wi) * ki
+    })
+}
+
+/// `y + w_1 k_1 + w_2 k_2 + ...`, summed left to right from `y` (k4's argument
+/// `y0 - k2 + 2 k3` is `(y0 - k2) + 2 k3`, not `y0 + (2 k3 - k2)`).
+#[inline(always)]
+fn accumulated<T: Real, const M: usize>(y: T, w: &[f64; M], k: [T; M]) -> T {
+    w.iter()
+        .zip(k)
+        .fold(y, |acc, (wi, ki)| acc + T::from_f64(*wi) * ki)
+}
+
+/// The sizes and times of one attempted double step.
+#[derive(Clone, Copy, Debug)]
+struct Plan<T> {
+    /// The size planned (the controller's, capped), before shortening near an end time.
+    h_plan: T,
+    /// This attempt's double step.
+    h: T,
+    /// Half step `h/2`.
+    s: T,
+    /// Midpoint time `t0 + s`.
+    t_mid: T,
+    /// End time (exactly the end time asked for on the last step).
+    t_end: T,
+}
+
+/// Checks the start of a step: `t0` finite, `t_end` finite and later, `y` finite.
+fn check_step_start<T: Real, const N: usize>(t0: T, t_end: T, y: &[T; N]) -> Result<()> {
+    if !t0.is_finite() {
+        return Err(Error::InvalidParameter {
+            field: "t",
+            rule: "must be finite",
+            value: t0.to_f64(),
+        });
+    }
+    if !(t_end.is_finite() && t_end > t0) {
+        return Err(Error::InvalidParameter {
+            field: "t_end",
+            rule: "must be finite and later than the current time",
+            value: t_end.to_f64(),
+        });
+    }
+    if let Some(i) = first_non_finite(y) {
+        return Err(Error::NonFinite {
+            t: t0.to_f64(),
+            component: i,
+        });
+    }
+    Ok(())
 }
 
 /// Evaluates `out = scale · f(t, arg)` and checks that it is finite.
@@ -394,9 +492,7 @@ impl<T: Real, const N: usize> England<T, N> {
         self.h = self.config.h_init;
         self.stats = SolverStats::default();
         self.aux_evals = 0;
-        if let Controller::Pi(pi) = &mut self.control.controller {
-            pi.reset();
-        }
+        self.control.controller.reset();
         self.h_cap = T::MAX;
         self.rho = T::NAN;
         self.since_estimate = 0;
@@ -490,379 +586,380 @@ impl<T: Real, const N: usize> England<T, N> {
         mid: &mut (T, [T; N]),
         mode: StepMode,
     ) -> Result<Attempt<T>> {
-        let (f0_ready, once, once_rejected, force) = match mode {
+        let (f0_ready, once, force, mut rejected_here) = match mode {
             StepMode::Fresh => (false, false, false, false),
             StepMode::Continue => (true, false, false, false),
             StepMode::Once {
                 rejected_before,
                 force,
-            } => (true, true, rejected_before, force),
+            } => (true, true, force, rejected_before),
         };
         let t0 = *t;
-        if !t0.is_finite() {
-            return Err(Error::InvalidParameter {
-                field: "t",
-                rule: "must be finite",
-                value: t0.to_f64(),
-            });
-        }
-        if !(t_end.is_finite() && t_end > t0) {
-            return Err(Error::InvalidParameter {
-                field: "t_end",
-                rule: "must be finite and later than the current time",
-                value: t_end.to_f64(),
-            });
-        }
-        if let Some(i) = first_non_finite(y) {
-            return Err(Error::NonFinite {
-                t: t0.to_f64(),
-                component: i,
-            });
-        }
+        check_step_start(t0, t_end, y)?;
         // f(t0, y0), shared by every attempt from this point.
         if !f0_ready {
             stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
         }
-        let capped = self.control.stiffness_cap.is_some();
-
-        let (h_min, h_max, max_steps, rtol) = (
-            self.config.h_min,
-            self.config.h_max,
-            self.config.max_steps,
-            self.config.tol.rtol,
-        );
-        let c90 = T::from_f64(1.0 / 90.0);
-        let sixth = T::from_f64(1.0 / 6.0);
-        let quarter = T::from_f64(0.25);
-        let safety = T::from_f64(0.9);
-        let neg_fifth = T::from_f64(-0.2);
-        let fac_min = T::from_f64(0.2);
-        let fac_max = T::from_f64(5.0);
-        let stretch = T::from_f64(1.01);
-        let mut rejected_here = once && once_rejected;
-
         loop {
             let steps = self.stats.accepted.saturating_add(self.stats.rejected);
-            if steps >= max_steps {
+            if steps >= self.config.max_steps {
                 return Err(Error::StepBudgetExceeded {
                     t: t0.to_f64(),
                     steps,
                 });
             }
-
             // Starting step and stiffness estimate when due (never with the classic control).
-            if capped || self.initial_due {
+            if self.control.stiffness_cap.is_some() || self.initial_due {
                 self.prepare(sys, t0, y)?;
             }
-
-            // Choose this attempt's double step h, shortened near t_end.
-            let h_plan = if capped {
-                self.h.min(self.h_cap).max(h_min)
-            } else {
-                self.h
-            };
-            let remaining = t_end - t0;
-            let (h, last) = if remaining <= h_plan * stretch {
-                (remaining, true)
-            } else if remaining < h_plan + h_plan {
-                (remaining * T::HALF, false)
-            } else {
-                (h_plan, false)
-            };
-            let clipped = h < h_plan;
-            let s = h * T::HALF;
-            let s2 = s * T::HALF;
-            let t_mid = t0 + s;
-            let t_end_step = if last { t_end } else { t0 + h };
-
-            // First half step: k1..k4 and y1 (written straight into `mid`).
-            for (i, (k, f)) in self.k1.iter_mut().zip(self.f0.iter()).enumerate() {
-                *k = s * *f;
-                if !k.is_finite() {
-                    return Err(Error::NonFinite {
-                        t: t0.to_f64(),
-                        component: i,
-                    });
-                }
-            }
-            for ((a, y0), k1) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()) {
-                *a = *y0 + T::HALF * *k1;
-            }
-            stage(
-                sys,
-                t0 + s2,
-                &self.arg,
-                s,
-                &mut self.k2,
-                &mut self.stats.rhs_evals,
-            )?;
-            for (((a, y0), k1), k2) in self
-                .arg
-                .iter_mut()
-                .zip(y.iter())
-                .zip(self.k1.iter())
-                .zip(self.k2.iter())
-            {
-                *a = *y0 + quarter * (*k1 + *k2);
-            }
-            stage(
-                sys,
-                t0 + s2,
-                &self.arg,
-                s,
-                &mut self.k3,
-                &mut self.stats.rhs_evals,
-            )?;
-            for (((a, y0), k2), k3) in self
-                .arg
-                .iter_mut()
-                .zip(y.iter())
-                .zip(self.k2.iter())
-                .zip(self.k3.iter())
-            {
-                *a = *y0 - *k2 + T::TWO * *k3;
-            }
-            stage(
-                sys,
-                t_mid,
-                &self.arg,
-                s,
-                &mut self.k4,
-                &mut self.stats.rhs_evals,
-            )?;
-            let y1 = &mut mid.1;
-            for ((((m, y0), k1), k3), k4) in y1
-                .iter_mut()
-                .zip(y.iter())
-                .zip(self.k1.iter())
-                .zip(self.k3.iter())
-                .zip(self.k4.iter())
-            {
-                *m = *y0 + sixth * (*k1 + T::from_f64(4.0) * *k3 + *k4);
-            }
-            if let Some(i) = first_non_finite(y1) {
-                return Err(Error::NonFinite {
-                    t: t_mid.to_f64(),
-                    component: i,
-                });
-            }
-
-            // Second half step up to k7, then England's k9.
-            stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?;
-            for ((a, m), k5) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()) {
-                *a = *m + T::HALF * *k5;
-            }
-            stage(
-                sys,
-                t_mid + s2,
-                &self.arg,
-                s,
-                &mut self.k6,
-                &mut self.stats.rhs_evals,
-            )?;
-            for (((a, m), k5), k6) in self
-                .arg
-                .iter_mut()
-                .zip(y1.iter())
-                .zip(self.k5.iter())
-                .zip(self.k6.iter())
-            {
-                *a = *m + quarter * (*k5 + *k6);
-            }
-            stage(
-                sys,
-                t_mid + s2,
-                &self.arg,
-                s,
-                &mut self.k7,
-                &mut self.stats.rhs_evals,
-            )?;
-            // Nine arrays of length N in step (zipped: no index, no bounds check).
-            for ((((((((a, y0), k1), k2), k3), k4), k5), k6), k7) in self
-                .arg
-                .iter_mut()
-                .zip(y.iter())
-                .zip(self.k1.iter())
-                .zip(self.k2.iter())
-                .zip(self.k3.iter())
-                .zip(self.k4.iter())
-                .zip(self.k5.iter())
-                .zip(self.k6.iter())
-                .zip(self.k7.iter())
-            {
-                *a = *y0
-                    + sixth
-                        * (-*k1 - T::from_f64(96.0) * *k2 + T::from_f64(92.0) * *k3
-                            - T::from_f64(121.0) * *k4
-                            + T::from_f64(144.0) * *k5
-                            + T::from_f64(6.0) * *k6
-                            - T::from_f64(12.0) * *k7);
-            }
-            stage(
-                sys,
-                t_end_step,
-                &self.arg,
-                s,
-                &mut self.k9,
-                &mut self.stats.rhs_evals,
-            )?;
-
-            // Error ratio from E = (-k1 + 4k3 + 17k4 - 23k5 + 4k7 - k9)/90.
-            let mut err = T::ZERO;
-            for (i, ((((((((k1, k3), k4), k5), k7), k9), atol), y0), a)) in self
-                .k1
-                .iter()
-                .zip(self.k3.iter())
-                .zip(self.k4.iter())
-                .zip(self.k5.iter())
-                .zip(self.k7.iter())
-                .zip(self.k9.iter())
-                .zip(self.config.tol.atol.iter())
-                .zip(y.iter())
-                .zip(self.arg.iter())
-                .enumerate()
-            {
-                let e = c90
-                    * (-*k1 + T::from_f64(4.0) * *k3 + T::from_f64(17.0) * *k4
-                        - T::from_f64(23.0) * *k5
-                        + T::from_f64(4.0) * *k7
-                        - *k9);
-                let scale = *atol + rtol * y0.abs().max(a.abs());
-                if !e.is_finite() {
-                    return Err(Error::NonFinite {
-                        t: t_end_step.to_f64(),
-                        component: i,
-                    });
-                }
-                let e = e.abs();
-                let r = if scale > T::ZERO {
-                    e / scale
-                } else if e == T::ZERO {
-                    T::ZERO
-                } else {
-                    T::INFINITY
-                };
-                err = err.max(r);
-            }
-            if let Some(p) = &self.control.per_unit_step {
-                err = p.ratio(err, h, rtol);
-            }
-            // err^(-1/5) step factor (k's are finite, so err is not NaN; it may be +inf).
-            let fac_raw = if err > T::ZERO {
-                safety * err.powf(neg_fifth)
-            } else {
-                T::MAX
-            };
-
+            let p = self.plan(t0, t_end);
+            self.first_half(sys, t0, y, &p, &mut mid.1)?;
+            self.second_half(sys, y, &mid.1, &p)?;
+            let err = self.error_ratio(y, &p)?;
             if err <= T::ONE || force {
-                // Accepted: k8 (into the k9 buffer) and y2 (in place of y0).
-                for (((a, m), k6), k7) in self
-                    .arg
-                    .iter_mut()
-                    .zip(mid.1.iter())
-                    .zip(self.k6.iter())
-                    .zip(self.k7.iter())
-                {
-                    *a = *m - *k6 + T::TWO * *k7;
-                }
-                stage(
-                    sys,
-                    t_end_step,
-                    &self.arg,
-                    s,
-                    &mut self.k9,
-                    &mut self.stats.rhs_evals,
-                )?;
-                for ((((y2, m), k5), k7), k8) in y
-                    .iter_mut()
-                    .zip(mid.1.iter())
-                    .zip(self.k5.iter())
-                    .zip(self.k7.iter())
-                    .zip(self.k9.iter())
-                {
-                    *y2 = *m + sixth * (*k5 + T::from_f64(4.0) * *k7 + *k8);
-                }
-                if let Some(i) = first_non_finite(y) {
-                    // Restoring y0 would need a copy on every step; report instead.
-                    return Err(Error::NonFinite {
-                        t: t_end_step.to_f64(),
-                        component: i,
-                    });
-                }
-                self.stats.accepted = self.stats.accepted.saturating_add(1);
-                mid.0 = t_mid;
-                *t = t_end_step;
-
-                let (fac, fac_unbounded) = match &mut self.control.controller {
-                    Controller::Classic => {
-                        let fac_cap = if rejected_here { T::ONE } else { fac_max };
-                        let fac_unbounded = if rejected_here {
-                            fac_raw.min(T::ONE)
-                        } else {
-                            fac_raw
-                        };
-                        (fac_raw.clamp(fac_min, fac_cap), fac_unbounded)
-                    }
-                    Controller::Pi(pi) => pi.accept_raw(err, rejected_here),
-                };
-                let mut h_next = h * fac;
-                if clipped {
-                    // A step shortened to meet t_end says nothing against the planned size.
-                    let h_ok = if fac_unbounded >= h_plan / h {
-                        h_plan
-                    } else {
-                        h * fac_unbounded
-                    };
-                    h_next = h_next.max(h_ok);
-                }
-                self.h = h_next.clamp(h_min, h_max);
-                if capped {
-                    self.since_estimate = self.since_estimate.saturating_add(1);
-                    self.h = self.h.min(self.h_cap).max(h_min);
-                }
+                self.accept(sys, &p, err, rejected_here, &mid.1, y)?;
+                mid.0 = p.t_mid;
+                *t = p.t_end;
                 return Ok(Attempt {
                     err,
-                    s,
-                    t_end: t_end_step,
+                    s: p.s,
+                    t_end: p.t_end,
                     accepted: true,
                 });
             }
-
-            // Rejected: shrink and retry from the same point.
-            self.stats.rejected = self.stats.rejected.saturating_add(1);
-            if h <= h_min {
-                return Err(Error::StepSizeUnderflow {
-                    t: t0.to_f64(),
-                    h: h.to_f64(),
-                });
-            }
+            self.reject(t0, &p, err)?;
             rejected_here = true;
-            let fac = match &mut self.control.controller {
-                Controller::Classic => fac_raw.clamp(fac_min, T::ONE),
-                Controller::Pi(pi) => pi.reject(err),
-            };
-            if let Some(cap) = &self.control.stiffness_cap {
-                // Rejected at the cap, or near it long after the last estimate, or very long
-                // after it (the stiffness may have grown past the cap): it may be stale.
-                let k = cap.refresh_every;
-                let since = self.since_estimate;
-                if h >= T::from_f64(0.99) * self.h_cap
-                    || (since >= k && h >= T::HALF * self.h_cap)
-                    || since >= k.saturating_mul(4)
-                {
-                    self.estimate_due = true;
-                }
-            }
-            self.h = (h * fac).max(h_min);
             if once {
                 return Ok(Attempt {
                     err,
-                    s,
-                    t_end: t_end_step,
+                    s: p.s,
+                    t_end: p.t_end,
                     accepted: false,
                 });
             }
         }
+    }
+
+    /// This attempt's double step from `t0`: the planned size (capped), shortened to land
+    /// on `t_end` when that is at most 1 % beyond it, or halving the rest when `t_end` is
+    /// less than two steps away.
+    fn plan(&self, t0: T, t_end: T) -> Plan<T> {
+        let h_plan = if self.control.stiffness_cap.is_some() {
+            self.h.min(self.h_cap).max(self.config.h_min)
+        } else {
+            self.h
+        };
+        let remaining = t_end - t0;
+        let (h, last) = if remaining <= h_plan * T::from_f64(STRETCH) {
+            (remaining, true)
+        } else if remaining < h_plan + h_plan {
+            (remaining * T::HALF, false)
+        } else {
+            (h_plan, false)
+        };
+        let s = h * T::HALF;
+        Plan {
+            h_plan,
+            h,
+            s,
+            t_mid: t0 + s,
+            t_end: if last { t_end } else { t0 + h },
+        }
+    }
+
+    /// First half step from `(t0, y0)`: `k1..k4` and the midpoint `y1`.
+    fn first_half<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &[T; N],
+        p: &Plan<T>,
+        y1: &mut [T; N],
+    ) -> Result<()> {
+        let s = p.s;
+        for (i, (k, f)) in self.k1.iter_mut().zip(self.f0.iter()).enumerate() {
+            *k = s * *f;
+            if !k.is_finite() {
+                return Err(Error::NonFinite {
+                    t: t0.to_f64(),
+                    component: i,
+                });
+            }
+        }
+        let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
+        for ((a, y0), k1) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()) {
+            *a = *y0 + a2 * *k1;
+        }
+        let t2 = t0 + s * T::from_f64(Tableau::C[1]);
+        stage(
+            sys,
+            t2,
+            &self.arg,
+            s,
+            &mut self.k2,
+            &mut self.stats.rhs_evals,
+        )?;
+        for (((a, y0), k1), k2) in self
+            .arg
+            .iter_mut()
+            .zip(y.iter())
+            .zip(self.k1.iter())
+            .zip(self.k2.iter())
+        {
+            *a = *y0 + a3 * (*k1 + *k2);
+        }
+        let t3 = t0 + s * T::from_f64(Tableau::C[2]);
+        stage(
+            sys,
+            t3,
+            &self.arg,
+            s,
+            &mut self.k3,
+            &mut self.stats.rhs_evals,
+        )?;
+        for (((a, y0), k2), k3) in self
+            .arg
+            .iter_mut()
+            .zip(y.iter())
+            .zip(self.k2.iter())
+            .zip(self.k3.iter())
+        {
+            *a = accumulated(*y0, &Tableau::A4, [*k2, *k3]);
+        }
+        let t4 = t0 + s * T::from_f64(Tableau::C[3]);
+        stage(
+            sys,
+            t4,
+            &self.arg,
+            s,
+            &mut self.k4,
+            &mut self.stats.rhs_evals,
+        )?;
+        let b_scale = T::from_f64(Tableau::B_SCALE);
+        for ((((m, y0), k1), k3), k4) in y1
+            .iter_mut()
+            .zip(y.iter())
+            .zip(self.k1.iter())
+            .zip(self.k3.iter())
+            .zip(self.k4.iter())
+        {
+            *m = *y0 + b_scale * weighted(&Tableau::B, [*k1, *k3, *k4]);
+        }
+        if let Some(i) = first_non_finite(y1) {
+            return Err(Error::NonFinite {
+                t: p.t_mid.to_f64(),
+                component: i,
+            });
+        }
+        Ok(())
+    }
+
+    /// Second half step from the midpoint `y1` up to `k7`, then England's `k9` at the
+    /// auxiliary end point ŷ2 (left in `self.arg`).
+    fn second_half<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        y: &[T; N],
+        y1: &[T; N],
+        p: &Plan<T>,
+    ) -> Result<()> {
+        let (s, t_mid) = (p.s, p.t_mid);
+        let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
+        stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?;
+        for ((a, m), k5) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()) {
+            *a = *m + a2 * *k5;
+        }
+        let t6 = t_mid + s * T::from_f64(Tableau::C[1]);
+        stage(
+            sys,
+            t6,
+            &self.arg,
+            s,
+            &mut self.k6,
+            &mut self.stats.rhs_evals,
+        )?;
+        for (((a, m), k5), k6) in self
+            .arg
+            .iter_mut()
+            .zip(y1.iter())
+            .zip(self.k5.iter())
+            .zip(self.k6.iter())
+        {
+            *a = *m + a3 * (*k5 + *k6);
+        }
+        let t7 = t_mid + s * T::from_f64(Tableau::C[2]);
+        stage(
+            sys,
+            t7,
+            &self.arg,
+            s,
+            &mut self.k7,
+            &mut self.stats.rhs_evals,
+        )?;
+        let a9_scale = T::from_f64(Tableau::A9_SCALE);
+        // Nine arrays of length N in step (zipped: no index, no bounds check).
+        for ((((((((a, y0), k1), k2), k3), k4), k5), k6), k7) in self
+            .arg
+            .iter_mut()
+            .zip(y.iter())
+            .zip(self.k1.iter())
+            .zip(self.k2.iter())
+            .zip(self.k3.iter())
+            .zip(self.k4.iter())
+            .zip(self.k5.iter())
+            .zip(self.k6.iter())
+            .zip(self.k7.iter())
+        {
+            let k = [*k1, *k2, *k3, *k4, *k5, *k6, *k7];
+            *a = *y0 + a9_scale * weighted(&Tableau::A9, k);
+        }
+        stage(
+            sys,
+            p.t_end,
+            &self.arg,
+            s,
+            &mut self.k9,
+            &mut self.stats.rhs_evals,
+        )
+    }
+
+    /// The error ratio of the attempt from `E = (-k1 + 4k3 + 17k4 - 23k5 + 4k7 - k9)/90`:
+    /// `max_i |E_i| / (atol_i + rtol · max(|y0_i|, |ŷ2_i|))`, per unit step if asked.
+    fn error_ratio(&self, y: &[T; N], p: &Plan<T>) -> Result<T> {
+        let rtol = self.config.tol.rtol;
+        let e_scale = T::from_f64(Tableau::E_SCALE);
+        let mut err = T::ZERO;
+        for (i, ((((((((k1, k3), k4), k5), k7), k9), atol), y0), a)) in self
+            .k1
+            .iter()
+            .zip(self.k3.iter())
+            .zip(self.k4.iter())
+            .zip(self.k5.iter())
+            .zip(self.k7.iter())
+            .zip(self.k9.iter())
+            .zip(self.config.tol.atol.iter())
+            .zip(y.iter())
+            .zip(self.arg.iter())
+            .enumerate()
+        {
+            let e = e_scale * weighted(&Tableau::E, [*k1, *k3, *k4, *k5, *k7, *k9]);
+            let scale = *atol + rtol * y0.abs().max(a.abs());
+            if !e.is_finite() {
+                return Err(Error::NonFinite {
+                    t: p.t_end.to_f64(),
+                    component: i,
+                });
+            }
+            let e = e.abs();
+            let r = if scale > T::ZERO {
+                e / scale
+            } else if e == T::ZERO {
+                T::ZERO
+            } else {
+                T::INFINITY
+            };
+            err = err.max(r);
+        }
+        if let Some(u) = &self.control.per_unit_step {
+            err = u.ratio(err, p.h, rtol);
+        }
+        Ok(err)
+    }
+
+    /// An accepted attempt: `k8` (into the `k9` buffer) and the end point `y2` (in place
+    /// of `y0`), the counters, and the next step's size from the controller.
+    #[allow(clippy::too_many_arguments)]
+    fn accept<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        p: &Plan<T>,
+        err: T,
+        after_rejection: bool,
+        y1: &[T; N],
+        y: &mut [T; N],
+    ) -> Result<()> {
+        for (((a, m), k6), k7) in self
+            .arg
+            .iter_mut()
+            .zip(y1.iter())
+            .zip(self.k6.iter())
+            .zip(self.k7.iter())
+        {
+            *a = accumulated(*m, &Tableau::A4, [*k6, *k7]);
+        }
+        stage(
+            sys,
+            p.t_end,
+            &self.arg,
+            p.s,
+            &mut self.k9,
+            &mut self.stats.rhs_evals,
+        )?;
+        let b_scale = T::from_f64(Tableau::B_SCALE);
+        for ((((y2, m), k5), k7), k8) in y
+            .iter_mut()
+            .zip(y1.iter())
+            .zip(self.k5.iter())
+            .zip(self.k7.iter())
+            .zip(self.k9.iter())
+        {
+            *y2 = *m + b_scale * weighted(&Tableau::B, [*k5, *k7, *k8]);
+        }
+        if let Some(i) = first_non_finite(y) {
+            // Restoring y0 would need a copy on every step; report instead.
+            return Err(Error::NonFinite {
+                t: p.t_end.to_f64(),
+                component: i,
+            });
+        }
+        self.stats.accepted = self.stats.accepted.saturating_add(1);
+        let (h, h_plan) = (p.h, p.h_plan);
+        let (fac, fac_unbounded) = self.control.controller.accept_raw(err, after_rejection);
+        let mut h_next = h * fac;
+        if h < h_plan {
+            // A step shortened to meet t_end says nothing against the planned size.
+            let h_ok = if fac_unbounded >= h_plan / h {
+                h_plan
+            } else {
+                h * fac_unbounded
+            };
+            h_next = h_next.max(h_ok);
+        }
+        let (h_min, h_max) = (self.config.h_min, self.config.h_max);
+        self.h = h_next.clamp(h_min, h_max);
+        if self.control.stiffness_cap.is_some() {
+            self.since_estimate = self.since_estimate.saturating_add(1);
+            self.h = self.h.min(self.h_cap).max(h_min);
+        }
+        Ok(())
+    }
+
+    /// A rejected attempt from `t0`: the counters, the smaller size of the retry, and a
+    /// new stiffness estimate when the cap may be stale. Fails at `h_min`.
+    fn reject(&mut self, t0: T, p: &Plan<T>, err: T) -> Result<()> {
+        self.stats.rejected = self.stats.rejected.saturating_add(1);
+        let (h, h_min) = (p.h, self.config.h_min);
+        if h <= h_min {
+            return Err(Error::StepSizeUnderflow {
+                t: t0.to_f64(),
+                h: h.to_f64(),
+            });
+        }
+        let fac = self.control.controller.reject(err);
+        if let Some(cap) = &self.control.stiffness_cap {
+            // Rejected at the cap, or near it long after the last estimate, or very long
+            // after it (the stiffness may have grown past the cap): it may be stale.
+            let k = cap.refresh_every;
+            let since = self.since_estimate;
+            if h >= T::from_f64(0.99) * self.h_cap
+                || (since >= k && h >= T::HALF * self.h_cap)
+                || since >= k.saturating_mul(4)
+            {
+                self.estimate_due = true;
+            }
+        }
+        self.h = (h * fac).max(h_min);
+        Ok(())
     }
 
     /// Resets the statistics for a new integration from (t0, y) to t_end and checks both

@@ -6,7 +6,7 @@ use core::ops::ControlFlow;
 
 use super::england::{stage, StepMode};
 use super::{Dense, England, OdeSystem};
-use crate::{Controller, Error, Real, Result, SolverStats};
+use crate::{Error, Real, Result, SolverStats};
 
 impl<T: Real, const N: usize> England<T, N> {
     /// Integrates from `t0` to `t_end` like [`England::integrate_dense`], and locates the
@@ -275,9 +275,7 @@ impl<T: Real, const N: usize> England<T, N> {
     /// error, the stiffness estimate) and plan the next step at `h` (the size planned
     /// before the step that crossed the event).
     fn restart_after_event(&mut self, h: T) {
-        if let Controller::Pi(pi) = &mut self.control.controller {
-            pi.reset();
-        }
+        self.control.controller.reset();
         self.estimate_due = true;
         self.since_estimate = 0;
         self.h = h.clamp(self.config.h_min, self.config.h_max);
