@@ -105,7 +105,7 @@ smoke jump-speed jump-speed --resolution 10 --json
 smoke scene scene --default
 "$C" scene --check scenes/stable-4567-rise.toml > /dev/null
 smoke bench bench --quick --json
-smoke scenes scenes --quick --json
+smoke models models --quick --json
 smoke predict predict --json
 smoke montecarlo montecarlo --samples 8 --json
 smoke compare compare --quick --json
@@ -146,7 +146,7 @@ if command -v jq >/dev/null 2>&1; then
     jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95)' "$studies/montecarlo.out" >/dev/null
     jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.out" >/dev/null
     jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
-           and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/scenes.out" >/dev/null
+           and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/models.out" >/dev/null
     # VI.4.3's groups at +-30 % on both cams, a baseline per cam at change 0, every output a number.
     jq -e '(.baseline | length) == 2 and all(.baseline[]; .change_pct == 0) and (.cases | length) == 12
            and all(.baseline[], .cases[]; [.rms_displacement_in, .rms_velocity_in_per_s, .rms_acceleration_in_per_s2,

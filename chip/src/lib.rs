@@ -6,11 +6,11 @@
 //! [`ScriptedPulseTrain`], a [`CaptureTimer`] like the board's timer capture). The
 //! predictor itself (table, observer, alarm, onset search, index pulse) is `camsim_core`'s.
 //!
-//! Chosen by measurement (the figures are in docs/FIRMWARE.md and `camsim scenes`): the
+//! Chosen by measurement (the figures are in docs/FIRMWARE.md and `camsim models`): the
 //! quasi-static-rod scene (regulated drive, vertical, the roller, the cantilever portion
 //! and the follower rod quasi-static, the train's mass on the load: 10 states,
 //! docs/MODEL.md §10), the fastest scene whose jump onset stays within 1 % of the full
-//! model's (`camsim scenes` measures both), at rtol 1e-2 (the thesis ran at 2 %) with atol
+//! model's (`camsim models` measures both), at rtol 1e-2 (the thesis ran at 2 %) with atol
 //! 1e-8 in (docs/MODEL.md §5.12).
 
 #![no_std]

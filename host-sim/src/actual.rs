@@ -169,16 +169,67 @@ impl ActualArgs {
     /// Whether any option other than `--actual` was given (a caller that simulates
     /// the theoretical cam refuses them).
     pub fn any_profile_option(&self) -> bool {
+        !self.given_profile_options().is_empty()
+    }
+
+    /// The profile options given (`--cam-tolerance 0.0005`, `--seed 3`, ...), as the
+    /// user wrote them.
+    pub fn given_profile_options(&self) -> Vec<String> {
         let d = ActualArgs::default();
-        self.cam_tolerance.is_some()
-            || self.roller_tolerance.is_some()
-            || self.eccentricity_tolerance.is_some()
-            || self.interval_deg.is_some()
-            || self.waviness_fpr.is_some()
-            || self.interval != d.interval
-            || self.seed.is_some()
-            || self.profile_method != d.profile_method
-            || self.normal != d.normal
+        let mut given = Vec::new();
+        let mut num = |name: &str, v: Option<f64>| {
+            if let Some(v) = v {
+                given.push(format!("--{name} {v}"));
+            }
+        };
+        num("cam-tolerance", self.cam_tolerance);
+        num("roller-tolerance", self.roller_tolerance);
+        num("eccentricity-tolerance", self.eccentricity_tolerance);
+        num("interval-deg", self.interval_deg);
+        if let Some(n) = self.waviness_fpr {
+            given.push(format!("--waviness-fpr {n}"));
+        }
+        if let Some(s) = self.seed {
+            given.push(format!("--seed {s}"));
+        }
+        if self.interval != d.interval {
+            given.push(format!("--interval {}", value_name(&self.interval)));
+        }
+        if self.profile_method != d.profile_method {
+            given.push(format!(
+                "--profile-method {}",
+                value_name(&self.profile_method)
+            ));
+        }
+        if self.normal != d.normal {
+            given.push(format!("--normal {}", value_name(&self.normal)));
+        }
+        given
+    }
+
+    /// A command that simulates the theoretical cam unless `--actual` is given refuses
+    /// the profile options without it: a usage error naming them.
+    pub fn ensure_actual_if_options(&self) -> Result<()> {
+        let given = self.given_profile_options();
+        if self.actual || given.is_empty() {
+            return Ok(());
+        }
+        let verb = if given.len() == 1 { "shapes" } else { "shape" };
+        Err(crate::args::usage(format!(
+            "{} {verb} an actual cam: add --actual (without it the theoretical cam runs)",
+            given.join(", ")
+        )))
+    }
+
+    /// A command whose study always runs actual cams refuses `--actual` (a usage error:
+    /// the flag would change nothing; it is hidden from the command's help).
+    pub fn refuse_actual_flag(&self, command: &str) -> Result<()> {
+        if self.actual {
+            return Err(crate::args::usage(format!(
+                "{command} always runs actual cams: drop --actual"
+            )));
+        }
+        Ok(())
     }
 
     /// The options with the interval chosen once ([`intervals_for`]), so that the
@@ -597,6 +648,13 @@ pub fn build_profile(
         centre_offset_in: cam_parts.map(|c| c.1),
     };
     Ok((dev, stats))
+}
+
+/// The command-line name of a [`ValueEnum`] value.
+pub fn value_name<V: ValueEnum>(v: &V) -> String {
+    v.to_possible_value()
+        .map(|p| p.get_name().to_string())
+        .unwrap_or_default()
 }
 
 #[cfg(test)]

@@ -1,5 +1,8 @@
-//! Values of the command line that clap checks: the motion laws and the initial state
-//! as [`ValueEnum`]s, and the numeric rules as value parsers. A refused value is a clap
+//! The arguments layer: the argument groups commands flatten (the scene and its
+//! overrides [`SceneArgs`], the output [`OutputArgs`], the actual cam [`ActualArgs`], a
+//! Monte Carlo study [`StudyArgs`]), and the values of the command line that clap checks:
+//! the motion laws and the initial state as [`ValueEnum`]s, and the numeric rules as value
+//! parsers. A refused value is a clap
 //! error, one line naming the option, the value and the rule
 //! (`invalid value '-5' for '--rpm <RPM>': must lie in [1, 10000] rpm (...)`). An option
 //! that sets a scene key is checked against that key's plausibility range (core's
@@ -9,6 +12,39 @@
 use camsim_core::{MotionLaw, Start};
 use clap::builder::PossibleValue;
 use clap::ValueEnum;
+
+mod output;
+mod scene;
+mod study;
+
+pub use crate::actual::ActualArgs;
+pub use output::OutputArgs;
+pub use scene::{spec_from, SceneArgs};
+pub use study::StudyArgs;
+
+/// A usage error found after clap parsed the command line (an option that needs another,
+/// a flag a command does not take): the binary prints it on one line and exits 2, as it
+/// does for clap's own errors ([`crate::cli::main_from`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct UsageError(pub String);
+
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+/// A [`UsageError`] as an error to return (`return Err(usage("--x needs --y"))`).
+pub fn usage(msg: impl Into<String>) -> anyhow::Error {
+    anyhow::Error::new(UsageError(msg.into()))
+}
+
+/// Whether `e` (or an error it wraps) is a [`UsageError`].
+pub fn is_usage(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.is::<UsageError>())
+}
 
 /// A motion law on the command line (`--rise`, `--return`), by its
 /// [`MotionLaw::name`] (the names `camsim laws` prints; ASCII case ignored where the
@@ -206,7 +242,7 @@ pub const MIN_FORCE_LB: f64 = 1e-6;
 /// of Eq. V.9 on the reference pair equals the roller's diameter (w grows as √F), about
 /// 1.5e6 lb (the reference's contact force is about 50 lb).
 pub fn max_force_lb() -> f64 {
-    use crate::cmd::contact::{BASE_CIRCLE_DIAMETER_IN, CAM_THICKNESS_IN, ROLLER_DIAMETER_IN};
+    use crate::study::contact::{BASE_CIRCLE_DIAMETER_IN, CAM_THICKNESS_IN, ROLLER_DIAMETER_IN};
     let w1 = camsim_core::HertzContact::<f64>::steel(CAM_THICKNESS_IN).width(
         1.0,
         ROLLER_DIAMETER_IN,

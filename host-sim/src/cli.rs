@@ -36,8 +36,11 @@ pub enum Command {
     Scene(cmd::scene::Args),
     /// Run time against error: tolerance ladder and reduced scenes against a tight reference.
     Bench(cmd::bench::Args),
-    /// Which scene (full, vertical, reduced followers) is accurate enough for which question, and what it costs.
-    Scenes(cmd::scenes::Args),
+    /// Which model (full, vertical, reduced followers) is accurate enough for which question, and what it costs.
+    Models(cmd::models::Args),
+    /// The former name of `models` (prints a note and runs `models`).
+    #[command(hide = true)]
+    Scenes(cmd::models::Args),
     /// The firmware's jump/timing predictor on the host (same scene and scripted machine); --check-log for parity.
     Predict(cmd::predict::Args),
     /// Check the firmware's decoded QEMU logs: memory against llvm-size and memory.x, real-time factor, fault reactions, boot failure.
@@ -62,6 +65,10 @@ pub enum Command {
     Design(cmd::design::Args),
 }
 
+/// What `camsim scenes` prints to standard error before it runs `models`.
+pub const SCENES_RENAMED: &str =
+    "camsim: note: `scenes` is now `models` (`scene` prints a scene file); `scenes` will be removed";
+
 /// Parses a command line (the first item is the program name).
 pub fn parse_from<I, T>(args: I) -> std::result::Result<Cli, clap::Error>
 where
@@ -69,6 +76,12 @@ where
     T: Into<OsString> + Clone,
 {
     Cli::try_parse_from(args)
+}
+
+/// The command tree as clap builds it (its commands, options and help).
+pub fn command() -> clap::Command {
+    use clap::CommandFactory;
+    Cli::command()
 }
 
 /// Runs a parsed command.
@@ -81,7 +94,11 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::JumpSpeed(a) => cmd::jump_speed::run(a),
         Command::Scene(a) => cmd::scene::run(a),
         Command::Bench(a) => cmd::bench::run(a),
-        Command::Scenes(a) => cmd::scenes::run(a),
+        Command::Models(a) => cmd::models::run(a),
+        Command::Scenes(a) => {
+            report_error(SCENES_RENAMED);
+            cmd::models::run(a)
+        }
         Command::Predict(a) => cmd::predict::run(a),
         Command::FirmwareCheck(a) => cmd::firmware_check::run(a),
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
@@ -125,7 +142,11 @@ pub fn usage_message(e: &clap::Error) -> String {
     use clap::CommandFactory;
     if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
         let cmd = Cli::command();
-        let names: Vec<&str> = cmd.get_subcommands().map(|c| c.get_name()).collect();
+        let names: Vec<&str> = cmd
+            .get_subcommands()
+            .filter(|c| !c.is_hide_set())
+            .map(|c| c.get_name())
+            .collect();
         return format!("a command is required: {}", names.join(", "));
     }
     usage_line(e)
@@ -165,8 +186,9 @@ fn report_error(line: &str) {
     let _ = writeln!(std::io::stderr().lock(), "{line}");
 }
 
-/// The binary: parse, run, print any error on one line (exit 2 for usage errors, 1 for
-/// failures; a closed standard output ends the run quietly with 0).
+/// The binary: parse, run, print any error on one line (exit 2 for usage errors, clap's
+/// and the commands' [`crate::args::UsageError`]s, 1 for failures; a closed standard
+/// output ends the run quietly with 0).
 pub fn main() -> ExitCode {
     ExitCode::from(main_from(std::env::args_os()))
 }
@@ -196,6 +218,13 @@ where
     match execute(cli) {
         Ok(()) => 0,
         Err(e) if is_broken_pipe(&e) => 0,
+        Err(e) if crate::args::is_usage(&e) => {
+            report_error(&format!(
+                "camsim: error: {} (see camsim --help)",
+                error_line(&e)
+            ));
+            2
+        }
         Err(e) => {
             // One line, no backtrace.
             report_error(&format!("camsim: error: {}", error_line(&e)));

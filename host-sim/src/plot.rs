@@ -25,6 +25,24 @@ use plotters::prelude::*;
 use crate::output::AtomicDir;
 use crate::sim::HostDeviation;
 
+pub mod montecarlo;
+pub mod study;
+
+/// Writes an RGB buffer of `size` pixels as the PNG `file` into the directory output
+/// `out` (to the file's temporary: the caller commits `out`). Every plot is saved here.
+pub fn save_png(out: &mut AtomicDir, file: &str, rgb: &[u8], size: (u32, u32)) -> Result<()> {
+    let path = out.path(file)?;
+    image::save_buffer_with_format(
+        &path,
+        rgb,
+        size.0,
+        size.1,
+        image::ColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| anyhow!("cannot write plot {}: {e}", out.dir().join(file).display()))
+}
+
 /// DejaVu Sans (Bitstream Vera licence, see `host-sim/assets/DejaVuSans-LICENSE.txt`).
 static FONT_TTF: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 /// The family name the embedded font is registered under.
@@ -952,22 +970,8 @@ pub fn draw_profile(out: &mut AtomicDir, data: &PlotData, dev: &HostDeviation) -
         .filter(|p| *p > 0.0 && *p < 360.0)
         .collect();
     let axis = AngleAxis::new(&axis_data, &[]);
-    let (buf, (w, h), _) = render(&fig, &axis, &axis_data)?;
-    let path = out.path(fig.file)?;
-    image::save_buffer_with_format(
-        &path,
-        &buf,
-        w,
-        h,
-        image::ColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| {
-        anyhow!(
-            "cannot write plot {}: {e}",
-            out.dir().join(fig.file).display()
-        )
-    })
+    let (buf, size, _) = render(&fig, &axis, &axis_data)?;
+    save_png(out, fig.file, &buf, size)
 }
 
 /// Points of the SVAJ plot over one revolution (0.05°).
@@ -1041,22 +1045,8 @@ pub fn draw_svaj(
     let (fig, axis_data) = svaj_figure(design, file);
     let mut axis = AngleAxis::new(&axis_data, &[]);
     axis.run = false;
-    let (buf, (w, h), _) = render(&fig, &axis, &axis_data)?;
-    let path = out.path(fig.file)?;
-    image::save_buffer_with_format(
-        &path,
-        &buf,
-        w,
-        h,
-        image::ColorType::Rgb8,
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| {
-        anyhow!(
-            "cannot write plot {}: {e}",
-            out.dir().join(fig.file).display()
-        )
-    })
+    let (buf, size, _) = render(&fig, &axis, &axis_data)?;
+    save_png(out, fig.file, &buf, size)
 }
 
 /// Draws every plot of a run ([`FILES`]) as PNG into the directory output `out` (each
@@ -1065,22 +1055,8 @@ pub fn draw_all(out: &mut AtomicDir, data: &PlotData, jumps: &[JumpInterval<f64>
     ensure_font()?;
     let axis = AngleAxis::new(data, jumps);
     for fig in figures(data) {
-        let (buf, (w, h), _) = render(&fig, &axis, data)?;
-        let path = out.path(fig.file)?;
-        image::save_buffer_with_format(
-            &path,
-            &buf,
-            w,
-            h,
-            image::ColorType::Rgb8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| {
-            anyhow!(
-                "cannot write plot {}: {e}",
-                out.dir().join(fig.file).display()
-            )
-        })?;
+        let (buf, size, _) = render(&fig, &axis, data)?;
+        save_png(out, fig.file, &buf, size)?;
     }
     Ok(())
 }

@@ -16,7 +16,7 @@ use std::path::Path;
 
 use anyhow::{bail, Result};
 
-use crate::cmd::montecarlo::{Shard, ShardFile};
+use crate::study::montecarlo::{Shard, ShardFile};
 
 /// The digest's name in the file, before the hexadecimal value.
 pub const DIGEST_PREFIX: &str = "fnv1a-128:";

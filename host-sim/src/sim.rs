@@ -386,18 +386,23 @@ pub fn period_rows(design: &Design<f64>, stats: &Stats) -> Vec<PeriodRow> {
 pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
     let mut s = spec.clone();
     s.design.set_speed_rpm(rpm)?;
-    // Only the contact flag on: no statistics, no contact stress. `.0`: separated in
-    // revolution 2 (the answer); `.1`: separated at all (revolution 1's transient too).
-    struct Watch(bool, bool);
+    // Only the contact flag on: no statistics, no contact stress.
+    #[derive(Default)]
+    struct Watch {
+        /// Separated in revolution 2 or later (the answer).
+        in_steady_state: bool,
+        /// Separated at all (revolution 1's transient too).
+        at_all: bool,
+    }
     impl Observer<f64> for Watch {
         fn needs_stress(&self) -> bool {
             false
         }
         fn observe(&mut self, smp: &Sample<f64>) -> ControlFlow<()> {
             if !smp.point.in_contact {
-                self.1 = true;
+                self.at_all = true;
                 if smp.revolution >= 2 {
-                    self.0 = true;
+                    self.in_steady_state = true;
                     return ControlFlow::Break(());
                 }
             }
@@ -412,14 +417,14 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
             m: &CamModel<f64, S, N, P>,
         ) -> Result<bool> {
             let (s, rpm) = (self.0, self.1);
-            let mut watch = Watch(false, false);
+            let mut watch = Watch::default();
             match simulate(m, &s.solver, s.revolutions.max(2), &mut watch) {
-                Ok(_) => Ok(watch.0),
+                Ok(_) => Ok(watch.in_steady_state),
                 // Far above the onset the follower leaves the cam in revolution 1 and the
                 // free flight and impact that follow drive the model out of the range it
                 // represents (its validity check or the solver stops the run): the
                 // follower did not hold contact.
-                Err(_) if watch.1 => Ok(true),
+                Err(_) if watch.at_all => Ok(true),
                 Err(e) => Err(e).with_context(|| format!("simulation at {rpm:.1} rpm failed")),
             }
         }

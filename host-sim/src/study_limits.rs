@@ -45,6 +45,21 @@ pub fn duration(s: f64) -> String {
     }
 }
 
+/// A progress bar on standard error when it is a terminal and `want`, hidden otherwise,
+/// drawn with indicatif's `template` (`{pos}/{len} samples, eta {eta}`).
+pub fn progress_bar(len: u64, want: bool, template: &str) -> indicatif::ProgressBar {
+    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+    use std::io::IsTerminal;
+    if !want || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    if let Ok(style) = ProgressStyle::with_template(template) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}
+
 /// Seconds between progress lines: 10, or `CAMSIM_PROGRESS_INTERVAL_S` (a positive
 /// number) where a batch log wants them more or less often.
 pub fn progress_interval() -> Duration {

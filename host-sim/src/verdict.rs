@@ -683,7 +683,7 @@ pub fn text(v: &Verdict) -> String {
 /// The contact verdict from the run's jumps and watch.
 pub fn contact(
     design: &Design<f64>,
-    jumps: &[crate::cmd::run::JumpRow],
+    jumps: &[JumpRow],
     periods: &[&'static str],
     watch: &Watch,
     revolutions: u32,
@@ -751,4 +751,18 @@ pub fn loads(watch: &Watch, limits: &Limits) -> Result<LoadsVerdict> {
         allowable_source: limits.allowable_source,
         stress_ratio: s / limits.allowable_contact_stress_psi,
     })
+}
+
+/// One separation interval (the JSON `jumps` entries).
+#[derive(Clone, Debug, Serialize)]
+pub struct JumpRow {
+    /// Revolution of the onset, from 1.
+    pub revolution: u32,
+    /// Cam angle of the onset within that revolution, degrees.
+    pub start_deg: f64,
+    /// Cam angle of the landing, degrees (on the onset revolution's scale).
+    pub end_deg: f64,
+    /// Index of the period of the onset (text only).
+    #[serde(skip)]
+    pub period: usize,
 }

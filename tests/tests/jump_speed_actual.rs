@@ -3,8 +3,8 @@
 
 use camsim::actual::ActualArgs;
 use camsim::cmd::jump_speed::find;
-use camsim::cmd::jump_speed_actual::study;
 use camsim::cmd::run::{spec_from, SceneArgs};
+use camsim::study::jump_speed_actual::study;
 
 fn spec() -> camsim::sim::RunSpec {
     // The cheap reduced follower, static start (jump-speed's default).

@@ -27,7 +27,7 @@ use camsim_chip::{
 const FORCE_TOL_LB: f64 = 3.0 * 1e-8 * 6.45e6;
 
 /// How far the chip's f32 timing may be from the host's f64: the accuracy the chip's
-/// scene and tolerance were chosen for (`camsim scenes`: timing at the lift points within
+/// scene and tolerance were chosen for (`camsim models`: timing at the lift points within
 /// 0.01° of the full model). At rtol 1e-2 one step's allowed error is atol + rtol |q5|
 /// (q5 = y5 - s, up to the chain's 4e-4 in deflection under 200 lb), 0.03° on the
 /// flattest timing point's 0.05 in/rad; f32 and f64 take different steps, so their
@@ -44,7 +44,7 @@ fn timing_tol_deg() -> f64 {
         slope > 0.05,
         "timing points sit on the flanks: slope {slope}"
     );
-    camsim::cmd::scenes::enough::TIMING_DEG
+    camsim::cmd::models::enough::TIMING_DEG
 }
 
 fn both() -> (Prediction<f32>, Prediction<f64>) {

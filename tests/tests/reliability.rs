@@ -316,6 +316,95 @@ fn usage_errors_exit_2_and_name_the_option() {
     );
 }
 
+// Issue 18: a usage error found after parsing exits 2 as clap's do, and names the options
+// the user gave; a flag that would change nothing is refused, not ignored.
+#[test]
+fn usage_errors_after_parsing_exit_2_and_name_what_was_given() {
+    for (args, says) in [
+        (
+            &["run", "--cam-tolerance", "0.0005"][..],
+            "--cam-tolerance 0.0005 shapes an actual cam: add --actual",
+        ),
+        (
+            &["run", "--seed", "3", "--normal", "polar"],
+            "--seed 3, --normal polar shape an actual cam",
+        ),
+        (
+            &["profile", "--waviness-fpr", "39"],
+            "--waviness-fpr 39 shapes an actual cam",
+        ),
+        (
+            &["jump-speed", "--samples", "4"],
+            "--samples 4 counts actual cams: add --actual",
+        ),
+        (
+            &["compare", "--actual"],
+            "compare always runs actual cams: drop --actual",
+        ),
+        (
+            &["sensitivity", "--actual"],
+            "sensitivity always runs actual cams: drop --actual",
+        ),
+        (
+            &["montecarlo", "--samples", "2", "--actual"],
+            "montecarlo always runs actual cams: drop --actual",
+        ),
+    ] {
+        let argv = std::iter::once("camsim").chain(args.iter().copied());
+        assert_eq!(cli::main_from(argv), 2, "{args:?}");
+        let e = outcome(args);
+        assert!(e.contains(says), "{args:?}: {e}");
+    }
+    // The same options with --actual are not usage errors (they parse and are checked).
+    let argv = ["camsim", "run", "--actual", "--cam-tolerance", "0.0005"];
+    assert!(cli::parse_from(argv).is_ok());
+    // --actual is gone from the help of the commands that refuse it.
+    let cmd = cli::command();
+    for name in ["compare", "sensitivity", "montecarlo"] {
+        let sub = cmd.find_subcommand(name).unwrap();
+        let actual = sub
+            .get_arguments()
+            .find(|a| a.get_id() == "actual")
+            .unwrap();
+        assert!(actual.is_hide_set(), "{name}");
+    }
+    let run = cmd.find_subcommand("run").unwrap();
+    let actual = run
+        .get_arguments()
+        .find(|a| a.get_id() == "actual")
+        .unwrap();
+    assert!(!actual.is_hide_set());
+}
+
+// Issue 18 point 7: `models` (the reduced models' adequacy) is no longer one letter from
+// `scene`; `scenes` still runs it, hidden, with a note.
+#[test]
+fn scenes_is_a_hidden_alias_of_models() {
+    let c = cli::parse_from(["camsim", "scenes", "--quick", "--json"]).unwrap();
+    match c.command {
+        cli::Command::Scenes(a) => assert!(a.quick && a.json),
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(
+        cli::parse_from(["camsim", "models", "--quick"])
+            .unwrap()
+            .command,
+        cli::Command::Models(_)
+    ));
+    let cmd = cli::command();
+    let listed: Vec<&str> = cmd
+        .get_subcommands()
+        .filter(|c| !c.is_hide_set())
+        .map(|c| c.get_name())
+        .collect();
+    assert!(listed.contains(&"models") && listed.contains(&"scene"));
+    assert!(!listed.contains(&"scenes"));
+    assert!(cli::SCENES_RENAMED.contains("`scenes` is now `models`"));
+    // A bare `camsim` lists the commands without the hidden one.
+    let e = outcome(&[]);
+    assert!(e.contains("models") && !e.contains("scenes"), "{e}");
+}
+
 #[test]
 fn control_characters_of_an_input_name_are_escaped() {
     let e = outcome(&["run", "--measured", "x\u{1b}[2J.csv"]);

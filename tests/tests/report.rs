@@ -549,7 +549,7 @@ fn the_binary_fails_on_one_line_and_ends_quietly_on_a_closed_pipe() {
     assert_eq!(code, Some(2));
     assert_eq!(
         err,
-        "camsim: error: a command is required: laws, modal, contact, run, jump-speed, scene, bench, scenes, predict, firmware-check, montecarlo, profile, compare, tolerance-study, sensitivity, waviness, sweep, design (see camsim --help)\n"
+        "camsim: error: a command is required: laws, modal, contact, run, jump-speed, scene, bench, models, predict, firmware-check, montecarlo, profile, compare, tolerance-study, sensitivity, waviness, sweep, design (see camsim --help)\n"
     );
     // Speeds of 1e300 rpm: refused by the range, before anything runs.
     for cmd in ["run", "bench", "jump-speed"] {
@@ -642,7 +642,7 @@ fn every_command_reports_absent_values_as_absent_not_as_non_finite() {
         ],
         &["waviness", "--seeds", "1", "--json"],
         &["predict", "--json"],
-        &["scenes", "--quick", "--json"],
+        &["models", "--quick", "--json"],
         &["bench", "--quick", "--json"],
     ];
     for args in cases {

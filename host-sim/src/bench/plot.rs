@@ -242,24 +242,10 @@ pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f6
             cpu,
         ),
     ] {
-        let mut buf = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
-        {
-            let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
-            draw(&root, &title(what), x_desc, x, &panels, runs)
-                .map_err(|e| anyhow!("cannot draw plot {file}: {e}"))?;
-            root.present()
-                .map_err(|e| anyhow!("cannot draw plot {file}: {e}"))?;
-        }
-        let path = out.path(file)?;
-        image::save_buffer_with_format(
-            &path,
-            &buf,
-            SIZE.0,
-            SIZE.1,
-            image::ColorType::Rgb8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| anyhow!("cannot write plot {}: {e}", out.dir().join(file).display()))?;
+        crate::plot::study::png(out, file, SIZE, |root| {
+            draw(root, &title(what), x_desc, x, &panels, runs)
+                .map_err(|e| anyhow!("cannot draw plot {file}: {e}"))
+        })?;
     }
     Ok(())
 }

@@ -1,16 +1,19 @@
 //! `camsim bench`: run time against error (the measurements are [`crate::bench`]'s).
 
 use std::fmt::Write;
-use std::path::PathBuf;
 
 use anyhow::Result;
 
+use crate::args::OutputArgs;
 use crate::bench::{self, BenchReport, Options};
 use crate::output::Plan;
 use crate::report::{sorted_pretty_json, Report};
 
 /// Command-line options of `camsim bench`.
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("json", |a| a.help("Print JSON: {\"runs\": [...], ...}")))]
+#[command(mut_arg("plot", |a| a.help("Write error_vs_evals.png, error_vs_time.png and error_vs_cpu_time.png (log-log) into DIR (created if missing; its parent must exist; existing plots need --force)")))]
+#[command(mut_arg("force", |a| a.help("Replace existing --plot files")))]
 pub struct Args {
     /// Cam speed, rpm (500: the reference holds contact, so the errors are reproducible;
     /// at 800 and above it jumps and the impacts make the motion chaotic).
@@ -22,27 +25,20 @@ pub struct Args {
     /// Timed repetitions of each run, the median reported [default: 5, 3 with --quick].
     #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=100))]
     pub repeat: Option<u32>,
-    /// Print JSON: {"runs": [...], ...}.
-    #[arg(long)]
-    pub json: bool,
-    /// Write error_vs_evals.png, error_vs_time.png and error_vs_cpu_time.png (log-log)
-    /// into DIR (created if missing; its parent must exist; existing plots need --force).
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Replace existing --plot files.
-    #[arg(long)]
-    pub force: bool,
     /// Run a bench estimated (from its first, reference run) past 1 hour, which is
     /// otherwise refused (`camsim::bench::MAX_BENCH_SECONDS`).
     #[arg(long)]
     pub allow_long: bool,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 /// Runs the command: the plot directory is checked before anything runs, written to
 /// temporaries and committed when every plot was drawn.
 pub fn run(args: Args) -> Result<()> {
-    let mut plan = Plan::new(args.force);
-    let plot_target = match &args.plot {
+    let mut plan = Plan::new(args.output.force);
+    let plot_target = match &args.output.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &bench::plot::FILES)?),
         None => None,
     };
@@ -59,7 +55,7 @@ pub fn run(args: Args) -> Result<()> {
         bench::plot::draw_all(&mut out, &report)?;
         out.commit()?;
     }
-    crate::report::print(&report, args.json)
+    crate::report::print(&report, args.output.json)
 }
 
 /// `x` in 3 significant digits, scientific.

@@ -17,13 +17,17 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileStats};
-use crate::cmd::montecarlo::plots;
+use crate::args::OutputArgs;
 use crate::output::{AtomicDir, Plan};
+use crate::plot::study as plots;
 use crate::report::Report;
 use crate::sim::{self, PeriodRow, RunSpec};
 
 /// Command-line options of `camsim compare`.
 #[derive(clap::Args, Debug, Clone, Default)]
+#[command(mut_arg("actual", |a| a.hide(true)))]
+#[command(mut_arg("plot", |a| a.help("Write PNG plots (the rankings, and the responses of a few laws) into DIR")))]
+#[command(mut_arg("force", |a| a.help("Replace existing --plot files")))]
 pub struct Args {
     /// Scene file whose program's rises and returns take each law in turn (the
     /// reference design if omitted).
@@ -38,18 +42,12 @@ pub struct Args {
     /// Worker threads (default: every core). The result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Print JSON instead of tables.
-    #[arg(long)]
-    pub json: bool,
-    /// Write PNG plots (the rankings, and the responses of a few laws) into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Replace existing --plot files.
-    #[arg(long)]
-    pub force: bool,
-    /// The actual cam (sample 0 of --seed; --actual is implied).
+    /// The actual cam (sample 0 of --seed): always run beside the theoretical one.
     #[command(flatten)]
     pub actual: ActualArgs,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 /// One period of one cam: cycle I and cycle II acceleration RMS, cycle II's inertial
@@ -371,13 +369,14 @@ fn base_spec(args: &Args) -> Result<RunSpec> {
 
 /// Runs the study `args` ask for (the plots too, if asked).
 pub fn report(args: &Args) -> Result<CompareReport> {
+    args.actual.refuse_actual_flag("compare")?;
     let t0 = std::time::Instant::now();
     let base = base_spec(args)?;
-    let mut plan = Plan::new(args.force);
+    let mut plan = Plan::new(args.output.force);
     if let Some(p) = &args.scene {
         plan.input("scene file", p);
     }
-    let plot_target = match &args.plot {
+    let plot_target = match &args.output.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
@@ -393,11 +392,7 @@ pub fn report(args: &Args) -> Result<CompareReport> {
     let jobs: Vec<(usize, bool)> = (0..specs.len())
         .flat_map(|i| [(i, false), (i, true)])
         .collect();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(crate::cmd::montecarlo::threads(args.threads))
-        .stack_size(16 << 20)
-        .build()
-        .context("cannot start the worker threads")?;
+    let pool = crate::study::pool(crate::study::montecarlo::threads(args.threads))?;
     type Job = Result<(CamStudy, Option<ProfileStats>)>;
     let results: Vec<Job> = pool.install(|| {
         jobs.par_iter()
@@ -524,7 +519,7 @@ pub fn fill_ranks(laws: &mut [LawStudy]) {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.json)
+    crate::report::print(&report(&args)?, args.output.json)
 }
 
 /// Column headers of the ranking table.

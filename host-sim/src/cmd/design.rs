@@ -15,15 +15,15 @@
 use std::time::Instant;
 
 use anyhow::{bail, Result};
-use camsim_core::{FollowerModel, Onset, OnsetSearch, Start};
+use camsim_core::{Onset, OnsetSearch, Start};
 use serde::Serialize;
 
 use crate::actual::ActualArgs;
-use crate::cmd::montecarlo::{threads, Study};
-use crate::cmd::run::{spec_from, SceneArgs};
+use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
+use crate::study::montecarlo::{threads, Study};
 
 /// Command-line options of `camsim design`.
 #[derive(clap::Args, Debug)]
@@ -91,18 +91,6 @@ pub struct McArgs {
 fn p_max_and_samples(p_max: f64, quick: bool, samples: Option<u64>) -> (f64, u64) {
     let p = if quick { p_max.max(QUICK_P_MAX) } else { p_max };
     (p, samples.unwrap_or_else(|| samples_for(p)))
-}
-
-/// The Monte Carlo model of the design searches: the quasi-static cantilever, vertical
-/// (docs/RESULTS.md "Reduced scenes": adequate for P(jump) on actual cams), at rtol 1e-4.
-pub fn monte_carlo_model(spec: &RunSpec) -> RunSpec {
-    let mut mc = spec.clone();
-    mc.dofs.horizontal = false;
-    mc.dofs.follower = FollowerModel::QuasiStaticCantilever;
-    mc.solver.rtol = 1e-4;
-    mc.solver.atol = 1e-8;
-    mc.solver.max_step_fraction = 0.01;
-    mc
 }
 
 /// P(jump) in revolution 2 over `n` actual cams of `mc` (`actual`'s tolerances and seed).
@@ -197,7 +185,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let mc = monte_carlo_model(&spec);
+    let mc = crate::study::montecarlo::monte_carlo_model(&spec);
     let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
     let nthreads = threads(args.threads);
     let reference = camsim_core::Tolerances::<f64>::reference();
@@ -208,7 +196,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     let (start, max, resolution) = if speed {
         (
             100.0,
-            crate::cmd::jump_speed::MAX_RPM,
+            crate::study::jump_speed::MAX_RPM,
             if args.quick { 100.0 } else { 5.0 },
         )
     } else if waviness {
@@ -265,7 +253,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     };
     let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
     let theoretical_onset_rpm = if speed {
-        let js = crate::cmd::jump_speed::find(&spec, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        let js = crate::study::jump_speed::find(&spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
         js.jump_rpm
     } else {
@@ -628,7 +616,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     };
     let unit = if preload { "in" } else { "lb/in" };
     let mut report = if args.actual {
-        let mc = monte_carlo_model(&spec);
+        let mc = crate::study::montecarlo::monte_carlo_model(&spec);
         let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
         let actual = ActualArgs {
             actual: true,
@@ -692,7 +680,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         let (rate, below) = answer(onset, max, preload, "separates")?;
         // The chosen spring's own jump onset: the margin it really has.
         let chosen = with_rate(&spec, rate)?;
-        let js = crate::cmd::jump_speed::find(&chosen, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
         SpringReport {
             searched: what.into(),

@@ -2,21 +2,20 @@
 //! cam in steady state, found by bisection on the dynamic model, and the speed margin
 //! of the current operating point.
 
-use anyhow::{bail, Result};
+use anyhow::Result;
 use serde::Serialize;
 
-use camsim_core::{Onset, OnsetSearch};
-
-use crate::cmd::run as run_cmd;
+use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
-use crate::sim;
+pub use crate::study::jump_speed::{find, find_with, JumpSpeed, MAX_RPM, START_RPM};
+use crate::study::jump_speed_actual;
 
 /// Command-line options of `camsim jump-speed`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// The scene and its overrides (`--start` defaults to "static" here).
     #[command(flatten)]
-    pub scene: run_cmd::SceneArgs,
+    pub scene: SceneArgs,
     /// Bisection resolution, rpm (positive, at most 10 000; below the numbers' spacing
     /// the bisection ends on neighbouring speeds).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::resolution_rpm)]
@@ -37,78 +36,6 @@ pub struct Args {
     /// With --actual: worker threads (default: every core); the result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-}
-
-/// Result of the search.
-#[derive(Debug, Clone, Copy)]
-pub struct JumpSpeed {
-    /// Lowest speed with steady-state separation, rpm (None: none up to max_rpm).
-    pub jump_rpm: Option<f64>,
-    /// Highest speed checked without separation, rpm.
-    pub no_jump_rpm: f64,
-    /// Simulations run.
-    pub simulations: u32,
-}
-
-/// Speed the bracket starts from (halved if `max_rpm` is below twice it), rpm: slow
-/// enough that contact must hold there.
-pub const START_RPM: f64 = 50.0;
-
-/// The default and largest `--max-rpm`: the top of a cam speed's plausibility range
-/// ([`camsim_core::key::SPEED_RPM`]).
-pub const MAX_RPM: f64 = camsim_core::key::SPEED_RPM.max;
-
-/// The jump speed of `spec` to `resolution` rpm, up to `max_rpm`: core's [`OnsetSearch`]
-/// (doubling from [`START_RPM`], then bisection) with [`sim::jumps_at`] (two revolutions,
-/// stopped at the first separation in the second) as the predicate.
-///
-/// A simulation that ends in an error after the follower has left the cam (the model
-/// leaving its valid range, [`camsim_core::Error::OutOfModel`], or the solver failing)
-/// counts as separation: the follower did not hold contact at that speed. One that ends
-/// in an error with the follower on the cam ends the search with that error.
-pub fn find(spec: &sim::RunSpec, resolution: f64, max_rpm: f64) -> Result<JumpSpeed> {
-    let mut spec = spec.clone();
-    spec.revolutions = 2;
-    find_with(resolution, max_rpm, |rpm| sim::jumps_at(&spec, rpm))
-}
-
-/// [`find`] with any "separates at this speed?" predicate (counted in `simulations`).
-pub fn find_with(
-    resolution: f64,
-    max_rpm: f64,
-    mut jumps: impl FnMut(f64) -> Result<bool>,
-) -> Result<JumpSpeed> {
-    if !(resolution.is_finite() && resolution > 0.0) {
-        bail!("--resolution {resolution}: must be positive and finite (rpm)");
-    }
-    if !camsim_core::key::SPEED_RPM.contains(max_rpm) {
-        bail!("--max-rpm {max_rpm}: {}", camsim_core::key::SPEED_RPM.rule);
-    }
-    let lowest = camsim_core::key::SPEED_RPM.min;
-    if max_rpm < 2.0 * lowest {
-        bail!("--max-rpm {max_rpm}: must be at least {} rpm (the search starts below it, at no less than {lowest} rpm)", 2.0 * lowest);
-    }
-    let search = OnsetSearch::new(START_RPM.min(max_rpm / 2.0), Some(2.0), max_rpm, resolution)?;
-    let mut simulations = 0;
-    let onset = search.find(|rpm| {
-        simulations += 1;
-        jumps(rpm)
-    })?;
-    match onset {
-        Onset::AtStart(lo) => {
-            bail!("the follower separates already at {lo} rpm: check the spring and preload")
-        }
-        Onset::Bracketed { below, at } => Ok(JumpSpeed {
-            jump_rpm: Some(at),
-            no_jump_rpm: below,
-            simulations,
-        }),
-        Onset::Beyond(max) => Ok(JumpSpeed {
-            jump_rpm: None,
-            no_jump_rpm: max,
-            simulations,
-        }),
-    }
 }
 
 /// What `camsim jump-speed` prints: the text output and `--json` are both this report.
@@ -209,13 +136,11 @@ impl Report for JumpSpeedReport {
 pub fn run(args: Args) -> Result<()> {
     let mut scene = args.scene.clone();
     scene.start.get_or_insert(crate::args::StartArg::Static);
-    let spec = run_cmd::spec_from(&scene)?;
+    let spec = spec_from(&scene)?;
     if args.actual.actual {
-        let threads = crate::cmd::montecarlo::threads(args.threads);
-        let samples = args
-            .samples
-            .unwrap_or(crate::cmd::jump_speed_actual::DEFAULT_SAMPLES);
-        let report = crate::cmd::jump_speed_actual::study(
+        let threads = crate::study::montecarlo::threads(args.threads);
+        let samples = args.samples.unwrap_or(jump_speed_actual::DEFAULT_SAMPLES);
+        let report = jump_speed_actual::study(
             &spec,
             &args.actual,
             samples,
@@ -225,10 +150,17 @@ pub fn run(args: Args) -> Result<()> {
         )?;
         return crate::report::print(&report, args.json);
     }
-    anyhow::ensure!(
-        !args.actual.any_profile_option() && args.samples.is_none() && args.threads.is_none(),
-        "the profile options (--cam-tolerance, --seed, --samples, --threads, ...) need --actual"
-    );
+    args.actual.ensure_actual_if_options()?;
+    let given: Vec<String> = [("--samples", args.samples), ("--threads", args.threads)]
+        .iter()
+        .filter_map(|(name, v)| v.map(|v| format!("{name} {v}")))
+        .collect();
+    if !given.is_empty() {
+        return Err(crate::args::usage(format!(
+            "{} counts actual cams: add --actual (without it the theoretical cam runs)",
+            given.join(", ")
+        )));
+    }
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let t0 = std::time::Instant::now();
     let r = find(&spec, args.resolution, args.max_rpm)?;

@@ -9,17 +9,13 @@ use crate::report::Report;
 
 /// Command-line options.
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("json", |a| a.help("Print JSON instead of a table")))]
+#[command(mut_arg("plot", |a| a.help("Draw every law's normalized S, V, A and J against u = θ/β on one figure (laws.png) into DIR (created if missing; its parent must exist)")))]
+#[command(mut_arg("force", |a| a.help("Replace an existing --plot file")))]
 pub struct Args {
-    /// Print JSON instead of a table.
-    #[arg(long)]
-    pub json: bool,
-    /// Draw every law's normalized S, V, A and J against u = θ/β on one figure
-    /// (laws.png) into DIR (created if missing; its parent must exist).
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<std::path::PathBuf>,
-    /// Replace an existing --plot file.
-    #[arg(long)]
-    pub force: bool,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: crate::args::OutputArgs,
 }
 
 /// The plot `--plot DIR` writes.
@@ -62,7 +58,7 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str) -> anyhow::Result<()
         ("A: d²s/du²", |x| x.a),
         ("J: d³s/du³", |x| x.j),
     ];
-    crate::cmd::montecarlo::plots::png(dir, file, PLOT_SIZE, |root| {
+    crate::plot::study::png(dir, file, PLOT_SIZE, |root| {
         let (title, rest) = root.split_vertically(50);
         crate::plot::draw_title(
             &title,
@@ -281,11 +277,11 @@ impl Report for LawsReport {
 
 /// Runs the command.
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if let Some(d) = &args.plot {
-        let mut plan = crate::output::Plan::new(args.force);
+    if let Some(d) = &args.output.plot {
+        let mut plan = crate::output::Plan::new(args.output.force);
         let mut dir = plan.dir("--plot", d, &PLOT_FILES)?.open()?;
         draw(&mut dir, PLOT_FILES[0])?;
         dir.commit()?;
     }
-    crate::report::print(&report(), args.json)
+    crate::report::print(&report(), args.output.json)
 }

@@ -19,8 +19,7 @@ use camsim_core::{CamGeometry, FollowerLift};
 use serde::Serialize;
 
 use crate::actual::{ActualArgs, ProfileStats};
-use crate::args::positive_finite;
-use crate::cmd::run::{spec_from, SceneArgs};
+use crate::args::{positive_finite, spec_from, OutputArgs, SceneArgs};
 use crate::export::{self, CurvePoint, Layer, Units};
 use crate::output::Plan;
 use crate::report::Report;
@@ -53,6 +52,9 @@ pub const SVAJ_FILE: &str = "svaj.png";
 
 /// Command-line options.
 #[derive(clap::Args, Debug, Clone)]
+#[command(mut_arg("json", |a| a.help("Print JSON instead of a table")))]
+#[command(mut_arg("plot", |a| a.help("Draw the program's lift, velocity, acceleration and jerk against cam angle (svaj.png) into DIR")))]
+#[command(mut_arg("force", |a| a.help("Replace existing files in --out and --plot")))]
 pub struct Args {
     /// The scene and its overrides (`--rpm` sets the speed of the SVAJ plot).
     #[command(flatten)]
@@ -61,10 +63,6 @@ pub struct Args {
     /// of `run --measured`), pitch.csv and, with --cutter-radius, cutter.csv.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Draw the program's lift, velocity, acceleration and jerk against cam angle
-    /// (svaj.png) into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
     /// Radius of the cutter (grinding wheel or end mill), in --units: also write its
     /// centre path.
     #[arg(long, value_name = "LEN", allow_hyphen_values = true, value_parser = positive_finite)]
@@ -77,15 +75,12 @@ pub struct Args {
     /// (surface_radius.csv stays in inches, as `run --measured` reads it).
     #[arg(long, value_enum, default_value_t = Units::In)]
     pub units: Units,
-    /// Replace existing files in --out and --plot.
-    #[arg(long)]
-    pub force: bool,
-    /// Print JSON instead of a table.
-    #[arg(long)]
-    pub json: bool,
     /// A simulated machined cam (`--actual` and its options) instead of the theoretical.
     #[command(flatten)]
     pub actual: ActualArgs,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 /// One sampled curve (the JSON `curves` entries).
@@ -279,10 +274,7 @@ pub fn polar_rows(points: &[CurvePoint], per_inch: f64) -> Result<Vec<(f64, f64)
 pub fn report(args: &Args) -> Result<ProfileReport> {
     let spec = spec_from(&args.scene)?;
     let design = &spec.design;
-    anyhow::ensure!(
-        args.actual.actual || !args.actual.any_profile_option(),
-        "the profile options (--cam-tolerance, --seed, --profile-method, ...) need --actual"
-    );
+    args.actual.ensure_actual_if_options()?;
     let actual = if args.actual.actual {
         Some(crate::actual::build_profile(design, &args.actual, 0)?)
     } else {
@@ -380,7 +372,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
     crate::report::ensure_finite(&report)?;
 
     let mut files = Vec::new();
-    let mut plan = Plan::new(args.force);
+    let mut plan = Plan::new(args.output.force);
     if let Some(p) = &args.scene.scene {
         plan.input("scene file", p);
     }
@@ -392,7 +384,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
         Some(dir) => Some(plan.dir("--out", dir, &names)?),
         None => None,
     };
-    let plot_target = match &args.plot {
+    let plot_target = match &args.output.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &[SVAJ_FILE])?),
         None => None,
     };
@@ -477,5 +469,5 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.json)
+    crate::report::print(&report(&args)?, args.output.json)
 }

@@ -5,57 +5,18 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use camsim_core::SegmentKind;
 use serde::Serialize;
 
 use crate::actual::{ActualArgs, ProfileStats};
-use crate::args::{self, megabytes, Law, StartArg};
+use crate::args::{self, megabytes, OutputArgs};
+pub use crate::args::{spec_from, SceneArgs};
 use crate::csv::{self, CsvOut};
 use crate::measured::{MeasuredProfile, MeasuredStats};
 use crate::output::Plan;
 use crate::plot;
 use crate::report::{sorted_pretty_json, Report};
 use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
-
-/// The scene and its overrides, shared by `camsim run` and `camsim jump-speed`.
-#[derive(clap::Args, Debug, Clone, Default)]
-pub struct SceneArgs {
-    /// Scene file (TOML, see `camsim scene --default`); the reference design if omitted.
-    pub scene: Option<PathBuf>,
-    /// Cam speed, rpm, 1-10 000 (default 800).
-    #[arg(long, allow_hyphen_values = true, value_parser = args::rpm)]
-    pub rpm: Option<f64>,
-    /// Motion law of the rise(s) (names as in `camsim laws`).
-    #[arg(long = "rise", value_name = "LAW", ignore_case = true)]
-    pub rise: Option<Law>,
-    /// Motion law of the return(s).
-    #[arg(long = "return", value_name = "LAW", ignore_case = true)]
-    pub ret: Option<Law>,
-    /// Return spring rate K_rs, lb/in (0.01-1e6).
-    #[arg(long, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = args::spring_rate)]
-    pub spring_rate: Option<f64>,
-    /// Spring length compressed at assembly δ_rs, in (0-100).
-    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::preload_length)]
-    pub preload_length: Option<f64>,
-    /// Initial state (default: "thesis" for `run`, "static" for `jump-speed`, whose
-    /// steady state the thesis start's impact would pollute).
-    #[arg(long, value_enum)]
-    pub start: Option<StartArg>,
-    /// Solver relative tolerance (1e-13 to 0.1).
-    #[arg(long, allow_hyphen_values = true, value_parser = args::rtol)]
-    pub rtol: Option<f64>,
-    /// Solver absolute tolerance for displacements, in (1e-15 to 1e-3).
-    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::atol)]
-    pub atol: Option<f64>,
-    /// Largest double step, fraction of a revolution (default 1/2000; the reduced
-    /// followers take longer steps: 0.01 lets the controller decide).
-    #[arg(long, value_name = "FRACTION", allow_hyphen_values = true, value_parser = args::max_step_fraction)]
-    pub max_step_fraction: Option<f64>,
-    /// The follower's model: the full chain, or a reduced scene whose stiff DOFs are
-    /// quasi-static (docs/MODEL.md §10; a reduced one implies the vertical scene).
-    #[arg(long, value_enum, value_name = "MODEL")]
-    pub follower: Option<args::FollowerArg>,
-}
+pub use crate::verdict::JumpRow;
 
 /// The default of `--csv-every-deg`: a row every half degree of cam angle.
 pub const DEFAULT_CSV_EVERY_DEG: f64 = 0.5;
@@ -74,6 +35,8 @@ pub const DEFAULT_MAX_CSV_MB: u64 = 1000;
 
 /// Command-line options of `camsim run`.
 #[derive(clap::Args, Debug, Clone)]
+#[command(mut_arg("plot", |a| a.help("Write PNG plots against cam angle into DIR (created if missing; its parent must exist; existing plots need --force)")))]
+#[command(mut_arg("force", |a| a.help("Replace existing --csv and --plot files")))]
 pub struct Args {
     /// The scene and its overrides.
     #[command(flatten)]
@@ -100,16 +63,6 @@ pub struct Args {
     /// stops with an error and leaves no file.
     #[arg(long, value_name = "MB", default_value_t = DEFAULT_MAX_CSV_MB, allow_hyphen_values = true, value_parser = megabytes)]
     pub max_csv_mb: u64,
-    /// Write PNG plots against cam angle into DIR (created if missing; its parent must
-    /// exist; existing plots need --force).
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Replace existing --csv and --plot files.
-    #[arg(long)]
-    pub force: bool,
-    /// Print JSON instead of tables.
-    #[arg(long)]
-    pub json: bool,
     /// An actual cam drawn from tolerances (`--actual` and its options).
     #[command(flatten)]
     pub actual: ActualArgs,
@@ -121,6 +74,9 @@ pub struct Args {
     /// The verdict's limits and its jump margin.
     #[command(flatten)]
     pub verdict: VerdictArgs,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 /// What the verdict that opens `camsim run` judges against.
@@ -176,90 +132,10 @@ impl Default for Args {
             csv_every_deg: DEFAULT_CSV_EVERY_DEG,
             csv_every_step: false,
             max_csv_mb: DEFAULT_MAX_CSV_MB,
-            plot: None,
-            force: false,
-            json: false,
+            output: OutputArgs::default(),
             verdict: VerdictArgs::default(),
         }
     }
-}
-
-/// Builds the run specification from the scene (or reference) and the overrides (the
-/// option values as clap checked them; the core's checks of the result still apply).
-pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
-    let mut spec = match &args.scene {
-        Some(p) => crate::scene::load(p)?,
-        None => RunSpec::reference(),
-    };
-    if let Some(r) = args.rpm {
-        spec.design.set_speed_rpm(r).map_err(|e| match e {
-            camsim_core::Error::InvalidParameter { rule, .. } => {
-                anyhow::anyhow!("--rpm {r}: {rule}")
-            }
-            other => other.into(),
-        })?;
-    }
-    if args.rise.is_some() || args.ret.is_some() {
-        let mut segs: Vec<_> = spec.design.program.segments().to_vec();
-        for s in &mut segs {
-            match (&mut s.kind, args.rise, args.ret) {
-                (SegmentKind::Rise(l), Some(r), _) => *l = r.into(),
-                (SegmentKind::Return(l), _, Some(r)) => *l = r.into(),
-                _ => {}
-            }
-        }
-        spec.design.program = camsim_core::CamProgram::new(&segs)
-            .map_err(|e| camsim_scene_file::refusal("design", e))?;
-    }
-    if let Some(k) = args.spring_rate {
-        // The rate and the mass that goes with it (the one wire-and-coil model).
-        spec.design
-            .set_spring_rate(k)
-            .map_err(|e| anyhow::anyhow!("--spring-rate {k}: {e}"))?;
-    }
-    if let Some(d) = args.preload_length {
-        spec.design.delta_rs = d;
-    }
-    if let Some(s) = args.start {
-        spec.solver.start = s.into();
-    }
-    if let Some(x) = args.rtol {
-        spec.solver.rtol = x;
-    }
-    if let Some(x) = args.atol {
-        spec.solver.atol = x;
-    }
-    if let Some(x) = args.max_step_fraction {
-        spec.solver.max_step_fraction = x;
-    }
-    if let Some(f) = args.follower {
-        spec.dofs.follower = f.into();
-        if spec.dofs.follower != camsim_core::FollowerModel::Full {
-            spec.dofs.horizontal = false;
-        }
-    }
-    // The core's one validation, its refusals under the scene keys (`design.KEY`).
-    spec.solver
-        .validate()
-        .map_err(|e| camsim_scene_file::refusal("solver", e))?;
-    spec.design
-        .validate()
-        .map_err(|e| camsim_scene_file::refusal("design", e))?;
-    Ok(spec)
-}
-
-/// One separation interval (the JSON `jumps` entries).
-#[derive(Clone, Debug, Serialize)]
-pub struct JumpRow {
-    /// Revolution of the onset, from 1.
-    pub revolution: u32,
-    /// Cam angle of the onset within that revolution, degrees.
-    pub start_deg: f64,
-    /// Cam angle of the landing, degrees (on the onset revolution's scale).
-    pub end_deg: f64,
-    /// Index of the period of the onset (text only).
-    #[serde(skip)]
-    pub period: usize,
 }
 
 /// What an actual or measured cam's profile is (the JSON `profile`).
@@ -381,10 +257,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
     if let Some(n) = args.revolutions {
         spec.revolutions = n;
     }
-    anyhow::ensure!(
-        args.actual.actual || !args.actual.any_profile_option(),
-        "the profile options (--cam-tolerance, --seed, --profile-method, ...) need --actual"
-    );
+    args.actual.ensure_actual_if_options()?;
     let profile = if let Some(path) = &args.measured {
         let (dev, stats) = crate::measured::load(path)?
             .profile(&spec.design)
@@ -398,7 +271,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
     };
     let profile_report = profile.as_ref().map(|p| p.1.clone());
     spec.profile = profile.map(|p| std::sync::Arc::new(p.0));
-    let mut plan = Plan::new(args.force);
+    let mut plan = Plan::new(args.output.force);
     if let Some(p) = &args.scene.scene {
         plan.input("scene file", p);
     }
@@ -421,7 +294,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
         )?),
         None => None,
     };
-    let plot_target = match &args.plot {
+    let plot_target = match &args.output.plot {
         Some(dir) if spec.profile.is_some() => {
             Some(plan.dir("--plot", dir, &plot::FILES_WITH_PROFILE)?)
         }
@@ -532,7 +405,7 @@ fn verdict(
         let mut s = spec.clone();
         s.solver.start = camsim_core::Start::Static;
         let rpm = report.rpm;
-        let r = crate::cmd::jump_speed::find(&s, 1.0, crate::cmd::jump_speed::MAX_RPM)?;
+        let r = crate::study::jump_speed::find(&s, 1.0, crate::study::jump_speed::MAX_RPM)?;
         Some(v::MarginVerdict {
             jump_onset_rpm: r.jump_rpm,
             holds_at_rpm: r.no_jump_rpm,
@@ -558,7 +431,23 @@ fn verdict(
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.json)
+    crate::report::print(&report(&args)?, args.output.json)
+}
+
+/// The separations of one period of one revolution, as the text report sums them up.
+struct JumpBurst {
+    /// Revolution, from 1.
+    revolution: u32,
+    /// Index of the period in the program.
+    period: usize,
+    /// Separation intervals.
+    intervals: usize,
+    /// Cam angle of the first separation, degrees.
+    first_onset_deg: f64,
+    /// Cam angle of the last landing, degrees.
+    last_landing_deg: f64,
+    /// Degrees of cam angle off the cam, summed over the intervals.
+    off_cam_deg: f64,
 }
 
 impl Report for RunReport {
@@ -674,30 +563,34 @@ impl Report for RunReport {
                 "jumps: {} separation intervals (every one in --json)",
                 self.jumps.len()
             );
-            // (revolution, period, intervals, first onset, last landing, degrees off the cam)
-            let mut groups: Vec<(u32, usize, usize, f64, f64, f64)> = Vec::new();
+            let mut groups: Vec<JumpBurst> = Vec::new();
             for j in &self.jumps {
                 match groups.last_mut() {
-                    Some(g) if g.0 == j.revolution && g.1 == j.period => {
-                        g.2 += 1;
-                        g.4 = j.end_deg;
-                        g.5 += j.end_deg - j.start_deg;
+                    Some(g) if g.revolution == j.revolution && g.period == j.period => {
+                        g.intervals += 1;
+                        g.last_landing_deg = j.end_deg;
+                        g.off_cam_deg += j.end_deg - j.start_deg;
                     }
-                    _ => groups.push((
-                        j.revolution,
-                        j.period,
-                        1,
-                        j.start_deg,
-                        j.end_deg,
-                        j.end_deg - j.start_deg,
-                    )),
+                    _ => groups.push(JumpBurst {
+                        revolution: j.revolution,
+                        period: j.period,
+                        intervals: 1,
+                        first_onset_deg: j.start_deg,
+                        last_landing_deg: j.end_deg,
+                        off_cam_deg: j.end_deg - j.start_deg,
+                    }),
                 }
             }
-            for (rev, seg, n, first, last, total) in groups {
+            for g in groups {
                 let _ = writeln!(
                     out,
-                    "  revolution {rev}, {:<10}: {n:>4} intervals from {first:7.2} to {last:7.2} deg, {total:6.2} deg off the cam",
-                    self.periods.get(seg).copied().unwrap_or("?")
+                    "  revolution {}, {:<10}: {:>4} intervals from {:7.2} to {:7.2} deg, {:6.2} deg off the cam",
+                    g.revolution,
+                    self.periods.get(g.period).copied().unwrap_or("?"),
+                    g.intervals,
+                    g.first_onset_deg,
+                    g.last_landing_deg,
+                    g.off_cam_deg
                 );
             }
             if self.jumps_dropped > 0 {

@@ -13,10 +13,9 @@
 //!
 //! `--per-key` ([`per_key`]): d ln(output) / d ln(key) by central differences at ±1 %
 //! of every numeric design key ([`key_scaled`]) on the five outputs (theoretical cam)
-//! and on the jump-onset speed ([`crate::cmd::jump_speed::find`]), ranked by the
+//! and on the jump-onset speed ([`crate::study::jump_speed::find`]), ranked by the
 //! onset's.
 
-use std::io::IsTerminal;
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -27,8 +26,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileStats};
-use crate::cmd::montecarlo::plots;
+use crate::args::OutputArgs;
 use crate::output::{AtomicDir, Plan};
+use crate::plot::study as plots;
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 
@@ -50,6 +50,9 @@ pub const PLOT_FILES: [&str; 1] = ["sensitivity.png"];
 
 /// Command-line options of `camsim sensitivity`.
 #[derive(clap::Args, Debug, Clone, Default)]
+#[command(mut_arg("actual", |a| a.hide(true)))]
+#[command(mut_arg("plot", |a| a.help("Write a tornado-style bar chart (sensitivity.png) into DIR")))]
+#[command(mut_arg("force", |a| a.help("Replace an existing --plot file")))]
 pub struct Args {
     /// Scene file (the reference design if omitted).
     pub scene: Option<PathBuf>,
@@ -67,18 +70,12 @@ pub struct Args {
     /// Worker threads (default: every core). The result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Print JSON instead of tables.
-    #[arg(long)]
-    pub json: bool,
-    /// Write a tornado-style bar chart (sensitivity.png) into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Replace an existing --plot file.
-    #[arg(long)]
-    pub force: bool,
-    /// The actual cam (sample 0 of --seed; both cams always run, --actual changes nothing).
+    /// The actual cam (sample 0 of --seed): both cams always run.
     #[command(flatten)]
     pub actual: ActualArgs,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 /// A group of dynamic characteristics changed together (VI.4.3).
@@ -519,7 +516,7 @@ pub fn per_key_keys(design: &Design<f64>) -> Result<Vec<(&'static str, &'static 
 pub fn onset_rpm(spec: &RunSpec, resolution: f64) -> Result<Option<f64>> {
     let mut s = spec.clone();
     s.solver.start = Start::Static;
-    Ok(crate::cmd::jump_speed::find(&s, resolution, crate::cmd::jump_speed::MAX_RPM)?.jump_rpm)
+    Ok(crate::study::jump_speed::find(&s, resolution, crate::study::jump_speed::MAX_RPM)?.jump_rpm)
 }
 
 /// `--per-key`'s result.
@@ -571,12 +568,12 @@ pub fn per_key_with(
     let jobs: Vec<(usize, f64)> = (0..keys.len())
         .flat_map(|i| [(i, 1.0 + KEY_STEP), (i, 1.0 - KEY_STEP)])
         .collect();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
-        .stack_size(16 << 20)
-        .build()
-        .context("cannot start the worker threads")?;
-    let bar = progress_bar(jobs.len() as u64, progress);
+    let pool = crate::study::pool(threads)?;
+    let bar = crate::study_limits::progress_bar(
+        jobs.len() as u64,
+        progress,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} perturbed designs, eta {eta}",
+    );
     let results: Vec<Result<KeyPoint>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(i, f)| {
@@ -634,21 +631,6 @@ pub fn per_key_with(
     Ok(out)
 }
 
-/// A progress bar on standard error when it is a terminal and `want`, hidden otherwise.
-fn progress_bar(len: u64, want: bool) -> indicatif::ProgressBar {
-    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-    if !want || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    if let Ok(style) = ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:40}] {pos}/{len} perturbed designs, eta {eta}",
-    ) {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
-}
-
 /// What `camsim sensitivity` prints.
 #[derive(Clone, Debug, Serialize)]
 pub struct SensitivityReport {
@@ -692,13 +674,14 @@ fn base_spec(args: &Args) -> Result<RunSpec> {
 
 /// Runs the study.
 pub fn report(args: &Args) -> Result<SensitivityReport> {
+    args.actual.refuse_actual_flag("sensitivity")?;
     let t0 = std::time::Instant::now();
     let spec = base_spec(args)?;
-    let mut plan = Plan::new(args.force);
+    let mut plan = Plan::new(args.output.force);
     if let Some(p) = &args.scene {
         plan.input("scene file", p);
     }
-    let plot_target = match &args.plot {
+    let plot_target = match &args.output.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
@@ -720,12 +703,8 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
             }
         }
     }
-    let threads = crate::cmd::montecarlo::threads(args.threads);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .stack_size(16 << 20)
-        .build()
-        .context("cannot start the worker threads")?;
+    let threads = crate::study::montecarlo::threads(args.threads);
+    let pool = crate::study::pool(threads)?;
     let results: Vec<Result<Case>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(g, c, actual)| {
@@ -788,7 +767,7 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.json)
+    crate::report::print(&report(&args)?, args.output.json)
 }
 
 /// The change of `v` from `base`, % (None when the baseline is 0).

@@ -7,13 +7,16 @@ use std::path::PathBuf;
 use anyhow::Result;
 
 use crate::actual::ActualArgs;
+use crate::args::SceneArgs;
 use crate::args::{self, Law};
-use crate::cmd::run::SceneArgs;
 use crate::output::Plan;
 use crate::study::sweep::{self, RpmGrid, Sweep};
 
 /// Command-line options of `camsim sweep`.
 #[derive(clap::Args, Debug, Clone)]
+#[command(mut_arg("json", |a| a.help("Print JSON")))]
+#[command(mut_arg("plot", |a| a.help("Write the plot (sweep.png) into DIR (created if missing; its parent must exist)")))]
+#[command(mut_arg("force", |a| a.help("Replace existing --csv and --plot files")))]
 pub struct Args {
     /// The speeds: N equally spaced cam speeds from FROM to TO, rpm (e.g. 300:1200:19).
     #[arg(long, value_name = "FROM:TO:N", value_parser = sweep::parse_rpm_grid)]
@@ -52,15 +55,9 @@ pub struct Args {
     /// Write one row per speed to FILE.csv (units in the header's names).
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// Write the plot (sweep.png) into DIR (created if missing; its parent must exist).
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Replace existing --csv and --plot files.
-    #[arg(long)]
-    pub force: bool,
-    /// Print JSON.
-    #[arg(long)]
-    pub json: bool,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: crate::args::OutputArgs,
 }
 
 /// The plot `--plot DIR` writes.
@@ -80,7 +77,7 @@ pub fn sweep_of(args: &Args) -> Result<Sweep> {
         follower: args.follower,
         ..SceneArgs::default()
     };
-    let spec = crate::cmd::run::spec_from(&scene)?;
+    let spec = crate::args::spec_from(&scene)?;
     anyhow::ensure!(
         args.actual.actual || (!args.actual.any_profile_option() && args.samples.is_none()),
         "the profile options (--cam-tolerance, --seed, --samples, ...) need --actual"
@@ -94,7 +91,7 @@ pub fn sweep_of(args: &Args) -> Result<Sweep> {
                 args.samples.unwrap_or(sweep::DEFAULT_SAMPLES),
             )
         }),
-        threads: crate::cmd::montecarlo::threads(args.threads),
+        threads: crate::study::montecarlo::threads(args.threads),
         progress: true,
     })
 }
@@ -103,12 +100,12 @@ pub fn sweep_of(args: &Args) -> Result<Sweep> {
 pub fn run(args: Args) -> Result<()> {
     let sw = sweep_of(&args)?;
     // Every output checked before any run.
-    let mut plan = Plan::new(args.force);
+    let mut plan = Plan::new(args.output.force);
     let csv_target = match &args.csv {
         Some(p) => Some(plan.file("--csv", p)?),
         None => None,
     };
-    let plot_target = match &args.plot {
+    let plot_target = match &args.output.plot {
         Some(d) => Some(plan.dir("--plot", d, &PLOT_FILES)?),
         None => None,
     };
@@ -137,5 +134,5 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(p) = plot.take() {
         p.commit()?;
     }
-    crate::report::print(&report, args.json)
+    crate::report::print(&report, args.output.json)
 }

@@ -4,7 +4,7 @@
 //! 0.2, 1 and 5 times VI.1's (cam ±0.0001, ±0.0005, ±0.0025 in, the roller's at 1/5 of
 //! it; the eccentricity kept at VI.1's ±0.001 in), by the waviness (FPR 17, 39 and 57,
 //! the thesis's cams; `--waviness-fpr`), or by given intervals (`--interval-deg`). Each
-//! cell is a small Monte Carlo study ([`crate::cmd::montecarlo`]) whose samples use the
+//! cell is a small Monte Carlo study ([`crate::study::montecarlo`]) whose samples use the
 //! same master seed in every cell (common random numbers), reported as the mean of
 //! revolution 2's time responses (RMS deviations) and inertial responses per period,
 //! with the probability of a jump and its 95 % interval. A theoretical-cam row (no
@@ -17,10 +17,11 @@ use camsim_core::{MotionLaw, SegmentKind};
 use serde::Serialize;
 
 use crate::actual::{ActualArgs, NormalArg};
-use crate::cmd::montecarlo::{self, Moments, Study, Summary};
+use crate::args::OutputArgs;
 use crate::output::AtomicDir;
 use crate::report::Report;
 use crate::sim::RunSpec;
+use crate::study::montecarlo::{self, Moments, Study, Summary};
 
 /// The factors on VI.1's cam and roller tolerances (±0.0005 and ±0.0001 in) of the
 /// grid's rows, largest first: cam ±0.0025, ±0.0005, ±0.0001 in.
@@ -33,6 +34,8 @@ pub const PLOT_FILES: [&str; 1] = ["tolerance_grid.png"];
 
 /// Command-line options of `camsim tolerance-study`.
 #[derive(clap::Args, Debug, Clone)]
+#[command(mut_arg("plot", |a| a.help("Write the grid as heat maps (P(jump) with its interval, acceleration RMS) into DIR (tolerance_grid.png)")))]
+#[command(mut_arg("force", |a| a.help("Replace existing --plot files")))]
 pub struct Args {
     /// Scene file (default: the thesis's more stable program, the reference design with
     /// a 4-5-6-7 rise and a modified trapezoidal return).
@@ -65,19 +68,12 @@ pub struct Args {
     /// Quick mode: one cam per cell, the vertical scene.
     #[arg(long)]
     pub quick: bool,
-    /// Write the grid as heat maps (P(jump) with its interval, acceleration RMS) into
-    /// DIR (tolerance_grid.png).
-    #[arg(long, value_name = "DIR")]
-    pub plot: Option<PathBuf>,
-    /// Replace existing --plot files.
-    #[arg(long)]
-    pub force: bool,
     /// Worker threads (default: every core). The result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Print JSON instead of tables.
-    #[arg(long)]
-    pub json: bool,
+    /// What it prints and draws.
+    #[command(flatten)]
+    pub output: OutputArgs,
 }
 
 /// One cell of the grid.
@@ -178,11 +174,11 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
     let spec = base_spec(args)?;
     let samples = args.samples.unwrap_or(if args.quick { 1 } else { 8 });
     let threads = montecarlo::threads(args.threads);
-    let mut plan = crate::output::Plan::new(args.force);
+    let mut plan = crate::output::Plan::new(args.output.force);
     if let Some(p) = &args.scene {
         plan.input("scene file", p);
     }
-    let plot_target = match &args.plot {
+    let plot_target = match &args.output.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
@@ -269,7 +265,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.json)
+    crate::report::print(&report(&args)?, args.output.json)
 }
 
 /// The columns of the per-cell table: (column, header).
@@ -502,7 +498,7 @@ fn draw(
             (255.0 - 225.0 * t) as u8,
         )
     };
-    crate::cmd::montecarlo::plots::png(dir, file, (1600, 260 * rows as u32 + 160), |root| {
+    crate::plot::study::png(dir, file, (1600, 260 * rows as u32 + 160), |root| {
         let root = root
             .titled(
                 &format!(

@@ -8,9 +8,9 @@
 use anyhow::{anyhow, ensure, Result};
 use serde::{Deserialize, Serialize, Serializer};
 
-use crate::cmd::montecarlo::{SampleRecord, COLUMNS};
 use crate::stats::stream::{Moments, Stream};
 use crate::stats::Probability;
+use crate::study::montecarlo::{SampleRecord, COLUMNS};
 
 /// Named statistics in a fixed order (a JSON object in that order).
 #[derive(Clone, Debug, PartialEq)]

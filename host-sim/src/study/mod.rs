@@ -1,4 +1,20 @@
 //! The studies as a library: each computes its report from a scene and options, with no
 //! command-line parsing (the thin `cmd` module of each parses, prints and writes files).
 
+pub mod contact;
+pub mod jump_speed;
+pub mod jump_speed_actual;
+pub mod montecarlo;
 pub mod sweep;
+
+/// A local pool of `threads` worker threads (at least one) for a study's independent runs,
+/// each with a 16 MB stack (a sample's profile, three arrays of 3601 f64, is built on the
+/// stack). The results never depend on the thread count: every study collects by index.
+pub fn pool(threads: usize) -> anyhow::Result<rayon::ThreadPool> {
+    use anyhow::Context;
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .stack_size(16 << 20)
+        .build()
+        .context("cannot start the worker threads")
+}

@@ -254,7 +254,7 @@ impl Band {
     pub fn of(mut values: Vec<f64>) -> Option<Band> {
         values.retain(|v| v.is_finite());
         values.sort_by(f64::total_cmp);
-        let q = |p| crate::cmd::jump_speed_actual::quantile(&values, p);
+        let q = |p| crate::study::jump_speed_actual::quantile(&values, p);
         Some(Band {
             p05: q(0.05)?,
             median: q(0.5)?,
@@ -345,7 +345,7 @@ pub struct ActualSweep {
     /// Master seed.
     pub seed: u64,
     /// How the cams are made (tolerances, waviness, interval).
-    pub profile: crate::cmd::montecarlo::ProfileSettings,
+    pub profile: crate::study::montecarlo::ProfileSettings,
     /// The model the actual cams ran on.
     pub model: String,
     /// Per speed.
@@ -428,8 +428,8 @@ pub fn run(sw: &Sweep) -> Result<SweepReport> {
     // once, every cam built once and ridden at every speed.
     let actual = match &sw.actual {
         Some((args, n)) => {
-            let mc = crate::cmd::design::monte_carlo_model(&spec);
-            let study = crate::cmd::montecarlo::Study::from_spec(mc.clone(), args, *n)?;
+            let mc = crate::study::montecarlo::monte_carlo_model(&spec);
+            let study = crate::study::montecarlo::Study::from_spec(mc.clone(), args, *n)?;
             let profiles: Vec<Result<Arc<HostDeviation>>> = pool.install(|| {
                 (0..*n)
                     .into_par_iter()
@@ -448,7 +448,11 @@ pub fn run(sw: &Sweep) -> Result<SweepReport> {
     let per_speed = actual.as_ref().map_or(0, |a| a.2.len());
     // Jobs: every speed's theoretical run, then every (speed, cam).
     let total = nspeeds * (1 + per_speed);
-    let bar = crate::cmd::montecarlo::progress_bar_of(total as u64, sw.progress, "runs");
+    let bar = crate::study_limits::progress_bar(
+        total as u64,
+        sw.progress,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} runs, {per_sec}, eta {eta}",
+    );
     let stop = AtomicBool::new(false);
     let results: Vec<Option<Result<Response>>> = pool.install(|| {
         (0..total)
@@ -879,7 +883,7 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
     let span = r.grid.to_rpm - r.grid.from_rpm;
     let x_range = (r.grid.from_rpm - 0.02 * span)..(r.grid.to_rpm + 0.02 * span);
     let model_name = |m: &str| m.split(',').next().unwrap_or(m).to_string();
-    crate::cmd::montecarlo::plots::png(dir, file, PLOT_SIZE, |root| {
+    crate::plot::study::png(dir, file, PLOT_SIZE, |root| {
         let (title, rest) = root.split_vertically(50);
         crate::plot::draw_title(
             &title,

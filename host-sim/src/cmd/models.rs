@@ -1,5 +1,5 @@
-//! `camsim scenes`: which scene is accurate enough for which question. Every scene of the
-//! regulated drive (the full 22-state model, the vertical one, and the reduced followers
+//! `camsim models` (formerly `camsim scenes`): which scene is accurate enough for which
+//! question. Every scene of the regulated drive (the full 22-state model, the vertical one, and the reduced followers
 //! of docs/MODEL.md §10) at the chip's tolerance, against the full model at a tight one:
 //! state size, memory, work and time per revolution, the stiffest eigenvalue left (what
 //! bounds the step), and the errors on the jump-onset speed, the timing at the
@@ -22,7 +22,7 @@ use crate::bench::stability;
 use crate::bench::{design_at, median, onset_by_bisection, scene_jumps_at, ONSET_BRACKET};
 use crate::report::{sorted_pretty_json, Report};
 
-/// Command-line options of `camsim scenes`.
+/// Command-line options of `camsim models`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Cam speed of the work, time and error columns, rpm.
@@ -148,7 +148,7 @@ pub struct SceneReference {
     pub acc_rms: f64,
 }
 
-/// `camsim scenes`'s report.
+/// `camsim models`'s report.
 #[derive(Clone, Debug, Serialize)]
 pub struct ScenesReport {
     /// Cam speed, rpm.
@@ -379,7 +379,7 @@ impl Report for ScenesReport {
         let r = &self.reference;
         let _ = writeln!(
             s,
-            "camsim scenes{}: the reference design at {} rpm, regulated drive, static start, 2 revolutions; every scene at\n\
+            "camsim models{}: the reference design at {} rpm, regulated drive, static start, 2 revolutions; every scene at\n\
              rtol 1e-3 (the chip's) and 1e-2, atol 1e-8 in, largest step 1/100 revolution, England as `run` uses it; errors\n\
              against the full model at rtol {:.0e}: jump onset {:.2} rpm, smallest contact force {:.3} lb, load acceleration\n\
              RMS {:.4e} in/s²",

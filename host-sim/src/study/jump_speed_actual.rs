@@ -14,8 +14,8 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::jump_speed::{find, JumpSpeed};
 use crate::actual::ActualArgs;
-use crate::cmd::jump_speed::{find, JumpSpeed};
 use crate::report::Report;
 use crate::sim::RunSpec;
 
@@ -145,13 +145,13 @@ pub fn study(
 ) -> Result<ActualOnsetReport> {
     let t0 = std::time::Instant::now();
     let op = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
-        .build()
-        .context("cannot start the worker threads")?;
+    let pool = super::pool(threads)?;
     // A progress bar on a terminal: the theoretical search and every sample's.
-    let bar =
-        crate::cmd::montecarlo::progress_bar_of(u64::from(samples) + 1, true, "onset searches");
+    let bar = crate::study_limits::progress_bar(
+        u64::from(samples) + 1,
+        true,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} onset searches, {per_sec}, eta {eta}",
+    );
     let theory = find(spec, resolution, max_rpm).context("the theoretical cam")?;
     bar.inc(1);
     let results: Vec<Result<JumpSpeed>> = pool.install(|| {

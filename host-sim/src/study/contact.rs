@@ -1,0 +1,89 @@
+//! The Hertz contact of `camsim contact`: stiffness (Eqs. V.9-V.11), contact width and
+//! maximum Hertz stress of a roller on a base circle at one force.
+
+use anyhow::{bail, Context};
+use camsim_core::HertzContact;
+use serde::Serialize;
+
+/// Reference roller diameter d1 (in, VI.1).
+pub const ROLLER_DIAMETER_IN: f64 = 0.75;
+/// Reference base-circle diameter d2 (in, VI.1).
+pub const BASE_CIRCLE_DIAMETER_IN: f64 = 3.0;
+/// Reference cam thickness t (in, docs/MODEL.md §5.5).
+pub const CAM_THICKNESS_IN: f64 = 0.25;
+
+/// Contact quantities of the reference pair at one force.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ContactReport {
+    /// Roller radius r1, in.
+    pub roller_radius_in: f64,
+    /// Base-circle radius r2, in.
+    pub base_radius_in: f64,
+    /// Contact length (cam thickness) t, in.
+    pub thickness_in: f64,
+    /// The force F (lb).
+    pub force_lb: f64,
+    /// K_h of Eq. V.11 (band width at 1 lb), lb/in.
+    pub k_h_lb_per_in: f64,
+    /// Secant stiffness F / H with the band at F, lb/in.
+    pub k_h_at_force_lb_per_in: f64,
+    /// Contact width w at F (Eq. V.9), in.
+    pub contact_width_in: f64,
+    /// Maximum Hertz pressure 2F/(pi b t) at F, psi.
+    pub max_stress_psi: f64,
+}
+
+/// The rule a force must satisfy, as printed in the error.
+const FORCE_RULE: &str = "--force must be a positive, finite number of pounds";
+
+/// Computes the report for the reference steel roller (d1 = 0.75 in) on the base
+/// circle (d2 = 3.0 in), t = 0.25 in, E = 30e6 psi, nu = 0.295.
+pub fn compute(force: f64) -> anyhow::Result<ContactReport> {
+    let hertz = HertzContact::<f64>::steel(CAM_THICKNESS_IN);
+    let (r1, r2) = (ROLLER_DIAMETER_IN / 2.0, BASE_CIRCLE_DIAMETER_IN / 2.0);
+    compute_for(force, &hertz, r1, r2)
+}
+
+/// The report for the roller of radius `r1` on the base circle of radius `r2` (in) with
+/// the materials and thickness of `hertz` (a scene's `design.hertz` and geometry).
+pub fn compute_for(
+    force: f64,
+    hertz: &HertzContact<f64>,
+    r1: f64,
+    r2: f64,
+) -> anyhow::Result<ContactReport> {
+    if !(force.is_finite() && force > 0.0) {
+        bail!("{FORCE_RULE} (got {force})");
+    }
+    if force < crate::args::MIN_FORCE_LB {
+        bail!(
+            "--force {force:e}: must be at least {:e} lb (smaller forces underflow the contact band)",
+            crate::args::MIN_FORCE_LB
+        );
+    }
+    if force > crate::args::max_force_lb() {
+        bail!("--force {force:e}: {}", crate::args::force_range_rule());
+    }
+    let k_h = hertz
+        .stiffness(r1, r2)
+        .context("unit-force Hertz stiffness")?;
+    let k_at = hertz
+        .stiffness_at(force, r1, r2)
+        .map_err(|e| match e {
+            // The core names the radii by their symbols (r1, r2): say which they are here.
+            camsim_core::Error::InvalidParameter { rule, .. } => anyhow::anyhow!(
+                "--force {force:e}: the Hertz stiffness of the reference pair (roller radius {r1} in, base circle radius {r2} in) at this force: {rule} (the force is beyond Hertz's theory for this pair)"
+            ),
+            other => anyhow::anyhow!("--force {force:e}: {other}"),
+        })?;
+    Ok(ContactReport {
+        roller_radius_in: r1,
+        base_radius_in: r2,
+        thickness_in: hertz.thickness,
+        force_lb: force,
+        k_h_lb_per_in: k_h,
+        k_h_at_force_lb_per_in: k_at,
+        contact_width_in: hertz.width(force, 2.0 * r1, 2.0 * r2),
+        max_stress_psi: hertz.max_stress(force, 2.0 * r1, 2.0 * r2),
+    })
+}

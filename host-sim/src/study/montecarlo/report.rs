@@ -1,0 +1,174 @@
+//! What `camsim montecarlo` prints: the study's report (text and JSON), a shard's, and
+//! the run time.
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+use super::{Columns, Probability, Shard, StudySettings, Summary};
+use crate::report::Report;
+
+/// Run time of a study on this machine (not part of the result).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Timing {
+    /// Worker threads.
+    pub threads: usize,
+    /// Wall-clock time, s.
+    pub wall_s: f64,
+    /// Samples per second.
+    pub samples_per_s: f64,
+    /// Samples per second per thread.
+    pub samples_per_s_per_thread: f64,
+}
+
+/// What `camsim montecarlo` (and `merge`) prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct MonteCarloReport {
+    /// The study.
+    pub study: StudySettings,
+    /// The result.
+    pub summary: Summary,
+    /// Run time (absent for a merge).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timing: Option<Timing>,
+}
+
+/// What `camsim montecarlo --shard K/N` prints.
+#[derive(Clone, Debug, Serialize)]
+pub struct ShardReport {
+    /// The shard.
+    pub shard: Shard,
+    /// Samples it ran.
+    pub samples: u64,
+    /// The shard file.
+    pub out: PathBuf,
+    /// Run time.
+    pub timing: Timing,
+}
+
+impl Report for ShardReport {
+    fn text(&self) -> String {
+        format!(
+            "camsim montecarlo: shard {} ({} samples) written to {} in {:.1} s on {} threads\n",
+            self.shard,
+            self.samples,
+            self.out.display(),
+            self.timing.wall_s,
+            self.timing.threads
+        )
+    }
+}
+
+/// Short column labels of the text table.
+pub fn label(col: &str) -> &str {
+    match col {
+        "rms_displacement" => "rms_y, in",
+        "rms_velocity" => "rms_v, in/s",
+        "rms_acceleration" => "rms_a, in/s2",
+        "torque_avg" => "T_avg, lb in",
+        "torque_max" => "T_max, lb in",
+        "torque_min" => "T_min, lb in",
+        "contact_force_min" => "Fc_min, lb",
+        "contact_force_max" => "Fc_max, lb",
+        "contact_force_avg" => "Fc_avg, lb",
+        "contact_stress_max" => "stress, psi",
+        "aord_motor" => "aord_m",
+        "aord_coupling" => "aord_cp",
+        "aord_cam" => "aord_c",
+        "acc_rms_sum" => "sum rms_a, in/s2",
+        "fpr" => "FPR",
+        "rms_deviation_in" => "rms lift dev, in",
+        other => other,
+    }
+}
+
+fn moments_table(out: &mut String, columns: &Columns) {
+    use std::fmt::Write;
+    let _ = writeln!(
+        out,
+        "  {:<17} {:>11} {:>11} {:>11} {:>11} {:>11}",
+        "", "mean", "sd", "p5", "p50", "p95"
+    );
+    for (name, m) in &columns.0 {
+        let _ = writeln!(
+            out,
+            "  {:<17} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}",
+            label(name),
+            m.mean,
+            m.sd,
+            m.p5,
+            m.p50,
+            m.p95
+        );
+    }
+}
+
+fn probability_text(p: &Probability, n: u64) -> String {
+    format!(
+        "{} of {n}, p = {:.4}, 95 % interval [{:.4}, {:.4}] (Wilson)",
+        p.count, p.p, p.lo95, p.hi95
+    )
+}
+
+impl Report for MonteCarloReport {
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let s = &self.study;
+        let sm = &self.summary;
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "camsim montecarlo: {} actual cams, seed {}, {} revolutions; statistics of revolution {}",
+            s.samples, s.seed, s.revolutions, sm.revolution
+        );
+        let p = &s.profile;
+        let _ = writeln!(
+            out,
+            "profile: {} ({} normal deviates), tolerances cam {} / roller {} / eccentricity {} in, {} intervals ({:.4} deg, {})",
+            p.method,
+            p.normal,
+            p.cam_tolerance_in,
+            p.roller_tolerance_in,
+            p.eccentricity_tolerance_in,
+            p.intervals,
+            360.0 / p.intervals as f64,
+            p.interval_source
+        );
+        let _ = writeln!(
+            out,
+            "percentiles: linear between order statistics (type 7); sd with n - 1"
+        );
+        for period in &sm.periods {
+            let _ = writeln!(
+                out,
+                "\n{}: jump {}",
+                period.period,
+                probability_text(&period.jump, sm.samples)
+            );
+            moments_table(&mut out, &period.columns);
+        }
+        let _ = writeln!(out, "\nwhole revolution {}:", sm.revolution);
+        moments_table(&mut out, &sm.whole_revolution);
+        let _ = writeln!(out, "profiles:");
+        moments_table(&mut out, &sm.profile);
+        let _ = writeln!(
+            out,
+            "\njump anywhere in revolution {}: {}",
+            sm.revolution,
+            probability_text(&sm.jump, sm.samples)
+        );
+        let _ = writeln!(
+            out,
+            "solver: {:.0} accepted steps per sample on average",
+            sm.steps.mean
+        );
+        if let Some(t) = &self.timing {
+            let _ = writeln!(
+                out,
+                "run time: {:.2} s on {} threads ({:.1} samples/s, {:.1} per thread)",
+                t.wall_s, t.threads, t.samples_per_s, t.samples_per_s_per_thread
+            );
+        }
+        out
+    }
+}

@@ -1,0 +1,166 @@
+//! Monte Carlo shard files: the file a shard writes (`--shard K/N --out FILE`), reading
+//! one back, and adding up the statistics of a whole study from its shard files (every
+//! shard K of one split N exactly once). Their integrity checks are [`crate::shard`].
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail, Result};
+use serde::{Deserialize, Serialize};
+
+use super::{Shard, StudySettings, StudyStats, SHARD_FORMAT, SHARD_VERSION};
+
+/// A shard file: the study and the statistics of one shard.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShardFile {
+    /// [`SHARD_FORMAT`].
+    pub format: String,
+    /// [`SHARD_VERSION`].
+    pub version: u32,
+    /// The study.
+    pub study: StudySettings,
+    /// Which shard.
+    pub shard: Shard,
+    /// Its samples (those of [`Shard::indices`]).
+    pub samples: u64,
+    /// Their statistics (version 3 on; version 2 held every sample's record).
+    pub stats: StudyStats,
+    /// The content digest of everything above (`crate::shard::digest`; version 2 on).
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub digest: String,
+}
+
+/// Reads one shard file.
+pub fn read_shard(path: &Path) -> Result<ShardFile> {
+    let text = camsim_scene_file::read_text(path, crate::shard::MAX_SHARD_BYTES, "the shard file")
+        .map_err(anyhow::Error::msg)?;
+    let value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| anyhow!("{}: not JSON: {e}", path.display()))?;
+    if value.get("format").and_then(|f| f.as_str()) != Some(SHARD_FORMAT) {
+        bail!(
+            "{}: not a camsim montecarlo shard file (no \"format\": \"{SHARD_FORMAT}\")",
+            path.display()
+        );
+    }
+    let version = value.get("version").and_then(|v| v.as_u64());
+    if version != Some(u64::from(SHARD_VERSION)) {
+        bail!(
+            "{}: shard file version {} (this camsim reads version {SHARD_VERSION})",
+            path.display(),
+            version.map_or("missing".into(), |v| v.to_string())
+        );
+    }
+    // Parsed from the text (not the Value) so that every number reads back bit for bit.
+    let file: ShardFile = serde_json::from_str(&text)
+        .map_err(|e| anyhow!("{}: bad shard file: {e}", path.display()))?;
+    crate::shard::verify(path, &file)?;
+    Ok(file)
+}
+
+/// The first difference between two studies' settings, in words.
+fn settings_difference(a: &StudySettings, b: &StudySettings) -> String {
+    if a.samples != b.samples {
+        return format!("--samples {} vs {}", b.samples, a.samples);
+    }
+    if a.seed != b.seed {
+        return format!("seed {} vs {}", b.seed, a.seed);
+    }
+    if a.camsim_version != b.camsim_version {
+        return format!("camsim {} vs {}", b.camsim_version, a.camsim_version);
+    }
+    if a.revolutions != b.revolutions {
+        return format!("--revolutions {} vs {}", b.revolutions, a.revolutions);
+    }
+    if a.profile != b.profile {
+        return format!("profile {:?} vs {:?}", b.profile, a.profile);
+    }
+    if let Some((x, y)) = a.scene.lines().zip(b.scene.lines()).find(|(x, y)| x != y) {
+        return format!("scene line `{}` vs `{}`", y.trim(), x.trim());
+    }
+    "scene".into()
+}
+
+/// The statistics of a whole study from its shard files: every file of one study (the
+/// same settings), every shard K of one split N exactly once, added up.
+pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, StudyStats)> {
+    let first_path = files.first().ok_or_else(|| anyhow!("no shard files"))?;
+    let mut study: Option<StudySettings> = None;
+    // shard K -> the file that has it, all of one split N.
+    let mut owner: BTreeMap<u64, usize> = BTreeMap::new();
+    let mut split: Option<(u64, usize)> = None;
+    let mut stats = StudyStats::default();
+    let mut seen: Vec<PathBuf> = Vec::new();
+    for (f, path) in files.iter().enumerate() {
+        let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+        if seen.contains(&canonical) {
+            bail!("{} is given twice", path.display());
+        }
+        seen.push(canonical);
+        let shard = read_shard(path)?;
+        match &study {
+            None => study = Some(shard.study.clone()),
+            Some(s) if *s != shard.study => bail!(
+                "{}: belongs to another study than {} ({})",
+                path.display(),
+                first_path.display(),
+                settings_difference(s, &shard.study)
+            ),
+            Some(_) => {}
+        }
+        let Shard { index, count } = shard.shard;
+        match split {
+            None => split = Some((count, f)),
+            Some((n, g)) if n != count => bail!(
+                "{} is shard {index}/{count} and {} a shard of {n}: the shards of a study are one split K/N with one N",
+                path.display(),
+                files[g].display()
+            ),
+            Some(_) => {}
+        }
+        if let Some(&other) = owner.get(&index) {
+            bail!(
+                "shard {index}/{count} is in {} and in {} (each sample must come from exactly one shard)",
+                files[other].display(),
+                path.display()
+            );
+        }
+        owner.insert(index, f);
+        stats
+            .merge(&shard.stats)
+            .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    }
+    let study = study.ok_or_else(|| anyhow!("no shard files"))?;
+    let n = study.samples;
+    let count = split.map_or(1, |s| s.0);
+    let missing: Vec<u64> = (1..=count).filter(|k| !owner.contains_key(k)).collect();
+    let lost: u64 = missing
+        .iter()
+        .map(|&k| Shard { index: k, count }.len(n))
+        .sum();
+    if lost > 0 {
+        let mut first: Vec<u64> = missing
+            .iter()
+            .flat_map(|&k| Shard { index: k, count }.indices(n).take(5))
+            .collect();
+        first.sort_unstable();
+        first.truncate(5);
+        let first: Vec<String> = first.iter().map(|i| i.to_string()).collect();
+        let shards: Vec<String> = missing
+            .iter()
+            .take(5)
+            .map(|k| format!("{k}/{count}"))
+            .collect();
+        bail!(
+            "{lost} of the study's {n} samples are missing (first: {}; shards {}); give every shard's file",
+            first.join(", "),
+            shards.join(", ")
+        );
+    }
+    anyhow::ensure!(
+        stats.samples == n,
+        "the shards hold {} samples, the study {n}",
+        stats.samples
+    );
+    Ok((study, stats))
+}
