@@ -86,6 +86,8 @@ pub struct Options {
     pub onset: bool,
     /// Run past [`MAX_BENCH_SECONDS`] of estimated time (`--allow-long`).
     pub allow_long: bool,
+    /// Show the elapsed and estimated time on a terminal while it runs.
+    pub progress: bool,
 }
 
 /// The longest a bench may be estimated to run without `--allow-long`: 1 hour. The
@@ -939,6 +941,14 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
     let reference_s = t_ref.elapsed().as_secs_f64();
     let estimated_s = estimate_seconds(reference_s, opts.quick, opts.repeat);
     check_time(estimated_s, opts.repeat, opts.allow_long)?;
+    // Elapsed against the estimate, on a terminal (the bench runs for minutes).
+    let bar = crate::study_limits::progress_bar(
+        1,
+        opts.progress,
+        "{spinner} {elapsed_precise} of about {msg} estimated: camsim bench",
+    );
+    bar.set_message(crate::study_limits::duration(estimated_s));
+    bar.enable_steady_tick(std::time::Duration::from_millis(250));
     let confirm = measure_run(Method::Dopri5, &model, &ref_settings, 1, false)
         .context("the confirming reference run")?;
     let r = &reference.samples;
@@ -1062,6 +1072,7 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
     let mut equal_error = equal_error(&runs, "full_11dof", "f64");
     equal_error.extend(equal_error_of(&runs, CHIP_SCENE, "f64"));
     equal_error.extend(equal_error_of(&runs, CHIP_SCENE, "f32"));
+    bar.finish_and_clear();
     Ok(BenchReport {
         chip,
         runs,

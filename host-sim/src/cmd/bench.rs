@@ -48,6 +48,7 @@ pub fn run(args: Args) -> Result<()> {
         repeat: args.repeat.unwrap_or(if args.quick { 3 } else { 5 }),
         onset: !args.quick,
         allow_long: args.allow_long,
+        progress: true,
     };
     let report = bench::measure(&opts)?;
     if let Some(t) = plot_target {

@@ -393,6 +393,11 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         .flat_map(|i| [(i, false), (i, true)])
         .collect();
     let pool = crate::study::pool(crate::study::montecarlo::threads(args.threads))?;
+    let bar = crate::study_limits::progress_bar(
+        jobs.len() as u64,
+        true,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} runs (every law, theoretical and actual), eta {eta}",
+    );
     type Job = Result<(CamStudy, Option<ProfileStats>)>;
     let results: Vec<Job> = pool.install(|| {
         jobs.par_iter()
@@ -407,16 +412,19 @@ pub fn report(args: &Args) -> Result<CompareReport> {
                     s.profile = Some(Arc::new(dev));
                     Ok((simulate(&s)?, Some(stats)))
                 };
-                run().with_context(|| {
+                let r = run().with_context(|| {
                     format!(
                         "{} on the {} cam",
                         law.name(),
                         if is_actual { "actual" } else { "theoretical" }
                     )
-                })
+                });
+                bar.inc(1);
+                r
             })
             .collect()
     });
+    bar.finish_and_clear();
     let mut it = results.into_iter();
     let mut laws = Vec::new();
     for (law, _) in &specs {

@@ -282,9 +282,15 @@ fn row<S: Scene, const N: usize>(
     })
 }
 
-/// Measures every scene.
-pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
+/// Measures every scene, with a progress bar on a terminal (`progress`).
+pub fn measure(rpm: f64, quick: bool, progress: bool) -> Result<ScenesReport> {
     let start = Instant::now();
+    // The reference (its run, steady state and onset), then every row.
+    let bar = crate::study_limits::progress_bar(
+        1 + (ROW_RTOLS.len() * (1 + FollowerModel::ALL.len())) as u64,
+        progress,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} scenes and tolerances, eta {eta}",
+    );
     let resolution = if quick { 0.5 } else { 0.05 };
     let repeat = if quick { 3 } else { 11 };
     type Full = RegulatedFull;
@@ -295,6 +301,7 @@ pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
     let (samples, _) = sampled(&model, &tight).context("the reference run")?;
     let steady = steady_state::<f64, Full, NF, _>(&design, TheoreticalLift, rpm, &tight)?;
     let onset_rpm = onset::<Full, NF>(&tight, resolution)?;
+    bar.inc(1);
     let truth = Truth {
         reference: SceneReference {
             rtol: REFERENCE_RTOL,
@@ -316,6 +323,7 @@ pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
             rpm,
             repeat,
         )?);
+        bar.inc(1);
         // The vertical regulated scene with each follower model (camsim-core's SceneId).
         struct Row<'a> {
             follower: FollowerModel,
@@ -344,8 +352,10 @@ pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
                 rpm,
                 repeat,
             })?);
+            bar.inc(1);
         }
     }
+    bar.finish_and_clear();
     Ok(ScenesReport {
         rpm,
         quick,
@@ -357,7 +367,7 @@ pub fn measure(rpm: f64, quick: bool) -> Result<ScenesReport> {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    let report = measure(args.rpm, args.quick)?;
+    let report = measure(args.rpm, args.quick, true)?;
     crate::report::print(&report, args.json)
 }
 

@@ -237,14 +237,23 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
             summary,
         })
     };
+    // The theoretical cam, then every cell's actual cams.
+    let bar = crate::study_limits::progress_bar(
+        1 + (TOLERANCE_FACTORS.len() * axis.len()) as u64 * samples,
+        true,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} runs, {per_sec}, eta {eta}",
+    );
     let theoretical = cell(0.0, 0.0, 0.0, None, Some(10.0))?;
+    bar.inc(1);
     let mut cells = Vec::new();
     for k in TOLERANCE_FACTORS {
         for &(fpr, iv) in &axis {
             let (cam, roller) = (k * reference.cam, k * reference.roller);
             cells.push(cell(cam, roller, ecc, fpr, iv)?);
+            bar.inc(samples);
         }
     }
+    bar.finish_and_clear();
     if let Some(t) = plot_target {
         let mut dir = t.open()?;
         draw(&mut dir, &theoretical, &cells, axis.len(), samples)?;
