@@ -213,10 +213,10 @@ fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
     let e = merge_err(&[&junk]);
     assert!(e.contains("bad shard file") && e.contains("stepz"), "{e}");
     // A version 2 shard (every sample's record) is named as such.
-    std::fs::write(&junk, text.replace("\"version\":3", "\"version\":2")).unwrap();
+    std::fs::write(&junk, text.replace("\"version\":4", "\"version\":2")).unwrap();
     let e = merge_err(&[&junk]);
     assert!(
-        e.contains("shard file version 2 (this camsim reads version 3)"),
+        e.contains("shard file version 2 (this camsim reads version 4)"),
         "{e}"
     );
     if let Some(dir) = junk.parent() {

@@ -1,43 +1,129 @@
-//! The histograms of a Monte Carlo study (`camsim montecarlo --plot DIR`), drawn from
-//! the streamed statistics' histograms.
+//! The plots of a Monte Carlo study (`camsim montecarlo --plot DIR`), drawn from the
+//! streamed statistics' histograms: the cams that kept contact and those that jumped
+//! stacked in two colours, and P(jump) with its 95 % Wilson interval.
 
 use anyhow::Result;
 
-use super::study::{histograms_binned, Binned};
+use super::study::{
+    probability_chart, stacked_histograms, HistPanel, ProbBar, ALL, HELD, JUMPED,
+};
 use crate::output::AtomicDir;
-use crate::study::montecarlo::report::label;
+use crate::stats::stream::Stream;
+use crate::stats::Probability;
 use crate::study::montecarlo::{StudyStats, COLUMNS, REVOLUTION_COLUMNS};
 
 /// The plots `--plot DIR` writes.
-pub const PLOT_FILES: [&str; 2] = ["histograms.png", "period_histograms.png"];
+pub const PLOT_FILES: [&str; 3] = ["histograms.png", "period_histograms.png", "p_jump.png"];
 
-/// Draws the histograms of a study's statistics into `dir` (from each stream's
-/// histogram: counts of samples, the bins of each panel equal over its range).
+/// A column's panel caption, its quantity on the x axis and its unit.
+fn quantity(col: &str) -> (&'static str, &'static str, &'static str) {
+    match col {
+        "acc_rms_sum" => ("Σ acceleration RMS", "acceleration RMS summed over the periods", "in/s²"),
+        "rms_acceleration" => ("acceleration RMS", "acceleration RMS", "in/s²"),
+        "contact_force_min" => ("smallest Fc", "smallest contact force Fc", "lb"),
+        "contact_force_max" => ("largest Fc", "largest contact force Fc", "lb"),
+        "torque_max" => ("largest torque", "largest drive torque", "lb·in"),
+        "torque_min" => ("smallest torque", "smallest drive torque", "lb·in"),
+        "contact_stress_max" => ("largest stress", "largest contact stress", "psi"),
+        "fpr" => ("waviness FPR", "waviness FPR", ""),
+        "rms_deviation_in" => ("RMS lift deviation", "RMS lift deviation from the design", "in"),
+        _ => ("", "", ""),
+    }
+}
+
+/// A panel of `all` (every sample) with `jumped` (the samples that jumped) stacked on
+/// the held ones, over `bins` bins of `all`'s range; `n` samples.
+fn panel(caption: String, col: &str, all: &Stream, jumped: Option<&Stream>, bins: usize, n: u64) -> HistPanel {
+    let split = jumped.is_some();
+    let (lo, hi, counts) = all.display_bins(bins);
+    let jumped = jumped.map_or_else(|| vec![0; counts.len()], |j| j.counts_over(lo, hi, bins));
+    let held = counts
+        .iter()
+        .zip(&jumped)
+        .map(|(a, j)| a.saturating_sub(*j))
+        .collect();
+    let (_, q, unit) = quantity(col);
+    let note = all.range().filter(|(a, b)| a == b).map(|(v, _)| {
+        let lost = if col.starts_with("contact_force_min") && v <= 0.0 {
+            ": contact lost"
+        } else {
+            ""
+        };
+        format!("all {n} cams at {} {unit}{lost}", crate::plot::fmt_tick(v, v.abs()))
+    });
+    HistPanel {
+        caption,
+        quantity: q.to_string(),
+        unit: unit.to_string(),
+        lo,
+        hi,
+        held,
+        colour: if split { HELD } else { ALL },
+        jumped,
+        note,
+    }
+}
+
+/// The bars of the P(jump) chart: every period's, then the whole revolution's (the
+/// numbers the report prints).
+pub fn jump_bars(stats: &StudyStats) -> Vec<ProbBar> {
+    let n = stats.samples;
+    stats
+        .periods
+        .iter()
+        .map(|p| ProbBar {
+            name: p.period.clone(),
+            p: Probability::of(p.jumps, n),
+        })
+        .chain([ProbBar {
+            name: "whole revolution".into(),
+            p: Probability::of(stats.jumps, n),
+        }])
+        .collect()
+}
+
+/// Draws the plots of a study's statistics into `dir`.
 pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<()> {
     let n = stats.samples;
     let bins = ((n as f64).sqrt().ceil() as usize).clamp(5, 50);
-    let mut panels: Vec<(String, Binned)> = REVOLUTION_COLUMNS
+    let legend = [
+        (HELD, format!("kept contact: {} cams", n - stats.jumps.min(n))),
+        (JUMPED, format!("jumped in revolution {revolution}: {} cams", stats.jumps)),
+    ];
+    let mut legend_profiles = legend.to_vec();
+    legend_profiles.push((ALL, "profiles: every cam".to_string()));
+    let mut panels: Vec<HistPanel> = REVOLUTION_COLUMNS
         .iter()
-        .zip(&stats.whole_revolution)
-        .map(|(c, s)| {
-            (
-                format!("revolution {revolution}: {}", label(c)),
-                s.display_bins(bins),
-            )
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let all = stats.whole_revolution.get(i)?;
+            let (q, _, _) = quantity(c);
+            Some(panel(
+                format!("revolution {revolution}: {q}"),
+                c,
+                all,
+                stats.jumped_revolution.get(i),
+                bins,
+                n,
+            ))
         })
         .collect();
-    panels.push(("profile FPR".into(), stats.fpr.display_bins(bins)));
-    panels.push((
-        "profile rms lift deviation, in".into(),
-        stats.rms_deviation_in.display_bins(bins),
+    // The profiles are drawn before the run: no jumped/held split.
+    panels.push(panel("profile: waviness FPR".into(), "fpr", &stats.fpr, None, bins, n));
+    panels.push(panel(
+        "profile: RMS lift deviation".into(),
+        "rms_deviation_in",
+        &stats.rms_deviation_in,
+        None,
+        bins,
+        n,
     ));
-    histograms_binned(
+    stacked_histograms(
         dir,
         PLOT_FILES[0],
-        &format!(
-            "{n} actual cams: revolution {revolution}, {} with a jump",
-            stats.jumps
-        ),
+        &format!("{n} actual cams, revolution {revolution}: histograms"),
+        &legend_profiles,
+        "cams",
         &panels,
         4,
     )?;
@@ -51,18 +137,35 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
         let c = COLUMNS.iter().position(|x| *x == col);
         for p in &stats.periods {
             if let Some(s) = c.and_then(|c| p.columns.get(c)) {
-                panels.push((
-                    format!("{}: {}", p.period, label(col)),
-                    s.display_bins(bins),
+                let (q, _, _) = quantity(col);
+                panels.push(panel(
+                    format!("{}: {q}", p.period),
+                    col,
+                    s,
+                    c.and_then(|c| p.jumped_columns.get(c)),
+                    bins,
+                    n,
                 ));
             }
         }
     }
-    histograms_binned(
+    stacked_histograms(
         dir,
         PLOT_FILES[1],
-        &format!("{n} actual cams: revolution {revolution} by period"),
+        &format!("{n} actual cams, revolution {revolution}, by period: histograms"),
+        &legend,
+        "cams",
         &panels,
         stats.periods.len().max(1),
+    )?;
+    probability_chart(
+        dir,
+        PLOT_FILES[2],
+        &format!(
+            "Probability of a jump in revolution {revolution} over {n} actual cams, by period and over the revolution"
+        ),
+        "P(jump)",
+        n,
+        &jump_bars(stats),
     )
 }

@@ -142,6 +142,13 @@ fn key(x: f64) -> i64 {
     }
 }
 
+/// The middle of the interval of values whose [`key`] is `k` (inside it, monotone in k).
+fn grid_mid(k: i64) -> f64 {
+    let (a, sign) = if k < 0 { (-(k + 1), -1.0) } else { (k, 1.0) };
+    let bits = (a as u64) << SHIFT | (1u64 << (SHIFT - 1));
+    sign * f64::from_bits(bits)
+}
+
 /// The statistics of one quantity over samples (see the module).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Stream {
@@ -344,23 +351,31 @@ impl Stream {
     }
 
     /// Counts over `bins` equal bins spanning the values' range (a plot's histogram),
-    /// each histogram bin counted where its values' midpoint falls: (lo, hi, counts).
+    /// as [`Stream::counts_over`]: (lo, hi, counts).
     pub fn display_bins(&self, bins: usize) -> (f64, f64, Vec<u32>) {
-        let bins = bins.max(1);
         let (mut lo, mut hi) = self.range().unwrap_or((0.0, 1.0));
         if hi - lo <= 1e-12 * hi.abs().max(lo.abs()).max(1e-300) {
             let half = if hi != 0.0 { 0.01 * hi.abs() } else { 0.5 };
             (lo, hi) = (lo - half, hi + half);
         }
+        (lo, hi, self.counts_over(lo, hi, bins))
+    }
+
+    /// Counts over `bins` equal bins spanning `lo..hi` (values outside fall in the end
+    /// bins), each histogram bin counted where the middle of its key's interval falls
+    /// (a function of the key alone): the counts of two streams of the same quantity
+    /// over the same `lo..hi` add up to those of their merge, so they can be stacked.
+    pub fn counts_over(&self, lo: f64, hi: f64, bins: usize) -> Vec<u32> {
+        let bins = bins.max(1);
         let mut counts = vec![0u32; bins];
-        for b in self.bins.values() {
-            let mid = 0.5 * (b.lo + b.hi);
+        for (&key, b) in &self.bins {
+            let mid = grid_mid(key);
             let k = (((mid - lo) / (hi - lo)) * bins as f64).floor().max(0.0) as usize;
             if let Some(c) = counts.get_mut(k.min(bins - 1)) {
                 *c = c.saturating_add(u32::try_from(b.count).unwrap_or(u32::MAX));
             }
         }
-        (lo, hi, counts)
+        counts
     }
 
     /// Checks a stream read from a file: counts, bins in order and consistent with

@@ -98,6 +98,9 @@ pub struct PeriodStats {
     pub columns: Vec<Stream>,
     /// Samples that separated in this period.
     pub jumps: u64,
+    /// The [`COLUMNS`] of the samples that separated anywhere in the revolution (a
+    /// plot draws them apart from the held ones: these minus the merged ones).
+    pub jumped_columns: Vec<Stream>,
 }
 
 /// The statistics of any set of samples of a study (a shard's, or the whole study's).
@@ -112,6 +115,9 @@ pub struct StudyStats {
     pub whole_revolution: Vec<Stream>,
     /// Samples that separated anywhere in the revolution.
     pub jumps: u64,
+    /// The [`REVOLUTION_COLUMNS`] of the samples that separated anywhere in the
+    /// revolution.
+    pub jumped_revolution: Vec<Stream>,
     /// Waviness FPR of the profiles.
     pub fpr: Stream,
     /// RMS lift deviation of the profiles, in.
@@ -131,9 +137,11 @@ impl StudyStats {
                     period: p.period.clone(),
                     columns: vec![Stream::default(); COLUMNS.len()],
                     jumps: 0,
+                    jumped_columns: vec![Stream::default(); COLUMNS.len()],
                 })
                 .collect();
             self.whole_revolution = vec![Stream::default(); REVOLUTION_COLUMNS.len()];
+            self.jumped_revolution = vec![Stream::default(); REVOLUTION_COLUMNS.len()];
         }
         let theirs: Vec<&str> = r.periods.iter().map(|p| p.period.as_str()).collect();
         let ours: Vec<&str> = self.periods.iter().map(|p| p.period.as_str()).collect();
@@ -142,17 +150,31 @@ impl StudyStats {
             "sample {} has the periods {theirs:?}, the study {ours:?}",
             r.index
         );
+        let jumped = r.jump();
         for (p, s) in r.periods.iter().zip(self.periods.iter_mut()) {
-            for ((col, v), st) in COLUMNS.iter().zip(p.values).zip(s.columns.iter_mut()) {
+            for (((col, v), st), jt) in COLUMNS
+                .iter()
+                .zip(p.values)
+                .zip(s.columns.iter_mut())
+                .zip(s.jumped_columns.iter_mut())
+            {
                 st.add(&format!("{}.{col}", p.period), v)?;
+                if jumped {
+                    jt.add(&format!("{}.{col}", p.period), v)?;
+                }
             }
             s.jumps += u64::from(p.jump);
         }
-        for (c, st) in REVOLUTION_COLUMNS
+        for ((c, st), jt) in REVOLUTION_COLUMNS
             .iter()
             .zip(self.whole_revolution.iter_mut())
+            .zip(self.jumped_revolution.iter_mut())
         {
-            st.add(c, revolution_value(r, c))?;
+            let v = revolution_value(r, c);
+            st.add(c, v)?;
+            if jumped {
+                jt.add(c, v)?;
+            }
         }
         self.jumps += u64::from(r.jump());
         self.fpr.add("fpr", r.fpr as f64)?;
@@ -182,12 +204,22 @@ impl StudyStats {
             for (x, y) in a.columns.iter_mut().zip(&b.columns) {
                 x.merge(y);
             }
+            for (x, y) in a.jumped_columns.iter_mut().zip(&b.jumped_columns) {
+                x.merge(y);
+            }
             a.jumps += b.jumps;
         }
         for (x, y) in self
             .whole_revolution
             .iter_mut()
             .zip(&other.whole_revolution)
+        {
+            x.merge(y);
+        }
+        for (x, y) in self
+            .jumped_revolution
+            .iter_mut()
+            .zip(&other.jumped_revolution)
         {
             x.merge(y);
         }
@@ -203,8 +235,9 @@ impl StudyStats {
     pub fn bins(&self) -> usize {
         self.periods
             .iter()
-            .flat_map(|p| &p.columns)
+            .flat_map(|p| p.columns.iter().chain(&p.jumped_columns))
             .chain(&self.whole_revolution)
+            .chain(&self.jumped_revolution)
             .chain([&self.fpr, &self.rms_deviation_in, &self.steps])
             .map(Stream::bins)
             .sum()
@@ -259,17 +292,19 @@ impl StudyStats {
         );
         if samples == 0 {
             ensure!(
-                self.periods.is_empty() && self.whole_revolution.is_empty(),
+                self.periods.is_empty()
+                    && self.whole_revolution.is_empty()
+                    && self.jumped_revolution.is_empty(),
                 "an empty shard with statistics"
             );
             return Ok(());
         }
         ensure!(
             self.whole_revolution.len() == REVOLUTION_COLUMNS.len()
-                && self
-                    .periods
-                    .iter()
-                    .all(|p| p.columns.len() == COLUMNS.len())
+                && self.jumped_revolution.len() == REVOLUTION_COLUMNS.len()
+                && self.periods.iter().all(|p| {
+                    p.columns.len() == COLUMNS.len() && p.jumped_columns.len() == COLUMNS.len()
+                })
                 && !self.periods.is_empty(),
             "the statistics do not have the study's columns"
         );
@@ -308,6 +343,30 @@ impl StudyStats {
             ensure!(
                 !nonneg || lo >= 0.0,
                 "{name}: minimum {lo}: must not be negative"
+            );
+        }
+        let jumped = self
+            .periods
+            .iter()
+            .flat_map(|p| {
+                COLUMNS
+                    .iter()
+                    .zip(&p.jumped_columns)
+                    .map(move |(c, s)| (format!("jumped {}.{c}", p.period), s))
+            })
+            .chain(
+                REVOLUTION_COLUMNS
+                    .iter()
+                    .zip(&self.jumped_revolution)
+                    .map(|(c, s)| (format!("jumped {c}"), s)),
+            );
+        for (name, s) in jumped {
+            s.check(&name)?;
+            ensure!(
+                s.count() == self.jumps,
+                "{name}: {} samples, the jumps {}",
+                s.count(),
+                self.jumps
             );
         }
         let steps_min = self.steps.range().map_or(0.0, |r| r.0);

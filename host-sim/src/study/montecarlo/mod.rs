@@ -69,7 +69,7 @@ pub fn measured_revolution(revolutions: u32) -> u32 {
 /// The shard file's `format` tag.
 pub const SHARD_FORMAT: &str = "camsim-montecarlo-shard";
 /// The shard file's format version.
-pub const SHARD_VERSION: u32 = 3;
+pub const SHARD_VERSION: u32 = 4;
 
 /// Shard `index` (from 1) of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
