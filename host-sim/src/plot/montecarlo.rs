@@ -4,9 +4,7 @@
 
 use anyhow::Result;
 
-use super::study::{
-    probability_chart, stacked_histograms, HistPanel, ProbBar, ALL, HELD, JUMPED,
-};
+use super::study::{probability_chart, stacked_histograms, HistPanel, ProbBar, ALL, HELD, JUMPED};
 use crate::output::AtomicDir;
 use crate::stats::stream::Stream;
 use crate::stats::Probability;
@@ -18,7 +16,11 @@ pub const PLOT_FILES: [&str; 3] = ["histograms.png", "period_histograms.png", "p
 /// A column's panel caption, its quantity on the x axis and its unit.
 fn quantity(col: &str) -> (&'static str, &'static str, &'static str) {
     match col {
-        "acc_rms_sum" => ("Σ acceleration RMS", "acceleration RMS summed over the periods", "in/s²"),
+        "acc_rms_sum" => (
+            "Σ acceleration RMS",
+            "acceleration RMS summed over the periods",
+            "in/s²",
+        ),
         "rms_acceleration" => ("acceleration RMS", "acceleration RMS", "in/s²"),
         "contact_force_min" => ("smallest Fc", "smallest contact force Fc", "lb"),
         "contact_force_max" => ("largest Fc", "largest contact force Fc", "lb"),
@@ -26,14 +28,25 @@ fn quantity(col: &str) -> (&'static str, &'static str, &'static str) {
         "torque_min" => ("smallest torque", "smallest drive torque", "lb·in"),
         "contact_stress_max" => ("largest stress", "largest contact stress", "psi"),
         "fpr" => ("waviness FPR", "waviness FPR", ""),
-        "rms_deviation_in" => ("RMS lift deviation", "RMS lift deviation from the design", "in"),
+        "rms_deviation_in" => (
+            "RMS lift deviation",
+            "RMS lift deviation from the design",
+            "in",
+        ),
         _ => ("", "", ""),
     }
 }
 
 /// A panel of `all` (every sample) with `jumped` (the samples that jumped) stacked on
 /// the held ones, over `bins` bins of `all`'s range; `n` samples.
-fn panel(caption: String, col: &str, all: &Stream, jumped: Option<&Stream>, bins: usize, n: u64) -> HistPanel {
+fn panel(
+    caption: String,
+    col: &str,
+    all: &Stream,
+    jumped: Option<&Stream>,
+    bins: usize,
+    n: u64,
+) -> HistPanel {
     let split = jumped.is_some();
     let (lo, hi, counts) = all.display_bins(bins);
     let jumped = jumped.map_or_else(|| vec![0; counts.len()], |j| j.counts_over(lo, hi, bins));
@@ -49,7 +62,10 @@ fn panel(caption: String, col: &str, all: &Stream, jumped: Option<&Stream>, bins
         } else {
             ""
         };
-        format!("all {n} cams at {} {unit}{lost}", crate::plot::fmt_tick(v, v.abs()))
+        format!(
+            "all {n} cams at {} {unit}{lost}",
+            crate::plot::fmt_tick(v, v.abs())
+        )
     });
     HistPanel {
         caption,
@@ -87,8 +103,14 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
     let n = stats.samples;
     let bins = ((n as f64).sqrt().ceil() as usize).clamp(5, 50);
     let legend = [
-        (HELD, format!("kept contact: {} cams", n - stats.jumps.min(n))),
-        (JUMPED, format!("jumped in revolution {revolution}: {} cams", stats.jumps)),
+        (
+            HELD,
+            format!("kept contact: {} cams", n - stats.jumps.min(n)),
+        ),
+        (
+            JUMPED,
+            format!("jumped in revolution {revolution}: {} cams", stats.jumps),
+        ),
     ];
     let mut legend_profiles = legend.to_vec();
     legend_profiles.push((ALL, "profiles: every cam".to_string()));
@@ -109,7 +131,14 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
         })
         .collect();
     // The profiles are drawn before the run: no jumped/held split.
-    panels.push(panel("profile: waviness FPR".into(), "fpr", &stats.fpr, None, bins, n));
+    panels.push(panel(
+        "profile: waviness FPR".into(),
+        "fpr",
+        &stats.fpr,
+        None,
+        bins,
+        n,
+    ));
     panels.push(panel(
         "profile: RMS lift deviation".into(),
         "rms_deviation_in",
@@ -168,4 +197,45 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
         n,
         &jump_bars(stats),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stats::study::PeriodStats;
+
+    /// The chart's bars are the report's numbers: each period's jumps of n, then the
+    /// revolution's, with the Wilson interval (3 of 10: 0.1078 to 0.6032, the textbook
+    /// value; 0 of 10: 0 to 0.2775).
+    #[test]
+    fn jump_bars_are_the_counts_with_their_wilson_intervals() {
+        let stats = StudyStats {
+            samples: 10,
+            jumps: 3,
+            periods: vec![
+                PeriodStats {
+                    period: "rise".into(),
+                    jumps: 0,
+                    ..Default::default()
+                },
+                PeriodStats {
+                    period: "return".into(),
+                    jumps: 3,
+                    ..Default::default()
+                },
+            ],
+            ..Default::default()
+        };
+        let bars = jump_bars(&stats);
+        let names: Vec<&str> = bars.iter().map(|b| b.name.as_str()).collect();
+        assert_eq!(names, ["rise", "return", "whole revolution"]);
+        let close = |a: f64, b: f64| (a - b).abs() < 5e-5;
+        assert_eq!(bars[0].p.count, 0);
+        assert!(close(bars[0].p.lo95, 0.0) && close(bars[0].p.hi95, 0.2775));
+        for b in &bars[1..] {
+            assert_eq!(b.p.count, 3);
+            assert!(close(b.p.p, 0.3), "{}", b.p.p);
+            assert!(close(b.p.lo95, 0.1078) && close(b.p.hi95, 0.6032), "{:?}", b.p);
+        }
+    }
 }

@@ -210,9 +210,10 @@ pub fn stacked_histograms(
                 .build_cartesian_2d(lo..hi, 0u32..top + top / 8 + 1)
                 .map_err(err(file))?;
             let span = hi - lo;
+            // plotters may step by as little as span / 10 for 5 labels: decimals for that.
             let x_fmt = |v: &f64| {
                 let v = if v.abs() < 1e-9 * span { 0.0 } else { *v };
-                crate::plot::fmt_tick(v, span * 8.0 / 5.0)
+                crate::plot::fmt_tick(v, span * 0.8)
             };
             chart
                 .configure_mesh()
@@ -231,12 +232,16 @@ pub fn stacked_histograms(
                 .map_err(err(file))?;
             let w = (hi - lo) / p.held.len().max(1) as f64;
             chart
-                .draw_series(p.held.iter().enumerate().filter(|(_, c)| **c > 0).map(
-                    |(k, &c)| {
-                        let x0 = lo + k as f64 * w;
-                        Rectangle::new([(x0, 0), (x0 + w, c)], p.colour.filled())
-                    },
-                ))
+                .draw_series(
+                    p.held
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, c)| **c > 0)
+                        .map(|(k, &c)| {
+                            let x0 = lo + k as f64 * w;
+                            Rectangle::new([(x0, 0), (x0 + w, c)], p.colour.filled())
+                        }),
+                )
                 .map_err(err(file))?;
             chart
                 .draw_series(
@@ -326,7 +331,9 @@ pub fn probability_chart(
             .y_labels(8)
             .y_label_formatter(&y_fmt)
             .y_desc(y_desc)
-            .x_desc(format!("each over {n} cams; the bar is the 95 % Wilson interval"))
+            .x_desc(format!(
+                "each over {n} cams; the bar is the 95 % Wilson interval"
+            ))
             .label_style((crate::plot::FONT, 15))
             .axis_desc_style((crate::plot::FONT, 16))
             .light_line_style(RGBColor(240, 240, 240))
@@ -358,9 +365,15 @@ pub fn probability_chart(
             .draw_series(bars.iter().enumerate().map(|(i, b)| {
                 // Centred above the interval, or below it when it reaches the top.
                 let (y, v) = if b.p.hi95 < 0.85 * top {
-                    (b.p.hi95 + 0.02 * top, plotters::style::text_anchor::VPos::Bottom)
+                    (
+                        b.p.hi95 + 0.02 * top,
+                        plotters::style::text_anchor::VPos::Bottom,
+                    )
                 } else {
-                    (b.p.lo95 - 0.02 * top, plotters::style::text_anchor::VPos::Top)
+                    (
+                        b.p.lo95 - 0.02 * top,
+                        plotters::style::text_anchor::VPos::Top,
+                    )
                 };
                 Text::new(
                     format!("{} of {n}: {}", b.p.count, b.p.text(3)),
