@@ -235,7 +235,11 @@ mod tests {
         for b in &bars[1..] {
             assert_eq!(b.p.count, 3);
             assert!(close(b.p.p, 0.3), "{}", b.p.p);
-            assert!(close(b.p.lo95, 0.1078) && close(b.p.hi95, 0.6032), "{:?}", b.p);
+            assert!(
+                close(b.p.lo95, 0.1078) && close(b.p.hi95, 0.6032),
+                "{:?}",
+                b.p
+            );
         }
     }
 }

@@ -606,6 +606,35 @@ mod tests {
     }
 
     #[test]
+    fn stacked_counts_add_up_to_the_whole_and_fall_in_their_bins() {
+        // 0.5, 1.5, .. 99.5 over 0..100 in 10 bins: 10 a bin (each value 0.5 from an
+        // edge, its key's interval 2^-10 of it wide).
+        let mut s = Stream::default();
+        (0..100).for_each(|i| s.add("x", f64::from(i) + 0.5).unwrap());
+        assert_eq!(s.counts_over(0.0, 100.0, 10), vec![10; 10]);
+        // The "jumped" part (an arbitrary third) and the rest, counted over the whole's
+        // range, add up to the whole's histogram bin by bin.
+        let v: Vec<f64> = uniform(9, 2000)
+            .iter()
+            .map(|u| -4.0 + 9.0 * u * u)
+            .collect();
+        let (mut whole, mut part, mut rest) = <[Stream; 3]>::default();
+        for (i, &x) in v.iter().enumerate() {
+            whole.add("x", x).unwrap();
+            if i % 3 == 0 {
+                part.add("x", x).unwrap()
+            } else {
+                rest.add("x", x).unwrap()
+            }
+        }
+        let (lo, hi, all) = whole.display_bins(17);
+        let (a, b) = (part.counts_over(lo, hi, 17), rest.counts_over(lo, hi, 17));
+        let sum: Vec<u32> = a.iter().zip(&b).map(|(x, y)| x + y).collect();
+        assert_eq!(sum, all);
+        assert_eq!(a.iter().sum::<u32>(), 667);
+    }
+
+    #[test]
     fn merged_streams_equal_the_whole_bit_for_bit_and_round_trip() {
         let v: Vec<f64> = uniform(5, 3000).iter().map(|u| 3.0 + 1e-3 * u).collect();
         let whole = {
@@ -648,7 +677,11 @@ mod tests {
             // Values crowding the display-bin edges of 0..10 in 10 bins.
             let x = f64::from(i % 11) + if i % 2 == 0 { 1e-4 } else { -1e-4 } - 0.0;
             all.add("x", x).unwrap();
-            if i % 3 == 0 { a.add("x", x).unwrap() } else { b.add("x", x).unwrap() }
+            if i % 3 == 0 {
+                a.add("x", x).unwrap()
+            } else {
+                b.add("x", x).unwrap()
+            }
         }
         let (lo, hi, total) = all.display_bins(10);
         let (ca, cb) = (a.counts_over(lo, hi, 10), b.counts_over(lo, hi, 10));
