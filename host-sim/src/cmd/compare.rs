@@ -689,9 +689,6 @@ pub const PLOT_FILES: [&str; 2] = ["rankings.png", "responses.png"];
 /// contact force).
 type Trace = Vec<(f64, f64, f64)>;
 
-/// A law's name and its traces on the theoretical and on the actual cam.
-type LawTraces = (String, Trace, Trace);
-
 fn trace(spec: &RunSpec) -> Result<Trace> {
     let mut out = Vec::new();
     let mut obs = |s: &Sample<f64>| {
@@ -708,6 +705,33 @@ fn trace(spec: &RunSpec) -> Result<Trace> {
     Ok(out)
 }
 
+/// A ranked column's quantity and unit on a plot axis, and which way is better.
+fn rank_axis(col: &str) -> (&'static str, &'static str, &'static str) {
+    match col {
+        "sensitivity_to_flexibility" => (
+            "Σ acceleration RMS, theoretical cam",
+            "in/s²",
+            "smaller is better",
+        ),
+        "sensitivity_to_tolerance" => (
+            "Σ acceleration RMS, actual − theoretical",
+            "in/s²",
+            "smaller is better",
+        ),
+        "shock_index" => ("Σ (RMS_I − RMS_II) / RMS_I", "", "smaller is better"),
+        "torque_avg" => ("average torque over the rise", "lb·in", "smaller is better"),
+        "torque_max" => ("largest |torque|", "lb·in", "smaller is better"),
+        "contact_force_min" => ("smallest contact force", "lb", "larger is better"),
+        "contact_force_max" => ("largest contact force", "lb", "smaller is better"),
+        "contact_stress_max" => ("largest contact stress", "psi", "smaller is better"),
+        _ => (
+            "sum of the ranks",
+            "",
+            "holding contact first, then smaller",
+        ),
+    }
+}
+
 fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualArgs) -> Result<()> {
     use plotters::prelude::*;
     // Rankings: one bar chart per ranked column, the laws' values, the best bar marked.
@@ -719,11 +743,12 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
     plots::png(dir, file, (1500, 420 * rows as u32 + 50), |root| {
         let root = root
             .titled(
-                "camsim compare: every law's value in each ranked column (bar of rank 1 in red)",
-                ("sans-serif", 22),
+                "Every law's value in each ranked column, revolution 2 (rank 1 in red)",
+                (crate::plot::FONT, 24),
             )
             .map_err(|x| e(&x))?;
         for ((col, head), area) in HEADERS.iter().zip(root.split_evenly((rows, cols)).iter()) {
+            let (what, unit, better) = rank_axis(col);
             let v: Vec<f64> = laws
                 .iter()
                 .map(|l| l.values.get(col).unwrap_or(0.0))
@@ -731,11 +756,20 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
             let lo = v.iter().copied().fold(0.0f64, f64::min);
             let hi = v.iter().copied().fold(0.0f64, f64::max);
             let pad = 0.08 * (hi - lo).max(1e-12);
+            let (scale, sname) = plots::axis_scale(lo - pad, hi + pad);
+            let (lo, hi, pad) = (lo / scale, hi / scale, pad / scale);
+            let v: Vec<f64> = v.iter().map(|x| x / scale).collect();
+            let span = hi - lo + 2.0 * pad;
+            let x_fmt = |x: &f64| {
+                let x = if x.abs() < 1e-9 * span { 0.0 } else { *x };
+                crate::plot::fmt_tick(x, span * 8.0 / 5.0)
+            };
             let mut chart = ChartBuilder::on(area)
-                .caption(*head, ("sans-serif", 16))
-                .margin(6)
-                .x_label_area_size(30)
-                .y_label_area_size(140)
+                .caption(format!("{head}: {better}"), (crate::plot::FONT, 17))
+                .margin(8)
+                .margin_right(24)
+                .x_label_area_size(50)
+                .y_label_area_size(150)
                 .build_cartesian_2d((lo - pad)..(hi + pad), (0..laws.len()).into_segmented())
                 .map_err(|x| e(&x))?;
             chart
@@ -749,8 +783,10 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                     SegmentValue::Last => String::new(),
                 })
                 .x_labels(5)
-                .x_label_formatter(&|x| format!("{x:.3e}"))
-                .label_style(("sans-serif", 12))
+                .x_label_formatter(&x_fmt)
+                .x_desc(plots::axis_title(what, unit, sname))
+                .label_style((crate::plot::FONT, 13))
+                .axis_desc_style((crate::plot::FONT, 14))
                 .draw()
                 .map_err(|x| e(&x))?;
             chart
@@ -772,6 +808,29 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                     r
                 }))
                 .map_err(|x| e(&x))?;
+            if *col == "contact_force_min" {
+                // A law that jumps has no bar here: say so.
+                let font = (crate::plot::FONT, 13).into_font().color(&BLACK).pos(
+                    plotters::style::text_anchor::Pos::new(
+                        plotters::style::text_anchor::HPos::Left,
+                        plotters::style::text_anchor::VPos::Center,
+                    ),
+                );
+                chart
+                    .draw_series(
+                        v.iter()
+                            .enumerate()
+                            .filter(|(_, x)| **x <= 0.0)
+                            .map(|(i, _)| {
+                                Text::new(
+                                    "0 lb: contact lost",
+                                    (0.02 * (hi + pad), SegmentValue::CenterOf(i)),
+                                    font.clone(),
+                                )
+                            }),
+                    )
+                    .map_err(|x| e(&x))?;
+            }
         }
         Ok(())
     })?;
@@ -800,87 +859,106 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
     }
     let file = PLOT_FILES[1];
     let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
-    plots::png(dir, file, (1400, 1000), |root| {
-        let root = root
-            .titled(
-                "cycle II responses: acceleration deviation from the theoretical, and contact force",
-                ("sans-serif", 22),
-            )
-            .map_err(|x| e(&x))?;
-        let panels = [
-            (
-                "theoretical cam: acceleration deviation, in/s2",
-                false,
-                true,
-            ),
-            ("actual cam: acceleration deviation, in/s2", true, true),
-            ("theoretical cam: contact force, lb", false, false),
-            ("actual cam: contact force, lb", true, false),
-        ];
-        for ((title, actual, acc), area) in panels.iter().zip(root.split_evenly((2, 2)).iter()) {
-            let pick = |t: &LawTraces| {
-                let v = if *actual { &t.2 } else { &t.1 };
-                v.iter()
-                    .map(|p| (p.0, if *acc { p.1 } else { p.2 }))
-                    .collect::<Vec<_>>()
-            };
-            let all: Vec<f64> = traces
+    // Small multiples: a row per law, its theoretical cam (grey) under its actual cam
+    // (colour); the acceleration deviation on the left, the contact force on the right,
+    // each column on one scale so the laws compare.
+    let rows = traces.len().max(1);
+    plots::png(dir, file, (1500, 90 + 300 * rows as u32), |root| {
+        let (head, body) = root.split_vertically(90);
+        crate::plot::draw_title(
+            &head,
+            "Revolution 2 on the theoretical and on an actual cam (sample 0), by law",
+            24,
+            10,
+        )
+        .map_err(|x| e(&x))?;
+        plots::legend_row(
+            &head,
+            &[
+                (RGBColor(150, 150, 150), "theoretical cam".to_string()),
+                (
+                    plots::PALETTE[0],
+                    "actual cam (sample 0 of the tolerances)".to_string(),
+                ),
+            ],
+            66,
+        )
+        .map_err(|x| e(&x))?;
+        let range = |acc: bool| {
+            let (lo, hi) = traces
                 .iter()
-                .flat_map(|t| pick(t).into_iter().map(|p| p.1))
-                .collect();
-            let lo = all
-                .iter()
-                .copied()
+                .flat_map(|t| t.1.iter().chain(&t.2))
+                .map(|p| if acc { p.1 } else { p.2 })
                 .filter(|v| v.is_finite())
-                .fold(f64::INFINITY, f64::min);
-            let hi = all
-                .iter()
-                .copied()
-                .filter(|v| v.is_finite())
-                .fold(f64::NEG_INFINITY, f64::max);
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                });
             let (lo, hi) = if lo < hi { (lo, hi) } else { (-1.0, 1.0) };
             let pad = 0.05 * (hi - lo);
-            let mut chart = ChartBuilder::on(area)
-                .caption(*title, ("sans-serif", 16))
-                .margin(8)
-                .x_label_area_size(30)
-                .y_label_area_size(60)
-                .build_cartesian_2d(0.0..360.0, (lo - pad)..(hi + pad))
-                .map_err(|x| e(&x))?;
-            chart
-                .configure_mesh()
-                .x_labels(13)
-                .x_label_formatter(&|v| format!("{v:.0}"))
-                .y_label_formatter(&|v| format!("{v:.0}"))
-                .label_style(("sans-serif", 11))
-                .draw()
-                .map_err(|x| e(&x))?;
-            for (k, t) in traces.iter().enumerate() {
+            (lo - pad, hi + pad)
+        };
+        let areas = body.split_evenly((rows, 2));
+        for (k, t) in traces.iter().enumerate() {
+            for (c, acc) in [true, false].into_iter().enumerate() {
+                let Some(area) = areas.get(2 * k + c) else {
+                    continue;
+                };
+                let (lo, hi) = range(acc);
+                let last = k + 1 == traces.len();
+                let what = if acc {
+                    "acceleration deviation a − a_theoretical (in/s²)"
+                } else {
+                    "contact force F_c (lb)"
+                };
+                let mut chart = ChartBuilder::on(area)
+                    .caption(
+                        format!(
+                            "{}: {}",
+                            t.0,
+                            if acc {
+                                "acceleration deviation"
+                            } else {
+                                "contact force"
+                            }
+                        ),
+                        (crate::plot::FONT, 17),
+                    )
+                    .margin(8)
+                    .margin_right(20)
+                    .x_label_area_size(if last { 50 } else { 22 })
+                    .y_label_area_size(70)
+                    .build_cartesian_2d(0.0..360.0, lo..hi)
+                    .map_err(|x| e(&x))?;
+                let span = hi - lo;
+                let y_fmt = |v: &f64| crate::plot::fmt_tick(*v, span * 8.0 / 5.0);
+                let mut mesh = chart.configure_mesh();
+                mesh.x_labels(13)
+                    .y_labels(5)
+                    .x_label_formatter(&|v| format!("{v:.0}"))
+                    .y_label_formatter(&y_fmt)
+                    .y_desc(if acc { "in/s²" } else { "lb" })
+                    .label_style((crate::plot::FONT, 13))
+                    .axis_desc_style((crate::plot::FONT, 14))
+                    .light_line_style(RGBColor(240, 240, 240))
+                    .bold_line_style(RGBColor(215, 215, 215));
+                if last {
+                    mesh.x_desc(format!("cam angle θ (deg); {what}"));
+                }
+                mesh.draw().map_err(|x| e(&x))?;
                 let color = plots::PALETTE[k % plots::PALETTE.len()];
-                let pts = pick(t);
-                let xs: Vec<f64> = pts.iter().map(|p| p.0).collect();
-                let ys: Vec<f64> = pts.iter().map(|p| p.1).collect();
-                for (j, run) in crate::plot::decimate(&xs, &ys, 0.0..360.0, 1400)
-                    .into_iter()
-                    .enumerate()
-                {
-                    let series = chart
-                        .draw_series(LineSeries::new(run, color.stroke_width(1)))
-                        .map_err(|x| e(&x))?;
-                    if j == 0 {
-                        series.label(t.0.clone()).legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-                        });
+                for (trace, style) in [
+                    (&t.1, RGBColor(150, 150, 150).stroke_width(2)),
+                    (&t.2, color.stroke_width(1)),
+                ] {
+                    let xs: Vec<f64> = trace.iter().map(|p| p.0).collect();
+                    let ys: Vec<f64> = trace.iter().map(|p| if acc { p.1 } else { p.2 }).collect();
+                    for run in crate::plot::decimate(&xs, &ys, 0.0..360.0, 1400) {
+                        chart
+                            .draw_series(LineSeries::new(run, style))
+                            .map_err(|x| e(&x))?;
                     }
                 }
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 12))
-                .draw()
-                .map_err(|x| e(&x))?;
         }
         Ok(())
     })?;

@@ -618,7 +618,7 @@ mod tests {
             .iter()
             .map(|u| -4.0 + 9.0 * u * u)
             .collect();
-        let (mut whole, mut part, mut rest) = <[Stream; 3]>::default();
+        let [mut whole, mut part, mut rest] = <[Stream; 3]>::default();
         for (i, &x) in v.iter().enumerate() {
             whole.add("x", x).unwrap();
             if i % 3 == 0 {
