@@ -129,7 +129,7 @@ EOF
 }
 # Every section's name, in the order the file lists them.
 ORDER="run run-static jump-speed run-undamped run-actual own-cam waviness profile-methods validity laws modal contact
-profile predict bench-quick scenes compare tolerance-study montecarlo sensitivity design bench
+profile predict bench-quick models sweep compare tolerance-study montecarlo sweep-actual sensitivity design bench
 firmware board"
 
 if want quick run; then
@@ -282,12 +282,16 @@ if want quick bench-quick; then
     show bench --quick
     end
 fi
-if want quick scenes; then
-    # The command is being renamed to `models` (scenes stays a hidden alias).
-    if "$C" models --help >/dev/null 2>&1; then SC=models; else SC=scenes; fi
-    begin scenes "Reduced scenes: \`camsim $SC\`" \
+if want quick models; then
+    begin models "Reduced models: \`camsim models\`" \
         "Every scene of the regulated drive at the chip's tolerance against the full model: cost, error, and which question each answers."
-    show "$SC"
+    show models
+    end
+fi
+if want quick sweep; then
+    begin sweep "A speed sweep: \`camsim sweep\`" \
+        "The reference design from 300 to 1200 rpm in 19 speeds: jump or not, the contact force's extremes, the acceleration deviation, peak torque, stress and drive power at each speed."
+    show sweep --rpm 300:1200:19
     end
 fi
 if want quick compare; then
@@ -327,6 +331,12 @@ if want long montecarlo; then
         --max-step-fraction 0.01 --rtol 1e-4 --atol 1e-8
     end
 fi
+if want long sweep-actual; then
+    begin sweep-actual "A speed sweep on actual cams: \`camsim sweep --actual\`" \
+        "The same speeds with 100 machined cams a speed (default waviness, seed 1) on the quasi-static-cantilever model of the design searches: P(jump) with its 95 % interval and the 5-95 % band of each quantity."
+    show sweep --rpm 300:1200:19 --actual --samples 100
+    end
+fi
 if want long sensitivity; then
     begin sensitivity "The sensitivity study: \`camsim sensitivity --per-key\`" \
         "VI.4.3's groups at ±10 and ±30 %, and every design key's elasticity (a few minutes)."
@@ -337,10 +347,12 @@ if want long design; then
     begin design "What to build: \`camsim design\`" \
         "The smallest spring rate with a 15 % speed margin, and with P(jump) <= 0.01 on actual cams; the highest speed and the loosest tolerance at P(jump) <= 0.01 (default waviness, then FPR 39)."
     show design spring --margin 15
+    show design spring --margin 15 --preload
     show design spring --actual --p-max 0.01
     show design speed --p-max 0.01
     show design tolerance --p-max 0.01
     show design tolerance --p-max 0.01 --waviness-fpr 39
+    show design tolerance --p-max 0.01 --waviness
     end
 fi
 if want long bench; then

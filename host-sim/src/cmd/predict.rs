@@ -742,7 +742,8 @@ pub fn run(args: Args) -> Result<()> {
     let profile = match &args.measured {
         Some(p) => {
             let d64 = scene.clone().unwrap_or_else(chip_design::<f64>);
-            Some(ProfileKnots::load(p, &d64)?)
+            // Named as the option, as `run --measured` names it.
+            Some(ProfileKnots::load(p, &d64).map_err(|e| anyhow::anyhow!("--measured {e:#}"))?)
         }
         None => None,
     };
