@@ -22,7 +22,8 @@
 //!   five times at the steps starting within 0.05° after that angle.
 //! - `CONVERGE_DUMP=<rtol>`: England's error of every component at every sample.
 //! - `CONVERGE_SCALED=<r0>`: England classic (capped) and PI-capped with the stiffness cap
-//!   shrinking as `(rtol/r0)^(1/5)` below `r0` (`StiffnessCap::tolerance_scaled`).
+//!   shrinking as `(rtol/r0)^(1/5)` below `r0` (`StiffnessCap::tolerance_scaled`), then
+//!   the capped imaginary-axis method (Merson) the same.
 //! - `CONVERGE_EPUS=<h_ref>`: England classic and PI-capped with error per unit step
 //!   (`camsim_core::PerUnitStep`), reference double step `h_ref` revolutions at ω0.
 //!
@@ -429,6 +430,22 @@ fn main() -> Result<()> {
                     Samples::rms_diff(&s.samples.disp, &r.disp)
                 );
             }
+        }
+        for &rtol in &rtols {
+            let mut s = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+            let w = camsim::bench::methods::run_merson(
+                &model,
+                &settings::<f64>(rtol),
+                cap,
+                REVOLUTIONS,
+                &mut s,
+            )?;
+            println!(
+                "merson_capped scaled-cap {r0:e} rtol {rtol:e}: evals {} acc err {:.3e} disp err {:.3e}",
+                w.evals,
+                Samples::rms_diff(&s.samples.acc, &r.acc),
+                Samples::rms_diff(&s.samples.disp, &r.disp)
+            );
         }
         return Ok(());
     }

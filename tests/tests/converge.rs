@@ -32,7 +32,7 @@
 //! reference, and the tightest tolerances cost the most.
 
 use anyhow::Result;
-use camsim::bench::methods::{per_revolution, run, run_england, Method};
+use camsim::bench::methods::{per_revolution, run, run_england, run_merson, Method};
 use camsim::bench::sample::{Sampler, Samples};
 use camsim::bench::{design_at, settings, MEASURED, REVOLUTIONS};
 use camsim_core::{
@@ -203,13 +203,34 @@ fn england_capped_full_cap_error_follows_rtol() -> Result<()> {
     )
 }
 
-/// The imaginary-axis method (Merson's 4(3) pair with its stiffness cap) plateaus like
-/// England: 5.18e-4, 2.58e-4, 8.43e-5, 6.56e-5, 3.60e-5 at rtol 1e-5 to 1e-9. Its cap
-/// (core/src/solve/imaginary.rs) does not take the tolerance scaling yet.
+/// The imaginary-axis method (Merson's 4(3) pair with its stiffness cap at its full
+/// fraction) plateaus like England: 5.18e-4, 2.58e-4, 8.43e-5, 6.56e-5, 3.60e-5 at rtol
+/// 1e-5 to 1e-9.
 #[test]
-#[ignore = "issue 22: the capped imaginary-axis method's error falls 2.0x, 3.1x, 1.3x, 1.8x a decade (its cap is not tolerance-scaled)"]
+#[ignore = "issue 22: the capped imaginary-axis method's error falls 2.0x, 3.1x, 1.3x, 1.8x a decade with the full cap (BENCHMARKS.md)"]
 fn merson_capped_error_follows_rtol() -> Result<()> {
     adaptive(Method::Merson { capped: true })
+}
+
+/// The same with the tolerance-scaled cap.
+#[test]
+fn merson_tolerance_scaled_error_follows_rtol() -> Result<()> {
+    let (model, reference) = setup()?;
+    let cap = StiffnessCap::tolerance_scaled(SCALED_CAP_FULL_RTOL);
+    let errs = ladder(&reference, |rtol| {
+        let mut s = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+        run_merson(
+            &model,
+            &settings::<f64>(rtol),
+            Some(cap),
+            REVOLUTIONS,
+            &mut s,
+        )?;
+        anyhow::ensure!(s.complete(), "merson scaled at {rtol:e}: samples missing");
+        Ok(s.samples.acc)
+    })?;
+    assert_converges("merson_4_3_scaled", &errs, PER_DECADE);
+    Ok(())
 }
 
 #[test]
