@@ -114,3 +114,48 @@ fn predict_takes_the_scene_positionally_like_run() {
     assert!(parse_from(["camsim", "predict", path, "--scene", path]).is_err());
     let _ = std::fs::remove_file(p);
 }
+
+#[test]
+fn firmware_check_json_reports_the_budget_and_the_checks() {
+    let d = std::env::temp_dir().join(format!("camsim-fwcheck-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let memory_x = d.join("memory.x");
+    std::fs::write(
+        &memory_x,
+        "MEMORY\n{\n  FLASH : ORIGIN = 0x08000000, LENGTH = 256K\n  RAM : ORIGIN = 0x20000000, LENGTH = 64K\n}\n",
+    )
+    .unwrap();
+    let log = d.join("boot.log");
+    std::fs::write(&log, "ERROR boot: table build failed: step budget exceeded\nERROR alarm asserted (LED0 low: true), stopped: boot failed\n").unwrap();
+    let argv = [
+        "camsim",
+        "firmware-check",
+        "--memory-x",
+        memory_x.to_str().unwrap(),
+        "--boot-fault",
+        log.to_str().unwrap(),
+        "--json",
+    ];
+    let Command::FirmwareCheck(a) = parse_from(argv).unwrap().command else {
+        panic!("not firmware-check")
+    };
+    assert!(a.json);
+    let r = camsim::cmd::firmware_check::report(&a).unwrap();
+    assert_eq!(
+        (r.flash_budget_bytes, r.ram_budget_bytes),
+        (256 * 1024, 64 * 1024)
+    );
+    assert_eq!(r.checks.len(), 2, "{:?}", r.checks);
+    assert!(
+        r.checks[1].contains("boot failure reported"),
+        "{:?}",
+        r.checks
+    );
+    let v: serde_json::Value = serde_json::to_value(&r).unwrap();
+    assert_eq!(v["flash_budget_bytes"], 262_144);
+    assert_eq!(main_from(argv), 0);
+    // A log that went on after the failed boot fails with --json too.
+    std::fs::write(&log, "ERROR boot: table build failed: step budget exceeded\nERROR alarm asserted (LED0 low: true), stopped: boot failed\ntable rpm=800\n").unwrap();
+    assert_eq!(main_from(argv), 1);
+    std::fs::remove_dir_all(&d).unwrap();
+}

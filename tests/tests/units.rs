@@ -100,10 +100,19 @@ fn keys(v: &Value, out: &mut Vec<String>) {
 }
 
 fn quick_run(extra: &[&str]) -> run::RunReport {
-    let argv = ["camsim", "run", "--rpm", "500", "--start", "static", "--revolutions", "2"]
-        .iter()
-        .chain(extra)
-        .copied();
+    let argv = [
+        "camsim",
+        "run",
+        "--rpm",
+        "500",
+        "--start",
+        "static",
+        "--revolutions",
+        "2",
+    ]
+    .iter()
+    .chain(extra)
+    .copied();
     let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
         panic!("not run")
     };
@@ -127,14 +136,26 @@ fn run_json_in_si_is_the_inch_json_converted_key_by_key() {
     let mut all = Vec::new();
     keys(&inch, &mut all);
     for bare in BARE {
-        assert!(!all.iter().any(|k| k == bare), "bare key {bare} in run --json");
+        assert!(
+            !all.iter().any(|k| k == bare),
+            "bare key {bare} in run --json"
+        );
     }
 }
 
 #[test]
 fn montecarlo_json_columns_carry_their_unit() {
     use camsim::cmd::montecarlo::{execute, Args, Outcome};
-    let argv = ["camsim", "montecarlo", "--samples", "3", "--revolutions", "1", "--start", "static"];
+    let argv = [
+        "camsim",
+        "montecarlo",
+        "--samples",
+        "3",
+        "--revolutions",
+        "1",
+        "--start",
+        "static",
+    ];
     let Command::Montecarlo(a) = cli::parse_from(argv).unwrap().command else {
         panic!("not montecarlo")
     };
@@ -150,12 +171,18 @@ fn montecarlo_json_columns_carry_their_unit() {
     let mut all = Vec::new();
     keys(&inch, &mut all);
     for bare in BARE {
-        assert!(!all.iter().any(|k| k == bare), "bare key {bare} in montecarlo --json");
+        assert!(
+            !all.iter().any(|k| k == bare),
+            "bare key {bare} in montecarlo --json"
+        );
     }
     // A column's mean, spread and percentiles convert together (a force in N).
     let col = &si["summary"]["whole_revolution"]["contact_force_min_n"];
     let inch_col = &inch["summary"]["whole_revolution"]["contact_force_min_lb"];
-    let (m_si, m_in) = (col["mean"].as_f64().unwrap(), inch_col["mean"].as_f64().unwrap());
+    let (m_si, m_in) = (
+        col["mean"].as_f64().unwrap(),
+        inch_col["mean"].as_f64().unwrap(),
+    );
     assert!((m_si - m_in * LBF_N).abs() <= 1e-12 * m_si.abs());
 }
 

@@ -44,6 +44,38 @@ pub struct Args {
     /// The `llvm-size` to run on the ELFs.
     #[arg(long, value_name = "TOOL", default_value = "llvm-size")]
     pub llvm_size: String,
+    /// Print JSON (the budget and every check passed) instead of the lines, once all
+    /// checks passed (a failure is the error line, as without --json).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `camsim firmware-check` reports: the budget and the checks, in order.
+#[derive(Debug, Default, serde::Serialize)]
+pub struct CheckReport {
+    /// The version of camsim that checked.
+    pub camsim_version: &'static str,
+    /// The linker script read.
+    pub memory_x: String,
+    /// FLASH's LENGTH in it, bytes.
+    pub flash_budget_bytes: u64,
+    /// RAM's LENGTH in it, bytes.
+    pub ram_budget_bytes: u64,
+    /// Every line the checks print, in order (each a check passed, or what it measured).
+    pub checks: Vec<String>,
+    /// Whether to print each line as it comes (the text output).
+    #[serde(skip)]
+    print: bool,
+}
+
+impl CheckReport {
+    /// Records a line (and prints it at once without --json).
+    fn say(&mut self, line: String) {
+        if self.print {
+            println!("{line}");
+        }
+        self.checks.push(line);
+    }
 }
 
 fn read(path: &Path) -> Result<String> {
@@ -51,7 +83,7 @@ fn read(path: &Path) -> Result<String> {
 }
 
 /// `llvm-size -A` of `elf`, parsed.
-fn elf_sizes(tool: &str, elf: &Path) -> Result<ElfSizes> {
+fn elf_sizes(r: &mut CheckReport, tool: &str, elf: &Path) -> Result<ElfSizes> {
     let out = Command::new(tool)
         .arg("-A")
         .arg(elf)
@@ -66,7 +98,7 @@ fn elf_sizes(tool: &str, elf: &Path) -> Result<ElfSizes> {
     }
     let sizes = parse_llvm_size(&String::from_utf8_lossy(&out.stdout))
         .with_context(|| elf.display().to_string())?;
-    println!("  {}: {}", elf.display(), sizes.describe());
+    r.say(format!("  {}: {}", elf.display(), sizes.describe()));
     Ok(sizes)
 }
 
@@ -78,19 +110,28 @@ fn pair(v: &[PathBuf]) -> Result<(&Path, &Path)> {
     }
 }
 
-fn product(a: &Args, log_path: &Path, elf: &Path, budget: &MemoryBudget) -> Result<()> {
+fn product(
+    r: &mut CheckReport,
+    a: &Args,
+    log_path: &Path,
+    elf: &Path,
+    budget: &MemoryBudget,
+) -> Result<()> {
     let log = read(log_path)?;
     let p = check_product_log(&log)?;
-    println!(
+    r.say(format!(
         "firmware-check: cross-check {} with {} -A",
         elf.display(),
         a.llvm_size
-    );
-    let sizes = elf_sizes(&a.llvm_size, elf)?;
-    println!("  {}", check_memory(&p.memory, &sizes, budget)?);
-    println!("firmware-check: fault reactions in {}", log_path.display());
+    ));
+    let sizes = elf_sizes(r, &a.llvm_size, elf)?;
+    r.say(format!("  {}", check_memory(&p.memory, &sizes, budget)?));
+    r.say(format!(
+        "firmware-check: fault reactions in {}",
+        log_path.display()
+    ));
     for line in check_reactions(&log)? {
-        println!("  {line}");
+        r.say(format!("  {line}"));
     }
     if let Some(name) = &a.scene {
         check_scene(&log, name)?;
@@ -98,54 +139,89 @@ fn product(a: &Args, log_path: &Path, elf: &Path, budget: &MemoryBudget) -> Resu
     if let Some(name) = &a.profile {
         check_profile(&log, name)?;
     }
-    println!("firmware-check: {p}");
+    r.say(format!("firmware-check: {p}"));
     Ok(())
 }
 
-fn budget_image(a: &Args, log_path: &Path, elf: &Path, budget: &MemoryBudget) -> Result<()> {
+fn budget_image(
+    r: &mut CheckReport,
+    a: &Args,
+    log_path: &Path,
+    elf: &Path,
+    budget: &MemoryBudget,
+) -> Result<()> {
     let log = read(log_path)?;
     let line = last_memory_line(&log, "budget").context("no 'budget flash_bytes=..' line")?;
     let b = parse_budget(line)?;
-    println!(
+    r.say(format!(
         "firmware-check: cross-check {} with {} -A",
         elf.display(),
         a.llvm_size
-    );
-    let sizes = elf_sizes(&a.llvm_size, elf)?;
-    println!("  {}", check_memory(&b.memory, &sizes, budget)?);
+    ));
+    let sizes = elf_sizes(r, &a.llvm_size, elf)?;
+    r.say(format!("  {}", check_memory(&b.memory, &sizes, budget)?));
     check_budget(&b)?;
     if let Some(name) = &a.scene {
         check_scene(&log, name)?;
     }
     // The line as read (its realtime_factor as the log printed it).
-    println!("firmware-check: {line}");
+    r.say(format!("firmware-check: {line}"));
     Ok(())
 }
 
-/// Runs the checks named by the arguments; the first failure is the error.
+/// Runs the command: the checks, their lines as they pass (or with --json the report at
+/// the end).
 pub fn run(a: Args) -> Result<()> {
+    let report = report(&a)?;
+    if a.json {
+        crate::report::print(&report, true)?;
+    }
+    Ok(())
+}
+
+/// Runs the checks named by the arguments (printing each line as it passes, without
+/// --json); the first failure is the error.
+pub fn report(a: &Args) -> Result<CheckReport> {
     let budget = parse_memory_x(&read(&a.memory_x)?)?;
-    println!(
+    let mut report = CheckReport {
+        camsim_version: env!("CARGO_PKG_VERSION"),
+        memory_x: a.memory_x.display().to_string(),
+        flash_budget_bytes: budget.flash,
+        ram_budget_bytes: budget.ram,
+        checks: Vec::new(),
+        print: !a.json,
+    };
+    let r = &mut report;
+    r.say(format!(
         "firmware-check: budget from {}: flash {} B, RAM {} B",
         a.memory_x.display(),
         budget.flash,
         budget.ram
-    );
+    ));
     for elf in &a.fits {
-        let sizes = elf_sizes(&a.llvm_size, elf)?;
+        let sizes = elf_sizes(r, &a.llvm_size, elf)?;
         check_elf_fits(&sizes, &budget).with_context(|| elf.display().to_string())?;
     }
     if let Some(v) = &a.product {
         let (log, elf) = pair(v)?;
-        product(&a, log, elf, &budget).with_context(|| log.display().to_string())?;
+        product(r, a, log, elf, &budget).with_context(|| log.display().to_string())?;
     }
     if let Some(v) = &a.budget {
         let (log, elf) = pair(v)?;
-        budget_image(&a, log, elf, &budget).with_context(|| log.display().to_string())?;
+        budget_image(r, a, log, elf, &budget).with_context(|| log.display().to_string())?;
     }
     if let Some(log) = &a.boot_fault {
         check_boot_fault(&read(log)?).with_context(|| log.display().to_string())?;
-        println!("firmware-check: boot failure reported, alarm left asserted (LED0 low), stopped");
+        r.say(
+            "firmware-check: boot failure reported, alarm left asserted (LED0 low), stopped"
+                .to_string(),
+        );
     }
-    Ok(())
+    Ok(report)
+}
+
+impl crate::report::Report for CheckReport {
+    fn text(&self) -> String {
+        self.checks.iter().map(|l| format!("{l}\n")).collect()
+    }
 }
