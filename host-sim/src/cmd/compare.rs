@@ -762,7 +762,7 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
             let span = hi - lo + 2.0 * pad;
             let x_fmt = |x: &f64| {
                 let x = if x.abs() < 1e-9 * span { 0.0 } else { *x };
-                crate::plot::fmt_tick(x, span * 8.0 / 5.0)
+                crate::plot::fmt_tick(x, span * 0.8)
             };
             let mut chart = ChartBuilder::on(area)
                 .caption(format!("{head}: {better}"), (crate::plot::FONT, 17))
@@ -930,7 +930,7 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                     .build_cartesian_2d(0.0..360.0, lo..hi)
                     .map_err(|x| e(&x))?;
                 let span = hi - lo;
-                let y_fmt = |v: &f64| crate::plot::fmt_tick(*v, span * 8.0 / 5.0);
+                let y_fmt = |v: &f64| crate::plot::fmt_tick(*v, span * 0.8);
                 let mut mesh = chart.configure_mesh();
                 mesh.x_labels(13)
                     .y_labels(5)
