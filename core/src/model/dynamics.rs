@@ -140,21 +140,6 @@ pub struct ModelPoint<T> {
     pub torque_drive: T,
 }
 
-/// The loads the contact and the slide bearings put on the follower chain at one
-/// evaluation (Eqs. V.15-V.20), for its equations of motion.
-#[derive(Clone, Copy, Debug)]
-struct ChainLoads<T> {
-    /// The contact force's vertical component F_c cos φ, on the roller (the opposite on
-    /// the cam), lb.
-    f_v: T,
-    /// Its horizontal component F_c sin φ, lb.
-    f_h: T,
-    /// The follower's slide-bearing friction, lb.
-    f1: T,
-    /// The cantilever's slide-bearing friction, lb.
-    f2: T,
-}
-
 impl<T: Real> ModelPoint<T> {
     /// Displacement of `dof` (absolute), in.
     pub fn position(&self, dof: TransDof) -> T {
@@ -479,46 +464,21 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// for both uses (inlined into each it costs the chip's flash; docs/FIRMWARE.md).
     #[inline(never)]
     pub(crate) fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
+        let d = &self.d;
         let mut p = ModelPoint {
             t,
             ..ModelPoint::default()
         };
-        let twists = self.gather_state(&mut p, y);
-        let (cos_phi, sin_phi, k_h) = self.contact_geometry(&mut p, outputs);
-        // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10); the
-        // rods' stiffnesses it used (at the carrier's y3) serve the forces below too.
-        let rods = if S::QUASI_STATIC.is_empty() {
-            None
-        } else {
-            Some(self.condense(&mut p, k_h, cos_phi, sin_phi))
-        };
-        // The stored coordinates (relative to the lift for the follower chain) for the
-        // equations; `p.pos` becomes the absolute displacements the observers read.
-        let (q, v) = (p.pos, p.vel);
-        for (pos, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
-            if rel {
-                *pos += p.lift.y;
-            }
-        }
-        let loads = self.contact_and_friction(&mut p, k_h, cos_phi, sin_phi, &q, &v);
-        p.acc = self.translational(rods, p.lift.y, &q, &v, &loads);
-        self.rotational(&mut p, loads.f_v, twists);
-        p
-    }
 
-    /// Gathers the state into `p` (angles, speeds, stored coordinates and velocities);
-    /// returns the shafts' twists (θ_cp − θ_c, θ_m − θ_cp).
-    ///
-    /// What the scene's drive imposes is not a state: under a constant cam speed
-    /// θ_c = ω0 t with every speed at ω0 and rigid shafts; under a constant motor speed
-    /// θ̇_m = ω0. These are branches on the scene's consts.
-    #[inline(always)]
-    fn gather_state(&self, p: &mut ModelPoint<T>, y: &[T; N]) -> (T, T) {
+        // --- gather the state ---
+        // What the scene's drive imposes is not a state: under a constant cam speed
+        // θ_c = ω0 t with every speed at ω0 and rigid shafts; under a constant motor
+        // speed θ̇_m = ω0. These are branches on the scene's consts.
         let st = self.state(y);
-        let w0 = self.d.omega0;
+        let w0 = d.omega0;
         p.theta_c = match st.cam_angle() {
             Some(theta) => theta,
-            None => w0 * p.t,
+            None => w0 * t,
         };
         let tw2 = st.coupling_cam_twist().unwrap_or(T::ZERO);
         let tw1 = st.motor_coupling_twist().unwrap_or(T::ZERO);
@@ -531,15 +491,8 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         // scene drops are held at zero.
         p.pos = st.positions();
         p.vel = st.velocities();
-        (tw2, tw1)
-    }
 
-    /// The contact geometry at the cam angle `p.theta_c`: the lift (into `p`), the
-    /// pressure angle's cosine and sine and the Hertz stiffness `(cos φ, sin φ, K_h)`
-    /// (with `outputs`, the pressure angle itself and the surface radius into `p`).
-    #[inline(always)]
-    fn contact_geometry(&self, p: &mut ModelPoint<T>, outputs: bool) -> (T, T, T) {
-        let d = &self.d;
+        // --- contact geometry at the current cam angle ---
         let (lift, table) = self
             .profile
             .follower_and_contact(&self.d.program, p.theta_c);
@@ -583,40 +536,41 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             }
         };
         p.k_h = k_h;
-        (cos_phi, sin_phi, k_h)
-    }
+        // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10); the
+        // rods' stiffnesses it used (at the carrier's y3) serve the forces below too.
+        let rods = if S::QUASI_STATIC.is_empty() {
+            None
+        } else {
+            Some(self.condense(&mut p, k_h, cos_phi, sin_phi))
+        };
 
-    /// The contact force and jump criterion (Eqs. V.19-V.20) and the slide-bearing
-    /// friction (Eqs. V.15-V.16), into `p`, from the stored coordinates `q` and the
-    /// velocities `v`.
-    #[inline(always)]
-    fn contact_and_friction(
-        &self,
-        p: &mut ModelPoint<T>,
-        k_h: T,
-        cos_phi: T,
-        sin_phi: T,
-        q: &[T; TRANS_DOFS],
-        v: &[T; TRANS_DOFS],
-    ) -> ChainLoads<T> {
-        let d = &self.d;
-        let [y1, _, q2, ..] = *q;
-        let [v1, _, v2, _, v3, _, v4, _] = *v;
-        // The contact damping of docs/MODEL.md §3.9; y + y1 - y2 = y1 - q2, its rate
-        // y' θ̇_c + ẏ1 - ẏ2.
+        let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
+        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
+        for (pos, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
+            if rel {
+                *pos += lift.y;
+            }
+        }
+        let y3 = q3 + lift.y;
+
+        // Contact force and jump criterion (Eqs. V.19-V.20) with the contact damping of
+        // docs/MODEL.md §3.9; y + y1 - y2 = y1 - q2, its rate y' θ̇_c + ẏ1 - ẏ2.
         let contact = damped_contact_force(
             k_h,
             y1 - q2,
             self.preload,
             self.contact_damping(k_h),
-            p.lift.dy * p.omega_c + v1 - v2,
+            lift.dy * p.omega_c + v1 - v2,
             cos_phi,
         );
         let f_c = contact.force;
         p.contact_force = f_c;
         p.in_contact = contact.in_contact;
-        // Friction opposes its own mass's velocity. At a quasi-static node the
-        // condensation has applied (and recorded) it already.
+        let f_v = f_c * cos_phi; // vertical component on the roller
+        let f_h = f_c * sin_phi; // horizontal component
+
+        // Slide-bearing friction (Eqs. V.15-V.16), each opposing its own mass's velocity.
+        // At a quasi-static node the condensation has applied (and recorded) it already.
         let (n1, n2) = self.levers.normal_forces(f_c, sin_phi);
         let f1 = if S::QUASI_STATIC.contains(TransDof::Follower) {
             p.friction_follower
@@ -630,29 +584,8 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         };
         p.friction_follower = f1;
         p.friction_cantilever = f2;
-        ChainLoads {
-            f_v: f_c * cos_phi,
-            f_h: f_c * sin_phi,
-            f1,
-            f2,
-        }
-    }
 
-    /// The translational system (Eqs. IV.2, IV.3): the accelerations in [`TransDof`]
-    /// order, from the rods' K_f, C_f1, K_vc (a reduced scene's condensation's, else at
-    /// y3 = q3 + `lift`), the stored coordinates `q`, the velocities `v` and the loads.
-    #[inline(always)]
-    fn translational(
-        &self,
-        rods: Option<(T, T, T)>,
-        lift: T,
-        q: &[T; TRANS_DOFS],
-        v: &[T; TRANS_DOFS],
-        loads: &ChainLoads<T>,
-    ) -> [T; TRANS_DOFS] {
-        let d = &self.d;
-        let [_, _, _, _, q3, ..] = *q;
-        let y3 = q3 + lift;
+        // --- translational system (Eqs. IV.2, IV.3) ---
         let (k_f, c_f1, k_vc) = match rods {
             Some(r) => r,
             None => {
@@ -660,16 +593,46 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 (k_f, d.c_f1_from(k_f), d.k_vc(y3))
             }
         };
+        let m_f = d.m_f(y3);
         let m_fc = d.m_fc(y3);
-        let [a_cam, a_roller, a_cantilever, a_follower, a_load] =
-            self.vertical(k_f, c_f1, k_vc, m_fc, y3, q, v, loads);
+        let f_load = k_f * (q5 - q4) + c_f1 * (v5 - v4);
+        let f_vc = k_vc * (q4 - q3);
+        // Roller bearing on the roller (the opposite on the cantilever), vertical and
+        // horizontal: K_rb and its damper C_rb (docs/MODEL.md §3.13, §3.14).
+        let f_rb = crate::spring_damper_force(d.k_rb, q3 - q2, self.c_rb, v3 - v2);
+        let f_rb_x = crate::spring_damper_force(d.k_rb, x3 - x2, self.c_rb, vx3 - vx2);
         // A reduced scene's dropped follower masses ride on the first dynamic node beyond
         // its quasi-static run (docs/MODEL.md §10): const branches.
         let qs = S::QUASI_STATIC;
+        let qs_roller = qs.contains(TransDof::RollerY);
+        let qs_cantilever = qs.contains(TransDof::CantileverY);
+        let qs_follower = qs.contains(TransDof::Follower);
+        let m_r = d.m_r;
+        // Load.
+        let a_load = if qs_follower {
+            -f_load / (d.m_l + m_f + m_fc + m_r)
+        } else {
+            -f_load * self.inv_m_l
+        };
+        // Follower: d(M_f ẏ4)/dt = ρA ẏ3 ẏ4 + M_f ÿ4 (the exchange with the cantilever
+        // portion is internal once it rides on the follower).
+        let a_follower = if qs_cantilever {
+            (f_load + f1 - f_vc) / (m_f + m_fc + m_r)
+        } else {
+            (f_load + f1 - f_vc - self.rho_a * v3 * v4) / m_f
+        };
+        // Cantilever: d(M_fc ẏ3)/dt = -ρA ẏ3² + M_fc ÿ3.
+        let m_cantilever = if qs_roller { m_fc + m_r } else { m_fc };
+        let a_cantilever =
+            (f_vc - self.preload - d.k_rs * y3 + f2 - f_rb + self.rho_a * v3 * v3) / m_cantilever;
+        // Roller.
+        let a_roller = (f_rb + f_v) * self.inv_m_r;
+        // Cam and shaft.
+        let a_cam = (-f_v - d.k_vs * y1 - d.c_vs * v1) * self.inv_m_c;
         // The first dynamic follower node's acceleration: a quasi-static node moves with it.
-        let a_carrier = if qs.contains(TransDof::Follower) {
+        let a_carrier = if qs_follower {
             a_load
-        } else if qs.contains(TransDof::CantileverY) {
+        } else if qs_cantilever {
             a_follower
         } else {
             a_cantilever
@@ -688,94 +651,9 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 T::ZERO
             }
         };
-        let [a_cam_x, a_roller_x, a_cantilever_x] = self.horizontal(m_fc, y3, q, v, loads.f_h);
-        [
-            kept(TransDof::CamY, a_cam),
-            a_cam_x,
-            kept(TransDof::RollerY, a_roller),
-            a_roller_x,
-            kept(TransDof::CantileverY, a_cantilever),
-            a_cantilever_x,
-            kept(TransDof::Follower, a_follower),
-            kept(TransDof::Load, a_load),
-        ]
-    }
-
-    /// The vertical equations (Eqs. IV.2): the cam's, the roller's, the cantilever's, the
-    /// follower's and the load's accelerations, a reduced scene's dropped masses on the
-    /// first dynamic node beyond its quasi-static run (docs/MODEL.md §10).
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    fn vertical(
-        &self,
-        k_f: T,
-        c_f1: T,
-        k_vc: T,
-        m_fc: T,
-        y3: T,
-        q: &[T; TRANS_DOFS],
-        v: &[T; TRANS_DOFS],
-        loads: &ChainLoads<T>,
-    ) -> [T; 5] {
-        let d = &self.d;
-        let [y1, _, q2, _, q3, _, q4, q5] = *q;
-        let [v1, _, v2, _, v3, _, v4, v5] = *v;
-        let ChainLoads { f_v, f1, f2, .. } = *loads;
-        let m_f = d.m_f(y3);
-        let f_load = k_f * (q5 - q4) + c_f1 * (v5 - v4);
-        let f_vc = k_vc * (q4 - q3);
-        // Roller bearing on the roller (the opposite on the cantilever): K_rb and its
-        // damper C_rb (docs/MODEL.md §3.13, §3.14).
-        let f_rb = crate::spring_damper_force(d.k_rb, q3 - q2, self.c_rb, v3 - v2);
-        let qs = S::QUASI_STATIC;
-        let m_r = d.m_r;
-        // Load.
-        let a_load = if qs.contains(TransDof::Follower) {
-            -f_load / (d.m_l + m_f + m_fc + m_r)
-        } else {
-            -f_load * self.inv_m_l
-        };
-        // Follower: d(M_f ẏ4)/dt = ρA ẏ3 ẏ4 + M_f ÿ4 (the exchange with the cantilever
-        // portion is internal once it rides on the follower).
-        let a_follower = if qs.contains(TransDof::CantileverY) {
-            (f_load + f1 - f_vc) / (m_f + m_fc + m_r)
-        } else {
-            (f_load + f1 - f_vc - self.rho_a * v3 * v4) / m_f
-        };
-        // Cantilever: d(M_fc ẏ3)/dt = -ρA ẏ3² + M_fc ÿ3.
-        let m_cantilever = if qs.contains(TransDof::RollerY) {
-            m_fc + m_r
-        } else {
-            m_fc
-        };
-        let a_cantilever =
-            (f_vc - self.preload - d.k_rs * y3 + f2 - f_rb + self.rho_a * v3 * v3) / m_cantilever;
-        // Roller.
-        let a_roller = (f_rb + f_v) * self.inv_m_r;
-        // Cam and shaft.
-        let a_cam = (-f_v - d.k_vs * y1 - d.c_vs * v1) * self.inv_m_c;
-        [a_cam, a_roller, a_cantilever, a_follower, a_load]
-    }
-
-    /// The horizontal equations (Eq. IV.3 corrected, docs/MODEL.md §4.4): the cam's, the
-    /// roller's and the cantilever's accelerations, evaluated only for the scenes that
-    /// keep them (0 otherwise).
-    #[inline(always)]
-    fn horizontal(
-        &self,
-        m_fc: T,
-        y3: T,
-        q: &[T; TRANS_DOFS],
-        v: &[T; TRANS_DOFS],
-        f_h: T,
-    ) -> [T; 3] {
-        let d = &self.d;
-        let [_, x1, _, x2, _, x3, ..] = *q;
-        let [_, vx1, _, vx2, v3, vx3, ..] = *v;
-        // Roller bearing, horizontal: K_rb and C_rb as vertically.
-        let f_rb_x = crate::spring_damper_force(d.k_rb, x3 - x2, self.c_rb, vx3 - vx2);
+        // The horizontal equations, evaluated only for the scenes that keep them.
         let a_cantilever_x = if S::DOFS.contains(TransDof::CantileverX) {
-            // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3.
+            // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (Eq. IV.3 corrected, docs/MODEL.md §4.4).
             (-f_rb_x - d.k_hc(y3) * x3 + self.rho_a * v3 * vx3) / m_fc
         } else {
             T::ZERO
@@ -790,18 +668,19 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         } else {
             T::ZERO
         };
-        [a_cam_x, a_roller_x, a_cantilever_x]
-    }
+        p.acc = [
+            kept(TransDof::CamY, a_cam),
+            a_cam_x,
+            kept(TransDof::RollerY, a_roller),
+            a_roller_x,
+            kept(TransDof::CantileverY, a_cantilever),
+            a_cantilever_x,
+            kept(TransDof::Follower, a_follower),
+            kept(TransDof::Load, a_load),
+        ];
 
-    /// The rotational system (Eq. IV.1) into `p`: the output torque
-    /// T_o = F_c cos φ dy/dθ (docs/MODEL.md §4.2) from the contact's vertical component
-    /// `f_v`, the shafts' torques from their `twists` (θ_cp − θ_c, θ_m − θ_cp), and the
-    /// drive's torque and the angular accelerations the scene's drive leaves.
-    #[inline(always)]
-    fn rotational(&self, p: &mut ModelPoint<T>, f_v: T, twists: (T, T)) {
-        let d = &self.d;
-        let (tw2, tw1) = twists;
-        let t_o = f_v * p.lift.dy;
+        // --- rotational system (Eq. IV.1), T_o = F_c cos φ dy/dθ (docs/MODEL.md §4.2) ---
+        let t_o = f_v * lift.dy;
         p.torque_out = t_o;
         // The coupling-cam connection: rigid, or with free play (Appendix G.1).
         let shaft2 = if d.coupling_backlash > T::ZERO {
@@ -834,6 +713,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 p.alpha_m = (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m;
             }
         }
+        p
     }
 
     /// Solves a reduced scene's quasi-static DOFs ([`crate::QuasiStatic`], docs/MODEL.md
