@@ -441,6 +441,15 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
 
     /// Validates the filled knots and values and solves for the second derivatives.
     fn build(&mut self, ends: SplineEnds<T>) -> Result<(), SplineError> {
+        let ymax = self.check_points()?;
+        self.solve_second_derivatives(ends, ymax)?;
+        self.detect_uniform();
+        Ok(())
+    }
+
+    /// The filled knots and values finite, the knots strictly increasing with finite
+    /// spacings; returns the largest |value|.
+    fn check_points(&self) -> Result<T, SplineError> {
         let n = self.n;
         let mut ymax = T::ZERO;
         for (i, (&xi, &yi)) in self.x.iter().zip(&self.y).take(n).enumerate() {
@@ -471,6 +480,18 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
                 }
             }
         }
+        Ok(ymax)
+    }
+
+    /// The second derivatives `m` for the `ends` (a periodic spline's last value set to
+    /// its first, which it must equal within `16 ε` times the largest |value| `ymax`),
+    /// all finite.
+    fn solve_second_derivatives(
+        &mut self,
+        ends: SplineEnds<T>,
+        ymax: T,
+    ) -> Result<(), SplineError> {
+        let n = self.n;
         let mut scratch = [T::ZERO; N];
         let (x, y) = (&self.x, &mut self.y);
         let h = |j: usize| {
@@ -560,7 +581,13 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
                 index: i,
             });
         }
-        // Uniform knots: every knot within a quarter step of x_0 + i h̄.
+        Ok(())
+    }
+
+    /// Records `1/h̄` when the knots are uniform (every knot within a quarter step of
+    /// `x_0 + i h̄`), for the direct interval lookup; 0 otherwise.
+    fn detect_uniform(&mut self) {
+        let n = self.n;
         let x0 = self.x.first().copied().unwrap_or(T::ZERO);
         let step = (self.x.get(n - 1).copied().unwrap_or(T::ZERO) - x0) / T::from_usize(n - 1);
         let quarter = step * T::from_f64(0.25);
@@ -576,7 +603,6 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
         } else {
             T::ZERO
         };
-        Ok(())
     }
 
     /// Number of points.

@@ -258,84 +258,8 @@ impl MotionLaw {
                 a: T::from_i32(24) * u,
                 j: T::from_i32(24),
             },
-            MotionLaw::Trapezoidal => {
-                // Peak acceleration from s(1/2) = 3A/32 = 1/2.
-                let a_pk = q::<T>(16, 3);
-                let eighth = q::<T>(1, 8);
-                let three_eighths = q::<T>(3, 8);
-                if u < eighth {
-                    // Linear ramp a = 8A u.
-                    let k = T::from_i32(8) * a_pk;
-                    LawValue {
-                        s: k * u * u * u / T::from_i32(6),
-                        v: k * u * u * T::HALF,
-                        a: k * u,
-                        j: k,
-                    }
-                } else if u < three_eighths {
-                    // Constant a = A from s = A/384, v = A/16 at u = 1/8.
-                    let w = u - eighth;
-                    LawValue {
-                        s: a_pk * (q::<T>(1, 384) + w / T::from_i32(16) + T::HALF * w * w),
-                        v: a_pk * (q::<T>(1, 16) + w),
-                        a: a_pk,
-                        j: T::ZERO,
-                    }
-                } else {
-                    // Ramp down a = A (1 - 8w) from s = 19A/384, v = 5A/16 at u = 3/8.
-                    let w = u - three_eighths;
-                    let k = T::from_i32(8) * a_pk;
-                    LawValue {
-                        s: a_pk * q::<T>(19, 384)
-                            + a_pk * q::<T>(5, 16) * w
-                            + a_pk * T::HALF * w * w
-                            - k * w * w * w / T::from_i32(6),
-                        v: a_pk * q::<T>(5, 16) + a_pk * w - k * T::HALF * w * w,
-                        a: a_pk - k * w,
-                        j: -k,
-                    }
-                }
-            }
-            MotionLaw::ModifiedTrapezoidal => {
-                // a = A sin(4πu) on [0,1/8], A on [1/8,3/8], A cos(4π(u-3/8)) on [3/8,1/2];
-                // s(1/2) = A (π+2)/(16π) = 1/2 gives A = 8π/(π+2).
-                let k = T::from_i32(4) * pi;
-                let a_pk = T::from_i32(8) * pi / (pi + T::TWO);
-                let eighth = q::<T>(1, 8);
-                let three_eighths = q::<T>(3, 8);
-                let c = a_pk / k;
-                // s and v at u = 1/8.
-                let s1 = c * (eighth - T::ONE / k);
-                if u < eighth {
-                    let (sn, cs) = (k * u).sin_cos();
-                    LawValue {
-                        s: c * (u - sn / k),
-                        v: c * (T::ONE - cs),
-                        a: a_pk * sn,
-                        j: a_pk * k * cs,
-                    }
-                } else if u < three_eighths {
-                    let w = u - eighth;
-                    LawValue {
-                        s: s1 + c * w + T::HALF * a_pk * w * w,
-                        v: c + a_pk * w,
-                        a: a_pk,
-                        j: T::ZERO,
-                    }
-                } else {
-                    let w = u - three_eighths;
-                    let quarter = q::<T>(1, 4);
-                    let v2 = c + a_pk * quarter;
-                    let s2 = s1 + c * quarter + a_pk * q::<T>(1, 32);
-                    let (sn, cs) = (k * w).sin_cos();
-                    LawValue {
-                        s: s2 + v2 * w + c / k * (T::ONE - cs),
-                        v: v2 + c * sn,
-                        a: a_pk * cs,
-                        j: -a_pk * k * sn,
-                    }
-                }
-            }
+            MotionLaw::Trapezoidal => trapezoidal_first_half(u),
+            MotionLaw::ModifiedTrapezoidal => modified_trapezoidal_first_half(u),
             MotionLaw::ModifiedSine => {
                 let d = pi + T::from_i32(4);
                 let k = T::from_i32(4) * pi;
@@ -359,6 +283,92 @@ impl MotionLaw {
             }
             // Evaluated directly by `eval`, never reached from there; well-defined anyway.
             _ => self.eval(u),
+        }
+    }
+}
+
+/// The trapezoidal law's first half (`u` in `[0, 1/2]`): the acceleration ramps up
+/// linearly over the first eighth, holds, and ramps down to 0 at `u = 1/2`.
+#[inline]
+fn trapezoidal_first_half<T: Real>(u: T) -> LawValue<T> {
+    // Peak acceleration from s(1/2) = 3A/32 = 1/2.
+    let a_pk = q::<T>(16, 3);
+    let eighth = q::<T>(1, 8);
+    let three_eighths = q::<T>(3, 8);
+    if u < eighth {
+        // Linear ramp a = 8A u.
+        let k = T::from_i32(8) * a_pk;
+        LawValue {
+            s: k * u * u * u / T::from_i32(6),
+            v: k * u * u * T::HALF,
+            a: k * u,
+            j: k,
+        }
+    } else if u < three_eighths {
+        // Constant a = A from s = A/384, v = A/16 at u = 1/8.
+        let w = u - eighth;
+        LawValue {
+            s: a_pk * (q::<T>(1, 384) + w / T::from_i32(16) + T::HALF * w * w),
+            v: a_pk * (q::<T>(1, 16) + w),
+            a: a_pk,
+            j: T::ZERO,
+        }
+    } else {
+        // Ramp down a = A (1 - 8w) from s = 19A/384, v = 5A/16 at u = 3/8.
+        let w = u - three_eighths;
+        let k = T::from_i32(8) * a_pk;
+        LawValue {
+            s: a_pk * q::<T>(19, 384) + a_pk * q::<T>(5, 16) * w + a_pk * T::HALF * w * w
+                - k * w * w * w / T::from_i32(6),
+            v: a_pk * q::<T>(5, 16) + a_pk * w - k * T::HALF * w * w,
+            a: a_pk - k * w,
+            j: -k,
+        }
+    }
+}
+
+/// The modified trapezoidal law's first half (`u` in `[0, 1/2]`): a quarter sine wave
+/// of acceleration over the first eighth, the constant peak, and a quarter cosine wave
+/// down to 0 at `u = 1/2`.
+#[inline]
+fn modified_trapezoidal_first_half<T: Real>(u: T) -> LawValue<T> {
+    let pi = T::PI;
+    // a = A sin(4πu) on [0,1/8], A on [1/8,3/8], A cos(4π(u-3/8)) on [3/8,1/2];
+    // s(1/2) = A (π+2)/(16π) = 1/2 gives A = 8π/(π+2).
+    let k = T::from_i32(4) * pi;
+    let a_pk = T::from_i32(8) * pi / (pi + T::TWO);
+    let eighth = q::<T>(1, 8);
+    let three_eighths = q::<T>(3, 8);
+    let c = a_pk / k;
+    // s and v at u = 1/8.
+    let s1 = c * (eighth - T::ONE / k);
+    if u < eighth {
+        let (sn, cs) = (k * u).sin_cos();
+        LawValue {
+            s: c * (u - sn / k),
+            v: c * (T::ONE - cs),
+            a: a_pk * sn,
+            j: a_pk * k * cs,
+        }
+    } else if u < three_eighths {
+        let w = u - eighth;
+        LawValue {
+            s: s1 + c * w + T::HALF * a_pk * w * w,
+            v: c + a_pk * w,
+            a: a_pk,
+            j: T::ZERO,
+        }
+    } else {
+        let w = u - three_eighths;
+        let quarter = q::<T>(1, 4);
+        let v2 = c + a_pk * quarter;
+        let s2 = s1 + c * quarter + a_pk * q::<T>(1, 32);
+        let (sn, cs) = (k * w).sin_cos();
+        LawValue {
+            s: s2 + v2 * w + c / k * (T::ONE - cs),
+            v: v2 + c * sn,
+            a: a_pk * cs,
+            j: -a_pk * k * sn,
         }
     }
 }

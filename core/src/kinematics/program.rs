@@ -312,8 +312,23 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
         }
         let full = T::from_i32(360);
         let tol_deg = T::from_f64(1e-6).max(full * T::from_i32(8) * T::EPSILON);
-        let two_pi = T::TWO * T::PI;
+        let lift_sum = Self::check_angles_and_lifts(segments, full, tol_deg)?;
+        let tol_lift = T::from_i32(64) * T::EPSILON * lift_sum;
+        let (program, level) = Self::prepare(segments, tol_lift)?;
+        if level.abs() > tol_lift {
+            return Err(invalid(
+                key::PROGRAM_SEGMENT,
+                "net displacement over the revolution must be 0 (the returns must undo the rises)",
+                level,
+            ));
+        }
+        Ok(program)
+    }
 
+    /// The segments' angles (finite, from 0 to 360 deg, contiguous within `tol_deg`,
+    /// each longer than it) and lifts (0 for a dwell, positive and finite for a rise or
+    /// return); returns the sum of the lifts.
+    fn check_angles_and_lifts(segments: &[Segment<T>], full: T, tol_deg: T) -> Result<T> {
         for (i, s) in segments.iter().enumerate() {
             if !s.start_deg.is_finite() {
                 return Err(invalid(
@@ -333,7 +348,6 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
 
         // Angles and lifts, one segment at a time.
         let mut lift_sum = T::ZERO;
-        let last = segments.len() - 1;
         for (i, s) in segments.iter().enumerate() {
             if i == 0 && s.start_deg.abs() > tol_deg {
                 return Err(invalid(
@@ -387,8 +401,15 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
                 }
             }
         }
-        let tol_lift = T::from_i32(64) * T::EPSILON * lift_sum;
+        Ok(lift_sum)
+    }
 
+    /// The program of checked `segments`, their levels and prepared forms (the
+    /// follower never below the base circle by more than `tol_lift`), and the level
+    /// after the revolution (for [`Self::new`] to check that it closes).
+    fn prepare(segments: &[Segment<T>], tol_lift: T) -> Result<(Self, T)> {
+        let two_pi = T::TWO * T::PI;
+        let last = segments.len().saturating_sub(1);
         // Levels and the prepared segments.
         let mut segs = heapless::Vec::new();
         let mut pre = heapless::Vec::new();
@@ -453,18 +474,12 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
             }
             start = end;
         }
-        if level.abs() > tol_lift {
-            return Err(invalid(
-                key::PROGRAM_SEGMENT,
-                "net displacement over the revolution must be 0 (the returns must undo the rises)",
-                level,
-            ));
-        }
-        Ok(CamProgram {
+        let program = CamProgram {
             segs,
             pre,
             max_lift,
-        })
+        };
+        Ok((program, level))
     }
 
     /// The reference program of VI.1: dwell 0-30 deg, modified-trapezoidal rise 30-180,

@@ -694,24 +694,7 @@ pub fn spectral_radius<T: Real, const N: usize, S: OdeSystem<T, N>>(
     if N == 0 {
         return Ok(T::ZERO);
     }
-    // Scales D_i; a zero scale (atol_i = 0 at y_i = 0) borrows the largest other one.
-    let mut d = [T::ZERO; N];
-    let mut d_max = T::ZERO;
-    for (i, (di, yi)) in d.iter_mut().zip(y.iter()).enumerate() {
-        *di = scale_of(tol, i, *yi);
-        d_max = d_max.max(*di);
-    }
-    if !(d_max > T::ZERO && d_max.is_finite()) {
-        d_max = T::ONE;
-    }
-    let mut y_scaled = T::ONE;
-    for (di, yi) in d.iter_mut().zip(y.iter()) {
-        if !positive(*di) {
-            *di = d_max;
-        }
-        y_scaled = y_scaled.max(yi.abs() / *di);
-    }
-    let eps = T::EPSILON.sqrt() * y_scaled;
+    let (d, eps) = difference_scales(tol, y);
 
     let mut arg = [T::ZERO; N];
     let mut fz = [T::ZERO; N];
@@ -786,30 +769,9 @@ pub fn spectral_radius<T: Real, const N: usize, S: OdeSystem<T, N>>(
         // one-direction case, which only the change of the estimate judges).
         let mut residual = T::ZERO;
         rho = if s > s_min {
-            // Rayleigh-Ritz: H = Qᵀ J Q with J u = ‖J u‖ w and J q2 = (z - c ‖J u‖ w)/s.
-            for (((j, zi), wi), ri) in jq2.iter_mut().zip(z.iter()).zip(w.iter()).zip(r.iter_mut())
-            {
-                *j = (*zi - c * nw * *wi) / s;
-                *ri /= s;
-            }
-            let h11 = nw * c;
-            let h21 = nw * s;
-            let h12 = dot(&u, &jq2);
-            let h22 = dot(&r, &jq2);
-            // z - (u·z) u - (q2·z) q2, reusing jq2 as scratch.
-            let (uz, qz) = (dot(&u, &z), dot(&r, &z));
-            for (((j, zi), ui), qi) in jq2.iter_mut().zip(z.iter()).zip(u.iter()).zip(r.iter()) {
-                *j = *zi - uz * *ui - qz * *qi;
-            }
-            residual = norm2(&jq2) / nz;
-            let tr = h11 + h22;
-            let det = h11 * h22 - h12 * h21;
-            let disc = tr * tr - T::from_f64(4.0) * det;
-            if disc >= T::ZERO {
-                T::HALF * (tr.abs() + disc.sqrt())
-            } else {
-                det.sqrt()
-            }
+            let (modulus, res) = ritz_modulus(&u, &w, &z, (nw, nz), c, s, &mut r, &mut jq2);
+            residual = res;
+            modulus
         } else {
             // One direction: |λ| from two successive ratios (also right for a purely
             // imaginary pair seen in a non-normal scaling, where one ratio alone swings).
@@ -828,6 +790,73 @@ pub fn spectral_radius<T: Real, const N: usize, S: OdeSystem<T, N>>(
     }
     store(v, &u, &d);
     Ok(rho)
+}
+
+/// The scales `D_i` of [`spectral_radius`]'s products and their difference step
+/// `ε = √eps · max(1, ‖D⁻¹ y‖∞)`; a zero scale (atol_i = 0 at y_i = 0) borrows the
+/// largest other one.
+fn difference_scales<T: Real, const N: usize>(tol: &Tolerance<T, N>, y: &[T; N]) -> ([T; N], T) {
+    let mut d = [T::ZERO; N];
+    let mut d_max = T::ZERO;
+    for (i, (di, yi)) in d.iter_mut().zip(y.iter()).enumerate() {
+        *di = scale_of(tol, i, *yi);
+        d_max = d_max.max(*di);
+    }
+    if !(d_max > T::ZERO && d_max.is_finite()) {
+        d_max = T::ONE;
+    }
+    let mut y_scaled = T::ONE;
+    for (di, yi) in d.iter_mut().zip(y.iter()) {
+        if !positive(*di) {
+            *di = d_max;
+        }
+        y_scaled = y_scaled.max(yi.abs() / *di);
+    }
+    (d, T::EPSILON.sqrt() * y_scaled)
+}
+
+/// One Rayleigh-Ritz step of [`spectral_radius`]: `J` projected on `span{u, J u}`
+/// (`u` unit, `w = J u/‖J u‖`, `z = J w`, `norms = (‖J u‖, ‖z‖)`, `c = u·w`, `s = ‖r‖`
+/// for `r = w − c u`, which becomes `q2 = r/s`), as `H = Qᵀ J Q` with `J u = ‖J u‖ w`
+/// and `J q2 = (z − c ‖J u‖ w)/s`. Returns the larger modulus of `H`'s two eigenvalues
+/// and the subspace's relative residual `‖z − (u·z) u − (q2·z) q2‖/‖z‖`; `jq2` is
+/// scratch.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn ritz_modulus<T: Real, const N: usize>(
+    u: &[T; N],
+    w: &[T; N],
+    z: &[T; N],
+    norms: (T, T),
+    c: T,
+    s: T,
+    r: &mut [T; N],
+    jq2: &mut [T; N],
+) -> (T, T) {
+    let (nw, nz) = norms;
+    for (((j, zi), wi), ri) in jq2.iter_mut().zip(z.iter()).zip(w.iter()).zip(r.iter_mut()) {
+        *j = (*zi - c * nw * *wi) / s;
+        *ri /= s;
+    }
+    let h11 = nw * c;
+    let h21 = nw * s;
+    let h12 = dot(u, jq2);
+    let h22 = dot(r, jq2);
+    // z - (u·z) u - (q2·z) q2, reusing jq2 as scratch.
+    let (uz, qz) = (dot(u, z), dot(r, z));
+    for (((j, zi), ui), qi) in jq2.iter_mut().zip(z.iter()).zip(u.iter()).zip(r.iter()) {
+        *j = *zi - uz * *ui - qz * *qi;
+    }
+    let residual = norm2(jq2) / nz;
+    let tr = h11 + h22;
+    let det = h11 * h22 - h12 * h21;
+    let disc = tr * tr - T::from_f64(4.0) * det;
+    let modulus = if disc >= T::ZERO {
+        T::HALF * (tr.abs() + disc.sqrt())
+    } else {
+        det.sqrt()
+    };
+    (modulus, residual)
 }
 
 /// `v = D u`, normalised to a largest entry of 1 (a direction in the original coordinates).

@@ -219,9 +219,7 @@ impl<T: Real, const N: usize> Merson<T, N> {
             return Ok(stats);
         }
         let mut h = cfg.h_init.min(cfg.h_max).max(cfg.h_min);
-        let mut ys = [T::ZERO; N];
         let mut y1 = [T::ZERO; N];
-        let tab = &MERSON;
         while t < t_end {
             if stats.accepted + stats.rejected >= u64::from(cfg.max_steps) {
                 return Err(Error::StepBudgetExceeded {
@@ -257,46 +255,8 @@ impl<T: Real, const N: usize> Merson<T, N> {
             let rest = t_end - t;
             let last = h >= rest || h * T::from_f64(1.01) >= rest;
             let hs = if last { rest } else { h };
-            if let Some(k0) = self.k.first_mut() {
-                *k0 = f0;
-            }
-            for i in 1..STAGES {
-                let (done, todo) = self.k.split_at_mut(i);
-                let (Some(ai), Some(ci), Some(ki)) = (tab.a.get(i), tab.c.get(i), todo.first_mut())
-                else {
-                    continue;
-                };
-                for (n, yn) in ys.iter_mut().enumerate() {
-                    let mut s = T::ZERO;
-                    for (aij, kj) in ai.iter().zip(done.iter()) {
-                        s += T::from_f64(*aij) * kj.get(n).copied().unwrap_or(T::ZERO);
-                    }
-                    *yn = y.get(n).copied().unwrap_or(T::ZERO) + hs * s;
-                }
-                sys.rhs(t + T::from_f64(*ci) * hs, &ys, ki);
-                stats.rhs_evals += 1;
-            }
-            // Solution and error norm.
-            let mut err = T::ZERO;
-            for (n, y1n) in y1.iter_mut().enumerate() {
-                let (mut s, mut e) = (T::ZERO, T::ZERO);
-                for ((bi, bh), ki) in tab.b.iter().zip(tab.b_hat.iter()).zip(self.k.iter()) {
-                    let kn = ki.get(n).copied().unwrap_or(T::ZERO);
-                    s += T::from_f64(*bi) * kn;
-                    e += T::from_f64(*bi - *bh) * kn;
-                }
-                let y0n = y.get(n).copied().unwrap_or(T::ZERO);
-                *y1n = y0n + hs * s;
-                let atol = cfg.tol.atol.get(n).copied().unwrap_or(T::ONE);
-                let scale = atol + cfg.tol.rtol * y0n.abs().max(y1n.abs());
-                let r = (hs * e).abs() / scale;
-                // NaN propagates as a rejection below.
-                err = if r.is_finite() {
-                    err.max(r)
-                } else {
-                    T::INFINITY
-                };
-            }
+            let (err, evals) = self.stages_and_error(sys, t, y, &f0, hs, &mut y1);
+            stats.rhs_evals += evals;
             if err <= T::ONE {
                 let factor = ctl.accept(err, after_reject);
                 after_reject = false;
@@ -328,6 +288,67 @@ impl<T: Real, const N: usize> Merson<T, N> {
             }
         }
         Ok(stats)
+    }
+
+    /// One Merson step of `hs` from `(t, y)` with `f0 = f(t, y)`: the stages into `k`,
+    /// the solution into `y1`; returns the error norm (the largest
+    /// `|hs Σ (b_i − b̂_i) k_i|` over its tolerance scale, infinite where one is not
+    /// finite, so that the step is rejected) and the evaluations it made.
+    #[inline(always)]
+    fn stages_and_error<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t: T,
+        y: &[T; N],
+        f0: &[T; N],
+        hs: T,
+        y1: &mut [T; N],
+    ) -> (T, u64) {
+        let cfg = &self.config;
+        let tab = &MERSON;
+        let mut ys = [T::ZERO; N];
+        let mut evals = 0u64;
+        if let Some(k0) = self.k.first_mut() {
+            *k0 = *f0;
+        }
+        for i in 1..STAGES {
+            let (done, todo) = self.k.split_at_mut(i);
+            let (Some(ai), Some(ci), Some(ki)) = (tab.a.get(i), tab.c.get(i), todo.first_mut())
+            else {
+                continue;
+            };
+            for (n, yn) in ys.iter_mut().enumerate() {
+                let mut s = T::ZERO;
+                for (aij, kj) in ai.iter().zip(done.iter()) {
+                    s += T::from_f64(*aij) * kj.get(n).copied().unwrap_or(T::ZERO);
+                }
+                *yn = y.get(n).copied().unwrap_or(T::ZERO) + hs * s;
+            }
+            sys.rhs(t + T::from_f64(*ci) * hs, &ys, ki);
+            evals += 1;
+        }
+        // Solution and error norm.
+        let mut err = T::ZERO;
+        for (n, y1n) in y1.iter_mut().enumerate() {
+            let (mut s, mut e) = (T::ZERO, T::ZERO);
+            for ((bi, bh), ki) in tab.b.iter().zip(tab.b_hat.iter()).zip(self.k.iter()) {
+                let kn = ki.get(n).copied().unwrap_or(T::ZERO);
+                s += T::from_f64(*bi) * kn;
+                e += T::from_f64(*bi - *bh) * kn;
+            }
+            let y0n = y.get(n).copied().unwrap_or(T::ZERO);
+            *y1n = y0n + hs * s;
+            let atol = cfg.tol.atol.get(n).copied().unwrap_or(T::ONE);
+            let scale = atol + cfg.tol.rtol * y0n.abs().max(y1n.abs());
+            let r = (hs * e).abs() / scale;
+            // NaN propagates as a rejection below.
+            err = if r.is_finite() {
+                err.max(r)
+            } else {
+                T::INFINITY
+            };
+        }
+        (err, evals)
     }
 }
 
