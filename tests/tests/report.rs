@@ -235,6 +235,7 @@ fn run_json_has_no_null_numbers_and_the_text_shows_the_same_values() {
     assert_eq!(
         keys,
         [
+            "camsim_version",
             "jumps",
             "jumps_dropped",
             "per_period",
@@ -243,6 +244,7 @@ fn run_json_has_no_null_numbers_and_the_text_shows_the_same_values() {
             "revolutions",
             "rhs_evals",
             "rpm",
+            "scene",
             "steady_state",
             "steps",
             "verdict",
