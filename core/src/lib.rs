@@ -86,6 +86,10 @@ pub use actual::profile::{
     IntervalCheck, IntervalChoice, LiftSensitivity, Tolerances, CHECK_SUBSTEPS,
 };
 pub use actual::random::{sample_seed, splitmix64, NormalMethod, RandomStream};
+pub use actual::sampled::{
+    check_envelope, envelope_intervals, sampled_deviation, EnvelopeLimits, SampledError, Samples,
+    ENVELOPE_KNOTS_PER_ROW,
+};
 pub use actual::spline::{CubicSpline, SplineEnds, SplineError, SplinePoint};
 pub use actual::waviness::{count_extrema_open, waviness_fpr, waviness_fpr_of};
 

@@ -5,5 +5,6 @@
 pub(crate) mod envelope;
 pub(crate) mod profile;
 pub(crate) mod random;
+pub(crate) mod sampled;
 pub(crate) mod spline;
 pub(crate) mod waviness;

@@ -148,6 +148,22 @@ impl<T: Real, const K: usize> DeviatedLift<T, K> {
         }
         (sum / T::from_usize(n)).sqrt()
     }
+
+    /// The largest |deviation| at the spline's knots (in) and its knot (rad): the first
+    /// knot of the largest, or of a NaN (then NaN); `(0, 0)` for an all-zero deviation.
+    pub fn largest_at_knots(&self) -> (T, T) {
+        let s = &self.spline;
+        s.knots()
+            .iter()
+            .zip(s.values())
+            .fold((T::ZERO, T::ZERO), |(w, at), (&k, &v)| {
+                if v.abs() > w || v.is_nan() {
+                    (v.abs(), k)
+                } else {
+                    (w, at)
+                }
+            })
+    }
 }
 
 impl<T: Real, const K: usize> LiftProfile<T> for DeviatedLift<T, K> {
