@@ -4,8 +4,8 @@
 //! contour; a measured revolution in [`crate::sampled_deviation`]).
 
 use crate::{
-    actual::profile::interval_rad, ActualCam, CamGeometry, CamProgram, CubicSpline, Error,
-    FollowerLift, LiftProfile, ProfileSpec, RandomStream, Real, Result, SplinePoint,
+    ActualCam, CamGeometry, CamProgram, CubicSpline, Error, FollowerLift, LiftProfile, ProfileSpec,
+    RandomStream, Real, Result, SplinePoint,
 };
 
 /// The program plus a periodic deviation spline over one revolution with at most `K`
@@ -85,16 +85,9 @@ impl<T: Real, const K: usize> DeviatedLift<T, K> {
         spec: &ProfileSpec<'_, T, S>,
         rng: &mut RandomStream<T>,
     ) -> Result<Self> {
-        let ProfileSpec {
-            program,
-            geometry,
-            tolerances,
-            intervals,
-        } = *spec;
-        let step = interval_rad::<T, K>(intervals)?;
-        Self::uniform(step, intervals, |k| {
-            let f = program.follower(T::from_usize(k) * step);
-            let sigma = tolerances.lift_sigma(geometry, f.y, f.dy);
+        let step = spec.step::<K>()?;
+        Self::uniform(step, spec.intervals, |k| {
+            let (_, sigma) = spec.lift_and_sigma(k, step);
             rng.gaussian(T::ZERO, sigma)
         })
     }

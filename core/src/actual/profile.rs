@@ -177,6 +177,20 @@ pub struct ProfileSpec<'a, T, const S: usize> {
     pub intervals: usize,
 }
 
+impl<T: Real, const S: usize> ProfileSpec<'_, T, S> {
+    /// The interval `2π / intervals` (rad) after checking `3 ≤ intervals < N`.
+    pub(crate) fn step<const N: usize>(&self) -> Result<T> {
+        interval_rad::<T, N>(self.intervals)
+    }
+
+    /// The theoretical lift `y(θ_k)` and its standard deviation `σ_s(θ_k)` (Eq. E.5) at
+    /// the knot `θ_k = k·step`: what the thesis's actual lift perturbs (IV.2.3).
+    pub(crate) fn lift_and_sigma(&self, k: usize, step: T) -> (T, T) {
+        let f = self.program.follower(T::from_usize(k) * step);
+        (f.y, self.tolerances.lift_sigma(self.geometry, f.y, f.dy))
+    }
+}
+
 /// The actual follower lift of IV.2.3 (see the module docs): a periodic spline through
 /// `intervals + 1` points (the last repeats the first) at `θ_k = 2πk/intervals`.
 #[derive(Clone, Debug, PartialEq)]
@@ -196,17 +210,10 @@ impl<T: Real, const N: usize> ActualLift<T, N> {
         spec: &ProfileSpec<'_, T, S>,
         rng: &mut RandomStream<T>,
     ) -> Result<Self> {
-        let ProfileSpec {
-            program,
-            geometry,
-            tolerances,
-            intervals,
-        } = *spec;
-        let step = interval_rad::<T, N>(intervals)?;
+        let (step, intervals) = (spec.step::<N>()?, spec.intervals);
         let spline = CubicSpline::periodic_from_fn(step, intervals, |k| {
-            let f = program.follower(T::from_usize(k) * step);
-            let sigma = tolerances.lift_sigma(geometry, f.y, f.dy);
-            rng.gaussian(f.y, sigma)
+            let (y, sigma) = spec.lift_and_sigma(k, step);
+            rng.gaussian(y, sigma)
         })?;
         Ok(ActualLift { spline, intervals })
     }
@@ -291,7 +298,7 @@ impl<T: Real, const N: usize> ActualContour<T, N> {
             tolerances,
             intervals,
         } = *spec;
-        let step = interval_rad::<T, N>(intervals)?;
+        let step = spec.step::<N>()?;
         let (sigma, _, _) = tolerances.sigmas();
         let setting = |k: usize| {
             let th = T::from_usize(k % intervals) * step;
