@@ -128,7 +128,7 @@ os.replace(tmp, out)
 EOF
 }
 # Every section's name, in the order the file lists them.
-ORDER="run run-static jump-speed run-undamped run-actual waviness profile-methods validity laws modal contact
+ORDER="run run-static jump-speed run-undamped run-actual own-cam waviness profile-methods validity laws modal contact
 profile predict bench-quick models sweep compare tolerance-study montecarlo sweep-actual sensitivity design bench
 firmware board"
 
@@ -166,6 +166,43 @@ if want quick run-actual; then
     show run --actual --seed 1
     show run --actual --seed 1 --profile-method envelope
     show run --actual --seed 1 --interval criteria
+    end
+fi
+if want quick own-cam; then
+    begin own-cam "Your own cam: the README's \`mycam.toml\`" \
+        "The scene of the README's \"Five minutes on your own cam\" (a cycloidal rise of 1 in over 120 deg, a 3-4-5 return, 80 lb/in, base radius 2 in, 600 rpm): checked, run with the jump onset, and its spring sized for a 15 % speed margin."
+    M="$WORK/mycam.toml"
+    cat >"$M" <<'TOML'
+# mycam.toml: a cycloidal rise of 1 in over 120 deg, a dwell, a 3-4-5 return; 600 rpm.
+[run]
+rpm = 600
+
+[design]
+spring_rate_lb_per_in = 80.0
+
+[design.geometry]
+base_radius_in = 2.0
+
+[design.program]      # the laws' names: camsim laws
+segment = [
+  { kind = "dwell", start_deg = 0.0, end_deg = 60.0, lift_in = 0.0 },
+  { kind = "rise", law = "cycloidal", start_deg = 60.0, end_deg = 180.0, lift_in = 1.0 },
+  { kind = "dwell", start_deg = 180.0, end_deg = 240.0, lift_in = 0.0 },
+  { kind = "return", law = "3-4-5", start_deg = 240.0, end_deg = 360.0, lift_in = 1.0 },
+]
+TOML
+    {
+        printf '$ cat mycam.toml\n'
+        cat "$M"
+        printf '\n$ camsim scene --check mycam.toml > /dev/null\n'
+    } >>"$CURRENT"
+    "$C" scene --check "$M" 2>&1 >/dev/null | sed "s|$M|mycam.toml|g" >>"$CURRENT"
+    printf '\n$ camsim run mycam.toml --margin\n' >>"$CURRENT"
+    "$C" run "$M" --margin 2>&1 | sed "s|$M|mycam.toml|g" >>"$CURRENT"
+    printf '\n$ camsim design spring mycam.toml --margin 15\n' >>"$CURRENT"
+    "$C" design spring "$M" --margin 15 2>&1 | grep -Ev '^camsim [a-z -]+: [0-9]+/[0-9]+ [a-z]+ \(' |
+        sed "s|$M|mycam.toml|g" >>"$CURRENT"
+    printf '\n' >>"$CURRENT"
     end
 fi
 if want quick waviness; then
@@ -223,6 +260,13 @@ if want quick profile; then
     "$C" profile --out "$P" --cutter-radius 0.5 2>&1 | sed "s|$P|DIR|g" >>"$CURRENT"
     printf '\n$ camsim run --revolutions 2 --measured DIR/surface_radius.csv\n' >>"$CURRENT"
     "$C" run --revolutions 2 --measured "$P/surface_radius.csv" 2>&1 | sed "s|$P|DIR|g" >>"$CURRENT"
+    # The same read-back from a drawing ten times coarser (--chord-error 1e-3 in).
+    P2="$WORK/profile-coarse"
+    mkdir -p "$P2"
+    "$C" profile --out "$P2" --chord-error 1e-3 >/dev/null 2>&1
+    printf '\n$ camsim profile --out DIR --chord-error 1e-3 > /dev/null\n' >>"$CURRENT"
+    printf "\$ camsim run --revolutions 2 --measured DIR/surface_radius.csv | grep -E 'lift deviation'\n" >>"$CURRENT"
+    "$C" run --revolutions 2 --measured "$P2/surface_radius.csv" 2>&1 | grep -E 'lift deviation' >>"$CURRENT"
     printf '\n' >>"$CURRENT"
     end
 fi
@@ -264,14 +308,27 @@ if want quick tolerance-study; then
 fi
 if want long montecarlo; then
     begin montecarlo "Monte Carlo: \`camsim montecarlo\`" \
-        "200 actual cams of each program at the default waviness (FPR 17) and the thesis's rougher cams (39, 57); seed 1, full model, 800 rpm."
+        "200 actual cams of each program at the default waviness (FPR 17) and the thesis's rougher cams (39, 57), then at the interval the criteria of IV.2.3 choose; seed 1, full model, 800 rpm. Then the reduced studies against the full model on the same 200 cams (--interval-deg 5, seed 42), and 10 000 cams with the quasi-static cantilever. Per period P(jump) and the smallest contact force; over revolution 2 the smallest contact force and the acceleration-RMS sum; the solver's steps a sample and the run time."
+    MC='^profile:| mean +sd|^[a-z_]+: jump|Fc_min|^whole revolution|sum rms_a|FPR  |jump anywhere|^solver|run time'
     for scene in "" scenes/stable-4567-rise.toml; do
         for f in 17 39 57; do
             # shellcheck disable=SC2086
-            filtered '^profile:|FPR|jump anywhere|smallest|run time' montecarlo $scene --samples 200 \
-                --waviness-fpr "$f"
+            filtered "$MC" montecarlo $scene --samples 200 --waviness-fpr "$f"
         done
     done
+    filtered "$MC" montecarlo --samples 200 --interval criteria
+    R='jump anywhere|^solver|run time'
+    filtered "$R" montecarlo --samples 200 --interval-deg 5 --seed 42
+    filtered "$R" montecarlo --samples 200 --interval-deg 5 --seed 42 --vertical
+    filtered "$R" montecarlo --samples 200 --interval-deg 5 --seed 42 --vertical --rtol 1e-5 --atol 1e-7
+    filtered "$R" montecarlo --samples 200 --interval-deg 5 --seed 42 --vertical --constant-cam-speed
+    filtered "$R" montecarlo --samples 200 --interval-deg 5 --seed 42 --revolutions 1 --start static
+    filtered "$R" montecarlo --samples 200 --interval-deg 5 --seed 42 --follower quasi-static-cantilever \
+        --max-step-fraction 0.01 --rtol 1e-4 --atol 1e-8
+    filtered "$R" montecarlo --samples 200 --interval-deg 5 --seed 42 --follower quasi-static-rod \
+        --max-step-fraction 0.01
+    filtered "$R" montecarlo --samples 10000 --interval-deg 5 --follower quasi-static-cantilever \
+        --max-step-fraction 0.01 --rtol 1e-4 --atol 1e-8
     end
 fi
 if want long sweep-actual; then

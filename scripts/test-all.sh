@@ -103,6 +103,8 @@ smoke run-csv-steps run --revolutions 1 --csv "$studies/run-steps.csv" --csv-eve
 smoke run-actual run --actual --revolutions 2 --json
 smoke jump-speed jump-speed --resolution 10 --json
 smoke scene scene --default
+smoke scene-json scene --default --json --units si
+smoke run-si run --revolutions 1 --json --units si
 "$C" scene --check scenes/stable-4567-rise.toml > /dev/null
 smoke bench bench --quick --json
 smoke models models --quick --json
@@ -116,8 +118,8 @@ smoke sensitivity sensitivity --quick --json
 # surface read back by run --measured), modal/contact/predict SCENE, jump-speed --actual.
 "$C" scene --default > "$studies/ref.toml"
 smoke profile profile "$studies/ref.toml" --out "$studies/cam" --plot "$studies/cam" \
-    --cutter-radius 0.5 --units in --json
-smoke profile-actual profile --actual --seed 3 --units mm --json
+    --cutter-radius 0.5 --units inch --json
+smoke profile-actual profile --actual --seed 3 --units si --json
 smoke roundtrip run --measured "$studies/cam/surface_radius.csv" --revolutions 1 --json
 smoke modal-scene modal "$studies/ref.toml" --json
 smoke contact-scene contact "$studies/ref.toml" --force 50 --json

@@ -21,6 +21,9 @@
 //!   velocities' atol; `CONVERGE_AT=<deg>` also prints each component and the step halved
 //!   five times at the steps starting within 0.05° after that angle.
 //! - `CONVERGE_DUMP=<rtol>`: England's error of every component at every sample.
+//! - `CONVERGE_SCALED=<r0>`: England classic (capped) and PI-capped with the stiffness cap
+//!   shrinking as `(rtol/r0)^(1/5)` below `r0` (`StiffnessCap::tolerance_scaled`), then
+//!   the capped imaginary-axis method (Merson) the same.
 //! - `CONVERGE_EPUS=<h_ref>`: England classic and PI-capped with error per unit step
 //!   (`camsim_core::PerUnitStep`), reference double step `h_ref` revolutions at ω0.
 //!
@@ -395,6 +398,54 @@ fn main() -> Result<()> {
                 line += &format!(" {:.3e}", s.states[k][i] - r.states[k][i]);
             }
             println!("{line}");
+        }
+        return Ok(());
+    }
+    if let Ok(spec) = std::env::var("CONVERGE_SCALED") {
+        // CONVERGE_SCALED=r0: England classic and PI, each with the stiffness cap shrinking
+        // as (rtol/r0)^(1/5) below r0 (StiffnessCap::tolerance_scaled).
+        let r0: f64 = spec.parse()?;
+        let cap = Some(camsim_core::StiffnessCap::tolerance_scaled(r0));
+        for (name, base) in [
+            ("england_capped", camsim_core::StepControl::classic_capped()),
+            ("england_pi_capped", camsim_core::StepControl::pi_capped()),
+        ] {
+            let control = camsim_core::StepControl {
+                stiffness_cap: cap,
+                ..base
+            };
+            for &rtol in &rtols {
+                let mut s = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+                let w = camsim::bench::methods::run_england(
+                    &model,
+                    &settings::<f64>(rtol),
+                    control,
+                    REVOLUTIONS,
+                    &mut s,
+                )?;
+                println!(
+                    "{name} scaled-cap {r0:e} rtol {rtol:e}: evals {} acc err {:.3e} disp err {:.3e}",
+                    w.evals,
+                    Samples::rms_diff(&s.samples.acc, &r.acc),
+                    Samples::rms_diff(&s.samples.disp, &r.disp)
+                );
+            }
+        }
+        for &rtol in &rtols {
+            let mut s = Sampler::new(&model, REVOLUTIONS, Some(MEASURED));
+            let w = camsim::bench::methods::run_merson(
+                &model,
+                &settings::<f64>(rtol),
+                cap,
+                REVOLUTIONS,
+                &mut s,
+            )?;
+            println!(
+                "merson_capped scaled-cap {r0:e} rtol {rtol:e}: evals {} acc err {:.3e} disp err {:.3e}",
+                w.evals,
+                Samples::rms_diff(&s.samples.acc, &r.acc),
+                Samples::rms_diff(&s.samples.disp, &r.disp)
+            );
         }
         return Ok(());
     }

@@ -17,6 +17,17 @@ pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
+    /// Units of the --json output: inch (the thesis's: in, lb, psi, lb in; the default) or si
+    /// (mm, N, MPa, N m, N/mm, kg); every numeric key names its unit. The tables and plots
+    /// print the inch family, which they name; `profile` draws in in or mm.
+    #[arg(
+        long,
+        global = true,
+        value_enum,
+        value_name = "FAMILY",
+        default_value = "inch"
+    )]
+    pub units: crate::units::Units,
 }
 
 /// The subcommands.
@@ -86,6 +97,8 @@ pub fn command() -> clap::Command {
 
 /// Runs a parsed command.
 pub fn execute(cli: Cli) -> Result<()> {
+    crate::units::set(cli.units);
+    let units = cli.units;
     match cli.command {
         Command::Laws(a) => cmd::laws::run(a),
         Command::Modal(a) => cmd::modal::run(a),
@@ -102,7 +115,11 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Predict(a) => cmd::predict::run(a),
         Command::FirmwareCheck(a) => cmd::firmware_check::run(a),
         Command::Montecarlo(a) => cmd::montecarlo::run(a),
-        Command::Profile(a) => cmd::profile::run(a),
+        Command::Profile(mut a) => {
+            // The drawing's length unit is the output's.
+            a.units = units.into();
+            cmd::profile::run(a)
+        }
         Command::Compare(a) => cmd::compare::run(a),
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
         Command::Sensitivity(a) => cmd::sensitivity::run(a),
@@ -200,7 +217,8 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = match Cli::try_parse_from(args) {
+    let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
+    let cli = match Cli::try_parse_from(&args) {
         Ok(c) => c,
         Err(e) => {
             // --help and --version are not errors.
@@ -215,6 +233,16 @@ where
             return 2;
         }
     };
+    // SI applies to the JSON output only: refused before anything runs or is written.
+    if cli.units == crate::units::Units::Si
+        && !args.iter().any(|a| a == "--json")
+        && !matches!(cli.command, Command::Profile(_))
+    {
+        report_error(
+            "camsim: error: --units si: only the --json output is converted (add --json); the tables and plots print the inch family they name (see camsim --help)",
+        );
+        return 2;
+    }
     match execute(cli) {
         Ok(()) => 0,
         Err(e) if is_broken_pipe(&e) => 0,

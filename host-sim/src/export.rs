@@ -132,14 +132,25 @@ pub fn max_chord_error(
     worst
 }
 
-/// A length unit of the drawing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+/// A length unit of the drawing (`--units inch` draws in inches, `--units si` in
+/// millimetres).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Units {
     /// Inches (the model's unit).
+    #[default]
     In,
     /// Millimetres (25.4 per inch).
     Mm,
+}
+
+impl From<crate::units::Units> for Units {
+    fn from(u: crate::units::Units) -> Self {
+        match u {
+            crate::units::Units::Inch => Units::In,
+            crate::units::Units::Si => Units::Mm,
+        }
+    }
 }
 
 impl Units {

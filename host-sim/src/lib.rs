@@ -19,4 +19,5 @@ pub mod sim;
 pub mod stats;
 pub mod study;
 pub mod study_limits;
+pub mod units;
 pub mod verdict;

@@ -394,7 +394,9 @@ pub fn print<R: Report>(report: &R, json: bool) -> Result<()> {
     ensure_finite(report)?;
     ensure_physical(report)?;
     if json {
-        out(&format!("{}\n", report.json()?))
+        // Every numeric key with its unit, in the family --units chose.
+        let text = crate::units::json(&report.json()?, crate::units::current())?;
+        out(&format!("{text}\n"))
     } else {
         out(&report.text())
     }

@@ -1065,3 +1065,32 @@ fn per_unit_step_makes_the_slow_modes_error_follow_the_tolerance_where_stability
     assert!(u6 / u8 >= 30.0, "per unit step: {u6:e} -> {u8:e}");
     assert!(u6 < 10.0 * 1e-6 && u8 < 10.0 * 1e-8, "{u6:e} {u8:e}");
 }
+
+/// Issue 22: the tolerance-scaled cap is `fraction · (rtol / rtol_full)^(1/5)` below
+/// `rtol_full` and the full cap at or above it (closed form: a factor 1e-5 in rtol is a
+/// factor 0.1 in the cap).
+#[test]
+fn tolerance_scaled_cap_shrinks_as_the_fifth_root_of_rtol_below_rtol_full() {
+    let cap = StiffnessCap::<f64>::tolerance_scaled(1e-5);
+    assert_eq!(cap.fraction_at(1e-5), cap.fraction);
+    assert_eq!(cap.fraction_at(1e-2), cap.fraction);
+    assert!((cap.fraction_at(1e-10) / cap.fraction - 0.1).abs() < 1e-12);
+    let rho = 2.5e5;
+    assert_eq!(cap.h_cap_at(rho, 1e-3), cap.h_cap(rho));
+    assert!((cap.h_cap_at(rho, 1e-10) / cap.h_cap(rho) - 0.1).abs() < 1e-12);
+    // Without scaling the fraction never moves.
+    assert_eq!(StiffnessCap::<f64>::new().fraction_at(1e-10), 0.95);
+    for bad in [0.0, -1e-5, f64::NAN, f64::INFINITY] {
+        let e = StiffnessCap::<f64>::tolerance_scaled(bad).validate();
+        assert!(
+            matches!(
+                e,
+                Err(camsim_core::Error::InvalidParameter {
+                    field: "cap.rtol_full",
+                    ..
+                })
+            ),
+            "{bad}: {e:?}"
+        );
+    }
+}

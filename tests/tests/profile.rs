@@ -26,9 +26,13 @@ fn dir(name: &str) -> PathBuf {
 fn export(args: &[&str]) -> ProfileReport {
     let mut argv = vec!["camsim", "profile"];
     argv.extend_from_slice(args);
-    let Command::Profile(a) = parse_from(argv).unwrap().command else {
+    let cli = parse_from(argv).unwrap();
+    let units = cli.units;
+    let Command::Profile(mut a) = cli.command else {
         panic!("not profile")
     };
+    // As the binary does: the drawing's length unit is the global --units.
+    a.units = units.into();
     profile::report(&a).unwrap()
 }
 

@@ -281,6 +281,19 @@ pub struct StiffnessCap<T> {
     /// iteration: 1e-3, but at least `30 √eps` (1e-2 in `f32`, whose finite differences
     /// cannot do better).
     pub rel_tol: T,
+    /// Tolerance scaling of the cap (issue 22, docs/BENCHMARKS.md "Steps held by stability
+    /// shrink with the tolerance"): `None` (the default), the cap is `fraction` of the
+    /// boundary at every tolerance. `Some(r0)`: below `rtol = r0` the fraction is
+    /// `fraction · (rtol / r0)^(1/5)`.
+    ///
+    /// Why: a step held at the cap is set by the stiffest mode's stability, not by the
+    /// tolerance, so the truncation error of the slow components over such a step does
+    /// not fall with `rtol`, and neither does the global error it feeds (the cam model's
+    /// dwells). England's local error is `O(h^5)`; a capped step `∝ rtol^(1/5)` makes each
+    /// capped step's local error `∝ rtol`, as an accuracy-held step's is, so the global
+    /// error follows `rtol` wherever the cap binds too. `r0` is where the full cap is
+    /// allowed: at and above it nothing changes.
+    pub rtol_full: Option<T>,
 }
 
 impl<T: Real> StiffnessCap<T> {
@@ -293,6 +306,27 @@ impl<T: Real> StiffnessCap<T> {
             refresh_every: 25,
             max_iterations: 20,
             rel_tol: T::from_f64(1e-3).max(T::EPSILON.sqrt() * T::from_f64(30.0)),
+            rtol_full: None,
+        }
+    }
+
+    /// [`StiffnessCap::new`] with the cap shrinking as `(rtol / rtol_full)^(1/5)` below
+    /// `rtol_full` ([`StiffnessCap::rtol_full`]).
+    pub fn tolerance_scaled(rtol_full: T) -> Self {
+        Self {
+            rtol_full: Some(rtol_full),
+            ..Self::new()
+        }
+    }
+
+    /// The fraction of the boundary allowed at relative tolerance `rtol`:
+    /// `fraction · min(1, (rtol / rtol_full)^(1/5))`, or `fraction` without scaling.
+    pub fn fraction_at(&self, rtol: T) -> T {
+        match self.rtol_full {
+            Some(r0) if rtol < r0 && rtol > T::ZERO => {
+                self.fraction * (rtol / r0).powf(T::from_f64(0.2))
+            }
+            _ => self.fraction,
         }
     }
 
@@ -325,14 +359,29 @@ impl<T: Real> StiffnessCap<T> {
                 self.rel_tol.to_f64(),
             );
         }
+        if let Some(r0) = self.rtol_full {
+            if !(r0.is_finite() && r0 > T::ZERO) {
+                return bad("cap.rtol_full", "must be positive and finite", r0.to_f64());
+            }
+        }
         Ok(())
     }
 
     /// The largest double step for spectral radius `rho` (`T::MAX` for `rho` zero or not
     /// finite: no cap).
     pub fn h_cap(&self, rho: T) -> T {
+        self.h_cap_with(rho, self.fraction)
+    }
+
+    /// The largest double step for spectral radius `rho` at relative tolerance `rtol`
+    /// ([`StiffnessCap::fraction_at`]); [`StiffnessCap::h_cap`] without tolerance scaling.
+    pub fn h_cap_at(&self, rho: T, rtol: T) -> T {
+        self.h_cap_with(rho, self.fraction_at(rtol))
+    }
+
+    fn h_cap_with(&self, rho: T, fraction: T) -> T {
         if rho.is_finite() && rho > T::ZERO {
-            let h = T::TWO * self.fraction * self.boundary / rho;
+            let h = T::TWO * fraction * self.boundary / rho;
             if h.is_finite() {
                 return h;
             }
@@ -346,6 +395,14 @@ impl<T: Real> Default for StiffnessCap<T> {
         Self::new()
     }
 }
+
+/// The `rtol_full` of [`StiffnessCap::tolerance_scaled`] the bench, the convergence
+/// harness and the tests use: 1e-5. Chosen once, not derived from the model: the loosest
+/// tolerance of issue 22's ladder (1e-5 to 1e-8), where England's error still followed
+/// `rtol`; every tolerance at or above it (the chip's 1e-2 to 1e-4) keeps the full cap and
+/// its results bit for bit. On the reference design 1e-4 converges too, at more cost
+/// (docs/BENCHMARKS.md). Not used by default: `camsim run` runs England without a cap.
+pub const SCALED_CAP_FULL_RTOL: f64 = 1e-5;
 
 /// Step-size control of [`England`](crate::England) beyond [`EnglandConfig`](crate::EnglandConfig):
 /// pass it to [`England::with_control`](crate::England::with_control).

@@ -526,7 +526,7 @@ impl<T: Real, const N: usize> England<T, N> {
                     _ => T::NAN,
                 };
                 self.rho = rho;
-                self.h_cap = cap.h_cap(rho);
+                self.h_cap = cap.h_cap_at(rho, self.config.tol.rtol);
                 self.since_estimate = 0;
                 self.estimate_due = false;
             }

@@ -160,7 +160,8 @@ impl<T: Real, const N: usize> Merson<T, N> {
 
     /// As [`Merson::new`], the step also capped by the stiffness estimate with `cap`'s
     /// fraction, refresh interval and power-iteration settings (its `boundary` is replaced
-    /// by Merson's √12).
+    /// by Merson's √12), and its tolerance scaling ([`StiffnessCap::rtol_full`]: the
+    /// fraction shrinks as `(rtol / rtol_full)^(1/5)` below `rtol_full`, issue 22).
     pub fn with_cap(config: EnglandConfig<T, N>, cap: StiffnessCap<T>) -> Result<Self> {
         let mut s = Self::new(config)?;
         if !(cap.fraction > T::ZERO && cap.fraction <= T::ONE) {
@@ -169,6 +170,15 @@ impl<T: Real, const N: usize> Merson<T, N> {
                 rule: "must lie in (0, 1]",
                 value: cap.fraction.to_f64(),
             });
+        }
+        if let Some(r0) = cap.rtol_full {
+            if !(r0.is_finite() && r0 > T::ZERO) {
+                return Err(Error::InvalidParameter {
+                    field: "cap.rtol_full",
+                    rule: "must be positive and finite",
+                    value: r0.to_f64(),
+                });
+            }
         }
         s.cap = Some(StiffnessCap {
             boundary: T::from_f64(IMAGINARY_BOUNDARY),
@@ -235,7 +245,7 @@ impl<T: Real, const N: usize> Merson<T, N> {
                     )?;
                     stats.rhs_evals += u64::from(evals);
                     h_cap = if rho > T::ZERO && rho.is_finite() {
-                        cap.fraction * cap.boundary / rho
+                        cap.fraction_at(cfg.tol.rtol) * cap.boundary / rho
                     } else {
                         T::INFINITY
                     };

@@ -146,7 +146,13 @@ where
         )?,
         Method::Rk4 { steps_per_rev } => rk4(model, steps_per_rev, revolutions, sampler)?,
         Method::Dopri5 => dopri5(model, settings, revolutions, sampler)?,
-        Method::Merson { capped } => merson(model, settings, capped, revolutions, sampler)?,
+        Method::Merson { capped } => run_merson(
+            model,
+            settings,
+            capped.then(StiffnessCap::new),
+            revolutions,
+            sampler,
+        )?,
         Method::Rosenbrock { jac_every } => {
             rosenbrock(model, settings, jac_every, revolutions, sampler)?
         }
@@ -223,11 +229,12 @@ fn england<T: Real, S: Scene, const N: usize>(
 
 /// Merson's 4(3) pair on England's tolerances (rtol, per-component atol) and step bounds
 /// halved (England's are double steps), its step ends (with `f`, the next step's first
-/// stage, so free) through the quintic Hermite sampler.
-fn merson<T: Real, S: Scene, const N: usize>(
+/// stage, so free) through the quintic Hermite sampler; `cap`: its stiffness cap (`None`:
+/// uncapped). [`run`] with [`Method::Merson`] adds the checks of a complete run.
+pub fn run_merson<T: Real, S: Scene, const N: usize>(
     model: &CamModel<T, S, N>,
     settings: &SolverSettings<T>,
-    capped: bool,
+    cap: Option<StiffnessCap<T>>,
     revolutions: u32,
     sampler: &mut Sampler<'_, T, S, N>,
 ) -> Result<Work> {
@@ -241,10 +248,9 @@ fn merson<T: Real, S: Scene, const N: usize>(
         ..config
     };
     let sys = Counted::new(model);
-    let mut solver = if capped {
-        Merson::with_cap(single, StiffnessCap::new())?
-    } else {
-        Merson::new(single)?
+    let mut solver = match cap {
+        Some(cap) => Merson::with_cap(single, cap)?,
+        None => Merson::new(single)?,
     };
     let mut y = model.static_state();
     let t_end = end_time(model.design().omega0, revolutions);

@@ -63,17 +63,18 @@ pub struct Args {
     /// of `run --measured`), pitch.csv and, with --cutter-radius, cutter.csv.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Radius of the cutter (grinding wheel or end mill), in --units: also write its
+    /// Radius of the cutter (grinding wheel or end mill), in the --units length (in or mm): also write its
     /// centre path.
     #[arg(long, value_name = "LEN", allow_hyphen_values = true, value_parser = positive_finite)]
     pub cutter_radius: Option<f64>,
-    /// Largest distance of a chord from the curve, in --units (default 0.0001 in,
+    /// Largest distance of a chord from the curve, in the --units length (default 0.0001 in,
     /// 0.00254 mm: a fifth of the thesis's cam tolerance).
     #[arg(long, value_name = "LEN", allow_hyphen_values = true, value_parser = positive_finite)]
     pub chord_error: Option<f64>,
-    /// Length unit of the DXF, of the x/y CSVs and of --cutter-radius and --chord-error
-    /// (surface_radius.csv stays in inches, as `run --measured` reads it).
-    #[arg(long, value_enum, default_value_t = Units::In)]
+    /// Length unit of the DXF, of the x/y CSVs, of the report and of --cutter-radius and
+    /// --chord-error: the global `--units` (inch: in; si: mm; surface_radius.csv stays in
+    /// inches, as `run --measured` reads it). Set by the command line, not an option here.
+    #[arg(skip)]
     pub units: Units,
     /// A simulated machined cam (`--actual` and its options) instead of the theoretical.
     #[command(flatten)]
@@ -132,6 +133,41 @@ pub struct ProfileReport {
 }
 
 impl Report for ProfileReport {
+    /// Every length key with the drawing's unit (`base_radius_mm`), which `--units`
+    /// chose: the values are in it already.
+    fn json(&self) -> serde_json::Result<String> {
+        const LENGTHS: [&str; 8] = [
+            "chord_error_bound",
+            "base_radius",
+            "roller_radius",
+            "cutter_radius",
+            "min_convex_surface_radius",
+            "min_concave_surface_radius",
+            "max_chord_error",
+            "perimeter",
+        ];
+        fn suffix(v: serde_json::Value, u: &str) -> serde_json::Value {
+            use serde_json::Value;
+            match v {
+                Value::Object(o) => Value::Object(
+                    o.into_iter()
+                        .map(|(k, v)| {
+                            let k = if LENGTHS.contains(&k.as_str()) {
+                                format!("{k}_{u}")
+                            } else {
+                                k
+                            };
+                            (k, suffix(v, u))
+                        })
+                        .collect(),
+                ),
+                Value::Array(a) => Value::Array(a.into_iter().map(|v| suffix(v, u)).collect()),
+                v => v,
+            }
+        }
+        serde_json::to_string_pretty(&suffix(serde_json::to_value(self)?, self.units.name()))
+    }
+
     fn text(&self) -> String {
         use std::fmt::Write;
         let u = self.units.name();

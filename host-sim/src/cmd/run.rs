@@ -162,6 +162,15 @@ impl ProfileReport {
 /// struct; `wall_ms` is a timing; `fpr` and `profile` only for an actual or measured cam).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunReport {
+    /// The camsim that ran it (its version).
+    pub camsim_version: &'static str,
+    /// The scene file given (absent: the built-in reference design).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene_file: Option<String>,
+    /// The scene that ran, as a scene file (TOML; the options that override it applied):
+    /// `camsim run` on this text reproduces the run (set by [`report`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scene: Option<String>,
     /// The verdict: contact, geometry, loads, spring, margin, steady state, warnings
     /// (set by [`report`]; absent from a bare [`RunReport::new`]).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -227,6 +236,9 @@ impl RunReport {
             })
             .collect();
         RunReport {
+            camsim_version: env!("CARGO_PKG_VERSION"),
+            scene_file: None,
+            scene: None,
             verdict: None,
             fpr: None,
             profile: None,
@@ -337,6 +349,8 @@ pub fn report(args: &Args) -> Result<RunReport> {
     report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
     report.profile = profile_report;
     report.verdict = Some(verdict(&spec, &report, &watch, &args.verdict)?);
+    report.scene_file = args.scene.scene.as_ref().map(|p| p.display().to_string());
+    report.scene = Some(crate::scene::spec_text(&spec)?);
     crate::report::ensure_finite(&report)?;
     crate::report::ensure_physical(&report)?;
     if let Some(f) = csv_file {

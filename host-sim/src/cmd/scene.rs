@@ -14,16 +14,33 @@ pub struct Args {
     /// Validate a scene file and print it back complete (every key, defaults filled in).
     #[arg(long, value_name = "FILE")]
     pub check: Option<PathBuf>,
+    /// Print the scene as JSON (the file's tables as objects, every key with its unit;
+    /// `--units si` converts them) instead of TOML.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
-    if let Some(p) = args.check {
-        let spec = crate::scene::load(&p)?;
-        return crate::report::out(&crate::scene::spec_text(&spec)?);
-    }
-    if !args.default {
+    let text = if let Some(p) = &args.check {
+        let spec = crate::scene::load(p)?;
+        crate::scene::spec_text(&spec)?
+    } else if args.default {
+        crate::scene::default_text()?
+    } else {
         anyhow::bail!("camsim scene: give --default (print the reference scene) or --check FILE");
+    };
+    if args.json {
+        return crate::report::out(&format!("{}\n", json(&text)?));
     }
-    crate::report::out(&crate::scene::default_text()?)
+    crate::report::out(&text)
+}
+
+/// A scene file's text as JSON: its tables as objects, its arrays of tables as arrays,
+/// every key in the unit family of `--units` ([`crate::units`]).
+pub fn json(text: &str) -> Result<String> {
+    let doc: toml::Table = toml::from_str(text)
+        .map_err(|e| anyhow::anyhow!("the scene as written does not read back: {e}"))?;
+    let pretty = serde_json::to_string_pretty(&doc)?;
+    Ok(crate::units::json(&pretty, crate::units::current())?)
 }

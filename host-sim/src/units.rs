@@ -1,0 +1,304 @@
+//! The units of the printed results: the thesis's inch family (the default) or SI,
+//! `--units inch|si` on every command.
+//!
+//! Every numeric JSON key carries its unit. The reports are structs whose fields are in
+//! the inch family; [`json`] rewrites a report's JSON once, by one table: a key that
+//! already ends in an inch-family unit (`_lb_per_in`, `_psi`, `_in`, ...) keeps it in
+//! inch output and gets the SI suffix (`_n_per_mm`, `_mpa`, `_mm`) and the converted value
+//! in SI; a key the reports share without a unit (the per-period columns `rms_velocity`,
+//! `contact_force_min`, `torque_max`, ...) gets its unit appended, and in SI its value
+//! converted. The value under such a key may be a number, or an object or array of
+//! numbers in that unit (a column's mean, spread and percentiles): every number in it is
+//! converted. Dimensionless keys (`aord_*`, ratios, probabilities, counts), angles
+//! (`_deg`), speeds of the cam (`_rpm`), frequencies (`_hz`) and times (`_s`, `_ms`) are
+//! the same in both families and pass unchanged.
+//!
+//! The factors are the scene files' exact ones ([`camsim_scene_file::units`]: 1 in =
+//! 25.4 mm, 1 lbf = 4.4482216152605 N), so a scene written in SI and the same scene in
+//! inch give the same results in either output.
+
+use std::sync::atomic::{AtomicU8, Ordering};
+
+use camsim_scene_file::units::{self as su, Unit, MM_PER_IN, N_PER_LBF};
+
+/// The unit family of the output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Units {
+    /// The thesis's: in, lb, psi, lb in (the default; `in` also reads).
+    #[default]
+    #[value(alias = "in")]
+    Inch,
+    /// SI with millimetres: mm, N, MPa, N m, N/mm, kg (`mm` also reads).
+    #[value(alias = "mm")]
+    Si,
+}
+
+/// Forces: lb, N.
+pub const FORCE: Unit = Unit {
+    inch: "lb",
+    si: "n",
+    si_per_inch: N_PER_LBF,
+    inch_symbol: "lb",
+    si_symbol: "N",
+};
+/// Weights given as masses (a spring's): lb, kg (the pound's mass, exact).
+pub const WEIGHT: Unit = Unit {
+    inch: "lb",
+    si: "kg",
+    si_per_inch: 0.453_592_37,
+    inch_symbol: "lb",
+    si_symbol: "kg",
+};
+/// Accelerations: in/s², mm/s².
+pub const ACCELERATION: Unit = Unit {
+    inch: "in_per_s2",
+    si: "mm_per_s2",
+    si_per_inch: MM_PER_IN,
+    inch_symbol: "in/s^2",
+    si_symbol: "mm/s^2",
+};
+/// A profile's second derivative in cam angle: in/rad², mm/rad².
+pub const LENGTH_PER_RAD2: Unit = Unit {
+    inch: "in_per_rad2",
+    si: "mm_per_rad2",
+    si_per_inch: MM_PER_IN,
+    inch_symbol: "in/rad^2",
+    si_symbol: "mm/rad^2",
+};
+/// Power: hp, kW (the mechanical horsepower, 550 ft lbf/s).
+pub const POWER: Unit = Unit {
+    inch: "hp",
+    si: "kw",
+    si_per_inch: 0.745_699_871_582_270_2,
+    inch_symbol: "hp",
+    si_symbol: "kW",
+};
+
+/// Every unit a key may end in (the scene files' and the results'); a key takes the
+/// longest inch-family suffix it ends in (`_lb_s_per_in` is a damping, not a length).
+const SUFFIXES: [Unit; 18] = [
+    su::LENGTH,
+    su::AREA,
+    su::SECOND_MOMENT,
+    su::STIFFNESS,
+    su::DAMPING,
+    su::MASS,
+    su::DENSITY,
+    su::STRESS,
+    su::INERTIA,
+    su::TORSIONAL_DAMPING,
+    su::TORSIONAL_STIFFNESS,
+    su::TORQUE,
+    su::GAIN,
+    su::SPEED,
+    FORCE,
+    ACCELERATION,
+    LENGTH_PER_RAD2,
+    POWER,
+];
+
+/// Keys the reports share without a unit, with the unit of their values.
+const BARE: [(&str, Unit); 25] = [
+    ("rms_displacement", su::LENGTH),
+    ("rms_velocity", su::SPEED),
+    ("rms_acceleration", ACCELERATION),
+    ("acc_rms_sum", ACCELERATION),
+    ("acc_rms_cycle1", ACCELERATION),
+    ("acc_rms_cycle2", ACCELERATION),
+    ("torque_avg", su::TORQUE),
+    ("torque_max", su::TORQUE),
+    ("torque_min", su::TORQUE),
+    ("torque_avg_rise", su::TORQUE),
+    ("torque_avg_return", su::TORQUE),
+    ("contact_force_min", FORCE),
+    ("contact_force_max", FORCE),
+    ("contact_force_avg", FORCE),
+    ("contact_stress_max", su::STRESS),
+    ("rms_deviation", su::LENGTH),
+    ("acc_rms", ACCELERATION),
+    ("acc_rms_err", ACCELERATION),
+    ("agree_acc_rms", ACCELERATION),
+    ("err_acc_rms", ACCELERATION),
+    ("signal_acc_rms", ACCELERATION),
+    ("agree_disp_rms", su::LENGTH),
+    ("err_disp_rms", su::LENGTH),
+    ("signal_disp_rms", su::LENGTH),
+    ("mean_deviation", su::LENGTH),
+];
+
+static CURRENT: AtomicU8 = AtomicU8::new(0);
+
+/// Sets the output's unit family for this process (`--units`, once, as the command
+/// starts).
+pub fn set(units: Units) {
+    CURRENT.store(units as u8, Ordering::Relaxed);
+}
+
+/// The output's unit family (`--units`; inch unless set).
+pub fn current() -> Units {
+    match CURRENT.load(Ordering::Relaxed) {
+        1 => Units::Si,
+        _ => Units::Inch,
+    }
+}
+
+/// The unit of a key and its stem: `Some((unit, stem, bare))` where `stem` is the key
+/// without its inch suffix and `bare` says the key had none.
+fn unit_of(key: &str) -> Option<(Unit, &str, bool)> {
+    if let Some((_, u)) = BARE.iter().find(|(k, _)| *k == key) {
+        return Some((*u, key, true));
+    }
+    let (u, stem) = SUFFIXES
+        .iter()
+        .filter_map(|u| {
+            key.strip_suffix(u.inch)
+                .and_then(|s| s.strip_suffix('_'))
+                .map(|stem| (*u, stem))
+        })
+        .max_by_key(|(u, _)| u.inch.len())?;
+    // A weight named as a mass (`mass_lb`, `spring_mass_lb`) is not a force.
+    if u == FORCE && stem.ends_with("mass") {
+        return Some((WEIGHT, stem, false));
+    }
+    Some((u, stem, false))
+}
+
+/// The key and its scale in `units`: `(new key, factor on the values)`.
+pub fn key_in(key: &str, units: Units) -> (String, f64) {
+    match unit_of(key) {
+        None => (key.to_string(), 1.0),
+        Some((u, stem, _)) => match units {
+            Units::Inch => (format!("{stem}_{}", u.inch), 1.0),
+            Units::Si => (format!("{stem}_{}", u.si), u.si_per_inch),
+        },
+    }
+}
+
+fn scale(v: &mut serde_json::Value, factor: f64) {
+    use serde_json::Value;
+    match v {
+        Value::Number(n) => {
+            // Integers (counts) never sit under a dimensional key; a float is scaled.
+            if let Some(x) = n.as_f64() {
+                if factor != 1.0 {
+                    if let Some(m) = serde_json::Number::from_f64(x * factor) {
+                        *n = m;
+                    }
+                }
+            }
+        }
+        Value::Array(a) => a.iter_mut().for_each(|x| scale(x, factor)),
+        Value::Object(o) => o.iter_mut().for_each(|(_, x)| scale(x, factor)),
+        _ => {}
+    }
+}
+
+/// `value` with every key in `units` (see the module's account).
+pub fn convert(value: serde_json::Value, units: Units) -> serde_json::Value {
+    use serde_json::Value;
+    match value {
+        Value::Object(o) => Value::Object(
+            o.into_iter()
+                .map(|(k, v)| {
+                    let (key, factor) = key_in(&k, units);
+                    let mut v = convert(v, units);
+                    if key != k {
+                        scale(&mut v, factor);
+                    }
+                    (key, v)
+                })
+                .collect(),
+        ),
+        Value::Array(a) => Value::Array(a.into_iter().map(|v| convert(v, units)).collect()),
+        v => v,
+    }
+}
+
+/// A report's JSON text (`text`, pretty or compact) rewritten with every key in `units`:
+/// the same layout, the keys of every object in sorted order.
+pub fn json(text: &str, units: Units) -> serde_json::Result<String> {
+    let value = convert(serde_json::from_str(text)?, units);
+    if text.trim_end().contains('\n') {
+        serde_json::to_string_pretty(&value)
+    } else {
+        serde_json::to_string(&value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_carry_their_unit_in_either_family() {
+        assert_eq!(
+            key_in("rms_velocity", Units::Inch).0,
+            "rms_velocity_in_per_s"
+        );
+        assert_eq!(key_in("rms_velocity", Units::Si).0, "rms_velocity_mm_per_s");
+        assert_eq!(
+            key_in("spring_rate_lb_per_in", Units::Si).0,
+            "spring_rate_n_per_mm"
+        );
+        assert_eq!(
+            key_in("peak_cam_torque_lb_in", Units::Si).0,
+            "peak_cam_torque_n_m"
+        );
+        assert_eq!(key_in("mass_lb", Units::Si).0, "mass_kg");
+        assert_eq!(
+            key_in("min_contact_force_lb", Units::Si).0,
+            "min_contact_force_n"
+        );
+        assert_eq!(
+            key_in("max_pressure_angle_deg", Units::Si).0,
+            "max_pressure_angle_deg"
+        );
+        assert_eq!(key_in("aord_cam", Units::Si), ("aord_cam".to_string(), 1.0));
+        // The longest suffix: a damping, a mass and a torque, not lengths or forces.
+        assert_eq!(key_in("c_hs_lb_s_per_in", Units::Si).0, "c_hs_n_s_per_m");
+        assert_eq!(key_in("cam_mass_lb_s2_per_in", Units::Si).0, "cam_mass_kg");
+        assert_eq!(key_in("t_max_lb_in", Units::Si).0, "t_max_n_m");
+        // The inch family's key is unchanged where it already has its unit.
+        assert_eq!(
+            key_in("undercut_margin_in", Units::Inch),
+            ("undercut_margin_in".into(), 1.0)
+        );
+    }
+
+    #[test]
+    fn the_factors_are_the_exact_definitions() {
+        // 1 lbf = 0.45359237 kg x 9.80665 m/s^2; 1 in = 25.4 mm.
+        assert_eq!(FORCE.si_per_inch, 0.453_592_37 * 9.806_65);
+        // 1 psi = 1 lbf / in^2 = 6.894757... kPa.
+        let psi_in_mpa = key_in("x_psi", Units::Si).1;
+        assert!((psi_in_mpa - 0.006_894_757_293_168_361).abs() < 1e-15);
+        // 1 hp = 550 ft lbf/s = 550 x 12 x 0.0254 m x 4.4482216152605 N / s.
+        let hp_w = 550.0 * 12.0 * 0.0254 * N_PER_LBF;
+        assert!((POWER.si_per_inch * 1000.0 - hp_w).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_column_object_is_converted_whole_and_its_key_renamed() {
+        let v = serde_json::json!({
+            "contact_force_min": {"mean": 10.0, "p5": 1.0},
+            "count": 3,
+            "nested": [{"rms_displacement": 2.0}]
+        });
+        let si = convert(v.clone(), Units::Si);
+        assert_eq!(
+            si["contact_force_min_n"]["mean"],
+            serde_json::json!(10.0 * N_PER_LBF)
+        );
+        assert_eq!(si["count"], serde_json::json!(3));
+        assert_eq!(
+            si["nested"][0]["rms_displacement_mm"],
+            serde_json::json!(50.8)
+        );
+        let inch = convert(v, Units::Inch);
+        assert_eq!(inch["contact_force_min_lb"]["p5"], serde_json::json!(1.0));
+        assert_eq!(
+            inch["nested"][0]["rms_displacement_in"],
+            serde_json::json!(2.0)
+        );
+    }
+}
