@@ -11,7 +11,7 @@ pub use num::{rad_per_s_to_rpm, rpm_to_rad_per_s, Real};
 
 mod kinematics;
 pub use kinematics::geometry::{CamGeometry, CamMassProperties, UndercutReport, SEGMENT_SAMPLES};
-pub use kinematics::lift::{DeviatedLift, LiftProfile, TheoreticalLift};
+pub use kinematics::lift::{LiftProfile, TheoreticalLift};
 pub use kinematics::motion::{LawValue, MotionLaw};
 pub use kinematics::program::{
     CamProgram, FollowerLift, ProgramData, Segment, SegmentData, SegmentKind, SegmentType,
@@ -80,12 +80,17 @@ pub use run::response::{
 pub use run::search::{Onset, OnsetSearch, Peak, PeakScan, ScanEnds};
 
 mod actual;
+pub use actual::deviation::DeviatedLift;
 pub use actual::envelope::{ActualCam, ENVELOPE_REFINE, ENVELOPE_SUBSTEPS};
 pub use actual::profile::{
     check_interval, choose_interval, lift_sensitivity, ActualContour, ActualLift, ContourPoint,
-    IntervalCheck, IntervalChoice, LiftSensitivity, Tolerances, CHECK_SUBSTEPS,
+    IntervalCheck, IntervalChoice, LiftSensitivity, ProfileSpec, Tolerances, CHECK_SUBSTEPS,
 };
 pub use actual::random::{sample_seed, splitmix64, NormalMethod, RandomStream};
+pub use actual::sampled::{
+    check_envelope, envelope_intervals, sampled_deviation, EnvelopeLimits, SampledError, Samples,
+    ENVELOPE_KNOTS_PER_ROW,
+};
 pub use actual::spline::{CubicSpline, SplineEnds, SplineError, SplinePoint};
 pub use actual::waviness::{count_extrema_open, waviness_fpr, waviness_fpr_of};
 

@@ -18,7 +18,8 @@
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    choose_interval, ActualCam, Design, DeviatedLift, NormalMethod, RandomStream, Tolerances,
+    choose_interval, ActualCam, Design, DeviatedLift, NormalMethod, ProfileSpec, RandomStream,
+    Tolerances,
 };
 use clap::ValueEnum;
 use serde::Serialize;
@@ -598,12 +599,26 @@ fn profile_from(
     let (program, geometry) = (&design.program, &design.geometry);
     Ok(match args.profile_method {
         ProfileMethod::Thesis => (
-            DeviatedLift::thesis(program, geometry, &tol, intervals, rng)?,
+            DeviatedLift::thesis(
+                &ProfileSpec {
+                    program,
+                    geometry,
+                    tolerances: &tol,
+                    intervals,
+                },
+                rng,
+            )?,
             None,
         ),
         ProfileMethod::Envelope => {
             let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
-                program, geometry, &tol, intervals, rng,
+                &ProfileSpec {
+                    program,
+                    geometry,
+                    tolerances: &tol,
+                    intervals,
+                },
+                rng,
             )?);
             let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
                 .context("the roller's envelope on the actual contour")?;

@@ -42,7 +42,9 @@
 use std::fmt;
 use std::path::Path;
 
-use camsim_core::{ActualCam, ActualContour, CubicSpline, Design, DeviatedLift};
+use camsim_core::{
+    check_envelope, sampled_deviation, Design, DeviatedLift, EnvelopeLimits, SampledError, Samples,
+};
 use serde::Serialize;
 
 /// Knots of a measured revolution's deviation spline on the host: one revolution at down
@@ -427,23 +429,36 @@ pub fn load_limited(path: &Path, max_points: usize) -> Result<Measured, String> 
 }
 
 /// The envelope's output knots for a contour of `intervals` rows: 8 per row, within the
-/// spline's capacity (the host's `--actual` envelope uses the same rule).
+/// spline's capacity (camsim-core's `envelope_intervals`; the host's `--actual` envelope
+/// uses the same rule).
 pub fn envelope_knots(intervals: usize) -> usize {
-    intervals.saturating_mul(8).clamp(3, MEASURED_KNOTS - 1)
+    camsim_core::envelope_intervals::<MEASURED_KNOTS>(intervals)
 }
 
-/// One revolution's periodic spline through `(angles, values)`, closed at the first
-/// angle + 360.
-fn periodic(
-    angles_deg: &[f64],
-    values: &[f64],
-) -> Result<CubicSpline<f64, MEASURED_KNOTS>, String> {
-    let first = angles_deg.first().copied().unwrap_or(0.0);
-    let mut knots: Vec<f64> = angles_deg.iter().map(|a| a.to_radians()).collect();
-    knots.push(first.to_radians() + 2.0 * std::f64::consts::PI);
-    let mut v = values.to_vec();
-    v.push(values.first().copied().unwrap_or(0.0));
-    CubicSpline::periodic(&knots, &v).map_err(|e| format!("measured profile: {e}"))
+/// A cam angle (rad) as this reader's messages give it: degrees in `[0, 360)`.
+fn degrees(rad: f64) -> f64 {
+    rad.to_degrees().rem_euclid(360.0)
+}
+
+/// The one-line message of a core geometry error (the lift range of a `lift_in`
+/// column and [`MIN_SURFACE_RADIUS_IN`] are the limits the core checked against).
+fn geometry_message(e: SampledError, roller_radius: f64) -> String {
+    match e {
+        SampledError::Spline(e) => format!("measured profile: {e}"),
+        SampledError::Profile(e) => format!("measured profile: {e}"),
+        SampledError::Envelope(e) => format!("the roller's envelope on the measured contour: {e}"),
+        SampledError::ImpliedLift { lift, at_rad } => {
+            let (lo, hi, why) = Column::Lift.plausible();
+            format!(
+                "measured profile: it implies a lift of {lift:.4} in at {:.2} deg, outside [{lo}, {hi}] in ({why}, the rule of a lift_in column)",
+                degrees(at_rad)
+            )
+        }
+        SampledError::SurfaceRadius { radius, at_rad } => format!(
+            "measured profile: the roller's path on it has a convex cam surface radius of {radius:.3e} in at {:.2} deg, below {MIN_SURFACE_RADIUS_IN} in (the roller of radius {roller_radius} in bridges a notch or rides over a ridge there: an edge, whose contact stress has no bound; smooth the measurement or check the file)",
+            degrees(at_rad)
+        ),
+    }
 }
 
 impl Measured {
@@ -456,71 +471,31 @@ impl Measured {
     }
 
     /// What a radius profile implies, checked as the lift form's values are (so that
-    /// every form of a profile meets the same rules): the implied lift within
-    /// [`Column::Lift`]'s range everywhere, and a convex cam surface radius of at least [`MIN_SURFACE_RADIUS_IN`] along the roller's path
-    /// (where the roller bridges a notch or rides over a ridge narrower than itself the
-    /// path has a corner: an edge, not a cam surface, with an unbounded Hertz stress).
-    /// Scanned at 4 points an interval of the deviation's spline.
+    /// every form of a profile meets the same rules): camsim-core's
+    /// `check_envelope` with [`Column::Lift`]'s range and
+    /// [`MIN_SURFACE_RADIUS_IN`]; then, as for a lift profile, [`Self::check_follows`].
     fn check_implied(&self, design: &Design<f64>, dev: &MeasuredDeviation) -> Result<(), String> {
-        use camsim_core::LiftProfile;
         // The deviation and lift forms' rows are checked as read; what their spline
         // does between sparse rows is the file's own interpolation, not checked again.
         if self.column == Column::Deviation {
             return Ok(());
         }
-        if self.column == Column::Lift {
-            return self.check_follows(design, dev);
-        }
-        let (lo, hi, why) = Column::Lift.plausible();
-        let g = &design.geometry;
-        let knots = dev.spline().knots();
-        let mut worst_radius: Option<(f64, f64)> = None;
-        for w in knots.windows(2) {
-            for k in 0..4 {
-                let th = w[0] + (w[1] - w[0]) * k as f64 / 4.0;
-                let l = dev.follower(&design.program, th);
-                let deg = th.to_degrees().rem_euclid(360.0);
-                if !(lo..=hi).contains(&l.y) {
-                    return Err(format!(
-                        "measured profile: it implies a lift of {:.4} in at {deg:.2} deg, outside [{lo}, {hi}] in ({why}, the rule of a lift_in column)",
-                        l.y
-                    ));
-                }
-                if self.column == Column::Radius {
-                    let rho = g.pitch_curvature_radius(l.y, l.dy, l.d2y);
-                    if rho > 0.0 {
-                        let surface = rho - g.roller_radius;
-                        if worst_radius.is_none_or(|(r, _)| surface < r) {
-                            worst_radius = Some((surface, deg));
-                        }
-                    }
-                }
-            }
-        }
-        if let Some((r, deg)) = worst_radius {
-            if r < MIN_SURFACE_RADIUS_IN || r.is_nan() {
-                return Err(format!(
-                    "measured profile: the roller's path on it has a convex cam surface radius of {r:.3e} in at {deg:.2} deg, below {MIN_SURFACE_RADIUS_IN} in (the roller of radius {} in bridges a notch or rides over a ridge there: an edge, whose contact stress has no bound; smooth the measurement or check the file)",
-                    g.roller_radius
-                ));
-            }
+        if self.column == Column::Radius {
+            let (lo, hi, _) = Column::Lift.plausible();
+            let limits = EnvelopeLimits {
+                lift: (lo, hi),
+                min_surface_radius: MIN_SURFACE_RADIUS_IN,
+            };
+            check_envelope(dev, &design.program, &design.geometry, limits)
+                .map_err(|e| geometry_message(e, design.geometry.roller_radius))?;
         }
         self.check_follows(design, dev)
     }
 
     /// The largest |deviation| at the spline's knots, in, and its cam angle, degrees.
     fn worst(dev: &MeasuredDeviation) -> (f64, f64) {
-        let s = dev.spline();
-        s.knots()
-            .iter()
-            .zip(s.values())
-            .fold((0.0, 0.0), |(w, at), (k, v)| {
-                if v.abs() > w || v.is_nan() {
-                    (v.abs(), k.to_degrees().rem_euclid(360.0))
-                } else {
-                    (w, at)
-                }
-            })
+        let (w, at) = dev.largest_at_knots();
+        (w, degrees(at))
     }
 
     /// A lift or radius profile must follow the scene's program within a deviation's
@@ -560,53 +535,24 @@ impl Measured {
         ))
     }
 
-    /// The deviation before [`Self::check_implied`].
+    /// The deviation before [`Self::check_implied`] (camsim-core's `sampled_deviation`).
+    /// A radius row becomes its contour point here (`r sin φ`, `r cos φ`, with std's
+    /// sine and cosine, whose last bits the figures printed so far rest on).
     fn raw_deviation(&self, design: &Design<f64>) -> Result<Box<MeasuredDeviation>, String> {
-        let program = &design.program;
-        let from = |s: CubicSpline<f64, MEASURED_KNOTS>| {
-            DeviatedLift::from_spline(s)
-                .map(Box::new)
-                .map_err(|e| format!("measured profile: {e}"))
-        };
-        match self.column {
-            Column::Deviation => from(periodic(&self.angles_deg, &self.values_in)?),
-            Column::Lift => {
-                let e: Vec<f64> = self
-                    .angles_deg
-                    .iter()
-                    .zip(&self.values_in)
-                    .map(|(a, l)| l - program.follower(a.to_radians()).y)
-                    .collect();
-                from(periodic(&self.angles_deg, &e)?)
-            }
+        let (xs, ys): (Vec<f64>, Vec<f64>);
+        let samples = match self.column {
+            Column::Deviation => Samples::Deviation(&self.values_in),
+            Column::Lift => Samples::Lift(&self.values_in),
             Column::Radius => {
-                let xs: Vec<f64> = self
-                    .angles_deg
-                    .iter()
-                    .zip(&self.values_in)
-                    .map(|(a, r)| r * a.to_radians().sin())
-                    .collect();
-                let ys: Vec<f64> = self
-                    .angles_deg
-                    .iter()
-                    .zip(&self.values_in)
-                    .map(|(a, r)| r * a.to_radians().cos())
-                    .collect();
-                let contour = Box::new(
-                    ActualContour::<f64, MEASURED_KNOTS>::from_splines(
-                        periodic(&self.angles_deg, &xs)?,
-                        periodic(&self.angles_deg, &ys)?,
-                    )
-                    .map_err(|e| format!("measured profile: {e}"))?,
-                );
-                let cam = ActualCam::new(*contour, design.geometry.roller_radius, (0.0, 0.0))
-                    .map_err(|e| format!("measured profile: {e}"))?;
-                let out = envelope_knots(self.angles_deg.len());
-                DeviatedLift::envelope(program, &design.geometry, &cam, out)
-                    .map(Box::new)
-                    .map_err(|e| format!("the roller's envelope on the measured contour: {e}"))
+                let polar = || self.angles_deg.iter().zip(&self.values_in);
+                xs = polar().map(|(a, r)| r * a.to_radians().sin()).collect();
+                ys = polar().map(|(a, r)| r * a.to_radians().cos()).collect();
+                Samples::Contour { x: &xs, y: &ys }
             }
-        }
+        };
+        sampled_deviation(&self.angles_deg, samples, &design.program, &design.geometry)
+            .map(Box::new)
+            .map_err(|e| geometry_message(e, design.geometry.roller_radius))
     }
 
     /// The knots (rad, over one revolution from the first row's angle, the closing knot

@@ -2,8 +2,8 @@
 //! module, docs/MODEL.md §8) against closed forms.
 
 use camsim_core::{
-    ActualCam, ActualContour, CamGeometry, CamProgram, Design, DeviatedLift, RandomStream,
-    Tolerances,
+    ActualCam, ActualContour, CamGeometry, CamProgram, Design, DeviatedLift, ProfileSpec,
+    RandomStream, Tolerances,
 };
 use std::f64::consts::PI;
 
@@ -23,8 +23,16 @@ fn perfect_cam_gives_the_theoretical_lift() {
         let d = Design::<f64>::reference();
         let (p, g) = (&d.program, &d.geometry);
         let mut rng = RandomStream::new(1, Default::default());
-        let contour =
-            ActualContour::<f64, 361>::generate(p, g, &Tolerances::none(), 360, &mut rng).unwrap();
+        let contour = ActualContour::<f64, 361>::generate(
+            &ProfileSpec {
+                program: p,
+                geometry: g,
+                tolerances: &Tolerances::none(),
+                intervals: 360,
+            },
+            &mut rng,
+        )
+        .unwrap();
         // ε: how far the splined contour strays from the theoretical surface (the
         // distance between the two points of the same setting angle bounds the distance
         // to the surface), on a 0.01° grid.
@@ -149,8 +157,16 @@ fn envelope_runs_in_f32() {
         let p = CamProgram::<f32>::reference();
         let g = CamGeometry::<f32>::reference();
         let mut rng = RandomStream::<f32>::new(1, Default::default());
-        let c = ActualContour::<f32, 181>::generate(&p, &g, &Tolerances::none(), 180, &mut rng)
-            .unwrap();
+        let c = ActualContour::<f32, 181>::generate(
+            &ProfileSpec {
+                program: &p,
+                geometry: &g,
+                tolerances: &Tolerances::none(),
+                intervals: 180,
+            },
+            &mut rng,
+        )
+        .unwrap();
         let cam = ActualCam::new(c, g.roller_radius, (0.0, 0.0)).unwrap();
         let dev = DeviatedLift::<f32, 361>::envelope(&p, &g, &cam, 360).unwrap();
         let worst = dev

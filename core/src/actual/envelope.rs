@@ -73,10 +73,7 @@
 //!   the roller's centre is at distance `r + R_c` from both, which is the bridged swing
 //!   to within the crest's departure from its osculating circle.
 
-use crate::{
-    ActualContour, CamGeometry, CamProgram, DeviatedLift, Error, RandomStream, Real, Result,
-    Tolerances,
-};
+use crate::{ActualContour, Error, ProfileSpec, RandomStream, Real, Result};
 
 /// Samples per contour knot interval in the envelope's walk along the contour.
 pub const ENVELOPE_SUBSTEPS: usize = 8;
@@ -105,13 +102,15 @@ impl<T: Real, const N: usize> ActualCam<T, N> {
     /// order). The roller radius and the eccentricity are one value per cam, as they
     /// are on a machine. Needs `3 ≤ intervals < N` and a positive roller radius.
     pub fn generate<const S: usize>(
-        program: &CamProgram<T, S>,
-        geometry: &CamGeometry<T>,
-        tolerances: &Tolerances<T>,
-        intervals: usize,
+        spec: &ProfileSpec<'_, T, S>,
         rng: &mut RandomStream<T>,
     ) -> Result<Self> {
-        let contour = ActualContour::generate(program, geometry, tolerances, intervals, rng)?;
+        let contour = ActualContour::generate(spec, rng)?;
+        let ProfileSpec {
+            geometry,
+            tolerances,
+            ..
+        } = *spec;
         let (_, sr, se) = tolerances.sigmas();
         let roller_radius = rng.gaussian(geometry.roller_radius, sr);
         let cx = rng.gaussian(T::ZERO, se);
@@ -226,43 +225,5 @@ fn non_finite<T: Real>(theta: T) -> Error {
         field: "contour",
         rule: "no finite contour point within the roller's reach at this cam angle (deg)",
         value: theta.to_f64().to_degrees(),
-    }
-}
-
-impl<T: Real, const K: usize> DeviatedLift<T, K> {
-    /// The lift deviation of the exact envelope on `cam`: at `θ_k = 2πk/intervals`,
-    /// `e_k = d(θ_k) − (R_a + y(θ_k))` ([`ActualCam::roller_centre`], `R_a` the nominal
-    /// prime radius of `geometry`), joined by a periodic spline. Needs
-    /// `3 ≤ intervals < K`.
-    pub fn envelope<const S: usize, const N: usize>(
-        program: &CamProgram<T, S>,
-        geometry: &CamGeometry<T>,
-        cam: &ActualCam<T, N>,
-        intervals: usize,
-    ) -> Result<Self> {
-        if intervals < 3 {
-            return Err(Error::InvalidParameter {
-                field: "intervals",
-                rule: "must be at least 3 per revolution",
-                value: intervals as f64,
-            });
-        }
-        let step = T::TWO * T::PI / T::from_usize(intervals);
-        let ra = geometry.prime_radius();
-        let mut failed = None;
-        let dev = Self::uniform(step, intervals, |k| {
-            let th = T::from_usize(k) * step;
-            match cam.roller_centre(th) {
-                Ok(d) => d - ra - program.follower(th).y,
-                Err(e) => {
-                    failed.get_or_insert(e);
-                    T::ZERO
-                }
-            }
-        })?;
-        match failed {
-            Some(e) => Err(e),
-            None => Ok(dev),
-        }
     }
 }

@@ -41,8 +41,8 @@
 //! dwell `σ_s = σ_c`; the pressure angle inflates it on the flanks.
 
 use crate::{
-    non_negative, waviness_fpr_of, CamGeometry, CamProgram, CubicSpline, DeviatedLift, Error,
-    FollowerLift, NormalMethod, RandomStream, Real, Result, SplineEnds, SplinePoint,
+    non_negative, waviness_fpr_of, CamGeometry, CamProgram, CubicSpline, Error, FollowerLift,
+    NormalMethod, RandomStream, Real, Result, SplineEnds, SplinePoint,
 };
 
 /// Manufacturing tolerances (± half-widths, in); each is three standard deviations.
@@ -142,7 +142,7 @@ pub fn lift_sensitivity<T: Real>(
 }
 
 /// `2π / intervals` after checking `3 ≤ intervals` and `intervals + 1 ≤ N`.
-fn interval_rad<T: Real, const N: usize>(intervals: usize) -> Result<T> {
+pub(crate) fn interval_rad<T: Real, const N: usize>(intervals: usize) -> Result<T> {
     if intervals < 3 {
         return Err(Error::InvalidParameter {
             field: "intervals",
@@ -157,6 +157,38 @@ fn interval_rad<T: Real, const N: usize>(intervals: usize) -> Result<T> {
         });
     }
     Ok(T::TWO * T::PI / T::from_usize(intervals))
+}
+
+/// What an actual profile is drawn for (IV.2), apart from the random stream that draws it
+/// (idsp's config/state split): the program and geometry of the cam, the tolerances it is
+/// machined to and the profile points (intervals) per revolution. Every generator
+/// ([`ActualLift::generate`], [`ActualContour::generate`], [`crate::ActualCam::generate`],
+/// [`crate::DeviatedLift::thesis`], [`check_interval`]) takes one and a
+/// [`RandomStream`].
+#[derive(Clone, Copy, Debug)]
+pub struct ProfileSpec<'a, T, const S: usize> {
+    /// The cam program.
+    pub program: &'a CamProgram<T, S>,
+    /// The cam and roller geometry.
+    pub geometry: &'a CamGeometry<T>,
+    /// The manufacturing tolerances (IV.2.2).
+    pub tolerances: &'a Tolerances<T>,
+    /// Profile points (intervals) per revolution.
+    pub intervals: usize,
+}
+
+impl<T: Real, const S: usize> ProfileSpec<'_, T, S> {
+    /// The interval `2π / intervals` (rad) after checking `3 ≤ intervals < N`.
+    pub(crate) fn step<const N: usize>(&self) -> Result<T> {
+        interval_rad::<T, N>(self.intervals)
+    }
+
+    /// The theoretical lift `y(θ_k)` and its standard deviation `σ_s(θ_k)` (Eq. E.5) at
+    /// the knot `θ_k = k·step`: what the thesis's actual lift perturbs (IV.2.3).
+    pub(crate) fn lift_and_sigma(&self, k: usize, step: T) -> (T, T) {
+        let f = self.program.follower(T::from_usize(k) * step);
+        (f.y, self.tolerances.lift_sigma(self.geometry, f.y, f.dy))
+    }
 }
 
 /// The actual follower lift of IV.2.3 (see the module docs): a periodic spline through
@@ -175,17 +207,13 @@ impl<T: Real, const N: usize> ActualLift<T, N> {
     /// are still drawn, so the stream advances the same way). Needs
     /// `3 ≤ intervals < N`.
     pub fn generate<const S: usize>(
-        program: &CamProgram<T, S>,
-        geometry: &CamGeometry<T>,
-        tolerances: &Tolerances<T>,
-        intervals: usize,
+        spec: &ProfileSpec<'_, T, S>,
         rng: &mut RandomStream<T>,
     ) -> Result<Self> {
-        let step = interval_rad::<T, N>(intervals)?;
+        let (step, intervals) = (spec.step::<N>()?, spec.intervals);
         let spline = CubicSpline::periodic_from_fn(step, intervals, |k| {
-            let f = program.follower(T::from_usize(k) * step);
-            let sigma = tolerances.lift_sigma(geometry, f.y, f.dy);
-            rng.gaussian(f.y, sigma)
+            let (y, sigma) = spec.lift_and_sigma(k, step);
+            rng.gaussian(y, sigma)
         })?;
         Ok(ActualLift { spline, intervals })
     }
@@ -229,30 +257,6 @@ impl<T: Real, const N: usize> ActualLift<T, N> {
     }
 }
 
-impl<T: Real, const K: usize> DeviatedLift<T, K> {
-    /// The thesis's actual lift (IV.2.3) as a deviation from the program: at every
-    /// `θ_k = 2πk/intervals` the deviate `σ_s(θ_k) z_k` (Eq. B-3 with the σ of E.5),
-    /// joined by a periodic spline. It draws exactly the deviates
-    /// [`ActualLift::generate`] draws from the same stream (that spline carries
-    /// `y(θ_k) + σ_s z_k`; this one adds `σ_s z_k` to the program's closed form, so zero
-    /// tolerances give back the theoretical cam everywhere, not only at the knots).
-    /// Needs `3 ≤ intervals < K`.
-    pub fn thesis<const S: usize>(
-        program: &CamProgram<T, S>,
-        geometry: &CamGeometry<T>,
-        tolerances: &Tolerances<T>,
-        intervals: usize,
-        rng: &mut RandomStream<T>,
-    ) -> Result<Self> {
-        let step = interval_rad::<T, K>(intervals)?;
-        Self::uniform(step, intervals, |k| {
-            let f = program.follower(T::from_usize(k) * step);
-            let sigma = tolerances.lift_sigma(geometry, f.y, f.dy);
-            rng.gaussian(T::ZERO, sigma)
-        })
-    }
-}
-
 /// A point of the actual cam contour and its derivatives with respect to the setting
 /// angle θ (cam-fixed frame of [`CamGeometry::surface_point`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -285,13 +289,16 @@ impl<T: Real, const N: usize> ActualContour<T, N> {
     /// `σ_c = tolerances.cam/3`. The stream gives the `intervals` x-errors first, then
     /// the `intervals` y-errors. Needs `3 ≤ intervals < N`.
     pub fn generate<const S: usize>(
-        program: &CamProgram<T, S>,
-        geometry: &CamGeometry<T>,
-        tolerances: &Tolerances<T>,
-        intervals: usize,
+        spec: &ProfileSpec<'_, T, S>,
         rng: &mut RandomStream<T>,
     ) -> Result<Self> {
-        let step = interval_rad::<T, N>(intervals)?;
+        let ProfileSpec {
+            program,
+            geometry,
+            tolerances,
+            intervals,
+        } = *spec;
+        let step = spec.step::<N>()?;
         let (sigma, _, _) = tolerances.sigmas();
         let setting = |k: usize| {
             let th = T::from_usize(k % intervals) * step;
@@ -414,13 +421,16 @@ pub const CHECK_SUBSTEPS: usize = 8;
 /// (the cardinal spline's `∫ L² dx / h`), so where the laws are well resolved the RMS
 /// deviation is about `0.94` of the mean σ and passes or fails with the sample.
 pub fn check_interval<T: Real, const N: usize, const S: usize>(
-    program: &CamProgram<T, S>,
-    geometry: &CamGeometry<T>,
-    tolerances: &Tolerances<T>,
-    intervals: usize,
+    spec: &ProfileSpec<'_, T, S>,
     rng: &mut RandomStream<T>,
 ) -> Result<IntervalCheck<T>> {
-    let lift = ActualLift::<T, N>::generate(program, geometry, tolerances, intervals, rng)?;
+    let ProfileSpec {
+        program,
+        geometry,
+        tolerances,
+        intervals,
+    } = *spec;
+    let lift = ActualLift::<T, N>::generate(spec, rng)?;
     let samples = intervals * CHECK_SUBSTEPS;
     let step = T::TWO * T::PI / T::from_usize(samples);
     let (mut min_r, mut sq, mut sig) = (T::INFINITY, T::ZERO, T::ZERO);
@@ -507,7 +517,13 @@ pub fn choose_interval<T: Real, const N: usize, const S: usize>(
             continue;
         }
         let mut rng = RandomStream::new(seed, method);
-        let c = check_interval::<T, N, S>(program, geometry, tolerances, intervals, &mut rng)?;
+        let spec = ProfileSpec {
+            program,
+            geometry,
+            tolerances,
+            intervals,
+        };
+        let c = check_interval::<T, N, S>(&spec, &mut rng)?;
         if out.chosen.is_none() && c.passes() {
             out.chosen = Some(out.candidates.len());
         }
@@ -600,7 +616,16 @@ mod tests {
         let (p, g, _) = reference();
         let none = Tolerances::none();
         let mut rng = RandomStream::new(1, SumOfTwelve);
-        let a = ActualLift::<f64, 361>::generate(&p, &g, &none, 360, &mut rng).unwrap();
+        let a = ActualLift::<f64, 361>::generate(
+            &ProfileSpec {
+                program: &p,
+                geometry: &g,
+                tolerances: &none,
+                intervals: 360,
+            },
+            &mut rng,
+        )
+        .unwrap();
         for k in 0..=360 {
             let th = (k as f64).to_radians();
             let want = p.follower(if k == 360 { 0.0 } else { th }).y;
@@ -616,7 +641,16 @@ mod tests {
         assert!(worst < 1e-7, "{worst}");
         // The contour: setting points exactly on the theoretical surface.
         let mut rng = RandomStream::new(1, Polar);
-        let c = ActualContour::<f64, 361>::generate(&p, &g, &none, 360, &mut rng).unwrap();
+        let c = ActualContour::<f64, 361>::generate(
+            &ProfileSpec {
+                program: &p,
+                geometry: &g,
+                tolerances: &none,
+                intervals: 360,
+            },
+            &mut rng,
+        )
+        .unwrap();
         for k in 0..360 {
             let th = (k as f64).to_radians();
             let f = p.follower(th);
@@ -637,7 +671,16 @@ mod tests {
             let (mut s1, mut s2, mut n) = (0.0, 0.0, 0usize);
             for i in 0..40 {
                 let mut rng = RandomStream::for_sample(77, i, method);
-                let a = ActualLift::<f64, 361>::generate(&p, &g, &t, 360, &mut rng).unwrap();
+                let a = ActualLift::<f64, 361>::generate(
+                    &ProfileSpec {
+                        program: &p,
+                        geometry: &g,
+                        tolerances: &t,
+                        intervals: 360,
+                    },
+                    &mut rng,
+                )
+                .unwrap();
                 for k in 0..360 {
                     let f = p.follower((k as f64).to_radians());
                     let z = (a.spline().values()[k] - f.y) / t.lift_sigma(&g, f.y, f.dy);
@@ -663,7 +706,16 @@ mod tests {
         let (mut s2, mut n) = (0.0, 0usize);
         for i in 0..40 {
             let mut rng = RandomStream::for_sample(5, i, Polar);
-            let c = ActualContour::<f64, 361>::generate(&p, &g, &t, 360, &mut rng).unwrap();
+            let c = ActualContour::<f64, 361>::generate(
+                &ProfileSpec {
+                    program: &p,
+                    geometry: &g,
+                    tolerances: &t,
+                    intervals: 360,
+                },
+                &mut rng,
+            )
+            .unwrap();
             for k in 0..360 {
                 let th = (k as f64).to_radians();
                 let f = p.follower(th);
@@ -685,7 +737,16 @@ mod tests {
         let (p, g, t) = reference();
         let make = |seed| {
             let mut rng = RandomStream::new(seed, SumOfTwelve);
-            ActualLift::<f64, 181>::generate(&p, &g, &t, 180, &mut rng).unwrap()
+            ActualLift::<f64, 181>::generate(
+                &ProfileSpec {
+                    program: &p,
+                    geometry: &g,
+                    tolerances: &t,
+                    intervals: 180,
+                },
+                &mut rng,
+            )
+            .unwrap()
         };
         let (a, b) = (make(9), make(9));
         assert_eq!(a, b);
@@ -701,10 +762,12 @@ mod tests {
         // f32 builds the same profile (from its own stream) within its precision.
         let mut rng = RandomStream::<f32>::new(9, SumOfTwelve);
         let f = ActualLift::<f32, 181>::generate(
-            &CamProgram::<f32>::reference(),
-            &CamGeometry::reference(),
-            &Tolerances::reference(),
-            180,
+            &ProfileSpec {
+                program: &CamProgram::<f32>::reference(),
+                geometry: &CamGeometry::reference(),
+                tolerances: &Tolerances::reference(),
+                intervals: 180,
+            },
             &mut rng,
         )
         .unwrap();
@@ -718,9 +781,27 @@ mod tests {
         assert!(worst < 6.0 * 0.0005 / 3.0 * 1.5, "{worst}");
         // Bad intervals.
         let mut rng = RandomStream::new(1, SumOfTwelve);
-        assert!(ActualLift::<f64, 181>::generate(&p, &g, &t, 2, &mut rng).is_err());
+        assert!(ActualLift::<f64, 181>::generate(
+            &ProfileSpec {
+                program: &p,
+                geometry: &g,
+                tolerances: &t,
+                intervals: 2
+            },
+            &mut rng
+        )
+        .is_err());
         assert_eq!(
-            ActualLift::<f64, 181>::generate(&p, &g, &t, 181, &mut rng).err(),
+            ActualLift::<f64, 181>::generate(
+                &ProfileSpec {
+                    program: &p,
+                    geometry: &g,
+                    tolerances: &t,
+                    intervals: 181
+                },
+                &mut rng
+            )
+            .err(),
             Some(Error::Capacity {
                 what: "profile points (intervals per revolution + 1)",
                 capacity: 181
@@ -733,7 +814,16 @@ mod tests {
         let (p, g, t) = reference();
         let check = |intervals: usize, tol: &Tolerances<f64>, seed: u64| {
             let mut rng = RandomStream::new(seed, SumOfTwelve);
-            check_interval::<f64, 721, 8>(&p, &g, tol, intervals, &mut rng).unwrap()
+            check_interval::<f64, 721, 8>(
+                &ProfileSpec {
+                    program: &p,
+                    geometry: &g,
+                    tolerances: tol,
+                    intervals,
+                },
+                &mut rng,
+            )
+            .unwrap()
         };
         // Criterion 1. The roller radius is 0.375 in; on the base circle (R_a = 1.875)
         // |ρ| < 0.375 needs y'' > 11.3 or y'' < −7.5 in/rad². The random ordinates give
@@ -833,8 +923,16 @@ mod tests {
         // alone, below 1e-5 in/rad, so a threshold of 1e-4 sees no waviness.
         let (p, g, t) = reference();
         let mut rng = RandomStream::new(3, SumOfTwelve);
-        let a =
-            ActualLift::<f64, 361>::generate(&p, &g, &Tolerances::none(), 360, &mut rng).unwrap();
+        let a = ActualLift::<f64, 361>::generate(
+            &ProfileSpec {
+                program: &p,
+                geometry: &g,
+                tolerances: &Tolerances::none(),
+                intervals: 360,
+            },
+            &mut rng,
+        )
+        .unwrap();
         assert_eq!(a.fpr(&p, 7200, 1e-4).unwrap(), 0);
         // With tolerance, the velocity deviation e' = S' − y' has its extrema where
         // e'' = S'' − y'' changes sign; S'' is linear between knots and, of the knot
@@ -849,10 +947,18 @@ mod tests {
         // the mean ratio's is below 0.014: 0.05 is above 3.5 of them).
         let fpr = |n: usize, seed: u64| {
             let mut rng = RandomStream::new(seed, SumOfTwelve);
-            ActualLift::<f64, 361>::generate(&p, &g, &t, n, &mut rng)
-                .unwrap()
-                .fpr(&p, 20 * n, 0.0)
-                .unwrap()
+            ActualLift::<f64, 361>::generate(
+                &ProfileSpec {
+                    program: &p,
+                    geometry: &g,
+                    tolerances: &t,
+                    intervals: n,
+                },
+                &mut rng,
+            )
+            .unwrap()
+            .fpr(&p, 20 * n, 0.0)
+            .unwrap()
         };
         let p_change = (3.0 * 3f64.sqrt() - 6.0).acos() / PI;
         assert!((p_change - 0.797_22).abs() < 1e-5);

@@ -400,6 +400,22 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
         )
     }
 
+    /// The spline through `point(i) = (knot, value)`, `i < points` (called once for
+    /// each `i`, in order), without buffers of knots and values: [`Self::new`]'s count,
+    /// finiteness and order checks and its arithmetic.
+    pub fn from_fn(
+        points: usize,
+        ends: SplineEnds<T>,
+        mut point: impl FnMut(usize) -> (T, T),
+    ) -> Result<Self, SplineError> {
+        let mut s = Self::empty(points, ends)?;
+        for (i, (dst, vdst)) in s.x.iter_mut().zip(s.y.iter_mut()).take(points).enumerate() {
+            (*dst, *vdst) = point(i);
+        }
+        s.build(ends)?;
+        Ok(s)
+    }
+
     /// The natural spline (`S'' = 0` at both ends) through the points.
     pub fn natural(knots: &[T], values: &[T]) -> Result<Self, SplineError> {
         Self::new(knots, values, SplineEnds::Natural)

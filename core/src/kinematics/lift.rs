@@ -5,7 +5,8 @@
 //! `y(θ)`, `dy/dθ`, `d²y/dθ²` wherever the equations use the program (the contact
 //! approach, the pressure angle, the surface curvature in the Hertz stiffness, the output
 //! torque and the relative coordinates). [`TheoreticalLift`] is the program itself, at no
-//! cost; [`DeviatedLift`] adds a periodic spline of the deviation `e(θ)`:
+//! cost; [`DeviatedLift`] (`actual/deviation.rs`) adds a periodic spline of the deviation
+//! `e(θ)`:
 //!
 //! ```text
 //! y_actual(θ) = y(θ) + e(θ),  dy_actual/dθ = y'(θ) + e'(θ),  …
@@ -26,9 +27,7 @@
 //! assert!((l.y - (program.follower(0.0).y + 1e-3)).abs() < 1e-12);
 //! ```
 
-use crate::{
-    CamProgram, ContactTerms, CubicSpline, Error, FollowerLift, Real, Result, SplinePoint,
-};
+use crate::{CamProgram, ContactTerms, FollowerLift, Real};
 
 /// Where the dynamic model takes the follower lift from.
 pub trait LiftProfile<T: Real> {
@@ -57,110 +56,6 @@ impl<T: Real> LiftProfile<T> for TheoreticalLift {
     #[inline(always)]
     fn follower<const K: usize>(&self, program: &CamProgram<T, K>, theta: T) -> FollowerLift<T> {
         program.follower(theta)
-    }
-}
-
-/// The program plus a periodic deviation spline over one revolution with at most `K`
-/// knots (the last knot repeats the first at 2π).
-#[derive(Clone, Debug, PartialEq)]
-pub struct DeviatedLift<T, const K: usize> {
-    spline: CubicSpline<T, K>,
-}
-
-impl<T: Real, const K: usize> DeviatedLift<T, K> {
-    /// A deviation without knots, to [`Self::refit_periodic`] in place (a deviation in a
-    /// `static`, never copied through the stack). Riding on it before a successful refit
-    /// gives a zero deviation.
-    pub const EMPTY: Self = Self {
-        spline: CubicSpline::EMPTY,
-    };
-
-    /// [`Self::from_spline`] of [`CubicSpline::periodic`]`(knots, values)`, in place. On an
-    /// error it is left without knots (as [`Self::EMPTY`]).
-    pub fn refit_periodic(&mut self, knots: &[T], values: &[T]) -> Result<()> {
-        self.spline
-            .refit(knots, values, crate::SplineEnds::Periodic)?;
-        if let Err(e) = Self::check_span(&self.spline) {
-            self.spline
-                .refit(&[], &[], crate::SplineEnds::Periodic)
-                .ok();
-            return Err(e);
-        }
-        Ok(())
-    }
-
-    /// Whether `spline` is periodic over one revolution (see [`Self::from_spline`]).
-    fn check_span(spline: &CubicSpline<T, K>) -> Result<()> {
-        let (a, b) = spline.range();
-        let tol = T::from_f64(1e-9).max(T::from_i32(8) * T::EPSILON);
-        let span_ok = (b - a - T::TWO * T::PI).abs() <= tol * (T::ONE + b.abs());
-        if !spline.is_periodic() || !span_ok {
-            return Err(Error::InvalidParameter {
-                field: "profile",
-                rule: "a deviation must be a periodic spline over one revolution (0..360 deg)",
-                value: (b - a).to_f64().to_degrees(),
-            });
-        }
-        Ok(())
-    }
-
-    /// A deviation from a periodic spline whose knots span exactly one revolution
-    /// (`[0, 2π]`, within 1e-9 rad, or 8 ulps of `T` where that is coarser: a revolution
-    /// of `f64` knots narrowed to `f32` spans 2π to an ulp, not to 1e-9).
-    pub fn from_spline(spline: CubicSpline<T, K>) -> Result<Self> {
-        Self::check_span(&spline)?;
-        Ok(Self { spline })
-    }
-
-    /// The deviation through `value(k)` (in) at `θ_k = k·step`, `k < intervals`, closed
-    /// periodically (`intervals·step` must be one revolution; `value` is called once for
-    /// each `k`, in order). Needs `3 ≤ intervals < K`.
-    pub fn uniform(step: T, intervals: usize, value: impl FnMut(usize) -> T) -> Result<Self> {
-        if intervals < 3 || intervals >= K {
-            return Err(Error::Capacity {
-                what: "profile points (intervals per revolution + 1, at least 4)",
-                capacity: K,
-            });
-        }
-        let spline = CubicSpline::periodic_from_fn(step, intervals, value)?;
-        Self::from_spline(spline)
-    }
-
-    /// The deviation spline (knots in rad over `[0, 2π]`, values in in).
-    pub fn spline(&self) -> &CubicSpline<T, K> {
-        &self.spline
-    }
-
-    /// The deviation and its derivatives at `theta` (rad, any real).
-    #[inline]
-    pub fn deviation(&self, theta: T) -> SplinePoint<T> {
-        self.spline.eval(theta)
-    }
-
-    /// The RMS deviation over one revolution, sampled at `samples` equal steps (in).
-    pub fn rms(&self, samples: usize) -> T {
-        let n = samples.max(1);
-        let step = T::TWO * T::PI / T::from_usize(n);
-        let mut sum = T::ZERO;
-        for k in 0..n {
-            let e = self.spline.value(T::from_usize(k) * step);
-            sum += e * e;
-        }
-        (sum / T::from_usize(n)).sqrt()
-    }
-}
-
-impl<T: Real, const K: usize> LiftProfile<T> for DeviatedLift<T, K> {
-    #[inline]
-    fn follower<const P: usize>(&self, program: &CamProgram<T, P>, theta: T) -> FollowerLift<T> {
-        let f = program.follower(theta);
-        let e = self.spline.eval(theta);
-        FollowerLift {
-            y: f.y + e.y,
-            dy: f.dy + e.dy,
-            d2y: f.d2y + e.d2y,
-            d3y: f.d3y + e.d3y,
-        }
     }
 }
 

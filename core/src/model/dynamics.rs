@@ -464,18 +464,43 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// for both uses (inlined into each it costs the chip's flash; docs/FIRMWARE.md).
     #[inline(never)]
     pub(crate) fn evaluate_with(&self, t: T, y: &[T; N], outputs: bool) -> ModelPoint<T> {
-        let d = &self.d;
         let mut p = ModelPoint {
             t,
             ..ModelPoint::default()
         };
+        let twists = self.gather_state(&mut p, t, y);
+        let (cos_phi, sin_phi, k_h) = self.contact_geometry(&mut p, outputs);
+        // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10); the
+        // rods' stiffnesses it used (at the carrier's y3) serve the forces below too.
+        let rods = if S::QUASI_STATIC.is_empty() {
+            None
+        } else {
+            Some(self.condense(&mut p, k_h, cos_phi, sin_phi))
+        };
+        // The stored coordinates (relative to the lift for the follower chain); `p.pos`
+        // becomes the absolute displacements.
+        let (pos, vel) = (p.pos, p.vel);
+        let lift_y = p.lift.y;
+        for (q, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
+            if rel {
+                *q += lift_y;
+            }
+        }
+        let (f_v, f_h) = self.contact_and_friction(&mut p, k_h, cos_phi, sin_phi, &pos, &vel);
+        self.translational_equations(&mut p, rods, f_v, f_h, &pos, &vel);
+        self.rotational_equations(&mut p, f_v, twists);
+        p
+    }
 
-        // --- gather the state ---
-        // What the scene's drive imposes is not a state: under a constant cam speed
-        // θ_c = ω0 t with every speed at ω0 and rigid shafts; under a constant motor
-        // speed θ̇_m = ω0. These are branches on the scene's consts.
+    /// Gathers the state into `p`: the cam angle, the speeds and shaft angles, the stored
+    /// translational coordinates; returns the shaft twists (motor-coupling,
+    /// coupling-cam). What the scene's drive imposes is not a state: under a constant cam
+    /// speed θ_c = ω0 t with every speed at ω0 and rigid shafts; under a constant motor
+    /// speed θ̇_m = ω0. These are branches on the scene's consts.
+    #[inline(always)]
+    fn gather_state(&self, p: &mut ModelPoint<T>, t: T, y: &[T; N]) -> (T, T) {
         let st = self.state(y);
-        let w0 = d.omega0;
+        let w0 = self.d.omega0;
         p.theta_c = match st.cam_angle() {
             Some(theta) => theta,
             None => w0 * t,
@@ -491,8 +516,15 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         // scene drops are held at zero.
         p.pos = st.positions();
         p.vel = st.velocities();
+        (tw1, tw2)
+    }
 
-        // --- contact geometry at the current cam angle ---
+    /// The contact geometry at the current cam angle: the lift, the pressure angle's
+    /// cosine and sine, the surface radius and the Hertz stiffness (into `p`; returns
+    /// `(cos φ, sin φ, K_h)`).
+    #[inline(always)]
+    fn contact_geometry(&self, p: &mut ModelPoint<T>, outputs: bool) -> (T, T, T) {
+        let d = &self.d;
         let (lift, table) = self
             .profile
             .follower_and_contact(&self.d.program, p.theta_c);
@@ -536,23 +568,25 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             }
         };
         p.k_h = k_h;
-        // A reduced scene's quasi-static DOFs balance their forces (docs/MODEL.md §10); the
-        // rods' stiffnesses it used (at the carrier's y3) serve the forces below too.
-        let rods = if S::QUASI_STATIC.is_empty() {
-            None
-        } else {
-            Some(self.condense(&mut p, k_h, cos_phi, sin_phi))
-        };
+        (cos_phi, sin_phi, k_h)
+    }
 
-        let [y1, x1, q2, x2, q3, x3, q4, q5] = p.pos;
-        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = p.vel;
-        for (pos, rel) in p.pos.iter_mut().zip(RELATIVE_TO_LIFT) {
-            if rel {
-                *pos += lift.y;
-            }
-        }
-        let y3 = q3 + lift.y;
-
+    /// The contact force with its jump criterion and the slide-bearing friction (into
+    /// `p`), from the stored coordinates `pos`, `vel`; returns the contact force's
+    /// vertical and horizontal components on the roller.
+    #[inline(always)]
+    fn contact_and_friction(
+        &self,
+        p: &mut ModelPoint<T>,
+        k_h: T,
+        cos_phi: T,
+        sin_phi: T,
+        pos: &[T; TRANS_DOFS],
+        vel: &[T; TRANS_DOFS],
+    ) -> (T, T) {
+        let d = &self.d;
+        let [y1, _, q2, _, _, _, _, _] = *pos;
+        let [v1, _, v2, _, v3, _, v4, _] = *vel;
         // Contact force and jump criterion (Eqs. V.19-V.20) with the contact damping of
         // docs/MODEL.md §3.9; y + y1 - y2 = y1 - q2, its rate y' θ̇_c + ẏ1 - ẏ2.
         let contact = damped_contact_force(
@@ -560,7 +594,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             y1 - q2,
             self.preload,
             self.contact_damping(k_h),
-            lift.dy * p.omega_c + v1 - v2,
+            p.lift.dy * p.omega_c + v1 - v2,
             cos_phi,
         );
         let f_c = contact.force;
@@ -584,8 +618,28 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         };
         p.friction_follower = f1;
         p.friction_cantilever = f2;
+        (f_v, f_h)
+    }
 
-        // --- translational system (Eqs. IV.2, IV.3) ---
+    /// The translational system (Eqs. IV.2, IV.3): each kept DOF's acceleration into
+    /// `p.acc`, from the stored coordinates `pos`, `vel`, the contact force's components
+    /// and the friction in `p`; `rods` are a reduced scene's rod stiffnesses and damping
+    /// (`K_f`, `C_f1`, `K_vc`) from its condensation.
+    #[inline(always)]
+    fn translational_equations(
+        &self,
+        p: &mut ModelPoint<T>,
+        rods: Option<(T, T, T)>,
+        f_v: T,
+        f_h: T,
+        pos: &[T; TRANS_DOFS],
+        vel: &[T; TRANS_DOFS],
+    ) {
+        let d = &self.d;
+        let [y1, x1, q2, x2, q3, x3, q4, q5] = *pos;
+        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = *vel;
+        let (f1, f2) = (p.friction_follower, p.friction_cantilever);
+        let y3 = q3 + p.lift.y;
         let (k_f, c_f1, k_vc) = match rods {
             Some(r) => r,
             None => {
@@ -678,9 +732,17 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             kept(TransDof::Follower, a_follower),
             kept(TransDof::Load, a_load),
         ];
+    }
 
-        // --- rotational system (Eq. IV.1), T_o = F_c cos φ dy/dθ (docs/MODEL.md §4.2) ---
-        let t_o = f_v * lift.dy;
+    /// The rotational system (Eq. IV.1) under the scene's drive, into `p`: the output
+    /// torque T_o = F_c cos φ dy/dθ (docs/MODEL.md §4.2), the shafts' torques, the
+    /// angular accelerations and the drive torque; `twists` are (motor-coupling,
+    /// coupling-cam).
+    #[inline(always)]
+    fn rotational_equations(&self, p: &mut ModelPoint<T>, f_v: T, twists: (T, T)) {
+        let d = &self.d;
+        let (tw1, tw2) = twists;
+        let t_o = f_v * p.lift.dy;
         p.torque_out = t_o;
         // The coupling-cam connection: rigid, or with free play (Appendix G.1).
         let shaft2 = if d.coupling_backlash > T::ZERO {
@@ -713,7 +775,6 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 p.alpha_m = (p.torque_drive - d.c_mb * p.omega_m - shaft1) * self.inv_i_m;
             }
         }
-        p
     }
 
     /// Solves a reduced scene's quasi-static DOFs ([`crate::QuasiStatic`], docs/MODEL.md

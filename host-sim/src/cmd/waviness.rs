@@ -14,7 +14,7 @@
 //! `ρ = (1 + (y'/R_p)²)^{3/2} / |y''/R_p²|`, at least the roller's radius.
 
 use anyhow::Result;
-use camsim_core::{check_interval, Design, RandomStream};
+use camsim_core::{check_interval, Design, ProfileSpec, RandomStream};
 use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileMethod};
@@ -130,8 +130,15 @@ pub fn report(args: &Args) -> Result<WavinessReport> {
             ..ActualArgs::default()
         };
         let mut rng = RandomStream::<f64>::new(first.seed(), first.normal.into());
-        let check =
-            check_interval::<f64, 361, 8>(&design.program, &design.geometry, &tol, n, &mut rng)?;
+        let check = check_interval::<f64, 361, 8>(
+            &ProfileSpec {
+                program: &design.program,
+                geometry: &design.geometry,
+                tolerances: &tol,
+                intervals: n,
+            },
+            &mut rng,
+        )?;
         let dev = actual::master_profile(&design, &first, n)?;
         let [fpr_thesis, fpr_envelope] = fpr;
         rows.push(Row {
