@@ -340,7 +340,10 @@ fn bad_measured_files_are_refused_on_one_line_naming_it() {
         .unwrap_err()
         .contains("cannot be used with"));
     let e = run_cli(&["--seed", "3"]).unwrap_err();
-    assert!(e.contains("need --actual"), "{e}");
+    assert!(
+        e.contains("--seed 3 shapes an actual cam: add --actual"),
+        "{e}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }
 
