@@ -77,7 +77,7 @@ impl<T: Real, const K: usize> DeviatedLift<T, K> {
     /// The thesis's actual lift (IV.2.3) as a deviation from the program: at every
     /// `θ_k = 2πk/intervals` the deviate `σ_s(θ_k) z_k` (Eq. B-3 with the σ of E.5),
     /// joined by a periodic spline. It draws exactly the deviates
-    /// [`ActualLift::generate`] draws from the same stream (that spline carries
+    /// [`ActualLift::generate`](crate::ActualLift::generate) draws from the same stream (that spline carries
     /// `y(θ_k) + σ_s z_k`; this one adds `σ_s z_k` to the program's closed form, so zero
     /// tolerances give back the theoretical cam everywhere, not only at the knots).
     /// Needs `3 ≤ intervals < K`.
