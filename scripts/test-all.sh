@@ -127,7 +127,7 @@ smoke predict-scene predict "$studies/ref.toml" --json
 smoke jump-actual jump-speed --actual --samples 2 --threads 2 --follower quasi-static-rod \
     --resolution 20 --json
 python3 -c "import json,sys; p=json.load(open(sys.argv[1])); r=json.load(open(sys.argv[2]));
-assert r['profile']['max_abs_deviation_in'] <= p['chord_error_bound'], (r['profile'], p['chord_error_bound'])" \
+assert r['profile']['max_abs_deviation_in'] <= p['chord_error_bound_in'], (r['profile'], p['chord_error_bound_in'])" \
     "$studies/profile.out" "$studies/roundtrip.out"
 smoke design design spring --quick --json
 smoke design-actual design spring --actual --quick --json
