@@ -8,8 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 cargo build --release -q -p camsim
-C="$(cargo metadata --format-version 1 --no-deps |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')/release/camsim"
+# The binary where cargo put it (scripts/camsim-bin.sh).
+C="$(bash scripts/camsim-bin.sh)"
 
 # The subcommands, as the top-level help lists them (help itself left out), and their own
 # subcommands (design spring, montecarlo merge, ...).

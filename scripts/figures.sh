@@ -36,9 +36,8 @@ for arg in "$@"; do
 done
 
 cargo build --release -q -p camsim
-# The binary where cargo put it (CARGO_TARGET_DIR or a config may move the target directory).
-C="$(cargo metadata --format-version 1 --no-deps |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')/release/camsim"
+# The binary where cargo put it (scripts/camsim-bin.sh).
+C="$(bash scripts/camsim-bin.sh)"
 
 OUT=docs/FIGURES.md
 WORK="$(mktemp -d)"

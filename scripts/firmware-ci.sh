@@ -28,9 +28,8 @@
 # Called by scripts/test-all.sh; run from anywhere (it cd's to the repository root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-# The host binary where cargo put it (CARGO_TARGET_DIR or a config may move the target directory).
-CAMSIM="$(cargo metadata --format-version 1 --no-deps |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')/release/camsim"
+# The binary where cargo put it (scripts/camsim-bin.sh).
+CAMSIM="$(bash scripts/camsim-bin.sh)"
 
 export PATH="$HOME/.cargo/bin:$PATH"
 

@@ -21,8 +21,8 @@ for arg in "$@"; do
     esac
 done
 cargo build --release -q -p camsim
-C="$(cargo metadata --format-version 1 --no-deps |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')/release/camsim"
+# The binary where cargo put it (scripts/camsim-bin.sh).
+C="$(bash scripts/camsim-bin.sh)"
 
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT

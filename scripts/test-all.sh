@@ -59,9 +59,8 @@ cargo build --release -p camsim
 # (regenerate with `bash scripts/cli-doc.sh`).
 bash scripts/cli-doc.sh --check
 studies=$(mktemp -d)
-# The binary where cargo put it (CARGO_TARGET_DIR or a config may move the target directory).
-C="$(cargo metadata --format-version 1 --no-deps |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')/release/camsim"
+# The binary where cargo put it (scripts/camsim-bin.sh).
+C="$(bash scripts/camsim-bin.sh)"
 # A report never prints null (an absent value is left out, NaN or an infinity is an error):
 # every --json output is parsed and searched for null.
 check_json() {

@@ -597,29 +597,16 @@ fn profile_from(
 ) -> Result<(HostDeviation, Option<EnvelopeParts>)> {
     let tol = args.tolerances()?;
     let (program, geometry) = (&design.program, &design.geometry);
+    let spec = ProfileSpec {
+        program,
+        geometry,
+        tolerances: &tol,
+        intervals,
+    };
     Ok(match args.profile_method {
-        ProfileMethod::Thesis => (
-            DeviatedLift::thesis(
-                &ProfileSpec {
-                    program,
-                    geometry,
-                    tolerances: &tol,
-                    intervals,
-                },
-                rng,
-            )?,
-            None,
-        ),
+        ProfileMethod::Thesis => (DeviatedLift::thesis(&spec, rng)?, None),
         ProfileMethod::Envelope => {
-            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(
-                &ProfileSpec {
-                    program,
-                    geometry,
-                    tolerances: &tol,
-                    intervals,
-                },
-                rng,
-            )?);
+            let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(&spec, rng)?);
             let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
                 .context("the roller's envelope on the actual contour")?;
             (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))

@@ -98,7 +98,7 @@ const SUFFIXES: [Unit; 18] = [
 ];
 
 /// Keys the reports share without a unit, with the unit of their values.
-const BARE: [(&str, Unit); 25] = [
+const BARE: [(&str, Unit); 23] = [
     ("rms_displacement", su::LENGTH),
     ("rms_velocity", su::SPEED),
     ("rms_acceleration", ACCELERATION),
@@ -114,7 +114,6 @@ const BARE: [(&str, Unit); 25] = [
     ("contact_force_max", FORCE),
     ("contact_force_avg", FORCE),
     ("contact_stress_max", su::STRESS),
-    ("rms_deviation", su::LENGTH),
     ("acc_rms", ACCELERATION),
     ("acc_rms_err", ACCELERATION),
     ("agree_acc_rms", ACCELERATION),
@@ -123,7 +122,6 @@ const BARE: [(&str, Unit); 25] = [
     ("agree_disp_rms", su::LENGTH),
     ("err_disp_rms", su::LENGTH),
     ("signal_disp_rms", su::LENGTH),
-    ("mean_deviation", su::LENGTH),
 ];
 
 static CURRENT: AtomicU8 = AtomicU8::new(0);

@@ -615,17 +615,14 @@ mod tests {
     fn zero_tolerance_gives_the_theoretical_profile() {
         let (p, g, _) = reference();
         let none = Tolerances::none();
+        let spec = ProfileSpec {
+            program: &p,
+            geometry: &g,
+            tolerances: &none,
+            intervals: 360,
+        };
         let mut rng = RandomStream::new(1, SumOfTwelve);
-        let a = ActualLift::<f64, 361>::generate(
-            &ProfileSpec {
-                program: &p,
-                geometry: &g,
-                tolerances: &none,
-                intervals: 360,
-            },
-            &mut rng,
-        )
-        .unwrap();
+        let a = ActualLift::<f64, 361>::generate(&spec, &mut rng).unwrap();
         for k in 0..=360 {
             let th = (k as f64).to_radians();
             let want = p.follower(if k == 360 { 0.0 } else { th }).y;
@@ -641,16 +638,7 @@ mod tests {
         assert!(worst < 1e-7, "{worst}");
         // The contour: setting points exactly on the theoretical surface.
         let mut rng = RandomStream::new(1, Polar);
-        let c = ActualContour::<f64, 361>::generate(
-            &ProfileSpec {
-                program: &p,
-                geometry: &g,
-                tolerances: &none,
-                intervals: 360,
-            },
-            &mut rng,
-        )
-        .unwrap();
+        let c = ActualContour::<f64, 361>::generate(&spec, &mut rng).unwrap();
         for k in 0..360 {
             let th = (k as f64).to_radians();
             let f = p.follower(th);

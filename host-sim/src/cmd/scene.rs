@@ -41,6 +41,6 @@ pub fn run(args: Args) -> Result<()> {
 pub fn json(text: &str) -> Result<String> {
     let doc: toml::Table = toml::from_str(text)
         .map_err(|e| anyhow::anyhow!("the scene as written does not read back: {e}"))?;
-    let pretty = serde_json::to_string_pretty(&doc)?;
-    Ok(crate::units::json(&pretty, crate::units::current())?)
+    let value = crate::units::convert(serde_json::to_value(&doc)?, crate::units::current());
+    Ok(serde_json::to_string_pretty(&value)?)
 }
