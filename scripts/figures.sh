@@ -105,6 +105,11 @@ out, work, order = sys.argv[1], sys.argv[2], sys.argv[3].split()
 old = open(out, encoding="utf-8").read() if os.path.exists(out) else ""
 sections = {m.group(1): m.group(0) for m in re.finditer(
     r"<!-- figure:([a-z0-9-]+) -->.*?<!-- /figure -->\n", old, re.S)}
+# A section missing from ORDER would silently drop out of the file (that is how `scenes`
+# vanished after its rename): refuse instead.
+stray = sorted({f[:-3] for f in os.listdir(work) if f.endswith(".md")} - set(order))
+if stray:
+    sys.exit(f"figures.sh: section(s) {', '.join(stray)} not in ORDER: add them to the list")
 for name in order:
     path = os.path.join(work, name + ".md")
     if os.path.exists(path):
@@ -130,6 +135,17 @@ EOF
 ORDER="run run-static jump-speed run-undamped run-actual own-cam waviness profile-methods validity laws modal contact
 profile predict bench-quick models sweep compare tolerance-study montecarlo sweep-actual sensitivity design bench
 firmware board"
+if [ -n "$ONLY" ]; then
+    for name in ${ONLY//,/ }; do
+        case " $(echo $ORDER) " in
+        *" $name "*) ;;
+        *)
+            printf 'figures.sh: --only %s: no section of that name (sections: %s)\n' "$name" "$(echo $ORDER)" >&2
+            exit 2
+            ;;
+        esac
+    done
+fi
 
 if want quick run; then
     begin run "The reference design: \`camsim run\`" \
