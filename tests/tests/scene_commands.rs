@@ -159,3 +159,54 @@ fn firmware_check_json_reports_the_budget_and_the_checks() {
     assert_eq!(main_from(argv), 1);
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// `firmware-check --fits ... --json` gives each ELF's sections as numbers (not only inside the
+/// check lines): a stand-in `llvm-size` prints known sections, and the report's sums are the
+/// sums of those.
+#[cfg(unix)]
+#[test]
+fn firmware_check_json_gives_each_images_sections_as_numbers() {
+    use std::os::unix::fs::PermissionsExt;
+    let d = std::env::temp_dir().join(format!("camsim-fwfits-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let memory_x = d.join("memory.x");
+    std::fs::write(
+        &memory_x,
+        "MEMORY\n{\n  FLASH : ORIGIN = 0x08000000, LENGTH = 256K\n  RAM : ORIGIN = 0x20000000, LENGTH = 64K\n}\n",
+    )
+    .unwrap();
+    let tool = d.join("fake-llvm-size");
+    std::fs::write(
+        &tool,
+        "#!/bin/sh\nprintf 'x  :\\nsection size addr\\n.vector_table 1024 0\\n.text 80000 1024\\n.rodata 8900 81024\\n.data 16 536870912\\n.bss 24 536870928\\n.uninit 8 536870952\\n.debug_info 99999 0\\n'\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&tool, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let elf = d.join("image.elf");
+    std::fs::write(&elf, b"not read by the stand-in").unwrap();
+    let argv = [
+        "camsim",
+        "firmware-check",
+        "--memory-x",
+        memory_x.to_str().unwrap(),
+        "--llvm-size",
+        tool.to_str().unwrap(),
+        "--fits",
+        elf.to_str().unwrap(),
+        "--json",
+    ];
+    let Command::FirmwareCheck(a) = parse_from(argv).unwrap().command else {
+        panic!("not firmware-check")
+    };
+    let r = camsim::cmd::firmware_check::report(&a).unwrap();
+    let v: serde_json::Value = serde_json::to_value(&r).unwrap();
+    let img = &v["images"][0];
+    // flash = .vector_table + .text + .rodata + .data; static RAM = .data + .bss + .uninit.
+    assert_eq!(img["flash_bytes"], 1024 + 80_000 + 8900 + 16);
+    assert_eq!(img["ram_static_bytes"], 16 + 24 + 8);
+    assert_eq!(img["text_bytes"], 80_000);
+    assert_eq!(v["images"].as_array().unwrap().len(), 1);
+    assert!(v["product"].is_null() && v["budget"].is_null());
+    assert_eq!(main_from(argv), 0);
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -61,11 +61,86 @@ pub struct CheckReport {
     pub flash_budget_bytes: u64,
     /// RAM's LENGTH in it, bytes.
     pub ram_budget_bytes: u64,
+    /// Every ELF read with `llvm-size -A`, with its loaded sections, in the order checked.
+    pub images: Vec<ImageSizes>,
+    /// The demonstration image's `product` line, when `--product` was checked.
+    pub product: Option<ProductNumbers>,
+    /// The budget probes' `budget` line, when `--budget` was checked.
+    pub budget: Option<BudgetNumbers>,
     /// Every line the checks print, in order (each a check passed, or what it measured).
     pub checks: Vec<String>,
     /// Whether to print each line as it comes (the text output).
     #[serde(skip)]
     print: bool,
+}
+
+/// One ELF's loaded sections (`llvm-size -A`), bytes.
+#[derive(Debug, serde::Serialize)]
+pub struct ImageSizes {
+    /// The ELF.
+    pub elf: String,
+    /// `.vector_table + .text + .rodata + .data`.
+    pub flash_bytes: u64,
+    /// `.data + .bss + .uninit`.
+    pub ram_static_bytes: u64,
+    /// `.vector_table`.
+    pub vector_table_bytes: u64,
+    /// `.text`.
+    pub text_bytes: u64,
+    /// `.rodata`.
+    pub rodata_bytes: u64,
+    /// `.data`.
+    pub data_bytes: u64,
+    /// `.bss`.
+    pub bss_bytes: u64,
+    /// `.uninit`.
+    pub uninit_bytes: u64,
+}
+
+/// The numbers of the image's own memory report (its log line's fields).
+#[derive(Debug, serde::Serialize)]
+pub struct MemoryNumbers {
+    /// Flash the image reports, bytes.
+    pub flash_bytes: u64,
+    /// Static RAM the image reports, bytes.
+    pub ram_static_bytes: u64,
+    /// Peak stack measured by the stack paint, bytes.
+    pub stack_peak_bytes: u64,
+    /// Static RAM plus peak stack, bytes.
+    pub ram_bytes: u64,
+}
+
+/// The demonstration image's `product` line.
+#[derive(Debug, serde::Serialize)]
+pub struct ProductNumbers {
+    /// Its memory report.
+    pub memory: MemoryNumbers,
+    /// Instructions from reset to the first prediction.
+    pub boot_instr: u64,
+    /// Most instructions one speed reading cost.
+    pub max_instr_per_reading: u64,
+}
+
+/// The budget probes' `budget` line.
+#[derive(Debug, serde::Serialize)]
+pub struct BudgetNumbers {
+    /// Its memory report.
+    pub memory: MemoryNumbers,
+    /// Instructions per right-hand-side evaluation of the chip's model.
+    pub instr_per_rhs: u64,
+    /// Instructions per simulated revolution at the chip's nominal speed.
+    pub instr_per_rev: u64,
+    /// Simulated time over instructions at the chip's clock, as the log printed it.
+    pub realtime_factor: f64,
+}
+
+fn memory_numbers(m: &camsim_chip::MemoryFields) -> MemoryNumbers {
+    MemoryNumbers {
+        flash_bytes: m.flash_bytes.into(),
+        ram_static_bytes: m.ram_static_bytes.into(),
+        stack_peak_bytes: m.stack_peak_bytes.into(),
+        ram_bytes: m.ram_bytes.into(),
+    }
 }
 
 impl CheckReport {
@@ -99,6 +174,17 @@ fn elf_sizes(r: &mut CheckReport, tool: &str, elf: &Path) -> Result<ElfSizes> {
     let sizes = parse_llvm_size(&String::from_utf8_lossy(&out.stdout))
         .with_context(|| elf.display().to_string())?;
     r.say(format!("  {}: {}", elf.display(), sizes.describe()));
+    r.images.push(ImageSizes {
+        elf: elf.display().to_string(),
+        flash_bytes: sizes.flash(),
+        ram_static_bytes: sizes.ram_static(),
+        vector_table_bytes: sizes.vector_table,
+        text_bytes: sizes.text,
+        rodata_bytes: sizes.rodata,
+        data_bytes: sizes.data,
+        bss_bytes: sizes.bss,
+        uninit_bytes: sizes.uninit,
+    });
     Ok(sizes)
 }
 
@@ -140,6 +226,11 @@ fn product(
         check_profile(&log, name)?;
     }
     r.say(format!("firmware-check: {p}"));
+    r.product = Some(ProductNumbers {
+        memory: memory_numbers(&p.memory),
+        boot_instr: p.boot_instr,
+        max_instr_per_reading: p.max_instr_per_reading,
+    });
     Ok(())
 }
 
@@ -166,6 +257,12 @@ fn budget_image(
     }
     // The line as read (its realtime_factor as the log printed it).
     r.say(format!("firmware-check: {line}"));
+    r.budget = Some(BudgetNumbers {
+        memory: memory_numbers(&b.memory),
+        instr_per_rhs: b.instr_per_rhs,
+        instr_per_rev: b.instr_per_rev,
+        realtime_factor: f64::from(b.realtime_factor),
+    });
     Ok(())
 }
 
@@ -188,6 +285,9 @@ pub fn report(a: &Args) -> Result<CheckReport> {
         memory_x: a.memory_x.display().to_string(),
         flash_budget_bytes: budget.flash,
         ram_budget_bytes: budget.ram,
+        images: Vec::new(),
+        product: None,
+        budget: None,
         checks: Vec::new(),
         print: !a.json,
     };
