@@ -58,6 +58,8 @@ cargo build --release -p camsim
 # docs/CLI.md is generated from every command's --help: a synopsis that went stale fails here
 # (regenerate with `bash scripts/cli-doc.sh`).
 bash scripts/cli-doc.sh --check
+# Every output block the docs quote beside a FIGURES.md link is still in FIGURES.md.
+python3 scripts/check-quotes.py
 studies=$(mktemp -d)
 # The binary where cargo put it (scripts/camsim-bin.sh).
 C="$(bash scripts/camsim-bin.sh)"
