@@ -95,6 +95,28 @@ pub fn command() -> clap::Command {
     Cli::command()
 }
 
+/// The command's name when its text output (table, report, CSV) is printed in the inch
+/// family only, so that `--units si` without `--json` cannot apply to it.
+fn inch_only_text(command: &Command) -> Option<&'static str> {
+    match command {
+        Command::Run(_) | Command::JumpSpeed(_) | Command::Profile(_) => None,
+        Command::Laws(_) | Command::Sweep(_) => None,
+        Command::Modal(_) => Some("modal"),
+        Command::Contact(_) => Some("contact"),
+        Command::Scene(_) => Some("scene"),
+        Command::Bench(_) => Some("bench"),
+        Command::Models(_) | Command::Scenes(_) => Some("models"),
+        Command::Predict(_) => Some("predict"),
+        Command::FirmwareCheck(_) => Some("firmware-check"),
+        Command::Montecarlo(_) => Some("montecarlo"),
+        Command::Compare(_) => Some("compare"),
+        Command::ToleranceStudy(_) => Some("tolerance-study"),
+        Command::Sensitivity(_) => Some("sensitivity"),
+        Command::Waviness(_) => Some("waviness"),
+        Command::Design(_) => Some("design"),
+    }
+}
+
 /// Runs a parsed command.
 pub fn execute(cli: Cli) -> Result<()> {
     crate::units::set(cli.units);
@@ -233,15 +255,14 @@ where
             return 2;
         }
     };
-    // SI applies to the JSON output only: refused before anything runs or is written.
-    if cli.units == crate::units::Units::Si
-        && !args.iter().any(|a| a == "--json")
-        && !matches!(cli.command, Command::Profile(_))
-    {
-        report_error(
-            "camsim: error: --units si: only the --json output is converted (add --json); the tables and plots print the inch family they name (see camsim --help)",
-        );
-        return 2;
+    // SI in a text output not converted yet: refused before anything runs or is written.
+    if cli.units == crate::units::Units::Si && !args.iter().any(|a| a == "--json") {
+        if let Some(name) = inch_only_text(&cli.command) {
+            report_error(&format!(
+                "camsim: error: --units si: `camsim {name}` prints its table in the inch family only; add --json for SI (see camsim --help)"
+            ));
+            return 2;
+        }
     }
     match execute(cli) {
         Ok(()) => 0,
