@@ -124,7 +124,9 @@ const BARE: [(&str, Unit); 23] = [
     ("signal_disp_rms", su::LENGTH),
 ];
 
-pub use su::{LENGTH, SPEED, STIFFNESS, STRESS, TORQUE};
+pub use su::{
+    Unit as UnitKind, INERTIA, LENGTH, MASS, SPEED, STIFFNESS, STRESS, TORQUE, TORSIONAL_STIFFNESS,
+};
 
 /// A printed quantity in the output's family ([`current`]): an inch-family value and the
 /// number of decimals it prints with in inch; the text reports print every dimensional
