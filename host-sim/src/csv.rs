@@ -45,7 +45,14 @@ pub fn header() -> String {
 fn column_unit(c: &str) -> Option<(&str, camsim_scene_file::units::Unit)> {
     use crate::units as u;
     if let Some(stem) = c.strip_suffix("_lb_in") {
-        return Some((stem, if stem == "k_h" { u::STIFFNESS } else { u::TORQUE }));
+        return Some((
+            stem,
+            if stem == "k_h" {
+                u::STIFFNESS
+            } else {
+                u::TORQUE
+            },
+        ));
     }
     [
         ("_in_s2", u::ACCELERATION),

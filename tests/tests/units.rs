@@ -229,7 +229,11 @@ fn scene_json_names_every_unit_and_converts_to_si() {
 
 #[test]
 fn units_si_without_json_is_a_usage_error_before_anything_runs() {
-    // Exit 2, and nothing simulated (it returns at once).
-    assert_eq!(cli::main_from(["camsim", "run", "--units", "si"]), 2);
+    // Exit 2 where the text is not converted yet, and nothing simulated (it returns at
+    // once).
+    assert_eq!(
+        cli::main_from(["camsim", "design", "spring", "--units", "si"]),
+        2
+    );
     assert_eq!(cli::main_from(["camsim", "run", "--units", "kelvin"]), 2);
 }

@@ -702,7 +702,11 @@ mod tests {
         let l = p.follower(211.0_f64.to_radians());
         let v = 140.0 * (u * (1.0 - u)).powi(3);
         let want = -1.5 / 150.0_f64.to_radians() * v;
-        assert!((l.dy - want).abs() <= 1e-12 * want.abs(), "{} vs {want}", l.dy);
+        assert!(
+            (l.dy - want).abs() <= 1e-12 * want.abs(),
+            "{} vs {want}",
+            l.dy
+        );
     }
 
     #[test]

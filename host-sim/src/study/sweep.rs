@@ -630,7 +630,11 @@ impl Report for SweepReport {
                 if r.jump { "JUMPS" } else { "holds" },
                 units::q(units::FORCE, r.min_contact_force_lb, 2),
                 opt(units::FORCE, r.peak_contact_force_lb, 2),
-                opt(units::ACCELERATION, r.rms_acceleration_deviation_in_per_s2, 1),
+                opt(
+                    units::ACCELERATION,
+                    r.rms_acceleration_deviation_in_per_s2,
+                    1
+                ),
                 opt(units::TORQUE, r.peak_cam_torque_lb_in, 2),
                 opt(units::STRESS, r.peak_contact_stress_psi, 0),
                 opt(units::POWER, r.peak_drive_power_hp, 3)
