@@ -100,8 +100,7 @@ pub fn command() -> clap::Command {
 fn inch_only_text(command: &Command) -> Option<&'static str> {
     match command {
         Command::Run(_) | Command::JumpSpeed(_) | Command::Profile(_) => None,
-        Command::Laws(_) | Command::Sweep(_) | Command::Modal(_) => None,
-        Command::Contact(_) => Some("contact"),
+        Command::Laws(_) | Command::Sweep(_) | Command::Modal(_) | Command::Contact(_) => None,
         Command::Scene(_) => Some("scene"),
         Command::Bench(_) => Some("bench"),
         Command::Models(_) | Command::Scenes(_) => Some("models"),

@@ -299,6 +299,10 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
             "modal",
             camsim::cmd::modal::render_table(&camsim::cmd::modal::analyse().unwrap()),
         ),
+        (
+            "contact",
+            camsim::cmd::contact::render_table(&camsim::study::contact::compute(100.0).unwrap()),
+        ),
     ];
     units::set(Units::Inch);
     for (name, text) in texts {
