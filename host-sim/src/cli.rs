@@ -17,9 +17,10 @@ pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
-    /// Units of the --json output: inch (the thesis's: in, lb, psi, lb in; the default) or si
-    /// (mm, N, MPa, N m, N/mm, kg); every numeric key names its unit. The tables and plots
-    /// print the inch family, which they name; `profile` draws in in or mm.
+    /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
+    /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), the tables of
+    /// run, sweep, jump-speed, laws, modal and contact, the --csv of run and sweep, and
+    /// profile's drawing; the other tables are inch only (si needs --json there).
     #[arg(
         long,
         global = true,
