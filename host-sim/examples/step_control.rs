@@ -13,8 +13,8 @@ use std::ops::ControlFlow;
 
 use anyhow::Result;
 use camsim_core::{
-    simulate_on_grid, AngleGrid, CamModel, Design, GridPointKind, Observer, RegulatedFull,
-    Sample, Scene, SolverSettings, Start, StepRule,
+    simulate_on_grid, AngleGrid, CamModel, Design, GridPointKind, Observer, RegulatedFull, Sample,
+    Scene, SolverSettings, Start, StepRule,
 };
 
 type Model = CamModel<f64, RegulatedFull, { RegulatedFull::N }>;

@@ -355,7 +355,10 @@ fn the_default_step_control_is_the_tolerance_scaled_cap() {
         SolverSettings::<f64>::reference().step_control,
         StepRule::ScaledCap
     );
-    assert_eq!(camsim_chip::chip_solver_settings::<f32>().step_control, StepRule::Thesis);
+    assert_eq!(
+        camsim_chip::chip_solver_settings::<f32>().step_control,
+        StepRule::Thesis
+    );
 }
 
 /// Issue 22's "done when" on the default path: from rtol 1e-5 to 1e-8 the error falls at

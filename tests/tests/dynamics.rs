@@ -10,8 +10,7 @@ use camsim_core::{
     rpm_to_rad_per_s, simulate, CamModel, ConstCamVertical, ConstCamVerticalModel, Design,
     DriveLaw, England, EnglandConfig, MotionLaw, OdeSystem, Real, RegulatedFull,
     RegulatedFullModel, RegulatedVerticalModel, ResponseStats, Sample, Scene, SolverSettings,
-    StepRule,
-    SolverStats, Start, StateMut, StateVar, Tolerance, TransDof,
+    SolverStats, Start, StateMut, StateVar, StepRule, Tolerance, TransDof,
 };
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;

@@ -12,7 +12,8 @@ use core::ops::ControlFlow;
 
 use crate::{
     CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
-    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, StepRule, Tolerance, TransDof, TRANS_DOFS,
+    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, StepRule, Tolerance, TransDof,
+    TRANS_DOFS,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -401,19 +402,21 @@ impl<T: Real> RunState<T> {
         let config = solver_config(model, settings, revolutions)?;
         // The solver's own names for what the settings derive (h_max, h_init, max_steps) are
         // not scene keys: name the key that sets each (unreachable with validated settings).
-        let solver = England::with_control(config, settings.step_control.control()).map_err(|e| match e {
-            Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
-                field: match field {
-                    "max_steps" => crate::key::MAX_STEPS_PER_REV,
-                    "rtol" => crate::key::RTOL,
-                    "atol" => crate::key::ATOL,
-                    _ => crate::key::MAX_STEP_FRACTION,
+        let solver = England::with_control(config, settings.step_control.control()).map_err(
+            |e| match e {
+                Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
+                    field: match field {
+                        "max_steps" => crate::key::MAX_STEPS_PER_REV,
+                        "rtol" => crate::key::RTOL,
+                        "atol" => crate::key::ATOL,
+                        _ => crate::key::MAX_STEP_FRACTION,
+                    },
+                    rule,
+                    value,
                 },
-                rule,
-                value,
+                other => other,
             },
-            other => other,
-        })?;
+        )?;
         let d = model.design();
         let target = T::TWO * T::PI * T::from_usize(revolutions as usize);
         // Generous end time: the drive may run slower than ω0; a stalled drive is an error.

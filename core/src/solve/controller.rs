@@ -452,7 +452,9 @@ impl StepRule {
 
     /// The [`StepControl`] England runs with under this rule.
     pub fn control<T: Real>(self) -> StepControl<T> {
-        let cap = Some(StiffnessCap::tolerance_scaled(T::from_f64(SCALED_CAP_FULL_RTOL)));
+        let cap = Some(StiffnessCap::tolerance_scaled(T::from_f64(
+            SCALED_CAP_FULL_RTOL,
+        )));
         match self {
             StepRule::Thesis => StepControl::classic(),
             StepRule::ScaledCap => StepControl {

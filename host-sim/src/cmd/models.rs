@@ -12,8 +12,7 @@ use anyhow::{Context, Result};
 use camsim_core::{
     simulate, steady_state, timing_points, CamModel, Design, DofSet, DriveKind, England,
     FollowerModel, RegulatedFull, Scene, SceneId, SceneVisitor, SolverSettings, Start, SteadyState,
-    StepRule,
-    SteadyStateObserver, TheoreticalLift, TIMING_POINTS,
+    SteadyStateObserver, StepRule, TheoreticalLift, TIMING_POINTS,
 };
 use serde::Serialize;
 
