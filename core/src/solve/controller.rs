@@ -472,7 +472,9 @@ impl StepRule {
 /// Step-size control of [`England`](crate::England) beyond [`EnglandConfig`](crate::EnglandConfig):
 /// pass it to [`England::with_control`](crate::England::with_control).
 /// [`StepControl::classic`] (the default, what [`England::new`](crate::England::new) uses)
-/// reproduces the original solver bit for bit.
+/// reproduces the original solver bit for bit. A simulation's control is chosen by
+/// [`StepRule`] ([`SolverSettings::step_control`](crate::SolverSettings::step_control)),
+/// whose default is the tolerance-scaled cap, not this.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepControl<T> {
     /// Step-size rule.
