@@ -914,7 +914,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// Writes dy/dt for the state (t, y) given the evaluated point: every quantity the
     /// scene keeps (the layout numbers them 0..N, so every component is written).
     #[inline]
-    fn derivative(&self, p: &ModelPoint<T>, dydt: &mut [T; N]) {
+    pub(crate) fn derivative(&self, p: &ModelPoint<T>, dydt: &mut [T; N]) {
         let mut out = StateMut::<T, S, N>::new(dydt);
         out.set(StateVar::CamAngle, p.omega_c);
         out.set(StateVar::CouplingCamTwist, p.omega_cp - p.omega_c);

@@ -344,8 +344,15 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
         t_end,
         mut y,
     } = RunState::start(model, settings, revolutions)?;
-    let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
-        run.take(model, observer, t, y)
+    // Each sample's evaluation of the model also gives the next step's first stage.
+    let result = solver.integrate_shared(model, T::ZERO, &mut y, t_end, |t, y, f| {
+        let (stress, outputs) = (observer.needs_stress(), observer.needs_outputs());
+        let p = model.evaluate_with(t, y, outputs || stress);
+        if let Some(f) = f {
+            model.derivative(&p, f);
+        }
+        let sample = model.sample_of(p, stress, outputs);
+        run.take_sample(model, observer, &sample)
     });
     run.finish(model, settings, result)
 }
@@ -669,8 +676,13 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// read ([`Observer::needs_outputs`]): the pressure angle, the surface radius where the
     /// lift is tabulated, and the theoretical response, left at 0.
     pub fn sample_with(&self, t: T, y: &[T; N], stress: bool, outputs: bool) -> Sample<T> {
+        self.sample_of(self.evaluate_with(t, y, outputs || stress), stress, outputs)
+    }
+
+    /// [`Self::sample_with`] of the point `p` already evaluated (with the outputs if
+    /// `outputs || stress`).
+    pub(crate) fn sample_of(&self, p: ModelPoint<T>, stress: bool, outputs: bool) -> Sample<T> {
         let outputs = outputs || stress;
-        let p = self.evaluate_with(t, y, outputs);
         let d = self.design();
         let two_pi = T::TWO * T::PI;
         let turns = (p.theta_c / two_pi).floor();

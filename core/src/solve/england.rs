@@ -1023,6 +1023,54 @@ impl<T: Real, const N: usize> England<T, N> {
         Ok(self.stats)
     }
 
+    /// [`England::integrate`] for an observer that evaluates the system at every point it
+    /// is shown anyway (a model forming its output samples): `observer(t, y, f)` sees the
+    /// same points in the same order, and at the start and at each end point `f` is
+    /// `Some`, for the observer to write `f(t, y)` into, exactly as [`OdeSystem::rhs`]
+    /// would: it is the next step's first stage, which is then not evaluated again. The
+    /// points and the counters (`rhs_evals` counts that stage as before) are bit for bit
+    /// those of [`England::integrate`]; the system is evaluated once less per accepted
+    /// step.
+    pub(crate) fn integrate_shared<S, F>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &mut [T; N],
+        t_end: T,
+        mut observer: F,
+    ) -> Result<SolverStats>
+    where
+        S: OdeSystem<T, N>,
+        F: FnMut(T, &[T; N], Option<&mut [T; N]>) -> ControlFlow<()>,
+    {
+        self.begin(t0, y, t_end)?;
+        if observer(t0, y, Some(&mut self.f0)).is_break() {
+            return Ok(self.stats);
+        }
+        let mut t = t0;
+        let mut mid = (t0, [T::ZERO; N]);
+        while t < t_end {
+            // f(t, y) from the observer: counted and checked as `stage` does.
+            self.stats.rhs_evals = self.stats.rhs_evals.saturating_add(1);
+            if let Some(i) = first_non_finite(&self.f0) {
+                return Err(Error::NonFinite {
+                    t: t.to_f64(),
+                    component: i,
+                });
+            }
+            self.step_impl(sys, &mut t, y, t_end, &mut mid, StepMode::Continue)?;
+            if observer(mid.0, &mid.1, None).is_break() {
+                // The caller stopped at the midpoint: leave y there.
+                *y = mid.1;
+                break;
+            }
+            if observer(t, y, Some(&mut self.f0)).is_break() {
+                break;
+            }
+        }
+        Ok(self.stats)
+    }
+
     /// Integrates from `t0` to `t_end` like [`England::integrate`], calling
     /// `observer(&dense)` once per accepted double step with its continuous extension
     /// [`Dense`], which evaluates the solution anywhere in the step (in time order; the
