@@ -298,6 +298,18 @@ fn check_step_start<T: Real, const N: usize>(t0: T, t_end: T, y: &[T; N]) -> Res
     Ok(())
 }
 
+/// An observer of [`England::integrate_shared`] that forms its samples from the system's
+/// own evaluations: at the start, at each midpoint (the second half step's first stage,
+/// `k5 = s f(t_mid, y1)`, of every attempt) and at each end point (the next step's first
+/// stage), so that no point shown is evaluated twice.
+pub(crate) trait Sampler<T, const N: usize> {
+    /// Writes `f(t, y)` into `f`, bit for bit as the system's
+    /// [`rhs`](OdeSystem::rhs) would, and keeps what [`Sampler::show`] needs of the point.
+    fn evaluate(&mut self, t: T, y: &[T; N], f: &mut [T; N]);
+    /// Shows the point last evaluated; [`ControlFlow::Break`] stops the integration.
+    fn show(&mut self) -> ControlFlow<()>;
+}
+
 /// Evaluates `out = scale · f(t, arg)` and checks that it is finite.
 #[inline(always)]
 pub(super) fn stage<T: Real, const N: usize, S: OdeSystem<T, N>>(
@@ -309,6 +321,18 @@ pub(super) fn stage<T: Real, const N: usize, S: OdeSystem<T, N>>(
     evals: &mut u32,
 ) -> Result<()> {
     sys.rhs(t, arg, out);
+    scaled_stage(t, scale, out, evals)
+}
+
+/// The rest of [`stage`] once `out = f(t, arg)`: counts the evaluation, scales `out` by
+/// `scale` and checks that it is finite.
+#[inline(always)]
+fn scaled_stage<T: Real, const N: usize>(
+    t: T,
+    scale: T,
+    out: &mut [T; N],
+    evals: &mut u32,
+) -> Result<()> {
     *evals = evals.saturating_add(1);
     for (i, o) in out.iter_mut().enumerate() {
         *o *= scale;
@@ -586,6 +610,22 @@ impl<T: Real, const N: usize> England<T, N> {
         mid: &mut (T, [T; N]),
         mode: StepMode,
     ) -> Result<Attempt<T>> {
+        self.step_sampled(sys, t, y, t_end, mid, mode, None)
+    }
+
+    /// [`England::step_impl`], with each attempt's `k5` evaluated by `sampler` if given
+    /// ([`England::integrate_shared`]).
+    #[allow(clippy::too_many_arguments)]
+    fn step_sampled<'s, S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t: &mut T,
+        y: &mut [T; N],
+        t_end: T,
+        mid: &mut (T, [T; N]),
+        mode: StepMode,
+        mut sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
+    ) -> Result<Attempt<T>> {
         let (f0_ready, once, force, mut rejected_here) = match mode {
             StepMode::Fresh => (false, false, false, false),
             StepMode::Continue => (true, false, false, false),
@@ -614,7 +654,7 @@ impl<T: Real, const N: usize> England<T, N> {
             }
             let p = self.plan(t0, t_end);
             self.first_half(sys, t0, y, &p, &mut mid.1)?;
-            self.second_half(sys, y, &mid.1, &p)?;
+            self.second_half(sys, y, &mid.1, &p, sampler.as_deref_mut())?;
             let err = self.error_ratio(y, &p)?;
             if err <= T::ONE || force {
                 self.accept(sys, &p, err, rejected_here, &mid.1, y)?;
@@ -756,16 +796,23 @@ impl<T: Real, const N: usize> England<T, N> {
 
     /// Second half step from the midpoint `y1` up to `k7`, then England's `k9` at the
     /// auxiliary end point ŷ2 (left in `self.arg`).
-    fn second_half<S: OdeSystem<T, N>>(
+    fn second_half<'s, S: OdeSystem<T, N>>(
         &mut self,
         sys: &S,
         y: &[T; N],
         y1: &[T; N],
         p: &Plan<T>,
+        sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
     ) -> Result<()> {
         let (s, t_mid) = (p.s, p.t_mid);
         let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
-        stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?;
+        match sampler {
+            Some(sampler) => {
+                sampler.evaluate(t_mid, y1, &mut self.k5);
+                scaled_stage(t_mid, s, &mut self.k5, &mut self.stats.rhs_evals)?;
+            }
+            None => stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?,
+        }
         for ((a, m), k5) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()) {
             *a = *m + a2 * *k5;
         }
@@ -1023,48 +1070,41 @@ impl<T: Real, const N: usize> England<T, N> {
         Ok(self.stats)
     }
 
-    /// [`England::integrate`] for an observer that evaluates the system at every point it
-    /// is shown anyway (a model forming its output samples): `observer(t, y, f)` sees the
-    /// same points in the same order, and at the start and at each end point `f` is
-    /// `Some`, for the observer to write `f(t, y)` into, exactly as [`OdeSystem::rhs`]
-    /// would: it is the next step's first stage, which is then not evaluated again. The
-    /// points and the counters (`rhs_evals` counts that stage as before) are bit for bit
-    /// those of [`England::integrate`]; the system is evaluated once less per accepted
-    /// step.
-    pub(crate) fn integrate_shared<S, F>(
+    /// [`England::integrate`] for a [`Sampler`], an observer that forms its samples from
+    /// the system's own evaluations: it is shown the same points in the same order (the
+    /// start, each accepted step's midpoint and end point), each evaluated once, by the
+    /// sampler: the midpoint is the accepted attempt's `k5` stage, the end point the next
+    /// step's first stage. The points and the counters (`rhs_evals` counts those stages as
+    /// before) are bit for bit those of [`England::integrate`] with an observer that
+    /// evaluates the system at every point; the system is evaluated twice less per
+    /// accepted step.
+    pub(crate) fn integrate_shared<S: OdeSystem<T, N>>(
         &mut self,
         sys: &S,
         t0: T,
         y: &mut [T; N],
         t_end: T,
-        mut observer: F,
-    ) -> Result<SolverStats>
-    where
-        S: OdeSystem<T, N>,
-        F: FnMut(T, &[T; N], Option<&mut [T; N]>) -> ControlFlow<()>,
-    {
+        sampler: &mut dyn Sampler<T, N>,
+    ) -> Result<SolverStats> {
         self.begin(t0, y, t_end)?;
-        if observer(t0, y, Some(&mut self.f0)).is_break() {
+        sampler.evaluate(t0, y, &mut self.f0);
+        if sampler.show().is_break() {
             return Ok(self.stats);
         }
         let mut t = t0;
         let mut mid = (t0, [T::ZERO; N]);
         while t < t_end {
-            // f(t, y) from the observer: counted and checked as `stage` does.
-            self.stats.rhs_evals = self.stats.rhs_evals.saturating_add(1);
-            if let Some(i) = first_non_finite(&self.f0) {
-                return Err(Error::NonFinite {
-                    t: t.to_f64(),
-                    component: i,
-                });
-            }
-            self.step_impl(sys, &mut t, y, t_end, &mut mid, StepMode::Continue)?;
-            if observer(mid.0, &mid.1, None).is_break() {
+            // f(t, y) from the sampler: counted and checked as `stage` does.
+            scaled_stage(t, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
+            let mode = StepMode::Continue;
+            self.step_sampled(sys, &mut t, y, t_end, &mut mid, mode, Some(&mut *sampler))?;
+            if sampler.show().is_break() {
                 // The caller stopped at the midpoint: leave y there.
                 *y = mid.1;
                 break;
             }
-            if observer(t, y, Some(&mut self.f0)).is_break() {
+            sampler.evaluate(t, y, &mut self.f0);
+            if sampler.show().is_break() {
                 break;
             }
         }
