@@ -1201,3 +1201,124 @@ impl<T: Real, const N: usize> England<T, N> {
         Ok(self.stats)
     }
 }
+
+#[cfg(test)]
+mod shared_tests {
+    use super::*;
+    use core::cell::Cell;
+
+    /// A damped oscillator with a forcing term that depends on t, counting its evaluations.
+    struct Forced {
+        calls: Cell<u32>,
+    }
+
+    impl OdeSystem<f64, 2> for Forced {
+        fn rhs(&self, t: f64, y: &[f64; 2], dydt: &mut [f64; 2]) {
+            self.calls.set(self.calls.get() + 1);
+            dydt[0] = y[1];
+            dydt[1] = -400.0 * y[0] - 0.3 * y[1] + (3.0 * t).sin();
+        }
+    }
+
+    /// Records every point shown, evaluating the system itself.
+    struct Recorder<'a> {
+        sys: &'a Forced,
+        last: (f64, [f64; 2]),
+        shown: [(f64, [f64; 2]); 4096],
+        len: usize,
+        stop_after: usize,
+    }
+
+    impl Sampler<f64, 2> for Recorder<'_> {
+        fn evaluate(&mut self, t: f64, y: &[f64; 2], f: &mut [f64; 2]) {
+            self.last = (t, *y);
+            self.sys.rhs(t, y, f);
+        }
+        fn show(&mut self) -> ControlFlow<()> {
+            if let Some(slot) = self.shown.get_mut(self.len) {
+                *slot = self.last;
+            }
+            self.len += 1;
+            if self.len >= self.stop_after {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        }
+    }
+
+    fn solver() -> England<f64, 2> {
+        England::new(EnglandConfig {
+            tol: Tolerance::scalar(1e-6, 1e-9),
+            h_init: 1e-3,
+            h_min: 1e-12,
+            h_max: 0.05,
+            max_steps: 100_000,
+        })
+        .unwrap()
+    }
+
+    /// `integrate_shared` shows the points `integrate` shows, bit for bit, with the same
+    /// counters, and evaluates the system exactly `2 · accepted` times less than
+    /// `integrate` with an observer that evaluates it at every point shown (two per
+    /// accepted step); stopping at a
+    /// midpoint leaves `y` there in both.
+    #[test]
+    fn shared_evaluations_show_the_same_points_for_fewer_evaluations() {
+        for stop_after in [usize::MAX, 7, 8] {
+            let sys = Forced {
+                calls: Cell::new(0),
+            };
+            let mut plain = [(0.0, [0.0; 2]); 4096];
+            let mut n_plain = 0;
+            let mut y_plain = [1.0, 0.0];
+            let stats_plain = solver()
+                .integrate(&sys, 0.0, &mut y_plain, 2.0, |t, y| {
+                    let mut f = [0.0; 2];
+                    sys.rhs(t, y, &mut f); // the observer's own evaluation
+                    plain[n_plain] = (t, *y);
+                    n_plain += 1;
+                    if n_plain >= stop_after {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                })
+                .unwrap();
+            let calls_plain = sys.calls.replace(0);
+
+            let mut rec = Recorder {
+                sys: &sys,
+                last: (f64::NAN, [f64::NAN; 2]),
+                shown: [(0.0, [0.0; 2]); 4096],
+                len: 0,
+                stop_after,
+            };
+            let mut y = [1.0, 0.0];
+            let stats = solver()
+                .integrate_shared(&sys, 0.0, &mut y, 2.0, &mut rec)
+                .unwrap();
+            let calls = sys.calls.get();
+
+            assert_eq!(stats, stats_plain);
+            if stop_after == usize::MAX {
+                assert!(stats.rejected > 0 && stats.accepted > 20, "{stats:?}");
+            }
+            assert_eq!(rec.len, n_plain);
+            for (a, b) in rec.shown.iter().zip(plain.iter()).take(n_plain) {
+                assert_eq!(a.0.to_bits(), b.0.to_bits());
+                assert_eq!(a.1.map(f64::to_bits), b.1.map(f64::to_bits));
+            }
+            assert_eq!(y.map(f64::to_bits), y_plain.map(f64::to_bits));
+            // integrate: rhs_evals + one per point shown; shared: one per point evaluated
+            // (the start, each attempt's k5 and each end point counted once).
+            assert_eq!(calls_plain, stats.rhs_evals + n_plain as u32);
+            // Both evaluate the last point shown (the shared run as the next step's first
+            // stage, uncounted when there is no next step): two evaluations saved per
+            // accepted step (its midpoint and its end point).
+            let saved = calls_plain - calls;
+            let expected = 2 * stats.accepted;
+            assert_eq!(saved, expected, "stop_after {stop_after}: {stats:?}");
+        }
+    }
+}
