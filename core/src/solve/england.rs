@@ -334,22 +334,36 @@ fn scaled_stage<T: Real, const N: usize>(
     evals: &mut u32,
 ) -> Result<()> {
     *evals = evals.saturating_add(1);
-    for (i, o) in out.iter_mut().enumerate() {
+    // `x · 0` is NaN exactly for a non-finite x (±0 otherwise): one sum tells whether any
+    // component is non-finite, without a test and branch per component.
+    let mut probe = T::ZERO;
+    for o in out.iter_mut() {
         *o *= scale;
-        if !o.is_finite() {
-            return Err(Error::NonFinite {
-                t: t.to_f64(),
-                component: i,
-            });
-        }
+        probe += *o * T::ZERO;
     }
-    Ok(())
+    if probe.is_finite() {
+        return Ok(());
+    }
+    Err(Error::NonFinite {
+        t: t.to_f64(),
+        component: first_non_finite(out).unwrap_or(0),
+    })
 }
 
 /// Index of the first non-finite component, if any.
 #[inline]
 pub(super) fn first_non_finite<T: Real, const N: usize>(y: &[T; N]) -> Option<usize> {
-    y.iter().position(|v| !v.is_finite())
+    // One sum of `x · 0` (NaN exactly for a non-finite x) first: no test per component
+    // unless one is non-finite.
+    let mut probe = T::ZERO;
+    for v in y {
+        probe += *v * T::ZERO;
+    }
+    if probe.is_finite() {
+        None
+    } else {
+        y.iter().position(|v| !v.is_finite())
+    }
 }
 
 impl<T: Real, const N: usize> England<T, N> {
@@ -717,14 +731,14 @@ impl<T: Real, const N: usize> England<T, N> {
         y1: &mut [T; N],
     ) -> Result<()> {
         let s = p.s;
-        for (i, (k, f)) in self.k1.iter_mut().zip(self.f0.iter()).enumerate() {
+        for (k, f) in self.k1.iter_mut().zip(self.f0.iter()) {
             *k = s * *f;
-            if !k.is_finite() {
-                return Err(Error::NonFinite {
-                    t: t0.to_f64(),
-                    component: i,
-                });
-            }
+        }
+        if let Some(i) = first_non_finite(&self.k1) {
+            return Err(Error::NonFinite {
+                t: t0.to_f64(),
+                component: i,
+            });
         }
         let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
         for ((a, y0), k1) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()) {
@@ -876,7 +890,11 @@ impl<T: Real, const N: usize> England<T, N> {
         let rtol = self.config.tol.rtol;
         let e_scale = T::from_f64(Tableau::E_SCALE);
         let mut err = T::ZERO;
-        for (i, ((((((((k1, k3), k4), k5), k7), k9), atol), y0), a)) in self
+        // Non-finite components of E: one sum of `e · 0` (NaN exactly for a non-finite e),
+        // looked into only when it is not finite.
+        let mut probe = T::ZERO;
+        let mut e_all = [T::ZERO; N];
+        for ((((((((k1, k3), k4), k5), k7), k9), atol), y0), (a, e_out)) in self
             .k1
             .iter()
             .zip(self.k3.iter())
@@ -886,17 +904,12 @@ impl<T: Real, const N: usize> England<T, N> {
             .zip(self.k9.iter())
             .zip(self.config.tol.atol.iter())
             .zip(y.iter())
-            .zip(self.arg.iter())
-            .enumerate()
+            .zip(self.arg.iter().zip(e_all.iter_mut()))
         {
             let e = e_scale * weighted(&Tableau::E, [*k1, *k3, *k4, *k5, *k7, *k9]);
             let scale = *atol + rtol * y0.abs().max(a.abs());
-            if !e.is_finite() {
-                return Err(Error::NonFinite {
-                    t: p.t_end.to_f64(),
-                    component: i,
-                });
-            }
+            probe += e * T::ZERO;
+            *e_out = e;
             let e = e.abs();
             let r = if scale > T::ZERO {
                 e / scale
@@ -906,6 +919,12 @@ impl<T: Real, const N: usize> England<T, N> {
                 T::INFINITY
             };
             err = err.max(r);
+        }
+        if !probe.is_finite() {
+            return Err(Error::NonFinite {
+                t: p.t_end.to_f64(),
+                component: first_non_finite(&e_all).unwrap_or(0),
+            });
         }
         if let Some(u) = &self.control.per_unit_step {
             err = u.ratio(err, p.h, rtol);
@@ -1245,6 +1264,34 @@ mod shared_tests {
                 ControlFlow::Continue(())
             }
         }
+    }
+
+    /// The one-sum test of `first_non_finite` (and the stages' and the error's): the
+    /// largest, smallest and signed-zero components are finite; each of NaN, +inf and -inf
+    /// is found at its index, the first of several.
+    #[test]
+    fn non_finite_components_are_found_by_index() {
+        let finite = [f32::MAX, -f32::MAX, f32::MIN_POSITIVE * 0.5, -0.0, 0.0];
+        assert_eq!(first_non_finite(&finite), None);
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            for i in 0..5 {
+                let mut y = finite;
+                y[i] = bad;
+                assert_eq!(first_non_finite(&y), Some(i), "{bad} at {i}");
+                y[4] = f32::NAN;
+                assert_eq!(first_non_finite(&y), Some(i), "{bad} at {i} and NaN at 4");
+            }
+        }
+        let mut out = [1.0f32, 2.0, 3.0];
+        let mut evals = 0;
+        // 2 · MAX overflows to +inf in component 1 only.
+        out[1] = f32::MAX;
+        let r = scaled_stage(0.5f32, 2.0, &mut out, &mut evals);
+        assert!(
+            matches!(r, Err(Error::NonFinite { component: 1, .. })),
+            "{r:?}"
+        );
+        assert_eq!(evals, 1);
     }
 
     fn solver() -> England<f64, 2> {
