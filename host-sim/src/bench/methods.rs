@@ -2,7 +2,8 @@
 //! ([`CamModel`]'s, through [`Counted`]), from the same static start, to the same end
 //! (the first step end at or past `2π · revolutions` of cam angle), sampled the same way
 //! ([`Sampler`]):
-//! - England's method as `simulate` runs it ([`StepControl::classic`]);
+//! - England's method with the thesis's rule, uncapped ([`StepControl::classic`], the
+//!   `"thesis"` step control; the default run caps the step, `camsim_core::StepRule`);
 //! - England's method with the PI controller, Hairer's starting step and the stiffness
 //!   cap ([`StepControl::pi_capped`]);
 //! - classic RK4 at a fixed step (a whole number of steps per nominal revolution), the
