@@ -160,7 +160,7 @@ where
     if sampler.bad_sample {
         bail!("a sample could not be placed (non-finite solution)");
     }
-    if !sampler.done && !sampler.separated_in_sampled {
+    if !sampler.done && sampler.jump_watch.steady_separation.is_none() {
         bail!("the run ended before the cam turned {revolutions} revolutions");
     }
     Ok(work)
@@ -193,7 +193,7 @@ where
     if sampler.bad_sample {
         bail!("a sample could not be placed (non-finite solution)");
     }
-    if !sampler.done && !sampler.separated_in_sampled {
+    if !sampler.done && sampler.jump_watch.steady_separation.is_none() {
         bail!("the run ended before the cam turned {revolutions} revolutions");
     }
     Ok(work)
