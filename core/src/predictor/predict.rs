@@ -448,6 +448,35 @@ mod tests {
     use super::*;
 
     #[test]
+    fn far_above_the_onset_a_failed_run_is_a_jump() {
+        use crate::RegulatedFull as S;
+        // At 2000 rpm (the onset is near 900) the follower leaves the cam at the start and
+        // the free flight drives the cantilever past its length in revolution 1: the run
+        // fails before the steady state. The jump rule makes that a jump, not an error.
+        let d = Design::<f64>::reference();
+        let settings = SolverSettings::default();
+        let mut fast = d.clone();
+        fast.set_speed_rpm(2000.0).unwrap();
+        let model = CamModel::<f64, S, { S::N }, _>::with_profile(fast, TheoreticalLift).unwrap();
+        let mut obs = SteadyStateObserver::new(2, timing_points(&d.program));
+        let run = simulate(&model, &settings, 2, &mut obs);
+        assert!(
+            matches!(run, Err(crate::Error::OutOfModel { revolution: 1, .. })),
+            "{run:?}"
+        );
+        assert_eq!(obs.watch.steady_separation, None);
+        let first = obs.watch.first_separation.unwrap();
+        let st =
+            steady_state::<f64, S, { S::N }, _>(&d, TheoreticalLift, 2000.0, &settings).unwrap();
+        assert!(st.jumped);
+        // Nothing of revolution 2 was measured: the force is taken to 0 where the
+        // follower first left the cam.
+        assert_eq!(st.min_contact_force, 0.0);
+        assert_eq!(st.min_force_deg, first.to_degrees());
+        assert!(st.timing_deg.iter().all(|t| t.is_nan()));
+    }
+
+    #[test]
     fn hysteresis_switches_at_both_thresholds() {
         let mut a = JumpAlarm::new(50.0f32, 100.0).unwrap();
         assert!(!a.update(200.0));
