@@ -7,9 +7,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    period_name, simulate, simulate_on_grid, AngleGrid, Both, CamModel, Design, DeviatedLift,
-    DofSet, FollowerModel, jump_verdict, JumpWatch, LiftProfile, Observer, ResponseStats, Sample, Scene, SceneId,
-    SceneVisitor, SegmentKind, SolverSettings, SolverStats,
+    jump_verdict, period_name, simulate, simulate_on_grid, AngleGrid, Both, CamModel, Design,
+    DeviatedLift, DofSet, FollowerModel, JumpWatch, LiftProfile, Observer, ResponseStats, Sample,
+    Scene, SceneId, SceneVisitor, SegmentKind, SolverSettings, SolverStats,
 };
 use std::sync::Arc;
 

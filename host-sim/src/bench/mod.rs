@@ -25,8 +25,8 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    CamModel, jump_verdict, ConstCamVertical, ConstMotorVertical, Design, DriveLaw, Onset, OnsetSearch, Real,
-    RegulatedFull, RegulatedVertical, Scene, SolverSettings, Start,
+    jump_verdict, CamModel, ConstCamVertical, ConstMotorVertical, Design, DriveLaw, Onset,
+    OnsetSearch, Real, RegulatedFull, RegulatedVertical, Scene, SolverSettings, Start,
 };
 use ode_solvers::dop_shared::FloatNumber;
 use serde::Serialize;
