@@ -10,9 +10,11 @@
 
 use core::ops::ControlFlow;
 
+use crate::solve::england::Sampler;
 use crate::{
     CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
-    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, Tolerance, TransDof, TRANS_DOFS,
+    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, StepRule, Tolerance, TransDof,
+    TRANS_DOFS,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -186,7 +188,7 @@ impl<T, A: Observer<T>, B: Observer<T>> Observer<T> for Both<'_, A, B> {
 /// that is scaled to every state component (see [`solver_config`]).
 ///
 /// Scene keys (`[solver]`, [`crate::key::SOLVER_KEYS`]): `rtol`, `atol_in`,
-/// `max_step_fraction_rev`, `max_steps_per_rev`, `start`; absent keys take
+/// `max_step_fraction_rev`, `max_steps_per_rev`, `start`, `step_control`; absent keys take
 /// [`SolverSettings::reference`]'s values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
@@ -215,6 +217,9 @@ pub struct SolverSettings<T> {
     pub max_steps_per_rev: u32,
     /// Where the simulation starts.
     pub start: Start,
+    /// How England's method controls its step ([`StepRule`]; scene key `step_control`):
+    /// the tolerance-scaled stiffness cap by default, `"thesis"` for the thesis's rule.
+    pub step_control: StepRule,
 }
 
 /// The initial state of a simulation (scene names `"thesis"`, `"static"`).
@@ -235,7 +240,8 @@ pub enum Start {
 }
 
 impl<T: Real> SolverSettings<T> {
-    /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step.
+    /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step,
+    /// England's rule with the tolerance-scaled stiffness cap ([`StepRule::ScaledCap`]).
     pub fn reference() -> Self {
         Self {
             rtol: T::from_f64(1e-6),
@@ -243,6 +249,7 @@ impl<T: Real> SolverSettings<T> {
             max_step_fraction: T::from_f64(1.0 / 2000.0),
             max_steps_per_rev: 2_000_000,
             start: Start::Thesis,
+            step_control: StepRule::ScaledCap,
         }
     }
 
@@ -344,10 +351,47 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
         t_end,
         mut y,
     } = RunState::start(model, settings, revolutions)?;
-    let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
-        run.take(model, observer, t, y)
-    });
+    // Each sample is formed from one of the solver's own evaluations of the model.
+    let mut sampler = RunSampler {
+        model,
+        observer,
+        run: &mut run,
+        point: ModelPoint::default(),
+        flags: (false, false),
+    };
+    let result = solver.integrate_shared(model, T::ZERO, &mut y, t_end, &mut sampler);
     run.finish(model, settings, result)
+}
+
+/// [`simulate`]'s samples from the solver's own evaluations of the model
+/// ([`England::integrate_shared`]): the last point evaluated, with the outputs the observer
+/// asked for.
+struct RunSampler<'a, T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O> {
+    model: &'a CamModel<T, S, N, P>,
+    observer: &'a mut O,
+    run: &'a mut RunState<T>,
+    /// The point last evaluated.
+    point: ModelPoint<T>,
+    /// The observer's `(needs_stress, needs_outputs)` when it was evaluated.
+    flags: (bool, bool),
+}
+
+impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>> Sampler<T, N>
+    for RunSampler<'_, T, S, N, P, O>
+{
+    fn evaluate(&mut self, t: T, y: &[T; N], f: &mut [T; N]) {
+        let (stress, outputs) = (self.observer.needs_stress(), self.observer.needs_outputs());
+        self.flags = (stress, outputs);
+        // The outputs only add to the point: the derivative is the right-hand side's.
+        self.point = self.model.evaluate_with(t, y, outputs || stress);
+        self.model.derivative(&self.point, f);
+    }
+
+    fn show(&mut self) -> ControlFlow<()> {
+        let (stress, outputs) = self.flags;
+        let sample = self.model.sample_of(self.point, stress, outputs);
+        self.run.take_sample(self.model, self.observer, &sample)
+    }
 }
 
 /// What [`simulate`] and [`simulate_events`] share: the setup of a run, what each sample
@@ -396,19 +440,21 @@ impl<T: Real> RunState<T> {
         let config = solver_config(model, settings, revolutions)?;
         // The solver's own names for what the settings derive (h_max, h_init, max_steps) are
         // not scene keys: name the key that sets each (unreachable with validated settings).
-        let solver = England::new(config).map_err(|e| match e {
-            Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
-                field: match field {
-                    "max_steps" => crate::key::MAX_STEPS_PER_REV,
-                    "rtol" => crate::key::RTOL,
-                    "atol" => crate::key::ATOL,
-                    _ => crate::key::MAX_STEP_FRACTION,
+        let solver = England::with_control(config, settings.step_control.control()).map_err(
+            |e| match e {
+                Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
+                    field: match field {
+                        "max_steps" => crate::key::MAX_STEPS_PER_REV,
+                        "rtol" => crate::key::RTOL,
+                        "atol" => crate::key::ATOL,
+                        _ => crate::key::MAX_STEP_FRACTION,
+                    },
+                    rule,
+                    value,
                 },
-                rule,
-                value,
+                other => other,
             },
-            other => other,
-        })?;
+        )?;
         let d = model.design();
         let target = T::TWO * T::PI * T::from_usize(revolutions as usize);
         // Generous end time: the drive may run slower than ω0; a stalled drive is an error.
@@ -669,8 +715,13 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// read ([`Observer::needs_outputs`]): the pressure angle, the surface radius where the
     /// lift is tabulated, and the theoretical response, left at 0.
     pub fn sample_with(&self, t: T, y: &[T; N], stress: bool, outputs: bool) -> Sample<T> {
+        self.sample_of(self.evaluate_with(t, y, outputs || stress), stress, outputs)
+    }
+
+    /// [`Self::sample_with`] of the point `p` already evaluated (with the outputs if
+    /// `outputs || stress`).
+    pub(crate) fn sample_of(&self, p: ModelPoint<T>, stress: bool, outputs: bool) -> Sample<T> {
         let outputs = outputs || stress;
-        let p = self.evaluate_with(t, y, outputs);
         let d = self.design();
         let two_pi = T::TWO * T::PI;
         let turns = (p.theta_c / two_pi).floor();
