@@ -72,6 +72,7 @@ pub use solve::system::{OdeSystem, Tolerance};
 
 mod run;
 pub use run::grid::{simulate_on_grid, AngleGrid};
+pub use run::jump::{jump_verdict, JumpVerdict, JumpWatch, STEADY_FROM_REVOLUTION};
 pub use run::response::{
     period_name, simulate, simulate_events, solver_config, Both, ContactEvent, ContactEventFn,
     ContactEventSettings, GridPointKind, JumpInterval, Observer, PeriodStats, ResponseStats,

@@ -154,6 +154,19 @@ pub trait Real:
     }
 }
 
+/// Methods of [`Real`] that call one function with `self` (and the other arguments) each:
+/// `name(args) => path;` becomes `#[inline(always)] fn name(self, args) -> Self { path(self, args) }`.
+macro_rules! delegate_math {
+    ($($name:ident($($arg:ident),*) => $f:path;)*) => {
+        $(
+            #[inline(always)]
+            fn $name(self $(, $arg: Self)*) -> Self {
+                $f(self $(, $arg)*)
+            }
+        )*
+    };
+}
+
 macro_rules! real_common {
     ($t:ty, $m:ident) => {
         const ZERO: Self = 0.0;
@@ -225,78 +238,36 @@ macro_rules! real_common {
 
 impl Real for f64 {
     real_common!(f64, f64);
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        libm::sqrt(self)
-    }
-    #[inline(always)]
-    fn cbrt(self) -> Self {
-        libm::cbrt(self)
-    }
-    #[inline(always)]
-    fn sin(self) -> Self {
-        libm::sin(self)
-    }
-    #[inline(always)]
-    fn cos(self) -> Self {
-        libm::cos(self)
+    delegate_math! {
+        sqrt() => libm::sqrt;
+        cbrt() => libm::cbrt;
+        sin() => libm::sin;
+        cos() => libm::cos;
     }
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
         libm::sincos(self)
     }
-    #[inline(always)]
-    fn tan(self) -> Self {
-        libm::tan(self)
-    }
-    #[inline(always)]
-    fn asin(self) -> Self {
-        libm::asin(self)
-    }
-    #[inline(always)]
-    fn acos(self) -> Self {
-        libm::acos(self)
-    }
-    #[inline(always)]
-    fn atan(self) -> Self {
-        libm::atan(self)
-    }
-    #[inline(always)]
-    fn atan2(self, x: Self) -> Self {
-        libm::atan2(self, x)
-    }
-    #[inline(always)]
-    fn exp(self) -> Self {
-        libm::exp(self)
-    }
-    #[inline(always)]
-    fn ln(self) -> Self {
-        libm::log(self)
-    }
-    #[inline(always)]
-    fn powf(self, p: Self) -> Self {
-        libm::pow(self, p)
-    }
-    #[inline(always)]
-    fn floor(self) -> Self {
-        libm::floor(self)
-    }
-    #[inline(always)]
-    fn hypot(self, y: Self) -> Self {
-        libm::hypot(self, y)
+    delegate_math! {
+        tan() => libm::tan;
+        asin() => libm::asin;
+        acos() => libm::acos;
+        atan() => libm::atan;
+        atan2(x) => libm::atan2;
+        exp() => libm::exp;
+        ln() => libm::log;
+        powf(p) => libm::pow;
+        floor() => libm::floor;
+        hypot(y) => libm::hypot;
     }
 }
 
 #[cfg(not(feature = "micromath"))]
 impl Real for f32 {
     real_common!(f32, f32);
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        libm::sqrtf(self)
-    }
-    #[inline(always)]
-    fn cbrt(self) -> Self {
-        libm::cbrtf(self)
+    delegate_math! {
+        sqrt() => libm::sqrtf;
+        cbrt() => libm::cbrtf;
     }
     #[inline(always)]
     fn sin(self) -> Self {
@@ -310,45 +281,17 @@ impl Real for f32 {
     fn sin_cos(self) -> (Self, Self) {
         sin_cos_f32(self)
     }
-    #[inline(always)]
-    fn tan(self) -> Self {
-        libm::tanf(self)
-    }
-    #[inline(always)]
-    fn asin(self) -> Self {
-        libm::asinf(self)
-    }
-    #[inline(always)]
-    fn acos(self) -> Self {
-        libm::acosf(self)
-    }
-    #[inline(always)]
-    fn atan(self) -> Self {
-        libm::atanf(self)
-    }
-    #[inline(always)]
-    fn atan2(self, x: Self) -> Self {
-        libm::atan2f(self, x)
-    }
-    #[inline(always)]
-    fn exp(self) -> Self {
-        libm::expf(self)
-    }
-    #[inline(always)]
-    fn ln(self) -> Self {
-        libm::logf(self)
-    }
-    #[inline(always)]
-    fn powf(self, p: Self) -> Self {
-        libm::powf(self, p)
-    }
-    #[inline(always)]
-    fn floor(self) -> Self {
-        libm::floorf(self)
-    }
-    #[inline(always)]
-    fn hypot(self, y: Self) -> Self {
-        libm::hypotf(self, y)
+    delegate_math! {
+        tan() => libm::tanf;
+        asin() => libm::asinf;
+        acos() => libm::acosf;
+        atan() => libm::atanf;
+        atan2(x) => libm::atan2f;
+        exp() => libm::expf;
+        ln() => libm::logf;
+        powf(p) => libm::powf;
+        floor() => libm::floorf;
+        hypot(y) => libm::hypotf;
     }
 }
 
@@ -418,37 +361,15 @@ impl Real for f32 {
         // The M4F has a hardware square root; micromath's is an approximation.
         libm::sqrtf(self)
     }
-    #[inline(always)]
-    fn cbrt(self) -> Self {
-        libm::cbrtf(self)
-    }
-    #[inline(always)]
-    fn sin(self) -> Self {
-        micromath::F32Ext::sin(self)
-    }
-    #[inline(always)]
-    fn cos(self) -> Self {
-        micromath::F32Ext::cos(self)
-    }
-    #[inline(always)]
-    fn tan(self) -> Self {
-        micromath::F32Ext::tan(self)
-    }
-    #[inline(always)]
-    fn asin(self) -> Self {
-        micromath::F32Ext::asin(self)
-    }
-    #[inline(always)]
-    fn acos(self) -> Self {
-        micromath::F32Ext::acos(self)
-    }
-    #[inline(always)]
-    fn atan(self) -> Self {
-        micromath::F32Ext::atan(self)
-    }
-    #[inline(always)]
-    fn atan2(self, x: Self) -> Self {
-        micromath::F32Ext::atan2(self, x)
+    delegate_math! {
+        cbrt() => libm::cbrtf;
+        sin() => micromath::F32Ext::sin;
+        cos() => micromath::F32Ext::cos;
+        tan() => micromath::F32Ext::tan;
+        asin() => micromath::F32Ext::asin;
+        acos() => micromath::F32Ext::acos;
+        atan() => micromath::F32Ext::atan;
+        atan2(x) => micromath::F32Ext::atan2;
     }
     #[inline(always)]
     fn exp(self) -> Self {
@@ -461,21 +382,11 @@ impl Real for f32 {
             micromath::F32Ext::exp(self)
         }
     }
-    #[inline(always)]
-    fn ln(self) -> Self {
-        micromath::F32Ext::ln(self)
-    }
-    #[inline(always)]
-    fn powf(self, p: Self) -> Self {
-        micromath::F32Ext::powf(self, p)
-    }
-    #[inline(always)]
-    fn floor(self) -> Self {
-        micromath::F32Ext::floor(self)
-    }
-    #[inline(always)]
-    fn hypot(self, y: Self) -> Self {
-        micromath::F32Ext::hypot(self, y)
+    delegate_math! {
+        ln() => micromath::F32Ext::ln;
+        powf(p) => micromath::F32Ext::powf;
+        floor() => micromath::F32Ext::floor;
+        hypot(y) => micromath::F32Ext::hypot;
     }
 }
 

@@ -7,9 +7,9 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    period_name, simulate, simulate_on_grid, AngleGrid, Both, CamModel, Design, DeviatedLift,
-    DofSet, FollowerModel, LiftProfile, Observer, ResponseStats, Sample, Scene, SceneId,
-    SceneVisitor, SegmentKind, SolverSettings, SolverStats,
+    jump_verdict, period_name, simulate, simulate_on_grid, AngleGrid, Both, CamModel, Design,
+    DeviatedLift, DofSet, FollowerModel, JumpWatch, LiftProfile, Observer, ResponseStats, Sample,
+    Scene, SceneId, SceneVisitor, SegmentKind, SolverSettings, SolverStats,
 };
 use std::sync::Arc;
 
@@ -386,29 +386,6 @@ pub fn period_rows(design: &Design<f64>, stats: &Stats) -> Vec<PeriodRow> {
 pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
     let mut s = spec.clone();
     s.design.set_speed_rpm(rpm)?;
-    // Only the contact flag on: no statistics, no contact stress.
-    #[derive(Default)]
-    struct Watch {
-        /// Separated in revolution 2 or later (the answer).
-        in_steady_state: bool,
-        /// Separated at all (revolution 1's transient too).
-        at_all: bool,
-    }
-    impl Observer<f64> for Watch {
-        fn needs_stress(&self) -> bool {
-            false
-        }
-        fn observe(&mut self, smp: &Sample<f64>) -> ControlFlow<()> {
-            if !smp.point.in_contact {
-                self.at_all = true;
-                if smp.revolution >= 2 {
-                    self.in_steady_state = true;
-                    return ControlFlow::Break(());
-                }
-            }
-            ControlFlow::Continue(())
-        }
-    }
     struct Run<'a>(&'a RunSpec, f64);
     impl ModelTask for Run<'_> {
         type Output = bool;
@@ -417,16 +394,13 @@ pub fn jumps_at(spec: &RunSpec, rpm: f64) -> Result<bool> {
             m: &CamModel<f64, S, N, P>,
         ) -> Result<bool> {
             let (s, rpm) = (self.0, self.1);
-            let mut watch = Watch::default();
-            match simulate(m, &s.solver, s.revolutions.max(2), &mut watch) {
-                Ok(_) => Ok(watch.in_steady_state),
-                // Far above the onset the follower leaves the cam in revolution 1 and the
-                // free flight and impact that follow drive the model out of the range it
-                // represents (its validity check or the solver stops the run): the
-                // follower did not hold contact.
-                Err(_) if watch.at_all => Ok(true),
-                Err(e) => Err(e).with_context(|| format!("simulation at {rpm:.1} rpm failed")),
-            }
+            // Only the contact flag on: no statistics, no contact stress. The rule is
+            // core's (docs/MODEL.md): a failure after any separation is a jump.
+            let mut watch = JumpWatch::new();
+            let run = simulate(m, &s.solver, s.revolutions.max(2), &mut watch);
+            jump_verdict(run, &watch)
+                .map(|v| v.jumped())
+                .with_context(|| format!("simulation at {rpm:.1} rpm failed"))
         }
     }
     with_model(&s, Run(&s, rpm))

@@ -185,6 +185,9 @@ fn envelope_runs_in_f32() {
 use camsim::cli::{self, Command as Cmd};
 use camsim::cmd::run;
 
+mod common;
+use common::scratch;
+
 /// `camsim run ARGS` as the binary parses and runs it: the report, or the error on one
 /// line.
 fn run_cli(args: &[&str]) -> Result<run::RunReport, String> {
@@ -208,13 +211,6 @@ fn quick(extra: &[&str]) -> Vec<String> {
 
 fn strs(v: &[String]) -> Vec<&str> {
     v.iter().map(String::as_str).collect()
-}
-
-fn scratch(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("camsim-actual-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 /// The per-period table as JSON (every statistic, bit for bit).

@@ -17,20 +17,11 @@ use camsim_core::{
     StiffnessCap, Tolerance,
 };
 
+mod common;
+use common::loglog_slope;
+
 const SQRT_2: f64 = std::f64::consts::SQRT_2;
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
-
-/// Least-squares slope of log(y) against log(x).
-fn loglog_slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let lx: Vec<f64> = x.iter().map(|v| v.ln()).collect();
-    let ly: Vec<f64> = y.iter().map(|v| v.ln()).collect();
-    let mx = lx.iter().sum::<f64>() / n;
-    let my = ly.iter().sum::<f64>() / n;
-    let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = lx.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
-}
 
 fn config<T: Real, const N: usize>(tol: f64, h_init: f64, h_max: f64) -> EnglandConfig<T, N> {
     EnglandConfig {

@@ -15,17 +15,8 @@ use camsim_core::{
     Dense, England, EnglandConfig, Error, OdeSystem, SolverStats, StepControl, Tolerance,
 };
 
-/// Least-squares slope of log(y) against log(x).
-fn loglog_slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let lx: Vec<f64> = x.iter().map(|v| v.ln()).collect();
-    let ly: Vec<f64> = y.iter().map(|v| v.ln()).collect();
-    let mx = lx.iter().sum::<f64>() / n;
-    let my = ly.iter().sum::<f64>() / n;
-    let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = lx.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
-}
+mod common;
+use common::loglog_slope;
 
 fn max_abs_diff<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
     a.iter()

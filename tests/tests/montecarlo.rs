@@ -12,16 +12,8 @@ use camsim::cmd::montecarlo::{
     self, execute, merge, Moments, Outcome, OutputArgs, Probability, SampleRecord, Study,
 };
 
-/// A cheap study: the vertical scene at constant cam speed (10 states), 2 revolutions,
-/// a coarse profile (no jumps, so the runs are short).
-const CHEAP: [&str; 6] = [
-    "--vertical",
-    "--constant-cam-speed",
-    "--interval-deg",
-    "10",
-    "--seed",
-    "7",
-];
+mod common;
+use common::CHEAP;
 
 fn montecarlo_args(extra: &[&str]) -> montecarlo::Args {
     let mut argv = vec!["camsim", "montecarlo"];

@@ -14,6 +14,9 @@ use std::time::{Duration, Instant};
 
 use camsim::output::{is_temp_name, Plan};
 
+mod common;
+use common::{listing, scratch};
+
 const ENV_TARGET: &str = "CAMSIM_OUTPUT_CHILD_TARGET";
 const ENV_MODE: &str = "CAMSIM_OUTPUT_CHILD_MODE";
 
@@ -89,24 +92,6 @@ fn child_writer() {
         }
         out.commit().unwrap();
     }
-}
-
-/// A fresh empty directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("camsim-kill-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// Every name in `dir` (recursively one level for directories), sorted.
-fn listing(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// Starts the child writer on `target`, waits until its temporary holds data, sends

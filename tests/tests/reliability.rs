@@ -9,13 +9,8 @@ use std::time::{Duration, Instant};
 
 use camsim::cli;
 
-/// A fresh empty directory for one test.
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("camsim-rel-{}-{name}", std::process::id()));
-    let _ = fs::remove_dir_all(&d);
-    fs::create_dir_all(&d).unwrap();
-    d
-}
+mod common;
+use common::{scratch, CHEAP};
 
 /// Parses and runs a command line; the refusal's one line (as the binary prints it
 /// after `camsim: error: `), or "OK".
@@ -452,16 +447,6 @@ fn montecarlo(args: &[&str]) -> camsim::cmd::montecarlo::Args {
         other => panic!("{other:?}"),
     }
 }
-
-/// The cheapest study the tests run (as tests/montecarlo.rs).
-const CHEAP: [&str; 6] = [
-    "--vertical",
-    "--constant-cam-speed",
-    "--interval-deg",
-    "10",
-    "--seed",
-    "7",
-];
 
 // Point 6: --out fails before the first sample, not after the study.
 #[test]

@@ -8,6 +8,9 @@ use camsim_core::{
     rk4_integrate, England, EnglandConfig, Error, OdeSystem, Real, SolverStats, Tolerance,
 };
 
+mod common;
+use common::loglog_slope;
+
 /// y' = -y + sin t; exact y(t) = C e^{-t} + (sin t - cos t)/2.
 struct Forced;
 impl<T: Real> OdeSystem<T, 1> for Forced {
@@ -69,18 +72,6 @@ fn cfg<const N: usize>(
 /// England with every step accepted at exactly h (h_min = h_max, a tolerance it always meets).
 fn fixed_england(h: f64) -> England<f64, 1> {
     England::new(cfg(0.0, 1e6, h, h, h, 1_000_000)).unwrap()
-}
-
-/// Least-squares slope of log(err) against log(h).
-fn loglog_slope(h: &[f64], e: &[f64]) -> f64 {
-    let n = h.len() as f64;
-    let x: Vec<f64> = h.iter().map(|v| v.ln()).collect();
-    let y: Vec<f64> = e.iter().map(|v| v.ln()).collect();
-    let mx = x.iter().sum::<f64>() / n;
-    let my = y.iter().sum::<f64>() / n;
-    let sxy: f64 = x.iter().zip(&y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
 }
 
 #[test]

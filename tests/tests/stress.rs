@@ -24,6 +24,9 @@ use camsim_core::{
     Scene, SolverSettings, SolverStats, Start, StepControl, Tolerance,
 };
 
+mod common;
+use common::loglog_slope;
+
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
 /// Attempted (double) steps allowed per revolution: about 40 times what the reference
@@ -444,18 +447,6 @@ fn reference() -> &'static Samples {
 /// RMS acceleration error of revolution 2 against the reference.
 fn acc_error(s: &Samples) -> f64 {
     Samples::rms_diff(&s.acc, &reference().acc)
-}
-
-/// Least-squares slope of log(y) against log(x).
-fn loglog_slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let lx: Vec<f64> = x.iter().map(|v| v.ln()).collect();
-    let ly: Vec<f64> = y.iter().map(|v| v.ln()).collect();
-    let mx = lx.iter().sum::<f64>() / n;
-    let my = ly.iter().sum::<f64>() / n;
-    let sxy: f64 = lx.iter().zip(&ly).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = lx.iter().map(|a| (a - mx) * (a - mx)).sum();
-    sxy / sxx
 }
 
 /// RK4 at `n` fixed steps per nominal revolution.

@@ -797,22 +797,26 @@ mod tests {
         );
     }
 
+    /// The interval check of the reference cam at `intervals` knots with `tol` and `seed`.
+    fn check_reference(intervals: usize, tol: &Tolerances<f64>, seed: u64) -> IntervalCheck<f64> {
+        let (p, g, _) = reference();
+        let mut rng = RandomStream::new(seed, SumOfTwelve);
+        check_interval::<f64, 721, 8>(
+            &ProfileSpec {
+                program: &p,
+                geometry: &g,
+                tolerances: tol,
+                intervals,
+            },
+            &mut rng,
+        )
+        .unwrap()
+    }
+
     #[test]
-    fn interval_criteria() {
-        let (p, g, t) = reference();
-        let check = |intervals: usize, tol: &Tolerances<f64>, seed: u64| {
-            let mut rng = RandomStream::new(seed, SumOfTwelve);
-            check_interval::<f64, 721, 8>(
-                &ProfileSpec {
-                    program: &p,
-                    geometry: &g,
-                    tolerances: tol,
-                    intervals,
-                },
-                &mut rng,
-            )
-            .unwrap()
-        };
+    fn interval_criteria_one_and_two() {
+        let (_, _, t) = reference();
+        let check = check_reference;
         // Criterion 1. The roller radius is 0.375 in; on the base circle (R_a = 1.875)
         // |ρ| < 0.375 needs y'' > 11.3 or y'' < −7.5 in/rad². The random ordinates give
         // the knot curvatures a standard deviation of exactly 6σ_s/Δθ² (see
@@ -828,6 +832,12 @@ mod tests {
             let c = check(12, &t, seed);
             assert!(!c.rms_ok && c.rms_deviation > 10.0 * c.mean_sigma, "{c:?}");
         }
+    }
+
+    #[test]
+    fn interval_criterion_two_in_expectation() {
+        let (p, g, t) = reference();
+        let check = check_reference;
         // Criterion 2 in expectation. The spline is linear in its ordinates: with
         // independent N(0, σ²) ordinates its variance at x is σ² Σ_j L_j(x)² (L_j the
         // cardinal periodic splines), whose mean over an interval is ∫ L₀² dx / h =
@@ -860,8 +870,13 @@ mod tests {
         let mean = s1 / n as f64;
         let se = ((s2 / n as f64 - mean * mean) / (n - 1) as f64).sqrt();
         assert!(se < 0.03 && (mean - 1.0).abs() < 5.0 * se, "{mean} ± {se}");
+    }
+
+    #[test]
+    fn interval_criterion_three_and_the_chooser() {
+        let (p, g, t) = reference();
         // Criterion 3: 8° does not divide 30°.
-        let c = check(45, &t, 0);
+        let c = check_reference(45, &t, 0);
         assert!(!c.divides_program && (c.interval_deg - 8.0).abs() < 1e-12);
         // The chooser: the divisors of 30 that fit, smallest first; the choice is the
         // smallest passing.

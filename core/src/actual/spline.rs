@@ -1098,7 +1098,7 @@ mod tests {
     }
 
     #[test]
-    fn typed_errors_never_panics() {
+    fn shape_errors_are_typed() {
         let ok = [0.0, 1.0, 2.0, 3.0];
         assert_eq!(
             S::<8>::natural(&[0.0], &[1.0]),
@@ -1136,6 +1136,11 @@ mod tests {
             S::<8>::natural(&[0.0, 1.0, 0.5, 2.0], &ok),
             Err(SplineError::NotIncreasing { index: 2 })
         );
+    }
+
+    #[test]
+    fn value_and_capacity_errors_are_typed() {
+        let ok = [0.0, 1.0, 2.0, 3.0];
         assert_eq!(
             S::<8>::natural(&[0.0, f64::NAN, 2.0, 3.0], &ok),
             Err(SplineError::NonFinite {
@@ -1206,6 +1211,11 @@ mod tests {
             S::<8>::natural(&[0.0, 1e-320, 1.0], &[0.0, 1e300, 0.0]),
             Err(SplineError::NonFinite { .. })
         ));
+    }
+
+    #[test]
+    fn spline_errors_convert_and_odd_abscissae_never_panic() {
+        let ok = [0.0, 1.0, 2.0, 3.0];
         // Into the crate's error.
         let e: Error = SplineError::Capacity {
             given: 4,

@@ -528,6 +528,26 @@ impl<T: Real> Design<T> {
     #[inline(never)]
     pub(crate) fn validate_with(&self, undercut: bool) -> Result<()> {
         use crate::key as k;
+        self.validate_signs()?;
+        self.geometry.validate()?;
+        self.hertz.validate()?;
+        self.drive.validate()?;
+        // Physical plausibility: the table's design entries, in the order of `scalars`
+        // (the test `range_table_follows_the_design_keys` holds the two in step).
+        for ((field, range), v) in k::RANGES.iter().zip(self.scalars()) {
+            range.check(field, v)?;
+        }
+        for (i, s) in self.program.segments().iter().enumerate() {
+            k::LENGTH_OR_ZERO.check(segment_key(SegmentField::LiftIn, i), s.lift)?;
+        }
+        self.validate_fit(undercut)?;
+        self.validate_contact()
+    }
+
+    /// [`Self::validate`]'s signs: the quantities that must be positive, then those that
+    /// must not be negative.
+    fn validate_signs(&self) -> Result<()> {
+        use crate::key as k;
         for (field, v) in [
             (k::I_M, self.i_m),
             (k::I_CP, self.i_cp),
@@ -575,17 +595,13 @@ impl<T: Real> Design<T> {
         ] {
             non_negative(field, v)?;
         }
-        self.geometry.validate()?;
-        self.hertz.validate()?;
-        self.drive.validate()?;
-        // Physical plausibility: the table's design entries, in the order of `scalars`
-        // (the test `range_table_follows_the_design_keys` holds the two in step).
-        for ((field, range), v) in k::RANGES.iter().zip(self.scalars()) {
-            range.check(field, v)?;
-        }
-        for (i, s) in self.program.segments().iter().enumerate() {
-            k::LENGTH_OR_ZERO.check(segment_key(SegmentField::LiftIn, i), s.lift)?;
-        }
+        Ok(())
+    }
+
+    /// [`Self::validate`]'s fit of the roller: no undercut (scanned when `undercut`), and
+    /// clear of the slide bearing at full lift.
+    fn validate_fit(&self, undercut: bool) -> Result<()> {
+        use crate::key as k;
         // The roller must fit the profile: no undercut (a convex pitch radius below r_r).
         if undercut && self.geometry.undercut(&self.program, 3600)?.undercut {
             return Err(Error::InvalidParameter {
@@ -604,6 +620,13 @@ impl<T: Real> Design<T> {
                 value: self.e2.to_f64(),
             });
         }
+        Ok(())
+    }
+
+    /// [`Self::validate`]'s contact: a Hertz stiffness on the base circle and a preload,
+    /// their errors named by the design's keys.
+    fn validate_contact(&self) -> Result<()> {
+        use crate::key as k;
         // K_h on the base circle: the roller and base radii must carry a line contact.
         self.k_h_base().map_err(|e| match e {
             Error::InvalidParameter {

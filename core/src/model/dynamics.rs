@@ -814,15 +814,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         let rate = p.lift.dy * p.omega_c;
         // K_vc and K_f depend on y3 (a few microinches off when y3 is itself quasi-static:
         // the first dynamic follower node's stored coordinate stands for it).
-        let y3_est = if S::QUASI_STATIC.contains(TransDof::CantileverY) {
-            if S::QUASI_STATIC.contains(TransDof::Follower) {
-                at(&p.pos, i5)
-            } else {
-                at(&p.pos, i4)
-            }
-        } else {
-            at(&p.pos, i3)
-        } + p.lift.y;
+        let y3_est = Self::y3_estimate(p, at, [i3, i4, i5]);
         let k_f = d.k_f(y3_est);
         let c_f1 = d.c_f1_from(k_f);
         let k_vc = d.k_vc(y3_est);
@@ -875,32 +867,9 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             for v in vel.iter_mut().skip(1) {
                 *v += rate;
             }
-            let [v1, _v2, v3, v4, v5] = vel;
             let mut f = statics(contact);
-            // Given forces on the quasi-static nodes: the cam shaft's damper, the rod's
-            // damper, and the slide-bearing friction (Eqs. V.15-V.16).
             let f_c = if contact { e0 * cos_phi } else { T::ZERO };
-            let (n1, n2) = self.levers.normal_forces(f_c, sin_phi);
-            let [f0, _, f2, f3] = &mut f;
-            if S::QUASI_STATIC.contains(TransDof::CamY) {
-                *f0 -= d.c_vs * v1;
-            }
-            if S::QUASI_STATIC.contains(TransDof::CantileverY) {
-                p.friction_cantilever = if contact {
-                    crate::coulomb_friction(d.mu, n2, v3, d.friction_smoothing)
-                } else {
-                    T::ZERO
-                };
-                *f2 += p.friction_cantilever;
-            }
-            if S::QUASI_STATIC.contains(TransDof::Follower) {
-                p.friction_follower = if contact {
-                    crate::coulomb_friction(d.mu, n1, v4, d.friction_smoothing)
-                } else {
-                    T::ZERO
-                };
-                *f3 += p.friction_follower + c_f1 * (v5 - v4);
-            }
+            self.add_given_forces(p, &mut f, &vel, contact, f_c, sin_phi, c_f1);
             let mut sol = x;
             c.solve(&mut sol, &f);
             let e = approach(&sol);
@@ -910,20 +879,87 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 continue;
             }
             x = sol;
-            for (node, i) in chain.iter().enumerate() {
-                let qs = crate::QUASI_STATIC_CHAIN
-                    .get(node)
-                    .is_some_and(|dof| S::QUASI_STATIC.contains(*dof));
-                if qs {
-                    if let (Some(o), Some(v)) = (p.pos.get_mut(*i), p.vel.get_mut(*i)) {
-                        *o = x.get(node).copied().unwrap_or(T::ZERO);
-                        *v = vel.get(node).copied().unwrap_or(T::ZERO);
-                    }
-                }
-            }
+            Self::store_quasi_static(p, &chain, &x, &vel);
             break;
         }
         (k_f, c_f1, k_vc)
+    }
+
+    /// [`Self::condense`]'s y3 for K_vc and K_f: the stored coordinate of the first dynamic
+    /// node of y3, y4, y5 (chain indices `i`) plus the lift.
+    #[inline(always)]
+    fn y3_estimate(
+        p: &ModelPoint<T>,
+        at: impl Fn(&[T; TRANS_DOFS], usize) -> T,
+        [i3, i4, i5]: [usize; 3],
+    ) -> T {
+        let node = if S::QUASI_STATIC.contains(TransDof::CantileverY) {
+            if S::QUASI_STATIC.contains(TransDof::Follower) {
+                at(&p.pos, i5)
+            } else {
+                at(&p.pos, i4)
+            }
+        } else {
+            at(&p.pos, i3)
+        };
+        node + p.lift.y
+    }
+
+    /// [`Self::condense`]'s given forces on the quasi-static nodes, added to `f`: the cam
+    /// shaft's damper, the rod's damper, and the slide-bearing friction (Eqs. V.15-V.16),
+    /// whose values it leaves in `p`; `f_c` is the contact force of the first solve.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn add_given_forces(
+        &self,
+        p: &mut ModelPoint<T>,
+        f: &mut [T; 4],
+        vel: &[T; 5],
+        contact: bool,
+        f_c: T,
+        sin_phi: T,
+        c_f1: T,
+    ) {
+        let d = &self.d;
+        let [v1, _v2, v3, v4, v5] = *vel;
+        let (n1, n2) = self.levers.normal_forces(f_c, sin_phi);
+        let [f0, _, f2, f3] = f;
+        if S::QUASI_STATIC.contains(TransDof::CamY) {
+            *f0 -= d.c_vs * v1;
+        }
+        if S::QUASI_STATIC.contains(TransDof::CantileverY) {
+            p.friction_cantilever = if contact {
+                crate::coulomb_friction(d.mu, n2, v3, d.friction_smoothing)
+            } else {
+                T::ZERO
+            };
+            *f2 += p.friction_cantilever;
+        }
+        if S::QUASI_STATIC.contains(TransDof::Follower) {
+            p.friction_follower = if contact {
+                crate::coulomb_friction(d.mu, n1, v4, d.friction_smoothing)
+            } else {
+                T::ZERO
+            };
+            *f3 += p.friction_follower + c_f1 * (v5 - v4);
+        }
+    }
+
+    /// [`Self::condense`]'s result: the quasi-static nodes' positions `x` and velocities
+    /// `vel` (chain order) written into `p` at their state indices `chain`.
+    #[inline(always)]
+    fn store_quasi_static(p: &mut ModelPoint<T>, chain: &[usize; 5], x: &[T; 5], vel: &[T; 5]) {
+        for (node, i) in chain.iter().enumerate() {
+            let qs = crate::QUASI_STATIC_CHAIN
+                .get(node)
+                .is_some_and(|dof| S::QUASI_STATIC.contains(*dof));
+            if qs {
+                if let (Some(o), Some(v)) = (p.pos.get_mut(*i), p.vel.get_mut(*i)) {
+                    *o = x.get(node).copied().unwrap_or(T::ZERO);
+                    *v = vel.get(node).copied().unwrap_or(T::ZERO);
+                }
+            }
+        }
     }
 
     /// Writes dy/dt for the state (t, y) given the evaluated point: every quantity the

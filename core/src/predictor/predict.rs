@@ -12,8 +12,9 @@
 use core::ops::ControlFlow;
 
 use crate::{
-    simulate, CamModel, Design, LiftProfile, Observer, OnsetSearch, Real, Result, Sample, Scene,
-    SegmentKind, SolverSettings, TheoreticalLift,
+    jump_verdict, simulate, CamModel, Design, JumpVerdict, JumpWatch, LiftProfile, Observer,
+    OnsetSearch, Real, Result, Sample, Scene, SegmentKind, SolverSettings, TheoreticalLift,
+    STEADY_FROM_REVOLUTION,
 };
 
 /// Jump alarm with hysteresis: turns on when the speed margin to jump falls to
@@ -164,6 +165,8 @@ pub struct SteadyStateObserver<T> {
     prev: Option<(T, T)>,
     /// The result so far.
     pub result: SteadyState<T>,
+    /// The contact from revolution 1 on, for the jump rule ([`crate::jump_verdict`]).
+    pub watch: JumpWatch<T>,
     seen: bool,
 }
 
@@ -181,6 +184,7 @@ impl<T: Real> SteadyStateObserver<T> {
                 jumped: false,
                 timing_deg: [nan; TIMING_POINTS],
             },
+            watch: JumpWatch::new(),
             seen: false,
         }
     }
@@ -194,11 +198,13 @@ impl<T: Real> Observer<T> for SteadyStateObserver<T> {
         false
     }
     fn observe(&mut self, s: &Sample<T>) -> ControlFlow<()> {
-        if s.revolution < self.revolution {
-            return ControlFlow::Continue(());
-        }
         if s.revolution > self.revolution {
             return ControlFlow::Break(());
+        }
+        // The watch's `Break` is not this observer's: the revolution is measured to its end.
+        let _ = self.watch.note_sample(s);
+        if s.revolution < self.revolution {
+            return ControlFlow::Continue(());
         }
         self.seen = true;
         let p = &s.point;
@@ -235,6 +241,11 @@ impl<T: Real> Observer<T> for SteadyStateObserver<T> {
 /// an actual or measured cam, [`crate::DeviatedLift`], by reference to share one profile
 /// between runs), and measures the steady state (the second revolution). The timing
 /// errors are measured against the design's program.
+///
+/// Whether it jumped follows the jump rule ([`jump_verdict`]): a run that fails after the
+/// follower left the cam is a jump, not an error. Its steady state then holds what was
+/// measured before the failure, with the smallest contact force taken to zero (the
+/// follower left the cam) at the first separation's angle unless a smaller one was seen.
 pub fn steady_state<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
     design: &Design<T>,
     profile: P,
@@ -262,9 +273,23 @@ fn steady_state_at<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
         CamModel::<T, S, N, P>::with_profile(d, profile)?
     };
     let points = timing_points(&model.design().program);
-    let mut obs = SteadyStateObserver::new(2, points);
-    simulate(&model, settings, 2, &mut obs)?;
-    Ok(obs.result)
+    let mut obs = SteadyStateObserver::new(STEADY_FROM_REVOLUTION, points);
+    let run = simulate(&model, settings, STEADY_FROM_REVOLUTION, &mut obs);
+    let mut result = obs.result;
+    match jump_verdict(run, &obs.watch)? {
+        JumpVerdict::Holds => {}
+        JumpVerdict::Separated { .. } => result.jumped = true,
+        JumpVerdict::FailedAfterSeparation { theta_c } => {
+            result.jumped = true;
+            if result.min_contact_force > T::ZERO || result.min_contact_force.is_nan() {
+                let two_pi = T::TWO * T::PI;
+                let within = theta_c - (theta_c / two_pi).floor() * two_pi;
+                result.min_contact_force = T::ZERO;
+                result.min_force_deg = within.to_degrees();
+            }
+        }
+    }
+    Ok(result)
 }
 
 /// A table of steady-state predictions over a grid of `G` speeds, computed once at boot,
@@ -489,6 +514,35 @@ mod tests {
                 "{r:?}"
             );
         }
+    }
+
+    #[test]
+    fn far_above_the_onset_a_failed_run_is_a_jump() {
+        use crate::RegulatedFull as S;
+        // At 2000 rpm (the onset is near 900) the follower leaves the cam at the start and
+        // the free flight drives the cantilever past its length in revolution 1: the run
+        // fails before the steady state. The jump rule makes that a jump, not an error.
+        let d = Design::<f64>::reference();
+        let settings = SolverSettings::default();
+        let mut fast = d.clone();
+        fast.set_speed_rpm(2000.0).unwrap();
+        let model = CamModel::<f64, S, { S::N }, _>::with_profile(fast, TheoreticalLift).unwrap();
+        let mut obs = SteadyStateObserver::new(2, timing_points(&d.program));
+        let run = simulate(&model, &settings, 2, &mut obs);
+        assert!(
+            matches!(run, Err(crate::Error::OutOfModel { revolution: 1, .. })),
+            "{run:?}"
+        );
+        assert_eq!(obs.watch.steady_separation, None);
+        let first = obs.watch.first_separation.unwrap();
+        let st =
+            steady_state::<f64, S, { S::N }, _>(&d, TheoreticalLift, 2000.0, &settings).unwrap();
+        assert!(st.jumped);
+        // Nothing of revolution 2 was measured: the force is taken to 0 where the
+        // follower first left the cam.
+        assert_eq!(st.min_contact_force, 0.0);
+        assert_eq!(st.min_force_deg, first.to_degrees());
+        assert!(st.timing_deg.iter().all(|t| t.is_nan()));
     }
 
     #[test]

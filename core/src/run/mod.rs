@@ -3,5 +3,6 @@
 //! bracketing and bisection).
 
 pub(crate) mod grid;
+pub(crate) mod jump;
 pub(crate) mod response;
 pub(crate) mod search;

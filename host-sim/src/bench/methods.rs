@@ -174,7 +174,7 @@ where
     if sampler.bad_sample {
         bail!("a sample could not be placed (non-finite solution)");
     }
-    if !sampler.done && !sampler.separated_in_sampled {
+    if !sampler.done && sampler.jump_watch.steady_separation.is_none() {
         bail!("the run ended before the cam turned {revolutions} revolutions");
     }
     Ok(work)
@@ -207,7 +207,7 @@ where
     if sampler.bad_sample {
         bail!("a sample could not be placed (non-finite solution)");
     }
-    if !sampler.done && !sampler.separated_in_sampled {
+    if !sampler.done && sampler.jump_watch.steady_separation.is_none() {
         bail!("the run ended before the cam turned {revolutions} revolutions");
     }
     Ok(work)

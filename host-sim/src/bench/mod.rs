@@ -25,8 +25,8 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use camsim_core::{
-    CamModel, ConstCamVertical, ConstMotorVertical, Design, DriveLaw, Onset, OnsetSearch, Real,
-    RegulatedFull, RegulatedVertical, Scene, SolverSettings, Start,
+    jump_verdict, CamModel, ConstCamVertical, ConstMotorVertical, Design, DriveLaw, Onset,
+    OnsetSearch, Real, RegulatedFull, RegulatedVertical, Scene, SolverSettings, Start,
 };
 use ode_solvers::dop_shared::FloatNumber;
 use serde::Serialize;
@@ -594,12 +594,11 @@ where
     d.set_speed_rpm(rpm)?;
     let model = CamModel::<T, S, N>::new(d.cast::<T>()?)?;
     let mut sampler = Sampler::new(&model, REVOLUTIONS, Some(MEASURED)).watch_contact();
-    match methods::run(method, &model, settings, REVOLUTIONS, &mut sampler) {
-        _ if sampler.separated_in_sampled => Ok(true),
-        Ok(_) => Ok(false),
-        Err(_) if sampler.separated => Ok(true),
-        Err(e) => Err(e).with_context(|| format!("{} at {rpm} rpm", method.name())),
-    }
+    let run = methods::run(method, &model, settings, REVOLUTIONS, &mut sampler);
+    // Core's rule (docs/MODEL.md): a failure after any separation is a jump.
+    jump_verdict(run, &sampler.jump_watch)
+        .map(|v| v.jumped())
+        .with_context(|| format!("{} at {rpm} rpm", method.name()))
 }
 
 /// The jump-onset speed of `method` by bisection in [`ONSET_BRACKET`] to

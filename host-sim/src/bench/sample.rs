@@ -8,7 +8,7 @@
 use std::cell::Cell;
 use std::ops::ControlFlow;
 
-use camsim_core::{CamModel, Dense, OdeSystem, Real, Scene};
+use camsim_core::{CamModel, Dense, JumpWatch, OdeSystem, Real, Scene, STEADY_FROM_REVOLUTION};
 
 /// Samples per revolution (every 0.5° of cam angle).
 pub const SAMPLES_PER_REV: usize = 720;
@@ -123,10 +123,10 @@ pub struct Sampler<'m, T, S, const N: usize> {
     pub samples: Samples,
     /// The run reached `2π · revolutions`.
     pub done: bool,
-    /// The follower left the cam at a watched node.
-    pub separated: bool,
-    /// ... at or after the start of the sampled revolution.
-    pub separated_in_sampled: bool,
+    /// Start of the steady state ([`STEADY_FROM_REVOLUTION`]'s start), rad.
+    theta_steady: f64,
+    /// The contact at the watched nodes, for the jump rule ([`camsim_core::jump_verdict`]).
+    pub jump_watch: JumpWatch<T>,
     /// A sample could not be placed (a non-finite interpolant or cam angle).
     pub bad_sample: bool,
 }
@@ -150,8 +150,8 @@ impl<'m, T: Real, S: Scene, const N: usize> Sampler<'m, T, S, N> {
             watch_contact: false,
             samples: Samples::default(),
             done: false,
-            separated: false,
-            separated_in_sampled: false,
+            theta_steady: two_pi * f64::from(STEADY_FROM_REVOLUTION - 1),
+            jump_watch: JumpWatch::new(),
             bad_sample: false,
         }
     }
@@ -185,20 +185,15 @@ impl<'m, T: Real, S: Scene, const N: usize> Sampler<'m, T, S, N> {
     }
 
     /// Checks the contact at a node of the solution (only with [`Sampler::watch_contact`]);
-    /// `Break` once the follower is off the cam in the sampled revolution or later.
+    /// `Break` once the follower is off the cam in the steady state
+    /// ([`STEADY_FROM_REVOLUTION`] or later).
     pub fn watch(&mut self, t: T, y: &[T; N]) -> ControlFlow<()> {
         if !self.watch_contact {
             return ControlFlow::Continue(());
         }
         let p = self.model.evaluate(t, y);
-        if !p.in_contact {
-            self.separated = true;
-            if p.theta_c.to_f64() >= self.theta0 {
-                self.separated_in_sampled = true;
-                return ControlFlow::Break(());
-            }
-        }
-        ControlFlow::Continue(())
+        let steady = p.theta_c.to_f64() >= self.theta_steady;
+        self.jump_watch.note(p.in_contact, steady, p.theta_c)
     }
 
     /// Takes every sample whose angle the interpolant `d` reaches (the samples before
@@ -432,11 +427,11 @@ mod tests {
         let m = RegulatedFullModel::<f64>::new(d).unwrap();
         let mut s = Sampler::new(&m, 2, Some(2)).watch_contact();
         let _ = run(Method::England, &m, &settings(1e-6), 2, &mut s);
-        assert!(s.separated && s.separated_in_sampled);
+        assert!(s.jump_watch.separated() && s.jump_watch.steady_separation.is_some());
         // At 500 rpm it never does.
         let m = RegulatedFullModel::<f64>::new(Design::reference()).unwrap();
         let mut s = Sampler::new(&m, 2, Some(2)).watch_contact();
         run(Method::England, &m, &settings(1e-6), 2, &mut s).unwrap();
-        assert!(!s.separated && s.done);
+        assert!(!s.jump_watch.separated() && s.done);
     }
 }
