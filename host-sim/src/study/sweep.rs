@@ -18,7 +18,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
-use camsim_core::{Observer, Sample};
+use camsim_core::{jump_verdict, JumpWatch, Observer, Sample};
 use camsim_scene_file::units::Unit;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -124,11 +124,11 @@ pub struct Response {
     pub peak_drive_power_hp: Option<f64>,
 }
 
-/// The extremes of revolution 2 and whether the follower left the cam, sample by sample.
+/// The extremes of revolution 2 and whether the follower left the cam, sample by sample
+/// (core's [`JumpWatch`], the one jump rule).
 #[derive(Default)]
 struct Watch {
-    separated: bool,
-    separated_steady: bool,
+    jump: JumpWatch<f64>,
     force_min: Option<f64>,
     force_max: Option<f64>,
     torque: Option<f64>,
@@ -148,9 +148,9 @@ impl Observer<f64> for Watch {
     }
     fn observe(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
         let p = &s.point;
-        if !p.in_contact {
-            self.separated = true;
-        }
+        // The watch would stop the run at the first steady-state separation; the sweep
+        // goes on to take revolution 2's extremes.
+        let _ = self.jump.note_sample(s);
         if s.revolution < 2 {
             return ControlFlow::Continue(());
         }
@@ -162,8 +162,6 @@ impl Observer<f64> for Watch {
                 );
             }
             max_into(&mut self.force_max, p.contact_force);
-        } else {
-            self.separated_steady = true;
         }
         max_into(&mut self.torque, p.torque_out.abs());
         max_into(&mut self.stress, s.contact_stress);
@@ -191,15 +189,19 @@ pub fn respond(spec: &RunSpec, rpm: f64, out_of_range_jumps: bool) -> Result<Res
     s.revolutions = 2;
     s.design.set_speed_rpm(rpm)?;
     let mut w = Watch::default();
-    let r = match sim::run(&s, &mut w) {
-        Ok(r) => r,
-        Err(e) if w.separated || (out_of_range_jumps && out_of_model(&e)) => {
-            return Ok(Response {
-                jump: true,
-                left_model_range: true,
-                ..Response::default()
-            })
-        }
+    let run = sim::run(&s, &mut w);
+    // Core's rule decides; the run itself is kept for its statistics.
+    let verdict = jump_verdict(run.as_ref().map(|_| ()).map_err(|_| ()), &w.jump);
+    let left_range = Response {
+        jump: true,
+        left_model_range: true,
+        ..Response::default()
+    };
+    let (r, jump) = match run {
+        Ok(r) => (r, verdict.is_ok_and(|v| v.jumped())),
+        // A failure after the follower left the cam: a jump.
+        Err(_) if verdict.is_ok() => return Ok(left_range),
+        Err(e) if out_of_range_jumps && out_of_model(&e) => return Ok(left_range),
         Err(e) => return Err(e.context(format!("simulation at {rpm:.1} rpm failed"))),
     };
     let names = sim::period_names(&s.design);
@@ -210,7 +212,6 @@ pub fn respond(spec: &RunSpec, rpm: f64, out_of_range_jumps: bool) -> Result<Res
             sum += p.duration * p.rms_acceleration().powi(2);
         }
     }
-    let jump = w.separated_steady;
     Ok(Response {
         jump,
         left_model_range: false,
