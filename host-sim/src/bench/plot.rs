@@ -108,7 +108,9 @@ fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     )
 }
 
-type Panel<'a> = (&'a str, fn(&RunRow) -> f64, f64);
+/// A panel: its y axis title, the quantity (inch family), the references' floor (inch
+/// family) and the factor to the output's units.
+type Panel<'a> = (&'a str, fn(&RunRow) -> f64, f64, f64);
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, plotters::coord::Shift>,
@@ -122,8 +124,12 @@ fn draw<DB: DrawingBackend>(
     let (title_area, body) = root.split_vertically(48);
     title_area.titled(title, (FONT, 24))?;
     let areas = body.split_evenly((panels.len(), 1));
-    for (area, (y_desc, y, floor)) in areas.iter().zip(panels) {
-        let ls = lines(runs, x, *y, *floor);
+    for (area, (y_desc, y, floor, factor)) in areas.iter().zip(panels) {
+        let mut ls = lines(runs, x, *y, *floor);
+        for l in &mut ls {
+            l.points.iter_mut().for_each(|p| p.1 *= factor);
+        }
+        let floor = &(floor * factor);
         let (x0, x1) = log_bounds(ls.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
         let (y0, y1) = log_bounds(
             ls.iter()
@@ -215,9 +221,15 @@ pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f6
     };
     let acc: fn(&RunRow) -> f64 = |r| r.err_acc_rms;
     let disp: fn(&RunRow) -> f64 = |r| r.err_disp_rms;
+    let (fa, ua) = crate::units::axis(crate::units::ACCELERATION);
+    let (fy, uy) = crate::units::axis(camsim_scene_file::units::LENGTH);
+    let (acc_desc, disp_desc) = (
+        format!("load acceleration RMS error ({ua})"),
+        format!("load displacement RMS error ({uy})"),
+    );
     let panels: [Panel<'_>; 2] = [
-        ("load acceleration RMS error (in/s²)", acc, floor.0),
-        ("load displacement RMS error (in)", disp, floor.1),
+        (&acc_desc, acc, floor.0, fa),
+        (&disp_desc, disp, floor.1, fy),
     ];
     let evals: fn(&RunRow) -> f64 = |r| r.rhs_evals as f64;
     let wall: fn(&RunRow) -> f64 = |r| r.wall_ms;
