@@ -1149,7 +1149,11 @@ mod tests {
                     .unwrap_or_else(|| panic!("{file} missing"))
             };
             let (fi, fs) = (&inch[find(&inch)], &si[find(&si)]);
-            assert!(fs.panels[0].y_desc.contains(unit), "{file}: {}", fs.panels[0].y_desc);
+            assert!(
+                fs.panels[0].y_desc.contains(unit),
+                "{file}: {}",
+                fs.panels[0].y_desc
+            );
             for (pi, ps) in fi.panels.iter().zip(&fs.panels) {
                 for (ci, cs) in pi.curves.iter().zip(&ps.curves) {
                     assert!(!ci.values.is_empty());

@@ -731,11 +731,7 @@ fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
         "torque_max" => ("largest |torque|", Some(TORQUE), "smaller is better"),
         "contact_force_min" => ("smallest contact force", Some(FORCE), "larger is better"),
         "contact_force_max" => ("largest contact force", Some(FORCE), "smaller is better"),
-        "contact_stress_max" => (
-            "largest contact stress",
-            Some(STRESS),
-            "smaller is better",
-        ),
+        "contact_stress_max" => ("largest contact stress", Some(STRESS), "smaller is better"),
         _ => (
             "sum of the ranks",
             None,

@@ -30,11 +30,7 @@ fn quantity(col: &str) -> (&'static str, &'static str, Option<Unit>) {
         "contact_force_max" => ("largest Fc", "largest contact force Fc", Some(FORCE)),
         "torque_max" => ("largest torque", "largest drive torque", Some(TORQUE)),
         "torque_min" => ("smallest torque", "smallest drive torque", Some(TORQUE)),
-        "contact_stress_max" => (
-            "largest stress",
-            "largest contact stress",
-            Some(STRESS),
-        ),
+        "contact_stress_max" => ("largest stress", "largest contact stress", Some(STRESS)),
         "fpr" => ("waviness FPR", "waviness FPR", None),
         "rms_deviation_in" => (
             "RMS lift deviation",
@@ -48,7 +44,9 @@ fn quantity(col: &str) -> (&'static str, &'static str, Option<Unit>) {
 /// A column's factor on its inch-family values and its unit on the axis, in the
 /// output's family (`--units`).
 fn axis_unit(col: &str) -> (f64, String) {
-    quantity(col).2.map_or((1.0, String::new()), crate::units::axis)
+    quantity(col)
+        .2
+        .map_or((1.0, String::new()), crate::units::axis)
 }
 
 /// A panel of `all` (every sample) with `jumped` (the samples that jumped) stacked on
