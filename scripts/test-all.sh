@@ -98,6 +98,8 @@ smoke laws laws --json
 smoke modal modal --json
 smoke contact contact --force 100 --json
 smoke run run --revolutions 2 --json
+smoke run-thesis-control run --revolutions 1 --step-control thesis --json
+grep -qF 'step_control = \"thesis\"' "$studies/run-thesis-control.out" || { echo "smoke: run --step-control thesis is not echoed in the scene" >&2; exit 1; }
 smoke run-csv run --revolutions 1 --csv "$studies/run-grid.csv" --csv-every-deg 1 --json
 test "$(wc -l < "$studies/run-grid.csv")" -eq 362 || { echo "smoke: run --csv-every-deg 1 is not 360 rows and the end" >&2; exit 1; }
 smoke run-csv-steps run --revolutions 1 --csv "$studies/run-steps.csv" --csv-every-step --json

@@ -59,7 +59,7 @@ pub use model::scene::{
 mod solve;
 pub use solve::controller::{
     initial_step, spectral_radius, Controller, InitialStep, PerUnitStep, PiController, StepControl,
-    StiffnessCap, SCALED_CAP_FULL_RTOL,
+    StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
 };
 pub use solve::dense::Dense;
 pub use solve::england::{England, EnglandConfig, SolverStats};

@@ -97,6 +97,28 @@ impl From<StartArg> for Start {
     }
 }
 
+/// `--step-control`: how England's method controls its step
+/// ([`camsim_core::StepRule`]; the scene's `solver.step_control`, docs/MODEL.md §3.16).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum StepControlArg {
+    /// The thesis's rule: England's controller, uncapped.
+    Thesis,
+    /// England's controller with the stiffness cap scaled by rtol (the default).
+    ScaledCap,
+    /// The PI controller with the same scaled cap.
+    PiScaledCap,
+}
+
+impl From<StepControlArg> for camsim_core::StepRule {
+    fn from(s: StepControlArg) -> Self {
+        match s {
+            StepControlArg::Thesis => Self::Thesis,
+            StepControlArg::ScaledCap => Self::ScaledCap,
+            StepControlArg::PiScaledCap => Self::PiScaledCap,
+        }
+    }
+}
+
 /// `--follower`: the follower's model ([`camsim_core::FollowerModel`], docs/MODEL.md §10).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FollowerArg {

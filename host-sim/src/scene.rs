@@ -88,6 +88,10 @@ const HOST_KEYS: &[(&str, &str)] = &[
         "solver.start",
         "\"thesis\" (VI.1) or \"static\" (static equilibrium)",
     ),
+    (
+        "solver.step_control",
+        "\"scaled-cap\" (England, stiffness cap scaled by rtol), \"pi-scaled-cap\" or \"thesis\" (England uncapped)",
+    ),
 ];
 
 /// `text` with a comment after every known key saying what it is.

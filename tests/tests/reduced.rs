@@ -226,8 +226,8 @@ fn jumps<S: Scene, const N: usize>(rpm: f64) -> bool {
         rtol: 1e-4,
         atol: 1e-9,
         max_step_fraction: 0.01,
-        max_steps_per_rev: 2_000_000,
         start: Start::Static,
+        ..SolverSettings::reference()
     };
     let points = camsim_core::timing_points(&m.design().program);
     let mut obs = camsim_core::SteadyStateObserver::new(2, points);

@@ -220,8 +220,17 @@ pub mod key {
     pub const MAX_STEPS_PER_REV: &str = "max_steps_per_rev";
     /// [`crate::SolverSettings::start`].
     pub const START: &str = "start";
+    /// [`crate::SolverSettings::step_control`].
+    pub const STEP_CONTROL: &str = "step_control";
     /// Every solver key.
-    pub const SOLVER_KEYS: &[&str] = &[RTOL, ATOL, MAX_STEP_FRACTION, MAX_STEPS_PER_REV, START];
+    pub const SOLVER_KEYS: &[&str] = &[
+        RTOL,
+        ATOL,
+        MAX_STEP_FRACTION,
+        MAX_STEPS_PER_REV,
+        START,
+        STEP_CONTROL,
+    ];
 
     /// The cam speed in rpm: the name [`crate::Design::set_speed_rpm`]'s refusals use (the
     /// host's scene key `run.rpm`, its option `--rpm`).
@@ -472,7 +481,7 @@ pub mod key {
     };
 
     /// The plausibility range of every numeric scene key of a design
-    /// ([`DESIGN_KEYS`]), of the solver ([`SOLVER_KEYS`] but `start`) and of [`RPM`];
+    /// ([`DESIGN_KEYS`]), of the solver ([`SOLVER_KEYS`] but `start` and `step_control`) and of [`RPM`];
     /// a segment's `lift_in` takes [`LENGTH_OR_ZERO`]. [`crate::Design::validate`],
     /// [`crate::SolverSettings::validate`] and [`crate::Design::set_speed_rpm`] check
     /// these, and the host's option parsers check the same ranges.

@@ -12,7 +12,8 @@ use core::ops::ControlFlow;
 
 use crate::{
     CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
-    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, Tolerance, TransDof, TRANS_DOFS,
+    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, StepRule, Tolerance, TransDof,
+    TRANS_DOFS,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -186,7 +187,7 @@ impl<T, A: Observer<T>, B: Observer<T>> Observer<T> for Both<'_, A, B> {
 /// that is scaled to every state component (see [`solver_config`]).
 ///
 /// Scene keys (`[solver]`, [`crate::key::SOLVER_KEYS`]): `rtol`, `atol_in`,
-/// `max_step_fraction_rev`, `max_steps_per_rev`, `start`; absent keys take
+/// `max_step_fraction_rev`, `max_steps_per_rev`, `start`, `step_control`; absent keys take
 /// [`SolverSettings::reference`]'s values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(
@@ -215,6 +216,9 @@ pub struct SolverSettings<T> {
     pub max_steps_per_rev: u32,
     /// Where the simulation starts.
     pub start: Start,
+    /// How England's method controls its step ([`StepRule`]; scene key `step_control`):
+    /// the tolerance-scaled stiffness cap by default, `"thesis"` for the thesis's rule.
+    pub step_control: StepRule,
 }
 
 /// The initial state of a simulation (scene names `"thesis"`, `"static"`).
@@ -235,7 +239,8 @@ pub enum Start {
 }
 
 impl<T: Real> SolverSettings<T> {
-    /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step.
+    /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step,
+    /// England's rule with the tolerance-scaled stiffness cap ([`StepRule::ScaledCap`]).
     pub fn reference() -> Self {
         Self {
             rtol: T::from_f64(1e-6),
@@ -243,6 +248,7 @@ impl<T: Real> SolverSettings<T> {
             max_step_fraction: T::from_f64(1.0 / 2000.0),
             max_steps_per_rev: 2_000_000,
             start: Start::Thesis,
+            step_control: StepRule::ScaledCap,
         }
     }
 
@@ -396,19 +402,21 @@ impl<T: Real> RunState<T> {
         let config = solver_config(model, settings, revolutions)?;
         // The solver's own names for what the settings derive (h_max, h_init, max_steps) are
         // not scene keys: name the key that sets each (unreachable with validated settings).
-        let solver = England::new(config).map_err(|e| match e {
-            Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
-                field: match field {
-                    "max_steps" => crate::key::MAX_STEPS_PER_REV,
-                    "rtol" => crate::key::RTOL,
-                    "atol" => crate::key::ATOL,
-                    _ => crate::key::MAX_STEP_FRACTION,
+        let solver = England::with_control(config, settings.step_control.control()).map_err(
+            |e| match e {
+                Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
+                    field: match field {
+                        "max_steps" => crate::key::MAX_STEPS_PER_REV,
+                        "rtol" => crate::key::RTOL,
+                        "atol" => crate::key::ATOL,
+                        _ => crate::key::MAX_STEP_FRACTION,
+                    },
+                    rule,
+                    value,
                 },
-                rule,
-                value,
+                other => other,
             },
-            other => other,
-        })?;
+        )?;
         let d = model.design();
         let target = T::TWO * T::PI * T::from_usize(revolutions as usize);
         // Generous end time: the drive may run slower than ω0; a stalled drive is an error.

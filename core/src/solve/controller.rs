@@ -401,13 +401,80 @@ impl<T: Real> Default for StiffnessCap<T> {
 /// tolerance of issue 22's ladder (1e-5 to 1e-8), where England's error still followed
 /// `rtol`; every tolerance at or above it (the chip's 1e-2 to 1e-4) keeps the full cap and
 /// its results bit for bit. On the reference design 1e-4 converges too, at more cost
-/// (docs/BENCHMARKS.md). Not used by default: `camsim run` runs England without a cap.
+/// (docs/BENCHMARKS.md). The host's default run uses it ([`StepRule::ScaledCap`]).
 pub const SCALED_CAP_FULL_RTOL: f64 = 1e-5;
+
+/// The step control a run uses ([`SolverSettings::step_control`](crate::SolverSettings::step_control),
+/// scene key `[solver] step_control`, option `--step-control`): the three controls of
+/// England's method that a run can choose, by the name a scene file gives them
+/// (docs/MODEL.md §3.16).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
+pub enum StepRule {
+    /// `"thesis"`: England's own rule, uncapped ([`StepControl::classic`]), the thesis's
+    /// solver bit for bit. Below rtol 1e-6 its error on the cam model stops following the
+    /// tolerance where stability holds the step (issue 22, docs/BENCHMARKS.md). The chip's
+    /// choice (`camsim_chip::chip_solver_settings`).
+    Thesis,
+    /// `"scaled-cap"` (the host's default): England's rule with the stiffness cap
+    /// ([`StiffnessCap`]) scaled by the tolerance below rtol [`SCALED_CAP_FULL_RTOL`], so
+    /// the error follows the tolerance (docs/MODEL.md §3.16, measured in
+    /// docs/BENCHMARKS.md).
+    #[default]
+    ScaledCap,
+    /// `"pi-scaled-cap"`: the PI controller with Hairer's settings and starting step and
+    /// the same tolerance-scaled cap ([`StepControl::pi_capped`]): fewer rejections, more
+    /// evaluations at the same tolerance.
+    PiScaledCap,
+}
+
+impl StepRule {
+    /// Every rule, in the order the documentation lists them.
+    pub const ALL: [StepRule; 3] = [StepRule::Thesis, StepRule::ScaledCap, StepRule::PiScaledCap];
+
+    /// The scene file's name of the rule (`"thesis"`, `"scaled-cap"`, `"pi-scaled-cap"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            StepRule::Thesis => "thesis",
+            StepRule::ScaledCap => "scaled-cap",
+            StepRule::PiScaledCap => "pi-scaled-cap",
+        }
+    }
+
+    /// The rule of a scene-file name ([`StepRule::name`]), `None` for any other.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.name() == name)
+    }
+
+    /// The [`StepControl`] England runs with under this rule.
+    pub fn control<T: Real>(self) -> StepControl<T> {
+        let cap = Some(StiffnessCap::tolerance_scaled(T::from_f64(
+            SCALED_CAP_FULL_RTOL,
+        )));
+        match self {
+            StepRule::Thesis => StepControl::classic(),
+            StepRule::ScaledCap => StepControl {
+                stiffness_cap: cap,
+                ..StepControl::classic_capped()
+            },
+            StepRule::PiScaledCap => StepControl {
+                stiffness_cap: cap,
+                ..StepControl::pi_capped()
+            },
+        }
+    }
+}
 
 /// Step-size control of [`England`](crate::England) beyond [`EnglandConfig`](crate::EnglandConfig):
 /// pass it to [`England::with_control`](crate::England::with_control).
 /// [`StepControl::classic`] (the default, what [`England::new`](crate::England::new) uses)
-/// reproduces the original solver bit for bit.
+/// reproduces the original solver bit for bit. A simulation's control is chosen by
+/// [`StepRule`] ([`SolverSettings::step_control`](crate::SolverSettings::step_control)),
+/// whose default is the tolerance-scaled cap, not this.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepControl<T> {
     /// Step-size rule.

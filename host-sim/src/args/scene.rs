@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use camsim_core::SegmentKind;
 
-use super::{Law, StartArg};
+use super::{Law, StartArg, StepControlArg};
 use crate::sim::RunSpec;
 
 /// The scene and its overrides, shared by every command that simulates a scene.
@@ -43,6 +43,10 @@ pub struct SceneArgs {
     /// followers take longer steps: 0.01 lets the controller decide).
     #[arg(long, value_name = "FRACTION", allow_hyphen_values = true, value_parser = super::max_step_fraction)]
     pub max_step_fraction: Option<f64>,
+    /// How England's method controls its step (default "scaled-cap": the stiffness cap
+    /// scaled by rtol, so the error follows rtol; "thesis": the thesis's rule, uncapped).
+    #[arg(long, value_enum, value_name = "CONTROL")]
+    pub step_control: Option<StepControlArg>,
     /// The follower's model: the full chain, or a reduced scene whose stiff DOFs are
     /// quasi-static (docs/MODEL.md §10; a reduced one implies the vertical scene).
     #[arg(long, value_enum, value_name = "MODEL")]
@@ -96,6 +100,9 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     }
     if let Some(x) = args.max_step_fraction {
         spec.solver.max_step_fraction = x;
+    }
+    if let Some(c) = args.step_control {
+        spec.solver.step_control = c.into();
     }
     if let Some(f) = args.follower {
         spec.dofs.follower = f.into();

@@ -2,7 +2,10 @@
 //! ([`CamModel`]'s, through [`Counted`]), from the same static start, to the same end
 //! (the first step end at or past `2π · revolutions` of cam angle), sampled the same way
 //! ([`Sampler`]):
-//! - England's method as `simulate` runs it ([`StepControl::classic`]);
+//! - England's method with the thesis's rule, uncapped ([`StepControl::classic`], the
+//!   `"thesis"` step control);
+//! - England's method as `camsim run` runs it by default: the thesis's rule with the
+//!   tolerance-scaled stiffness cap ([`StepRule::ScaledCap`], `"scaled-cap"`);
 //! - England's method with the PI controller, Hairer's starting step and the stiffness
 //!   cap ([`StepControl::pi_capped`]);
 //! - classic RK4 at a fixed step (a whole number of steps per nominal revolution), the
@@ -23,7 +26,7 @@ use std::ops::ControlFlow;
 use anyhow::{anyhow, bail, Result};
 use camsim_core::{
     rk4_step_from, solver_config, CamModel, England, EnglandConfig, Merson, OdeSystem, Real, Scene,
-    SolverSettings, StepControl, StiffnessCap,
+    SolverSettings, StepControl, StepRule, StiffnessCap,
 };
 use ode_solvers::dop_shared::{FloatNumber, OutputType, System};
 use ode_solvers::{Dopri5, SVector};
@@ -35,6 +38,9 @@ use super::sample::{Counted, NodeHermite, Sampler};
 pub enum Method {
     /// England's method with its original step-size rule (what `camsim run` uses).
     England,
+    /// England's method as `camsim run` runs it by default ([`StepRule::ScaledCap`]): the
+    /// original rule with the stiffness cap scaled with the tolerance.
+    EnglandScaledCap,
     /// England's method with the PI controller, Hairer's first step and the stiffness cap.
     EnglandPiCapped,
     /// Classic RK4 at a fixed step: this many steps per nominal revolution (2π/ω0).
@@ -60,12 +66,13 @@ pub enum Method {
 }
 
 impl Method {
-    /// The name in reports and JSON (`england`, `england_pi_capped`, `rk4_fixed`,
+    /// The name in reports and JSON (`england`, `england_scaled_cap`, `england_pi_capped`, `rk4_fixed`,
     /// `dopri5_ode_solvers`, `merson_4_3`, `merson_4_3_capped`, `rosenbrock_ros34pw2` with a Jacobian every step,
     /// `rosenbrock_ros34pw2_j10` every 10 steps, `rosenbrock_ros34pw2_jn` otherwise).
     pub fn name(&self) -> &'static str {
         match self {
             Method::England => "england",
+            Method::EnglandScaledCap => "england_scaled_cap",
             Method::EnglandPiCapped => "england_pi_capped",
             Method::Rk4 { .. } => "rk4_fixed",
             Method::Dopri5 => "dopri5_ode_solvers",
@@ -134,6 +141,13 @@ where
             model,
             settings,
             StepControl::classic(),
+            revolutions,
+            sampler,
+        )?,
+        Method::EnglandScaledCap => england(
+            model,
+            settings,
+            StepRule::ScaledCap.control(),
             revolutions,
             sampler,
         )?,

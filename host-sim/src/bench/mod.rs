@@ -143,7 +143,8 @@ pub fn f32_math() -> &'static str {
 /// One measured run (every number present: a failed run is in [`BenchReport::failed`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct RunRow {
-    /// `england`, `england_pi_capped`, `merson_4_3[_capped]`, `rk4_fixed`, `dopri5_ode_solvers` or
+    /// `england`, `england_scaled_cap`, `england_pi_capped`, `merson_4_3[_capped]`, `rk4_fixed`,
+    /// `dopri5_ode_solvers` or
     /// `rosenbrock_ros34pw2[_j10]`.
     pub method: String,
     /// The scene (`full_11dof` for the comparison; reduced scenes name themselves).
@@ -376,6 +377,7 @@ fn equal_error_of(runs: &[RunRow], scene: &str, precision: &str) -> Vec<EqualErr
     let mut out = Vec::new();
     for method in [
         "england",
+        "england_scaled_cap",
         "england_pi_capped",
         "merson_4_3",
         "merson_4_3_capped",
@@ -724,6 +726,7 @@ where
     let mut cases: Vec<(Method, f64)> = Vec::new();
     for m in [
         Method::England,
+        Method::EnglandScaledCap,
         Method::EnglandPiCapped,
         Method::Merson { capped: false },
         Method::Merson { capped: true },
@@ -755,7 +758,9 @@ where
     }
     for (method, rtol) in cases {
         let limit = match method {
-            Method::England | Method::EnglandPiCapped => Some(limits.england_double_steps_per_rev),
+            Method::England | Method::EnglandScaledCap | Method::EnglandPiCapped => {
+                Some(limits.england_double_steps_per_rev)
+            }
             Method::Rk4 { .. } => Some(limits.rk4_fixed_steps_per_rev),
             Method::Dopri5 => Some(limits.dopri5_steps_per_rev),
             Method::Merson { .. } => Some(limits.merson_steps_per_rev),
@@ -1040,6 +1045,7 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
         {
             let method = match run.method.as_str() {
                 "england" => Method::England,
+                "england_scaled_cap" => Method::EnglandScaledCap,
                 "england_pi_capped" => Method::EnglandPiCapped,
                 "dopri5_ode_solvers" => Method::Dopri5,
                 "merson_4_3" => Method::Merson { capped: false },

@@ -30,6 +30,7 @@ fn color(method: &str) -> RGBColor {
     match method {
         "england" => RGBColor(31, 119, 180),
         "england_pi_capped" => RGBColor(44, 160, 44),
+        "england_scaled_cap" => RGBColor(227, 119, 194),
         "rk4_fixed" => RGBColor(255, 127, 14),
         "rosenbrock_ros34pw2" => RGBColor(148, 103, 189),
         "rosenbrock_ros34pw2_j10" => RGBColor(140, 86, 75),

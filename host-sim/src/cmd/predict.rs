@@ -296,6 +296,8 @@ pub struct SceneReport {
     pub atol_in: f64,
     /// Largest step, fraction of a revolution.
     pub max_step_fraction: f64,
+    /// Step control (the chip's choice, `"thesis"`: England's rule, uncapped).
+    pub step_control: &'static str,
     /// Grid speeds of the table, rpm.
     pub grid_rpm: [f64; CHIP_GRID],
     /// Upper limit of the jump search, rpm.
@@ -591,6 +593,7 @@ pub fn report_measured<T: Real>(
             rtol: s.rtol,
             atol_in: s.atol,
             max_step_fraction: s.max_step_fraction,
+            step_control: s.step_control.name(),
             grid_rpm: CHIP_GRID_RPM,
             max_rpm: CHIP_MAX_RPM,
             resolution_rpm: CHIP_RESOLUTION_RPM,

@@ -39,6 +39,10 @@ pub struct Args {
     /// Solver relative tolerance of the theoretical cam's runs (1e-13 to 0.1).
     #[arg(long, allow_hyphen_values = true, value_parser = args::rtol)]
     pub rtol: Option<f64>,
+    /// Step control of the theoretical cam's runs (default "scaled-cap"; "thesis": the
+    /// thesis's rule, uncapped).
+    #[arg(long, value_enum, value_name = "CONTROL")]
+    pub step_control: Option<args::StepControlArg>,
     /// The theoretical cam's follower model (default: the scene's, the full chain).
     #[arg(long, value_enum, value_name = "MODEL")]
     pub follower: Option<args::FollowerArg>,
@@ -74,6 +78,7 @@ pub fn sweep_of(args: &Args) -> Result<Sweep> {
         // The steady state `camsim jump-speed` judges.
         start: Some(args::StartArg::Static),
         rtol: args.rtol,
+        step_control: args.step_control,
         follower: args.follower,
         ..SceneArgs::default()
     };
