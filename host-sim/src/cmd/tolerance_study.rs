@@ -608,6 +608,9 @@ fn tolerance_label(c: &Cell) -> String {
     format!("±{} / ±{roller}", cam.split(' ').next().unwrap_or(&cam))
 }
 
+/// A point with its interval: (low, middle, high).
+type Whisker = (f64, f64, f64);
+
 /// P(jump) with its 95 % Wilson interval, and the 5th, 50th and 95th percentiles of the
 /// smallest contact force and of the largest contact stress in revolution 2, against the
 /// cam / roller tolerance (the grid's rows, smallest first), one colour per waviness
@@ -666,51 +669,50 @@ fn draw_response(
         let areas = body.split_evenly((1, 3));
         for (k, area) in areas.iter().enumerate() {
             // (y of each row and column: (lo, mid, hi)), the theoretical cam's value.
-            let (title, desc, pts, theo): (String, String, Vec<Vec<(f64, f64, f64)>>, f64) =
-                if k == 0 {
-                    let pts = rows
-                        .iter()
-                        .map(|r| {
-                            r.iter()
-                                .map(|c| {
-                                    let p = &c.summary.jump;
-                                    (p.lo95, p.p, p.hi95)
+            let (title, desc, pts, theo): (String, String, Vec<Vec<Whisker>>, f64) = if k == 0 {
+                let pts = rows
+                    .iter()
+                    .map(|r| {
+                        r.iter()
+                            .map(|c| {
+                                let p = &c.summary.jump;
+                                (p.lo95, p.p, p.hi95)
+                            })
+                            .collect()
+                    })
+                    .collect();
+                (
+                    if samples < 2 {
+                        "P(jump), revolution 2 (1 cam a cell: use --samples)".into()
+                    } else {
+                        "P(jump) in revolution 2".into()
+                    },
+                    "P(jump)".into(),
+                    pts,
+                    theoretical.summary.jump.p,
+                )
+            } else {
+                let (q, unit, f, col) = &quantiles[(k - 1).min(1)];
+                let get = |c: &Cell| c.summary.whole_revolution.get(col).copied();
+                let pts = rows
+                    .iter()
+                    .map(|r| {
+                        r.iter()
+                            .map(|c| {
+                                get(c).map_or((f64::NAN, f64::NAN, f64::NAN), |m| {
+                                    (f * m.p5, f * m.p50, f * m.p95)
                                 })
-                                .collect()
-                        })
-                        .collect();
-                    (
-                        if samples < 2 {
-                            "P(jump), revolution 2 (1 cam a cell: use --samples)".into()
-                        } else {
-                            "P(jump) in revolution 2".into()
-                        },
-                        "P(jump)".into(),
-                        pts,
-                        theoretical.summary.jump.p,
-                    )
-                } else {
-                    let (q, unit, f, col) = &quantiles[(k - 1).min(1)];
-                    let get = |c: &Cell| c.summary.whole_revolution.get(col).copied();
-                    let pts = rows
-                        .iter()
-                        .map(|r| {
-                            r.iter()
-                                .map(|c| {
-                                    get(c).map_or((f64::NAN, f64::NAN, f64::NAN), |m| {
-                                        (f * m.p5, f * m.p50, f * m.p95)
-                                    })
-                                })
-                                .collect()
-                        })
-                        .collect();
-                    (
-                        format!("{q}: p5, p50, p95"),
-                        format!("{q} ({unit})"),
-                        pts,
-                        get(theoretical).map_or(f64::NAN, |m| f * m.p50),
-                    )
-                };
+                            })
+                            .collect()
+                    })
+                    .collect();
+                (
+                    format!("{q}: p5, p50, p95"),
+                    format!("{q} ({unit})"),
+                    pts,
+                    get(theoretical).map_or(f64::NAN, |m| f * m.p50),
+                )
+            };
             let (mut lo, mut hi) = pts
                 .iter()
                 .flatten()
@@ -722,7 +724,7 @@ fn draw_response(
                 });
             if k == 0 {
                 (lo, hi) = (0.0, 1.0);
-            } else if !(lo < hi) {
+            } else if lo >= hi || lo.is_nan() || hi.is_nan() {
                 let m = if lo.is_finite() {
                     lo.abs().max(1.0)
                 } else {
