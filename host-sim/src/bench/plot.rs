@@ -95,6 +95,28 @@ fn lines(runs: &[RunRow], x: fn(&RunRow) -> f64, y: fn(&RunRow) -> f64, floor: f
     out
 }
 
+/// A log axis's tick in plain digits from 0.001 to 10 000 000 ("200 000", "0.05"), in
+/// powers of ten outside ("1e-9").
+fn log_tick(v: f64) -> String {
+    if !(1e-3..1e7).contains(&v.abs()) {
+        return format!("{v:.0e}");
+    }
+    if v.abs() >= 1.0 {
+        let digits = format!("{:.0}", v.round());
+        let n = digits.len();
+        let mut out = String::new();
+        for (i, ch) in digits.chars().enumerate() {
+            if i > 0 && (n - i) % 3 == 0 && ch.is_ascii_digit() {
+                out.push(' ');
+            }
+            out.push(ch);
+        }
+        return out;
+    }
+    let decimals = (-v.abs().log10().floor()) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// Decade bounds around the values.
 fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = v
@@ -146,8 +168,16 @@ fn draw<DB: DrawingBackend>(
             .configure_mesh()
             .x_desc(x_desc)
             .y_desc(*y_desc)
-            .x_label_formatter(&|v| format!("{v:.0e}"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .x_label_formatter(&|v| {
+                // 1, 2 and 5 of each decade: the labels between would run together.
+                let m = (v / 10f64.powf(v.log10().floor())).round();
+                if [1.0, 2.0, 5.0].contains(&m) {
+                    log_tick(*v)
+                } else {
+                    String::new()
+                }
+            })
+            .y_label_formatter(&|v| log_tick(*v))
             .label_style((FONT, 16))
             .axis_desc_style((FONT, 18))
             .bold_line_style(RGBColor(215, 215, 215))
@@ -261,4 +291,18 @@ pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f6
         })?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod log_tick_tests {
+    #[test]
+    fn log_ticks_are_plain_in_the_middle_and_powers_outside() {
+        assert_eq!(super::log_tick(200_000.0), "200 000");
+        assert_eq!(super::log_tick(1_000.0), "1 000");
+        assert_eq!(super::log_tick(5.0), "5");
+        assert_eq!(super::log_tick(0.05), "0.05");
+        assert_eq!(super::log_tick(0.001), "0.001");
+        assert_eq!(super::log_tick(1e-5), "1e-5");
+        assert_eq!(super::log_tick(1e7), "1e7");
+    }
 }
