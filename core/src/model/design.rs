@@ -517,8 +517,16 @@ impl<T: Real> Design<T> {
     ///
     /// One copy, not inlined where it is called (on the chip: at boot and in every
     /// steady-state run), which would cost flash for no time worth saving.
-    #[inline(never)]
     pub fn validate(&self) -> Result<()> {
+        self.validate_with(true)
+    }
+
+    /// [`Design::validate`] without the undercut scan (`undercut = false`), for a design
+    /// whose geometry and program, all the scan reads, were validated already and whose
+    /// speed alone changed ([`Design::set_speed_rpm`]): the scan costs about 1.9 M
+    /// instructions on the chip, the rest a few thousand.
+    #[inline(never)]
+    pub(crate) fn validate_with(&self, undercut: bool) -> Result<()> {
         use crate::key as k;
         for (field, v) in [
             (k::I_M, self.i_m),
@@ -579,8 +587,7 @@ impl<T: Real> Design<T> {
             k::LENGTH_OR_ZERO.check(segment_key(SegmentField::LiftIn, i), s.lift)?;
         }
         // The roller must fit the profile: no undercut (a convex pitch radius below r_r).
-        let u = self.geometry.undercut(&self.program, 3600)?;
-        if u.undercut {
+        if undercut && self.geometry.undercut(&self.program, 3600)?.undercut {
             return Err(Error::InvalidParameter {
                 field: k::ROLLER_RADIUS,
                 rule: "undercut: larger than the smallest convex pitch-curve radius of the profile (use a smaller roller, a larger base circle or a gentler program)",

@@ -221,8 +221,23 @@ impl<T: Real, S: Scene, const N: usize> CamModel<T, S, N> {
 impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> {
     /// Builds the model for `design` whose roller rides on `profile` (an actual cam).
     pub fn with_profile(design: Design<T>, profile: P) -> Result<Self> {
-        crate::model::scene::assert_fits::<S, N>();
         design.validate()?;
+        Self::of_valid(design, profile)
+    }
+
+    /// [`CamModel::with_profile`] for a design whose geometry and program passed
+    /// [`Design::validate`] before, at another speed (the same design but for
+    /// [`Design::set_speed_rpm`]): the undercut scan, which reads only those and costs
+    /// about 1.9 M instructions on the chip, is not repeated; the rest of the validation
+    /// is. Bit for bit the model [`CamModel::with_profile`] builds.
+    pub(crate) fn with_profile_scanned(design: Design<T>, profile: P) -> Result<Self> {
+        design.validate_with(false)?;
+        Self::of_valid(design, profile)
+    }
+
+    /// [`CamModel::with_profile`] of a design already validated.
+    fn of_valid(design: Design<T>, profile: P) -> Result<Self> {
+        crate::model::scene::assert_fits::<S, N>();
         if design.drive.kind() != S::DRIVE {
             return Err(Error::InvalidParameter {
                 field: "drive",
@@ -914,7 +929,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// Writes dy/dt for the state (t, y) given the evaluated point: every quantity the
     /// scene keeps (the layout numbers them 0..N, so every component is written).
     #[inline]
-    fn derivative(&self, p: &ModelPoint<T>, dydt: &mut [T; N]) {
+    pub(crate) fn derivative(&self, p: &ModelPoint<T>, dydt: &mut [T; N]) {
         let mut out = StateMut::<T, S, N>::new(dydt);
         out.set(StateVar::CamAngle, p.omega_c);
         out.set(StateVar::CouplingCamTwist, p.omega_cp - p.omega_c);

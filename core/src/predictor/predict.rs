@@ -241,10 +241,27 @@ pub fn steady_state<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
     rpm: T,
     settings: &SolverSettings<T>,
 ) -> Result<SteadyState<T>> {
+    steady_state_at::<T, S, N, P>(design, profile, rpm, settings, false)
+}
+
+/// [`steady_state`]; `scanned`: the design passed [`Design::validate`] already, so its
+/// model at `rpm` skips the undercut scan ([`CamModel::with_profile_scanned`], bit for bit
+/// the same model).
+fn steady_state_at<T: Real, S: Scene, const N: usize, P: LiftProfile<T>>(
+    design: &Design<T>,
+    profile: P,
+    rpm: T,
+    settings: &SolverSettings<T>,
+    scanned: bool,
+) -> Result<SteadyState<T>> {
     let mut d = design.clone();
     d.set_speed_rpm(rpm)?;
-    let points = timing_points(&d.program);
-    let model = CamModel::<T, S, N, P>::with_profile(d, profile)?;
+    let model = if scanned {
+        CamModel::<T, S, N, P>::with_profile_scanned(d, profile)?
+    } else {
+        CamModel::<T, S, N, P>::with_profile(d, profile)?
+    };
+    let points = timing_points(&model.design().program);
     let mut obs = SteadyStateObserver::new(2, points);
     simulate(&model, settings, 2, &mut obs)?;
     Ok(obs.result)
@@ -310,6 +327,10 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
         resolution_rpm: T,
         settings: &SolverSettings<T>,
     ) -> Result<Self> {
+        // The design's undercut scan once; each speed's model as `steady_state` builds it
+        // otherwise (`CamModel::with_profile_scanned`).
+        design.validate()?;
+        let run = |r: T| steady_state_at::<T, S, N, P>(design, profile, r, settings, true);
         let mut at = [SteadyState::default(); G];
         let mut prev = T::ZERO;
         for (r, a) in rpm.iter().zip(at.iter_mut()) {
@@ -321,7 +342,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
                 });
             }
             prev = *r;
-            *a = steady_state::<T, S, N, P>(design, profile, *r, settings)?;
+            *a = run(*r)?;
         }
         // Bracket the onset from the grid where possible: the fastest grid speed without
         // a jump below the first one with a jump.
@@ -334,8 +355,7 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
             }
             below = Some(*r);
         }
-        let jumps =
-            |r: T| steady_state::<T, S, N, P>(design, profile, r, settings).map(|s| s.jumped);
+        let jumps = |r: T| run(r).map(|s| s.jumped);
         let jump_rpm = match (below, above) {
             // The slowest grid speed jumps already.
             (None, Some(first)) => Some(first),
@@ -421,6 +441,55 @@ impl<T: Real, const G: usize> PredictionTable<T, G> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{RegulatedVertical, TheoreticalLift};
+
+    /// The table's runs (one undercut scan, `with_profile_scanned` at each speed) are bit
+    /// for bit `steady_state`'s (a full validation at each speed), timing NaNs included.
+    #[test]
+    fn table_runs_are_steady_state_runs_bit_for_bit() {
+        let d = Design::<f32>::reference();
+        let mut settings = SolverSettings::<f32>::reference();
+        settings.rtol = 1e-2;
+        let grid = [600.0f32, 950.0];
+        const N: usize = <RegulatedVertical as Scene>::N;
+        let table = PredictionTable::<f32, 2>::build::<RegulatedVertical, N>(
+            &d, grid, 1000.0, 50.0, &settings,
+        )
+        .unwrap();
+        for (r, at) in grid.iter().zip(table.at.iter()) {
+            let direct =
+                steady_state::<f32, RegulatedVertical, N, _>(&d, TheoreticalLift, *r, &settings)
+                    .unwrap();
+            let bits = |s: &SteadyState<f32>| {
+                (
+                    s.min_contact_force.to_bits(),
+                    s.min_force_deg.to_bits(),
+                    s.jumped,
+                    s.timing_deg.map(f32::to_bits),
+                )
+            };
+            assert_eq!(bits(at), bits(&direct), "{r} rpm");
+        }
+    }
+
+    /// `with_profile_scanned` checks what `with_profile` checks after the undercut scan
+    /// (here: the cantilever against the largest lift and the roller).
+    #[test]
+    fn a_scanned_model_still_checks_the_rest_of_the_design() {
+        const N: usize = <RegulatedVertical as Scene>::N;
+        type M = CamModel<f64, RegulatedVertical, N, TheoreticalLift>;
+        let mut short = Design::<f64>::reference();
+        short.e2 = short.program.max_lift() + 0.5 * short.geometry.roller_radius;
+        for r in [
+            M::with_profile(short.clone(), TheoreticalLift),
+            M::with_profile_scanned(short, TheoreticalLift),
+        ] {
+            assert!(
+                matches!(r, Err(crate::Error::InvalidParameter { field, .. }) if field == crate::key::E2),
+                "{r:?}"
+            );
+        }
+    }
 
     #[test]
     fn hysteresis_switches_at_both_thresholds() {

@@ -10,6 +10,7 @@
 
 use core::ops::ControlFlow;
 
+use crate::solve::england::Sampler;
 use crate::{
     CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
     SegmentKind, SimFailure, SolverStats, StateMut, StateVar, StepRule, Tolerance, TransDof,
@@ -350,10 +351,47 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
         t_end,
         mut y,
     } = RunState::start(model, settings, revolutions)?;
-    let result = solver.integrate(model, T::ZERO, &mut y, t_end, |t, y| {
-        run.take(model, observer, t, y)
-    });
+    // Each sample is formed from one of the solver's own evaluations of the model.
+    let mut sampler = RunSampler {
+        model,
+        observer,
+        run: &mut run,
+        point: ModelPoint::default(),
+        flags: (false, false),
+    };
+    let result = solver.integrate_shared(model, T::ZERO, &mut y, t_end, &mut sampler);
     run.finish(model, settings, result)
+}
+
+/// [`simulate`]'s samples from the solver's own evaluations of the model
+/// ([`England::integrate_shared`]): the last point evaluated, with the outputs the observer
+/// asked for.
+struct RunSampler<'a, T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O> {
+    model: &'a CamModel<T, S, N, P>,
+    observer: &'a mut O,
+    run: &'a mut RunState<T>,
+    /// The point last evaluated.
+    point: ModelPoint<T>,
+    /// The observer's `(needs_stress, needs_outputs)` when it was evaluated.
+    flags: (bool, bool),
+}
+
+impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>> Sampler<T, N>
+    for RunSampler<'_, T, S, N, P, O>
+{
+    fn evaluate(&mut self, t: T, y: &[T; N], f: &mut [T; N]) {
+        let (stress, outputs) = (self.observer.needs_stress(), self.observer.needs_outputs());
+        self.flags = (stress, outputs);
+        // The outputs only add to the point: the derivative is the right-hand side's.
+        self.point = self.model.evaluate_with(t, y, outputs || stress);
+        self.model.derivative(&self.point, f);
+    }
+
+    fn show(&mut self) -> ControlFlow<()> {
+        let (stress, outputs) = self.flags;
+        let sample = self.model.sample_of(self.point, stress, outputs);
+        self.run.take_sample(self.model, self.observer, &sample)
+    }
 }
 
 /// What [`simulate`] and [`simulate_events`] share: the setup of a run, what each sample
@@ -677,8 +715,13 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// read ([`Observer::needs_outputs`]): the pressure angle, the surface radius where the
     /// lift is tabulated, and the theoretical response, left at 0.
     pub fn sample_with(&self, t: T, y: &[T; N], stress: bool, outputs: bool) -> Sample<T> {
+        self.sample_of(self.evaluate_with(t, y, outputs || stress), stress, outputs)
+    }
+
+    /// [`Self::sample_with`] of the point `p` already evaluated (with the outputs if
+    /// `outputs || stress`).
+    pub(crate) fn sample_of(&self, p: ModelPoint<T>, stress: bool, outputs: bool) -> Sample<T> {
         let outputs = outputs || stress;
-        let p = self.evaluate_with(t, y, outputs);
         let d = self.design();
         let two_pi = T::TWO * T::PI;
         let turns = (p.theta_c / two_pi).floor();

@@ -298,6 +298,18 @@ fn check_step_start<T: Real, const N: usize>(t0: T, t_end: T, y: &[T; N]) -> Res
     Ok(())
 }
 
+/// An observer of [`England::integrate_shared`] that forms its samples from the system's
+/// own evaluations: at the start, at each midpoint (the second half step's first stage,
+/// `k5 = s f(t_mid, y1)`, of every attempt) and at each end point (the next step's first
+/// stage), so that no point shown is evaluated twice.
+pub(crate) trait Sampler<T, const N: usize> {
+    /// Writes `f(t, y)` into `f`, bit for bit as the system's
+    /// [`rhs`](OdeSystem::rhs) would, and keeps what [`Sampler::show`] needs of the point.
+    fn evaluate(&mut self, t: T, y: &[T; N], f: &mut [T; N]);
+    /// Shows the point last evaluated; [`ControlFlow::Break`] stops the integration.
+    fn show(&mut self) -> ControlFlow<()>;
+}
+
 /// Evaluates `out = scale · f(t, arg)` and checks that it is finite.
 #[inline(always)]
 pub(super) fn stage<T: Real, const N: usize, S: OdeSystem<T, N>>(
@@ -309,23 +321,49 @@ pub(super) fn stage<T: Real, const N: usize, S: OdeSystem<T, N>>(
     evals: &mut u32,
 ) -> Result<()> {
     sys.rhs(t, arg, out);
+    scaled_stage(t, scale, out, evals)
+}
+
+/// The rest of [`stage`] once `out = f(t, arg)`: counts the evaluation, scales `out` by
+/// `scale` and checks that it is finite.
+#[inline(always)]
+fn scaled_stage<T: Real, const N: usize>(
+    t: T,
+    scale: T,
+    out: &mut [T; N],
+    evals: &mut u32,
+) -> Result<()> {
     *evals = evals.saturating_add(1);
-    for (i, o) in out.iter_mut().enumerate() {
+    // `x · 0` is NaN exactly for a non-finite x (±0 otherwise): one sum tells whether any
+    // component is non-finite, without a test and branch per component.
+    let mut probe = T::ZERO;
+    for o in out.iter_mut() {
         *o *= scale;
-        if !o.is_finite() {
-            return Err(Error::NonFinite {
-                t: t.to_f64(),
-                component: i,
-            });
-        }
+        probe += *o * T::ZERO;
     }
-    Ok(())
+    if probe.is_finite() {
+        return Ok(());
+    }
+    Err(Error::NonFinite {
+        t: t.to_f64(),
+        component: first_non_finite(out).unwrap_or(0),
+    })
 }
 
 /// Index of the first non-finite component, if any.
 #[inline]
 pub(super) fn first_non_finite<T: Real, const N: usize>(y: &[T; N]) -> Option<usize> {
-    y.iter().position(|v| !v.is_finite())
+    // One sum of `x · 0` (NaN exactly for a non-finite x) first: no test per component
+    // unless one is non-finite.
+    let mut probe = T::ZERO;
+    for v in y {
+        probe += *v * T::ZERO;
+    }
+    if probe.is_finite() {
+        None
+    } else {
+        y.iter().position(|v| !v.is_finite())
+    }
 }
 
 impl<T: Real, const N: usize> England<T, N> {
@@ -586,6 +624,22 @@ impl<T: Real, const N: usize> England<T, N> {
         mid: &mut (T, [T; N]),
         mode: StepMode,
     ) -> Result<Attempt<T>> {
+        self.step_sampled(sys, t, y, t_end, mid, mode, None)
+    }
+
+    /// [`England::step_impl`], with each attempt's `k5` evaluated by `sampler` if given
+    /// ([`England::integrate_shared`]).
+    #[allow(clippy::too_many_arguments)]
+    fn step_sampled<'s, S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t: &mut T,
+        y: &mut [T; N],
+        t_end: T,
+        mid: &mut (T, [T; N]),
+        mode: StepMode,
+        mut sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
+    ) -> Result<Attempt<T>> {
         let (f0_ready, once, force, mut rejected_here) = match mode {
             StepMode::Fresh => (false, false, false, false),
             StepMode::Continue => (true, false, false, false),
@@ -614,7 +668,7 @@ impl<T: Real, const N: usize> England<T, N> {
             }
             let p = self.plan(t0, t_end);
             self.first_half(sys, t0, y, &p, &mut mid.1)?;
-            self.second_half(sys, y, &mid.1, &p)?;
+            self.second_half(sys, y, &mid.1, &p, sampler.as_deref_mut())?;
             let err = self.error_ratio(y, &p)?;
             if err <= T::ONE || force {
                 self.accept(sys, &p, err, rejected_here, &mid.1, y)?;
@@ -677,14 +731,14 @@ impl<T: Real, const N: usize> England<T, N> {
         y1: &mut [T; N],
     ) -> Result<()> {
         let s = p.s;
-        for (i, (k, f)) in self.k1.iter_mut().zip(self.f0.iter()).enumerate() {
+        for (k, f) in self.k1.iter_mut().zip(self.f0.iter()) {
             *k = s * *f;
-            if !k.is_finite() {
-                return Err(Error::NonFinite {
-                    t: t0.to_f64(),
-                    component: i,
-                });
-            }
+        }
+        if let Some(i) = first_non_finite(&self.k1) {
+            return Err(Error::NonFinite {
+                t: t0.to_f64(),
+                component: i,
+            });
         }
         let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
         for ((a, y0), k1) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()) {
@@ -756,16 +810,23 @@ impl<T: Real, const N: usize> England<T, N> {
 
     /// Second half step from the midpoint `y1` up to `k7`, then England's `k9` at the
     /// auxiliary end point ŷ2 (left in `self.arg`).
-    fn second_half<S: OdeSystem<T, N>>(
+    fn second_half<'s, S: OdeSystem<T, N>>(
         &mut self,
         sys: &S,
         y: &[T; N],
         y1: &[T; N],
         p: &Plan<T>,
+        sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
     ) -> Result<()> {
         let (s, t_mid) = (p.s, p.t_mid);
         let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
-        stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?;
+        match sampler {
+            Some(sampler) => {
+                sampler.evaluate(t_mid, y1, &mut self.k5);
+                scaled_stage(t_mid, s, &mut self.k5, &mut self.stats.rhs_evals)?;
+            }
+            None => stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?,
+        }
         for ((a, m), k5) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()) {
             *a = *m + a2 * *k5;
         }
@@ -829,7 +890,11 @@ impl<T: Real, const N: usize> England<T, N> {
         let rtol = self.config.tol.rtol;
         let e_scale = T::from_f64(Tableau::E_SCALE);
         let mut err = T::ZERO;
-        for (i, ((((((((k1, k3), k4), k5), k7), k9), atol), y0), a)) in self
+        // Non-finite components of E: one sum of `e · 0` (NaN exactly for a non-finite e),
+        // looked into only when it is not finite.
+        let mut probe = T::ZERO;
+        let mut e_all = [T::ZERO; N];
+        for ((((((((k1, k3), k4), k5), k7), k9), atol), y0), (a, e_out)) in self
             .k1
             .iter()
             .zip(self.k3.iter())
@@ -839,17 +904,12 @@ impl<T: Real, const N: usize> England<T, N> {
             .zip(self.k9.iter())
             .zip(self.config.tol.atol.iter())
             .zip(y.iter())
-            .zip(self.arg.iter())
-            .enumerate()
+            .zip(self.arg.iter().zip(e_all.iter_mut()))
         {
             let e = e_scale * weighted(&Tableau::E, [*k1, *k3, *k4, *k5, *k7, *k9]);
             let scale = *atol + rtol * y0.abs().max(a.abs());
-            if !e.is_finite() {
-                return Err(Error::NonFinite {
-                    t: p.t_end.to_f64(),
-                    component: i,
-                });
-            }
+            probe += e * T::ZERO;
+            *e_out = e;
             let e = e.abs();
             let r = if scale > T::ZERO {
                 e / scale
@@ -859,6 +919,12 @@ impl<T: Real, const N: usize> England<T, N> {
                 T::INFINITY
             };
             err = err.max(r);
+        }
+        if !probe.is_finite() {
+            return Err(Error::NonFinite {
+                t: p.t_end.to_f64(),
+                component: first_non_finite(&e_all).unwrap_or(0),
+            });
         }
         if let Some(u) = &self.control.per_unit_step {
             err = u.ratio(err, p.h, rtol);
@@ -1023,6 +1089,47 @@ impl<T: Real, const N: usize> England<T, N> {
         Ok(self.stats)
     }
 
+    /// [`England::integrate`] for a [`Sampler`], an observer that forms its samples from
+    /// the system's own evaluations: it is shown the same points in the same order (the
+    /// start, each accepted step's midpoint and end point), each evaluated once, by the
+    /// sampler: the midpoint is the accepted attempt's `k5` stage, the end point the next
+    /// step's first stage. The points and the counters (`rhs_evals` counts those stages as
+    /// before) are bit for bit those of [`England::integrate`] with an observer that
+    /// evaluates the system at every point; the system is evaluated twice less per
+    /// accepted step.
+    pub(crate) fn integrate_shared<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &mut [T; N],
+        t_end: T,
+        sampler: &mut dyn Sampler<T, N>,
+    ) -> Result<SolverStats> {
+        self.begin(t0, y, t_end)?;
+        sampler.evaluate(t0, y, &mut self.f0);
+        if sampler.show().is_break() {
+            return Ok(self.stats);
+        }
+        let mut t = t0;
+        let mut mid = (t0, [T::ZERO; N]);
+        while t < t_end {
+            // f(t, y) from the sampler: counted and checked as `stage` does.
+            scaled_stage(t, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
+            let mode = StepMode::Continue;
+            self.step_sampled(sys, &mut t, y, t_end, &mut mid, mode, Some(&mut *sampler))?;
+            if sampler.show().is_break() {
+                // The caller stopped at the midpoint: leave y there.
+                *y = mid.1;
+                break;
+            }
+            sampler.evaluate(t, y, &mut self.f0);
+            if sampler.show().is_break() {
+                break;
+            }
+        }
+        Ok(self.stats)
+    }
+
     /// Integrates from `t0` to `t_end` like [`England::integrate`], calling
     /// `observer(&dense)` once per accepted double step with its continuous extension
     /// [`Dense`], which evaluates the solution anywhere in the step (in time order; the
@@ -1111,5 +1218,154 @@ impl<T: Real, const N: usize> England<T, N> {
         }
         self.aux_evals = self.aux_evals.saturating_add(1);
         Ok(self.stats)
+    }
+}
+
+#[cfg(test)]
+mod shared_tests {
+    use super::*;
+    use core::cell::Cell;
+
+    /// A damped oscillator with a forcing term that depends on t, counting its evaluations.
+    struct Forced {
+        calls: Cell<u32>,
+    }
+
+    impl OdeSystem<f64, 2> for Forced {
+        fn rhs(&self, t: f64, y: &[f64; 2], dydt: &mut [f64; 2]) {
+            self.calls.set(self.calls.get() + 1);
+            dydt[0] = y[1];
+            dydt[1] = -400.0 * y[0] - 0.3 * y[1] + (3.0 * t).sin();
+        }
+    }
+
+    /// Records every point shown, evaluating the system itself.
+    struct Recorder<'a> {
+        sys: &'a Forced,
+        last: (f64, [f64; 2]),
+        shown: [(f64, [f64; 2]); 4096],
+        len: usize,
+        stop_after: usize,
+    }
+
+    impl Sampler<f64, 2> for Recorder<'_> {
+        fn evaluate(&mut self, t: f64, y: &[f64; 2], f: &mut [f64; 2]) {
+            self.last = (t, *y);
+            self.sys.rhs(t, y, f);
+        }
+        fn show(&mut self) -> ControlFlow<()> {
+            if let Some(slot) = self.shown.get_mut(self.len) {
+                *slot = self.last;
+            }
+            self.len += 1;
+            if self.len >= self.stop_after {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        }
+    }
+
+    /// The one-sum test of `first_non_finite` (and the stages' and the error's): the
+    /// largest, smallest and signed-zero components are finite; each of NaN, +inf and -inf
+    /// is found at its index, the first of several.
+    #[test]
+    fn non_finite_components_are_found_by_index() {
+        let finite = [f32::MAX, -f32::MAX, f32::MIN_POSITIVE * 0.5, -0.0, 0.0];
+        assert_eq!(first_non_finite(&finite), None);
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            for i in 0..5 {
+                let mut y = finite;
+                y[i] = bad;
+                assert_eq!(first_non_finite(&y), Some(i), "{bad} at {i}");
+                y[4] = f32::NAN;
+                assert_eq!(first_non_finite(&y), Some(i), "{bad} at {i} and NaN at 4");
+            }
+        }
+        let mut out = [1.0f32, 2.0, 3.0];
+        let mut evals = 0;
+        // 2 · MAX overflows to +inf in component 1 only.
+        out[1] = f32::MAX;
+        let r = scaled_stage(0.5f32, 2.0, &mut out, &mut evals);
+        assert!(
+            matches!(r, Err(Error::NonFinite { component: 1, .. })),
+            "{r:?}"
+        );
+        assert_eq!(evals, 1);
+    }
+
+    fn solver() -> England<f64, 2> {
+        England::new(EnglandConfig {
+            tol: Tolerance::scalar(1e-6, 1e-9),
+            h_init: 1e-3,
+            h_min: 1e-12,
+            h_max: 0.05,
+            max_steps: 100_000,
+        })
+        .unwrap()
+    }
+
+    /// `integrate_shared` shows the points `integrate` shows, bit for bit, with the same
+    /// counters, and evaluates the system exactly `2 · accepted` times less than
+    /// `integrate` with an observer that evaluates it at every point shown (two per
+    /// accepted step); stopping at a
+    /// midpoint leaves `y` there in both.
+    #[test]
+    fn shared_evaluations_show_the_same_points_for_fewer_evaluations() {
+        for stop_after in [usize::MAX, 7, 8] {
+            let sys = Forced {
+                calls: Cell::new(0),
+            };
+            let mut plain = [(0.0, [0.0; 2]); 4096];
+            let mut n_plain = 0;
+            let mut y_plain = [1.0, 0.0];
+            let stats_plain = solver()
+                .integrate(&sys, 0.0, &mut y_plain, 2.0, |t, y| {
+                    let mut f = [0.0; 2];
+                    sys.rhs(t, y, &mut f); // the observer's own evaluation
+                    plain[n_plain] = (t, *y);
+                    n_plain += 1;
+                    if n_plain >= stop_after {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                })
+                .unwrap();
+            let calls_plain = sys.calls.replace(0);
+
+            let mut rec = Recorder {
+                sys: &sys,
+                last: (f64::NAN, [f64::NAN; 2]),
+                shown: [(0.0, [0.0; 2]); 4096],
+                len: 0,
+                stop_after,
+            };
+            let mut y = [1.0, 0.0];
+            let stats = solver()
+                .integrate_shared(&sys, 0.0, &mut y, 2.0, &mut rec)
+                .unwrap();
+            let calls = sys.calls.get();
+
+            assert_eq!(stats, stats_plain);
+            if stop_after == usize::MAX {
+                assert!(stats.rejected > 0 && stats.accepted > 20, "{stats:?}");
+            }
+            assert_eq!(rec.len, n_plain);
+            for (a, b) in rec.shown.iter().zip(plain.iter()).take(n_plain) {
+                assert_eq!(a.0.to_bits(), b.0.to_bits());
+                assert_eq!(a.1.map(f64::to_bits), b.1.map(f64::to_bits));
+            }
+            assert_eq!(y.map(f64::to_bits), y_plain.map(f64::to_bits));
+            // integrate: rhs_evals + one per point shown; shared: one per point evaluated
+            // (the start, each attempt's k5 and each end point counted once).
+            assert_eq!(calls_plain, stats.rhs_evals + n_plain as u32);
+            // Both evaluate the last point shown (the shared run as the next step's first
+            // stage, uncounted when there is no next step): two evaluations saved per
+            // accepted step (its midpoint and its end point).
+            let saved = calls_plain - calls;
+            let expected = 2 * stats.accepted;
+            assert_eq!(saved, expected, "stop_after {stop_after}: {stats:?}");
+        }
     }
 }
