@@ -108,6 +108,7 @@ smoke jump-speed jump-speed --resolution 10 --json
 smoke scene scene --default
 smoke scene-json scene --default --json --units si
 smoke run-si run --revolutions 1 --json --units si
+smoke run-si-text run --revolutions 1 --units si
 "$C" scene --check scenes/stable-4567-rise.toml > /dev/null
 smoke bench bench --quick --json
 smoke models models --quick --json

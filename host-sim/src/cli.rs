@@ -17,9 +17,10 @@ pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
-    /// Units of the --json output: inch (the thesis's: in, lb, psi, lb in; the default) or si
-    /// (mm, N, MPa, N m, N/mm, kg); every numeric key names its unit. The tables and plots
-    /// print the inch family, which they name; `profile` draws in in or mm.
+    /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
+    /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), the tables of
+    /// run, sweep, jump-speed, laws, modal and contact, the --csv of run and sweep, and
+    /// profile's drawing; the other tables are inch only (si needs --json there).
     #[arg(
         long,
         global = true,
@@ -93,6 +94,26 @@ where
 pub fn command() -> clap::Command {
     use clap::CommandFactory;
     Cli::command()
+}
+
+/// The command's name when its text output (table, report, CSV) is printed in the inch
+/// family only, so that `--units si` without `--json` cannot apply to it.
+fn inch_only_text(command: &Command) -> Option<&'static str> {
+    match command {
+        Command::Run(_) | Command::JumpSpeed(_) | Command::Profile(_) => None,
+        Command::Laws(_) | Command::Sweep(_) | Command::Modal(_) | Command::Contact(_) => None,
+        Command::Scene(_) => Some("scene"),
+        Command::Bench(_) => Some("bench"),
+        Command::Models(_) | Command::Scenes(_) => Some("models"),
+        Command::Predict(_) => Some("predict"),
+        Command::FirmwareCheck(_) => Some("firmware-check"),
+        Command::Montecarlo(_) => Some("montecarlo"),
+        Command::Compare(_) => Some("compare"),
+        Command::ToleranceStudy(_) => Some("tolerance-study"),
+        Command::Sensitivity(_) => Some("sensitivity"),
+        Command::Waviness(_) => Some("waviness"),
+        Command::Design(_) => Some("design"),
+    }
 }
 
 /// Runs a parsed command.
@@ -233,15 +254,14 @@ where
             return 2;
         }
     };
-    // SI applies to the JSON output only: refused before anything runs or is written.
-    if cli.units == crate::units::Units::Si
-        && !args.iter().any(|a| a == "--json")
-        && !matches!(cli.command, Command::Profile(_))
-    {
-        report_error(
-            "camsim: error: --units si: only the --json output is converted (add --json); the tables and plots print the inch family they name (see camsim --help)",
-        );
-        return 2;
+    // SI in a text output not converted yet: refused before anything runs or is written.
+    if cli.units == crate::units::Units::Si && !args.iter().any(|a| a == "--json") {
+        if let Some(name) = inch_only_text(&cli.command) {
+            report_error(&format!(
+                "camsim: error: --units si: `camsim {name}` prints its table in the inch family only; add --json for SI (see camsim --help)"
+            ));
+            return 2;
+        }
     }
     match execute(cli) {
         Ok(()) => 0,

@@ -22,6 +22,49 @@ a_y1_in_s2,a_x1_in_s2,a_y2_in_s2,a_x2_in_s2,a_y3_in_s2,a_x3_in_s2,a_y4_in_s2,a_y
 lift_in,pressure_angle_deg,k_h_lb_in,surface_radius_in,contact_force_lb,in_contact,\
 torque_out_lb_in,torque_drive_lb_in,contact_stress_psi,theory_y_in,theory_v_in_s,theory_a_in_s2";
 
+/// The header in the output's family ([`crate::units::current`]): [`HEADER`] in inch;
+/// in SI every dimensional column with its SI unit, named as the JSON's keys are
+/// (`y1_mm`, `v_y1_mm_per_s`, `a_y1_mm_per_s2`, `k_h_n_per_mm`, `torque_out_n_m`,
+/// `contact_force_n`, `contact_stress_mpa`).
+pub fn header() -> String {
+    if crate::units::current() == crate::units::Units::Inch {
+        return HEADER.to_string();
+    }
+    HEADER
+        .split(',')
+        .map(|c| match column_unit(c) {
+            Some((stem, u)) => format!("{stem}_{}", u.si),
+            None => c.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// A column's stem and unit (`k_h_lb_in` is a stiffness, lb/in; `torque_out_lb_in` a
+/// torque, lb in).
+fn column_unit(c: &str) -> Option<(&str, camsim_scene_file::units::Unit)> {
+    use crate::units as u;
+    if let Some(stem) = c.strip_suffix("_lb_in") {
+        return Some((
+            stem,
+            if stem == "k_h" {
+                u::STIFFNESS
+            } else {
+                u::TORQUE
+            },
+        ));
+    }
+    [
+        ("_in_s2", u::ACCELERATION),
+        ("_in_s", u::SPEED),
+        ("_in", u::LENGTH),
+        ("_lb", u::FORCE),
+        ("_psi", u::STRESS),
+    ]
+    .into_iter()
+    .find_map(|(suffix, unit)| c.strip_suffix(suffix).map(|stem| (stem, unit)))
+}
+
 /// A number written as Rust's `{:e}`: the shortest digits that read back to the same
 /// `f64`, in scientific notation (`8.377580409572782e1`, `0e0`, `-1.5e-7`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -144,9 +187,16 @@ impl From<&Sample<f64>> for CsvRow {
     fn from(s: &Sample<f64>) -> Self {
         use TransDof::*;
         let p = &s.point;
-        let pos = |d| Sci(p.position(d));
-        let vel = |d| Sci(p.velocity(d));
-        let acc = |d| Sci(p.acceleration(d));
+        // In the output's family (the inch value itself in inch).
+        use crate::units::{self as u, value};
+        let pos = |d| Sci(value(u::LENGTH, p.position(d)));
+        let vel = |d| Sci(value(u::SPEED, p.velocity(d)));
+        let acc = |d| Sci(value(u::ACCELERATION, p.acceleration(d)));
+        let (len, force, torque) = (
+            |x| Sci(value(u::LENGTH, x)),
+            |x| Sci(value(u::FORCE, x)),
+            |x| Sci(value(u::TORQUE, x)),
+        );
         CsvRow {
             t_s: Sci(p.t),
             revolution: s.revolution,
@@ -182,18 +232,18 @@ impl From<&Sample<f64>> for CsvRow {
             a_x3_in_s2: acc(CantileverX),
             a_y4_in_s2: acc(Follower),
             a_y5_in_s2: acc(Load),
-            lift_in: Sci(p.lift.y),
+            lift_in: len(p.lift.y),
             pressure_angle_deg: Sci(p.pressure_angle.to_degrees()),
-            k_h_lb_in: Sci(p.k_h),
-            surface_radius_in: Sci(p.surface_radius),
-            contact_force_lb: Sci(p.contact_force),
+            k_h_lb_in: Sci(value(u::STIFFNESS, p.k_h)),
+            surface_radius_in: len(p.surface_radius),
+            contact_force_lb: force(p.contact_force),
             in_contact: u8::from(p.in_contact),
-            torque_out_lb_in: Sci(p.torque_out),
-            torque_drive_lb_in: Sci(p.torque_drive),
-            contact_stress_psi: Sci(s.contact_stress),
-            theory_y_in: Sci(s.theory.y),
-            theory_v_in_s: Sci(s.theory.v),
-            theory_a_in_s2: Sci(s.theory.a),
+            torque_out_lb_in: torque(p.torque_out),
+            torque_drive_lb_in: torque(p.torque_drive),
+            contact_stress_psi: Sci(value(u::STRESS, s.contact_stress)),
+            theory_y_in: len(s.theory.y),
+            theory_v_in_s: Sci(value(u::SPEED, s.theory.v)),
+            theory_a_in_s2: Sci(value(u::ACCELERATION, s.theory.a)),
         }
     }
 }
@@ -255,6 +305,7 @@ pub fn rows_bytes(rows: u64) -> u64 {
 pub struct CsvOut {
     out: csv::Writer<AtomicFile>,
     err: Option<csv::Error>,
+    header: bool,
 }
 
 impl CsvOut {
@@ -262,9 +313,10 @@ impl CsvOut {
     pub fn new(file: AtomicFile) -> Self {
         Self {
             out: csv::WriterBuilder::new()
-                .has_headers(true)
+                .has_headers(false)
                 .from_writer(file),
             err: None,
+            header: false,
         }
     }
 
@@ -273,6 +325,14 @@ impl CsvOut {
     pub fn row(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
         if self.err.is_some() {
             return ControlFlow::Break(());
+        }
+        if !self.header {
+            // The header in the output's family (the rows' values are converted alike).
+            self.header = true;
+            if let Err(e) = self.out.write_record(header().split(',')) {
+                self.err = Some(e);
+                return ControlFlow::Break(());
+            }
         }
         match self.out.serialize(CsvRow::from(s)) {
             Ok(()) => ControlFlow::Continue(()),

@@ -124,6 +124,82 @@ const BARE: [(&str, Unit); 23] = [
     ("signal_disp_rms", su::LENGTH),
 ];
 
+pub use su::{
+    Unit as UnitKind, INERTIA, LENGTH, MASS, SPEED, STIFFNESS, STRESS, TORQUE, TORSIONAL_STIFFNESS,
+};
+
+/// A printed quantity in the output's family ([`current`]): an inch-family value and the
+/// number of decimals it prints with in inch; the text reports print every dimensional
+/// number through this (the tables' and CSV's labels through [`Quantity::symbol`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quantity {
+    /// The value in the output's family.
+    pub value: f64,
+    /// Decimals that keep the inch format's resolution (see [`decimals`]).
+    pub decimals: usize,
+}
+
+impl std::fmt::Display for Quantity {
+    /// The value with its decimals; a width given (`{:>8}`) pads it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = format!("{:.*}", self.decimals, self.value);
+        // A value that rounds to zero prints as 0, not -0 (a dwell's torque is zero to
+        // rounding, with either sign).
+        let s = match s.strip_prefix('-') {
+            Some(t) if t.bytes().all(|b| b == b'0' || b == b'.') => t.to_string(),
+            _ => s,
+        };
+        f.pad(&s)
+    }
+}
+
+/// `inch_value` (in `unit`'s inch member) printed with `inch_decimals` in inch: in the
+/// output's family, with [`decimals`].
+pub fn q(unit: Unit, inch_value: f64, inch_decimals: usize) -> Quantity {
+    Quantity {
+        value: value(unit, inch_value),
+        decimals: decimals(unit, inch_decimals),
+    }
+}
+
+/// A value the user gave (a tolerance, a step), in the output's family and rounded to 12
+/// significant digits, for `{}` or `{:e}`: 0.0005 in prints as `0.0127` mm, not
+/// `0.012700000000000001`.
+pub fn given(unit: Unit, inch_value: f64) -> f64 {
+    let v = value(unit, inch_value);
+    format!("{v:.11e}").parse().unwrap_or(v)
+}
+
+/// `inch_value` (in `unit`'s inch member) in the output's family.
+pub fn value(unit: Unit, inch_value: f64) -> f64 {
+    match current() {
+        Units::Inch => inch_value,
+        Units::Si => inch_value * unit.si_per_inch,
+    }
+}
+
+/// `unit`'s symbol in the output's family (`lb/in` or `N/mm`).
+pub fn symbol(unit: Unit) -> &'static str {
+    match current() {
+        Units::Inch => unit.inch_symbol,
+        Units::Si => unit.si_symbol,
+    }
+}
+
+/// The decimals a number printed with `inch_decimals` in inch takes in the output's
+/// family: the same resolution to within a factor of 3, `inch_decimals - round(log10
+/// factor)` (a length: 4 decimals of an inch, 0.0001 in = 0.00254 mm, are 3 of a mm; a
+/// force: 2 of a pound, 1 of a newton; a stress: 0 of a psi, 2 of a MPa).
+pub fn decimals(unit: Unit, inch_decimals: usize) -> usize {
+    match current() {
+        Units::Inch => inch_decimals,
+        Units::Si => {
+            let shift = unit.si_per_inch.log10().round() as i64;
+            (inch_decimals as i64 - shift).max(0) as usize
+        }
+    }
+}
+
 static CURRENT: AtomicU8 = AtomicU8::new(0);
 
 /// Sets the output's unit family for this process (`--units`, once, as the command

@@ -396,14 +396,15 @@ pub fn steady(rows: &[PeriodRow], checks: &[SteadyCheck]) -> Option<SteadyVerdic
 }
 
 /// The designer's name of a statistic and its unit.
-fn label(stat: &str) -> (&'static str, &'static str) {
+fn label(stat: &str) -> (&'static str, Option<camsim_scene_file::units::Unit>) {
+    use crate::units as u;
     match stat {
-        "rms_displacement" => ("displacement deviation RMS", "in"),
-        "rms_velocity" => ("velocity deviation RMS", "in/s"),
-        "rms_acceleration" => ("acceleration deviation RMS", "in/s^2"),
-        "torque_avg" => ("average cam torque", "lb in"),
-        "contact_force_avg" => ("average contact force", "lb"),
-        _ => ("statistic", ""),
+        "rms_displacement" => ("displacement deviation RMS", Some(u::LENGTH)),
+        "rms_velocity" => ("velocity deviation RMS", Some(u::SPEED)),
+        "rms_acceleration" => ("acceleration deviation RMS", Some(u::ACCELERATION)),
+        "torque_avg" => ("average cam torque", Some(u::TORQUE)),
+        "contact_force_avg" => ("average contact force", Some(u::FORCE)),
+        _ => ("statistic", None),
     }
 }
 
@@ -455,7 +456,9 @@ fn describe(rows: &[PeriodRow], c: &SteadyCheck) -> String {
         rows.iter()
             .find(|r| r.revolution == rev && r.period == period)
             .and_then(|r| value_of(r, stat))
+            .map(|x| unit.map_or(x, |u| crate::units::value(u, x)))
     };
+    let unit = unit.map_or("", crate::units::symbol);
     match (get(c.compared[0]), get(c.compared[1])) {
         (Some(a), Some(b)) => format!(
             "the largest change from revolution {} to {} is the {} of the {} period, {} to {} {unit} ({:.2} % of its largest value in any period)",
@@ -503,6 +506,7 @@ pub fn warnings(
     spring: &SpringVerdict,
     margin: Option<&MarginVerdict>,
 ) -> Vec<String> {
+    use crate::units as u;
     let mut w = Vec::new();
     if !contact.holds {
         w.push(format!(
@@ -523,16 +527,19 @@ pub fn warnings(
     }
     if geometry.undercut_margin_in <= 0.0 {
         w.push(format!(
-            "undercut: the pitch curve's radius {:.4} in at {:.1} deg is below the roller radius",
-            geometry.min_pitch_radius_in, geometry.min_pitch_radius_at_deg
+            "undercut: the pitch curve's radius {} {} at {:.1} deg is below the roller radius",
+            u::q(u::LENGTH, geometry.min_pitch_radius_in, 4),
+            u::symbol(u::LENGTH),
+            geometry.min_pitch_radius_at_deg
         ));
     }
     if loads.stress_ratio > 1.0 {
         w.push(format!(
-            "contact stress {:.0} psi exceeds the allowable {:.0} psi by {:.1} % (limits.allowable_contact_stress_psi, --allowable-stress)",
-            loads.peak_contact_stress_psi,
-            loads.allowable_contact_stress_psi,
-            100.0 * (loads.stress_ratio - 1.0)
+            "contact stress {} {su} exceeds the allowable {} {su} by {:.1} % (limits.allowable_contact_stress_psi, --allowable-stress)",
+            u::q(u::STRESS, loads.peak_contact_stress_psi, 0),
+            u::q(u::STRESS, loads.allowable_contact_stress_psi, 0),
+            100.0 * (loads.stress_ratio - 1.0),
+            su = u::symbol(u::STRESS)
         ));
     }
     if spring.surge_harmonic < spring.least_harmonic {
@@ -568,6 +575,7 @@ pub fn at_text(a: &At) -> String {
 
 /// The verdict block as text.
 pub fn text(v: &Verdict) -> String {
+    use crate::units as u;
     use std::fmt::Write;
     let mut out = String::new();
     let c = &v.contact;
@@ -579,17 +587,19 @@ pub fn text(v: &Verdict) -> String {
     if c.holds {
         let _ = writeln!(
             out,
-            "  contact:   HOLDS; smallest contact force {:.2} lb at {} ({})",
-            c.min_contact_force_lb,
+            "  contact:   HOLDS; smallest contact force {} {} at {} ({})",
+            u::q(u::FORCE, c.min_contact_force_lb, 2),
+            u::symbol(u::FORCE),
             at_text(&c.min_contact_force_at),
             c.min_contact_force_period
         );
     } else {
         let _ = writeln!(
             out,
-            "  contact:   the follower LEAVES the cam ({:.2} deg of cam angle off it); smallest force in contact {:.2} lb at {}",
+            "  contact:   the follower LEAVES the cam ({:.2} deg of cam angle off it); smallest force in contact {} {} at {}",
             c.off_cam_deg,
-            c.min_contact_force_lb,
+            u::q(u::FORCE, c.min_contact_force_lb, 2),
+            u::symbol(u::FORCE),
             at_text(&c.min_contact_force_at)
         );
         for s in &c.separations {
@@ -610,38 +620,53 @@ pub fn text(v: &Verdict) -> String {
     let g = &v.geometry;
     let _ = writeln!(
         out,
-        "  geometry:  largest pressure angle {:.2} deg at cam angle {:.1} deg (limit {:.0} deg); smallest pitch-curve radius {:.4} in at {:.1} deg, undercut margin {:.4} in",
+        "  geometry:  largest pressure angle {:.2} deg at cam angle {:.1} deg (limit {:.0} deg); smallest pitch-curve radius {} {lu} at {:.1} deg, undercut margin {} {lu}",
         g.max_pressure_angle_deg,
         g.max_pressure_angle_at_deg,
         g.pressure_angle_limit_deg,
-        g.min_pitch_radius_in,
+        u::q(u::LENGTH, g.min_pitch_radius_in, 4),
         g.min_pitch_radius_at_deg,
-        g.undercut_margin_in
+        u::q(u::LENGTH, g.undercut_margin_in, 4),
+        lu = u::symbol(u::LENGTH)
     );
     let l = &v.loads;
     let _ = writeln!(
         out,
-        "  loads:     peak cam torque {:.1} lb in at {}; peak motor power {:.3} hp ({:.0} W) at {}",
-        l.peak_cam_torque_lb_in,
+        "  loads:     peak cam torque {} {} at {}; peak motor power {} at {}",
+        u::q(u::TORQUE, l.peak_cam_torque_lb_in, 1),
+        u::symbol(u::TORQUE),
         at_text(&l.peak_cam_torque_at),
-        l.peak_motor_power_hp,
-        l.peak_motor_power_w,
+        match u::current() {
+            u::Units::Inch => format!(
+                "{:.3} hp ({:.0} W)",
+                l.peak_motor_power_hp, l.peak_motor_power_w
+            ),
+            u::Units::Si => format!("{:.3} kW", l.peak_motor_power_w / 1000.0),
+        },
         at_text(&l.peak_motor_power_at)
     );
     let _ = writeln!(
         out,
-        "             peak contact stress {:.0} psi at {}: {:.0} % of the allowable {:.0} psi ({})",
-        l.peak_contact_stress_psi,
+        "             peak contact stress {} {su} at {}: {:.0} % of the allowable {} {su} ({})",
+        u::q(u::STRESS, l.peak_contact_stress_psi, 0),
         at_text(&l.peak_contact_stress_at),
         100.0 * l.stress_ratio,
-        l.allowable_contact_stress_psi,
-        l.allowable_source
+        u::q(u::STRESS, l.allowable_contact_stress_psi, 0),
+        l.allowable_source,
+        su = u::symbol(u::STRESS)
     );
     let s = &v.spring;
     let _ = writeln!(
         out,
-        "  spring:    {:.1} lb/in, {:.2} active coils, {:.4} lb; surge {:.0} Hz = {:.1} x the cam's {:.2} Hz",
-        s.rate_lb_per_in, s.active_coils, s.mass_lb, s.surge_hz, s.surge_harmonic, s.cam_hz
+        "  spring:    {} {}, {:.2} active coils, {} {}; surge {:.0} Hz = {:.1} x the cam's {:.2} Hz",
+        u::q(u::STIFFNESS, s.rate_lb_per_in, 1),
+        u::symbol(u::STIFFNESS),
+        s.active_coils,
+        u::q(u::WEIGHT, s.mass_lb, 4),
+        u::symbol(u::WEIGHT),
+        s.surge_hz,
+        s.surge_harmonic,
+        s.cam_hz
     );
     match &v.jump_margin {
         Some(m) => match (m.jump_onset_rpm, m.margin_percent) {

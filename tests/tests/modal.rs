@@ -160,7 +160,7 @@ fn json_has_the_documented_keys_and_ascending_arrays() {
         assert_eq!(v[sys]["modes"].as_array().unwrap().len(), 3);
         assert_eq!(v[sys]["modal_stiffness"].as_array().unwrap().len(), 3);
     }
-    assert_eq!(v["parameters"]["k_rs"].as_f64(), Some(100.0));
+    assert_eq!(v["parameters"]["k_rs_lb_per_in"].as_f64(), Some(100.0));
     // The table renders every mode.
     let table = modal::render_table(&analyse().unwrap());
     assert_eq!(table.matches("rigid body").count(), 1);

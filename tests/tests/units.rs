@@ -229,7 +229,31 @@ fn scene_json_names_every_unit_and_converts_to_si() {
 
 #[test]
 fn units_si_without_json_is_a_usage_error_before_anything_runs() {
-    // Exit 2, and nothing simulated (it returns at once).
-    assert_eq!(cli::main_from(["camsim", "run", "--units", "si"]), 2);
+    // Exit 2 where the text is not converted yet, and nothing simulated (it returns at
+    // once).
+    assert_eq!(
+        cli::main_from(["camsim", "design", "spring", "--units", "si"]),
+        2
+    );
     assert_eq!(cli::main_from(["camsim", "run", "--units", "kelvin"]), 2);
+}
+
+#[test]
+fn a_return_s_largest_torque_is_zero_not_a_denormal() {
+    // The output torque F_v dy/dθ is ≤ 0 on a return and 0 at its start, where the
+    // 4-5-6-7 law's slope vanishes: the largest is exactly +0 (it was -2.2e-44 lb in,
+    // the slope a few ulps into the return, and then -0 from -h1 x 0).
+    let r = quick_run(&[]);
+    let returns: Vec<f64> = r
+        .per_period
+        .iter()
+        .filter(|p| p.period == "return")
+        .map(|p| p.torque_max)
+        .collect();
+    assert_eq!(returns.len(), 2);
+    for t in returns {
+        assert!(t == 0.0 && t.is_sign_positive(), "{t:e}");
+    }
+    let json = units::json(&r.json().unwrap(), Units::Inch).unwrap();
+    assert!(!json.contains("\"torque_max_lb_in\": -"), "{json}");
 }

@@ -87,6 +87,29 @@ struct Prepared<T> {
     h3: T,
 }
 
+impl<T: Real> Prepared<T> {
+    /// The law's argument `u` in `[0, 1]`, with a `u` within an angle's rounding of a
+    /// bound taken as the bound. A cam angle that should sit on a segment's bound (a
+    /// sample at a segment start: `2πk + start`, wrapped) lands a few ulps beside it,
+    /// and `1/β` times `β` is not exactly 1; a law with a high-order zero there (4-5-6-7:
+    /// `v ~ (1 - u)^3`) then gives `dy ~ 1e-43` instead of 0, and a return's largest
+    /// output torque came out as `-2e-44 lb in`. The rounding bound is 16 ulps of 2π,
+    /// the grid's own "same angle" (run/grid.rs), and at most a millionth of the segment
+    /// (a 0.01° segment in `f32` would otherwise lose 7 % of it at each end).
+    #[inline]
+    fn snap(&self, u: T) -> T {
+        let tol = (T::EPSILON * T::from_f64(16.0) * T::TWO * T::PI * self.inv_beta)
+            .min(T::from_f64(1e-6));
+        if u <= tol {
+            T::ZERO
+        } else if u >= T::ONE - tol {
+            T::ONE
+        } else {
+            u
+        }
+    }
+}
+
 /// A cam program over 360 degrees with at most `N` segments (VI.1's is D-R-D-R).
 ///
 /// With the `serde` feature it reads and writes as a [`ProgramData`] (a list `segment`
@@ -531,7 +554,7 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
                 d3y: T::ZERO,
             },
             SegmentKind::Rise(law) => {
-                let v = law.eval((th - p.start) * p.inv_beta);
+                let v = law.eval(p.snap((th - p.start) * p.inv_beta));
                 FollowerLift {
                     y: p.base + p.h * v.s,
                     dy: p.h1 * v.v,
@@ -540,12 +563,13 @@ impl<T: Real, const N: usize> CamProgram<T, N> {
                 }
             }
             SegmentKind::Return(law) => {
-                let v = law.eval((p.end - th) * p.inv_beta);
+                let v = law.eval(p.snap((p.end - th) * p.inv_beta));
                 FollowerLift {
                     y: p.base + p.h * v.s,
-                    dy: -p.h1 * v.v,
+                    // 0 - x, not -x: a slope of zero is +0 (a -0 printed as `-0.0`).
+                    dy: T::ZERO - p.h1 * v.v,
                     d2y: p.h2 * v.a,
-                    d3y: -p.h3 * v.j,
+                    d3y: T::ZERO - p.h3 * v.j,
                 }
             }
         }
@@ -658,6 +682,33 @@ mod tests {
             assert_eq!(a.end_deg.to_bits(), (b.end_deg as f32).to_bits());
         }
         assert_eq!(n.max_lift(), 1.5f32);
+    }
+
+    #[test]
+    fn a_bound_reached_by_a_rounded_angle_has_the_bound_s_slope() {
+        // The return's start (210 deg) as a run's later revolutions reach it: 2πk +
+        // 210°, wrapped. The 4-5-6-7 law's v(1) = 0 exactly, so dy is exactly 0 (it was
+        // -1e-43 a few ulps into the return), and the rise's start likewise.
+        let p = CamProgram::<f64, 8>::reference();
+        for k in 0..17 {
+            for start_deg in [30.0_f64, 210.0] {
+                let th = (360.0 * f64::from(k) + start_deg).to_radians();
+                let l = p.follower(th);
+                assert_eq!(l.dy, 0.0, "revolution {k}, {start_deg} deg");
+                assert!(l.dy.is_sign_positive(), "revolution {k}: -0");
+            }
+        }
+        // Inside the segment the law is untouched: one degree in, the slope is the
+        // law's own (4-5-6-7: v(u) = 140 u^3 (1-u)^3, h/β = 1.5/(150°)).
+        let u = 1.0 / 150.0;
+        let l = p.follower(211.0_f64.to_radians());
+        let v = 140.0 * (u * (1.0 - u)).powi(3);
+        let want = -1.5 / 150.0_f64.to_radians() * v;
+        assert!(
+            (l.dy - want).abs() <= 1e-12 * want.abs(),
+            "{} vs {want}",
+            l.dy
+        );
     }
 
     #[test]

@@ -237,9 +237,14 @@ impl Report for LawsReport {
             s,
             "y = h s(theta/beta): dy/dtheta = cv h/beta, d2y/dtheta2 = ca h/beta^2, d3y/dtheta3 = cj h/beta^3."
         );
+        let l = |x: f64| crate::units::given(crate::units::LENGTH, x);
         let _ = writeln!(
             s,
-            "phi_max: largest pressure angle on the reference cam (R_b 1.5 in, r_r 0.375 in, lift 1.5 in,"
+            "phi_max: largest pressure angle on the reference cam (R_b {} {u}, r_r {} {u}, lift {} {u},",
+            l(1.5),
+            l(0.375),
+            l(1.5),
+            u = crate::units::symbol(crate::units::LENGTH)
         );
         let _ = writeln!(
             s,

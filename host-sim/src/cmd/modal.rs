@@ -12,6 +12,7 @@ use camsim_core::{modal_analysis, rotational_system, translational_system, Desig
 use serde::Serialize;
 
 use crate::report::Report;
+use crate::units::{self, UnitKind as Unit};
 
 /// Command-line options.
 #[derive(clap::Args, Debug)]
@@ -47,6 +48,12 @@ pub struct SystemModes {
     pub stiffness_unit: &'static str,
     /// Unit of the modal mass.
     pub mass_unit: &'static str,
+    /// The modal stiffness's unit (the JSON key's suffix and the SI conversion).
+    #[serde(skip)]
+    pub stiffness: Unit,
+    /// The modal mass's unit.
+    #[serde(skip)]
+    pub mass: Unit,
 }
 
 /// Everything `camsim modal` prints.
@@ -68,38 +75,50 @@ pub struct ModalReport {
     pub parameters: ModalParameters,
 }
 
-/// The reference-design values the analysis used.
+/// The reference-design values the analysis used (in JSON each key with its unit, the
+/// thesis's symbol first: `i_c_lb_in_s2`, `k_f_lb_per_in`, converted by `--units`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ModalParameters {
     /// Motor inertia, lb·in·s².
+    #[serde(rename = "i_m_lb_in_s2")]
     pub i_m: f64,
     /// Coupling inertia, lb·in·s².
+    #[serde(rename = "i_cp_lb_in_s2")]
     pub i_cp: f64,
     /// Cam inertia, lb·in·s².
+    #[serde(rename = "i_c_lb_in_s2")]
     pub i_c: f64,
     /// Shaft stiffness motor-coupling, lb·in/rad.
+    #[serde(rename = "k_s1_lb_in_per_rad")]
     pub k_s1: f64,
     /// Shaft stiffness coupling-cam, lb·in/rad.
+    #[serde(rename = "k_s2_lb_in_per_rad")]
     pub k_s2: f64,
     /// Roller mass, lb·s²/in.
+    #[serde(rename = "m_r_lb_s2_per_in")]
     pub m_r: f64,
     /// Follower mass, lb·s²/in.
+    #[serde(rename = "m_f_lb_s2_per_in")]
     pub m_f: f64,
     /// Load mass, lb·s²/in.
+    #[serde(rename = "m_l_lb_s2_per_in")]
     pub m_l: f64,
     /// Roller-bearing stiffness, lb/in.
+    #[serde(rename = "k_rb_lb_per_in")]
     pub k_rb: f64,
     /// Follower stiffness, lb/in.
+    #[serde(rename = "k_f_lb_per_in")]
     pub k_f: f64,
     /// Return-spring stiffness of the modal analysis, lb/in.
+    #[serde(rename = "k_rs_lb_per_in")]
     pub k_rs: f64,
 }
 
 fn system_modes(
     a: &ModalAnalysis<f64, 3>,
     coordinates: [&'static str; 3],
-    stiffness_unit: &'static str,
-    mass_unit: &'static str,
+    (stiffness, stiffness_unit): (Unit, &'static str),
+    (mass, mass_unit): (Unit, &'static str),
 ) -> SystemModes {
     SystemModes {
         coordinates: coordinates.to_vec(),
@@ -117,6 +136,8 @@ fn system_modes(
         modal_mass: a.modal_mass.to_vec(),
         stiffness_unit,
         mass_unit,
+        stiffness,
+        mass,
     }
 }
 
@@ -161,14 +182,14 @@ pub fn analyse_with(p: ModalParameters) -> anyhow::Result<ModalReport> {
     let rotational = system_modes(
         &rot,
         ["theta_m", "theta_cp", "theta_c"],
-        "lb*in/rad",
-        "lb*in*s^2",
+        (units::TORSIONAL_STIFFNESS, "lb*in/rad"),
+        (units::INERTIA, "lb*in*s^2"),
     );
     let translational = system_modes(
         &tra,
         ["y1 (roller)", "y2 (follower)", "y3 (load)"],
-        "lb/in",
-        "lb*s^2/in",
+        (units::STIFFNESS, "lb/in"),
+        (units::MASS, "lb*s^2/in"),
     );
     Ok(ModalReport {
         rotational_rad_s: rotational.omega_rad_s.clone(),
@@ -179,6 +200,16 @@ pub fn analyse_with(p: ModalParameters) -> anyhow::Result<ModalReport> {
         translational,
         parameters: p,
     })
+}
+
+impl SystemModes {
+    /// A unit's label in the output's family: this report's own in inch.
+    fn label(&self, unit: Unit, inch: &'static str) -> &'static str {
+        match units::current() {
+            units::Units::Inch => inch,
+            units::Units::Si => unit.si_symbol,
+        }
+    }
 }
 
 fn render_system(out: &mut String, title: &str, s: &SystemModes) {
@@ -206,27 +237,50 @@ fn render_system(out: &mut String, title: &str, s: &SystemModes) {
             j + 1,
             s.omega_rad_s[j],
             s.hz[j],
-            s.modal_stiffness[j],
-            s.modal_mass[j],
+            units::value(s.stiffness, s.modal_stiffness[j]),
+            units::value(s.mass, s.modal_mass[j]),
             shape.join(", ")
         );
     }
     let _ = writeln!(
         out,
         "  modal stiffness in {}, modal mass in {}; modes normalised to the first row (VI.4)",
-        s.stiffness_unit, s.mass_unit
+        s.label(s.stiffness, s.stiffness_unit),
+        s.label(s.mass, s.mass_unit)
     );
 }
 
 /// Renders the report as the human-readable table.
 pub fn render_table(r: &ModalReport) -> String {
     let p = &r.parameters;
+    // The scene's values: as given in inch; in SI to 5 significant digits (`0.0102` lb
+    // in s^2 is `1.1524e-3` kg m^2).
+    let conv = |u: Unit, x: f64| match units::current() {
+        units::Units::Inch => format!("{x}"),
+        units::Units::Si => format!("{:.4e}", units::value(u, x)),
+    };
+    let (i, k) = (
+        |x| conv(units::INERTIA, x),
+        |x| conv(units::TORSIONAL_STIFFNESS, x),
+    );
+    let (m, ks) = (|x| conv(units::MASS, x), |x| conv(units::STIFFNESS, x));
+    // The stiffnesses print as `{:e}` in inch (`2e5`).
+    let sci = |x: f64, f: &dyn Fn(f64) -> String| match units::current() {
+        units::Units::Inch => format!("{x:e}"),
+        units::Units::Si => f(x),
+    };
     let mut out = String::new();
     render_system(
         &mut out,
         &format!(
-            "Rotational system (Eq. VI.7): I_m = {}, I_cp = {}, I_c = {} lb*in*s^2; K_s1 = {:e}, K_s2 = {:e} lb*in/rad",
-            p.i_m, p.i_cp, p.i_c, p.k_s1, p.k_s2
+            "Rotational system (Eq. VI.7): I_m = {}, I_cp = {}, I_c = {} {}; K_s1 = {}, K_s2 = {} {}",
+            i(p.i_m),
+            i(p.i_cp),
+            i(p.i_c),
+            r.rotational.label(units::INERTIA, "lb*in*s^2"),
+            sci(p.k_s1, &k),
+            sci(p.k_s2, &k),
+            r.rotational.label(units::TORSIONAL_STIFFNESS, "lb*in/rad")
         ),
         &r.rotational,
     );
@@ -234,8 +288,18 @@ pub fn render_table(r: &ModalReport) -> String {
     render_system(
         &mut out,
         &format!(
-            "Translational system (Eq. VI.6): M_r = {}, M_f = {:.6}, M_l = {} lb*s^2/in; K_rb = {:e}, K_f = {:.6e}, K_rs = {} lb/in",
-            p.m_r, p.m_f, p.m_l, p.k_rb, p.k_f, p.k_rs
+            "Translational system (Eq. VI.6): M_r = {}, M_f = {}, M_l = {} {}; K_rb = {}, K_f = {:.6e}, K_rs = {} {}",
+            m(p.m_r),
+            match units::current() {
+                units::Units::Inch => format!("{:.6}", p.m_f),
+                units::Units::Si => m(p.m_f),
+            },
+            m(p.m_l),
+            r.translational.label(units::MASS, "lb*s^2/in"),
+            sci(p.k_rb, &ks),
+            units::value(units::STIFFNESS, p.k_f),
+            ks(p.k_rs),
+            r.translational.label(units::STIFFNESS, "lb/in")
         ),
         &r.translational,
     );
@@ -245,6 +309,32 @@ pub fn render_table(r: &ModalReport) -> String {
 impl Report for ModalReport {
     fn text(&self) -> String {
         render_table(self)
+    }
+    /// The struct's JSON with the modal stiffness and mass under keys that carry their
+    /// system's unit (`modal_stiffness_lb_in_per_rad`, `modal_mass_lb_s2_per_in`), which
+    /// `--units` converts as every other key; the unit strings in the output's family.
+    fn json(&self) -> serde_json::Result<String> {
+        let mut v = serde_json::to_value(self)?;
+        for (name, s) in [
+            ("rotational", &self.rotational),
+            ("translational", &self.translational),
+        ] {
+            if let Some(o) = v.get_mut(name).and_then(|x| x.as_object_mut()) {
+                for (key, unit, label) in [
+                    ("modal_stiffness", s.stiffness, s.stiffness_unit),
+                    ("modal_mass", s.mass, s.mass_unit),
+                ] {
+                    if let Some(x) = o.remove(key) {
+                        o.insert(format!("{key}_{}", unit.inch), x);
+                    }
+                    o.insert(
+                        format!("{}_unit", key.trim_start_matches("modal_")),
+                        serde_json::Value::from(s.label(unit, label)),
+                    );
+                }
+            }
+        }
+        serde_json::to_string_pretty(&v)
     }
 }
 

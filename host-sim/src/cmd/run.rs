@@ -474,30 +474,40 @@ impl Report for RunReport {
         let mut out = String::new();
         let _ = writeln!(
             out,
-            "camsim run: {} revolutions at {:.1} rpm, {} DOF model, preload F_p = {:.3} lb",
-            self.revolutions, self.rpm, self.dofs, self.preload_lb
+            "camsim run: {} revolutions at {:.1} rpm, {} DOF model, preload F_p = {} {}",
+            self.revolutions,
+            self.rpm,
+            self.dofs,
+            crate::units::q(crate::units::FORCE, self.preload_lb, 3),
+            crate::units::symbol(crate::units::FORCE)
         );
         if let Some(v) = &self.verdict {
             let _ = writeln!(out, "{}", crate::verdict::text(v));
         }
         let deviation = |rms: f64, mean: f64, max: f64, curv: f64, fpr: usize| {
+            use crate::units::{symbol, value, LENGTH, LENGTH_PER_RAD2};
+            let (l, lu) = (|x| value(LENGTH, x), symbol(LENGTH));
             format!(
-                "  lift deviation: rms {rms:.3e} in, mean {mean:.3e} in, max |e| {max:.3e} in, rms d2e/dtheta2 {curv:.3e} in/rad^2; FPR {fpr}"
+                "  lift deviation: rms {:.3e} {lu}, mean {:.3e} {lu}, max |e| {:.3e} {lu}, rms d2e/dtheta2 {:.3e} {}; FPR {fpr}",
+                l(rms), l(mean), l(max), value(LENGTH_PER_RAD2, curv), symbol(LENGTH_PER_RAD2)
             )
         };
         match &self.profile {
             Some(ProfileReport::Actual(p)) => {
+                use crate::units::{given, symbol, value, LENGTH};
+                let lu = symbol(LENGTH);
                 let _ = writeln!(
                     out,
-                    "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} in, roller {} in, eccentricity {} in; {} points every {:.4} deg ({})",
-                    p.method.name(), p.seed, p.sample, p.normal.name(), p.cam_tolerance_in, p.roller_tolerance_in,
-                    p.eccentricity_tolerance_in, p.intervals, p.interval_deg, p.interval_source.label(),
+                    "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} {lu}, roller {} {lu}, eccentricity {} {lu}; {} points every {:.4} deg ({})",
+                    p.method.name(), p.seed, p.sample, p.normal.name(), given(LENGTH, p.cam_tolerance_in),
+                    given(LENGTH, p.roller_tolerance_in), given(LENGTH, p.eccentricity_tolerance_in),
+                    p.intervals, p.interval_deg, p.interval_source.label(),
                 );
                 if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
                     let _ = writeln!(
                         out,
-                        "  envelope: roller radius {r:.6} in, rotation centre offset ({:.2e}, {:.2e}) in, {} deviation knots",
-                        c[0], c[1], p.deviation_knots
+                        "  envelope: roller radius {} {lu}, rotation centre offset ({:.2e}, {:.2e}) {lu}, {} deviation knots",
+                        crate::units::q(LENGTH, r, 6), value(LENGTH, c[0]), value(LENGTH, c[1]), p.deviation_knots
                     );
                 }
                 let _ = writeln!(
@@ -534,9 +544,14 @@ impl Report for RunReport {
             }
             None => {}
         }
+        use crate::units::{self as u, q};
         let _ = writeln!(
             out,
-            "units: in, lb, s; torque lb in; stress psi; AORD = mean (omega - omega0)/omega0"
+            "units: {}, {}, s; torque {}; stress {}; AORD = mean (omega - omega0)/omega0",
+            u::symbol(u::LENGTH),
+            u::symbol(u::FORCE),
+            u::symbol(u::TORQUE),
+            u::symbol(u::STRESS)
         );
         let mut last_rev = 0;
         for r in &self.per_period {
@@ -555,14 +570,15 @@ impl Report for RunReport {
                     "stress", "aord_m", "aord_cp", "aord_c", "jump"
                 );
             }
-            // A value that rounds to zero at two decimals prints as 0.00, not -0.00 (a dwell's
-            // torque is zero to rounding, with either sign).
-            let z = |x: f64| if x.abs() < 0.005 { 0.0 } else { x };
+            // Torques and forces print as 0.00, not -0.00, where they round to zero.
+            let (t, f) = (|x| q(u::TORQUE, x, 2), |x| q(u::FORCE, x, 2));
             let _ = writeln!(
                 out,
-                "{:<11} {:>10.3e} {:>10.3e} {:>10.3e} {:>9.2} {:>9.2} {:>9.2} {:>8.2} {:>8.2} {:>8.2} {:>9.0} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}",
-                r.period, r.rms_displacement, r.rms_velocity, r.rms_acceleration, z(r.torque_avg), z(r.torque_max),
-                z(r.torque_min), z(r.contact_force_min), z(r.contact_force_max), z(r.contact_force_avg), r.contact_stress_max,
+                "{:<11} {:>10.3e} {:>10.3e} {:>10.3e} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}",
+                r.period, u::value(u::LENGTH, r.rms_displacement), u::value(u::SPEED, r.rms_velocity),
+                u::value(u::ACCELERATION, r.rms_acceleration), t(r.torque_avg), t(r.torque_max),
+                t(r.torque_min), f(r.contact_force_min), f(r.contact_force_max), f(r.contact_force_avg),
+                q(u::STRESS, r.contact_stress_max, 0),
                 r.aord_motor, r.aord_coupling, r.aord_cam, if r.jump { "yes" } else { "no" }
             );
         }
@@ -635,8 +651,8 @@ impl Report for RunReport {
         }
         let _ = writeln!(
             out,
-            "solver: England adaptive RK, rtol {:e}, atol {:e} in: {} steps, {} rejected, {} rhs evaluations",
-            self.rtol, self.atol_in, self.steps, self.rejected_steps, self.rhs_evals
+            "solver: England adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
+            self.rtol, crate::units::given(crate::units::LENGTH, self.atol_in), crate::units::symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
         );
         let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
         out

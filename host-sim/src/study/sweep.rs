@@ -19,6 +19,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use camsim_core::{Observer, Sample};
+use camsim_scene_file::units::Unit;
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -26,6 +27,7 @@ use crate::actual::ActualArgs;
 use crate::report::Report;
 use crate::sim::{self, HostDeviation, RunSpec};
 use crate::stats::Probability;
+use crate::units;
 
 /// The most speeds a grid may have.
 pub const MAX_POINTS: u32 = 1000;
@@ -400,11 +402,12 @@ pub struct Sweep {
 /// A model in words.
 pub fn describe(spec: &RunSpec) -> String {
     format!(
-        "{} follower model, {} DOFs, rtol {:e}, atol {:e} in, largest step {} rev, {} start, revolution 2 of 2",
+        "{} follower model, {} DOFs, rtol {:e}, atol {:e} {}, largest step {} rev, {} start, revolution 2 of 2",
         spec.dofs.follower.name(),
         spec.dofs.set().name(),
         spec.solver.rtol,
-        spec.solver.atol,
+        units::given(units::LENGTH, spec.solver.atol),
+        units::symbol(units::LENGTH),
         spec.solver.max_step_fraction,
         format!("{:?}", spec.solver.start).to_lowercase()
     )
@@ -545,15 +548,28 @@ pub fn run(sw: &Sweep) -> Result<SweepReport> {
     Ok(report)
 }
 
-fn opt(v: Option<f64>, prec: usize) -> String {
-    v.map_or_else(|| "-".to_string(), |x| format!("{x:.prec$}"))
+/// `v` (in `unit`'s inch member, printed with `prec` decimals in inch) in the output's
+/// family, or `-`.
+fn opt(unit: Unit, v: Option<f64>, prec: usize) -> String {
+    v.map_or_else(|| "-".to_string(), |x| units::q(unit, x, prec).to_string())
 }
 
-fn band_text(b: Option<&Band>, prec: usize) -> String {
+fn band_text(unit: Unit, b: Option<&Band>, prec: usize) -> String {
     b.map_or_else(
         || "-".to_string(),
-        |b| format!("{:.p$} [{:.p$}, {:.p$}]", b.median, b.p05, b.p95, p = prec),
+        |b| {
+            let q = |x| units::q(unit, x, prec);
+            format!("{} [{}, {}]", q(b.median), q(b.p05), q(b.p95))
+        },
     )
+}
+
+/// A column label: the inch table's own in inch (`in/s2`), the unit's symbol in SI.
+fn unit_label(unit: Unit, inch: &'static str) -> &'static str {
+    match units::current() {
+        units::Units::Inch => inch,
+        units::Units::Si => unit.si_symbol,
+    }
 }
 
 fn onset_text(o: &GridOnset, step: f64, narrow: &str) -> String {
@@ -588,31 +604,40 @@ impl Report for SweepReport {
             self.grid.points, self.grid.from_rpm, self.grid.to_rpm, self.step_rpm, self.operating_rpm
         );
         let _ = writeln!(out, "\ntheoretical cam ({}):", self.model);
+        let (f, acc, t) = (
+            units::symbol(units::FORCE),
+            unit_label(units::ACCELERATION, "in/s2"),
+            units::symbol(units::TORQUE),
+        );
         let _ = writeln!(
             out,
             "  {:>8}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
             "rpm",
             "contact",
-            "Fc min lb",
-            "Fc max lb",
-            "a rms in/s2",
-            "T peak lb in",
-            "stress psi",
-            "power hp"
+            format!("Fc min {f}"),
+            format!("Fc max {f}"),
+            format!("a rms {acc}"),
+            format!("T peak {t}"),
+            format!("stress {}", units::symbol(units::STRESS)),
+            format!("power {}", units::symbol(units::POWER))
         );
         for p in &self.theoretical {
             let r = &p.response;
             let _ = writeln!(
                 out,
-                "  {:>8.1}  {:<7} {:>10.2} {:>10} {:>13} {:>13} {:>11} {:>9}",
+                "  {:>8.1}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
                 p.rpm,
                 if r.jump { "JUMPS" } else { "holds" },
-                r.min_contact_force_lb,
-                opt(r.peak_contact_force_lb, 2),
-                opt(r.rms_acceleration_deviation_in_per_s2, 1),
-                opt(r.peak_cam_torque_lb_in, 2),
-                opt(r.peak_contact_stress_psi, 0),
-                opt(r.peak_drive_power_hp, 3)
+                units::q(units::FORCE, r.min_contact_force_lb, 2),
+                opt(units::FORCE, r.peak_contact_force_lb, 2),
+                opt(
+                    units::ACCELERATION,
+                    r.rms_acceleration_deviation_in_per_s2,
+                    1
+                ),
+                opt(units::TORQUE, r.peak_cam_torque_lb_in, 2),
+                opt(units::STRESS, r.peak_contact_stress_psi, 0),
+                opt(units::POWER, r.peak_drive_power_hp, 3)
             );
         }
         match &self.theoretical_onset {
@@ -637,15 +662,16 @@ impl Report for SweepReport {
             let pr = &a.profile;
             let _ = writeln!(
                 out,
-                "\n{} actual cams a speed, the same at every speed (seed {}; cam ±{} in, roller ±{} in, eccentricity ±{} in; {} profile, {}) on the {}:",
+                "\n{} actual cams a speed, the same at every speed (seed {}; cam ±{} {lu}, roller ±{} {lu}, eccentricity ±{} {lu}; {} profile, {}) on the {}:",
                 a.samples,
                 a.seed,
-                pr.cam_tolerance_in,
-                pr.roller_tolerance_in,
-                pr.eccentricity_tolerance_in,
+                units::given(units::LENGTH, pr.cam_tolerance_in),
+                units::given(units::LENGTH, pr.roller_tolerance_in),
+                units::given(units::LENGTH, pr.eccentricity_tolerance_in),
                 pr.method,
                 pr.interval_source,
-                a.model
+                a.model,
+                lu = units::symbol(units::LENGTH)
             );
             let _ = writeln!(
                 out,
@@ -653,8 +679,11 @@ impl Report for SweepReport {
             );
             let _ = writeln!(
                 out,
-                "  {:>8}  {:<24} {:<26} {:<26} T peak lb in",
-                "rpm", "P(jump)", "Fc min lb", "a rms in/s2"
+                "  {:>8}  {:<24} {:<26} {:<26} T peak {t}",
+                "rpm",
+                "P(jump)",
+                format!("Fc min {f}"),
+                format!("a rms {acc}")
             );
             for p in &a.points {
                 let _ = writeln!(
@@ -662,9 +691,13 @@ impl Report for SweepReport {
                     "  {:>8.1}  {:<24} {:<26} {:<26} {}",
                     p.rpm,
                     p.p_jump.text(3),
-                    band_text(p.min_contact_force_lb.as_ref(), 2),
-                    band_text(p.rms_acceleration_deviation_in_per_s2.as_ref(), 0),
-                    band_text(p.peak_cam_torque_lb_in.as_ref(), 1)
+                    band_text(units::FORCE, p.min_contact_force_lb.as_ref(), 2),
+                    band_text(
+                        units::ACCELERATION,
+                        p.rms_acceleration_deviation_in_per_s2.as_ref(),
+                        0
+                    ),
+                    band_text(units::TORQUE, p.peak_cam_torque_lb_in.as_ref(), 1)
                 );
             }
             match &a.first_jump {
@@ -723,7 +756,21 @@ pub fn csv_header(actual: bool) -> Vec<String> {
             }
         }
     }
-    h
+    // In the output's family: `min_contact_force_n`, `actual_peak_cam_torque_n_m_p95`.
+    h.into_iter().map(|k| csv_key(&k).0).collect()
+}
+
+/// A CSV column's name and factor in the output's family (a banded column's statistic,
+/// `_p05`, `_median` or `_p95`, after its unit).
+fn csv_key(k: &str) -> (String, f64) {
+    let u = units::current();
+    for s in ["_p05", "_median", "_p95"] {
+        if let Some(stem) = k.strip_suffix(s) {
+            let (key, factor) = units::key_in(stem, u);
+            return (format!("{key}{s}"), factor);
+        }
+    }
+    units::key_in(k, u)
 }
 
 /// The banded quantities' names, in CSV order.
@@ -738,7 +785,17 @@ const BANDED: [&str; 6] = [
 
 /// One CSV row per speed (empty fields for values a run did not give).
 pub fn csv_rows(r: &SweepReport) -> Vec<Vec<String>> {
-    let f = |v: Option<f64>| v.map_or_else(String::new, |x| format!("{x}"));
+    // In the output's family (times 1 in inch: the same digits). The factors by column
+    // name, as the header's.
+    let factor = |name: &str| csv_key(name).1;
+    let (kf, ka, kt, ks, kp) = (
+        factor("min_contact_force_lb"),
+        factor("rms_acceleration_deviation_in_per_s2"),
+        factor("peak_cam_torque_lb_in"),
+        factor("peak_contact_stress_psi"),
+        factor("peak_drive_power_hp"),
+    );
+    let g = |v: Option<f64>, k: f64| v.map_or_else(String::new, |x| format!("{}", x * k));
     r.theoretical
         .iter()
         .enumerate()
@@ -747,28 +804,28 @@ pub fn csv_rows(r: &SweepReport) -> Vec<Vec<String>> {
             let mut row = vec![
                 format!("{}", p.rpm),
                 u8::from(t.jump).to_string(),
-                format!("{}", t.min_contact_force_lb),
-                f(t.peak_contact_force_lb),
-                f(t.rms_acceleration_deviation_in_per_s2),
-                f(t.peak_cam_torque_lb_in),
-                f(t.peak_contact_stress_psi),
-                f(t.peak_drive_power_hp),
+                format!("{}", t.min_contact_force_lb * kf),
+                g(t.peak_contact_force_lb, kf),
+                g(t.rms_acceleration_deviation_in_per_s2, ka),
+                g(t.peak_cam_torque_lb_in, kt),
+                g(t.peak_contact_stress_psi, ks),
+                g(t.peak_drive_power_hp, kp),
             ];
             if let Some(a) = r.actual.as_ref().and_then(|a| a.points.get(k)) {
                 row.push(format!("{}", a.p_jump.p));
                 row.push(format!("{}", a.p_jump.lo95));
                 row.push(format!("{}", a.p_jump.hi95));
-                for b in [
-                    &a.min_contact_force_lb,
-                    &a.peak_contact_force_lb,
-                    &a.rms_acceleration_deviation_in_per_s2,
-                    &a.peak_cam_torque_lb_in,
-                    &a.peak_contact_stress_psi,
-                    &a.peak_drive_power_hp,
+                for (b, k) in [
+                    (&a.min_contact_force_lb, kf),
+                    (&a.peak_contact_force_lb, kf),
+                    (&a.rms_acceleration_deviation_in_per_s2, ka),
+                    (&a.peak_cam_torque_lb_in, kt),
+                    (&a.peak_contact_stress_psi, ks),
+                    (&a.peak_drive_power_hp, kp),
                 ] {
-                    row.push(f(b.map(|b| b.p05)));
-                    row.push(f(b.map(|b| b.median)));
-                    row.push(f(b.map(|b| b.p95)));
+                    row.push(g(b.map(|b| b.p05), k));
+                    row.push(g(b.map(|b| b.median), k));
+                    row.push(g(b.map(|b| b.p95), k));
                 }
             }
             row
