@@ -116,6 +116,14 @@ smoke predict predict --json
 smoke montecarlo montecarlo --samples 8 --json
 smoke compare compare --quick --json
 smoke tolerance-study tolerance-study --quick --json
+# The study plots in SI (every axis converts through units.rs): the tolerance plots, the
+# Monte Carlo histograms and compare's charts.
+smoke tolerance-plot-si tolerance-study --quick --plot "$studies/tol-si" --units si --json
+for f in tolerance_grid.png tolerance_response.png; do
+    test -s "$studies/tol-si/$f" || { echo "smoke: tolerance-study --plot wrote no $f" >&2; exit 1; }
+done
+smoke montecarlo-plot-si montecarlo --samples 8 --plot "$studies/mc-si" --units si --json
+smoke compare-plot compare --quick --plot "$studies/compare" --json
 smoke waviness waviness --seeds 1 --json
 smoke sensitivity sensitivity --quick --json
 # The drawing and the scene-taking commands (issue 17): profile --out/--plot (and its

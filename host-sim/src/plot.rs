@@ -233,8 +233,8 @@ impl Figure {
 fn follower_figure(
     file: &'static str,
     title: &'static str,
-    desc: &'static str,
-    dev_desc: &'static str,
+    desc: String,
+    dev_desc: String,
     sim: &[f64],
     theory: &[f64],
 ) -> Figure {
@@ -268,32 +268,51 @@ fn follower_figure(
     }
 }
 
-/// Every figure `write_all` writes, in order.
+/// `values` times `factor` (a unit conversion of a plotted series).
+fn scaled(values: &[f64], factor: f64) -> Vec<f64> {
+    values.iter().map(|v| v * factor).collect()
+}
+
+/// Every figure `write_all` writes, in order, in the output's unit family.
 fn figures(d: &PlotData) -> Vec<Figure> {
+    figures_in(d, crate::units::current())
+}
+
+/// Every figure `write_all` writes, in order, its axes in `units` (the data are in the
+/// inch family; one factor per quantity from [`crate::units`]).
+fn figures_in(d: &PlotData, units: crate::units::Units) -> Vec<Figure> {
+    use crate::units::{axis_in, ACCELERATION, FORCE};
+    use camsim_scene_file::units::{LENGTH, SPEED, STRESS, TORQUE};
+    let (fy, uy) = axis_in(LENGTH, units);
+    let (fv, uv) = axis_in(SPEED, units);
+    let (fa, ua) = axis_in(ACCELERATION, units);
+    let (ff, uf) = axis_in(FORCE, units);
+    let (fs, us) = axis_in(STRESS, units);
+    let (ft, ut) = axis_in(TORQUE, units);
     vec![
         follower_figure(
             "displacement.png",
             "Follower (load) displacement",
-            "displacement y (in)",
-            "deviation (in)",
-            &d.y,
-            &d.y_theory,
+            format!("displacement y ({uy})"),
+            format!("deviation ({uy})"),
+            &scaled(&d.y, fy),
+            &scaled(&d.y_theory, fy),
         ),
         follower_figure(
             "velocity.png",
             "Follower (load) velocity",
-            "velocity (in/s)",
-            "deviation (in/s)",
-            &d.v,
-            &d.v_theory,
+            format!("velocity ({uv})"),
+            format!("deviation ({uv})"),
+            &scaled(&d.v, fv),
+            &scaled(&d.v_theory, fv),
         ),
         follower_figure(
             "acceleration.png",
             "Follower (load) acceleration",
-            "acceleration (in/s²)",
-            "deviation (in/s²)",
-            &d.a,
-            &d.a_theory,
+            format!("acceleration ({ua})"),
+            format!("deviation ({ua})"),
+            &scaled(&d.a, fa),
+            &scaled(&d.a_theory, fa),
         ),
         Figure {
             file: "pressure_angle.png",
@@ -324,10 +343,10 @@ fn figures(d: &PlotData) -> Vec<Figure> {
             file: "contact_force.png",
             title: "Cam-follower contact force F_c".into(),
             panels: vec![Panel {
-                y_desc: "contact force F_c (lb)".into(),
+                y_desc: format!("contact force F_c ({uf})").into(),
                 curves: vec![Curve::new(
                     "F_c",
-                    &d.contact_force,
+                    &scaled(&d.contact_force, ff),
                     SIMULATED,
                     Stroke::Solid(2),
                 )],
@@ -337,10 +356,10 @@ fn figures(d: &PlotData) -> Vec<Figure> {
             file: "contact_stress.png",
             title: "Maximum Hertz contact stress".into(),
             panels: vec![Panel {
-                y_desc: "contact stress (psi)".into(),
+                y_desc: format!("contact stress ({us})").into(),
                 curves: vec![Curve::new(
                     "stress",
-                    &d.contact_stress,
+                    &scaled(&d.contact_stress, fs),
                     SIMULATED,
                     Stroke::Solid(2),
                 )],
@@ -350,15 +369,20 @@ fn figures(d: &PlotData) -> Vec<Figure> {
             file: "torque.png",
             title: "Cam torque".into(),
             panels: vec![Panel {
-                y_desc: "torque (lb·in)".into(),
+                y_desc: format!("torque ({ut})").into(),
                 curves: vec![
                     Curve::new(
                         "output torque T_o",
-                        &d.torque_out,
+                        &scaled(&d.torque_out, ft),
                         SIMULATED,
                         Stroke::Solid(2),
                     ),
-                    Curve::new("drive torque", &d.torque_drive, SECOND, Stroke::Solid(2)),
+                    Curve::new(
+                        "drive torque",
+                        &scaled(&d.torque_drive, ft),
+                        SECOND,
+                        Stroke::Solid(2),
+                    ),
                 ],
             }],
         },
@@ -936,19 +960,26 @@ fn profile_figure(dev: &HostDeviation) -> (Figure, PlotData) {
         e.push(p.y);
         de.push(p.dy);
     }
+    let (fl, ul) = crate::units::axis(camsim_scene_file::units::LENGTH);
+    let (fd, ud) = crate::units::axis(crate::units::LENGTH_PER_RAD);
     let fig = Figure {
         file: PROFILE_FILE,
         title: "Profile deviation of the actual cam (lift − program)".into(),
         panels: vec![
             Panel {
-                y_desc: "lift deviation e (in)".into(),
-                curves: vec![Curve::new("e(θ)", &e, SIMULATED, Stroke::Solid(1))],
+                y_desc: format!("lift deviation e ({ul})").into(),
+                curves: vec![Curve::new(
+                    "e(θ)",
+                    &scaled(&e, fl),
+                    SIMULATED,
+                    Stroke::Solid(1),
+                )],
             },
             Panel {
-                y_desc: "de/dθ (in/rad)".into(),
+                y_desc: format!("de/dθ ({ud})").into(),
                 curves: vec![Curve::new(
                     "de/dθ (FPR counts its extrema)",
-                    &de,
+                    &scaled(&de, fd),
                     SECOND,
                     Stroke::Solid(1),
                 )],
@@ -1006,26 +1037,36 @@ fn svaj_figure(design: &camsim_core::Design<f64>, file: &'static str) -> (Figure
         y_desc: desc.into(),
         curves: vec![Curve::new(label, values, color, Stroke::Solid(2))],
     };
+    use crate::units::{axis, ACCELERATION, JERK};
+    use camsim_scene_file::units::{LENGTH, SPEED};
+    let ((fs, us), (fv, uv)) = (axis(LENGTH), axis(SPEED));
+    let ((fa, ua), (fj, uj)) = (axis(ACCELERATION), axis(JERK));
+    let (s, v, a, j) = (
+        scaled(&s, fs),
+        scaled(&v, fv),
+        scaled(&a, fa),
+        scaled(&j, fj),
+    );
     let fig = Figure {
         file,
         title: format!("SVAJ of the cam program at {rpm:.0} rpm (grey lines: segment boundaries)")
             .into(),
         panels: vec![
-            panel("lift s (in)".into(), "lift s", &s, SIMULATED),
+            panel(format!("lift s ({us})"), "lift s", &s, SIMULATED),
             panel(
-                format!("velocity v (in/s at {rpm:.0} rpm)"),
+                format!("velocity v ({uv} at {rpm:.0} rpm)"),
                 "velocity v",
                 &v,
                 SECOND,
             ),
             panel(
-                format!("acceleration a (in/s² at {rpm:.0} rpm)"),
+                format!("acceleration a ({ua} at {rpm:.0} rpm)"),
                 "acceleration a",
                 &a,
                 THEORY,
             ),
             panel(
-                format!("jerk j (in/s³ at {rpm:.0} rpm)"),
+                format!("jerk j ({uj} at {rpm:.0} rpm)"),
                 "jerk j",
                 &j,
                 THIRD,
@@ -1081,6 +1122,55 @@ mod tests {
             .map(|f| f.file)
             .collect();
         assert_eq!(files, FILES);
+    }
+
+    #[test]
+    fn si_series_are_the_inch_series_times_the_definition_and_titles_name_si() {
+        use crate::units::Units;
+        let d = synthetic();
+        let inch = figures_in(&d, Units::Inch);
+        let si = figures_in(&d, Units::Si);
+        // 1 in = 25.4 mm; 1 lbf = 0.45359237 kg x 9.80665 m/s^2; 1 psi = 1 lbf/in^2;
+        // 1 lb in = 1 lbf x 0.0254 m.
+        let lbf = 0.453_592_37 * 9.806_65;
+        let expect = [
+            ("displacement.png", 25.4, "mm"),
+            ("velocity.png", 25.4, "mm/s"),
+            ("acceleration.png", 25.4, "mm/s²"),
+            ("pressure_angle.png", 1.0, "deg"),
+            ("contact_force.png", lbf, "(N)"),
+            ("contact_stress.png", lbf / (25.4 * 25.4), "MPa"),
+            ("torque.png", lbf * 0.0254, "N·m"),
+        ];
+        for (file, factor, unit) in expect {
+            let find = |figs: &[Figure]| {
+                figs.iter()
+                    .position(|f| f.file == file)
+                    .unwrap_or_else(|| panic!("{file} missing"))
+            };
+            let (fi, fs) = (&inch[find(&inch)], &si[find(&si)]);
+            assert!(
+                fs.panels[0].y_desc.contains(unit),
+                "{file}: {}",
+                fs.panels[0].y_desc
+            );
+            for (pi, ps) in fi.panels.iter().zip(&fs.panels) {
+                for (ci, cs) in pi.curves.iter().zip(&ps.curves) {
+                    assert!(!ci.values.is_empty());
+                    // Relative to the series' scale (a deviation is a difference of
+                    // scaled values: its rounding is of their size).
+                    let big = ci.values.iter().fold(0.0f64, |m, v| m.max(v.abs())) * factor;
+                    for (a, b) in ci.values.iter().zip(&cs.values) {
+                        assert!(
+                            (b - a * factor).abs() <= 1e-12 * big,
+                            "{file}: {b} vs {a} x {factor}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(inch[0].panels[0].y_desc.contains("(in)"));
+        assert!(inch[7].panels[0].y_desc.contains("lb·in"));
     }
 
     /// A synthetic two-revolution run: a cycloidal-like rise and return with a small

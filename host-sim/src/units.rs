@@ -299,6 +299,44 @@ pub fn json(text: &str, units: Units) -> serde_json::Result<String> {
     }
 }
 
+/// Jerks (the SVAJ plot's): in/s³, mm/s³.
+pub const JERK: Unit = Unit {
+    inch: "in_per_s3",
+    si: "mm_per_s3",
+    si_per_inch: MM_PER_IN,
+    inch_symbol: "in/s^3",
+    si_symbol: "mm/s^3",
+};
+/// A profile's slope in cam angle: in/rad, mm/rad.
+pub const LENGTH_PER_RAD: Unit = Unit {
+    inch: "in_per_rad",
+    si: "mm_per_rad",
+    si_per_inch: MM_PER_IN,
+    inch_symbol: "in/rad",
+    si_symbol: "mm/rad",
+};
+
+/// A plot axis's scale for quantity `u` in `units`: the factor on the inch-family
+/// values the reports hold, and the unit as an axis title writes it (`in/s²`, `lb·in`,
+/// `N·m`, `MPa`).
+pub fn axis_in(u: Unit, units: Units) -> (f64, String) {
+    let (factor, symbol) = match units {
+        Units::Inch => (1.0, u.inch_symbol),
+        Units::Si => (u.si_per_inch, u.si_symbol),
+    };
+    let pretty = symbol
+        .replace("^2", "²")
+        .replace("^3", "³")
+        .replace("^4", "⁴")
+        .replace(' ', "·");
+    (factor, pretty)
+}
+
+/// [`axis_in`] in the output's unit family (`--units`).
+pub fn axis(u: Unit) -> (f64, String) {
+    axis_in(u, current())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -374,5 +412,26 @@ mod tests {
             inch["nested"][0]["rms_displacement_in"],
             serde_json::json!(2.0)
         );
+    }
+
+    #[test]
+    fn plot_axes_scale_by_the_definitions_and_name_the_si_unit() {
+        assert_eq!(axis_in(FORCE, Units::Inch), (1.0, "lb".to_string()));
+        // 1 lbf = 0.45359237 kg x 9.80665 m/s^2.
+        assert_eq!(
+            axis_in(FORCE, Units::Si),
+            (0.453_592_37 * 9.806_65, "N".to_string())
+        );
+        assert_eq!(axis_in(su::LENGTH, Units::Si), (25.4, "mm".to_string()));
+        assert_eq!(axis_in(ACCELERATION, Units::Si).1, "mm/s²");
+        assert_eq!(axis_in(ACCELERATION, Units::Inch).1, "in/s²");
+        assert_eq!(axis_in(su::TORQUE, Units::Inch).1, "lb·in");
+        assert_eq!(axis_in(su::TORQUE, Units::Si).1, "N·m");
+        // 1 lb in = 4.4482216152605 N x 0.0254 m.
+        assert!((axis_in(su::TORQUE, Units::Si).0 - 0.0254 * N_PER_LBF).abs() < 1e-15);
+        let (psi, mpa) = axis_in(su::STRESS, Units::Si);
+        assert_eq!(mpa, "MPa");
+        assert!((psi - N_PER_LBF / (25.4 * 25.4)).abs() < 1e-15);
+        assert_eq!(axis_in(JERK, Units::Si).1, "mm/s³");
     }
 }

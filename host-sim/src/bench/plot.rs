@@ -95,6 +95,28 @@ fn lines(runs: &[RunRow], x: fn(&RunRow) -> f64, y: fn(&RunRow) -> f64, floor: f
     out
 }
 
+/// A log axis's tick in plain digits from 0.001 to 10 000 000 ("200 000", "0.05"), in
+/// powers of ten outside ("1e-9").
+fn log_tick(v: f64) -> String {
+    if !(1e-3..1e7).contains(&v.abs()) {
+        return format!("{v:.0e}");
+    }
+    if v.abs() >= 1.0 {
+        let digits = format!("{:.0}", v.round());
+        let n = digits.len();
+        let mut out = String::new();
+        for (i, ch) in digits.chars().enumerate() {
+            if i > 0 && (n - i) % 3 == 0 && ch.is_ascii_digit() {
+                out.push(' ');
+            }
+            out.push(ch);
+        }
+        return out;
+    }
+    let decimals = (-v.abs().log10().floor()) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// Decade bounds around the values.
 fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = v
@@ -109,7 +131,9 @@ fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     )
 }
 
-type Panel<'a> = (&'a str, fn(&RunRow) -> f64, f64);
+/// A panel: its y axis title, the quantity (inch family), the references' floor (inch
+/// family) and the factor to the output's units.
+type Panel<'a> = (&'a str, fn(&RunRow) -> f64, f64, f64);
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, plotters::coord::Shift>,
@@ -123,8 +147,12 @@ fn draw<DB: DrawingBackend>(
     let (title_area, body) = root.split_vertically(48);
     title_area.titled(title, (FONT, 24))?;
     let areas = body.split_evenly((panels.len(), 1));
-    for (area, (y_desc, y, floor)) in areas.iter().zip(panels) {
-        let ls = lines(runs, x, *y, *floor);
+    for (area, (y_desc, y, floor, factor)) in areas.iter().zip(panels) {
+        let mut ls = lines(runs, x, *y, *floor);
+        for l in &mut ls {
+            l.points.iter_mut().for_each(|p| p.1 *= factor);
+        }
+        let floor = &(floor * factor);
         let (x0, x1) = log_bounds(ls.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
         let (y0, y1) = log_bounds(
             ls.iter()
@@ -140,8 +168,16 @@ fn draw<DB: DrawingBackend>(
             .configure_mesh()
             .x_desc(x_desc)
             .y_desc(*y_desc)
-            .x_label_formatter(&|v| format!("{v:.0e}"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .x_label_formatter(&|v| {
+                // 1, 2 and 5 of each decade: the labels between would run together.
+                let m = (v / 10f64.powf(v.log10().floor())).round();
+                if [1.0, 2.0, 5.0].contains(&m) {
+                    log_tick(*v)
+                } else {
+                    String::new()
+                }
+            })
+            .y_label_formatter(&|v| log_tick(*v))
             .label_style((FONT, 16))
             .axis_desc_style((FONT, 18))
             .bold_line_style(RGBColor(215, 215, 215))
@@ -216,9 +252,15 @@ pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f6
     };
     let acc: fn(&RunRow) -> f64 = |r| r.err_acc_rms;
     let disp: fn(&RunRow) -> f64 = |r| r.err_disp_rms;
+    let (fa, ua) = crate::units::axis(crate::units::ACCELERATION);
+    let (fy, uy) = crate::units::axis(camsim_scene_file::units::LENGTH);
+    let (acc_desc, disp_desc) = (
+        format!("load acceleration RMS error ({ua})"),
+        format!("load displacement RMS error ({uy})"),
+    );
     let panels: [Panel<'_>; 2] = [
-        ("load acceleration RMS error (in/s²)", acc, floor.0),
-        ("load displacement RMS error (in)", disp, floor.1),
+        (&acc_desc, acc, floor.0, fa),
+        (&disp_desc, disp, floor.1, fy),
     ];
     let evals: fn(&RunRow) -> f64 = |r| r.rhs_evals as f64;
     let wall: fn(&RunRow) -> f64 = |r| r.wall_ms;
@@ -249,4 +291,18 @@ pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f6
         })?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod log_tick_tests {
+    #[test]
+    fn log_ticks_are_plain_in_the_middle_and_powers_outside() {
+        assert_eq!(super::log_tick(200_000.0), "200 000");
+        assert_eq!(super::log_tick(1_000.0), "1 000");
+        assert_eq!(super::log_tick(5.0), "5");
+        assert_eq!(super::log_tick(0.05), "0.05");
+        assert_eq!(super::log_tick(0.001), "0.001");
+        assert_eq!(super::log_tick(1e-5), "1e-5");
+        assert_eq!(super::log_tick(1e7), "1e7");
+    }
 }

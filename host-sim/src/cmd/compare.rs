@@ -22,6 +22,7 @@ use crate::output::{AtomicDir, Plan};
 use crate::plot::study as plots;
 use crate::report::Report;
 use crate::sim::{self, PeriodRow, RunSpec};
+use camsim_scene_file::units::Unit;
 
 /// Command-line options of `camsim compare`.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -705,32 +706,42 @@ fn trace(spec: &RunSpec) -> Result<Trace> {
     Ok(out)
 }
 
-/// A ranked column's quantity and unit on a plot axis, and which way is better.
-fn rank_axis(col: &str) -> (&'static str, &'static str, &'static str) {
+/// A ranked column's quantity and unit on a plot axis (`None`: dimensionless), and
+/// which way is better.
+fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
+    use crate::units::{ACCELERATION, FORCE};
+    use camsim_scene_file::units::{STRESS, TORQUE};
     match col {
         "sensitivity_to_flexibility" => (
             "Σ acceleration RMS, theoretical cam",
-            "in/s²",
+            Some(ACCELERATION),
             "smaller is better",
         ),
         "sensitivity_to_tolerance" => (
             "Σ acceleration RMS, actual − theoretical",
-            "in/s²",
+            Some(ACCELERATION),
             "smaller is better",
         ),
-        "shock_index" => ("Σ (RMS_I − RMS_II) / RMS_I", "", "smaller is better"),
-        "torque_avg" => ("average torque over the rise", "lb·in", "smaller is better"),
-        "torque_max" => ("largest |torque|", "lb·in", "smaller is better"),
-        "contact_force_min" => ("smallest contact force", "lb", "larger is better"),
-        "contact_force_max" => ("largest contact force", "lb", "smaller is better"),
-        "contact_stress_max" => ("largest contact stress", "psi", "smaller is better"),
+        "shock_index" => ("Σ (RMS_I − RMS_II) / RMS_I", None, "smaller is better"),
+        "torque_avg" => (
+            "average torque over the rise",
+            Some(TORQUE),
+            "smaller is better",
+        ),
+        "torque_max" => ("largest |torque|", Some(TORQUE), "smaller is better"),
+        "contact_force_min" => ("smallest contact force", Some(FORCE), "larger is better"),
+        "contact_force_max" => ("largest contact force", Some(FORCE), "smaller is better"),
+        "contact_stress_max" => ("largest contact stress", Some(STRESS), "smaller is better"),
         _ => (
             "sum of the ranks",
-            "",
+            None,
             "holding contact first, then smaller",
         ),
     }
 }
+
+/// Colour of the actual cam's curves in responses.png (the legend's swatch).
+const ACTUAL: plotters::style::RGBColor = plots::PALETTE[0];
 
 fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualArgs) -> Result<()> {
     use plotters::prelude::*;
@@ -749,9 +760,10 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
             .map_err(|x| e(&x))?;
         for ((col, head), area) in HEADERS.iter().zip(root.split_evenly((rows, cols)).iter()) {
             let (what, unit, better) = rank_axis(col);
+            let (factor, unit) = unit.map_or((1.0, String::new()), crate::units::axis);
             let v: Vec<f64> = laws
                 .iter()
-                .map(|l| l.values.get(col).unwrap_or(0.0))
+                .map(|l| factor * l.values.get(col).unwrap_or(0.0))
                 .collect();
             let lo = v.iter().copied().fold(0.0f64, f64::min);
             let hi = v.iter().copied().fold(0.0f64, f64::max);
@@ -784,7 +796,7 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                 })
                 .x_labels(5)
                 .x_label_formatter(&x_fmt)
-                .x_desc(plots::axis_title(what, unit, sname))
+                .x_desc(plots::axis_title(what, &unit, sname))
                 .label_style((crate::plot::FONT, 13))
                 .axis_desc_style((crate::plot::FONT, 14))
                 .draw()
@@ -823,7 +835,7 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                             .filter(|(_, x)| **x <= 0.0)
                             .map(|(i, _)| {
                                 Text::new(
-                                    "0 lb: contact lost",
+                                    format!("0 {unit}: contact lost"),
                                     (0.02 * (hi + pad), SegmentValue::CenterOf(i)),
                                     font.clone(),
                                 )
@@ -863,11 +875,23 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
     // (colour); the acceleration deviation on the left, the contact force on the right,
     // each column on one scale so the laws compare.
     let rows = traces.len().max(1);
+    let (fa, ua) = crate::units::axis(crate::units::ACCELERATION);
+    let (ff, uf) = crate::units::axis(crate::units::FORCE);
+    // compare simulates one actual cam per law (sample 0): no band over samples to draw.
+    let traces: Vec<(String, Trace, Trace)> = traces
+        .into_iter()
+        .map(|(n, a, b)| {
+            let conv = |t: Trace| -> Trace {
+                t.into_iter().map(|(x, y, z)| (x, fa * y, ff * z)).collect()
+            };
+            (n, conv(a), conv(b))
+        })
+        .collect();
     plots::png(dir, file, (1500, 90 + 300 * rows as u32), |root| {
         let (head, body) = root.split_vertically(90);
         crate::plot::draw_title(
             &head,
-            "Revolution 2 on the theoretical and on an actual cam (sample 0), by law",
+            "Revolution 2 on the theoretical cam and on one actual cam (sample 0 of --seed), by law",
             24,
             10,
         )
@@ -877,8 +901,9 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
             &[
                 (RGBColor(150, 150, 150), "theoretical cam".to_string()),
                 (
-                    plots::PALETTE[0],
-                    "actual cam (sample 0 of the tolerances)".to_string(),
+                    ACTUAL,
+                    "one actual cam (sample 0; for the spread over many cams: camsim montecarlo)"
+                        .to_string(),
                 ),
             ],
             66,
@@ -906,9 +931,9 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                 let (lo, hi) = range(acc);
                 let last = k + 1 == traces.len();
                 let what = if acc {
-                    "acceleration deviation a − a_theoretical (in/s²)"
+                    format!("acceleration deviation a − a_theoretical ({ua})")
                 } else {
-                    "contact force F_c (lb)"
+                    format!("contact force F_c ({uf})")
                 };
                 let mut chart = ChartBuilder::on(area)
                     .caption(
@@ -936,7 +961,7 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                     .y_labels(5)
                     .x_label_formatter(&|v| format!("{v:.0}"))
                     .y_label_formatter(&y_fmt)
-                    .y_desc(if acc { "in/s²" } else { "lb" })
+                    .y_desc(if acc { ua.as_str() } else { uf.as_str() })
                     .label_style((crate::plot::FONT, 13))
                     .axis_desc_style((crate::plot::FONT, 14))
                     .light_line_style(RGBColor(240, 240, 240))
@@ -945,10 +970,9 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                     mesh.x_desc(format!("cam angle θ (deg); {what}"));
                 }
                 mesh.draw().map_err(|x| e(&x))?;
-                let color = plots::PALETTE[k % plots::PALETTE.len()];
                 for (trace, style) in [
                     (&t.1, RGBColor(150, 150, 150).stroke_width(2)),
-                    (&t.2, color.stroke_width(1)),
+                    (&t.2, ACTUAL.stroke_width(1)),
                 ] {
                     let xs: Vec<f64> = trace.iter().map(|p| p.0).collect();
                     let ys: Vec<f64> = trace.iter().map(|p| if acc { p.1 } else { p.2 }).collect();

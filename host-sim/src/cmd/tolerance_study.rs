@@ -30,11 +30,11 @@ pub const TOLERANCE_FACTORS: [f64; 3] = [5.0, 1.0, 0.2];
 /// study cams), 39 (a rougher one) and 57 (at ±0.0025/±0.0005 in).
 pub const WAVINESS_FPR: [u32; 3] = [17, 39, 57];
 /// The plots `--plot DIR` writes.
-pub const PLOT_FILES: [&str; 1] = ["tolerance_grid.png"];
+pub const PLOT_FILES: [&str; 2] = ["tolerance_grid.png", "tolerance_response.png"];
 
 /// Command-line options of `camsim tolerance-study`.
 #[derive(clap::Args, Debug, Clone)]
-#[command(mut_arg("plot", |a| a.help("Write the grid as heat maps (P(jump) with its interval, acceleration RMS) into DIR (tolerance_grid.png)")))]
+#[command(mut_arg("plot", |a| a.help("Write the grid as heat maps (P(jump) with its interval, acceleration RMS) and P(jump), smallest contact force and largest contact stress against the tolerance (p5, p50, p95) into DIR (tolerance_grid.png, tolerance_response.png)")))]
 #[command(mut_arg("force", |a| a.help("Replace existing --plot files")))]
 pub struct Args {
     /// Scene file (default: the thesis's more stable program, the reference design with
@@ -257,6 +257,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
     if let Some(t) = plot_target {
         let mut dir = t.open()?;
         draw(&mut dir, &theoretical, &cells, axis.len(), samples)?;
+        draw_response(&mut dir, &theoretical, &cells, axis.len(), samples)?;
         dir.commit()?;
     }
     Ok(ToleranceReport {
@@ -479,12 +480,9 @@ fn draw(
         .collect();
     let ylabels: Vec<String> = cells
         .chunks(cols)
-        .map(|r| {
-            r.first().map_or(String::new(), |c| {
-                format!("±{} / ±{} in", c.cam_tolerance_in, c.roller_tolerance_in)
-            })
-        })
+        .map(|r| r.first().map_or(String::new(), tolerance_label))
         .collect();
+    let (fa, ua) = crate::units::axis(crate::units::ACCELERATION);
     let acc: Vec<f64> = cells
         .iter()
         .map(|c| c.acc_rms_sum_in_per_s2.max(1e-9).log10())
@@ -511,8 +509,9 @@ fn draw(
         let root = root
             .titled(
                 &format!(
-                    "camsim tolerance-study: revolution 2, {samples} actual cams a cell (theoretical cam: sum of acceleration RMS {:.0} in/s², {})",
-                    theoretical.acc_rms_sum_in_per_s2,
+                    "camsim tolerance-study: revolution 2, {samples} actual {} a cell (theoretical cam: sum of acceleration RMS {:.0} {ua}, {})",
+                    if samples == 1 { "cam" } else { "cams" },
+                    fa * theoretical.acc_rms_sum_in_per_s2,
                     if theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
                 ),
                 ("sans-serif", 22),
@@ -521,15 +520,15 @@ fn draw(
         let panels = root.split_evenly((1, 2));
         for (k, area) in panels.iter().enumerate() {
             let caption = if k == 0 {
-                "P(jump) in revolution 2 [95 % Wilson interval]"
+                "P(jump) in revolution 2 [95 % Wilson interval]".to_string()
             } else {
-                "sum over the periods of the acceleration RMS deviation, in/s² (colour: log scale)"
+                format!("sum over the periods of the acceleration RMS deviation, {ua} (colour: log scale)")
             };
             let mut chart = ChartBuilder::on(area)
-                .caption(caption, ("sans-serif", 18))
+                .caption(caption.as_str(), ("sans-serif", 18))
                 .margin(12)
                 .x_label_area_size(70)
-                .y_label_area_size(190)
+                .y_label_area_size(250)
                 .build_cartesian_2d(0f64..cols as f64, 0f64..rows as f64)
                 .map_err(|x| e(&x))?;
             chart
@@ -556,7 +555,7 @@ fn draw(
                     } else {
                         0.5
                     };
-                    (t, format!("{:.0}", c.acc_rms_sum_in_per_s2))
+                    (t, format!("{:.0}", fa * c.acc_rms_sum_in_per_s2))
                 };
                 let (x0, y0) = (col as f64, row as f64);
                 let corners = [(x0, y0), (x0 + 1.0, y0 + 1.0)];
@@ -581,6 +580,241 @@ fn draw(
                             ),
                         ),
                     )))
+                    .map_err(|x| e(&x))?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// A length in the output's unit (`--units`), to four significant digits.
+fn length_text(inch: f64) -> String {
+    let (f, unit) = crate::units::axis(camsim_scene_file::units::LENGTH);
+    let v = inch * f;
+    let digits = (3 - v.abs().max(1e-300).log10().floor() as i32).clamp(0, 9) as usize;
+    let t = format!("{v:.digits$}");
+    let t = if t.contains('.') {
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        t
+    };
+    format!("{t} {unit}")
+}
+
+/// A grid row's tolerances: "±cam / ±roller" in the output's length unit.
+fn tolerance_label(c: &Cell) -> String {
+    let cam = length_text(c.cam_tolerance_in);
+    let roller = length_text(c.roller_tolerance_in);
+    format!("±{} / ±{roller}", cam.split(' ').next().unwrap_or(&cam))
+}
+
+/// A point with its interval: (low, middle, high).
+type Whisker = (f64, f64, f64);
+
+/// P(jump) with its 95 % Wilson interval, and the 5th, 50th and 95th percentiles of the
+/// smallest contact force and of the largest contact stress in revolution 2, against the
+/// cam / roller tolerance (the grid's rows, smallest first), one colour per waviness
+/// column; the theoretical cam as a grey dashed line.
+fn draw_response(
+    dir: &mut AtomicDir,
+    theoretical: &Cell,
+    cells: &[Cell],
+    cols: usize,
+    samples: u64,
+) -> Result<()> {
+    use crate::plot::study::{legend_row, PALETTE};
+    use crate::plot::FONT;
+    use plotters::prelude::*;
+    let cols = cols.max(1);
+    let file = PLOT_FILES[1];
+    let e = |x: &dyn std::fmt::Display| anyhow::anyhow!("cannot draw plot {file}: {x}");
+    // Rows of the grid, smallest tolerance first (the grid lists the largest first).
+    let rows: Vec<&[Cell]> = cells.chunks(cols).rev().collect();
+    let n = rows.len();
+    let xlabels: Vec<String> = rows
+        .iter()
+        .map(|r| {
+            r.first().map_or(String::new(), |c| {
+                format!("±{}", length_text(c.cam_tolerance_in))
+            })
+        })
+        .collect();
+    let colour = |j: usize| PALETTE[j % PALETTE.len()];
+    // One x offset per column so that the intervals do not overlap.
+    let offset = |j: usize| (j as f64 - (cols as f64 - 1.0) / 2.0) * 0.12;
+    let (ff, uf) = crate::units::axis(crate::units::FORCE);
+    let (fs, us) = crate::units::axis(camsim_scene_file::units::STRESS);
+    // (quantity, unit, factor, column): the panels after P(jump).
+    let quantiles = [
+        ("smallest contact force F_c", uf, ff, "contact_force_min"),
+        ("largest contact stress", us, fs, "contact_stress_max"),
+    ];
+    let mut legend: Vec<(RGBColor, String)> = (0..cols.min(cells.len()))
+        .map(|j| (colour(j), column_label(cells, cols, j)))
+        .collect();
+    legend.push((RGBColor(150, 150, 150), "theoretical cam (dashed)".into()));
+    crate::plot::study::png(dir, file, (1800, 640), |root| {
+        let (head, body) = root.split_vertically(96);
+        crate::plot::draw_title(
+            &head,
+            &format!(
+                "Against the tolerance: revolution 2, {samples} actual {} a cell; dot = P(jump) or median, bar = 95 % Wilson interval or p5-p95",
+                if samples == 1 { "cam" } else { "cams" }
+            ),
+            22,
+            10,
+        )
+        .map_err(|x| e(&x))?;
+        legend_row(&head, &legend, 70).map_err(|x| e(&x))?;
+        let areas = body.split_evenly((1, 3));
+        for (k, area) in areas.iter().enumerate() {
+            // (y of each row and column: (lo, mid, hi)), the theoretical cam's value.
+            let (title, desc, pts, theo): (String, String, Vec<Vec<Whisker>>, f64) = if k == 0 {
+                let pts = rows
+                    .iter()
+                    .map(|r| {
+                        r.iter()
+                            .map(|c| {
+                                let p = &c.summary.jump;
+                                (p.lo95, p.p, p.hi95)
+                            })
+                            .collect()
+                    })
+                    .collect();
+                (
+                    if samples < 2 {
+                        "P(jump), revolution 2 (1 cam a cell: use --samples)".into()
+                    } else {
+                        "P(jump) in revolution 2".into()
+                    },
+                    "P(jump)".into(),
+                    pts,
+                    theoretical.summary.jump.p,
+                )
+            } else {
+                let (q, unit, f, col) = &quantiles[(k - 1).min(1)];
+                let get = |c: &Cell| c.summary.whole_revolution.get(col).copied();
+                let pts = rows
+                    .iter()
+                    .map(|r| {
+                        r.iter()
+                            .map(|c| {
+                                get(c).map_or((f64::NAN, f64::NAN, f64::NAN), |m| {
+                                    (f * m.p5, f * m.p50, f * m.p95)
+                                })
+                            })
+                            .collect()
+                    })
+                    .collect();
+                (
+                    format!("{q}: p5, p50, p95"),
+                    format!("{q} ({unit})"),
+                    pts,
+                    get(theoretical).map_or(f64::NAN, |m| f * m.p50),
+                )
+            };
+            let (mut lo, mut hi) = pts
+                .iter()
+                .flatten()
+                .flat_map(|p| [p.0, p.2])
+                .chain([theo])
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                });
+            if k == 0 {
+                (lo, hi) = (0.0, 1.0);
+            } else if lo >= hi || lo.is_nan() || hi.is_nan() {
+                let m = if lo.is_finite() {
+                    lo.abs().max(1.0)
+                } else {
+                    1.0
+                };
+                (lo, hi) = if lo.is_finite() {
+                    (lo - 0.1 * m, lo + 0.1 * m)
+                } else {
+                    (0.0, 1.0)
+                };
+            }
+            let pad = 0.08 * (hi - lo);
+            let (y0, y1) = if k == 0 {
+                (0.0, 1.05)
+            } else {
+                (lo - pad, hi + pad)
+            };
+            let mut chart = ChartBuilder::on(area)
+                .caption(title.as_str(), (FONT, 18))
+                .margin(10)
+                .margin_right(24)
+                .x_label_area_size(60)
+                .y_label_area_size(90)
+                .build_cartesian_2d(-0.5..n as f64 - 0.5, y0..y1)
+                .map_err(|x| e(&x))?;
+            let span = y1 - y0;
+            let y_fmt = |v: &f64| crate::plot::fmt_tick(*v, span * 0.8);
+            let x_fmt = |v: &f64| {
+                let i = v.round();
+                if (v - i).abs() < 1e-6 && i >= 0.0 {
+                    xlabels.get(i as usize).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
+            };
+            chart
+                .configure_mesh()
+                .disable_x_mesh()
+                .x_labels(n + 1)
+                .x_label_formatter(&x_fmt)
+                .y_labels(6)
+                .y_label_formatter(&y_fmt)
+                .x_desc("cam profile tolerance (the roller's at 1/5 of it)")
+                .y_desc(desc.as_str())
+                .label_style((FONT, 14))
+                .axis_desc_style((FONT, 15))
+                .light_line_style(RGBColor(240, 240, 240))
+                .bold_line_style(RGBColor(215, 215, 215))
+                .draw()
+                .map_err(|x| e(&x))?;
+            if theo.is_finite() {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        vec![(-0.5, theo), (n as f64 - 0.5, theo)],
+                        8,
+                        6,
+                        RGBColor(150, 150, 150).stroke_width(2),
+                    ))
+                    .map_err(|x| e(&x))?;
+            }
+            for j in 0..cols {
+                let c = colour(j);
+                let col: Vec<(f64, (f64, f64, f64))> = pts
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(i, r)| r.get(j).map(|p| (i as f64 + offset(j), *p)))
+                    .filter(|(_, p)| p.1.is_finite())
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(
+                        col.iter().map(|(x, p)| (*x, p.1)),
+                        c.stroke_width(1),
+                    ))
+                    .map_err(|x| e(&x))?;
+                for (x, p) in &col {
+                    for line in [
+                        vec![(*x, p.0), (*x, p.2)],
+                        vec![(x - 0.03, p.0), (x + 0.03, p.0)],
+                        vec![(x - 0.03, p.2), (x + 0.03, p.2)],
+                    ] {
+                        chart
+                            .draw_series([PathElement::new(line, c.stroke_width(2))])
+                            .map_err(|x| e(&x))?;
+                    }
+                }
+                chart
+                    .draw_series(
+                        col.iter()
+                            .map(|(x, p)| Circle::new((*x, p.1), 5, c.filled())),
+                    )
                     .map_err(|x| e(&x))?;
             }
         }

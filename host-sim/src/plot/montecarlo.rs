@@ -9,32 +9,44 @@ use crate::output::AtomicDir;
 use crate::stats::stream::Stream;
 use crate::stats::Probability;
 use crate::study::montecarlo::{StudyStats, COLUMNS, REVOLUTION_COLUMNS};
+use crate::units::{ACCELERATION, FORCE};
+use camsim_scene_file::units::Unit;
 
 /// The plots `--plot DIR` writes.
 pub const PLOT_FILES: [&str; 3] = ["histograms.png", "period_histograms.png", "p_jump.png"];
 
-/// A column's panel caption, its quantity on the x axis and its unit.
-fn quantity(col: &str) -> (&'static str, &'static str, &'static str) {
+/// A column's panel caption, its quantity on the x axis and its unit (`None`:
+/// dimensionless).
+fn quantity(col: &str) -> (&'static str, &'static str, Option<Unit>) {
+    use camsim_scene_file::units::{LENGTH, STRESS, TORQUE};
     match col {
         "acc_rms_sum" => (
             "Σ acceleration RMS",
             "acceleration RMS summed over the periods",
-            "in/s²",
+            Some(ACCELERATION),
         ),
-        "rms_acceleration" => ("acceleration RMS", "acceleration RMS", "in/s²"),
-        "contact_force_min" => ("smallest Fc", "smallest contact force Fc", "lb"),
-        "contact_force_max" => ("largest Fc", "largest contact force Fc", "lb"),
-        "torque_max" => ("largest torque", "largest drive torque", "lb·in"),
-        "torque_min" => ("smallest torque", "smallest drive torque", "lb·in"),
-        "contact_stress_max" => ("largest stress", "largest contact stress", "psi"),
-        "fpr" => ("waviness FPR", "waviness FPR", ""),
+        "rms_acceleration" => ("acceleration RMS", "acceleration RMS", Some(ACCELERATION)),
+        "contact_force_min" => ("smallest Fc", "smallest contact force Fc", Some(FORCE)),
+        "contact_force_max" => ("largest Fc", "largest contact force Fc", Some(FORCE)),
+        "torque_max" => ("largest torque", "largest drive torque", Some(TORQUE)),
+        "torque_min" => ("smallest torque", "smallest drive torque", Some(TORQUE)),
+        "contact_stress_max" => ("largest stress", "largest contact stress", Some(STRESS)),
+        "fpr" => ("waviness FPR", "waviness FPR", None),
         "rms_deviation_in" => (
             "RMS lift deviation",
             "RMS lift deviation from the design",
-            "in",
+            Some(LENGTH),
         ),
-        _ => ("", "", ""),
+        _ => ("", "", None),
     }
+}
+
+/// A column's factor on its inch-family values and its unit on the axis, in the
+/// output's family (`--units`).
+fn axis_unit(col: &str) -> (f64, String) {
+    quantity(col)
+        .2
+        .map_or((1.0, String::new()), crate::units::axis)
 }
 
 /// A panel of `all` (every sample) with `jumped` (the samples that jumped) stacked on
@@ -55,8 +67,11 @@ fn panel(
         .zip(&jumped)
         .map(|(a, j)| a.saturating_sub(*j))
         .collect();
-    let (_, q, unit) = quantity(col);
+    let (_, q, _) = quantity(col);
+    let (factor, unit) = axis_unit(col);
+    let (lo, hi) = (lo * factor, hi * factor);
     let note = all.range().filter(|(a, b)| a == b).map(|(v, _)| {
+        let v = v * factor;
         let lost = if col.starts_with("contact_force_min") && v <= 0.0 {
             ": contact lost"
         } else {
@@ -70,7 +85,7 @@ fn panel(
     HistPanel {
         caption,
         quantity: q.to_string(),
-        unit: unit.to_string(),
+        unit,
         lo,
         hi,
         held,

@@ -850,7 +850,7 @@ const OPERATING: plotters::style::RGBColor = plotters::style::RGBColor(90, 90, 9
 /// One panel of the sweep plot: its y axis title, the theoretical cam's values and the
 /// actual cams' bands.
 struct SweepPanel {
-    y_desc: &'static str,
+    y_desc: String,
     theory: Vec<Option<f64>>,
     band: Vec<Option<Band>>,
 }
@@ -890,34 +890,63 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
             .map(|a| a.points.iter().map(f).collect())
             .unwrap_or_default()
     };
+    // A dimensional panel in the output's units (`--units`): the reports hold inch.
+    let dim = |q: &str,
+               u: camsim_scene_file::units::Unit,
+               theory: Vec<Option<f64>>,
+               band: Vec<Option<Band>>| {
+        let (f, unit) = crate::units::axis(u);
+        SweepPanel {
+            y_desc: format!("{q} ({unit})"),
+            theory: theory.into_iter().map(|v| v.map(|v| v * f)).collect(),
+            band: band
+                .into_iter()
+                .map(|b| {
+                    b.map(|b| Band {
+                        p05: b.p05 * f,
+                        median: b.median * f,
+                        p95: b.p95 * f,
+                        cams: b.cams,
+                    })
+                })
+                .collect(),
+        }
+    };
+    use crate::units::{ACCELERATION, FORCE};
+    use camsim_scene_file::units::{STRESS, TORQUE};
     let panels = [
+        dim(
+            "smallest contact force",
+            FORCE,
+            th(|t| Some(t.min_contact_force_lb)),
+            bands(|a| a.min_contact_force_lb),
+        ),
+        dim(
+            "largest contact force",
+            FORCE,
+            th(|t| t.peak_contact_force_lb),
+            bands(|a| a.peak_contact_force_lb),
+        ),
+        dim(
+            "RMS accel. deviation",
+            ACCELERATION,
+            th(|t| t.rms_acceleration_deviation_in_per_s2),
+            bands(|a| a.rms_acceleration_deviation_in_per_s2),
+        ),
+        dim(
+            "peak cam torque",
+            TORQUE,
+            th(|t| t.peak_cam_torque_lb_in),
+            bands(|a| a.peak_cam_torque_lb_in),
+        ),
+        dim(
+            "peak contact stress",
+            STRESS,
+            th(|t| t.peak_contact_stress_psi),
+            bands(|a| a.peak_contact_stress_psi),
+        ),
         SweepPanel {
-            y_desc: "smallest contact force (lb)",
-            theory: th(|t| Some(t.min_contact_force_lb)),
-            band: bands(|a| a.min_contact_force_lb),
-        },
-        SweepPanel {
-            y_desc: "largest contact force (lb)",
-            theory: th(|t| t.peak_contact_force_lb),
-            band: bands(|a| a.peak_contact_force_lb),
-        },
-        SweepPanel {
-            y_desc: "RMS accel. deviation (in/s²)",
-            theory: th(|t| t.rms_acceleration_deviation_in_per_s2),
-            band: bands(|a| a.rms_acceleration_deviation_in_per_s2),
-        },
-        SweepPanel {
-            y_desc: "peak cam torque (lb·in)",
-            theory: th(|t| t.peak_cam_torque_lb_in),
-            band: bands(|a| a.peak_cam_torque_lb_in),
-        },
-        SweepPanel {
-            y_desc: "peak contact stress (psi)",
-            theory: th(|t| t.peak_contact_stress_psi),
-            band: bands(|a| a.peak_contact_stress_psi),
-        },
-        SweepPanel {
-            y_desc: "P(jump)",
+            y_desc: "P(jump)".into(),
             theory: th(|t| Some(if t.jump { 1.0 } else { 0.0 })),
             band: r
                 .actual
@@ -1099,7 +1128,7 @@ pub fn draw(dir: &mut crate::output::AtomicDir, file: &str, r: &SweepReport) -> 
 
             let xfmt = |v: &f64| format!("{v:.0}");
             let mut mesh = chart.configure_mesh();
-            mesh.y_desc(panel.y_desc)
+            mesh.y_desc(panel.y_desc.as_str())
                 .y_labels(6)
                 .x_labels(12)
                 .x_label_formatter(&xfmt)
