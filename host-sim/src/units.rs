@@ -130,7 +130,7 @@ pub use su::{
 
 /// A printed quantity in the output's family ([`current`]): an inch-family value and the
 /// number of decimals it prints with in inch; the text reports print every dimensional
-/// number through this (the tables' and CSV's labels through [`Quantity::symbol`]).
+/// number through this (the tables' and CSV's labels through [`symbol`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quantity {
     /// The value in the output's family.
