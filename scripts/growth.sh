@@ -7,7 +7,9 @@
 #   bash scripts/growth.sh          # samples up to 10 000 (a few minutes on 2 cores)
 #   bash scripts/growth.sh --long   # also 100 000 samples (about 25 more minutes)
 #
-# Run it on a quiet machine: the times are of the machine it runs on.
+# Run it on a quiet machine: the times are of the machine it runs on. It also writes the
+# measurements to docs/growth.csv and draws docs/growth.png from them
+# (host-sim/examples/growth_plot.rs).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 LONG=0
@@ -26,6 +28,8 @@ C="$(bash scripts/camsim-bin.sh)"
 
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
+CSV="$WORK/growth.csv"
+printf 'table,x,threads,value\n' >"$CSV"
 
 # field JSON KEY: one top-level or dotted key of a JSON document on standard input.
 field() {
@@ -46,6 +50,7 @@ printf '| revolutions | run time, ms | ms a revolution | steps | evaluations |\n
 for r in 1 2 4 8 16; do
     j="$("$C" run --start static --revolutions "$r" --json)"
     ms="$(field wall_ms <<<"$j")"
+    printf 'revolutions,%s,1,%s\n' "$r" "$ms" >>"$CSV"
     printf '| %s | %.1f | %.1f | %s | %s |\n' "$r" "$ms" "$(python3 -c "print($ms / $r)")" \
         "$(field steps <<<"$j")" "$(field rhs_evals <<<"$j")"
 done
@@ -56,10 +61,12 @@ printf '| rpm | run time, ms | steps | evaluations | contact holds |\n| ---: | -
 for rpm in 300 600 900 1200; do
     # Past the jump the follower may be thrown out of the model's valid range: a refusal.
     if j="$("$C" run --start static --revolutions 2 --rpm "$rpm" --json 2>"$WORK/err")"; then
+        printf 'rpm,%s,1,%s\n' "$rpm" "$(field wall_ms <<<"$j")" >>"$CSV"
         printf '| %s | %.1f | %s | %s | %s |\n' "$rpm" "$(field wall_ms <<<"$j")" "$(field steps <<<"$j")" \
             "$(field rhs_evals <<<"$j")" "$(field verdict.contact.holds <<<"$j")"
     else
         printf '| %s | — | — | — | refused: %s |\n' "$rpm" "$(sed 's/^camsim: error: //; s/|/\\|/g' "$WORK/err")"
+        printf 'refused,%s,1,1\n' "$rpm" >>"$CSV"
     fi
 done
 
@@ -74,6 +81,7 @@ for n in $SAMPLES; do
         # One thread only up to 1 000 samples (the larger studies double its time).
         if [ "$t" = 1 ] && [ "$n" -gt 1000 ]; then continue; fi
         j="$("$C" "${MC[@]}" --samples "$n" --threads "$t" 2>/dev/null)"
+        printf 'samples,%s,%s,%s\n' "$n" "$t" "$(field timing.wall_s <<<"$j")" >>"$CSV"
         printf '| %s | %s | %.2f | %.1f | %.4f |\n' "$n" "$t" "$(field timing.wall_s <<<"$j")" \
             "$(field timing.samples_per_s <<<"$j")" "$(field summary.jump.p <<<"$j")"
     done
@@ -83,3 +91,8 @@ printf '\n### The full model beside it (same study, 200 samples, 2 threads)\n\n'
 j="$("$C" montecarlo --samples 200 --json 2>/dev/null)"
 printf '`camsim montecarlo --samples 200 --json`: %.2f s, %.1f samples/s, P(jump) %.4f.\n' \
     "$(field timing.wall_s <<<"$j")" "$(field timing.samples_per_s <<<"$j")" "$(field summary.jump.p <<<"$j")"
+
+# The plot of these measurements (docs/BENCHMARKS.md links it).
+cp "$CSV" docs/growth.csv
+cargo run --release -q -p camsim --example growth_plot -- docs/growth.csv docs/growth.png
+printf '\nPlot: [growth.png](growth.png) (data: [growth.csv](growth.csv)).\n'

@@ -61,6 +61,9 @@ bash scripts/cli-doc.sh --check
 # Every output block the docs quote beside a FIGURES.md link is still in FIGURES.md.
 python3 scripts/check-quotes.py
 studies=$(mktemp -d)
+# The growth plot scripts/growth.sh draws, from the checked-in measurements.
+cargo run --release -q -p camsim --example growth_plot -- docs/growth.csv "$studies/growth.png"
+test -s "$studies/growth.png"
 # The binary where cargo put it (scripts/camsim-bin.sh).
 C="$(bash scripts/camsim-bin.sh)"
 # A report never prints null (an absent value is left out, NaN or an infinity is an error):
