@@ -115,16 +115,22 @@ fn predict_takes_the_scene_positionally_like_run() {
     let _ = std::fs::remove_file(p);
 }
 
-#[test]
-fn firmware_check_json_reports_the_budget_and_the_checks() {
-    let d = std::env::temp_dir().join(format!("camsim-fwcheck-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    let memory_x = d.join("memory.x");
+/// A linker script with a 256 KiB flash and 64 KiB RAM budget in `dir`.
+fn memory_x_in(dir: &std::path::Path) -> std::path::PathBuf {
+    let memory_x = dir.join("memory.x");
     std::fs::write(
         &memory_x,
         "MEMORY\n{\n  FLASH : ORIGIN = 0x08000000, LENGTH = 256K\n  RAM : ORIGIN = 0x20000000, LENGTH = 64K\n}\n",
     )
     .unwrap();
+    memory_x
+}
+
+#[test]
+fn firmware_check_json_reports_the_budget_and_the_checks() {
+    let d = std::env::temp_dir().join(format!("camsim-fwcheck-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let memory_x = memory_x_in(&d);
     let log = d.join("boot.log");
     std::fs::write(&log, "ERROR boot: table build failed: step budget exceeded\nERROR alarm asserted (LED0 low: true), stopped: boot failed\n").unwrap();
     let argv = [
@@ -169,12 +175,7 @@ fn firmware_check_json_gives_each_images_sections_as_numbers() {
     use std::os::unix::fs::PermissionsExt;
     let d = std::env::temp_dir().join(format!("camsim-fwfits-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
-    let memory_x = d.join("memory.x");
-    std::fs::write(
-        &memory_x,
-        "MEMORY\n{\n  FLASH : ORIGIN = 0x08000000, LENGTH = 256K\n  RAM : ORIGIN = 0x20000000, LENGTH = 64K\n}\n",
-    )
-    .unwrap();
+    let memory_x = memory_x_in(&d);
     let tool = d.join("fake-llvm-size");
     std::fs::write(
         &tool,
