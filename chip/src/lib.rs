@@ -19,9 +19,9 @@
 
 use camsim_core::{
     steady_state, CamModel, CaptureEvent, CaptureTimer, Design, DeviatedLift, IndexPulse,
-    IndexPulseConfig, JumpAlarm, LiftProfile, LiftTable, PredictionTable, Real, RegulatedQsRod,
-    Result, Scene, SolverSettings, SpeedPrediction, SpeedReading, Start, SteadyState, StepRule,
-    TheoreticalLift,
+    IndexPulseConfig, JumpAlarm, LiftProfile, LiftTable, Method, PredictionTable, Real,
+    RegulatedQsRod, Result, Scene, SolverSettings, SpeedPrediction, SpeedReading, Start,
+    SteadyState, StepRule, TheoreticalLift,
 };
 
 mod log_line;
@@ -106,6 +106,7 @@ pub fn chip_solver_settings<T: Real>() -> SolverSettings<T> {
         max_steps_per_rev: 2_000_000,
         start: Start::Static,
         step_control: StepRule::Thesis,
+        method: Method::England,
     }
 }
 

@@ -62,17 +62,18 @@ pub use solve::controller::{
     StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
 };
 pub use solve::dense::Dense;
+pub use solve::dormand_prince::{DormandPrince, DORMAND_PRINCE, DP_IMAGINARY_BOUNDARY, DP_STAGES};
 pub use solve::england::{England, EnglandConfig, SolverStats};
 pub use solve::events::{Event, EventConfig, EventFunction, EventStats, Report};
-pub use solve::imaginary::{
-    hermite, merson_pi, Merson, MersonStats, PairTableau, IMAGINARY_BOUNDARY, MERSON,
-};
+pub use solve::imaginary::{hermite, merson_pi, Merson, IMAGINARY_BOUNDARY, MERSON};
+pub use solve::pair::{Pair, PairTableau};
 pub use solve::rk4::{rk4_integrate, rk4_step, rk4_step_from};
 pub use solve::system::{OdeSystem, Tolerance};
 
 mod run;
 pub use run::grid::{simulate_on_grid, AngleGrid};
 pub use run::jump::{jump_verdict, JumpVerdict, JumpWatch, STEADY_FROM_REVOLUTION};
+pub use run::method::Method;
 pub use run::response::{
     period_name, simulate, simulate_events, solver_config, Both, ContactEvent, ContactEventFn,
     ContactEventSettings, GridPointKind, JumpInterval, Observer, PeriodStats, ResponseStats,

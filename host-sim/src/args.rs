@@ -119,6 +119,29 @@ impl From<StepControlArg> for camsim_core::StepRule {
     }
 }
 
+/// `--method`: how a run integrates the model ([`camsim_core::Method`]; the scene's
+/// `solver.method`, docs/MODEL.md §3.16).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MethodArg {
+    /// England's double step, the thesis's method (the default).
+    England,
+    /// Merson's 4(3) pair, built for the imaginary axis (capped at the stiffness limit
+    /// unless --step-control thesis).
+    Merson,
+    /// Dormand and Prince's 5(4) pair, for a step held by accuracy.
+    DormandPrince,
+}
+
+impl From<MethodArg> for camsim_core::Method {
+    fn from(m: MethodArg) -> Self {
+        match m {
+            MethodArg::England => Self::England,
+            MethodArg::Merson => Self::Merson,
+            MethodArg::DormandPrince => Self::DormandPrince,
+        }
+    }
+}
+
 /// `--follower`: the follower's model ([`camsim_core::FollowerModel`], docs/MODEL.md §10).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum FollowerArg {

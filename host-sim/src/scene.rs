@@ -92,6 +92,10 @@ const HOST_KEYS: &[(&str, &str)] = &[
         "solver.step_control",
         "\"scaled-cap\" (England, stiffness cap scaled by rtol), \"pi-scaled-cap\" or \"thesis\" (England uncapped)",
     ),
+    (
+        "solver.method",
+        "\"england\" (the thesis's), \"merson\" (imaginary axis) or \"dormand-prince\" (accuracy-limited)",
+    ),
 ];
 
 /// `text` with a comment after every known key saying what it is.

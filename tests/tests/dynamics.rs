@@ -186,10 +186,11 @@ fn full_run(d: Design<f64>) -> (SolverStats, Fingerprint) {
     let m = RegulatedFullModel::<f64>::new(d).unwrap();
     let mut fp = Fingerprint::new();
     let mut obs = |s: &Sample<f64>| fp.sample(s);
-    // The thesis's rule: the counts and fingerprints were recorded before the run could
-    // choose its step control (the default's cap adds its estimates' evaluations).
+    // England's method under the thesis's rule: the counts and fingerprints were recorded
+    // before the run could choose its method and step control.
     let s = SolverSettings {
         step_control: StepRule::Thesis,
+        method: camsim_core::Method::England,
         ..SolverSettings::reference()
     };
     let st = simulate(&m, &s, 1, &mut obs).unwrap();
@@ -216,6 +217,7 @@ fn zero_damping_at_the_roller_is_the_printed_model_bit_for_bit() {
     s.rtol = 1e-3;
     s.start = Start::Static;
     s.step_control = StepRule::Thesis;
+    s.method = camsim_core::Method::England;
     let mut fp = Fingerprint::new();
     let st = simulate(&m, &s, 1, &mut |s: &Sample<f32>| fp.sample(s)).unwrap();
     assert_eq!(

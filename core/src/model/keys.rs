@@ -222,6 +222,8 @@ pub mod key {
     pub const START: &str = "start";
     /// [`crate::SolverSettings::step_control`].
     pub const STEP_CONTROL: &str = "step_control";
+    /// [`crate::SolverSettings::method`].
+    pub const METHOD: &str = "method";
     /// Every solver key.
     pub const SOLVER_KEYS: &[&str] = &[
         RTOL,
@@ -230,6 +232,7 @@ pub mod key {
         MAX_STEPS_PER_REV,
         START,
         STEP_CONTROL,
+        METHOD,
     ];
 
     /// The cam speed in rpm: the name [`crate::Design::set_speed_rpm`]'s refusals use (the
@@ -481,7 +484,7 @@ pub mod key {
     };
 
     /// The plausibility range of every numeric scene key of a design
-    /// ([`DESIGN_KEYS`]), of the solver ([`SOLVER_KEYS`] but `start` and `step_control`) and of [`RPM`];
+    /// ([`DESIGN_KEYS`]), of the solver ([`SOLVER_KEYS`] but `start`, `step_control` and `method`) and of [`RPM`];
     /// a segment's `lift_in` takes [`LENGTH_OR_ZERO`]. [`crate::Design::validate`],
     /// [`crate::SolverSettings::validate`] and [`crate::Design::set_speed_rpm`] check
     /// these, and the host's option parsers check the same ranges.

@@ -271,27 +271,48 @@ where
         Ok(solver.stats())
     } else {
         solver.integrate_dense(model, T::ZERO, &mut y, t_end, |d| {
-            let [_, y1, y2] = d.nodes();
-            let mid = model.sample_with(d.t_mid(), y1, stress, outputs);
-            let end = model.sample_with(d.t_end(), y2, stress, outputs);
+            // The step's nodes after its start: England's midpoint and end, or a pair's end.
+            let mut nodes: [Option<Sample<T>>; 2] = [None, None];
+            for (slot, (t, yn)) in nodes.iter_mut().zip(d.inner_nodes()) {
+                *slot = Some(model.sample_with(t, yn, stress, outputs));
+            }
+            let [first, second] = nodes;
+            let (inner, end) = match (first, second) {
+                (Some(mid), Some(end)) => (Some(mid), end),
+                (Some(end), None) => (None, end),
+                // Unreachable: every extension has an end.
+                _ => return ControlFlow::Continue(()),
+            };
             // Most steps hold no grid point (a segment-start grid has a handful a
             // revolution): nothing more to do than take the nodes.
             if next.theta > end.point.theta_c {
-                if run.take_sample(model, observer, &mid).is_break() {
-                    return ControlFlow::Break(());
+                if let Some(mid) = &inner {
+                    if run.take_sample(model, observer, mid).is_break() {
+                        return ControlFlow::Break(());
+                    }
                 }
                 let flow = run.take_sample(model, observer, &end);
                 start = end;
                 return flow;
             }
             // The cam angle's own interpolant (the step's times always increase: the
-            // solver's extension `d` was built on the same ones).
-            let times = [d.t_start(), d.t_mid(), d.t_end()];
-            let p = [&start.point, &mid.point, &end.point];
-            let th = [[p[0].theta_c], [p[1].theta_c], [p[2].theta_c]];
-            let om = [[p[0].omega_c], [p[1].omega_c], [p[2].omega_c]];
-            let theta = match Dense::new(times, [&th[0], &th[1], &th[2]], [&om[0], &om[1], &om[2]])
-            {
+            // solver's extension `d` was built on the same ones), of the same form as
+            // the solver's.
+            let (p0, p2) = (&start.point, &end.point);
+            let (th_mid, om_mid) = inner
+                .as_ref()
+                .map_or((T::ZERO, T::ZERO), |m| (m.point.theta_c, m.point.omega_c));
+            let th = [[p0.theta_c], [th_mid], [p2.theta_c]];
+            let om = [[p0.omega_c], [om_mid], [p2.omega_c]];
+            let theta = match &inner {
+                Some(_) => Dense::new(
+                    [d.t_start(), d.t_mid(), d.t_end()],
+                    [&th[0], &th[1], &th[2]],
+                    [&om[0], &om[1], &om[2]],
+                ),
+                None => Dense::cubic([d.t_start(), d.t_end()], [&th[0], &th[2]], [&om[0], &om[2]]),
+            };
+            let theta = match theta {
                 Ok(theta) => theta,
                 Err(e) => {
                     failed = Some(e);
@@ -299,7 +320,7 @@ where
                 }
             };
             let mut ys = [T::ZERO; N];
-            for node in [&mid, &end] {
+            for node in inner.iter().chain(core::iter::once(&end)) {
                 // The grid's points before this node (the end when the node reaches it).
                 let th_node = node.point.theta_c;
                 while next.theta < th_node

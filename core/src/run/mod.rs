@@ -4,5 +4,6 @@
 
 pub(crate) mod grid;
 pub(crate) mod jump;
+pub(crate) mod method;
 pub(crate) mod response;
 pub(crate) mod search;

@@ -10,11 +10,11 @@
 
 use core::ops::ControlFlow;
 
+use crate::run::method::{Method, RunSolver};
 use crate::solve::england::Sampler;
 use crate::{
-    CamModel, England, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene,
-    SegmentKind, SimFailure, SolverStats, StateMut, StateVar, StepRule, Tolerance, TransDof,
-    TRANS_DOFS,
+    CamModel, EnglandConfig, Error, LiftProfile, ModelPoint, Real, Result, Scene, SegmentKind,
+    SimFailure, SolverStats, StateMut, StateVar, StepRule, Tolerance, TransDof, TRANS_DOFS,
 };
 
 /// The theoretical response at a cam angle (VI.4, docs/MODEL.md §3.17: perfect profile, rigid system,
@@ -219,7 +219,10 @@ pub struct SolverSettings<T> {
     pub start: Start,
     /// How England's method controls its step ([`StepRule`]; scene key `step_control`):
     /// the tolerance-scaled stiffness cap by default, `"thesis"` for the thesis's rule.
+    /// Merson's pair is capped by the same rules but `"thesis"`.
     pub step_control: StepRule,
+    /// The integration method ([`Method`]; scene key `method`).
+    pub method: Method,
 }
 
 /// The initial state of a simulation (scene names `"thesis"`, `"static"`).
@@ -241,7 +244,7 @@ pub enum Start {
 
 impl<T: Real> SolverSettings<T> {
     /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step,
-    /// England's rule with the tolerance-scaled stiffness cap ([`StepRule::ScaledCap`]).
+    /// England's method with the tolerance-scaled stiffness cap ([`StepRule::ScaledCap`]).
     pub fn reference() -> Self {
         Self {
             rtol: T::from_f64(1e-6),
@@ -250,6 +253,7 @@ impl<T: Real> SolverSettings<T> {
             max_steps_per_rev: 2_000_000,
             start: Start::Thesis,
             step_control: StepRule::ScaledCap,
+            method: Method::England,
         }
     }
 
@@ -364,7 +368,7 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
 }
 
 /// [`simulate`]'s samples from the solver's own evaluations of the model
-/// ([`England::integrate_shared`]): the last point evaluated, with the outputs the observer
+/// ([`England::integrate_shared`](crate::England::integrate_shared)): the last point evaluated, with the outputs the observer
 /// asked for.
 struct RunSampler<'a, T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O> {
     model: &'a CamModel<T, S, N, P>,
@@ -413,7 +417,7 @@ pub(crate) struct RunState<T> {
 /// What [`RunState::start`] sets up for a run.
 pub(crate) struct RunStart<T, const N: usize> {
     /// The solver, configured from the settings.
-    pub(crate) solver: England<T, N>,
+    pub(crate) solver: RunSolver<T, N>,
     /// The run's state.
     pub(crate) run: RunState<T>,
     /// The end time: generous (four times the nominal), a stalled drive is an error.
@@ -440,7 +444,7 @@ impl<T: Real> RunState<T> {
         let config = solver_config(model, settings, revolutions)?;
         // The solver's own names for what the settings derive (h_max, h_init, max_steps) are
         // not scene keys: name the key that sets each (unreachable with validated settings).
-        let solver = England::with_control(config, settings.step_control.control()).map_err(
+        let solver = RunSolver::new(settings.method, settings.step_control, config).map_err(
             |e| match e {
                 Error::InvalidParameter { field, rule, value } => Error::InvalidParameter {
                     field: match field {
@@ -569,7 +573,7 @@ impl<T: Real> RunState<T> {
     }
 }
 
-/// The contact event function of a model (for [`England::integrate_events`]): the
+/// The contact event function of a model (for [`England::integrate_events`](crate::England::integrate_events)): the
 /// contact force before its clamp at zero, per unit cos φ,
 /// `g = min(e, e + C_h · rate)` with `e = K_h (y + y1 - y2) + F_p` the elastic part and
 /// `rate` the rate of approach (Eqs. V.19-V.20 with the contact damping of
@@ -635,7 +639,7 @@ pub struct ContactEvent<T> {
 }
 
 /// [`simulate`] with contact events located and the integration restarted at each
-/// ([`England::integrate_events`] with [`ContactEventFn`]): the observer receives the
+/// ([`England::integrate_events`](crate::England::integrate_events) with [`ContactEventFn`]): the observer receives the
 /// midpoint and end of every accepted step (a restarted event's time is a step end)
 /// and `on_event` each located contact loss and recontact. Validity checks, end of run
 /// and errors as [`simulate`]. Returns the solver's and the event location's counters
@@ -656,6 +660,11 @@ where
     O: Observer<T>,
     E: FnMut(&ContactEvent<T>),
 {
+    // Event location runs on England's dense output, whatever the settings' method.
+    let settings = &SolverSettings {
+        method: Method::England,
+        ..*settings
+    };
     let RunStart {
         mut solver,
         mut run,
@@ -666,36 +675,37 @@ where
     let ev_config = crate::EventConfig::new(events.tol_fraction_rev * T::TWO * T::PI / d.omega0);
     let gfn = ContactEventFn(model);
     // The start sample, as `simulate`'s observer sees it.
-    let result = if run.take(model, observer, T::ZERO, &y).is_break() {
-        Ok((solver.stats(), crate::EventStats::default()))
-    } else {
-        let stress = observer.needs_stress();
-        solver.integrate_events(
-            model,
-            &gfn,
-            &ev_config,
-            T::ZERO,
-            &mut y,
-            t_end,
-            |r| match r {
-                crate::Report::Step(dense) => {
-                    let [_, y1, y2] = dense.nodes();
-                    if run.take(model, observer, dense.t_mid(), y1).is_break() {
-                        return ControlFlow::Break(());
+    let result =
+        if run.take(model, observer, T::ZERO, &y).is_break() {
+            Ok((solver.stats(), crate::EventStats::default()))
+        } else {
+            let stress = observer.needs_stress();
+            solver.england()?.integrate_events(
+                model,
+                &gfn,
+                &ev_config,
+                T::ZERO,
+                &mut y,
+                t_end,
+                |r| match r {
+                    crate::Report::Step(dense) => {
+                        let [_, y1, y2] = dense.nodes();
+                        if run.take(model, observer, dense.t_mid(), y1).is_break() {
+                            return ControlFlow::Break(());
+                        }
+                        run.take(model, observer, dense.t_end(), y2)
                     }
-                    run.take(model, observer, dense.t_end(), y2)
-                }
-                crate::Report::Event(event, y) => {
-                    on_event(&ContactEvent {
-                        event,
-                        separation: !event.rising,
-                        sample: model.sample(event.t, y, stress),
-                    });
-                    ControlFlow::Continue(())
-                }
-            },
-        )
-    };
+                    crate::Report::Event(event, y) => {
+                        on_event(&ContactEvent {
+                            event,
+                            separation: !event.rising,
+                            sample: model.sample(event.t, y, stress),
+                        });
+                        ControlFlow::Continue(())
+                    }
+                },
+            )
+        };
     run.finish(model, settings, result)
 }
 

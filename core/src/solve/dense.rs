@@ -26,6 +26,9 @@ pub struct Dense<'a, T, const N: usize> {
     f: [&'a [T; N]; 3],
     /// L_j'(t_j) of the quadratic Lagrange basis.
     c: [T; 3],
+    /// Two nodes only ([`Dense::cubic`]): the last two entries of `t`, `y`, `f` repeat
+    /// the end.
+    cubic: bool,
 }
 
 impl<'a, T: Real, const N: usize> Dense<'a, T, N> {
@@ -45,7 +48,45 @@ impl<'a, T: Real, const N: usize> Dense<'a, T, N> {
             T::ONE / (t1 - t0) + T::ONE / (t1 - t2),
             T::ONE / (t2 - t0) + T::ONE / (t2 - t1),
         ];
-        Ok(Self { t, y, f, c })
+        Ok(Self {
+            t,
+            y,
+            f,
+            c,
+            cubic: false,
+        })
+    }
+
+    /// The cubic Hermite interpolant of one step of an embedded pair
+    /// ([`Pair::integrate_dense`](crate::Pair::integrate_dense)) from its two ends `y[j]`
+    /// with derivatives `f[j]` at times `t[j]`: third order between the nodes
+    /// (`y⁽⁴⁾(ξ) ((t-t0)(t-t1))² / 24`), exact at them. The times must be finite and
+    /// strictly increasing. [`Dense::t_mid`] is then the end.
+    pub fn cubic(t: [T; 2], y: [&'a [T; N]; 2], f: [&'a [T; N]; 2]) -> Result<Self> {
+        let [t0, t1] = t;
+        if !(t0.is_finite() && t1.is_finite() && t0 < t1) {
+            return Err(Error::InvalidParameter {
+                field: "t",
+                rule: "dense-output nodes must be finite and strictly increasing (a step below the resolution of t?)",
+                value: t1.to_f64(),
+            });
+        }
+        let [y0, y1] = y;
+        let [f0, f1] = f;
+        Ok(Self {
+            t: [t0, t1, t1],
+            y: [y0, y1, y1],
+            f: [f0, f1, f1],
+            c: [T::ZERO; 3],
+            cubic: true,
+        })
+    }
+
+    /// The nodes after the start, with their times: the midpoint and the end of England's
+    /// double step, or the end alone of a pair's step ([`Dense::cubic`]).
+    pub fn inner_nodes(&self) -> impl Iterator<Item = (T, &'a [T; N])> + '_ {
+        let skip = if self.cubic { 2 } else { 1 };
+        self.t.into_iter().zip(self.y).skip(skip)
     }
 
     /// Start time of the step.
@@ -71,6 +112,13 @@ impl<'a, T: Real, const N: usize> Dense<'a, T, N> {
     /// Derivative `f(t_j, y_j)` at the start, midpoint and end.
     pub fn derivatives(&self) -> [&'a [T; N]; 3] {
         self.f
+    }
+
+    /// The step's length and `t`'s fraction of it (a cubic extension's).
+    fn unit(&self, t: T) -> (T, T) {
+        let [t0, t1, _] = self.t;
+        let h = t1 - t0;
+        (h, (t - t0) / h)
     }
 
     /// Weights `[H0, H1, H2, K0, K1, K2]` of the values and derivatives at `t`:
@@ -101,12 +149,41 @@ impl<'a, T: Real, const N: usize> Dense<'a, T, N> {
 
     /// The interpolated state at `t`.
     pub fn eval(&self, t: T, out: &mut [T; N]) {
+        if self.cubic {
+            let (h, u) = self.unit(t);
+            let (u2, three) = (u * u, T::from_f64(3.0));
+            let u3 = u2 * u;
+            let w = [
+                T::TWO * u3 - three * u2 + T::ONE,
+                three * u2 - T::TWO * u3,
+                T::ZERO,
+                h * (u3 - T::TWO * u2 + u),
+                h * (u3 - u2),
+                T::ZERO,
+            ];
+            combine(w, self.y, self.f, out);
+            return;
+        }
         combine(self.weights(t), self.y, self.f, out);
     }
 
     /// The interpolated derivative `dy/dt` at `t` (continuous across steps; equal to
     /// `f(t_j, y_j)` at the nodes up to rounding).
     pub fn eval_derivative(&self, t: T, out: &mut [T; N]) {
+        if self.cubic {
+            let (h, u) = self.unit(t);
+            let (u2, three, six) = (u * u, T::from_f64(3.0), T::from_f64(6.0));
+            let w = [
+                six * (u2 - u) / h,
+                six * (u - u2) / h,
+                T::ZERO,
+                three * u2 - T::from_f64(4.0) * u + T::ONE,
+                three * u2 - T::TWO * u,
+                T::ZERO,
+            ];
+            combine(w, self.y, self.f, out);
+            return;
+        }
         // d/dt of the weights: with a_j = t - t_j, L_j = (a_k/(t_j-t_k))(a_m/(t_j-t_m)),
         // L_j' = a_m/((t_j-t_k)(t_j-t_m)) + a_k/((t_j-t_k)(t_j-t_m)).
         let [t0, t1, t2] = self.t;

@@ -26,51 +26,30 @@
 //! a step costs 5 evaluations), against England's 0.514 (11 evaluations per double step
 //! of `2 · 2√2`) and classic RK4's 0.707 without any error estimate.
 //!
-//! Dense output: Merson gives none; [`hermite`] is the cubic Hermite interpolant on the
-//! step ends `(t0, y0, f0)`, `(t1, y1, f1)` (third order between the nodes, exact at
-//! them). The bench samples every method without its own interpolant through the quintic
-//! Hermite through three consecutive step ends instead.
+//! Dense output: Merson gives none; [`hermite`] (and [`crate::Dense::cubic`], what
+//! [`crate::Pair::integrate_dense`] passes) is the cubic Hermite interpolant on the step
+//! ends `(t0, y0, f0)`, `(t1, y1, f1)` (third order between the nodes, exact at them). The
+//! bench samples every method without its own interpolant through the quintic Hermite
+//! through three consecutive step ends instead.
 //!
 //! Step-size control: `err = max_i |y1_i - ŷ1_i| / (atol_i + rtol · max(|y0_i|, |y1_i|))`
 //! (England's norm, docs/MODEL.md §3.16), accepted if `err <= 1`. The next step is set by
 //! Hairer's PI controller ([`PiController`]) with the exponents for an estimate of local
 //! order 4 (`alpha = 0.7/4`, `beta = 0.4/4`; safety 0.9, factors in `[0.2, 10]`, no
 //! growth right after a rejection: the PI-capped England's settings with 5 replaced by 4),
-//! clamped to `[h_min, h_max]`. Optionally ([`Merson::with_cap`]) the step is also capped
+//! clamped to `[h_min, h_max]`. Optionally ([`Merson::with_cap`](crate::Pair::with_cap)) the step is also capped
 //! at `fraction · √12 / ρ`, `ρ` the Jacobian's spectral radius by power iteration
 //! ([`spectral_radius`], [`StiffnessCap`]'s settings with the boundary √12), so that at
 //! loose tolerances the step sits just inside the stability limit instead of being found
 //! there by rejections.
 
-use core::ops::ControlFlow;
-
-use crate::{
-    spectral_radius, EnglandConfig, Error, OdeSystem, PiController, Real, Result, StiffnessCap,
-};
+use crate::{EnglandConfig, Pair, PairTableau, PiController, Real, Result, StiffnessCap};
 
 /// Stages of the pair.
 pub const STAGES: usize = 5;
 
-/// An explicit Runge-Kutta pair as data: `A` (strictly lower triangular), `b` (the
-/// propagated solution), `b̂` (the embedded estimate), `c`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairTableau {
-    /// Stage coefficients `a[i][j]`, `j < i`.
-    pub a: [[f64; STAGES]; STAGES],
-    /// Weights of the solution (order 4).
-    pub b: [f64; STAGES],
-    /// Weights of the embedded solution (order 3).
-    pub b_hat: [f64; STAGES],
-    /// Nodes.
-    pub c: [f64; STAGES],
-    /// Order of `b`.
-    pub order: u32,
-    /// Order of `b̂`.
-    pub embedded_order: u32,
-}
-
 /// Merson's 4(3) pair (see the module documentation for its source).
-pub const MERSON: PairTableau = PairTableau {
+pub const MERSON: PairTableau<STAGES> = PairTableau {
     a: [
         [0.0, 0.0, 0.0, 0.0, 0.0],
         [1.0 / 3.0, 0.0, 0.0, 0.0, 0.0],
@@ -83,6 +62,9 @@ pub const MERSON: PairTableau = PairTableau {
     c: [0.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 2.0, 1.0],
     order: 4,
     embedded_order: 3,
+    fsal: false,
+    imaginary_boundary: IMAGINARY_BOUNDARY,
+    pi: (0.7 / 4.0, 0.4 / 4.0),
 };
 
 /// Merson's imaginary-axis stability boundary, `|hλ|` (√12).
@@ -90,275 +72,24 @@ pub const IMAGINARY_BOUNDARY: f64 = 3.464_101_615_137_754_6;
 
 /// Hairer's PI controller for an estimate of local order 4 (see the module documentation).
 pub fn merson_pi<T: Real>() -> PiController<T> {
-    PiController::new(
-        T::from_f64(0.7 / 4.0),
-        T::from_f64(0.4 / 4.0),
-        T::from_f64(0.9),
-        T::from_f64(0.2),
-        T::from_f64(10.0),
-    )
+    MERSON.controller()
 }
 
-/// Work counters of [`Merson::integrate`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct MersonStats {
-    /// Accepted steps.
-    pub accepted: u64,
-    /// Rejected steps.
-    pub rejected: u64,
-    /// Right-hand-side evaluations: `1 + 5 · accepted + 4 · rejected` (the first stage of
-    /// a step is the previous step's end derivative, and a retry reuses it), plus the
-    /// stiffness cap's power iterations.
-    pub rhs_evals: u64,
-}
+/// Merson's adaptive pair for `N` equations ([`Pair`] with [`MERSON`]).
+pub type Merson<T, const N: usize> = Pair<T, N, STAGES>;
 
-/// Merson's adaptive pair for `N` equations (no allocation; reusable).
-#[derive(Clone, Debug)]
-pub struct Merson<T, const N: usize> {
-    config: EnglandConfig<T, N>,
-    cap: Option<StiffnessCap<T>>,
-    k: [[T; N]; STAGES],
-}
-
-impl<T: Real, const N: usize> Merson<T, N> {
-    /// A solver with `config` (step sizes are single-step sizes here). Errors: a
-    /// non-positive or non-finite tolerance or step size, `h_min > h_max`.
+impl<T: Real, const N: usize> Pair<T, N, STAGES> {
+    /// Merson's pair with `config` (step sizes are single-step sizes here). Errors: a
+    /// negative or non-finite tolerance, a non-positive or non-finite step size,
+    /// `h_min > h_max`.
     pub fn new(config: EnglandConfig<T, N>) -> Result<Self> {
-        let bad = |field: &'static str, rule: &'static str, v: T| {
-            Err(Error::InvalidParameter {
-                field,
-                rule,
-                value: v.to_f64(),
-            })
-        };
-        let c = &config;
-        if !(c.tol.rtol.is_finite() && c.tol.rtol >= T::ZERO) {
-            return bad("rtol", "must be finite and non-negative", c.tol.rtol);
-        }
-        if let Some(a) = c
-            .tol
-            .atol
-            .iter()
-            .find(|a| !(a.is_finite() && **a > T::ZERO))
-        {
-            return bad("atol", "must be positive and finite", *a);
-        }
-        for (field, v) in [("h_init", c.h_init), ("h_min", c.h_min), ("h_max", c.h_max)] {
-            if !(v.is_finite() && v > T::ZERO) {
-                return bad(field, "must be positive and finite", v);
-            }
-        }
-        if c.h_min > c.h_max {
-            return bad("h_min", "must not exceed h_max", c.h_min);
-        }
-        Ok(Self {
-            config,
-            cap: None,
-            k: [[T::ZERO; N]; STAGES],
-        })
+        Self::with_tableau(&MERSON, config)
     }
 
-    /// As [`Merson::new`], the step also capped by the stiffness estimate with `cap`'s
-    /// fraction, refresh interval and power-iteration settings (its `boundary` is replaced
-    /// by Merson's √12), and its tolerance scaling ([`StiffnessCap::rtol_full`]: the
-    /// fraction shrinks as `(rtol / rtol_full)^(1/5)` below `rtol_full`, issue 22).
+    /// As [`Merson::new`](Pair::new), the step also capped by the stiffness estimate
+    /// ([`Pair::with_tableau_and_cap`]: the boundary is Merson's √12).
     pub fn with_cap(config: EnglandConfig<T, N>, cap: StiffnessCap<T>) -> Result<Self> {
-        let mut s = Self::new(config)?;
-        if !(cap.fraction > T::ZERO && cap.fraction <= T::ONE) {
-            return Err(Error::InvalidParameter {
-                field: "cap.fraction",
-                rule: "must lie in (0, 1]",
-                value: cap.fraction.to_f64(),
-            });
-        }
-        if let Some(r0) = cap.rtol_full {
-            if !(r0.is_finite() && r0 > T::ZERO) {
-                return Err(Error::InvalidParameter {
-                    field: "cap.rtol_full",
-                    rule: "must be positive and finite",
-                    value: r0.to_f64(),
-                });
-            }
-        }
-        s.cap = Some(StiffnessCap {
-            boundary: T::from_f64(IMAGINARY_BOUNDARY),
-            ..cap
-        });
-        Ok(s)
-    }
-
-    /// Integrates `y` from `t0` to `t_end`, calling `node(t, y, f)` at the start and at
-    /// every accepted step end (`f = f(t, y)`, as the Hermite interpolant needs);
-    /// `ControlFlow::Break` stops the run early (not an error). Errors: a non-finite
-    /// state or derivative, the step below `h_min`, the step budget used up.
-    pub fn integrate<S, F>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        y: &mut [T; N],
-        t_end: T,
-        mut node: F,
-    ) -> Result<MersonStats>
-    where
-        S: OdeSystem<T, N>,
-        F: FnMut(T, &[T; N], &[T; N]) -> ControlFlow<()>,
-    {
-        let cfg = self.config;
-        let mut stats = MersonStats::default();
-        let mut ctl = merson_pi::<T>();
-        let mut after_reject = false;
-        let mut h_cap = T::INFINITY;
-        let mut since_cap = u32::MAX;
-        let mut v = [T::ZERO; N];
-        let mut t = t0;
-        let mut f0 = [T::ZERO; N];
-        sys.rhs(t, y, &mut f0);
-        stats.rhs_evals += 1;
-        check_finite(t, y, &f0)?;
-        if node(t, y, &f0).is_break() {
-            return Ok(stats);
-        }
-        let mut h = cfg.h_init.min(cfg.h_max).max(cfg.h_min);
-        let mut y1 = [T::ZERO; N];
-        while t < t_end {
-            if stats.accepted + stats.rejected >= u64::from(cfg.max_steps) {
-                return Err(Error::StepBudgetExceeded {
-                    t: t.to_f64(),
-                    steps: cfg.max_steps,
-                });
-            }
-            if let Some(cap) = &self.cap {
-                if since_cap >= cap.refresh_every.max(1) {
-                    let mut evals = 0u32;
-                    let rho = spectral_radius(
-                        sys,
-                        t,
-                        y,
-                        &f0,
-                        &cfg.tol,
-                        &mut v,
-                        cap.max_iterations,
-                        cap.rel_tol,
-                        &mut evals,
-                    )?;
-                    stats.rhs_evals += u64::from(evals);
-                    h_cap = if rho > T::ZERO && rho.is_finite() {
-                        cap.fraction_at(cfg.tol.rtol) * cap.boundary / rho
-                    } else {
-                        T::INFINITY
-                    };
-                    since_cap = 0;
-                }
-                h = h.min(h_cap).max(cfg.h_min);
-            }
-            // Land on t_end: stretch by at most 1 %, or take the short last step.
-            let rest = t_end - t;
-            let last = h >= rest || h * T::from_f64(1.01) >= rest;
-            let hs = if last { rest } else { h };
-            let (err, evals) = self.stages_and_error(sys, t, y, &f0, hs, &mut y1);
-            stats.rhs_evals += evals;
-            if err <= T::ONE {
-                let factor = ctl.accept(err, after_reject);
-                after_reject = false;
-                since_cap = since_cap.saturating_add(1);
-                let t1 = if last { t_end } else { t + hs };
-                sys.rhs(t1, &y1, &mut f0);
-                stats.rhs_evals += 1;
-                check_finite(t1, &y1, &f0)?;
-                *y = y1;
-                t = t1;
-                stats.accepted += 1;
-                if node(t, y, &f0).is_break() {
-                    return Ok(stats);
-                }
-                if !last {
-                    h = (hs * factor).min(cfg.h_max).max(cfg.h_min);
-                }
-            } else {
-                let factor = ctl.reject(err);
-                after_reject = true;
-                stats.rejected += 1;
-                if hs <= cfg.h_min {
-                    return Err(Error::StepSizeUnderflow {
-                        t: t.to_f64(),
-                        h: hs.to_f64(),
-                    });
-                }
-                h = (hs * factor).max(cfg.h_min);
-            }
-        }
-        Ok(stats)
-    }
-
-    /// One Merson step of `hs` from `(t, y)` with `f0 = f(t, y)`: the stages into `k`,
-    /// the solution into `y1`; returns the error norm (the largest
-    /// `|hs Σ (b_i − b̂_i) k_i|` over its tolerance scale, infinite where one is not
-    /// finite, so that the step is rejected) and the evaluations it made.
-    #[inline(always)]
-    fn stages_and_error<S: OdeSystem<T, N>>(
-        &mut self,
-        sys: &S,
-        t: T,
-        y: &[T; N],
-        f0: &[T; N],
-        hs: T,
-        y1: &mut [T; N],
-    ) -> (T, u64) {
-        let cfg = &self.config;
-        let tab = &MERSON;
-        let mut ys = [T::ZERO; N];
-        let mut evals = 0u64;
-        if let Some(k0) = self.k.first_mut() {
-            *k0 = *f0;
-        }
-        for i in 1..STAGES {
-            let (done, todo) = self.k.split_at_mut(i);
-            let (Some(ai), Some(ci), Some(ki)) = (tab.a.get(i), tab.c.get(i), todo.first_mut())
-            else {
-                continue;
-            };
-            for (n, yn) in ys.iter_mut().enumerate() {
-                let mut s = T::ZERO;
-                for (aij, kj) in ai.iter().zip(done.iter()) {
-                    s += T::from_f64(*aij) * kj.get(n).copied().unwrap_or(T::ZERO);
-                }
-                *yn = y.get(n).copied().unwrap_or(T::ZERO) + hs * s;
-            }
-            sys.rhs(t + T::from_f64(*ci) * hs, &ys, ki);
-            evals += 1;
-        }
-        // Solution and error norm.
-        let mut err = T::ZERO;
-        for (n, y1n) in y1.iter_mut().enumerate() {
-            let (mut s, mut e) = (T::ZERO, T::ZERO);
-            for ((bi, bh), ki) in tab.b.iter().zip(tab.b_hat.iter()).zip(self.k.iter()) {
-                let kn = ki.get(n).copied().unwrap_or(T::ZERO);
-                s += T::from_f64(*bi) * kn;
-                e += T::from_f64(*bi - *bh) * kn;
-            }
-            let y0n = y.get(n).copied().unwrap_or(T::ZERO);
-            *y1n = y0n + hs * s;
-            let atol = cfg.tol.atol.get(n).copied().unwrap_or(T::ONE);
-            let scale = atol + cfg.tol.rtol * y0n.abs().max(y1n.abs());
-            let r = (hs * e).abs() / scale;
-            // NaN propagates as a rejection below.
-            err = if r.is_finite() {
-                err.max(r)
-            } else {
-                T::INFINITY
-            };
-        }
-        (err, evals)
-    }
-}
-
-fn check_finite<T: Real, const N: usize>(t: T, y: &[T; N], f: &[T; N]) -> Result<()> {
-    match y.iter().chain(f.iter()).position(|v| !v.is_finite()) {
-        Some(i) => Err(Error::NonFinite {
-            t: t.to_f64(),
-            component: i % N.max(1),
-        }),
-        None => Ok(()),
+        Self::with_tableau_and_cap(&MERSON, config, cap)
     }
 }
 
@@ -404,19 +135,20 @@ pub fn hermite<T: Real, const N: usize>(
 #[allow(clippy::indexing_slicing, clippy::unwrap_used, clippy::panic)]
 mod tests {
     use super::*;
-    use crate::Tolerance;
+    use crate::{EnglandConfig, Error, OdeSystem, Tolerance};
+    use core::ops::ControlFlow;
 
     /// `sum_i w_i g(i)`.
     fn dot(w: &[f64; STAGES], g: impl Fn(usize) -> f64) -> f64 {
         (0..STAGES).map(|i| w[i] * g(i)).sum()
     }
 
-    fn ac(t: &PairTableau, p: i32) -> [f64; STAGES] {
+    fn ac(t: &PairTableau<STAGES>, p: i32) -> [f64; STAGES] {
         core::array::from_fn(|i| (0..STAGES).map(|j| t.a[i][j] * t.c[j].powi(p)).sum())
     }
 
     /// The eight conditions of order 4 for weights `w` (Butcher), as residuals.
-    fn order4_residuals(t: &PairTableau, w: &[f64; STAGES]) -> [f64; 8] {
+    fn order4_residuals(t: &PairTableau<STAGES>, w: &[f64; STAGES]) -> [f64; 8] {
         let c = t.c;
         let ac1 = ac(t, 1);
         let ac2 = ac(t, 2);
@@ -451,7 +183,7 @@ mod tests {
     }
 
     /// Coefficients `b A^(k-1) 1`, k = 0..=5, of the stability polynomial of weights `w`.
-    fn stability_poly(t: &PairTableau, w: &[f64; STAGES]) -> [f64; 6] {
+    fn stability_poly(t: &PairTableau<STAGES>, w: &[f64; STAGES]) -> [f64; 6] {
         let mut v = [1.0; STAGES];
         let mut out = [1.0; 6];
         for o in out.iter_mut().skip(1) {
@@ -525,7 +257,7 @@ mod tests {
         }
     }
 
-    fn fixed(h: f64, n: u32) -> (f64, MersonStats) {
+    fn fixed(h: f64, n: u32) -> (f64, crate::SolverStats) {
         // A tolerance no step fails: a fixed step h.
         let cfg = EnglandConfig {
             tol: Tolerance::scalar(0.0, 1e300),

@@ -1,11 +1,14 @@
 //! Numerics: England's adaptive Runge-Kutta (Appendix D) with its step-size control, its
-//! dense output and events, the classic RK4, and Merson's 4(3) pair for the imaginary axis.
+//! dense output and events, the classic RK4, and embedded pairs as data
+//! (Merson's 4(3) for the imaginary axis, Dormand-Prince's 5(4) for accuracy-limited runs).
 
 pub(crate) mod controller;
 pub(crate) mod dense;
+pub(crate) mod dormand_prince;
 pub(crate) mod england;
 pub(crate) mod events;
 pub(crate) mod imaginary;
+pub(crate) mod pair;
 pub(crate) mod rk4;
 pub(crate) mod system;
 

@@ -47,6 +47,9 @@ pub struct SceneArgs {
     /// scaled by rtol, so the error follows rtol; "thesis": the thesis's rule, uncapped).
     #[arg(long, value_enum, value_name = "CONTROL")]
     pub step_control: Option<StepControlArg>,
+    /// The integration method (default "england", the thesis's).
+    #[arg(long, value_enum, value_name = "METHOD")]
+    pub method: Option<super::MethodArg>,
     /// The follower's model: the full chain, or a reduced scene whose stiff DOFs are
     /// quasi-static (docs/MODEL.md §10; a reduced one implies the vertical scene).
     #[arg(long, value_enum, value_name = "MODEL")]
@@ -103,6 +106,9 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
     }
     if let Some(c) = args.step_control {
         spec.solver.step_control = c.into();
+    }
+    if let Some(m) = args.method {
+        spec.solver.method = m.into();
     }
     if let Some(f) = args.follower {
         spec.dofs.follower = f.into();

@@ -273,8 +273,8 @@ pub fn run_merson<T: Real, S: Scene, const N: usize>(
         nodes.push(sampler, t, y, f)
     })?;
     Ok(Work {
-        accepted: stats.accepted,
-        rejected: stats.rejected,
+        accepted: u64::from(stats.accepted),
+        rejected: u64::from(stats.rejected),
         evals: sys.evals(),
     })
 }

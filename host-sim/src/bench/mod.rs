@@ -458,12 +458,14 @@ impl Memory {
 }
 
 /// Solver settings with `rtol`, atol [`atol_for`] and the default largest step, from
-/// static equilibrium (every run of the bench).
+/// static equilibrium (every run of the bench), on England's method (each bench method
+/// builds its own integrator; what runs through `simulate`, the onsets, is England's).
 pub fn settings<T: Real>(rtol: f64) -> SolverSettings<T> {
     SolverSettings {
         rtol: T::from_f64(rtol),
         atol: T::from_f64(atol_for(rtol)),
         start: Start::Static,
+        method: camsim_core::Method::England,
         ..SolverSettings::reference()
     }
 }

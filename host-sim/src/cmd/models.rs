@@ -61,6 +61,7 @@ pub fn scene_settings(rtol: f64) -> SolverSettings<f64> {
         // The chip's control too: at these tolerances accuracy holds the step, and the
         // scenes' adequacy figures stay those of the thesis's rule.
         step_control: StepRule::Thesis,
+        method: camsim_core::Method::England,
     }
 }
 

@@ -211,6 +211,9 @@ pub struct RunReport {
     /// Solver relative tolerance (text only).
     #[serde(skip)]
     pub rtol: f64,
+    /// The integration method (`solver.method`; text only, the JSON's scene has it).
+    #[serde(skip)]
+    pub method: &'static str,
     /// Solver absolute tolerance, in (text only).
     #[serde(skip)]
     pub atol_in: f64,
@@ -255,6 +258,7 @@ impl RunReport {
             revolutions: spec.revolutions,
             dofs: result.scene.dofs,
             rtol: spec.solver.rtol,
+            method: spec.solver.method.name(),
             atol_in: spec.solver.atol,
             periods: sim::period_names(&spec.design),
         }
@@ -651,10 +655,20 @@ impl Report for RunReport {
         }
         let _ = writeln!(
             out,
-            "solver: England adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
-            self.rtol, crate::units::given(crate::units::LENGTH, self.atol_in), crate::units::symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
+            "solver: {} adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
+            method_title(self.method), self.rtol, crate::units::given(crate::units::LENGTH, self.atol_in), crate::units::symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
         );
         let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
         out
+    }
+}
+
+/// The solver line's name of a method (`solver.method`): "England" as before.
+fn method_title(name: &str) -> &str {
+    match name {
+        "england" => "England",
+        "merson" => "Merson 4(3)",
+        "dormand-prince" => "Dormand-Prince 5(4)",
+        other => other,
     }
 }

@@ -1,0 +1,148 @@
+//! The integration method of a run ([`Method`], scene key `[solver] method`) and the one
+//! solver a run holds ([`RunSolver`]): England's method (the thesis's), Merson's 4(3) pair
+//! (for the imaginary axis) or Dormand and Prince's 5(4) pair (for accuracy-limited runs).
+
+use core::ops::ControlFlow;
+
+use crate::solve::england::Sampler;
+use crate::{
+    Dense, DormandPrince, England, EnglandConfig, Error, Merson, OdeSystem, Real, Result,
+    SolverStats, StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
+};
+
+/// How a run integrates the model (scene key `[solver] method`, option `--method`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
+pub enum Method {
+    /// England's double step (the thesis's "modified Runge-Kutta", Appendix D), its step
+    /// controlled by [`SolverSettings::step_control`](crate::SolverSettings::step_control).
+    #[default]
+    England,
+    /// Merson's 4(3) pair ([`crate::MERSON`]): √12 along the imaginary axis in five
+    /// evaluations. With a capped [`StepRule`] its step is capped at the stiffness limit
+    /// as England's (tolerance-scaled below rtol 1e-5); with `"thesis"` it is not.
+    Merson,
+    /// Dormand and Prince's 5(4) pair ([`crate::DORMAND_PRINCE`]): order 5 in six
+    /// evaluations, for a step held by accuracy (the chip's); no stiffness cap.
+    DormandPrince,
+}
+
+impl Method {
+    /// Every method, in the order the documentation lists them.
+    pub const ALL: [Method; 3] = [Method::England, Method::Merson, Method::DormandPrince];
+
+    /// The scene file's name: `"england"`, `"merson"`, `"dormand-prince"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::England => "england",
+            Method::Merson => "merson",
+            Method::DormandPrince => "dormand-prince",
+        }
+    }
+
+    /// The method of a scene file's name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// The solver of one run, built from its settings.
+#[derive(Clone, Debug)]
+pub(crate) enum RunSolver<T, const N: usize> {
+    /// England's method.
+    England(England<T, N>),
+    /// Merson's pair.
+    Merson(Merson<T, N>),
+    /// Dormand and Prince's pair.
+    DormandPrince(DormandPrince<T, N>),
+}
+
+impl<T: Real, const N: usize> RunSolver<T, N> {
+    /// The solver of `method` on `config` (England's double-step sizes; a pair's single
+    /// step is half of one, so that its samples are as dense; the budget counts each
+    /// method's own steps), England's step controlled by `rule`.
+    pub(crate) fn new(method: Method, rule: StepRule, config: EnglandConfig<T, N>) -> Result<Self> {
+        let single = EnglandConfig {
+            h_init: config.h_init * T::HALF,
+            h_min: config.h_min * T::HALF,
+            h_max: config.h_max * T::HALF,
+            ..config
+        };
+        Ok(match method {
+            Method::England => RunSolver::England(England::with_control(config, rule.control())?),
+            Method::Merson => RunSolver::Merson(match rule {
+                StepRule::Thesis => Merson::new(single)?,
+                StepRule::ScaledCap | StepRule::PiScaledCap => Merson::with_cap(
+                    single,
+                    StiffnessCap::tolerance_scaled(T::from_f64(SCALED_CAP_FULL_RTOL)),
+                )?,
+            }),
+            Method::DormandPrince => {
+                RunSolver::DormandPrince(DormandPrince::dormand_prince(single)?)
+            }
+        })
+    }
+
+    /// The counters of the last integration.
+    pub(crate) fn stats(&self) -> SolverStats {
+        match self {
+            RunSolver::England(s) => s.stats(),
+            RunSolver::Merson(s) => s.stats(),
+            RunSolver::DormandPrince(s) => s.stats(),
+        }
+    }
+
+    /// England's solver, for what only it provides (event location); an error naming
+    /// the setting otherwise.
+    pub(crate) fn england(&mut self) -> Result<&mut England<T, N>> {
+        match self {
+            RunSolver::England(s) => Ok(s),
+            _ => Err(Error::InvalidParameter {
+                field: crate::key::METHOD,
+                rule: "contact-event location runs on England's dense output: set method = \"england\"",
+                value: f64::NAN,
+            }),
+        }
+    }
+
+    /// Integrates with `sampler` evaluating and shown every sample: the start, then the
+    /// midpoint and end of each England double step, or the end of each pair step.
+    pub(crate) fn integrate_shared<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &mut [T; N],
+        t_end: T,
+        sampler: &mut dyn Sampler<T, N>,
+    ) -> Result<SolverStats> {
+        match self {
+            RunSolver::England(s) => s.integrate_shared(sys, t0, y, t_end, sampler),
+            RunSolver::Merson(s) => s.integrate_shared(sys, t0, y, t_end, sampler),
+            RunSolver::DormandPrince(s) => s.integrate_shared(sys, t0, y, t_end, sampler),
+        }
+    }
+
+    /// Integrates with `observer` given each accepted step's continuous extension.
+    pub(crate) fn integrate_dense<S, F>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &mut [T; N],
+        t_end: T,
+        observer: F,
+    ) -> Result<SolverStats>
+    where
+        S: OdeSystem<T, N>,
+        F: FnMut(&Dense<'_, T, N>) -> ControlFlow<()>,
+    {
+        match self {
+            RunSolver::England(s) => s.integrate_dense(sys, t0, y, t_end, observer),
+            RunSolver::Merson(s) => s.integrate_dense(sys, t0, y, t_end, observer),
+            RunSolver::DormandPrince(s) => s.integrate_dense(sys, t0, y, t_end, observer),
+        }
+    }
+}
