@@ -123,10 +123,10 @@ impl From<StepControlArg> for camsim_core::StepRule {
 /// `solver.method`, docs/MODEL.md §3.16).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
-    /// England's double step, the thesis's method (the default).
+    /// England's double step, the thesis's method.
     England,
-    /// Merson's 4(3) pair, built for the imaginary axis (capped at the stiffness limit
-    /// unless --step-control thesis).
+    /// Merson's 4(3) pair, built for the imaginary axis (the default; capped at the
+    /// stiffness limit unless --step-control thesis).
     Merson,
     /// Dormand and Prince's 5(4) pair, for a step held by accuracy.
     DormandPrince,

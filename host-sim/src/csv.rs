@@ -259,7 +259,8 @@ pub const ROW_BYTES: u64 = 850;
 pub const STEPS_PER_REV: f64 = 60_000.0;
 
 /// The rows `--csv` is expected to get for `spec`, before it runs: two samples per
-/// accepted double step, [`STEPS_PER_REV`] steps per revolution at rtol 1e-6, scaled
+/// accepted England double step (Merson's pair, the default, takes about 1.6 times as many
+/// single steps with one sample each: fewer rows), [`STEPS_PER_REV`] steps per revolution at rtol 1e-6, scaled
 /// by (1e-6 / rtol)^(1/4) for tighter tolerances (England's method is of fourth order;
 /// looser ones do not take fewer steps, the dynamics bound them), at least the
 /// 1 / `max_step_fraction_rev` steps the step cap forces and at most the step budget.

@@ -229,13 +229,14 @@ fn check_run<T: Real, S: Scene, const N: usize>(
                 "{steps} steps on a budget of {}",
                 r.budget
             );
-            // England's count: 9 per accepted, 7 per rejected double step, plus the default
-            // control's stiffness estimates (at most 1 + 20 power iterations each: one at
-            // the start, every 25 accepted steps, after a rejection at the cap).
-            let england = 9 * stats.accepted + 7 * stats.rejected;
-            let estimates = 1 + stats.accepted / 25 + stats.rejected;
-            prop_assert!(stats.rhs_evals > england);
-            prop_assert!(stats.rhs_evals <= england + 21 * estimates);
+            // The default method's count (Merson's pair): the start, 5 per accepted step
+            // (4 stages and the end point's derivative), 4 per rejected one, plus the
+            // default control's stiffness estimates (at most 1 + 20 power iterations
+            // each: one at the start and one every 25 accepted steps).
+            let merson = 1 + 5 * stats.accepted + 4 * stats.rejected;
+            let estimates = 1 + stats.accepted / 25;
+            prop_assert!(stats.rhs_evals > merson);
+            prop_assert!(stats.rhs_evals <= merson + 21 * estimates);
             Ok(Outcome::Completed)
         }
         Err(Error::StepBudgetExceeded { steps, .. }) => {

@@ -20,11 +20,12 @@ use crate::{
 pub enum Method {
     /// England's double step (the thesis's "modified Runge-Kutta", Appendix D), its step
     /// controlled by [`SolverSettings::step_control`](crate::SolverSettings::step_control).
-    #[default]
     England,
     /// Merson's 4(3) pair ([`crate::MERSON`]): √12 along the imaginary axis in five
     /// evaluations. With a capped [`StepRule`] its step is capped at the stiffness limit
-    /// as England's (tolerance-scaled below rtol 1e-5); with `"thesis"` it is not.
+    /// as England's (tolerance-scaled below rtol 1e-5); with `"thesis"` it is not. The
+    /// default ([`crate::SolverSettings::reference`] says why).
+    #[default]
     Merson,
     /// Dormand and Prince's 5(4) pair ([`crate::DORMAND_PRINCE`]): order 5 in six
     /// evaluations, for a step held by accuracy (the chip's); no stiffness cap.
