@@ -149,6 +149,12 @@ impl std::fmt::Display for Quantity {
             Some(t) if t.bytes().all(|b| b == b'0' || b == b'.') => t.to_string(),
             _ => s,
         };
+        // `{:+}` signs a positive value (and a zero) as `+`, as f64's does.
+        let s = if f.sign_plus() && !s.starts_with('-') && !s.starts_with('N') {
+            format!("+{s}")
+        } else {
+            s
+        };
         f.pad(&s)
     }
 }
