@@ -157,7 +157,8 @@ pub fn default_text_si() -> Result<String> {
         "# camsim scene: the reference design of Kim (1982), VI.1, with the documented choices\n\
          # for what the thesis leaves out (core/src/model/design.rs). Units are in the key names\n\
          # (SI: mm, N, kg, MPa, second, radian), converted from the thesis's inch family by the\n\
-         # exact factors (1 in = 25.4 mm, 1 lbf = 4.4482216152605 N) to 10 significant digits;\n\
+         # exact factors (25.4 mm to the inch, 4.4482216152605 N to the pound-force) to 10\n\
+         # significant digits;\n\
          # every key with a unit also reads in the inch family (base_radius_in, spring_rate_lb_per_in).\n\
          # Every key is optional: absent keys take these\n\
          # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
