@@ -112,6 +112,14 @@ smoke scene scene --default
 smoke scene-json scene --default --json --units si
 smoke run-si run --revolutions 1 --json --units si
 smoke run-si-text run --revolutions 1 --units si
+# The scene in SI keys reads back (scene --check) and runs; bench's text and plots in SI.
+smoke scene-si scene --default --units si
+"$C" scene --check "$studies/scene-si.out" > /dev/null
+grep -q '^base_radius_mm = 38.1 ' "$studies/scene-si.out" || { echo "smoke: scene --units si does not write base_radius_mm" >&2; exit 1; }
+smoke bench-si bench --quick --repeat 1 --units si --plot "$studies/bench-si"
+for f in error_vs_evals.png error_vs_time.png error_vs_cpu_time.png; do
+    test -s "$studies/bench-si/$f" || { echo "smoke: bench --plot wrote no $f" >&2; exit 1; }
+done
 "$C" scene --check scenes/stable-4567-rise.toml > /dev/null
 smoke bench bench --quick --json
 smoke models models --quick --json

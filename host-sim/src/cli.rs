@@ -19,8 +19,10 @@ pub struct Cli {
     pub command: Command,
     /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
     /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), the tables of
-    /// run, sweep, jump-speed, laws, modal and contact, the --csv of run and sweep, and
-    /// profile's drawing; the other tables are inch only (si needs --json there).
+    /// run, sweep, jump-speed, laws, modal, contact, models, bench, predict and waviness,
+    /// the scene file of scene (SI keys), the --csv of run and sweep, and profile's and
+    /// bench's plots (firmware-check has no unit to convert); the other tables are inch
+    /// only (si needs --json there).
     #[arg(
         long,
         global = true,
@@ -102,16 +104,13 @@ fn inch_only_text(command: &Command) -> Option<&'static str> {
     match command {
         Command::Run(_) | Command::JumpSpeed(_) | Command::Profile(_) => None,
         Command::Laws(_) | Command::Sweep(_) | Command::Modal(_) | Command::Contact(_) => None,
-        Command::Scene(_) => Some("scene"),
-        Command::Bench(_) => Some("bench"),
-        Command::Models(_) | Command::Scenes(_) => Some("models"),
-        Command::Predict(_) => Some("predict"),
-        Command::FirmwareCheck(_) => Some("firmware-check"),
+        Command::Scene(_) | Command::Bench(_) | Command::Models(_) | Command::Scenes(_) => None,
+        // firmware-check prints bytes, instructions and rpm: nothing to convert.
+        Command::Predict(_) | Command::Waviness(_) | Command::FirmwareCheck(_) => None,
         Command::Montecarlo(_) => Some("montecarlo"),
         Command::Compare(_) => Some("compare"),
         Command::ToleranceStudy(_) => Some("tolerance-study"),
         Command::Sensitivity(_) => Some("sensitivity"),
-        Command::Waviness(_) => Some("waviness"),
         Command::Design(_) => Some("design"),
     }
 }

@@ -153,3 +153,76 @@ pub fn default_text() -> Result<String> {
          # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, lift_in.\n\n{body}"
     ))
 }
+
+/// The reference design as TOML text in SI keys (`camsim scene --default --units si`).
+pub fn default_text_si() -> Result<String> {
+    let body = in_si(&spec_text(&RunSpec::reference())?);
+    Ok(format!(
+        "# camsim scene: the reference design of Kim (1982), VI.1, with the documented choices\n\
+         # for what the thesis leaves out (core/src/model/design.rs). Units are in the key names\n\
+         # (SI: mm, N, kg, MPa, second, radian), converted from the thesis's inch family by the\n\
+         # exact factors (25.4 mm to the inch, 4.4482216152605 N to the pound-force) to 10\n\
+         # significant digits;\n\
+         # every key with a unit also reads in the inch family (base_radius_in, spring_rate_lb_per_in).\n\
+         # Every key is optional: absent keys take these\n\
+         # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
+         # (and moves the regulated drive's reference with it, like --rpm).\n\
+         # drive: \"constant-cam-speed\", \"constant-motor-speed\" or a [design.drive.regulated] table.\n\
+         # program: [[design.program.segment]] with kind \"dwell\", \"rise\" or \"return\",\n\
+         # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, lift_mm.\n\n{body}"
+    ))
+}
+
+/// Significant digits of a value written in SI: the conversion's rounding (5e-10
+/// relative) is far below the solver's tolerance, so the file reads back to the same
+/// results; a value exact in SI (1.5 in = 38.1 mm) prints exactly.
+const SI_DIGITS: usize = 10;
+
+/// A value of a scene written in SI: [`SI_DIGITS`] significant digits, trailing zeros
+/// dropped, always with a decimal point (a TOML float).
+fn si_number(v: f64) -> String {
+    let rounded: f64 = format!("{v:.*e}", SI_DIGITS - 1).parse().unwrap_or(v);
+    let s = format!("{rounded}");
+    if s.contains('.') || s.contains("inf") || s.contains("NaN") {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+/// Scene text (as [`spec_text`] writes it, inch keys) with every key of the scene files'
+/// unit table ([`camsim_scene_file::units::UNIT_KEYS`]) in its SI name
+/// ([`crate::units::key_in`]) and its value converted; the comments and the keys without
+/// a unit are kept.
+pub fn in_si(text: &str) -> String {
+    use camsim_scene_file::units::lookup;
+    let mut table = String::new();
+    let mut out = String::with_capacity(text.len());
+    for line in text.lines() {
+        let t = line.trim();
+        if let Some(name) = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")) {
+            table = name.to_string();
+        } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+            table = name.to_string();
+        }
+        let converted = line.split_once(" = ").and_then(|(key, rest)| {
+            let (value, comment) = match rest.split_once("  #") {
+                Some((v, c)) => (v, Some(c)),
+                None => (rest, None),
+            };
+            // Only a key the reader converts (its table's), with a number.
+            lookup(&table, key.trim())?;
+            let x: f64 = value.trim().parse().ok()?;
+            let (si_key, factor) = crate::units::key_in(key.trim(), crate::units::Units::Si);
+            let mut l = format!("{si_key} = {}", si_number(x * factor));
+            if let Some(c) = comment {
+                l.push_str("  #");
+                l.push_str(c);
+            }
+            Some(l)
+        });
+        out.push_str(converted.as_deref().unwrap_or(line));
+        out.push('\n');
+    }
+    out
+}

@@ -149,6 +149,12 @@ impl std::fmt::Display for Quantity {
             Some(t) if t.bytes().all(|b| b == b'0' || b == b'.') => t.to_string(),
             _ => s,
         };
+        // `{:+}` signs a positive value (and a zero) as `+`, as f64's does.
+        let s = if f.sign_plus() && !s.starts_with('-') && !s.starts_with('N') {
+            format!("+{s}")
+        } else {
+            s
+        };
         f.pad(&s)
     }
 }
@@ -412,6 +418,30 @@ mod tests {
             inch["nested"][0]["rms_displacement_in"],
             serde_json::json!(2.0)
         );
+    }
+
+    #[test]
+    fn key_in_names_and_scales_every_scene_key_as_the_reader_does() {
+        // `camsim scene --units si` writes each key by key_in; the scene reader converts
+        // by camsim_scene_file's table: the two agree on every dimensional key.
+        for k in camsim_scene_file::units::UNIT_KEYS {
+            let (name, factor) = key_in(k.inch(), Units::Si);
+            assert_eq!(name, k.si(), "{}", k.inch());
+            assert_eq!(factor, k.unit.si_per_inch, "{}", k.inch());
+            // An SI key is its own SI name: nothing converts twice.
+            assert_eq!(key_in(&name, Units::Si), (name.clone(), 1.0));
+        }
+    }
+
+    #[test]
+    fn a_signed_quantity_prints_plus_and_never_minus_zero() {
+        let q = |value: f64, decimals: usize| Quantity { value, decimals };
+        assert_eq!(format!("{:+}", q(-0.0001, 3)), "+0.000");
+        assert_eq!(format!("{:+}", q(0.0, 2)), "+0.00");
+        assert_eq!(format!("{:>+8}", q(-0.374, 3)), "  -0.374");
+        assert_eq!(format!("{:>+8}", q(1.66, 2)), "   +1.66");
+        assert_eq!(format!("{}", q(-0.0001, 3)), "0.000");
+        assert_eq!(format!("{:+}", q(f64::NAN, 2)), "NaN");
     }
 
     #[test]

@@ -3,8 +3,8 @@
 //! text's numbers times factors written here from the definitions (1 in = 25.4 mm,
 //! 1 lbf = 0.45359237 kg x 9.80665 m/s^2), to the rounding of the two printed values.
 //!
-//! The unit family is one process-wide setting (`--units`), so everything here runs in
-//! one test, one command after the other.
+//! The unit family is one process-wide setting (`--units`): each test holds
+//! [`units_lock`] while it runs, so they run one after the other.
 
 use camsim::cli::{self, Command};
 use camsim::cmd::run;
@@ -15,6 +15,22 @@ const IN_MM: f64 = 25.4;
 const LBF_N: f64 = 0.453_592_37 * 9.806_65;
 const PSI_MPA: f64 = LBF_N / (IN_MM * IN_MM);
 const LBIN_NM: f64 = LBF_N * IN_MM / 1000.0;
+
+/// The process's unit family is shared: a test that sets it holds this.
+fn units_lock() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// `f`'s text in inch and in SI.
+fn both(f: impl Fn() -> String) -> (String, String) {
+    units::set(Units::Inch);
+    let inch = f();
+    units::set(Units::Si);
+    let si = f();
+    units::set(Units::Inch);
+    (inch, si)
+}
 
 fn run_text(units: Units) -> String {
     units::set(units);
@@ -77,7 +93,7 @@ fn period_rows(text: &str, rev: u32) -> Vec<Vec<String>> {
 /// A unit of the inch family left in text printed in SI: a token that is an inch unit
 /// (`lb`, `psi`, `lb/in`, `in/s^2`, ...), or `in` after a number (`1.5 in`).
 fn inch_label(text: &str) -> Option<String> {
-    const INCH: [&str; 12] = [
+    const INCH: [&str; 13] = [
         "lb",
         "psi",
         "hp",
@@ -90,6 +106,7 @@ fn inch_label(text: &str) -> Option<String> {
         "lb*in*s^2",
         "lb*s^2/in",
         "in^2",
+        "in/s²",
     ];
     for line in text.lines() {
         let tokens: Vec<&str> = line
@@ -131,6 +148,7 @@ fn csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
 
 #[test]
 fn si_text_and_csv_are_the_inch_numbers_converted() {
+    let _units = units_lock();
     // --- run: the per-period table, column by column.
     let (inch, si) = (run_text(Units::Inch), run_text(Units::Si));
     assert!(
@@ -310,4 +328,380 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     }
     // ... which in inch do name inch units.
     assert!(inch_label(&camsim::cmd::laws::report().text()).is_some());
+}
+
+/// The table rows of `text` between the line starting with `header` and the first line
+/// starting with `end`: whitespace-split fields.
+fn rows(text: &str, header: &str, end: &str) -> Vec<Vec<String>> {
+    text.lines()
+        .skip_while(|l| !l.starts_with(header))
+        .skip(1)
+        .take_while(|l| !l.starts_with(end))
+        .map(|l| l.split_whitespace().map(str::to_string).collect())
+        .collect()
+}
+
+/// The predictor's text in inch and SI: the table's forces, the interpolation checks'
+/// and every reading's force margin are the inch ones in N; the rest is the same.
+fn predict_agrees(inch: &str, si: &str) -> usize {
+    assert!(inch.contains("min F, lb"), "{inch}");
+    assert!(si.contains("min F, N"), "{si}");
+    assert_eq!(inch_label(si), None, "{si}");
+    let mut checked = 0;
+    let (ri, rs) = (
+        rows(inch, "     rpm", "jump onset"),
+        rows(si, "     rpm", "jump onset"),
+    );
+    assert_eq!(ri.len(), 10, "{inch}");
+    assert_eq!(rs.len(), ri.len());
+    for (a, b) in ri.iter().zip(&rs) {
+        assert_eq!(a[0], b[0]);
+        agrees(&a[1], &b[1], LBF_N, &format!("min F at {} rpm", a[0]));
+        assert_eq!(a[2..], b[2..]);
+        checked += 1;
+    }
+    let lines = |t: &str| -> Vec<Vec<String>> {
+        t.lines()
+            .map(|l| l.split_whitespace().map(str::to_string).collect())
+            .collect()
+    };
+    let (li, ls) = (lines(inch), lines(si));
+    assert_eq!(li.len(), ls.len());
+    for (a, b) in li.iter().zip(&ls) {
+        let forces: &[usize] = match a.first().map(String::as_str) {
+            // interpolation check at R rpm: force I (interp) vs D (direct) lb, |err| E lb; ...
+            Some("interpolation") => &[6, 9, 13],
+            // speed R rpm: force margin F lb, ...
+            Some("speed") if a.get(3).is_some_and(|w| w == "force") => &[5],
+            _ => &[],
+        };
+        for &k in forces {
+            agrees(&a[k], &b[k], LBF_N, &a.join(" "));
+            checked += 1;
+        }
+        // Every other word of these lines is the same (the units named apart).
+        if forces.is_empty() {
+            continue;
+        }
+        for (k, (x, y)) in a.iter().zip(b).enumerate() {
+            if !forces.contains(&k) && !x.starts_with("lb") {
+                assert_eq!(x, y, "{}", a.join(" "));
+            }
+        }
+    }
+    checked
+}
+
+#[test]
+fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
+    let _units = units_lock();
+    use camsim::cmd::{models, predict, waviness};
+
+    // --- predict, f64 and f32 (the chip's): one computation, printed in both families.
+    let p = predict::compute::<f64>(None, None).unwrap();
+    let r = predict::report(&p, false, predict::REFERENCE_SCENE);
+    let (inch, si) = both(|| predict::render_text(&r));
+    // 10 rows, 3 interpolation checks x 3 forces, every vouched reading.
+    let n = predict_agrees(&inch, &si);
+    assert!(n >= 10 + 9 + 10, "{n}");
+    let p = predict::compute::<f32>(None, None).unwrap();
+    let r = predict::report(&p, true, predict::REFERENCE_SCENE);
+    let (inch, si) = both(|| predict::render_text(&r));
+    predict_agrees(&inch, &si);
+    // A force that rounds to zero (950 rpm jumps) prints 0, never -0.
+    assert!(!si.contains("-0.000 "), "{si}");
+
+    // --- waviness: the radii of curvature and the stated lengths.
+    let w = waviness::report(&waviness::Args {
+        seeds: vec![1],
+        json: false,
+    })
+    .unwrap();
+    let (inch, si) = both(|| camsim::report::Report::text(&w));
+    // VI.1's tolerances, 0.0005, 0.0001 and 0.001 in, in mm.
+    assert!(
+        si.contains("(cam ±0.0127, roller ±0.00254, eccentricity ±0.0254 mm)"),
+        "{si}"
+    );
+    assert!(inch.contains("(cam ±0.0005, roller ±0.0001, eccentricity ±0.001 in)"));
+    // The roller's radius, 0.375 in.
+    assert!(si.contains("Roller radius 9.525 mm"), "{si}");
+    let (ri, rs) = (
+        rows(&inch, "     deg", "crit. 3"),
+        rows(&si, "     deg", "crit. 3"),
+    );
+    assert_eq!(ri.len(), 15);
+    assert_eq!(rs.len(), 15);
+    for (a, b) in ri.iter().zip(&rs) {
+        agrees(&a[5], &b[5], IN_MM, &format!("rho_p at {} deg", a[0]));
+        agrees(&a[8], &b[8], IN_MM, &format!("rho_y at {} deg", a[0]));
+        assert_eq!(a[..5], b[..5]);
+        assert_eq!(a[6..8], b[6..8]);
+    }
+    assert_eq!(inch_label(&si), None, "{si}");
+    assert!(inch_label(&inch).is_some());
+
+    // --- models: a report of known numbers (measuring takes seconds), printed in both.
+    let row = |scene: &str, fmin_err_lb: f64, acc_rms_err: f64| models::SceneRow {
+        scene: scene.into(),
+        follower: "full",
+        dofs: 11,
+        states: 22,
+        model_bytes: 1376,
+        solver_bytes: 2344,
+        model_f32_bytes: 704,
+        solver_f32_bytes: 1188,
+        rtol: 1e-3,
+        steps_per_rev: 4271.0,
+        rejected_pct: 15.1,
+        rhs_evals_per_rev: 43774.0,
+        ms_2rev: 15.76,
+        stiffest_rad_s: 3.597e5,
+        stiffest_eigenvalue: [-2.8e3, 3.597e5],
+        limit_steps_per_rev: 3562.0,
+        onset_rpm: 901.76,
+        onset_err_pct: 0.0,
+        model_onset_rpm: 901.76,
+        model_onset_err_pct: 0.0,
+        fmin_lb: 36.891,
+        fmin_err_lb,
+        timing_err_deg: 1.86e-5,
+        acc_rms_err,
+        acc_rms_rel: acc_rms_err / 6543.6,
+        ok_onset: true,
+        ok_fmin: true,
+        ok_timing: true,
+        ok_acc: true,
+    };
+    let m = models::ScenesReport {
+        rpm: 800.0,
+        quick: true,
+        reference: models::SceneReference {
+            rtol: 1e-9,
+            onset_rpm: 901.76,
+            fmin_lb: 36.891,
+            timing_deg: [0.0; camsim_core::TIMING_POINTS],
+            acc_rms: 6543.6,
+        },
+        // A force error that rounds to zero (either sign), and one that does not.
+        rows: vec![
+            row("full", -1e-6, 2.06e-2),
+            row("vertical", 1e-6, 2.08e-1),
+            row("quasi-static-rod", -0.374, 1.36e2),
+        ],
+        seconds: 5.0,
+    };
+    let (inch, si) = both(|| camsim::report::Report::text(&m));
+    // 36.891 lb, 1 lb, 6543.6 in/s², 1e-8 in.
+    assert!(si.contains("smallest contact force 164.10 N"), "{si}");
+    assert!(si.contains("Fmin within 4.45 N"), "{si}");
+    assert!(si.contains("RMS 1.6621e5 mm/s²"), "{si}");
+    assert!(si.contains("atol 2.54e-7 mm"), "{si}");
+    assert!(inch.contains("atol 1e-8 in"), "{inch}");
+    let (ri, rs) = (rows(&inch, "scene ", "\n"), rows(&si, "scene ", "\n"));
+    let (ri, rs) = (&ri[..3], &rs[..3]);
+    for (a, b) in ri.iter().zip(rs) {
+        assert_eq!(a.len(), 18, "{a:?}");
+        agrees(&a[15], &b[15], LBF_N, &format!("{} Fmin err", a[0]));
+        agrees(&a[17], &b[17], IN_MM, &format!("{} acc err", a[0]));
+        assert_eq!(a[..15], b[..15]);
+    }
+    // Zero to the printed digits is +0, whatever its sign.
+    assert_eq!(
+        (ri[0][15].as_str(), rs[0][15].as_str()),
+        ("+0.000", "+0.00")
+    );
+    assert_eq!(
+        (ri[1][15].as_str(), rs[1][15].as_str()),
+        ("+0.000", "+0.00")
+    );
+    assert_eq!(
+        (ri[2][15].as_str(), rs[2][15].as_str()),
+        ("-0.374", "-1.66")
+    );
+    assert_eq!(inch_label(&si), None, "{si}");
+    assert!(inch_label(&inch).is_some());
+
+    // --- bench --quick (one repetition: the error columns, not the times).
+    let b = camsim::bench::measure(&camsim::bench::Options {
+        rpm: 500.0,
+        quick: true,
+        repeat: 1,
+        onset: false,
+        allow_long: false,
+        progress: false,
+    })
+    .unwrap();
+    let (inch, si) = both(|| camsim::report::Report::text(&b));
+    let line = |t: &str, key: &str| -> Vec<String> {
+        t.lines()
+            .find(|l| l.contains(key))
+            .unwrap_or_else(|| panic!("{key}: {t}"))
+            .split_whitespace()
+            .map(str::to_string)
+            .collect()
+    };
+    // X in (displacement RMS), Y in/s² (acceleration RMS), Z lb (smallest contact force).
+    let (a, c) = (
+        line(&inch, "(displacement RMS)"),
+        line(&si, "(displacement RMS)"),
+    );
+    assert_eq!(
+        (c[1].as_str(), c[5].as_str(), c[9].as_str()),
+        ("mm", "mm/s²", "N")
+    );
+    for (k, f) in [(0, IN_MM), (4, IN_MM), (8, LBF_N)] {
+        agrees(&a[k], &c[k], f, "the references' difference");
+    }
+    // signal RMS D in and A in/s², smallest contact force F lb.
+    let (a, c) = (line(&inch, "signal RMS"), line(&si, "signal RMS"));
+    for (k, f) in [(2, IN_MM), (5, IN_MM), (10, LBF_N)] {
+        agrees(&a[k], &c[k], f, "the reference's signal");
+    }
+    assert!(si.contains("(atol 2.54e-15 mm)"), "{si}");
+    assert!(si.contains("against the reference, mm, mm/s², N;"), "{si}");
+    let (ri, rs) = (
+        rows(&inch, "method ", "at equal"),
+        rows(&si, "method ", "at equal"),
+    );
+    assert!(ri.len() >= 20, "{inch}");
+    assert_eq!(ri.len(), rs.len());
+    let mut checked = 0;
+    for (a, b) in ri.iter().zip(&rs) {
+        if a.last().is_some_and(|w| w.ends_with(')')) || a.iter().any(|w| w == "failed:") {
+            continue; // lost contact, or a failed run
+        }
+        let n = a.len();
+        for (k, f) in [(n - 4, IN_MM), (n - 3, IN_MM), (n - 2, LBF_N)] {
+            agrees(&a[k], &b[k], f, &a.join(" "));
+            checked += 1;
+        }
+        // Method, scene, tolerance and the work columns.
+        assert_eq!(a[..n - 7], b[..n - 7]);
+    }
+    assert!(checked >= 60, "{checked}");
+    assert_eq!(inch_label(&si), None, "{si}");
+    assert!(inch_label(&inch).is_some());
+
+    // --- scene --units si: every key in SI, read back to the same design.
+    use camsim::scene;
+    units::set(Units::Si);
+    let default_si = scene::default_text_si().unwrap();
+    let check_si = scene::in_si(&scene::spec_text(&camsim::sim::RunSpec::reference()).unwrap());
+    units::set(Units::Inch);
+    let value_of = |t: &str, key: &str| -> f64 {
+        let l = t
+            .lines()
+            .find(|l| l.starts_with(&format!("{key} = ")))
+            .unwrap_or_else(|| panic!("{key}: {t}"));
+        l.split_whitespace().nth(2).unwrap().parse().unwrap()
+    };
+    for text in [&default_si, &check_si] {
+        // 1.5 in, 100 lb/in, 3e7 psi, 0.0291 lb s²/in (mass: lb s²/in = 1 lbf / (in/s²)),
+        // 1e-8 in, each to 10 significant digits.
+        let close = |a: f64, b: f64| (a - b).abs() <= 5e-10 * b.abs();
+        assert_eq!(value_of(text, "base_radius_mm"), 38.1);
+        assert!(close(
+            value_of(text, "spring_rate_n_per_mm"),
+            100.0 * LBF_N / IN_MM
+        ));
+        assert!(close(value_of(text, "follower_youngs_mpa"), 3e7 * PSI_MPA));
+        assert!(close(
+            value_of(text, "cam_mass_kg"),
+            0.0291 * LBF_N / (IN_MM / 1000.0)
+        ));
+        assert!(close(value_of(text, "atol_mm"), 1e-8 * IN_MM));
+        assert_eq!(value_of(text, "lift_mm"), 0.0);
+        assert_eq!(value_of(text, "start_deg"), 0.0);
+        // No key of the inch family is left: every `key = number` is its own SI name.
+        for l in text.lines().filter(|l| !l.starts_with('#')) {
+            if let Some((k, _)) = l.split_once(" = ") {
+                assert_eq!(units::key_in(k, Units::Si).0, k, "{l}");
+            }
+        }
+        assert_eq!(inch_label(text), None, "{text}");
+        // It reads back to the reference design, to the 10 digits written.
+        let back = scene::parse(text).unwrap();
+        let reference = camsim::sim::RunSpec::reference();
+        let (x, y) = (
+            serde_json::to_value(&back.design).unwrap(),
+            serde_json::to_value(&reference.design).unwrap(),
+        );
+        let mut compared = 0;
+        same_numbers(&x, &y, "design", &mut compared);
+        assert!(compared > 50, "{compared}");
+        assert_eq!(back.revolutions, reference.revolutions);
+        assert!(close(back.solver.atol, reference.solver.atol));
+    }
+    assert!(default_si.contains("lift_mm.\n"), "{default_si}");
+
+    // --- firmware-check: bytes, instructions and rpm, the same text in either family,
+    // and --units si accepted without --json.
+    let d = std::env::temp_dir().join(format!("camsim-units-fw-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let (memory_x, log) = (d.join("memory.x"), d.join("boot.log"));
+    std::fs::write(
+        &memory_x,
+        "MEMORY\n{\n  FLASH : ORIGIN = 0x08000000, LENGTH = 256K\n  RAM : ORIGIN = 0x20000000, LENGTH = 64K\n}\n",
+    )
+    .unwrap();
+    std::fs::write(&log, "ERROR boot: table build failed: step budget exceeded\nERROR alarm asserted (LED0 low: true), stopped: boot failed\n").unwrap();
+    let fw = [
+        "camsim",
+        "--units",
+        "si",
+        "firmware-check",
+        "--memory-x",
+        memory_x.to_str().unwrap(),
+        "--boot-fault",
+        log.to_str().unwrap(),
+    ];
+    let Command::FirmwareCheck(a) = cli::parse_from(fw).unwrap().command else {
+        panic!("not firmware-check")
+    };
+    let (inch, si) =
+        both(|| camsim::report::Report::text(&camsim::cmd::firmware_check::report(&a).unwrap()));
+    assert_eq!(inch, si);
+    assert!(si.contains("flash 262144 B, RAM 65536 B"), "{si}");
+    assert_eq!(main(&fw), 0);
+    std::fs::remove_dir_all(&d).unwrap();
+
+    // --- the commands accept --units si (exit 0) where they stopped with exit 2.
+    for argv in [
+        &["camsim", "--units", "si", "scene", "--default"][..],
+        &["camsim", "--units", "si", "predict"],
+        &["camsim", "--units", "si", "waviness", "--seeds", "1"],
+    ] {
+        assert_eq!(main(argv), 0, "{argv:?}");
+    }
+}
+
+/// Every number of `x` equals `y`'s to 5e-10 relative (the scene's 10 digits), the same
+/// keys and strings.
+fn same_numbers(x: &serde_json::Value, y: &serde_json::Value, at: &str, n: &mut usize) {
+    use serde_json::Value;
+    match (x, y) {
+        (Value::Object(a), Value::Object(b)) => {
+            assert_eq!(
+                a.keys().collect::<Vec<_>>(),
+                b.keys().collect::<Vec<_>>(),
+                "{at}"
+            );
+            for (k, v) in a {
+                same_numbers(v, &b[k], &format!("{at}.{k}"), n);
+            }
+        }
+        (Value::Array(a), Value::Array(b)) => {
+            assert_eq!(a.len(), b.len(), "{at}");
+            for (i, (v, w)) in a.iter().zip(b).enumerate() {
+                same_numbers(v, w, &format!("{at}[{i}]"), n);
+            }
+        }
+        (Value::Number(a), Value::Number(b)) => {
+            let (a, b) = (a.as_f64().unwrap(), b.as_f64().unwrap());
+            assert!((a - b).abs() <= 5e-10 * b.abs(), "{at}: {a} vs {b}");
+            *n += 1;
+        }
+        (a, b) => assert_eq!(a, b, "{at}"),
+    }
 }

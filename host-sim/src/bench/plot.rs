@@ -131,9 +131,97 @@ fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
     )
 }
 
+/// Bounds around the values at 1, 2 or 5 times a power of ten (the x axis: the runs'
+/// work or time spans less than a decade, and whole decades would leave most of the
+/// panel empty).
+fn bounds_125(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = v
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    if !(lo.is_finite() && hi > 0.0) {
+        return (1.0, 10.0);
+    }
+    let steps = |x: f64| {
+        let d = 10f64.powf(x.log10().floor());
+        [d, 2.0 * d, 5.0 * d, 10.0 * d]
+    };
+    let below = steps(lo)
+        .into_iter()
+        .filter(|s| *s <= lo * (1.0 + 1e-12))
+        .fold(lo, |_, s| s);
+    let above = steps(hi)
+        .into_iter()
+        .find(|s| *s >= hi * (1.0 - 1e-12))
+        .unwrap_or(hi);
+    if above > below {
+        (below, above)
+    } else {
+        (below, 2.0 * below)
+    }
+}
+
 /// A panel: its y axis title, the quantity (inch family), the references' floor (inch
 /// family) and the factor to the output's units.
 type Panel<'a> = (&'a str, fn(&RunRow) -> f64, f64, f64);
+
+/// Width of the legend column right of each panel, pixels (the legend stays off the data).
+const LEGEND_WIDTH: i32 = 320;
+
+/// One legend entry: its text, colour, whether the line is dashed, and whether its
+/// marker is filled (f64) or open (f32).
+struct Entry {
+    text: String,
+    color: RGBColor,
+    dashed: bool,
+    filled: Option<bool>,
+}
+
+/// Draws `entries` one below the other from the top of `area` (the legend column), each
+/// a line sample with its marker and its text, and `note` under them.
+fn legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    entries: &[Entry],
+    note: &[&str],
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let font = (FONT, 15).into_font().color(&BLACK);
+    let left = |text: &str, x: i32, y: i32| {
+        Text::new(
+            text.to_string(),
+            (x, y),
+            font.clone().pos(plotters::style::text_anchor::Pos::new(
+                plotters::style::text_anchor::HPos::Left,
+                plotters::style::text_anchor::VPos::Center,
+            )),
+        )
+    };
+    let (x0, row) = (6, 19);
+    let mut y = 24;
+    for e in entries {
+        let style = e.color.stroke_width(2);
+        let seg = vec![(x0, y), (x0 + 30, y)];
+        if e.dashed {
+            area.draw(&DashedPathElement::new(seg, 7, 5, style))?;
+        } else {
+            area.draw(&PathElement::new(seg, style))?;
+        }
+        if let Some(filled) = e.filled {
+            let c = (x0 + 15, y);
+            if filled {
+                area.draw(&Circle::new(c, 4, e.color.filled()))?;
+            } else {
+                area.draw(&Circle::new(c, 4, WHITE.filled()))?;
+                area.draw(&Circle::new(c, 4, e.color.stroke_width(1)))?;
+            }
+        }
+        area.draw(&left(&e.text, x0 + 40, y))?;
+        y += row;
+    }
+    for line in note {
+        y += row;
+        area.draw(&left(line, x0, y))?;
+    }
+    Ok(())
+}
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, plotters::coord::Shift>,
@@ -147,20 +235,36 @@ fn draw<DB: DrawingBackend>(
     let (title_area, body) = root.split_vertically(48);
     title_area.titled(title, (FONT, 24))?;
     let areas = body.split_evenly((panels.len(), 1));
-    for (area, (y_desc, y, floor, factor)) in areas.iter().zip(panels) {
-        let mut ls = lines(runs, x, *y, *floor);
-        for l in &mut ls {
-            l.points.iter_mut().for_each(|p| p.1 *= factor);
-        }
+    let panel_lines: Vec<Vec<Line>> = panels
+        .iter()
+        .map(|(_, y, floor, factor)| {
+            let mut ls = lines(runs, x, *y, *floor);
+            for l in &mut ls {
+                l.points.iter_mut().for_each(|p| p.1 *= factor);
+            }
+            ls
+        })
+        .collect();
+    // One x axis for the panels of a figure (each leaves out its own unresolved points).
+    let (x0, x1) = bounds_125(
+        panel_lines
+            .iter()
+            .flatten()
+            .flat_map(|l| l.points.iter().map(|p| p.0)),
+    );
+    for ((area, (y_desc, _, floor, factor)), ls) in areas.iter().zip(panels).zip(&panel_lines) {
+        let (w, _) = area.dim_in_pixel();
+        let (plot_area, legend_area) = area.split_horizontally(w as i32 - LEGEND_WIDTH);
         let floor = &(floor * factor);
-        let (x0, x1) = log_bounds(ls.iter().flat_map(|l| l.points.iter().map(|p| p.0)));
         let (y0, y1) = log_bounds(
             ls.iter()
                 .flat_map(|l| l.points.iter().map(|p| p.1))
                 .chain(std::iter::once(*floor)),
         );
-        let mut chart = ChartBuilder::on(area)
+        let mut chart = ChartBuilder::on(&plot_area)
             .margin(12)
+            // Room for the last x label ("1 000 000") centred on the axis's end.
+            .margin_right(40)
             .x_label_area_size(50)
             .y_label_area_size(90)
             .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
@@ -183,51 +287,59 @@ fn draw<DB: DrawingBackend>(
             .bold_line_style(RGBColor(215, 215, 215))
             .light_line_style(RGBColor(240, 240, 240))
             .draw()?;
+        let mut entries = Vec::new();
         if *floor > 0.0 && floor.is_finite() {
             let grey = RGBColor(120, 120, 120);
-            chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(x0, *floor), (x1, *floor)],
-                    8,
-                    6,
-                    grey.stroke_width(1),
-                ))?
-                .label("the two references differ by")
-                .legend(move |(a, b)| {
-                    DashedPathElement::new(vec![(a, b), (a + 26, b)], 7, 5, grey.stroke_width(2))
-                });
+            chart.draw_series(DashedLineSeries::new(
+                vec![(x0, *floor), (x1, *floor)],
+                8,
+                6,
+                grey.stroke_width(1),
+            ))?;
+            entries.push(Entry {
+                text: "the two references' difference".to_string(),
+                color: grey,
+                dashed: true,
+                filled: None,
+            });
         }
-        for l in &ls {
+        for l in ls {
             let c = l.color;
             let style = c.stroke_width(2);
-            let ann = if l.dashed {
-                chart.draw_series(DashedLineSeries::new(l.points.clone(), 10, 6, style))?
+            if l.dashed {
+                chart.draw_series(DashedLineSeries::new(l.points.clone(), 10, 6, style))?;
             } else {
-                chart.draw_series(LineSeries::new(l.points.clone(), style))?
-            };
-            let dashed = l.dashed;
-            ann.label(l.label.as_str()).legend(move |(a, b)| {
-                if dashed {
-                    DashedPathElement::new(vec![(a, b), (a + 26, b)], 7, 5, c.stroke_width(2))
-                        .into_dyn()
-                } else {
-                    PathElement::new(vec![(a, b), (a + 26, b)], c.stroke_width(2)).into_dyn()
-                }
+                chart.draw_series(LineSeries::new(l.points.clone(), style))?;
+            }
+            // f64: filled markers on a solid line; f32: open markers on a dashed one.
+            let filled = !l.dashed;
+            chart.draw_series(l.points.iter().map(|p| {
+                Circle::new(
+                    *p,
+                    4,
+                    if filled {
+                        c.filled()
+                    } else {
+                        c.stroke_width(2)
+                    },
+                )
+            }))?;
+            entries.push(Entry {
+                text: l.label.clone(),
+                color: c,
+                dashed: l.dashed,
+                filled: Some(filled),
             });
-            chart.draw_series(
-                l.points
-                    .iter()
-                    .map(|p| Circle::new(*p, 4, if dashed { c.into() } else { c.filled() })),
-            )?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .margin(8)
-            .label_font((FONT, 15))
-            .background_style(WHITE.filled())
-            .border_style(RGBColor(160, 160, 160))
-            .draw()?;
+        legend(
+            &legend_area,
+            &entries,
+            &[
+                "open markers, dashed lines: f32;",
+                "points within 10× of the references'",
+                "difference are not drawn",
+            ],
+        )?;
     }
     Ok(())
 }
@@ -304,5 +416,19 @@ mod log_tick_tests {
         assert_eq!(super::log_tick(0.001), "0.001");
         assert_eq!(super::log_tick(1e-5), "1e-5");
         assert_eq!(super::log_tick(1e7), "1e7");
+    }
+
+    #[test]
+    fn x_bounds_are_the_nearest_1_2_5_around_the_data() {
+        let b = |v: &[f64]| super::bounds_125(v.iter().copied());
+        assert_eq!(b(&[107_635.0, 487_893.0]), (100_000.0, 500_000.0));
+        assert_eq!(b(&[14.4, 75.7]), (10.0, 100.0));
+        assert_eq!(b(&[0.9, 1.5]), (0.5, 2.0));
+        // On a bound: that bound.
+        assert_eq!(b(&[200.0, 500.0]), (200.0, 500.0));
+        // One value: an interval around it.
+        assert_eq!(b(&[300.0]), (200.0, 500.0));
+        assert_eq!(b(&[200.0]), (200.0, 400.0));
+        assert_eq!(b(&[]), (1.0, 10.0));
     }
 }

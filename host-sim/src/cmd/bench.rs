@@ -70,8 +70,20 @@ impl Report for BenchReport {
     }
 
     fn text(&self) -> String {
+        use crate::units::{axis, given, q, symbol, value, ACCELERATION, FORCE, LENGTH};
         let mut s = String::new();
         let r = &self.reference;
+        // The errors and signals in the output's family (`--units`); the header names
+        // the units of the error columns.
+        let (len, acc, lb) = (symbol(LENGTH), axis(ACCELERATION).1, symbol(FORCE));
+        let disp_e = |x: f64| e3(value(LENGTH, x));
+        let acc_e = |x: f64| e3(value(ACCELERATION, x));
+        let force_e = |x: f64| e3(value(FORCE, x));
+        // The reference's atol as set (1e-16 in, 2.54e-15 mm).
+        let atol = match crate::units::current() {
+            crate::units::Units::Inch => format!("{:.0e}", r.atol_in),
+            crate::units::Units::Si => format!("{:e}", given(LENGTH, r.atol_in)),
+        };
         let st = &self.stability;
         let _ = writeln!(
             s,
@@ -84,20 +96,19 @@ impl Report for BenchReport {
         );
         let _ = writeln!(
             s,
-            "reference: {} at rtol {:.0e} (atol {:.0e} in), {} steps; {} at the same tolerance differs by\n  \
-             {} in (displacement RMS), {} in/s² (acceleration RMS), {} lb (smallest contact force);\n  \
-             signal RMS {:.4} in and {:.4e} in/s², smallest contact force {:.4} lb",
+            "reference: {} at rtol {:.0e} (atol {atol} {len}), {} steps; {} at the same tolerance differs by\n  \
+             {} {len} (displacement RMS), {} {acc} (acceleration RMS), {} {lb} (smallest contact force);\n  \
+             signal RMS {} {len} and {:.4e} {acc}, smallest contact force {} {lb}",
             r.method,
             r.rtol,
-            r.atol_in,
             r.steps,
             r.confirm_method,
-            e3(r.agree_disp_rms),
-            e3(r.agree_acc_rms),
-            e3(r.agree_force_min_lb),
-            r.signal_disp_rms,
-            r.signal_acc_rms,
-            r.force_min_lb
+            disp_e(r.agree_disp_rms),
+            acc_e(r.agree_acc_rms),
+            force_e(r.agree_force_min_lb),
+            q(LENGTH, r.signal_disp_rms, 4),
+            value(ACCELERATION, r.signal_acc_rms),
+            q(FORCE, r.force_min_lb, 4)
         );
         if let Some(o) = r.jump_onset_rpm {
             let _ = writeln!(
@@ -182,9 +193,9 @@ impl Report for BenchReport {
                 run.rhs_evals,
                 run.wall_ms,
                 run.cpu_ms.map_or("-".to_string(), |c| format!("{c:.1}")),
-                e3(run.err_disp_rms),
-                e3(run.err_acc_rms),
-                e3(run.err_force_min_lb),
+                disp_e(run.err_disp_rms),
+                acc_e(run.err_acc_rms),
+                force_e(run.err_force_min_lb),
                 onset,
                 if run.contact_lost {
                     "  (lost contact)"
@@ -240,7 +251,7 @@ impl Report for BenchReport {
                         e.precision
                     ),
                     e.peer_rtol,
-                    e3(e.err_acc_rms),
+                    acc_e(e.err_acc_rms),
                     e.peer_rhs_evals,
                     e.rhs_evals,
                     e.evals_ratio,
@@ -254,7 +265,8 @@ impl Report for BenchReport {
             s,
             "steps/r2: accepted steps in revolution 2 (England: double steps); xlimit: over the method's stability limit;\n\
              rej%: rejected of attempted steps in revolution 2; rhs evals, wall and CPU time (median): both revolutions;\n\
-             onset err: jump-onset speed against the reference's, rpm\n\
+             disp err, acc err, Fmin err: revolution 2's RMS displacement and acceleration errors and its smallest contact\n\
+             force's error against the reference, {len}, {acc}, {lb}; onset err: jump-onset speed against the reference's, rpm\n\
              memory (fixed, no heap in the core): model {} B and England solver {} B (f64, 22 states); model {} B and\n\
              solver {} B (f32, {} states, the chip's); bench {:.1} s (estimated {:.0} s from its reference run's {:.2} s)",
             m.model_f64_22_bytes,

@@ -17,6 +17,9 @@ use crate::firmware_log::{
 /// Arguments of `camsim firmware-check`.
 #[derive(clap::Args, Debug)]
 #[command(group(ArgGroup::new("what").required(true).multiple(true).args(["product", "budget", "boot_fault", "fits"])))]
+#[command(
+    after_help = "Units: its lines are bytes, instructions, ratios and rpm, the same in either family: --units si changes nothing (and is accepted)."
+)]
 pub struct Args {
     /// The QEMU demonstration image's decoded log and its ELF: the `product` memory line
     /// against `llvm-size -A` and memory.x, the boot cost, the fault reactions.

@@ -375,6 +375,19 @@ pub fn run(args: Args) -> Result<()> {
     crate::report::print(&report, args.json)
 }
 
+/// A stated value in at most 3 significant digits: `1` lb, `4.45` N.
+fn short(x: f64) -> String {
+    let v: f64 = format!("{x:.2e}").parse().unwrap_or(x);
+    format!("{v}")
+}
+
+/// A stated tolerance in at most 3 significant digits, scientific: `1e-8` in,
+/// `2.54e-7` mm.
+fn short_e(x: f64) -> String {
+    let v: f64 = format!("{x:.2e}").parse().unwrap_or(x);
+    format!("{v:e}")
+}
+
 fn yes(b: bool) -> &'static str {
     if b {
         "yes"
@@ -389,20 +402,25 @@ impl Report for ScenesReport {
     }
 
     fn text(&self) -> String {
+        use crate::units::{axis, q, symbol, value, ACCELERATION, FORCE, LENGTH};
         let mut s = String::new();
         let r = &self.reference;
+        // Forces, lengths and accelerations in the output's family (`--units`).
+        let (lb, acc) = (symbol(FORCE), axis(ACCELERATION).1);
         let _ = writeln!(
             s,
             "camsim models{}: the reference design at {} rpm, regulated drive, static start, 2 revolutions; every scene at\n\
-             rtol 1e-3 (the chip's) and 1e-2, atol 1e-8 in, largest step 1/100 revolution, England as `run` uses it; errors\n\
-             against the full model at rtol {:.0e}: jump onset {:.2} rpm, smallest contact force {:.3} lb, load acceleration\n\
-             RMS {:.4e} in/s²",
+             rtol 1e-3 (the chip's) and 1e-2, atol {} {}, largest step 1/100 revolution, England as `run` uses it; errors\n\
+             against the full model at rtol {:.0e}: jump onset {:.2} rpm, smallest contact force {} {lb}, load acceleration\n\
+             RMS {:.4e} {acc}",
             if self.quick { " --quick" } else { "" },
             self.rpm,
+            short_e(value(LENGTH, scene_settings(ROW_RTOLS[0]).atol)),
+            symbol(LENGTH),
             r.rtol,
             r.onset_rpm,
-            r.fmin_lb,
-            r.acc_rms
+            q(FORCE, r.fmin_lb, 3),
+            value(ACCELERATION, r.acc_rms)
         );
         let _ = writeln!(
             s,
@@ -413,7 +431,7 @@ impl Report for ScenesReport {
         for w in &self.rows {
             let _ = writeln!(
                 s,
-                "{:<24} {:>5.0e} {:>4} {:>3} {:>6} {:>6} {:>7.0} {:>5.1} {:>8.0} {:>7.2} {:>9.3e} {:>7.0} {:>8.2} {:>+8.3} {:>+8.3} {:>+8.3} {:>9.2e} {:>8.2e}",
+                "{:<24} {:>5.0e} {:>4} {:>3} {:>6} {:>6} {:>7.0} {:>5.1} {:>8.0} {:>7.2} {:>9.3e} {:>7.0} {:>8.2} {:>+8.3} {:>+8.3} {:>+8} {:>9.2e} {:>8.2e}",
                 w.scene,
                 w.rtol,
                 w.states,
@@ -429,16 +447,16 @@ impl Report for ScenesReport {
                 w.onset_rpm,
                 w.onset_err_pct,
                 w.model_onset_err_pct,
-                w.fmin_err_lb,
+                q(FORCE, w.fmin_err_lb, 3),
                 w.timing_err_deg,
-                w.acc_rms_err
+                value(ACCELERATION, w.acc_rms_err)
             );
         }
         let _ = writeln!(
             s,
-            "\naccurate enough for (onset within {:.0} %, Fmin within {} lb, timing within {}°, acceleration RMS error within {:.0} % of the signal):",
+            "\naccurate enough for (onset within {:.0} %, Fmin within {} {lb}, timing within {}°, acceleration RMS error within {:.0} % of the signal):",
             100.0 * enough::ONSET_REL,
-            enough::FMIN_LB,
+            short(value(FORCE, enough::FMIN_LB)),
             enough::TIMING_DEG,
             100.0 * enough::ACC_REL
         );
@@ -465,7 +483,7 @@ impl Report for ScenesReport {
             "model/solver: size_of in f64, bytes; steps/r: accepted double steps per revolution; limit/r: the fewest the scene's\n\
              Jacobian eigenvalues allow England (stiffest: largest spectral radius, 1/s); ms/2rev: the 2 revolutions of one\n\
              steady-state evaluation (the chip's pipeline; the model built beforehand), median; onset%: at the row's rtol; model%: the scene converged (rtol 1e-6), the model's own\n\
-             error; the onset verdict needs both; acc err: RMS over revolution 2 every 0.5°, in/s²; {:.1} s in all",
+             error; the onset verdict needs both; acc err: RMS over revolution 2 every 0.5°, {acc}; {:.1} s in all",
             self.seconds
         );
         s

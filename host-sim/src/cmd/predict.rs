@@ -612,8 +612,12 @@ pub fn report_measured<T: Real>(
 
 /// The human-readable output.
 pub fn render_text(r: &PredictReport) -> String {
+    use crate::units::{q, symbol, FORCE};
     use std::fmt::Write;
     let mut out = String::new();
+    // Forces in the output's family (`--units`), 4 decimals of a pound.
+    let lb = symbol(FORCE);
+    let force = |v: f64| q(FORCE, v, 4);
     let sc = &r.scene;
     let name = if sc.design == REFERENCE_SCENE {
         "reference design"
@@ -631,7 +635,9 @@ pub fn render_text(r: &PredictReport) -> String {
     let _ = writeln!(
         out,
         "{:>8} {:>12} {:>7}  timing error, deg (rise 10/50/90 %, return 10/50/90 %)",
-        "rpm", "min F, lb", "jumped"
+        "rpm",
+        format!("min F, {lb}"),
+        "jumped"
     );
     for row in &r.table {
         let t: Vec<String> = row
@@ -641,9 +647,9 @@ pub fn render_text(r: &PredictReport) -> String {
             .collect();
         let _ = writeln!(
             out,
-            "{:>8.1} {:>12.4} {:>7}  {}",
+            "{:>8.1} {:>12} {:>7}  {}",
             row.rpm.0,
-            row.min_force_lb.0,
+            force(row.min_force_lb.0),
             row.jumped,
             t.join(" ")
         );
@@ -655,8 +661,8 @@ pub fn render_text(r: &PredictReport) -> String {
     for c in &r.interp_checks {
         let _ = writeln!(
             out,
-            "interpolation check at {:.0} rpm: force {:.4} (interp) vs {:.4} (direct) lb, |err| {:.4} lb; max timing |err| {:.5} deg",
-            c.rpm.0, c.interp_force_lb.0, c.direct_force_lb.0, c.abs_err_force_lb, c.max_abs_err_timing_deg
+            "interpolation check at {:.0} rpm: force {} (interp) vs {} (direct) {lb}, |err| {} {lb}; max timing |err| {:.5} deg",
+            c.rpm.0, force(c.interp_force_lb.0), force(c.direct_force_lb.0), force(c.abs_err_force_lb), c.max_abs_err_timing_deg
         );
     }
     // Every reading in order: the vouched ones with their prediction, the others named.
@@ -666,9 +672,9 @@ pub fn render_text(r: &PredictReport) -> String {
         let (line, alarm) = match (si.peek(), fi.peek()) {
             (Some(s), f) if f.is_none_or(|f| s.reading < f.reading) => {
                 let line = format!(
-                    "speed {:>6.1} rpm: force margin {:>9.4} lb, speed margin {:>8.2} rpm, timing rise50 {:+.4} return50 {:+.4} deg",
+                    "speed {:>6.1} rpm: force margin {:>9} {lb}, speed margin {:>8.2} rpm, timing rise50 {:+.4} return50 {:+.4} deg",
                     s.rpm.0,
-                    s.force_margin_lb.0,
+                    force(s.force_margin_lb.0),
                     s.speed_margin_rpm.0,
                     s.timing_deg[1].0,
                     s.timing_deg[4].0,

@@ -8,10 +8,12 @@ use anyhow::Result;
 #[derive(clap::Args, Debug)]
 #[command(group(clap::ArgGroup::new("what").required(true).args(["default", "check"])))]
 pub struct Args {
-    /// Print the reference design as a complete scene file.
+    /// Print the reference design as a complete scene file (with `--units si`, its keys
+    /// in SI: `base_radius_mm`, `spring_rate_n_per_mm`, ...).
     #[arg(long, conflicts_with = "check")]
     pub default: bool,
-    /// Validate a scene file and print it back complete (every key, defaults filled in).
+    /// Validate a scene file and print it back complete (every key, defaults filled in;
+    /// with `--units si`, its keys in SI).
     #[arg(long, value_name = "FILE")]
     pub check: Option<PathBuf>,
     /// Print the scene as JSON (the file's tables as objects, every key with its unit;
@@ -33,7 +35,15 @@ pub fn run(args: Args) -> Result<()> {
     if args.json {
         return crate::report::out(&format!("{}\n", json(&text)?));
     }
-    crate::report::out(&text)
+    match crate::units::current() {
+        crate::units::Units::Inch => crate::report::out(&text),
+        // The same scene with its keys in SI (`base_radius_mm`, ...): it reads back to
+        // the same design.
+        crate::units::Units::Si if args.default => {
+            crate::report::out(&crate::scene::default_text_si()?)
+        }
+        crate::units::Units::Si => crate::report::out(&crate::scene::in_si(&text)),
+    }
 }
 
 /// A scene file's text as JSON: its tables as objects, its arrays of tables as arrays,

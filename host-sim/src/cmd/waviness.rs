@@ -178,20 +178,27 @@ fn range(v: &[usize]) -> String {
 
 impl Report for WavinessReport {
     fn text(&self) -> String {
+        use crate::units::{given, q, symbol, LENGTH};
         use std::fmt::Write;
         let mut out = String::new();
+        // Lengths in the output's family (`--units`); the tolerances as given (VI.1's).
+        let unit = symbol(LENGTH);
+        let tol = camsim_core::Tolerances::<f64>::reference();
         let seeds: Vec<String> = self.seeds.iter().map(|s| s.to_string()).collect();
         let _ = writeln!(
             out,
-            "camsim waviness: the reference design at VI.1's tolerances (cam ±0.0005, roller ±0.0001, eccentricity ±0.001 in); \
+            "camsim waviness: the reference design at VI.1's tolerances (cam ±{}, roller ±{}, eccentricity ±{} {unit}); \
              FPR of the master seeds' profiles ({}) against the interval, both profile methods; the criteria of IV.2.3 on seed {}'s \
-             (thesis method). Roller radius {:.4} in, prime radius {:.4} in; the theoretical displacement's smallest radius of \
-             curvature (abscissa R_p theta) {:.4} in. FPR 2n = a single harmonic of n undulations a revolution (UPR).",
+             (thesis method). Roller radius {} {unit}, prime radius {} {unit}; the theoretical displacement's smallest radius of \
+             curvature (abscissa R_p theta) {} {unit}. FPR 2n = a single harmonic of n undulations a revolution (UPR).",
+            given(LENGTH, tol.cam),
+            given(LENGTH, tol.roller),
+            given(LENGTH, tol.eccentricity),
             seeds.join(", "),
             seeds.first().cloned().unwrap_or_default(),
-            self.roller_radius_in,
-            self.prime_radius_in,
-            self.theoretical_min_displacement_radius_in
+            q(LENGTH, self.roller_radius_in, 4),
+            q(LENGTH, self.prime_radius_in, 4),
+            q(LENGTH, self.theoretical_min_displacement_radius_in, 4)
         );
         let _ = writeln!(
             out,
@@ -210,23 +217,23 @@ impl Report for WavinessReport {
         for r in &self.rows {
             let _ = writeln!(
                 out,
-                "{:>8} {:>8} {:>11} {:>12} {:>10} {:>8.3} {:>10} {:>10} {:>8.3}",
+                "{:>8} {:>8} {:>11} {:>12} {:>10} {:>8} {:>10} {:>10} {:>8}",
                 r.interval_deg,
                 360 / r.interval_deg,
                 range(&r.fpr_thesis),
                 range(&r.fpr_envelope),
                 yn(r.divides_program),
-                r.min_pitch_radius_in,
+                q(LENGTH, r.min_pitch_radius_in, 3),
                 yn(r.pitch_curvature_ok),
                 yn(r.rms_ok),
-                r.min_displacement_radius_in
+                q(LENGTH, r.min_displacement_radius_in, 3)
             );
         }
         let _ = writeln!(
             out,
-            "crit. 3: divides every period of the program; rho_p: smallest radius of curvature of the actual pitch curve, in \
+            "crit. 3: divides every period of the program; rho_p: smallest radius of curvature of the actual pitch curve, {unit} \
              (crit. 1 as read: rho_p >= roller radius); crit. 2: RMS deviation <= mean sigma; rho_y: smallest radius of \
-             curvature of the actual displacement curve, in (the second reading of crit. 1: rho_y >= roller radius)"
+             curvature of the actual displacement curve, {unit} (the second reading of crit. 1: rho_y >= roller radius)"
         );
         out
     }
