@@ -107,12 +107,10 @@ fn inch_only_text(command: &Command) -> Option<&'static str> {
         Command::Models(_) | Command::Scenes(_) => Some("models"),
         Command::Predict(_) => Some("predict"),
         Command::FirmwareCheck(_) => Some("firmware-check"),
-        Command::Montecarlo(_) => Some("montecarlo"),
-        Command::Compare(_) => Some("compare"),
-        Command::ToleranceStudy(_) => Some("tolerance-study"),
+        Command::Montecarlo(_) | Command::Compare(_) | Command::ToleranceStudy(_) => None,
+        Command::Design(_) => None,
         Command::Sensitivity(_) => Some("sensitivity"),
         Command::Waviness(_) => Some("waviness"),
-        Command::Design(_) => Some("design"),
     }
 }
 

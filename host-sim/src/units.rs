@@ -178,6 +178,15 @@ pub fn value(unit: Unit, inch_value: f64) -> f64 {
     }
 }
 
+/// A table's unit label: the inch table's own text in inch (`in/s2`, kept byte for
+/// byte), `unit`'s symbol in SI (`mm/s^2`).
+pub fn label(unit: Unit, inch: &'static str) -> &'static str {
+    match current() {
+        Units::Inch => inch,
+        Units::Si => unit.si_symbol,
+    }
+}
+
 /// `unit`'s symbol in the output's family (`lb/in` or `N/mm`).
 pub fn symbol(unit: Unit) -> &'static str {
     match current() {
