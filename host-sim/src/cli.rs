@@ -108,8 +108,7 @@ fn inch_only_text(command: &Command) -> Option<&'static str> {
         Command::Predict(_) => Some("predict"),
         Command::FirmwareCheck(_) => Some("firmware-check"),
         Command::Montecarlo(_) | Command::Compare(_) | Command::ToleranceStudy(_) => None,
-        Command::Design(_) => None,
-        Command::Sensitivity(_) => Some("sensitivity"),
+        Command::Design(_) | Command::Sensitivity(_) => None,
         Command::Waviness(_) => Some("waviness"),
     }
 }

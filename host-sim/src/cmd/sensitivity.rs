@@ -777,8 +777,36 @@ fn pct(v: f64, base: f64) -> Option<f64> {
 
 /// An output's value as a designer reads it: stress in whole psi, others with four
 /// significant digits, in plain notation from 0.001 up.
+/// The unit of output `i` of [`OUTPUTS`] (`None`: the cam speed's rad/s, the same in
+/// either family).
+fn output_unit(i: usize) -> Option<camsim_scene_file::units::Unit> {
+    use crate::units::{ACCELERATION, LENGTH, SPEED, STRESS};
+    match i {
+        0 => Some(LENGTH),
+        1 => Some(SPEED),
+        2 => Some(ACCELERATION),
+        4 => Some(STRESS),
+        _ => None,
+    }
+}
+
+/// The unit label of output `i` in the output's family (`--units`): the table's own
+/// (`in/s2`) in inch.
+fn output_label(i: usize) -> &'static str {
+    let inch = OUTPUTS.get(i).map_or("", |o| o.2);
+    output_unit(i).map_or(inch, |u| crate::units::label(u, inch))
+}
+
+/// Output `i`'s value `v` (inch family) in the output's family: four significant
+/// digits; the stress to the psi in inch (to 0.01 MPa in SI).
 fn fmt_value(i: usize, v: f64) -> String {
-    if i == 4 || v.abs() >= 1e4 {
+    let unit = output_unit(i);
+    let v = unit.map_or(v, |u| crate::units::value(u, v));
+    if i == 4 {
+        let d = unit.map_or(0, |u| crate::units::decimals(u, 0));
+        return format!("{v:.d$}");
+    }
+    if v.abs() >= 1e4 {
         return format!("{v:.0}");
     }
     if v == 0.0 {
@@ -806,12 +834,13 @@ impl Report for SensitivityReport {
         );
         let _ = writeln!(
             out,
-            "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals \
+            "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} {}, {} intervals \
              ({:.2} deg, {}), FPR {}; the same cam in every case",
             p.seed,
-            p.cam_tolerance_in,
-            p.roller_tolerance_in,
-            p.eccentricity_tolerance_in,
+            crate::units::given(crate::units::LENGTH, p.cam_tolerance_in),
+            crate::units::given(crate::units::LENGTH, p.roller_tolerance_in),
+            crate::units::given(crate::units::LENGTH, p.eccentricity_tolerance_in),
+            crate::units::symbol(crate::units::LENGTH),
             p.intervals,
             p.interval_deg,
             p.interval_source.name(),
@@ -819,9 +848,13 @@ impl Report for SensitivityReport {
         );
         let _ = writeln!(
             out,
-            "outputs: RMS deviations of the load from the theoretical response (displacement in, velocity in/s, \
-             acceleration in/s2), RMS deviation of the cam speed from its nominal (rad/s), time-averaged Hertz \
-             stress (psi); each case's value, then its change from the baseline"
+            "outputs: RMS deviations of the load from the theoretical response (displacement {}, velocity {}, \
+             acceleration {}), RMS deviation of the cam speed from its nominal (rad/s), time-averaged Hertz \
+             stress ({}); each case's value, then its change from the baseline",
+            output_label(0),
+            output_label(1),
+            output_label(2),
+            output_label(4)
         );
         for cam in ["theoretical", "actual"] {
             let Some(b) = self.baseline.iter().find(|c| c.cam == cam) else {
@@ -829,8 +862,8 @@ impl Report for SensitivityReport {
             };
             let _ = writeln!(out, "\n{cam} cam");
             let _ = write!(out, "  {:<10} {:>6}", "group", "change");
-            for (_, h, u) in OUTPUTS {
-                let _ = write!(out, " {:>19}", format!("{h} ({u})"));
+            for (i, (_, h, _)) in OUTPUTS.iter().enumerate() {
+                let _ = write!(out, " {:>19}", format!("{h} ({})", output_label(i)));
             }
             let _ = writeln!(out, "  jump");
             let row = |out: &mut String, c: &Case| {
@@ -880,7 +913,10 @@ impl Report for SensitivityReport {
             }
             let _ = writeln!(out, " {:>10}", "onset");
             for (i, k) in pk.keys.iter().enumerate() {
-                let _ = write!(out, "  {:>4} {:<42}", i + 1, k.key);
+                // The key under its name in the output's family (an elasticity is the
+                // same in either).
+                let key = crate::units::key_in(&k.key, crate::units::current()).0;
+                let _ = write!(out, "  {:>4} {:<42}", i + 1, key);
                 for v in k.elasticity.values() {
                     match v {
                         Some(v) => {
@@ -979,7 +1015,8 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 .titled(&row_title, ("sans-serif", 19))
                 .map_err(|x| e(&x))?;
             let areas = row.split_evenly((1, OUTPUTS.len()));
-            for (oi, (_, _, unit)) in OUTPUTS.iter().enumerate() {
+            for oi in 0..OUTPUTS.len() {
+                let unit = output_label(oi);
                 let Some(area) = areas.get(oi) else {
                     continue;
                 };
