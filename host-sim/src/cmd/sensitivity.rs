@@ -1016,7 +1016,11 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 .map_err(|x| e(&x))?;
             let areas = row.split_evenly((1, OUTPUTS.len()));
             for oi in 0..OUTPUTS.len() {
-                let unit = output_label(oi);
+                // The unit as the run plots' axes write it (mm/s², N·m).
+                let unit = output_unit(oi).map_or_else(
+                    || OUTPUTS.get(oi).map_or("", |o| o.2).to_string(),
+                    |u| crate::units::axis(u).1,
+                );
                 let Some(area) = areas.get(oi) else {
                     continue;
                 };
@@ -1042,10 +1046,13 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 // Room beyond the longest bar for its "jump" mark.
                 let m = bars.iter().map(|b| b.2.abs()).fold(1.0f64, f64::max) * 1.25;
                 let base_jumps = base.is_some_and(|b| b.outputs.jump);
-                let base_text = base.map_or(String::new(), |b| {
-                    format!(" {} {unit}", fmt_value(oi, b.outputs.values()[oi]))
+                // The axis is the change, %, of the baseline's value (in its unit).
+                let x_desc = base.map_or("change from the baseline, %".to_string(), |b| {
+                    format!(
+                        "change, % of the baseline {} {unit}",
+                        fmt_value(oi, b.outputs.values()[oi])
+                    )
                 });
-                let x_desc = format!("change from the baseline{base_text}, %");
                 let groups = Group::ALL.len() as f64;
                 let mut chart = ChartBuilder::on(area)
                     .caption(PLOT_TITLES[oi], ("sans-serif", 16))
@@ -1073,9 +1080,17 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                     })
                     .x_labels(7)
                     .x_desc(x_desc.as_str())
-                    .x_label_formatter(&|x| format!("{x:+.0}"))
+                    .x_label_formatter(&|x| {
+                        // A signed change; the zero line is 0, not +0 or -0.
+                        let t = format!("{x:+.0}");
+                        if t == "+0" || t == "-0" {
+                            "0".to_string()
+                        } else {
+                            t
+                        }
+                    })
                     .label_style(("sans-serif", 14))
-                    .axis_desc_style(("sans-serif", 13))
+                    .axis_desc_style(("sans-serif", 14))
                     .draw()
                     .map_err(|x| e(&x))?;
                 // Separators between the groups and the zero line.
