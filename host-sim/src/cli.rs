@@ -19,8 +19,9 @@ pub struct Cli {
     pub command: Command,
     /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
     /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), the tables of
-    /// run, sweep, jump-speed, laws, modal and contact, the --csv of run and sweep, and
-    /// profile's drawing; the other tables are inch only (si needs --json there).
+    /// run, sweep, jump-speed, laws, modal, contact, montecarlo, compare, tolerance-study,
+    /// sensitivity and design, the --csv of run and sweep, and profile's drawing; the other
+    /// tables are inch only (si needs --json there).
     #[arg(
         long,
         global = true,
