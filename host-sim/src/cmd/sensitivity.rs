@@ -915,7 +915,7 @@ impl Report for SensitivityReport {
             for (i, k) in pk.keys.iter().enumerate() {
                 // The key under its name in the output's family (an elasticity is the
                 // same in either).
-                let key = crate::units::key_in(&k.key, crate::units::current()).0;
+                let key = crate::units::key_in(k.key, crate::units::current()).0;
                 let _ = write!(out, "  {:>4} {:<42}", i + 1, key);
                 for v in k.elasticity.values() {
                     match v {
@@ -1015,7 +1015,7 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 .titled(&row_title, ("sans-serif", 19))
                 .map_err(|x| e(&x))?;
             let areas = row.split_evenly((1, OUTPUTS.len()));
-            for oi in 0..OUTPUTS.len() {
+            for (oi, title) in PLOT_TITLES.iter().enumerate() {
                 // The unit as the run plots' axes write it (mm/s², N·m).
                 let unit = output_unit(oi).map_or_else(
                     || OUTPUTS.get(oi).map_or("", |o| o.2).to_string(),
@@ -1055,7 +1055,7 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 });
                 let groups = Group::ALL.len() as f64;
                 let mut chart = ChartBuilder::on(area)
-                    .caption(PLOT_TITLES[oi], ("sans-serif", 16))
+                    .caption(*title, ("sans-serif", 16))
                     .margin(8)
                     .x_label_area_size(40)
                     .y_label_area_size(80)
