@@ -134,6 +134,11 @@ for f in tolerance_grid.png tolerance_response.png; do
     test -s "$studies/tol-si/$f" || { echo "smoke: tolerance-study --plot wrote no $f" >&2; exit 1; }
 done
 smoke montecarlo-plot-si montecarlo --samples 8 --plot "$studies/mc-si" --units si --json
+# The studies' text in SI (issue 18): montecarlo's tables and design's answer in mm, N.
+smoke montecarlo-si-text montecarlo --samples 8 --units si
+grep -qF '  rms_a, mm/s^2 ' "$studies/montecarlo-si-text.out" || { echo "smoke: montecarlo --units si prints no mm/s^2 column" >&2; exit 1; }
+smoke design-si-text design spring --quick --units si
+grep -qE '^camsim design spring: [0-9.]+ N/mm at preload length 12.7 mm' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not answer in N/mm and mm" >&2; exit 1; }
 smoke compare-plot compare --quick --plot "$studies/compare" --json
 smoke waviness waviness --seeds 1 --json
 smoke sensitivity sensitivity --quick --json

@@ -19,10 +19,10 @@ pub struct Cli {
     pub command: Command,
     /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
     /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), the tables of
-    /// run, sweep, jump-speed, laws, modal, contact, models, bench, predict and waviness,
-    /// the scene file of scene (SI keys), the --csv of run and sweep, and profile's and
-    /// bench's plots (firmware-check has no unit to convert); the other tables are inch
-    /// only (si needs --json there).
+    /// every command's tables (run, sweep, jump-speed, laws, modal, contact, montecarlo,
+    /// compare, tolerance-study, sensitivity, design, models, bench, predict, waviness), the
+    /// scene file of scene (SI keys), the --csv of run and sweep, and the plots
+    /// (firmware-check prints bytes, instructions and rpm only, the same in either).
     #[arg(
         long,
         global = true,
@@ -96,23 +96,6 @@ where
 pub fn command() -> clap::Command {
     use clap::CommandFactory;
     Cli::command()
-}
-
-/// The command's name when its text output (table, report, CSV) is printed in the inch
-/// family only, so that `--units si` without `--json` cannot apply to it.
-fn inch_only_text(command: &Command) -> Option<&'static str> {
-    match command {
-        Command::Run(_) | Command::JumpSpeed(_) | Command::Profile(_) => None,
-        Command::Laws(_) | Command::Sweep(_) | Command::Modal(_) | Command::Contact(_) => None,
-        Command::Scene(_) | Command::Bench(_) | Command::Models(_) | Command::Scenes(_) => None,
-        // firmware-check prints bytes, instructions and rpm: nothing to convert.
-        Command::Predict(_) | Command::Waviness(_) | Command::FirmwareCheck(_) => None,
-        Command::Montecarlo(_) => Some("montecarlo"),
-        Command::Compare(_) => Some("compare"),
-        Command::ToleranceStudy(_) => Some("tolerance-study"),
-        Command::Sensitivity(_) => Some("sensitivity"),
-        Command::Design(_) => Some("design"),
-    }
 }
 
 /// Runs a parsed command.
@@ -253,15 +236,6 @@ where
             return 2;
         }
     };
-    // SI in a text output not converted yet: refused before anything runs or is written.
-    if cli.units == crate::units::Units::Si && !args.iter().any(|a| a == "--json") {
-        if let Some(name) = inch_only_text(&cli.command) {
-            report_error(&format!(
-                "camsim: error: --units si: `camsim {name}` prints its table in the inch family only; add --json for SI (see camsim --help)"
-            ));
-            return 2;
-        }
-    }
     match execute(cli) {
         Ok(()) => 0,
         Err(e) if is_broken_pipe(&e) => 0,

@@ -184,6 +184,32 @@ pub fn value(unit: Unit, inch_value: f64) -> f64 {
     }
 }
 
+/// A table's unit label: the inch table's own text in inch (`in/s2`, kept byte for
+/// byte), `unit`'s symbol in SI (`mm/s^2`).
+pub fn label(unit: Unit, inch: &'static str) -> &'static str {
+    match current() {
+        Units::Inch => inch,
+        Units::Si => unit.si_symbol,
+    }
+}
+
+/// A value given in the output's family (an option read in the units of `--units`, as
+/// `--allowable-stress`), in `unit`'s inch member: the inverse of [`value`].
+pub fn inch_value(unit: Unit, value: f64) -> f64 {
+    match current() {
+        Units::Inch => value,
+        Units::Si => value / unit.si_per_inch,
+    }
+}
+
+/// `unit`'s key suffix in the output's family (`psi` or `mpa`).
+pub fn key_suffix(unit: Unit) -> &'static str {
+    match current() {
+        Units::Inch => unit.inch,
+        Units::Si => unit.si,
+    }
+}
+
 /// `unit`'s symbol in the output's family (`lb/in` or `N/mm`).
 pub fn symbol(unit: Unit) -> &'static str {
     match current() {

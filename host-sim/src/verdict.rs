@@ -32,7 +32,7 @@ impl Default for Limits {
         Limits {
             allowable_contact_stress_psi: camsim_core::ALLOWABLE_CONTACT_STRESS_PSI,
             pressure_angle_limit_deg: camsim_core::PRESSURE_ANGLE_LIMIT_DEG,
-            allowable_source: ALLOWABLE_SOURCE,
+            allowable_source: allowable_source(),
         }
     }
 }
@@ -271,6 +271,20 @@ pub struct Verdict {
 
 /// The source of the default allowable contact stress.
 pub const ALLOWABLE_SOURCE: &str = "through-hardened steel, 400 HB, 1e8 cycles: Buckingham's S_C = 0.4 H_B - 10 kpsi (Shigley); limits.allowable_contact_stress_psi (or _mpa) in the scene, or --allowable-stress PSI, to change";
+
+/// [`ALLOWABLE_SOURCE`] in SI: Shigley's SI form of the same rule (0.4 kpsi = 2.76 MPa a
+/// Brinell point, 10 kpsi = 68.9 MPa, which Shigley rounds to 70: 1034 MPa at 400 HB,
+/// the 150 kpsi the default is), and the option in MPa as `--units si` reads it.
+pub const ALLOWABLE_SOURCE_SI: &str = "through-hardened steel, 400 HB, 1e8 cycles: Buckingham's S_C = 2.76 H_B - 70 MPa (Shigley); limits.allowable_contact_stress_mpa (or _psi) in the scene, or --allowable-stress MPA (with --units si), to change";
+
+/// The source of the default allowable contact stress in the output's family
+/// (`--units`).
+pub fn allowable_source() -> &'static str {
+    match crate::units::current() {
+        crate::units::Units::Inch => ALLOWABLE_SOURCE,
+        crate::units::Units::Si => ALLOWABLE_SOURCE_SI,
+    }
+}
 
 /// Largest |pressure angle| of the theoretical profile (deg, at deg), smallest convex
 /// pitch radius (in, at deg) and the undercut margin (in).
@@ -535,10 +549,11 @@ pub fn warnings(
     }
     if loads.stress_ratio > 1.0 {
         w.push(format!(
-            "contact stress {} {su} exceeds the allowable {} {su} by {:.1} % (limits.allowable_contact_stress_psi, --allowable-stress)",
+            "contact stress {} {su} exceeds the allowable {} {su} by {:.1} % (limits.allowable_contact_stress_{}, --allowable-stress)",
             u::q(u::STRESS, loads.peak_contact_stress_psi, 0),
             u::q(u::STRESS, loads.allowable_contact_stress_psi, 0),
             100.0 * (loads.stress_ratio - 1.0),
+            u::key_suffix(u::STRESS),
             su = u::symbol(u::STRESS)
         ));
     }

@@ -1,7 +1,9 @@
 //! Issue 18: `--units si` converts the printed tables and the CSV files, not only the
 //! JSON. The SI numbers are read back from the printed text and checked against the inch
 //! text's numbers times factors written here from the definitions (1 in = 25.4 mm,
-//! 1 lbf = 0.45359237 kg x 9.80665 m/s^2), to the rounding of the two printed values.
+//! 1 lbf = 0.45359237 kg x 9.80665 m/s^2, 1 psi = 1 lbf/in^2), to the rounding of the
+//! two printed values: run, sweep, montecarlo's statistics, design spring's answer, and
+//! `--allowable-stress` read in MPa under `--units si`.
 //!
 //! The unit family is one process-wide setting (`--units`): each test holds
 //! [`units_lock`] while it runs, so they run one after the other.
@@ -144,6 +146,65 @@ fn csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
         .map(|l| l.split(',').map(str::to_string).collect())
         .collect();
     (header, rows)
+}
+
+/// The text report of a study command (`argv` after `camsim`), run in this process in
+/// `units`.
+fn study_text(argv: &[&str], units: Units) -> String {
+    use camsim::cmd::{compare, design, montecarlo, sensitivity, tolerance_study};
+    units::set(units);
+    let all: Vec<&str> = std::iter::once("camsim")
+        .chain(argv.iter().copied())
+        .collect();
+    let text = match cli::parse_from(all).unwrap().command {
+        Command::Montecarlo(a) => match montecarlo::execute(&a).unwrap() {
+            montecarlo::Outcome::Study(r) => r.text(),
+            montecarlo::Outcome::Shard(r) => r.text(),
+        },
+        Command::Compare(a) => compare::report(&a).unwrap().text(),
+        Command::ToleranceStudy(a) => tolerance_study::report(&a).unwrap().text(),
+        Command::Sensitivity(a) => sensitivity::report(&a).unwrap().text(),
+        Command::Design(a) => match a.what {
+            design::What::Spring(s) => design::spring(&s).unwrap().text(),
+            design::What::Speed(m) => design::mc_search(&m, true).unwrap().text(),
+            design::What::Tolerance(m) => design::mc_search(&m, false).unwrap().text(),
+        },
+        _ => panic!("not a study: {argv:?}"),
+    };
+    units::set(Units::Inch);
+    text
+}
+
+/// The numbers of a line: its whitespace-, comma-, bracket-separated tokens that parse
+/// (a trailing `+` or `-` of a search's tried value dropped).
+fn numbers(line: &str) -> Vec<String> {
+    line.split(|c: char| c.is_whitespace() || ",;()[]:".contains(c))
+        .map(|t| t.trim_end_matches(['+', '-']))
+        .filter(|t| t.parse::<f64>().is_ok())
+        .map(str::to_string)
+        .collect()
+}
+
+/// Montecarlo's statistics tables: (section, row name) and the row's five statistics.
+fn moments_rows(text: &str) -> Vec<((String, String), Vec<String>)> {
+    let mut section = String::new();
+    let mut rows = Vec::new();
+    for l in text.lines() {
+        if !l.starts_with(' ') {
+            section = l.split(':').next().unwrap_or("").to_string();
+            continue;
+        }
+        if l.trim_start().starts_with("mean") {
+            continue;
+        }
+        let (label, rest) = l.split_at(19);
+        let name = label.trim().split(',').next().unwrap().to_string();
+        rows.push((
+            (section.clone(), name),
+            rest.split_whitespace().map(str::to_string).collect(),
+        ));
+    }
+    rows
 }
 
 #[test]
@@ -328,6 +389,144 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     }
     // ... which in inch do name inch units.
     assert!(inch_label(&camsim::cmd::laws::report().text()).is_some());
+
+    // --- montecarlo: every statistic of every table, 4 cams.
+    let mc = ["montecarlo", "--samples", "4", "--threads", "2"];
+    let (inch, si) = (study_text(&mc, Units::Inch), study_text(&mc, Units::Si));
+    let (ri, rs) = (moments_rows(&inch), moments_rows(&si));
+    assert_eq!(ri.len(), 4 * 13 + 6 + 2, "{inch}");
+    assert_eq!(ri.len(), rs.len(), "{si}");
+    let factor = |name: &str| match name {
+        "rms_y" | "rms_v" | "rms_a" | "sum rms_a" | "rms lift dev" => IN_MM,
+        "T_avg" | "T_max" | "T_min" => LBIN_NM,
+        "Fc_min" | "Fc_max" | "Fc_avg" => LBF_N,
+        "stress" => PSI_MPA,
+        "aord_m" | "aord_cp" | "aord_c" | "FPR" => 1.0,
+        other => panic!("row {other}"),
+    };
+    let mut checked = 0;
+    for ((ki, a), (ks, b)) in ri.iter().zip(&rs) {
+        assert_eq!(ki, ks);
+        assert_eq!((a.len(), b.len()), (5, 5), "{ki:?}");
+        for (x, y) in a.iter().zip(b) {
+            agrees(x, y, factor(&ki.1), &format!("montecarlo {ki:?}"));
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 5 * 60);
+    assert!(si.contains("  rms_a, mm/s^2 "), "{si}");
+    assert!(si.contains("  stress, MPa "), "{si}");
+    assert!(si.contains("eccentricity 0.0254 mm,"), "{si}");
+    let mut texts = vec![("montecarlo", inch, si)];
+
+    // --- design spring: the rate, the preload, the spring's weight, the bracket and
+    // every rate tried.
+    let ds = ["design", "spring", "--actual", "--quick"];
+    let (inch, si) = (study_text(&ds, Units::Inch), study_text(&ds, Units::Si));
+    let lines = |t: &str| -> Vec<Vec<String>> { t.lines().take(6).map(numbers).collect() };
+    let (li, ls) = (lines(&inch), lines(&si));
+    // camsim design spring: K at preload length L (preload F; coils, weight, surge).
+    let k = LBF_N / IN_MM;
+    let lb_kg = 0.453_592_37;
+    let head = [k, IN_MM, LBF_N, 1.0, lb_kg, 1.0];
+    assert_eq!((li[0].len(), ls[0].len()), (6, 6), "{inch}{si}");
+    for (f, (x, y)) in head.iter().zip(li[0].iter().zip(&ls[0])) {
+        agrees(x, y, *f, "design spring's answer");
+    }
+    assert!(
+        ls[0].len() == 6 && si.contains(" N/mm at preload length 12.7 mm"),
+        "{si}"
+    );
+    // bracket: fails at K, passes at K (width K).
+    assert!(inch.lines().nth(1).unwrap().contains("bracket"), "{inch}");
+    assert_eq!(li[1].len(), 3);
+    for (x, y) in li[1].iter().zip(&ls[1]) {
+        agrees(x, y, k, "design spring's bracket");
+    }
+    let tried = |t: &str| numbers(t.lines().find(|l| l.contains("rates tried")).unwrap());
+    let (ti, ts) = (tried(&inch), tried(&si));
+    assert!(ti.len() >= 4 && ti.len() == ts.len(), "{inch}{si}");
+    for (x, y) in ti.iter().zip(&ts) {
+        agrees(x, y, k, "a rate tried");
+    }
+    texts.push(("design spring", inch, si));
+
+    // --- no inch unit left in the SI text of the five studies; the check fires on
+    // their inch text.
+    for argv in [
+        &["compare", "--quick"][..],
+        &["tolerance-study", "--quick"],
+        &["sensitivity", "--quick"],
+        &[
+            "design",
+            "tolerance",
+            "--quick",
+            "--samples",
+            "4",
+            "--p-max",
+            "0.6",
+        ],
+    ] {
+        texts.push((
+            argv[0],
+            study_text(argv, Units::Inch),
+            study_text(argv, Units::Si),
+        ));
+    }
+    for (name, inch, si) in &texts {
+        assert_eq!(inch_label(si), None, "{name}");
+        assert!(inch_label(inch).is_some(), "{name}: the check cannot fail");
+    }
+
+    // --- --allowable-stress reads MPa with --units si, psi with inch; the note speaks
+    // the family's units.
+    let verdict = |units: Units, extra: &[&str]| -> String {
+        units::set(units);
+        let mut argv = vec!["camsim", "run", "--revolutions", "1"];
+        argv.extend_from_slice(extra);
+        let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
+            panic!("not run")
+        };
+        let text = run::report(&a).unwrap().text();
+        units::set(Units::Inch);
+        text.lines()
+            .find(|l| l.contains("of the allowable"))
+            .unwrap()
+            .to_string()
+    };
+    let si = verdict(Units::Si, &["--allowable-stress", "1000"]);
+    // 1000 MPa in psi, from the definitions.
+    let psi = format!("{:.0}", 1000.0 / PSI_MPA);
+    let inch = verdict(Units::Inch, &["--allowable-stress", &psi]);
+    assert!(
+        si.contains("of the allowable 1000.00 MPa (--allowable-stress)"),
+        "{si}"
+    );
+    assert!(
+        inch.contains(&format!("of the allowable {psi} psi (--allowable-stress)")),
+        "{inch}"
+    );
+    // The same allowable: the same percentage of it.
+    let pct = |l: &str| {
+        l.split(": ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(pct(&si), pct(&inch), "{si}\n{inch}");
+    let note = verdict(Units::Si, &[]);
+    assert!(note.contains("S_C = 2.76 H_B - 70 MPa"), "{note}");
+    assert!(note.contains("--allowable-stress MPA"), "{note}");
+    // The scene key's other family may be named (`(or _psi)`), no psi value or option.
+    assert!(
+        !note.contains(" psi") && !note.contains("kpsi") && !note.contains("PSI"),
+        "{note}"
+    );
+    let note = verdict(Units::Inch, &[]);
+    assert!(note.contains("S_C = 0.4 H_B - 10 kpsi") && note.contains("--allowable-stress PSI"));
 }
 
 /// The table rows of `text` between the line starting with `header` and the first line

@@ -24,6 +24,8 @@ use crate::report::Report;
 use crate::sim::{self, PeriodRow, RunSpec};
 use camsim_scene_file::units::Unit;
 
+use crate::units;
+
 /// Command-line options of `camsim compare`.
 #[derive(clap::Args, Debug, Clone, Default)]
 #[command(mut_arg("actual", |a| a.hide(true)))]
@@ -559,8 +561,13 @@ impl Report for CompareReport {
             let p = &l.actual.profile;
             let _ = writeln!(
                 out,
-                "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals ({:.4} deg, {}); FPR {}",
-                self.seed, p.cam_tolerance_in, p.roller_tolerance_in, p.eccentricity_tolerance_in, p.intervals, p.interval_deg,
+                "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} {}, {} intervals ({:.4} deg, {}); FPR {}",
+                self.seed,
+                units::given(units::LENGTH, p.cam_tolerance_in),
+                units::given(units::LENGTH, p.roller_tolerance_in),
+                units::given(units::LENGTH, p.eccentricity_tolerance_in),
+                units::symbol(units::LENGTH),
+                p.intervals, p.interval_deg,
                 self.interval_source.label(),
                 {
                     let (lo, hi) = self.laws.iter().fold((usize::MAX, 0), |(a, b), l| {
@@ -572,7 +579,11 @@ impl Report for CompareReport {
         }
         let _ = writeln!(
             out,
-            "units: acceleration RMS in/s2, torque lb in, force lb, stress psi (docs/MODEL.md §9 defines each measure)\n"
+            "units: acceleration RMS {}, torque {}, force {}, stress {} (docs/MODEL.md §9 defines each measure)\n",
+            units::label(units::ACCELERATION, "in/s2"),
+            units::symbol(units::TORQUE),
+            units::symbol(units::FORCE),
+            units::symbol(units::STRESS)
         );
         let periods: Vec<String> = self
             .laws
@@ -607,8 +618,9 @@ impl Report for CompareReport {
                 for p in &c.per_period {
                     let _ = write!(
                         out,
-                        " {:>10.1}/{:<10.1}",
-                        p.acc_rms_cycle1, p.acc_rms_cycle2
+                        " {:>10}/{:<10}",
+                        units::q(units::ACCELERATION, p.acc_rms_cycle1, 1),
+                        units::q(units::ACCELERATION, p.acc_rms_cycle2, 1)
                     );
                 }
                 let jumps: String = c
@@ -618,8 +630,10 @@ impl Report for CompareReport {
                     .collect();
                 let _ = writeln!(
                     out,
-                    " {:>10.1} {:>7.3} {:>6}",
-                    c.sensitivity, c.shock_index, jumps
+                    " {:>10} {:>7.3} {:>6}",
+                    units::q(units::ACCELERATION, c.sensitivity, 1),
+                    c.shock_index,
+                    jumps
                 );
             }
             let _ = writeln!(out);
@@ -642,14 +656,14 @@ impl Report for CompareReport {
                 };
                 let _ = writeln!(
                     out,
-                    "{:<21} {:>9.2} {:>9.2} {:>9.2} {:>8.2} {:>8.2} {:>9.0}",
+                    "{:<21} {:>9} {:>9} {:>9} {:>8} {:>8} {:>9}",
                     l.name,
-                    c.torque_avg_rise,
-                    c.torque_avg_return,
-                    c.torque_max,
-                    c.contact_force_min,
-                    c.contact_force_max,
-                    c.contact_stress_max
+                    units::q(units::TORQUE, c.torque_avg_rise, 2),
+                    units::q(units::TORQUE, c.torque_avg_return, 2),
+                    units::q(units::TORQUE, c.torque_max, 2),
+                    units::q(units::FORCE, c.contact_force_min, 2),
+                    units::q(units::FORCE, c.contact_force_max, 2),
+                    units::q(units::STRESS, c.contact_stress_max, 0)
                 );
             }
             let _ = writeln!(out);

@@ -24,6 +24,7 @@ use crate::report::Report;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
 use crate::study::montecarlo::{threads, Study};
+use crate::units;
 
 /// Command-line options of `camsim design`.
 #[derive(clap::Args, Debug)]
@@ -274,7 +275,12 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         } else if waviness {
             "FPR".into()
         } else {
-            "factor on VI.1's tolerances (cam 0.0005 in, roller 0.0001 in)".into()
+            format!(
+                "factor on VI.1's tolerances (cam {} {lu}, roller {} {lu})",
+                units::given(units::LENGTH, 0.0005),
+                units::given(units::LENGTH, 0.0001),
+                lu = units::symbol(units::LENGTH)
+            )
         },
         tolerance_factor: waviness.then_some(factor),
         failing,
@@ -336,11 +342,12 @@ impl Report for McSearchReport {
         } else if self.search == "waviness" {
             let _ = writeln!(
                 out,
-                "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{:.5} in, roller ±{:.6} in)",
+                "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
                 self.answer,
                 self.tolerance_factor.unwrap_or(1.0),
-                self.cam_tolerance_in.unwrap_or(0.0),
-                self.roller_tolerance_in.unwrap_or(0.0)
+                units::q(units::LENGTH, self.cam_tolerance_in.unwrap_or(0.0), 5),
+                units::q(units::LENGTH, self.roller_tolerance_in.unwrap_or(0.0), 6),
+                lu = units::symbol(units::LENGTH)
             );
             let _ = writeln!(
                 out,
@@ -349,10 +356,11 @@ impl Report for McSearchReport {
         } else {
             let _ = writeln!(
                 out,
-                "camsim design tolerance: {:.3} x VI.1's tolerances: cam ±{:.5} in, roller ±{:.6} in",
+                "camsim design tolerance: {:.3} x VI.1's tolerances: cam ±{} {lu}, roller ±{} {lu}",
                 self.answer,
-                self.cam_tolerance_in.unwrap_or(0.0),
-                self.roller_tolerance_in.unwrap_or(0.0)
+                units::q(units::LENGTH, self.cam_tolerance_in.unwrap_or(0.0), 5),
+                units::q(units::LENGTH, self.roller_tolerance_in.unwrap_or(0.0), 6),
+                lu = units::symbol(units::LENGTH)
             );
         }
         let d = if self.search == "waviness" { 0 } else { 4 };
@@ -552,11 +560,12 @@ pub struct SpringReport {
 
 fn describe(spec: &RunSpec) -> String {
     format!(
-        "{} follower, {} DOFs, rtol {:e}, atol {:e} in, largest step {} rev, static start, 2 revolutions",
+        "{} follower, {} DOFs, rtol {:e}, atol {:e} {}, largest step {} rev, static start, 2 revolutions",
         spec.dofs.follower.name(),
         spec.dofs.set().name(),
         spec.solver.rtol,
-        spec.solver.atol,
+        units::given(units::LENGTH, spec.solver.atol),
+        units::symbol(units::LENGTH),
         spec.solver.max_step_fraction
     )
 }
@@ -761,20 +770,27 @@ impl Report for SpringReport {
         if self.searched == "preload length" {
             let _ = writeln!(
                 out,
-                "camsim design spring --preload: preload length {:.3} in at the rate held, {:.1} lb/in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
-                self.preload_length_in,
-                self.spring_rate_lb_per_in,
-                self.preload_lb,
+                "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+                units::q(units::LENGTH, self.preload_length_in, 3),
+                units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
+                units::q(units::FORCE, self.preload_lb, 2),
                 self.active_coils,
-                self.spring_mass_lb,
-                self.surge_hz
+                units::q(units::WEIGHT, self.spring_mass_lb, 4),
+                self.surge_hz,
+                lu = units::symbol(units::LENGTH),
+                ku = units::symbol(units::STIFFNESS),
+                fu = units::symbol(units::FORCE),
+                wu = units::symbol(units::WEIGHT)
             );
             match (self.failing_preload_length_in, self.preload_bracket_in) {
                 (Some(b), Some(w)) => {
                     let _ = writeln!(
                         out,
-                        "  searched: the preload length; bracket: fails at {b:.3} in, passes at {:.3} in (width {w:.3} in)",
-                        self.preload_length_in
+                        "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
+                        units::q(units::LENGTH, b, 3),
+                        units::q(units::LENGTH, self.preload_length_in, 3),
+                        units::q(units::LENGTH, w, 3),
+                        lu = units::symbol(units::LENGTH)
                     );
                 }
                 _ => {
@@ -787,13 +803,17 @@ impl Report for SpringReport {
         } else {
             let _ = writeln!(
                 out,
-                "camsim design spring: {:.1} lb/in at preload length {} in (preload {:.2} lb; {:.2} active coils, {:.4} lb, surge {:.0} Hz)",
-                self.spring_rate_lb_per_in,
-                self.preload_length_in,
-                self.preload_lb,
+                "camsim design spring: {} {ku} at preload length {} {lu} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+                units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
+                units::given(units::LENGTH, self.preload_length_in),
+                units::q(units::FORCE, self.preload_lb, 2),
                 self.active_coils,
-                self.spring_mass_lb,
-                self.surge_hz
+                units::q(units::WEIGHT, self.spring_mass_lb, 4),
+                self.surge_hz,
+                lu = units::symbol(units::LENGTH),
+                ku = units::symbol(units::STIFFNESS),
+                fu = units::symbol(units::FORCE),
+                wu = units::symbol(units::WEIGHT)
             );
         }
         match self
@@ -803,8 +823,11 @@ impl Report for SpringReport {
             Some(b) => {
                 let _ = writeln!(
                     out,
-                    "  bracket: fails at {b:.1} lb/in, passes at {:.1} lb/in (width {:.2} lb/in)",
-                    self.spring_rate_lb_per_in, self.bracket_lb_per_in
+                    "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
+                    units::q(units::STIFFNESS, b, 1),
+                    units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
+                    units::q(units::STIFFNESS, self.bracket_lb_per_in, 2),
+                    ku = units::symbol(units::STIFFNESS)
                 );
             }
             None if self.searched != "preload length" => {
@@ -838,20 +861,34 @@ impl Report for SpringReport {
             .iter()
             .map(|(k, ok)| {
                 if self.searched == "preload length" {
-                    format!("{k:.3}{}", if *ok { "+" } else { "-" })
+                    format!(
+                        "{}{}",
+                        units::q(units::LENGTH, *k, 3),
+                        if *ok { "+" } else { "-" }
+                    )
                 } else {
-                    format!("{k:.1}{}", if *ok { "+" } else { "-" })
+                    format!(
+                        "{}{}",
+                        units::q(units::STIFFNESS, *k, 1),
+                        if *ok { "+" } else { "-" }
+                    )
                 }
             })
             .collect();
         if self.searched == "preload length" {
             let _ = writeln!(
                 out,
-                "  preload lengths tried (in, + passes): {}",
+                "  preload lengths tried ({}, + passes): {}",
+                units::symbol(units::LENGTH),
                 tried.join(" ")
             );
         } else {
-            let _ = writeln!(out, "  rates tried (lb/in, + passes): {}", tried.join(" "));
+            let _ = writeln!(
+                out,
+                "  rates tried ({}, + passes): {}",
+                units::symbol(units::STIFFNESS),
+                tried.join(" ")
+            );
         }
         let _ = writeln!(
             out,

@@ -82,10 +82,11 @@ pub struct Args {
 /// What the verdict that opens `camsim run` judges against.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct VerdictArgs {
-    /// Allowable Hertz contact stress, psi (default: the scene's
-    /// limits.allowable_contact_stress_psi or _mpa, else 150 000: through-hardened steel at
-    /// 400 HB, 1e8 cycles, Buckingham's S_C = 0.4 H_B - 10 kpsi as Shigley gives it).
-    #[arg(long, value_name = "PSI", allow_hyphen_values = true, value_parser = args::positive_finite)]
+    /// Allowable Hertz contact stress, in the units of --units: psi, or MPa with --units si
+    /// (default: the scene's limits.allowable_contact_stress_psi or _mpa, else 150 000 psi =
+    /// 1034 MPa: through-hardened steel at 400 HB, 1e8 cycles, Buckingham's S_C = 0.4 H_B -
+    /// 10 kpsi = 2.76 H_B - 70 MPa as Shigley gives it).
+    #[arg(long, value_name = "PSI|MPA", allow_hyphen_values = true, value_parser = args::positive_finite)]
     pub allowable_stress: Option<f64>,
     /// Largest pressure angle without a warning, degrees (default: the scene's
     /// limits.pressure_angle_limit_deg, else 30, the usual limit for a translating
@@ -102,9 +103,12 @@ impl VerdictArgs {
     /// The limits asked for, the scene's (`[limits]`, or the defaults) otherwise.
     pub fn limits(&self, scene: &camsim_scene_file::Limits) -> crate::verdict::Limits {
         crate::verdict::Limits {
+            // The option is read in the output's family: psi, or MPa with --units si.
             allowable_contact_stress_psi: self
                 .allowable_stress
-                .unwrap_or(scene.allowable_contact_stress_psi),
+                .map_or(scene.allowable_contact_stress_psi, |v| {
+                    crate::units::inch_value(crate::units::STRESS, v)
+                }),
             pressure_angle_limit_deg: self
                 .pressure_angle_limit
                 .unwrap_or(scene.pressure_angle_limit_deg),
@@ -115,7 +119,7 @@ impl VerdictArgs {
             {
                 "the scene's [limits]"
             } else {
-                crate::verdict::ALLOWABLE_SOURCE
+                crate::verdict::allowable_source()
             },
         }
     }

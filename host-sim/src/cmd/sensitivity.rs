@@ -777,8 +777,36 @@ fn pct(v: f64, base: f64) -> Option<f64> {
 
 /// An output's value as a designer reads it: stress in whole psi, others with four
 /// significant digits, in plain notation from 0.001 up.
+/// The unit of output `i` of [`OUTPUTS`] (`None`: the cam speed's rad/s, the same in
+/// either family).
+fn output_unit(i: usize) -> Option<camsim_scene_file::units::Unit> {
+    use crate::units::{ACCELERATION, LENGTH, SPEED, STRESS};
+    match i {
+        0 => Some(LENGTH),
+        1 => Some(SPEED),
+        2 => Some(ACCELERATION),
+        4 => Some(STRESS),
+        _ => None,
+    }
+}
+
+/// The unit label of output `i` in the output's family (`--units`): the table's own
+/// (`in/s2`) in inch.
+fn output_label(i: usize) -> &'static str {
+    let inch = OUTPUTS.get(i).map_or("", |o| o.2);
+    output_unit(i).map_or(inch, |u| crate::units::label(u, inch))
+}
+
+/// Output `i`'s value `v` (inch family) in the output's family: four significant
+/// digits; the stress to the psi in inch (to 0.01 MPa in SI).
 fn fmt_value(i: usize, v: f64) -> String {
-    if i == 4 || v.abs() >= 1e4 {
+    let unit = output_unit(i);
+    let v = unit.map_or(v, |u| crate::units::value(u, v));
+    if i == 4 {
+        let d = unit.map_or(0, |u| crate::units::decimals(u, 0));
+        return format!("{v:.d$}");
+    }
+    if v.abs() >= 1e4 {
         return format!("{v:.0}");
     }
     if v == 0.0 {
@@ -806,12 +834,13 @@ impl Report for SensitivityReport {
         );
         let _ = writeln!(
             out,
-            "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} in, {} intervals \
+            "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} {}, {} intervals \
              ({:.2} deg, {}), FPR {}; the same cam in every case",
             p.seed,
-            p.cam_tolerance_in,
-            p.roller_tolerance_in,
-            p.eccentricity_tolerance_in,
+            crate::units::given(crate::units::LENGTH, p.cam_tolerance_in),
+            crate::units::given(crate::units::LENGTH, p.roller_tolerance_in),
+            crate::units::given(crate::units::LENGTH, p.eccentricity_tolerance_in),
+            crate::units::symbol(crate::units::LENGTH),
             p.intervals,
             p.interval_deg,
             p.interval_source.name(),
@@ -819,9 +848,13 @@ impl Report for SensitivityReport {
         );
         let _ = writeln!(
             out,
-            "outputs: RMS deviations of the load from the theoretical response (displacement in, velocity in/s, \
-             acceleration in/s2), RMS deviation of the cam speed from its nominal (rad/s), time-averaged Hertz \
-             stress (psi); each case's value, then its change from the baseline"
+            "outputs: RMS deviations of the load from the theoretical response (displacement {}, velocity {}, \
+             acceleration {}), RMS deviation of the cam speed from its nominal (rad/s), time-averaged Hertz \
+             stress ({}); each case's value, then its change from the baseline",
+            output_label(0),
+            output_label(1),
+            output_label(2),
+            output_label(4)
         );
         for cam in ["theoretical", "actual"] {
             let Some(b) = self.baseline.iter().find(|c| c.cam == cam) else {
@@ -829,8 +862,8 @@ impl Report for SensitivityReport {
             };
             let _ = writeln!(out, "\n{cam} cam");
             let _ = write!(out, "  {:<10} {:>6}", "group", "change");
-            for (_, h, u) in OUTPUTS {
-                let _ = write!(out, " {:>19}", format!("{h} ({u})"));
+            for (i, (_, h, _)) in OUTPUTS.iter().enumerate() {
+                let _ = write!(out, " {:>19}", format!("{h} ({})", output_label(i)));
             }
             let _ = writeln!(out, "  jump");
             let row = |out: &mut String, c: &Case| {
@@ -880,7 +913,10 @@ impl Report for SensitivityReport {
             }
             let _ = writeln!(out, " {:>10}", "onset");
             for (i, k) in pk.keys.iter().enumerate() {
-                let _ = write!(out, "  {:>4} {:<42}", i + 1, k.key);
+                // The key under its name in the output's family (an elasticity is the
+                // same in either).
+                let key = crate::units::key_in(k.key, crate::units::current()).0;
+                let _ = write!(out, "  {:>4} {:<42}", i + 1, key);
                 for v in k.elasticity.values() {
                     match v {
                         Some(v) => {
@@ -979,7 +1015,12 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 .titled(&row_title, ("sans-serif", 19))
                 .map_err(|x| e(&x))?;
             let areas = row.split_evenly((1, OUTPUTS.len()));
-            for (oi, (_, _, unit)) in OUTPUTS.iter().enumerate() {
+            for (oi, title) in PLOT_TITLES.iter().enumerate() {
+                // The unit as the run plots' axes write it (mm/s², N·m).
+                let unit = output_unit(oi).map_or_else(
+                    || OUTPUTS.get(oi).map_or("", |o| o.2).to_string(),
+                    |u| crate::units::axis(u).1,
+                );
                 let Some(area) = areas.get(oi) else {
                     continue;
                 };
@@ -1005,13 +1046,16 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                 // Room beyond the longest bar for its "jump" mark.
                 let m = bars.iter().map(|b| b.2.abs()).fold(1.0f64, f64::max) * 1.25;
                 let base_jumps = base.is_some_and(|b| b.outputs.jump);
-                let base_text = base.map_or(String::new(), |b| {
-                    format!(" {} {unit}", fmt_value(oi, b.outputs.values()[oi]))
+                // The axis is the change, %, of the baseline's value (in its unit).
+                let x_desc = base.map_or("change from the baseline, %".to_string(), |b| {
+                    format!(
+                        "change, % of the baseline {} {unit}",
+                        fmt_value(oi, b.outputs.values()[oi])
+                    )
                 });
-                let x_desc = format!("change from the baseline{base_text}, %");
                 let groups = Group::ALL.len() as f64;
                 let mut chart = ChartBuilder::on(area)
-                    .caption(PLOT_TITLES[oi], ("sans-serif", 16))
+                    .caption(*title, ("sans-serif", 16))
                     .margin(8)
                     .x_label_area_size(40)
                     .y_label_area_size(80)
@@ -1036,9 +1080,17 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                     })
                     .x_labels(7)
                     .x_desc(x_desc.as_str())
-                    .x_label_formatter(&|x| format!("{x:+.0}"))
+                    .x_label_formatter(&|x| {
+                        // A signed change; the zero line is 0, not +0 or -0.
+                        let t = format!("{x:+.0}");
+                        if t == "+0" || t == "-0" {
+                            "0".to_string()
+                        } else {
+                            t
+                        }
+                    })
                     .label_style(("sans-serif", 14))
-                    .axis_desc_style(("sans-serif", 13))
+                    .axis_desc_style(("sans-serif", 14))
                     .draw()
                     .map_err(|x| e(&x))?;
                 // Separators between the groups and the zero line.

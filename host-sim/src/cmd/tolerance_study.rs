@@ -22,6 +22,8 @@ use crate::output::AtomicDir;
 use crate::report::Report;
 use crate::sim::RunSpec;
 use crate::study::montecarlo::{self, Moments, Study, Summary};
+use crate::units;
+use camsim_scene_file::units::Unit;
 
 /// The factors on VI.1's cam and roller tolerances (±0.0005 and ±0.0001 in) of the
 /// grid's rows, largest first: cam ±0.0025, ±0.0005, ±0.0001 in.
@@ -278,17 +280,18 @@ pub fn run(args: Args) -> Result<()> {
     crate::report::print(&report(&args)?, args.output.json)
 }
 
-/// The columns of the per-cell table: (column, header).
-const TABLE: [(&str, &str); 9] = [
-    ("rms_displacement", "rms_y"),
-    ("rms_velocity", "rms_v"),
-    ("rms_acceleration", "rms_a"),
-    ("torque_avg", "T_avg"),
-    ("torque_max", "T_max"),
-    ("torque_min", "T_min"),
-    ("contact_force_min", "Fc_min"),
-    ("contact_force_max", "Fc_max"),
-    ("contact_stress_max", "stress"),
+/// The columns of the per-cell table: (column, header, unit, decimals in inch; `None`:
+/// scientific with three).
+const TABLE: [(&str, &str, Unit, Option<usize>); 9] = [
+    ("rms_displacement", "rms_y", units::LENGTH, None),
+    ("rms_velocity", "rms_v", units::SPEED, None),
+    ("rms_acceleration", "rms_a", units::ACCELERATION, None),
+    ("torque_avg", "T_avg", units::TORQUE, Some(2)),
+    ("torque_max", "T_max", units::TORQUE, Some(2)),
+    ("torque_min", "T_min", units::TORQUE, Some(2)),
+    ("contact_force_min", "Fc_min", units::FORCE, Some(2)),
+    ("contact_force_max", "Fc_max", units::FORCE, Some(2)),
+    ("contact_stress_max", "stress", units::STRESS, Some(0)),
 ];
 
 fn cell_text(out: &mut String, title: &str, c: &Cell) {
@@ -296,20 +299,21 @@ fn cell_text(out: &mut String, title: &str, c: &Cell) {
     let s = &c.summary;
     let _ = writeln!(out, "{title}");
     let _ = write!(out, "  {:<11}", "period");
-    for (_, h) in TABLE {
+    for (_, h, _, _) in TABLE {
         let _ = write!(out, " {:>10}", h);
     }
     let _ = writeln!(out, " {:>7}", "P(jump)");
     for p in &s.periods {
         let _ = write!(out, "  {:<11}", p.period);
-        for (col, _) in TABLE {
+        for (col, _, unit, decimals) in TABLE {
             let m = p.columns.get(col).map_or(f64::NAN, |m| m.mean);
-            if col.starts_with("rms") {
-                let _ = write!(out, " {:>10.3e}", m);
-            } else if col == "contact_stress_max" {
-                let _ = write!(out, " {:>10.0}", m);
-            } else {
-                let _ = write!(out, " {:>10.2}", m);
+            match decimals {
+                None => {
+                    let _ = write!(out, " {:>10.3e}", units::value(unit, m));
+                }
+                Some(d) => {
+                    let _ = write!(out, " {:>10}", units::q(unit, m, d));
+                }
             }
         }
         let _ = writeln!(out, " {:>7.3}", p.jump.p);
@@ -317,9 +321,10 @@ fn cell_text(out: &mut String, title: &str, c: &Cell) {
     let acc = s.whole_revolution.get("acc_rms_sum");
     let _ = writeln!(
         out,
-        "  sum of rms_a {:.4e} in/s2 (sd {:.2e}), jump anywhere {} of {}: p = {} (95 % Wilson interval)",
-        acc.map_or(0.0, |m| m.mean),
-        acc.map_or(0.0, |m| m.sd),
+        "  sum of rms_a {:.4e} {} (sd {:.2e}), jump anywhere {} of {}: p = {} (95 % Wilson interval)",
+        units::value(units::ACCELERATION, acc.map_or(0.0, |m| m.mean)),
+        units::label(units::ACCELERATION, "in/s2"),
+        units::value(units::ACCELERATION, acc.map_or(0.0, |m| m.sd)),
         s.jump.count,
         s.samples,
         s.jump.text(3)
@@ -343,7 +348,13 @@ impl Report for ToleranceReport {
         );
         let _ = writeln!(
             out,
-            "units: rms_y in, rms_v in/s, rms_a in/s2, torque lb in, force lb, stress psi\n"
+            "units: rms_y {}, rms_v {}, rms_a {}, torque {}, force {}, stress {}\n",
+            units::symbol(units::LENGTH),
+            units::symbol(units::SPEED),
+            units::label(units::ACCELERATION, "in/s2"),
+            units::symbol(units::TORQUE),
+            units::symbol(units::FORCE),
+            units::symbol(units::STRESS)
         );
         cell_text(
             &mut out,
@@ -356,18 +367,22 @@ impl Report for ToleranceReport {
             cell_text(
                 &mut out,
                 &format!(
-                    "cam ±{} in, roller ±{} in, eccentricity ±{} in, {}interval {:.4} deg: FPR {:.1} (sd {:.1}), rms lift deviation {:.3e} in",
-                    c.cam_tolerance_in,
-                    c.roller_tolerance_in,
-                    c.eccentricity_tolerance_in,
+                    "cam ±{} {lu}, roller ±{} {lu}, eccentricity ±{} {lu}, {}interval {:.4} deg: FPR {:.1} (sd {:.1}), rms lift deviation {:.3e} {lu}",
+                    units::given(units::LENGTH, c.cam_tolerance_in),
+                    units::given(units::LENGTH, c.roller_tolerance_in),
+                    units::given(units::LENGTH, c.eccentricity_tolerance_in),
                     c.target_fpr.map_or(String::new(), |f| format!("waviness asked FPR {f}, ")),
                     c.interval_deg.unwrap_or(0.0),
                     fpr.map_or(0.0, |m| m.mean),
                     fpr.map_or(0.0, |m| m.sd),
-                    c.summary
-                        .profile
-                        .get("rms_deviation_in")
-                        .map_or(0.0, |m| m.mean)
+                    units::value(
+                        units::LENGTH,
+                        c.summary
+                            .profile
+                            .get("rms_deviation_in")
+                            .map_or(0.0, |m| m.mean)
+                    ),
+                    lu = units::symbol(units::LENGTH)
                 ),
                 c,
             );
@@ -413,10 +428,11 @@ fn grid_text(out: &mut String, r: &ToleranceReport) {
     let cols = r.columns.max(1);
     let _ = writeln!(
         out,
-        "\nthe grid (revolution 2, {} cams a cell): P(jump) [95 % Wilson interval]; acceleration RMS summed over the periods, in/s2 \
-         (theoretical cam: {:.0}, {}); columns: waviness asked (FPR achieved, mean)",
+        "\nthe grid (revolution 2, {} cams a cell): P(jump) [95 % Wilson interval]; acceleration RMS summed over the periods, {} \
+         (theoretical cam: {}, {}); columns: waviness asked (FPR achieved, mean)",
         r.samples_per_cell,
-        r.theoretical.acc_rms_sum_in_per_s2,
+        units::label(units::ACCELERATION, "in/s2"),
+        units::q(units::ACCELERATION, r.theoretical.acc_rms_sum_in_per_s2, 0),
         if r.theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
     );
     let _ = write!(out, "{:<28}", "cam / roller tolerance");
@@ -430,15 +446,21 @@ fn grid_text(out: &mut String, r: &ToleranceReport) {
             out,
             "{:<28}",
             format!(
-                "±{} / ±{} in",
-                first.cam_tolerance_in, first.roller_tolerance_in
+                "±{} / ±{} {}",
+                units::given(units::LENGTH, first.cam_tolerance_in),
+                units::given(units::LENGTH, first.roller_tolerance_in),
+                units::symbol(units::LENGTH)
             )
         );
         for c in row {
             let _ = write!(
                 out,
                 " {:>32}",
-                format!("{}; {:.0}", c.summary.jump.text(2), c.acc_rms_sum_in_per_s2)
+                format!(
+                    "{}; {}",
+                    c.summary.jump.text(2),
+                    units::q(units::ACCELERATION, c.acc_rms_sum_in_per_s2, 0)
+                )
             );
         }
         let _ = writeln!(out);

@@ -59,26 +59,46 @@ impl Report for ShardReport {
     }
 }
 
-/// Short column labels of the text table.
-pub fn label(col: &str) -> &str {
+/// Short column labels of the text table: the name and the unit, in the output's
+/// family (`--units`).
+pub fn label(col: &str) -> String {
+    use crate::units::{self as u, ACCELERATION, FORCE, LENGTH, SPEED, STRESS, TORQUE};
+    let (name, unit) = match col {
+        "rms_displacement" => ("rms_y", Some((LENGTH, "in"))),
+        "rms_velocity" => ("rms_v", Some((SPEED, "in/s"))),
+        "rms_acceleration" => ("rms_a", Some((ACCELERATION, "in/s2"))),
+        "torque_avg" => ("T_avg", Some((TORQUE, "lb in"))),
+        "torque_max" => ("T_max", Some((TORQUE, "lb in"))),
+        "torque_min" => ("T_min", Some((TORQUE, "lb in"))),
+        "contact_force_min" => ("Fc_min", Some((FORCE, "lb"))),
+        "contact_force_max" => ("Fc_max", Some((FORCE, "lb"))),
+        "contact_force_avg" => ("Fc_avg", Some((FORCE, "lb"))),
+        "contact_stress_max" => ("stress", Some((STRESS, "psi"))),
+        "aord_motor" => ("aord_m", None),
+        "aord_coupling" => ("aord_cp", None),
+        "aord_cam" => ("aord_c", None),
+        "acc_rms_sum" => ("sum rms_a", Some((ACCELERATION, "in/s2"))),
+        "fpr" => ("FPR", None),
+        "rms_deviation_in" => ("rms lift dev", Some((LENGTH, "in"))),
+        other => (other, None),
+    };
+    match unit {
+        Some((unit, inch)) => format!("{name}, {}", u::label(unit, inch)),
+        None => name.to_string(),
+    }
+}
+
+/// A column's unit (`None`: dimensionless or a count).
+fn column_unit(col: &str) -> Option<camsim_scene_file::units::Unit> {
+    use crate::units::{ACCELERATION, FORCE, LENGTH, SPEED, STRESS, TORQUE};
     match col {
-        "rms_displacement" => "rms_y, in",
-        "rms_velocity" => "rms_v, in/s",
-        "rms_acceleration" => "rms_a, in/s2",
-        "torque_avg" => "T_avg, lb in",
-        "torque_max" => "T_max, lb in",
-        "torque_min" => "T_min, lb in",
-        "contact_force_min" => "Fc_min, lb",
-        "contact_force_max" => "Fc_max, lb",
-        "contact_force_avg" => "Fc_avg, lb",
-        "contact_stress_max" => "stress, psi",
-        "aord_motor" => "aord_m",
-        "aord_coupling" => "aord_cp",
-        "aord_cam" => "aord_c",
-        "acc_rms_sum" => "sum rms_a, in/s2",
-        "fpr" => "FPR",
-        "rms_deviation_in" => "rms lift dev, in",
-        other => other,
+        "rms_displacement" | "rms_deviation_in" => Some(LENGTH),
+        "rms_velocity" => Some(SPEED),
+        "rms_acceleration" | "acc_rms_sum" => Some(ACCELERATION),
+        "torque_avg" | "torque_max" | "torque_min" => Some(TORQUE),
+        "contact_force_min" | "contact_force_max" | "contact_force_avg" => Some(FORCE),
+        "contact_stress_max" => Some(STRESS),
+        _ => None,
     }
 }
 
@@ -90,15 +110,16 @@ fn moments_table(out: &mut String, columns: &Columns) {
         "", "mean", "sd", "p5", "p50", "p95"
     );
     for (name, m) in &columns.0 {
+        let v = |x: f64| column_unit(name).map_or(x, |unit| crate::units::value(unit, x));
         let _ = writeln!(
             out,
             "  {:<17} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}",
             label(name),
-            m.mean,
-            m.sd,
-            m.p5,
-            m.p50,
-            m.p95
+            v(m.mean),
+            v(m.sd),
+            v(m.p5),
+            v(m.p50),
+            v(m.p95)
         );
     }
 }
@@ -124,12 +145,13 @@ impl Report for MonteCarloReport {
         let p = &s.profile;
         let _ = writeln!(
             out,
-            "profile: {} ({} normal deviates), tolerances cam {} / roller {} / eccentricity {} in, {} intervals ({:.4} deg, {})",
+            "profile: {} ({} normal deviates), tolerances cam {} / roller {} / eccentricity {} {}, {} intervals ({:.4} deg, {})",
             p.method,
             p.normal,
-            p.cam_tolerance_in,
-            p.roller_tolerance_in,
-            p.eccentricity_tolerance_in,
+            crate::units::given(crate::units::LENGTH, p.cam_tolerance_in),
+            crate::units::given(crate::units::LENGTH, p.roller_tolerance_in),
+            crate::units::given(crate::units::LENGTH, p.eccentricity_tolerance_in),
+            crate::units::symbol(crate::units::LENGTH),
             p.intervals,
             360.0 / p.intervals as f64,
             p.interval_source
