@@ -73,7 +73,7 @@ pub use solve::system::{OdeSystem, Tolerance};
 mod run;
 pub use run::grid::{simulate_on_grid, AngleGrid};
 pub use run::jump::{jump_verdict, JumpVerdict, JumpWatch, STEADY_FROM_REVOLUTION};
-pub use run::method::Method;
+pub use run::method::{Method, AUTO_MERSON_MIN_RTOL};
 pub use run::response::{
     period_name, simulate, simulate_events, solver_config, Both, ContactEvent, ContactEventFn,
     ContactEventSettings, GridPointKind, JumpInterval, Observer, PeriodStats, ResponseStats,

@@ -1,6 +1,7 @@
 //! The chip's integration method at equal error: for England's method and the two pairs
-//! (`camsim_core::Method`) at a ladder of rtol, the chip's f32 model (its scene, the
-//! chip's other settings) against a reference (England in f64 at rtol 1e-10): the error
+//! (`camsim_core::Method`) at a ladder of rtol, the chip's f32 model (its scene, its lift
+//! table, the chip's other settings) against a reference (England in f64 at rtol 1e-10 on
+//! the closed-form lift): the error
 //! of the smallest contact force at 800 and 900 rpm and of the largest timing error, the
 //! prediction table's jump onset, and the right-hand-side evaluations of one revolution
 //! at 800 and 950 rpm from static equilibrium (what `budget`'s `model chip` lines count
@@ -12,7 +13,7 @@
 use std::ops::ControlFlow;
 
 use anyhow::Result;
-use camsim_chip::{chip_design, chip_solver_settings, ChipConfig, ChipModel};
+use camsim_chip::{chip_design, chip_solver_settings, ChipConfig, ChipModel, ChipTable};
 use camsim_core::{simulate, Method, Observer, Sample, SolverSettings, StepRule};
 
 struct Nothing;
@@ -78,18 +79,30 @@ fn main() -> Result<()> {
         "evals950"
     );
     let d32 = chip_design::<f32>();
-    for method in Method::ALL {
+    for method in [Method::England, Method::Merson, Method::DormandPrince] {
         for &rtol in &rtols {
             let s = SolverSettings {
                 rtol: rtol as f32,
                 method,
                 ..chip_solver_settings::<f32>()
             };
-            let c = ChipConfig::new(&d32).with_settings(s);
+            // On the chip's lift table, as the firmware and `predict --f32` (set
+            // CHIP_METHOD_THEORETICAL=1 for the closed-form lift).
+            let mut table = Box::new(ChipTable::<f32>::EMPTY);
+            let theoretical = ChipConfig::new(&d32).with_settings(s);
+            let tabled = theoretical.tabulate(&mut table)?;
+            let closed_form = std::env::var("CHIP_METHOD_THEORETICAL").is_ok();
+            let steady = |r: f32| {
+                if closed_form {
+                    theoretical.steady_state(r)
+                } else {
+                    tabled.steady_state(r)
+                }
+            };
             let mut dfc = [0.0f64; 2];
             let mut dt = 0.0f64;
             for ((slot, r), rs) in dfc.iter_mut().zip(rpms).zip(&ref_ss) {
-                let (Ok(a), Ok(b)) = (c.steady_state(r as f32), rs) else {
+                let (Ok(a), Ok(b)) = (steady(r as f32), rs) else {
                     continue;
                 };
                 *slot = (f64::from(a.min_contact_force) - b.min_contact_force).abs();
@@ -99,7 +112,11 @@ fn main() -> Result<()> {
                     }
                 }
             }
-            let onset = c.prediction_table()?.jump_rpm;
+            let onset = if closed_form {
+                theoretical.prediction_table()?.jump_rpm
+            } else {
+                tabled.prediction_table()?.jump_rpm
+            };
             let don = match (onset, ref_onset) {
                 (Some(a), Some(b)) => format!("{:+.2}", f64::from(a) - b),
                 _ => "-".into(),

@@ -80,6 +80,7 @@ fn main() -> Result<()> {
         rtol: 1e-12,
         atol: 1e-15,
         step_control: StepRule::Thesis,
+        method: Method::England,
         ..base
     };
     let (r, r_evals) = run(&model, &reference, revs)?;

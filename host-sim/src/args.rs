@@ -123,10 +123,13 @@ impl From<StepControlArg> for camsim_core::StepRule {
 /// `solver.method`, docs/MODEL.md §3.16).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
+    /// Merson's pair at rtol >= 1e-7, where it needs fewer evaluations, England's method
+    /// below (the default).
+    Auto,
     /// England's double step, the thesis's method.
     England,
-    /// Merson's 4(3) pair, built for the imaginary axis (the default; capped at the
-    /// stiffness limit unless --step-control thesis).
+    /// Merson's 4(3) pair, built for the imaginary axis (capped at the stiffness limit
+    /// unless --step-control thesis).
     Merson,
     /// Dormand and Prince's 5(4) pair, for a step held by accuracy.
     DormandPrince,
@@ -135,6 +138,7 @@ pub enum MethodArg {
 impl From<MethodArg> for camsim_core::Method {
     fn from(m: MethodArg) -> Self {
         match m {
+            MethodArg::Auto => Self::Auto,
             MethodArg::England => Self::England,
             MethodArg::Merson => Self::Merson,
             MethodArg::DormandPrince => Self::DormandPrince,

@@ -20,8 +20,9 @@ use std::sync::OnceLock;
 use camsim::bench::methods::{run as run_method, Method};
 use camsim::bench::sample::{Sampler, Samples};
 use camsim_core::{
-    solver_config, Design, England, EnglandConfig, Error, Real, RegulatedFull, RegulatedFullModel,
-    Scene, SolverSettings, SolverStats, Start, StepControl, Tolerance,
+    solver_config, Design, England, EnglandConfig, Error, Merson, Real, RegulatedFull,
+    RegulatedFullModel, Scene, SolverSettings, SolverStats, Start, StepControl, StiffnessCap,
+    Tolerance, SCALED_CAP_FULL_RTOL,
 };
 
 mod common;
@@ -57,11 +58,24 @@ struct Seen {
 
 /// Runs `revolutions` revolutions of the full model from static equilibrium with
 /// England's method in precision `T`, checking every node (midpoints and ends).
+/// The integrator of a stress run: England's method under a step control, or Merson's
+/// pair with the tolerance-scaled cap (the default's method at rtol >= 1e-7).
+enum Integrator<T> {
+    England(StepControl<T>),
+    MersonCapped,
+}
+
+impl<T: Real> From<StepControl<T>> for Integrator<T> {
+    fn from(c: StepControl<T>) -> Self {
+        Integrator::England(c)
+    }
+}
+
 fn stress_run<T: Real>(
     design: &Design<f64>,
     rtol: f64,
     atol: f64,
-    control: StepControl<T>,
+    integrator: impl Into<Integrator<T>>,
     revolutions: u32,
 ) -> (Result<SolverStats, Error>, Seen, u32) {
     let model = RegulatedFullModel::<T>::new(design.cast::<T>().unwrap()).expect("a valid design");
@@ -74,7 +88,6 @@ fn stress_run<T: Real>(
     };
     let config = solver_config(&model, &settings, revolutions).unwrap();
     let budget = config.max_steps;
-    let mut solver = England::with_control(config, control).unwrap();
     let mut y = model.static_state();
     let w0 = design.omega0;
     let target = TWO_PI * f64::from(revolutions);
@@ -84,7 +97,7 @@ fn stress_run<T: Real>(
         min_speed: f64::INFINITY,
         ..Seen::default()
     };
-    let r = solver.integrate(&model, T::ZERO, &mut y, t_end, |t, y| {
+    let mut observe = |t: T, y: &[T; RegulatedFull::N]| {
         let p = model.evaluate(t, y);
         seen.nodes += 1;
         let scalars = [
@@ -130,7 +143,30 @@ fn stress_run<T: Real>(
             return ControlFlow::Break(());
         }
         ControlFlow::Continue(())
-    });
+    };
+    let r =
+        match integrator.into() {
+            Integrator::England(control) => England::with_control(config, control)
+                .unwrap()
+                .integrate(&model, T::ZERO, &mut y, t_end, &mut observe),
+            Integrator::MersonCapped => {
+                // A single step is half a double step (as a run's).
+                let single = EnglandConfig {
+                    h_init: config.h_init * T::HALF,
+                    h_min: config.h_min * T::HALF,
+                    h_max: config.h_max * T::HALF,
+                    ..config
+                };
+                let cap = StiffnessCap::tolerance_scaled(T::from_f64(SCALED_CAP_FULL_RTOL));
+                Merson::with_cap(single, cap).unwrap().integrate(
+                    &model,
+                    T::ZERO,
+                    &mut y,
+                    t_end,
+                    |t, y, _| observe(t, y),
+                )
+            }
+        };
     (r, seen, budget)
 }
 
@@ -189,16 +225,22 @@ fn design(rpm: f64) -> Design<f64> {
     d
 }
 
-fn both_controls(case: &str, d: &Design<f64>, rtol: f64, revolutions: u32) -> [bool; 2] {
-    let mut out = [false; 2];
-    for (k, (name, control)) in [
-        ("classic", StepControl::<f64>::classic()),
-        ("pi_capped", StepControl::pi_capped()),
+/// A case under the three integrators a run can take on the full model: England's
+/// classic and PI-capped controls, and Merson's capped pair (the default's).
+fn both_controls(case: &str, d: &Design<f64>, rtol: f64, revolutions: u32) -> [bool; 3] {
+    let mut out = [false; 3];
+    for (k, (name, integrator)) in [
+        (
+            "classic",
+            Integrator::England(StepControl::<f64>::classic()),
+        ),
+        ("pi_capped", Integrator::England(StepControl::pi_capped())),
+        ("merson_capped", Integrator::MersonCapped),
     ]
     .into_iter()
     .enumerate()
     {
-        let (r, seen, budget) = stress_run(d, rtol, 1e-3 * rtol, control, revolutions);
+        let (r, seen, budget) = stress_run(d, rtol, 1e-3 * rtol, integrator, revolutions);
         out[k] = check(&format!("{case} [{name}]"), &r, &seen, budget);
     }
     out
@@ -215,7 +257,7 @@ fn contact_stiffness_from_a_hundredth_to_a_hundred_times() {
         d.hertz.youngs_2 *= f;
         let done = both_controls(&format!("contact stiffness x{f}"), &d, 1e-6, 2);
         // Soft or stiff, a static start at 500 rpm is an ordinary run.
-        assert_eq!(done, [true, true], "contact x{f}");
+        assert_eq!(done, [true; 3], "contact x{f}");
     }
 }
 
@@ -230,7 +272,7 @@ fn structural_stiffness_from_a_hundredth_to_a_hundred_times() {
         d.k_s2 *= f;
         d.youngs *= f;
         let done = both_controls(&format!("structural stiffness x{f}"), &d, 1e-6, 2);
-        assert_eq!(done, [true, true], "structure x{f}");
+        assert_eq!(done, [true; 3], "structure x{f}");
     }
 }
 
@@ -239,7 +281,7 @@ fn cam_speed_from_100_to_3000_rpm() {
     for rpm in [100.0, 300.0, 1000.0, 2000.0, 3000.0] {
         let done = both_controls(&format!("{rpm} rpm"), &design(rpm), 1e-6, 2);
         if rpm <= 300.0 {
-            assert_eq!(done, [true, true], "{rpm} rpm");
+            assert_eq!(done, [true; 3], "{rpm} rpm");
         }
     }
 }
@@ -248,7 +290,7 @@ fn cam_speed_from_100_to_3000_rpm() {
 fn relative_tolerance_from_1e_2_to_1e_10() {
     for rtol in [1e-2, 1e-4, 1e-6, 1e-8, 1e-10] {
         let done = both_controls(&format!("rtol {rtol:e}"), &design(500.0), rtol, 2);
-        assert_eq!(done, [true, true], "rtol {rtol}");
+        assert_eq!(done, [true; 3], "rtol {rtol}");
     }
 }
 
@@ -267,7 +309,7 @@ fn damping_near_zero() {
     d.roller_bearing_damping_ratio *= tiny;
     d.mu = 0.0;
     let done = both_controls("damping x1e-6, no friction", &d, 1e-6, 2);
-    assert_eq!(done, [true, true]);
+    assert_eq!(done, [true; 3]);
 }
 
 #[test]
@@ -281,11 +323,15 @@ fn a_spring_so_weak_the_follower_leaves_the_cam_every_revolution() {
     let mut d = design(500.0);
     d.k_rs = 30.0;
     d.k_rs_modal = 30.0;
-    for (name, control) in [
-        ("classic", StepControl::<f64>::classic()),
-        ("pi_capped", StepControl::pi_capped()),
+    for (name, integrator) in [
+        (
+            "classic",
+            Integrator::England(StepControl::<f64>::classic()),
+        ),
+        ("pi_capped", Integrator::England(StepControl::pi_capped())),
+        ("merson_capped", Integrator::MersonCapped),
     ] {
-        let (r, seen, budget) = stress_run(&d, 1e-6, 1e-9, control, 3);
+        let (r, seen, budget) = stress_run(&d, 1e-6, 1e-9, integrator, 3);
         let done = check(&format!("k_rs 30 lb/in [{name}]"), &r, &seen, budget);
         assert!(done, "{name}");
         assert_eq!(seen.separated, [true, true, true], "{name}");
@@ -295,11 +341,15 @@ fn a_spring_so_weak_the_follower_leaves_the_cam_every_revolution() {
 #[test]
 fn single_precision_cases_finish_or_stop_typed() {
     for rpm in [100.0, 500.0, 3000.0] {
-        for (name, control) in [
-            ("classic", StepControl::<f32>::classic()),
-            ("pi_capped", StepControl::pi_capped()),
+        for (name, integrator) in [
+            (
+                "classic",
+                Integrator::England(StepControl::<f32>::classic()),
+            ),
+            ("pi_capped", Integrator::England(StepControl::pi_capped())),
+            ("merson_capped", Integrator::MersonCapped),
         ] {
-            let (r, seen, budget) = stress_run::<f32>(&design(rpm), 1e-4, 1e-7, control, 2);
+            let (r, seen, budget) = stress_run::<f32>(&design(rpm), 1e-4, 1e-7, integrator, 2);
             let done = check(
                 &format!("f32 {rpm} rpm rtol 1e-4 [{name}]"),
                 &r,

@@ -244,11 +244,10 @@ pub enum Start {
 
 impl<T: Real> SolverSettings<T> {
     /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step (1/4000
-    /// per single step), Merson's pair ([`Method::Merson`]) with the tolerance-scaled
-    /// stiffness cap ([`StepRule::ScaledCap`]). Merson needs 0.69×, 0.80× and 0.83× the
-    /// evaluations of England's method under the same rule at equal acceleration error
-    /// (rtol 1e-4, 1e-6 and 1e-7; docs/BENCHMARKS.md), so it is the default; England's
-    /// method (the thesis's) stays selectable.
+    /// per single step), [`Method::Auto`] (Merson's pair at this rtol: at equal
+    /// acceleration error it needs 0.69×, 0.80× and 0.83× England's evaluations at rtol
+    /// 1e-4, 1e-6 and 1e-7, docs/MODEL.md §3.16; England's method below 1e-7) with the
+    /// tolerance-scaled stiffness cap ([`StepRule::ScaledCap`]).
     pub fn reference() -> Self {
         Self {
             rtol: T::from_f64(1e-6),
@@ -257,7 +256,7 @@ impl<T: Real> SolverSettings<T> {
             max_steps_per_rev: 2_000_000,
             start: Start::Thesis,
             step_control: StepRule::ScaledCap,
-            method: Method::Merson,
+            method: Method::Auto,
         }
     }
 

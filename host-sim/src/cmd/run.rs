@@ -262,7 +262,7 @@ impl RunReport {
             revolutions: spec.revolutions,
             dofs: result.scene.dofs,
             rtol: spec.solver.rtol,
-            method: spec.solver.method.name(),
+            method: spec.solver.method.resolve(spec.solver.rtol).name(),
             atol_in: spec.solver.atol,
             periods: sim::period_names(&spec.design),
         }
