@@ -62,10 +62,13 @@ pub use solve::controller::{
     StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
 };
 pub use solve::dense::Dense;
+#[cfg(feature = "pairs")]
 pub use solve::dormand_prince::{DormandPrince, DORMAND_PRINCE, DP_IMAGINARY_BOUNDARY, DP_STAGES};
 pub use solve::england::{England, EnglandConfig, SolverStats};
 pub use solve::events::{Event, EventConfig, EventFunction, EventStats, Report};
+#[cfg(feature = "pairs")]
 pub use solve::imaginary::{hermite, merson_pi, Merson, IMAGINARY_BOUNDARY, MERSON};
+#[cfg(feature = "pairs")]
 pub use solve::pair::{Pair, PairTableau};
 pub use solve::rk4::{rk4_integrate, rk4_step, rk4_step_from};
 pub use solve::system::{OdeSystem, Tolerance};

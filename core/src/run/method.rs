@@ -5,10 +5,9 @@
 use core::ops::ControlFlow;
 
 use crate::solve::england::Sampler;
-use crate::{
-    Dense, DormandPrince, England, EnglandConfig, Error, Merson, OdeSystem, Real, Result,
-    SolverStats, StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
-};
+use crate::{Dense, England, EnglandConfig, Error, OdeSystem, Real, Result, SolverStats, StepRule};
+#[cfg(feature = "pairs")]
+use crate::{DormandPrince, Merson, StiffnessCap, SCALED_CAP_FULL_RTOL};
 
 /// The tightest rtol at which [`Method::Auto`] takes Merson's pair: at rtol 1e-4, 1e-6 and
 /// 1e-7 Merson needs 0.69x, 0.80x and 0.83x England's evaluations at equal acceleration
@@ -67,16 +66,21 @@ impl Method {
     }
 
     /// The method that runs at `rtol`: [`Method::Auto`]'s choice, any other as it is.
+    /// Without the feature `pairs`, [`Method::Auto`] is always England's method.
     ///
     /// ```
+    /// # #[cfg(feature = "pairs")] {
     /// use camsim_core::Method;
     /// assert_eq!(Method::Auto.resolve(1e-6), Method::Merson);
     /// assert_eq!(Method::Auto.resolve(1e-8), Method::England);
     /// assert_eq!(Method::DormandPrince.resolve(1e-8), Method::DormandPrince);
+    /// # }
     /// ```
     pub fn resolve(self, rtol: f64) -> Method {
         match self {
-            Method::Auto if rtol >= AUTO_MERSON_MIN_RTOL => Method::Merson,
+            Method::Auto if cfg!(feature = "pairs") && rtol >= AUTO_MERSON_MIN_RTOL => {
+                Method::Merson
+            }
             Method::Auto => Method::England,
             other => other,
         }
@@ -89,8 +93,10 @@ pub(crate) enum RunSolver<T, const N: usize> {
     /// England's method.
     England(England<T, N>),
     /// Merson's pair.
+    #[cfg(feature = "pairs")]
     Merson(Merson<T, N>),
     /// Dormand and Prince's pair.
+    #[cfg(feature = "pairs")]
     DormandPrince(DormandPrince<T, N>),
 }
 
@@ -99,6 +105,7 @@ impl<T: Real, const N: usize> RunSolver<T, N> {
     /// step is half of one, so that its samples are as dense; the budget counts each
     /// method's own steps), England's step controlled by `rule`.
     pub(crate) fn new(method: Method, rule: StepRule, config: EnglandConfig<T, N>) -> Result<Self> {
+        #[cfg(feature = "pairs")]
         let single = EnglandConfig {
             h_init: config.h_init * T::HALF,
             h_min: config.h_min * T::HALF,
@@ -109,6 +116,7 @@ impl<T: Real, const N: usize> RunSolver<T, N> {
             Method::Auto | Method::England => {
                 RunSolver::England(England::with_control(config, rule.control())?)
             }
+            #[cfg(feature = "pairs")]
             Method::Merson => RunSolver::Merson(match rule {
                 StepRule::Thesis => Merson::new(single)?,
                 StepRule::ScaledCap | StepRule::PiScaledCap => Merson::with_cap(
@@ -116,9 +124,17 @@ impl<T: Real, const N: usize> RunSolver<T, N> {
                     StiffnessCap::tolerance_scaled(T::from_f64(SCALED_CAP_FULL_RTOL)),
                 )?,
             }),
+            #[cfg(feature = "pairs")]
             Method::DormandPrince => {
                 RunSolver::DormandPrince(DormandPrince::dormand_prince(single)?)
             }
+            #[cfg(not(feature = "pairs"))]
+            Method::Merson | Method::DormandPrince => return Err(Error::InvalidParameter {
+                field: crate::key::METHOD,
+                rule:
+                    "this build has England's method only (camsim-core's feature \"pairs\" is off)",
+                value: f64::NAN,
+            }),
         })
     }
 
@@ -126,7 +142,9 @@ impl<T: Real, const N: usize> RunSolver<T, N> {
     pub(crate) fn stats(&self) -> SolverStats {
         match self {
             RunSolver::England(s) => s.stats(),
+            #[cfg(feature = "pairs")]
             RunSolver::Merson(s) => s.stats(),
+            #[cfg(feature = "pairs")]
             RunSolver::DormandPrince(s) => s.stats(),
         }
     }
@@ -134,6 +152,7 @@ impl<T: Real, const N: usize> RunSolver<T, N> {
     /// England's solver, for what only it provides (event location); an error naming
     /// the setting otherwise.
     pub(crate) fn england(&mut self) -> Result<&mut England<T, N>> {
+        #[allow(unreachable_patterns)]
         match self {
             RunSolver::England(s) => Ok(s),
             _ => Err(Error::InvalidParameter {
@@ -156,7 +175,9 @@ impl<T: Real, const N: usize> RunSolver<T, N> {
     ) -> Result<SolverStats> {
         match self {
             RunSolver::England(s) => s.integrate_shared(sys, t0, y, t_end, sampler),
+            #[cfg(feature = "pairs")]
             RunSolver::Merson(s) => s.integrate_shared(sys, t0, y, t_end, sampler),
+            #[cfg(feature = "pairs")]
             RunSolver::DormandPrince(s) => s.integrate_shared(sys, t0, y, t_end, sampler),
         }
     }
@@ -176,7 +197,9 @@ impl<T: Real, const N: usize> RunSolver<T, N> {
     {
         match self {
             RunSolver::England(s) => s.integrate_dense(sys, t0, y, t_end, observer),
+            #[cfg(feature = "pairs")]
             RunSolver::Merson(s) => s.integrate_dense(sys, t0, y, t_end, observer),
+            #[cfg(feature = "pairs")]
             RunSolver::DormandPrince(s) => s.integrate_dense(sys, t0, y, t_end, observer),
         }
     }

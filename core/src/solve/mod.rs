@@ -4,10 +4,13 @@
 
 pub(crate) mod controller;
 pub(crate) mod dense;
+#[cfg(feature = "pairs")]
 pub(crate) mod dormand_prince;
 pub(crate) mod england;
 pub(crate) mod events;
+#[cfg(feature = "pairs")]
 pub(crate) mod imaginary;
+#[cfg(feature = "pairs")]
 pub(crate) mod pair;
 pub(crate) mod rk4;
 pub(crate) mod system;
