@@ -18,11 +18,12 @@ pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
     /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
-    /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), the tables of
-    /// every command's tables (run, sweep, jump-speed, laws, modal, contact, montecarlo,
-    /// compare, tolerance-study, sensitivity, design, models, bench, predict, waviness), the
-    /// scene file of scene (SI keys), the --csv of run and sweep, and the plots
-    /// (firmware-check prints bytes, instructions and rpm only, the same in either).
+    /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), every command's
+    /// tables (run, sweep, jump-speed, laws, modal, contact, montecarlo, compare,
+    /// tolerance-study, sensitivity, design, models, bench, predict, waviness), the scene
+    /// file of scene (SI keys), the --csv of run and sweep, the plots, and
+    /// run's --allowable-stress (MPa); firmware-check prints bytes, instructions and rpm
+    /// only, the same in either.
     #[arg(
         long,
         global = true,

@@ -292,6 +292,58 @@ mod tests {
         assert!((p - 4.0).abs() < 0.3, "local order {p}: {worst:?}");
     }
 
+    /// `y' = y²`, `y(0) = 1`: `y = 1/(1 - t)` blows up at t = 1.
+    struct BlowUp;
+    impl OdeSystem<f32, 1> for BlowUp {
+        fn rhs(&self, _t: f32, y: &[f32; 1], d: &mut [f32; 1]) {
+            d[0] = y[0] * y[0];
+        }
+    }
+
+    #[test]
+    fn a_blow_up_is_a_typed_error_never_a_non_finite_success() {
+        // In f32 the solution overflows well before the step would underflow: every
+        // pair must stop with an error, and no node it shows may be non-finite.
+        let cfg = EnglandConfig {
+            tol: Tolerance::scalar(1e-3f32, 1e-6),
+            h_init: 1e-3,
+            h_min: 1e-30,
+            h_max: 0.1,
+            max_steps: 100_000,
+        };
+        let finite = core::cell::Cell::new(true);
+        let node = |_: f32, y: &[f32; 1], f: &[f32; 1]| {
+            finite.set(finite.get() && y[0].is_finite() && f[0].is_finite());
+            ControlFlow::Continue(())
+        };
+        let mut y = [1.0f32];
+        let dp = DormandPrince::dormand_prince(cfg)
+            .unwrap()
+            .integrate(&BlowUp, 0.0, &mut y, 2.0, node);
+        assert!(dp.is_err(), "{dp:?}");
+        let mut y = [1.0f32];
+        let merson = crate::Merson::new(cfg)
+            .unwrap()
+            .integrate(&BlowUp, 0.0, &mut y, 2.0, node);
+        assert!(merson.is_err(), "{merson:?}");
+        assert!(finite.get());
+        // A solution that overflows while every stage stays finite (y' = 1e38 from 2e38):
+        // the error estimate is 0, the scale infinite; the step must still not pass.
+        let mut y = [2e38f32];
+        let r = DormandPrince::dormand_prince(cfg)
+            .unwrap()
+            .integrate(&Drift, 0.0, &mut y, 10.0, node);
+        assert!(r.is_err() && finite.get(), "{r:?} {y:?}");
+    }
+
+    /// `y' = 1e38`: stages as finite as the slope, the solution overflowing f32.
+    struct Drift;
+    impl OdeSystem<f32, 1> for Drift {
+        fn rhs(&self, _t: f32, _y: &[f32; 1], d: &mut [f32; 1]) {
+            d[0] = 1e38;
+        }
+    }
+
     #[test]
     fn reaches_0_997_on_the_imaginary_axis() {
         // |R(iy)| of the stability polynomial, R = Σ_{k<=5} z^k/k! + z⁶/600.

@@ -462,6 +462,10 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
                 }
             }
         }
+        // A non-finite solution rejects the step (its scale would be infinite, its ratio 0).
+        if first_non_finite(y1).is_some() {
+            return Ok(T::INFINITY);
+        }
         let cfg = &self.config;
         let mut err = T::ZERO;
         for (((en, y1n), y0n), atol) in e
