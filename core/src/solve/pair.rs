@@ -451,16 +451,19 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
                 *last = *f1;
             }
         }
-        // Error ratio: e = h Σ (b_i - b̂_i) k_i, one stage at a time.
+        // Error ratio: e = h Σ (b_i - b̂_i) k_i, the sum first, one stage at a time.
         let mut e = [T::ZERO; N];
         for ((bi, bh), ki) in tab.b.iter().zip(tab.b_hat.iter()).zip(self.k.iter()) {
             let d = *bi - *bh;
             if d != 0.0 {
-                let c = hs * T::from_f64(d);
+                let c = T::from_f64(d);
                 for (en, kn) in e.iter_mut().zip(ki.iter()) {
                     *en += c * *kn;
                 }
             }
+        }
+        for en in e.iter_mut() {
+            *en *= hs;
         }
         // A non-finite solution rejects the step (its scale would be infinite, its ratio 0).
         if first_non_finite(y1).is_some() {
@@ -487,8 +490,10 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
     }
 }
 
-/// `out = y + Σ_j (h w_j) k_j` over the stages given (zero weights skipped), one stage at
-/// a time (a vector update per stage, no index per component).
+/// `out = y + h Σ_j w_j k_j` over the stages given (zero weights skipped): the weighted sum
+/// of the stages first, one stage at a time (a vector update per stage, no index per
+/// component), then one addition to `y`, so that in f32 the solution is rounded once per
+/// step at its own scale, not once per stage.
 #[inline(always)]
 fn combine<T: Real, const N: usize, const S: usize>(
     y: &[T; N],
@@ -497,14 +502,17 @@ fn combine<T: Real, const N: usize, const S: usize>(
     k: &[[T; N]],
     out: &mut [T; N],
 ) {
-    *out = *y;
+    let mut acc = [T::ZERO; N];
     for (wj, kj) in w.iter().zip(k.iter()) {
         if *wj != 0.0 {
-            let c = h * T::from_f64(*wj);
-            for (o, kn) in out.iter_mut().zip(kj.iter()) {
-                *o += c * *kn;
+            let c = T::from_f64(*wj);
+            for (a, kn) in acc.iter_mut().zip(kj.iter()) {
+                *a += c * *kn;
             }
         }
+    }
+    for ((o, yn), a) in out.iter_mut().zip(y.iter()).zip(acc.iter()) {
+        *o = *yn + h * *a;
     }
 }
 
