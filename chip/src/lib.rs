@@ -98,8 +98,8 @@ pub fn chip_design_from<T: Real>(scene: &Design<f64>) -> Result<Design<T>> {
 /// power iterations (PI with the cap measured +15 % instructions per revolution on the
 /// chip, docs/FIRMWARE.md), and `camsim predict --f32` runs exactly these settings, so
 /// the parity with the firmware stays bit for bit. The method is England's, not the host's
-/// default Merson: on the chip's lift table at rtol 1e-2 Merson takes 0.72× the
-/// evaluations a revolution but misses the smallest contact force at 800 rpm by 0.34 lb
+/// default Merson: on the chip's lift table at rtol 1e-2 Merson takes 0.73× the
+/// evaluations a revolution but misses the smallest contact force at 800 rpm by 0.21 lb
 /// against England's 0.11 (its samples are only the step ends), so it does not win at
 /// equal error (the `chip_method` example, docs/FIRMWARE.md).
 pub fn chip_solver_settings<T: Real>() -> SolverSettings<T> {

@@ -123,7 +123,7 @@ impl From<StepControlArg> for camsim_core::StepRule {
 /// `solver.method`, docs/MODEL.md §3.16).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum MethodArg {
-    /// Merson's pair at rtol >= 1e-7, where it needs fewer evaluations, England's method
+    /// Merson's pair at rtol >= 1e-6, where it needs fewer evaluations, England's method
     /// below (the default).
     Auto,
     /// England's double step, the thesis's method.

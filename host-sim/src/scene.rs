@@ -94,7 +94,7 @@ const HOST_KEYS: &[(&str, &str)] = &[
     ),
     (
         "solver.method",
-        "\"auto\" (merson at rtol >= 1e-7, england below), \"england\" (the thesis's), \"merson\" (imaginary axis) or \"dormand-prince\" (accuracy-limited)",
+        "\"auto\" (merson at rtol >= 1e-6, england below), \"england\" (the thesis's), \"merson\" (imaginary axis) or \"dormand-prince\" (accuracy-limited)",
     ),
 ];
 

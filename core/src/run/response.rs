@@ -245,8 +245,8 @@ pub enum Start {
 impl<T: Real> SolverSettings<T> {
     /// Defaults: rtol 1e-6, atol 1e-8 in, at most 1/2000 revolution per double step (1/4000
     /// per single step), [`Method::Auto`] (Merson's pair at this rtol: at equal
-    /// acceleration error it needs 0.69×, 0.80× and 0.83× England's evaluations at rtol
-    /// 1e-4, 1e-6 and 1e-7, docs/MODEL.md §3.16; England's method below 1e-7) with the
+    /// acceleration error it needs 0.68×, 0.74× and 0.78× England's evaluations at rtol
+    /// 1e-4, 1e-5 and 1e-6, docs/MODEL.md §3.16; England's method below 1e-6) with the
     /// tolerance-scaled stiffness cap ([`StepRule::ScaledCap`]).
     pub fn reference() -> Self {
         Self {

@@ -47,7 +47,7 @@ pub struct SceneArgs {
     /// scaled by rtol, so the error follows rtol; "thesis": the thesis's rule, uncapped).
     #[arg(long, value_enum, value_name = "CONTROL")]
     pub step_control: Option<StepControlArg>,
-    /// The integration method (default "auto": Merson's pair at rtol >= 1e-7, England's
+    /// The integration method (default "auto": Merson's pair at rtol >= 1e-6, England's
     /// method, the thesis's, below).
     #[arg(long, value_enum, value_name = "METHOD")]
     pub method: Option<super::MethodArg>,
