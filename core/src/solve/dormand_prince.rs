@@ -169,14 +169,6 @@ mod tests {
         }
     }
 
-    struct Oscillator;
-    impl OdeSystem<f64, 2> for Oscillator {
-        fn rhs(&self, _t: f64, y: &[f64; 2], d: &mut [f64; 2]) {
-            d[0] = y[1];
-            d[1] = -y[0];
-        }
-    }
-
     /// A nonlinear scalar problem with a known solution: `y' = 1 + y²`, `y(0) = 0`,
     /// `y = tan t`.
     struct Tan;
@@ -242,25 +234,7 @@ mod tests {
 
     #[test]
     fn adaptive_run_meets_its_tolerance_and_counts_its_evaluations() {
-        for rtol in [1e-4, 1e-6, 1e-8] {
-            let cfg = EnglandConfig {
-                tol: Tolerance::scalar(rtol, rtol),
-                h_init: 1e-3,
-                h_min: 1e-12,
-                h_max: 1.0,
-                max_steps: 1_000_000,
-            };
-            let mut m = DormandPrince::dormand_prince(cfg).unwrap();
-            let mut y = [1.0, 0.0];
-            let st = m
-                .integrate(&Oscillator, 0.0, &mut y, 10.0, |_, _, _| {
-                    ControlFlow::Continue(())
-                })
-                .unwrap();
-            let e = (y[0] - 10f64.cos()).abs().max((y[1] + 10f64.sin()).abs());
-            assert!(e < 10.0 * 10.0 * rtol, "rtol {rtol}: {e:e}");
-            assert_eq!(st.rhs_evals, 1 + 6 * st.accepted + 6 * st.rejected);
-        }
+        crate::solve::pair::testing::meets_its_tolerance(&DORMAND_PRINCE, 6, 6);
     }
 
     #[test]

@@ -249,13 +249,7 @@ mod tests {
         assert!((ph[5] - 1.0 / 120.0).abs() < 1e-15);
     }
 
-    struct Oscillator;
-    impl OdeSystem<f64, 2> for Oscillator {
-        fn rhs(&self, _t: f64, y: &[f64; 2], d: &mut [f64; 2]) {
-            d[0] = y[1];
-            d[1] = -y[0];
-        }
-    }
+    use crate::solve::pair::testing::Oscillator;
 
     fn fixed(h: f64, n: u32) -> (f64, crate::SolverStats) {
         // A tolerance no step fails: a fixed step h.
@@ -303,26 +297,7 @@ mod tests {
 
     #[test]
     fn adaptive_run_meets_its_tolerance_and_counts_its_evaluations() {
-        for rtol in [1e-4, 1e-6, 1e-8] {
-            let cfg = EnglandConfig {
-                tol: Tolerance::scalar(rtol, rtol),
-                h_init: 1e-3,
-                h_min: 1e-12,
-                h_max: 1.0,
-                max_steps: 1_000_000,
-            };
-            let mut m = Merson::new(cfg).unwrap();
-            let mut y = [1.0, 0.0];
-            let st = m
-                .integrate(&Oscillator, 0.0, &mut y, 10.0, |_, _, _| {
-                    ControlFlow::Continue(())
-                })
-                .unwrap();
-            let e = (y[0] - 10f64.cos()).abs().max((y[1] + 10f64.sin()).abs());
-            // Global error within a modest multiple of the tolerance times the span.
-            assert!(e < 10.0 * 10.0 * rtol, "rtol {rtol}: {e:e}");
-            assert_eq!(st.rhs_evals, 1 + 5 * st.accepted + 4 * st.rejected);
-        }
+        crate::solve::pair::testing::meets_its_tolerance(&MERSON, 5, 4);
     }
 
     /// A stiff oscillator `x'' = -ω² x`, ω = 1000 rad/s.

@@ -543,3 +543,51 @@ where
         (self.node)(self.t, &self.y, &self.f)
     }
 }
+
+/// What the pairs' tests share.
+#[cfg(test)]
+#[allow(clippy::unwrap_used, clippy::panic)]
+pub(super) mod testing {
+    use super::*;
+    use crate::Tolerance;
+
+    /// `x'' = -x`, `(x, v) = (cos t, -sin t)`.
+    pub(in crate::solve) struct Oscillator;
+    impl OdeSystem<f64, 2> for Oscillator {
+        fn rhs(&self, _t: f64, y: &[f64; 2], d: &mut [f64; 2]) {
+            d[0] = y[1];
+            d[1] = -y[0];
+        }
+    }
+
+    /// An adaptive run of `tab` on the oscillator over 10 s at rtol 1e-4, 1e-6, 1e-8: the
+    /// global error within 100 rtol, and the evaluations `1 + per_accepted · accepted +
+    /// per_rejected · rejected`.
+    pub(in crate::solve) fn meets_its_tolerance<const S: usize>(
+        tab: &'static PairTableau<S>,
+        per_accepted: u32,
+        per_rejected: u32,
+    ) {
+        for rtol in [1e-4, 1e-6, 1e-8] {
+            let cfg = EnglandConfig {
+                tol: Tolerance::scalar(rtol, rtol),
+                h_init: 1e-3,
+                h_min: 1e-12,
+                h_max: 1.0,
+                max_steps: 1_000_000,
+            };
+            let mut m = Pair::<f64, 2, S>::with_tableau(tab, cfg).unwrap();
+            let mut y = [1.0, 0.0];
+            let st = m
+                .integrate(&Oscillator, 0.0, &mut y, 10.0, |_, _, _| {
+                    ControlFlow::Continue(())
+                })
+                .unwrap();
+            let e = (y[0] - 10f64.cos()).abs().max((y[1] + 10f64.sin()).abs());
+            // Global error within a modest multiple of the tolerance times the span.
+            assert!(e < 10.0 * 10.0 * rtol, "rtol {rtol}: {e:e}");
+            let evals = 1 + per_accepted * st.accepted + per_rejected * st.rejected;
+            assert_eq!(st.rhs_evals, evals, "rtol {rtol}");
+        }
+    }
+}
