@@ -330,19 +330,7 @@ mod tests {
             1.0 / 120.0,
             1.0 / 600.0,
         ];
-        let modulus = |y: f64| {
-            let (mut re, mut im) = (0.0, 0.0);
-            for (k, ck) in p.iter().enumerate() {
-                let yk = ck * y.powi(k as i32);
-                match k % 4 {
-                    0 => re += yk,
-                    1 => im += yk,
-                    2 => re -= yk,
-                    _ => im -= yk,
-                }
-            }
-            (re * re + im * im).sqrt()
-        };
+        let modulus = |y: f64| crate::solve::pair::testing::imaginary_modulus(&p, y);
         let b = DP_IMAGINARY_BOUNDARY;
         assert!(modulus(0.999 * b) <= 1.0 && modulus(0.5 * b) <= 1.0);
         assert!(modulus(1.001 * b) > 1.0);

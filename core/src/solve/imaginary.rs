@@ -195,20 +195,7 @@ mod tests {
 
     /// Largest y with |R(iy')| <= 1 for all y' in (0, y], by scan and bisection.
     fn imaginary_limit(p: &[f64; 6]) -> f64 {
-        let modulus = |y: f64| {
-            let (mut re, mut im) = (0.0, 0.0);
-            for (k, ck) in p.iter().enumerate() {
-                // (iy)^k = y^k i^k
-                let yk = ck * y.powi(k as i32);
-                match k % 4 {
-                    0 => re += yk,
-                    1 => im += yk,
-                    2 => re -= yk,
-                    _ => im -= yk,
-                }
-            }
-            (re * re + im * im).sqrt()
-        };
+        let modulus = |y: f64| crate::solve::pair::testing::imaginary_modulus(p, y);
         let mut y = 1e-3;
         while y < 20.0 && modulus(y) <= 1.0 + 1e-13 {
             y += 1e-3;

@@ -197,14 +197,7 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
         Sys: OdeSystem<T, N>,
         F: FnMut(T, &[T; N], &[T; N]) -> ControlFlow<()>,
     {
-        let mut s = Direct {
-            sys,
-            t: t0,
-            y: [T::ZERO; N],
-            f: [T::ZERO; N],
-            node: &mut node,
-        };
-        self.integrate_shared(sys, t0, y, t_end, &mut s)
+        self.integrate_shared(sys, t0, y, t_end, &mut Direct::new(sys, t0, &mut node))
     }
 
     /// [`Pair::integrate`] for a [`Sampler`], which evaluates the system at every step end
@@ -239,13 +232,8 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
         Sys: OdeSystem<T, N>,
         F: FnMut(&Dense<'_, T, N>) -> ControlFlow<()>,
     {
-        let mut s = Direct {
-            sys,
-            t: t0,
-            y: [T::ZERO; N],
-            f: [T::ZERO; N],
-            node: &mut |_: T, _: &[T; N], _: &[T; N]| ControlFlow::Continue(()),
-        };
+        let mut none = |_: T, _: &[T; N], _: &[T; N]| ControlFlow::Continue(());
+        let mut s = Direct::new(sys, t0, &mut none);
         let mut failed = None;
         let stats =
             self.walk(
@@ -526,6 +514,19 @@ struct Direct<'a, Sys, T, const N: usize, F> {
     node: &'a mut F,
 }
 
+impl<'a, Sys, T: Real, const N: usize, F> Direct<'a, Sys, T, N, F> {
+    /// A sampler of `sys` showing each point to `node`.
+    fn new(sys: &'a Sys, t0: T, node: &'a mut F) -> Self {
+        Self {
+            sys,
+            t: t0,
+            y: [T::ZERO; N],
+            f: [T::ZERO; N],
+            node,
+        }
+    }
+}
+
 impl<Sys, T, const N: usize, F> Sampler<T, N> for Direct<'_, Sys, T, N, F>
 where
     Sys: OdeSystem<T, N>,
@@ -550,6 +551,22 @@ where
 pub(super) mod testing {
     use super::*;
     use crate::Tolerance;
+
+    /// `|R(iy)|` of the stability polynomial with coefficients `p` (of `z⁰, z¹, ...`).
+    pub(in crate::solve) fn imaginary_modulus(p: &[f64], y: f64) -> f64 {
+        let (mut re, mut im) = (0.0, 0.0);
+        for (k, ck) in p.iter().enumerate() {
+            // (iy)^k = y^k i^k
+            let yk = ck * y.powi(k as i32);
+            match k % 4 {
+                0 => re += yk,
+                1 => im += yk,
+                2 => re -= yk,
+                _ => im -= yk,
+            }
+        }
+        (re * re + im * im).sqrt()
+    }
 
     /// `x'' = -x`, `(x, v) = (cos t, -sin t)`.
     pub(in crate::solve) struct Oscillator;
