@@ -850,13 +850,9 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         let e0 = approach(&trial);
         let mut contact = e0 > T::ZERO;
         for _ in 0..2 {
-            let open_factor;
-            let c = if contact {
-                &closed
-            } else {
-                open_factor = open.factor();
-                &open_factor
-            };
+            // By value, not a reference to one of two: the run's bounds then stay
+            // constants and the solves unroll.
+            let c = if contact { closed } else { open.factor() };
             // Velocities in the stored coordinates (y1 absolute, the rest relative).
             let mut xd = chain.map(|i| at(&p.vel, i));
             for v in xd.iter_mut().skip(1) {

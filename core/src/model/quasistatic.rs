@@ -170,7 +170,11 @@ impl<T: Real> ChainSolve<T> {
             right: [T::ZERO; CHAIN_NODES],
         };
         let mut prev_ratio: Option<T> = None;
-        for i in first..=last {
+        // `first..last + 1`, not `first..=last`: LLVM unrolls an exclusive range with
+        // constant bounds (a scene's run) to straight-line code and does not unroll the
+        // inclusive one (the chip's three solves an evaluation: 486 -> about 60
+        // instructions, docs/FIRMWARE.md). `last` < CHAIN_NODES, so `+ 1` cannot wrap.
+        for i in first..last + 1 {
             let k_left = if i > 0 {
                 self.series.get(i - 1).copied().unwrap_or(T::ZERO)
             } else {
@@ -221,7 +225,8 @@ impl<T: Real> ChainFactor<T> {
         let (first, last) = (self.first, self.last);
         let mut dp = [T::ZERO; CHAIN_NODES];
         let mut prev: Option<T> = None;
-        for i in first..=last {
+        // Exclusive ranges, as in [`ChainSolve::factor`] (`last` < CHAIN_NODES).
+        for i in first..last + 1 {
             let k_left = self.left.get(i).copied().unwrap_or(T::ZERO);
             let mut rhs = force.get(i).copied().unwrap_or(T::ZERO);
             // A dynamic neighbour's pull goes to the right-hand side.
@@ -243,7 +248,7 @@ impl<T: Real> ChainFactor<T> {
         }
         // Back substitution: x[i] = d'[i] + c'[i] x[i+1] (x[last+1] is not an unknown).
         let mut next: Option<T> = None;
-        for i in (first..=last).rev() {
+        for i in (first..last + 1).rev() {
             let d = dp.get(i).copied().unwrap_or(T::ZERO);
             let c = self.ratio.get(i).copied().unwrap_or(T::ZERO);
             let xi = match next {
