@@ -363,7 +363,7 @@ pub fn simulate<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observe
         model,
         observer,
         run: &mut run,
-        point: ModelPoint::default(),
+        sample: Sample::default(),
         flags: (false, false),
     };
     let result = solver.integrate_shared(model, T::ZERO, &mut y, t_end, &mut sampler);
@@ -377,8 +377,10 @@ struct RunSampler<'a, T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O> {
     model: &'a CamModel<T, S, N, P>,
     observer: &'a mut O,
     run: &'a mut RunState<T>,
-    /// The point last evaluated.
-    point: ModelPoint<T>,
+    /// The point last evaluated, in the sample [`Sampler::show`] completes in place (a
+    /// model point is some 200 bytes; copying it into a new sample for each one shown
+    /// cost the chip about 90 000 instructions a revolution).
+    sample: Sample<T>,
     /// The observer's `(needs_stress, needs_outputs)` when it was evaluated.
     flags: (bool, bool),
 }
@@ -390,14 +392,16 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>, O: Observer<T>> Sampl
         let (stress, outputs) = (self.observer.needs_stress(), self.observer.needs_outputs());
         self.flags = (stress, outputs);
         // The outputs only add to the point: the derivative is the right-hand side's.
-        self.point = self.model.evaluate_with(t, y, outputs || stress);
-        self.model.derivative(&self.point, f);
+        self.sample.point = self.model.evaluate_with(t, y, outputs || stress);
+        self.model.derivative(&self.sample.point, f);
     }
 
     fn show(&mut self) -> ControlFlow<()> {
         let (stress, outputs) = self.flags;
-        let sample = self.model.sample_of(self.point, stress, outputs);
-        self.run.take_sample(self.model, self.observer, &sample)
+        self.model
+            .complete_sample(&mut self.sample, stress, outputs);
+        self.run
+            .take_sample(self.model, self.observer, &self.sample)
     }
 }
 
@@ -734,15 +738,32 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
     /// [`Self::sample_with`] of the point `p` already evaluated (with the outputs if
     /// `outputs || stress`).
     pub(crate) fn sample_of(&self, p: ModelPoint<T>, stress: bool, outputs: bool) -> Sample<T> {
+        let mut sample = Sample {
+            point: p,
+            ..Sample::default()
+        };
+        self.complete_sample(&mut sample, stress, outputs);
+        sample
+    }
+
+    /// [`Self::sample_of`] in place: the sample's fields beside its point (evaluated with
+    /// the outputs if `outputs || stress`) from that point; the run's sampler keeps one
+    /// sample and fills it without copying the point.
+    pub(crate) fn complete_sample(&self, sample: &mut Sample<T>, stress: bool, outputs: bool) {
+        let p = &sample.point;
         let outputs = outputs || stress;
         let d = self.design();
         let two_pi = T::TWO * T::PI;
         let turns = (p.theta_c / two_pi).floor();
         let within = p.theta_c - turns * two_pi;
-        // `as` saturates at u32::MAX (and takes NaN to 0); the count saturates too, so a
-        // cam angle beyond 2^32 turns (an absurd state) reads as the last revolution.
+        // The casts saturate (at u32::MAX, and NaN to 0) and so does the count, so a cam
+        // angle beyond 2^32 turns (an absurd state) reads as the last revolution. `turns`
+        // is a whole number: truncating it in `T` is the cast through `f64` without
+        // software `f64` on the chip.
         let revolution = if turns >= T::ZERO {
-            (turns.to_f64() as u32).saturating_add(1)
+            u32::try_from(turns.to_usize_trunc())
+                .unwrap_or(u32::MAX)
+                .saturating_add(1)
         } else {
             0
         };
@@ -764,14 +785,12 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         } else {
             T::ZERO
         };
-        Sample {
-            revolution,
-            angle_deg: within.to_degrees(),
-            segment: d.program.segment_at(p.theta_c),
-            theory,
-            contact_stress,
-            point: p,
-        }
+        let segment = d.program.segment_at(p.theta_c);
+        sample.revolution = revolution;
+        sample.angle_deg = within.to_degrees();
+        sample.segment = segment;
+        sample.theory = theory;
+        sample.contact_stress = contact_stress;
     }
 }
 
