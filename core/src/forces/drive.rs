@@ -200,7 +200,20 @@ impl<T: Real> DriveLaw<T> {
                 t_steady,
                 k_p,
                 t_max,
-            } => (t_steady + k_p * (omega_ref - omega_m)).clamp(-t_max, t_max),
+            } => {
+                // `clamp(-t_max, t_max)` as two plain compares (a NaN torque gives -t_max,
+                // as `clamp` does): a law that passed `validate` has a finite `t_max`, so
+                // `Real::clamp`'s tests for a NaN bound are not needed (about 10
+                // instructions an evaluation on the chip). An unvalidated NaN `t_max`
+                // gives NaN here, where `clamp` would pass the torque through.
+                let t = t_steady + k_p * (omega_ref - omega_m);
+                let t = if t >= -t_max { t } else { -t_max };
+                if t <= t_max {
+                    t
+                } else {
+                    t_max
+                }
+            }
             _ => T::ZERO,
         }
     }
@@ -283,6 +296,47 @@ mod tests {
         assert!((d.torque(0.96 * w) - 1.8 * w - t_rated).abs() < 1e-9);
         // Limited to the breakdown torque.
         assert!((d.torque(0.0) - 2.5 * t_rated).abs() < 1e-9);
+    }
+
+    /// The torque's two compares give `Real::clamp`'s values for a validated law: within
+    /// the limits, at each limit, beyond both (the motor driven backwards above its
+    /// speed gives -t_max), and for a NaN speed (-t_max, as `clamp` gives).
+    #[test]
+    fn torque_is_the_clamped_line() {
+        let w = crate::rpm_to_rad_per_s(800.0f64);
+        let d = DriveLaw::reference(w, 0.8, 1.0);
+        let DriveLaw::Regulated {
+            omega_ref,
+            t_steady,
+            k_p,
+            t_max,
+        } = d
+        else {
+            panic!("the reference drive is regulated")
+        };
+        assert!(d.validate().is_ok());
+        let line = |omega: f64| t_steady + k_p * (omega_ref - omega);
+        let at_max = omega_ref - (t_max - t_steady) / k_p;
+        let at_min = omega_ref + (t_max + t_steady) / k_p;
+        for omega in [
+            0.0,
+            0.5 * at_max,
+            at_max,
+            w,
+            0.5 * (w + at_min),
+            at_min,
+            2.0 * at_min,
+            f64::NAN,
+        ] {
+            assert_eq!(
+                d.torque(omega).to_bits(),
+                <f64 as Real>::clamp(line(omega), -t_max, t_max).to_bits(),
+                "at {omega} rad/s"
+            );
+        }
+        assert_eq!(d.torque(0.0), t_max);
+        assert_eq!(d.torque(2.0 * at_min), -t_max);
+        assert_eq!(d.torque(f64::NAN), -t_max);
     }
 
     #[test]
