@@ -6,13 +6,14 @@
 //!
 //! The CSV has a header `table,x,threads,value` and one row a measurement: `revolutions`
 //! (x revolutions, value ms), `rpm` (x rpm, value ms), `samples` (x samples, value s) or
-//! `refused` (x a cam speed, rpm, whose run was refused). A dashed line through each series' first point has
-//! slope 1 (time proportional to x) on the log-log panels, so a straight series on it is
-//! linear growth.
+//! `refused` (x a cam speed, rpm, whose run was refused). On the log-log panels each
+//! series is its measured points on a dashed line of slope 1 (time proportional to x)
+//! through the first one: points on the line grow in proportion, points above it faster.
 
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
 
 /// One measurement.
@@ -81,14 +82,21 @@ fn series(rows: &[Row], table: &str, threads: Option<u32>) -> Vec<(f64, f64)> {
     v
 }
 
-/// A log axis's tick: labelled at 1, 2 and 5 of each decade only (the others crowd).
-fn tick_125(v: f64) -> String {
-    let m = v / 10f64.powf(v.log10().floor());
-    if [1.0, 2.0, 5.0, 10.0].iter().any(|k| (m - k).abs() < 1e-6) {
-        tick(v)
-    } else {
-        String::new()
+/// The 1-2-5 values of each decade within `[lo, hi]`: a log axis's ticks and grid lines
+/// (plotters' own log key points crowd and repeat: "100" was drawn twice).
+fn ticks_125(lo: f64, hi: f64) -> Vec<f64> {
+    let mut v = Vec::new();
+    let mut decade = 10f64.powf(lo.log10().floor());
+    while decade <= hi {
+        for m in [1.0, 2.0, 5.0] {
+            let x = m * decade;
+            if x >= lo && x <= hi {
+                v.push(x);
+            }
+        }
+        decade *= 10.0;
     }
+    v
 }
 
 /// A plain tick: no exponent, no trailing zeros.
@@ -124,41 +132,47 @@ fn loglog(
 ) -> Result<()> {
     let all: Vec<(f64, f64)> = lines.iter().flat_map(|l| l.2.iter().copied()).collect();
     let ((x0, x1), (y0, y1)) = bounds(&all);
+    let (xr, yr) = ((x0 / 1.5, x1 * 1.5), (y0 / 2.0, y1 * 2.0));
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 22))
         .margin(20)
         .x_label_area_size(50)
         .y_label_area_size(70)
         .build_cartesian_2d(
-            (x0 / 1.5..x1 * 1.5).log_scale(),
-            (y0 / 2.0..y1 * 2.0).log_scale(),
+            (xr.0..xr.1)
+                .log_scale()
+                .with_key_points(ticks_125(xr.0, xr.1)),
+            (yr.0..yr.1)
+                .log_scale()
+                .with_key_points(ticks_125(yr.0, yr.1)),
         )?;
     chart
         .configure_mesh()
         .x_desc(x_label)
         .y_desc(y_label)
-        .x_label_formatter(&|v| tick_125(*v))
-        .y_label_formatter(&|v| tick_125(*v))
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .light_line_style(TRANSPARENT)
         .bold_line_style(BLACK.mix(0.12))
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .draw()?;
+    // Each series as its measured points on its own slope-1 line through the first one
+    // (dashed, so a point off the line shows; a solid line through the points hid it).
     for (label, color, pts) in lines {
         if let Some(&(xa, ya)) = pts.first() {
             let xb = pts.last().map_or(xa, |p| p.0);
             chart.draw_series(DashedLineSeries::new(
                 [(xa, ya), (xb, ya * xb / xa)],
-                6,
-                4,
-                color.mix(0.5).stroke_width(1),
+                8,
+                5,
+                color.mix(0.8).stroke_width(2),
             ))?;
         }
         chart
-            .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))?
+            .draw_series(pts.iter().map(|&p| Circle::new(p, 5, color.filled())))?
             .label(*label)
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
-        chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
+            .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
     }
     chart
         .configure_series_labels()
@@ -212,7 +226,7 @@ fn run() -> Result<()> {
         root.fill(&WHITE)?;
         let (top, body) = root.split_vertically(50);
         top.draw(&Text::new(
-            "How camsim's run time grows (scripts/growth.sh; dashed: proportional to x)",
+            "How camsim's run time grows (scripts/growth.sh): points measured; dashed, time proportional to x through the first point",
             (20, 15),
             ("sans-serif", 24),
         ))?;
