@@ -343,7 +343,7 @@ fn figures_in(d: &PlotData, units: crate::units::Units) -> Vec<Figure> {
             file: "contact_force.png",
             title: "Cam-follower contact force F_c".into(),
             panels: vec![Panel {
-                y_desc: format!("contact force F_c ({uf})").into(),
+                y_desc: format!("contact force Fc ({uf})").into(),
                 curves: vec![Curve::new(
                     "F_c",
                     &scaled(&d.contact_force, ff),

@@ -945,9 +945,9 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
                 let (lo, hi) = range(acc);
                 let last = k + 1 == traces.len();
                 let what = if acc {
-                    format!("acceleration deviation a − a_theoretical ({ua})")
+                    format!("load acceleration − the law's rigid acceleration ({ua})")
                 } else {
-                    format!("contact force F_c ({uf})")
+                    format!("contact force Fc ({uf})")
                 };
                 let mut chart = ChartBuilder::on(area)
                     .caption(

@@ -770,6 +770,17 @@ pub fn run(args: Args) -> Result<()> {
     crate::report::print(&report(&args)?, args.output.json)
 }
 
+/// A change in % to one decimal with its sign, `0.0` without one when it rounds to zero
+/// (`-0.0%` read as a decrease where there is none to the printed digit).
+fn signed_pct_1(d: f64) -> String {
+    let text = format!("{d:+.1}");
+    if text == "+0.0" || text == "-0.0" {
+        "0.0".to_string()
+    } else {
+        text
+    }
+}
+
 /// The change of `v` from `base`, % (None when the baseline is 0).
 fn pct(v: f64, base: f64) -> Option<f64> {
     (base != 0.0).then(|| 100.0 * (v / base - 1.0))
@@ -884,7 +895,7 @@ impl Report for SensitivityReport {
                         fmt_value(i, v)
                     } else {
                         match pct(v, bv) {
-                            Some(d) => format!("{} {:>+6.1}%", fmt_value(i, v), d),
+                            Some(d) => format!("{} {:>6}%", fmt_value(i, v), signed_pct_1(d)),
                             None => fmt_value(i, v),
                         }
                     };
@@ -1152,6 +1163,17 @@ mod tests {
     use super::*;
     use camsim_core::{modal_analysis, rotational_system};
     use std::collections::BTreeMap;
+
+    /// A change that rounds to zero reads 0.0 with no sign; any other keeps its sign.
+    #[test]
+    fn a_change_that_rounds_to_zero_has_no_sign() {
+        assert_eq!(signed_pct_1(-0.04), "0.0");
+        assert_eq!(signed_pct_1(0.049), "0.0");
+        assert_eq!(signed_pct_1(0.0), "0.0");
+        assert_eq!(signed_pct_1(-0.06), "-0.1");
+        assert_eq!(signed_pct_1(39.6), "+39.6");
+        assert_eq!(signed_pct_1(-0.2), "-0.2");
+    }
 
     /// Every numeric leaf of a design's serialization, by dotted key.
     fn leaves(d: &Design<f64>) -> BTreeMap<String, f64> {

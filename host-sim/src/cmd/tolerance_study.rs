@@ -668,7 +668,7 @@ fn draw_response(
     let (fs, us) = crate::units::axis(camsim_scene_file::units::STRESS);
     // (quantity, unit, factor, column): the panels after P(jump).
     let quantiles = [
-        ("smallest contact force F_c", uf, ff, "contact_force_min"),
+        ("smallest contact force Fc", uf, ff, "contact_force_min"),
         ("largest contact stress", us, fs, "contact_stress_max"),
     ];
     let mut legend: Vec<(RGBColor, String)> = (0..cols.min(cells.len()))
