@@ -13,6 +13,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use camsim::plot::log_key_points;
 use plotters::coord::combinators::BindKeyPoints;
 use plotters::prelude::*;
 
@@ -82,23 +83,6 @@ fn series(rows: &[Row], table: &str, threads: Option<u32>) -> Vec<(f64, f64)> {
     v
 }
 
-/// The 1-2-5 values of each decade within `[lo, hi]`: a log axis's ticks and grid lines
-/// (plotters' own log key points crowd and repeat: "100" was drawn twice).
-fn ticks_125(lo: f64, hi: f64) -> Vec<f64> {
-    let mut v = Vec::new();
-    let mut decade = 10f64.powf(lo.log10().floor());
-    while decade <= hi {
-        for m in [1.0, 2.0, 5.0] {
-            let x = m * decade;
-            if x >= lo && x <= hi {
-                v.push(x);
-            }
-        }
-        decade *= 10.0;
-    }
-    v
-}
-
 /// A plain tick: no exponent, no trailing zeros.
 fn tick(v: f64) -> String {
     if v >= 1.0 {
@@ -141,10 +125,10 @@ fn loglog(
         .build_cartesian_2d(
             (xr.0..xr.1)
                 .log_scale()
-                .with_key_points(ticks_125(xr.0, xr.1)),
+                .with_key_points(log_key_points(xr.0, xr.1, &[1.0, 2.0, 5.0])),
             (yr.0..yr.1)
                 .log_scale()
-                .with_key_points(ticks_125(yr.0, yr.1)),
+                .with_key_points(log_key_points(yr.0, yr.1, &[1.0, 2.0, 5.0])),
         )?;
     chart
         .configure_mesh()

@@ -855,6 +855,27 @@ fn draw_panel<DB: DrawingBackend>(
     Ok((px, py))
 }
 
+/// A log axis's key points: `m · 10^k` for each mantissa `m` (1 ≤ m < 10) of `mantissas`,
+/// within `[lo, hi]` (a part in 10⁹ either way, for ends computed with `powf`), ascending.
+/// Given to plotters (`with_key_points`), they replace its own log key points, which
+/// repeat a decade's end (a label drawn twice reads bold).
+pub fn log_key_points(lo: f64, hi: f64, mantissas: &[f64]) -> Vec<f64> {
+    let mut v = Vec::new();
+    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo) {
+        return v;
+    }
+    let (first, last) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+    for k in first..=last {
+        for m in mantissas {
+            let x = m * 10f64.powi(k);
+            if x >= lo * (1.0 - 1e-9) && x <= hi * (1.0 + 1e-9) {
+                v.push(x);
+            }
+        }
+    }
+    v
+}
+
 /// Formats a y tick: plain decimals sized to the axis span, scientific for very large or small values.
 pub(crate) fn fmt_tick(v: f64, span: f64) -> String {
     if v == 0.0 {
@@ -1107,6 +1128,25 @@ mod tests {
     use super::*;
     use crate::output::Plan;
     use std::path::Path;
+
+    /// 1-2-5 key points over four decades, the ends included, each exactly once; none
+    /// for a range that is not positive.
+    #[test]
+    fn log_key_points_are_each_decade_s_mantissas_once() {
+        let v = log_key_points(0.05, 200.0, &[1.0, 2.0, 5.0]);
+        let want = [
+            0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0,
+        ];
+        assert_eq!(v.len(), want.len(), "{v:?}");
+        for (a, b) in v.iter().zip(want) {
+            assert!((a / b - 1.0).abs() < 1e-12, "{a} against {b}");
+        }
+        // Ends computed with powf land a part in 1e15 off: still in.
+        let v = log_key_points(10f64.powf(-8.0), 10f64.powf(-4.0), &[1.0]);
+        assert_eq!(v.len(), 5, "{v:?}");
+        assert!(log_key_points(0.0, 10.0, &[1.0]).is_empty());
+        assert!(log_key_points(10.0, 1.0, &[1.0]).is_empty());
+    }
 
     /// What `camsim run --plot DIR --force` does with the plots.
     fn write_all(dir: &Path, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Result<()> {

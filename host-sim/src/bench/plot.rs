@@ -6,12 +6,16 @@
 //! (it would measure the reference), and the disagreement is drawn as a grey line.
 
 use anyhow::{anyhow, Result};
+use plotters::coord::combinators::BindKeyPoints;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use super::{BenchReport, RunRow};
 use crate::output::AtomicDir;
-use crate::plot::{ensure_font, FONT};
+use crate::plot::{ensure_font, log_key_points, FONT};
+
+/// Every integer mantissa of a decade: a log axis's light grid lines.
+const ALL_MANTISSAS: [f64; 9] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
 
 /// The files `--plot DIR` writes.
 pub const FILES: [&str; 3] = [
@@ -267,20 +271,24 @@ fn draw<DB: DrawingBackend>(
             .margin_right(40)
             .x_label_area_size(50)
             .y_label_area_size(90)
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+            // Our own key points (plotters' repeat a decade's end, whose label then reads
+            // bold): x labelled at 1, 2 and 5 of each decade, y at each decade, and light
+            // grid lines at every integer mantissa.
+            .build_cartesian_2d(
+                (x0..x1)
+                    .log_scale()
+                    .with_key_points(log_key_points(x0, x1, &[1.0, 2.0, 5.0]))
+                    .with_light_points(log_key_points(x0, x1, &ALL_MANTISSAS)),
+                (y0..y1)
+                    .log_scale()
+                    .with_key_points(log_key_points(y0, y1, &[1.0]))
+                    .with_light_points(log_key_points(y0, y1, &ALL_MANTISSAS)),
+            )?;
         chart
             .configure_mesh()
             .x_desc(x_desc)
             .y_desc(*y_desc)
-            .x_label_formatter(&|v| {
-                // 1, 2 and 5 of each decade: the labels between would run together.
-                let m = (v / 10f64.powf(v.log10().floor())).round();
-                if [1.0, 2.0, 5.0].contains(&m) {
-                    log_tick(*v)
-                } else {
-                    String::new()
-                }
-            })
+            .x_label_formatter(&|v| log_tick(*v))
             .y_label_formatter(&|v| log_tick(*v))
             .label_style((FONT, 16))
             .axis_desc_style((FONT, 18))
