@@ -203,7 +203,7 @@ impl<T: Real> DriveLaw<T> {
             } => {
                 // `clamp(-t_max, t_max)` as two plain compares (a NaN torque gives -t_max,
                 // as `clamp` does): a law that passed `validate` has a finite `t_max`, so
-                // `Real::clamp`'s tests for a NaN bound are not needed (about 10
+                // `Real::clamp`'s tests for a NaN bound are not needed (about 8
                 // instructions an evaluation on the chip). An unvalidated NaN `t_max`
                 // gives NaN here, where `clamp` would pass the torque through.
                 let t = t_steady + k_p * (omega_ref - omega_m);

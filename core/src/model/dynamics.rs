@@ -343,7 +343,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
             return Err((ModelLimit::FollowerLength, follower, b.length));
         }
         // The values first and their names only for the one out of range: an array of
-        // (name, value) pairs built for every sample cost the chip about 40 instructions
+        // (name, value) pairs built for every sample cost the chip about 50 instructions
         // a sample.
         let deflections = [y1, x1, y2 - y3, x2 - x3, x3, y4 - y3, y5 - y4];
         for (v, &what) in deflections.into_iter().zip(DEFLECTION_NAMES.iter()) {

@@ -172,7 +172,7 @@ impl<T: Real> ChainSolve<T> {
         let mut prev_ratio: Option<T> = None;
         // `first..last + 1`, not `first..=last`: LLVM unrolls an exclusive range with
         // constant bounds (a scene's run) to straight-line code and does not unroll the
-        // inclusive one (the chip's three solves an evaluation: 486 -> about 60
+        // inclusive one (the chip's three solves an evaluation: 486 -> about 80
         // instructions, docs/FIRMWARE.md). `last` < CHAIN_NODES, so `+ 1` cannot wrap.
         for i in first..last + 1 {
             let k_left = if i > 0 {
