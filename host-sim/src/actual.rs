@@ -92,14 +92,14 @@ pub struct ActualArgs {
     #[arg(long)]
     pub actual: bool,
     /// Cam profile tolerance, ± in (3σ of each coordinate of a cutter setting point;
-    /// default 0.0005, the thesis's VI.1).
+    /// default 0.0005, the thesis's VI.1), or with its unit (0.0127mm).
     #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub cam_tolerance: Option<f64>,
-    /// Roller radius tolerance, ± in (default 0.0001).
+    /// Roller radius tolerance, ± in (default 0.0001), or with its unit (mm).
     #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub roller_tolerance: Option<f64>,
     /// Camshaft-bearing non-roundness and base-circle eccentricity together, ± in
-    /// (default 0.001).
+    /// (default 0.001), or with its unit (mm).
     #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub eccentricity_tolerance: Option<f64>,
     /// Profile point interval, degrees (360/interval a whole number, at most 3600

@@ -189,6 +189,57 @@ fn number(s: &str) -> Result<f64, String> {
         .map_err(|_| "not a number".to_string())
 }
 
+/// An option's number and the unit written after it, if any (`17.5N/mm`, `12.7 mm`,
+/// `1e-3in`): the number is the longest prefix that reads as one, the unit the rest.
+fn number_and_unit(s: &str) -> Result<(f64, Option<&str>), String> {
+    let t = s.trim();
+    let end = (1..=t.len())
+        .rev()
+        .filter(|&i| t.is_char_boundary(i))
+        .find(|&i| t[..i].trim_end().parse::<f64>().is_ok());
+    let Some(end) = end else {
+        return Err("not a number".to_string());
+    };
+    let x = number(&t[..end])?;
+    let unit = t[end..].trim();
+    Ok((x, (!unit.is_empty()).then_some(unit)))
+}
+
+/// The unit written after an option's value (`Some("N/mm")` for `17.5N/mm`), `None` for a
+/// bare number or something that is not a number.
+pub fn unit_of(s: &str) -> Option<&str> {
+    number_and_unit(s).ok().and_then(|(_, u)| u)
+}
+
+/// Whether `written` names `symbol` (case and spaces aside, `lbf` for `lb`).
+fn names_unit(written: &str, symbol: &str) -> bool {
+    let norm = |u: &str| {
+        u.chars()
+            .filter(|c| !c.is_whitespace())
+            .collect::<String>()
+            .to_ascii_lowercase()
+            .replace("lbf", "lb")
+    };
+    norm(written) == norm(symbol)
+}
+
+/// An option's value in `unit`'s inch family (the unit camsim computes in): a bare
+/// number is already in it; a number with the inch family's or SI's symbol after it
+/// (`100lb/in`, `17.5N/mm`, `12.7 mm`) is converted; any other unit is refused, naming
+/// the two it takes.
+pub fn in_inch_family(s: &str, unit: camsim_scene_file::units::Unit) -> Result<f64, String> {
+    let (x, written) = number_and_unit(s)?;
+    match written {
+        None => Ok(x),
+        Some(u) if names_unit(u, unit.inch_symbol) => Ok(x),
+        Some(u) if names_unit(u, unit.si_symbol) => Ok(x / unit.si_per_inch),
+        Some(u) => Err(format!(
+            "unit {u:?} is not one this option takes: {} or {} (a bare number is {})",
+            unit.inch_symbol, unit.si_symbol, unit.inch_symbol
+        )),
+    }
+}
+
 /// A positive, finite number (speeds, stiffnesses, tolerances, forces).
 pub fn positive_finite(s: &str) -> Result<f64, String> {
     match number(s)? {
@@ -217,7 +268,11 @@ pub fn unit_interval(s: &str) -> Result<f64, String> {
 /// [`camsim_core::key::RANGES`], the ranges [`camsim_core::Design::validate`] checks):
 /// the option and its scene key are judged by one rule.
 fn in_range(s: &str, key: &str) -> Result<f64, String> {
-    let x = number(s)?;
+    in_range_of(number(s)?, key)
+}
+
+/// [`in_range`] of a value already read.
+fn in_range_of(x: f64, key: &str) -> Result<f64, String> {
     let Some(r) = camsim_core::key::range(key) else {
         return Err(format!("no range for {key}"));
     };
@@ -243,14 +298,30 @@ pub fn pressure_angle_limit(s: &str) -> Result<f64, String> {
     }
 }
 
-/// A return-spring rate, lb/in: the range of `design.spring_rate_lb_per_in`.
+/// A return-spring rate, lb/in (or with its unit, [`in_inch_family`]): the range of
+/// `design.spring_rate_lb_per_in`.
 pub fn spring_rate(s: &str) -> Result<f64, String> {
-    in_range(s, camsim_core::key::K_RS)
+    in_range_of(
+        in_inch_family(s, camsim_scene_file::units::STIFFNESS)?,
+        camsim_core::key::K_RS,
+    )
 }
 
-/// A spring compression at assembly, in: the range of `design.spring_preload_length_in`.
+/// A spring compression at assembly, in (or with its unit): the range of
+/// `design.spring_preload_length_in`.
 pub fn preload_length(s: &str) -> Result<f64, String> {
-    in_range(s, camsim_core::key::DELTA_RS)
+    in_range_of(
+        in_inch_family(s, camsim_scene_file::units::LENGTH)?,
+        camsim_core::key::DELTA_RS,
+    )
+}
+
+/// A positive, finite length, in (or with its unit).
+pub fn positive_length(s: &str) -> Result<f64, String> {
+    match in_inch_family(s, camsim_scene_file::units::LENGTH)? {
+        x if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err("must be positive and finite".into()),
+    }
 }
 
 /// A relative tolerance: the range of `solver.rtol`.
@@ -264,16 +335,24 @@ pub fn max_step_fraction(s: &str) -> Result<f64, String> {
     in_range(s, camsim_core::key::MAX_STEP_FRACTION)
 }
 
-/// An absolute displacement tolerance, in: the range of `solver.atol_in`.
+/// An absolute displacement tolerance, in (or with its unit): the range of
+/// `solver.atol_in`.
 pub fn atol(s: &str) -> Result<f64, String> {
-    in_range(s, camsim_core::key::ATOL)
+    in_range_of(
+        in_inch_family(s, camsim_scene_file::units::LENGTH)?,
+        camsim_core::key::ATOL,
+    )
 }
 
 /// A contact force, lb: positive, from [`MIN_FORCE_LB`] to [`max_force_lb`] (the force
 /// at which the Hertz band of the reference pair is as wide as the roller: beyond it
 /// Hertz's theory, a narrow band on two cylinders, no longer describes the contact).
 pub fn force(s: &str) -> Result<f64, String> {
-    match positive_finite(s)? {
+    let x = in_inch_family(s, crate::units::FORCE)?;
+    if !(x.is_finite() && x > 0.0) {
+        return Err("must be positive and finite".into());
+    }
+    match x {
         x if x < MIN_FORCE_LB => Err(format!(
             "must be at least {MIN_FORCE_LB:e} lb (smaller forces underflow the contact band)"
         )),
@@ -321,7 +400,11 @@ pub const MAX_TOLERANCE_IN: f64 = 0.1;
 
 /// A tolerance, ± in: zero or positive, at most [`MAX_TOLERANCE_IN`].
 pub fn tolerance_in(s: &str) -> Result<f64, String> {
-    match non_negative_finite(s)? {
+    let x = in_inch_family(s, camsim_scene_file::units::LENGTH)?;
+    if !(x.is_finite() && x >= 0.0) {
+        return Err("must be zero or positive and finite".into());
+    }
+    match x {
         x if x <= MAX_TOLERANCE_IN => Ok(x),
         _ => Err(format!(
             "must be at most {MAX_TOLERANCE_IN} in (40 times a loose machining tolerance: a larger error is a different cam)"
@@ -349,6 +432,41 @@ pub fn megabytes(s: &str) -> Result<u64, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A value with its unit reads in the inch family by the exact factors (1 in =
+    /// 25.4 mm, 1 lbf = 4.4482216152605 N), a bare number as it is, and a unit of another
+    /// quantity is refused naming the two the option takes.
+    #[test]
+    fn option_values_take_their_unit() {
+        use camsim_scene_file::units::{LENGTH, STIFFNESS};
+        let rel = |a: f64, b: f64| ((a - b) / b).abs();
+        // 100 lb/in in N/mm, written out: 100 x 4.4482216152605 / 25.4.
+        let n_per_mm = 100.0 * 4.448_221_615_260_5 / 25.4;
+        assert!(rel(spring_rate(&format!("{n_per_mm}N/mm")).unwrap(), 100.0) < 1e-14);
+        assert!(rel(spring_rate(&format!("{n_per_mm} n/mm")).unwrap(), 100.0) < 1e-14);
+        assert_eq!(spring_rate("100lb/in"), Ok(100.0));
+        assert_eq!(spring_rate("100 lbf/in"), Ok(100.0));
+        assert_eq!(spring_rate("100"), Ok(100.0));
+        assert_eq!(preload_length("12.7mm"), Ok(0.5));
+        assert_eq!(tolerance_in("0.0127 mm"), Ok(0.0005));
+        assert!(rel(atol("2.54e-7mm").unwrap(), 1e-8) < 1e-12);
+        assert!(rel(force("4.4482216152605N").unwrap(), 1.0) < 1e-15);
+        assert!(rel(positive_length("254mm").unwrap(), 10.0) < 1e-15);
+        // The range is judged on the inch value: 1e7 N/mm is 5.7e7 lb/in, above 1e6.
+        assert!(spring_rate("1e7N/mm").is_err());
+        let e = spring_rate("12mm").unwrap_err();
+        assert!(
+            e.contains("\"mm\"") && e.contains("lb/in") && e.contains("N/mm"),
+            "{e}"
+        );
+        assert!(tolerance_in("-0.01mm").is_err());
+        assert_eq!(spring_rate("abc"), Err("not a number".to_string()));
+        assert_eq!(in_inch_family("1e-3in", LENGTH), Ok(1e-3));
+        assert_eq!(in_inch_family("7", STIFFNESS), Ok(7.0));
+        assert_eq!(unit_of("17.5N/mm"), Some("N/mm"));
+        assert_eq!(unit_of(" 1e5 "), None);
+        assert_eq!(unit_of("x"), None);
+    }
 
     #[test]
     fn every_law_is_a_value_by_its_name_in_order() {

@@ -23,7 +23,10 @@ pub struct Cli {
     /// tolerance-study, sensitivity, design, models, bench, predict, waviness), the scene
     /// file of scene (SI keys), the --csv of run and sweep, the plots, and
     /// run's --allowable-stress (MPa); firmware-check prints bytes, instructions and rpm
-    /// only, the same in either.
+    /// only, the same in either. The options with a length, spring rate or force
+    /// (--spring-rate, --preload-length, --atol, the tolerances, contact's --force) take a
+    /// value with its unit in either family (17.5N/mm, 12.7mm); a bare number is the
+    /// inch family's, and with si it is refused (give the unit).
     #[arg(
         long,
         global = true,
@@ -207,6 +210,52 @@ fn report_error(line: &str) {
     let _ = writeln!(std::io::stderr().lock(), "{line}");
 }
 
+/// Under `--units si`, the first option that takes an inch-family quantity (its value
+/// name `IN`, `LB_PER_IN` or `LB`) and was given a bare number: the message refusing it.
+/// A bare number there is inch (as the option's help says), which a command line in SI
+/// would not mean; with its unit (`17.5N/mm`, `100lb/in`) it is read either way.
+pub fn bare_inch_number(args: &[OsString]) -> Option<String> {
+    if Cli::try_parse_from(args).ok()?.units != crate::units::Units::Si {
+        return None;
+    }
+    let cmd = command();
+    let matches = cmd.clone().try_get_matches_from(args).ok()?;
+    bare_in(&cmd, &matches)
+}
+
+fn bare_in(cmd: &clap::Command, m: &clap::ArgMatches) -> Option<String> {
+    use camsim_scene_file::units::{LENGTH, STIFFNESS};
+    for arg in cmd.get_arguments() {
+        let unit = match arg
+            .get_value_names()
+            .and_then(|n| n.first())
+            .map(|n| n.as_str())
+        {
+            Some("IN") => LENGTH,
+            Some("LB_PER_IN") => STIFFNESS,
+            Some("LB") => crate::units::FORCE,
+            _ => continue,
+        };
+        let id = arg.get_id().as_str();
+        if m.value_source(id) != Some(clap::parser::ValueSource::CommandLine) {
+            continue;
+        }
+        let long = arg.get_long().unwrap_or(id);
+        for raw in m.get_raw(id).into_iter().flatten() {
+            let v = raw.to_string_lossy();
+            if crate::args::unit_of(&v).is_none() {
+                return Some(format!(
+                    "--{long} {v}: with --units si give its unit, {v}{si} or {v}{inch} (a bare number is {inch}, this option's unit)",
+                    si = unit.si_symbol,
+                    inch = unit.inch_symbol
+                ));
+            }
+        }
+    }
+    let (name, sub) = m.subcommand()?;
+    bare_in(cmd.find_subcommand(name)?, sub)
+}
+
 /// The binary: parse, run, print any error on one line (exit 2 for usage errors, clap's
 /// and the commands' [`crate::args::UsageError`]s, 1 for failures; a closed standard
 /// output ends the run quietly with 0).
@@ -223,6 +272,16 @@ where
 {
     let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
     let cli = match Cli::try_parse_from(&args) {
+        Ok(c) if c.units == crate::units::Units::Si => match bare_inch_number(&args) {
+            Some(line) => {
+                report_error(&format!(
+                    "camsim: error: {} (see camsim --help)",
+                    one_line(&line)
+                ));
+                return 2;
+            }
+            None => c,
+        },
         Ok(c) => c,
         Err(e) => {
             // --help and --version are not errors.

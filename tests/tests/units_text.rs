@@ -904,3 +904,82 @@ fn same_numbers(x: &serde_json::Value, y: &serde_json::Value, at: &str, n: &mut 
         (a, b) => assert_eq!(a, b, "{at}"),
     }
 }
+
+/// The options with a length, spring rate or force take a value with its unit in either
+/// family; under `--units si` a bare number there (the inch family's) is refused with
+/// exit 2 before anything runs, naming the option, the value and both ways to write it,
+/// and a value with its unit runs. Options of other kinds (`--rpm`) and a flag that
+/// shares a dimensional option's name elsewhere (`bench --force`) are not touched.
+#[test]
+fn si_command_lines_give_the_unit_of_a_dimensional_option() {
+    let line = |argv: &[&str]| {
+        let args: Vec<std::ffi::OsString> = argv.iter().map(Into::into).collect();
+        cli::bare_inch_number(&args)
+    };
+    let e = line(&["camsim", "--units", "si", "run", "--spring-rate", "100"]).unwrap();
+    assert!(
+        e.starts_with("--spring-rate 100: with --units si give its unit"),
+        "{e}"
+    );
+    assert!(e.contains("100N/mm") && e.contains("100lb/in"), "{e}");
+    let e = line(&["camsim", "contact", "--units", "si", "--force=50"]).unwrap();
+    assert!(e.contains("--force 50") && e.contains("50N"), "{e}");
+    let e = line(&[
+        "camsim",
+        "--units",
+        "mm",
+        "montecarlo",
+        "--samples",
+        "1",
+        "--cam-tolerance",
+        "0.0005",
+    ])
+    .unwrap();
+    assert!(
+        e.contains("--cam-tolerance 0.0005") && e.contains("0.0005mm"),
+        "{e}"
+    );
+    for ok in [
+        &[
+            "camsim",
+            "--units",
+            "si",
+            "run",
+            "--spring-rate",
+            "17.5N/mm",
+            "--rpm",
+            "700",
+        ][..],
+        &[
+            "camsim",
+            "--units",
+            "si",
+            "run",
+            "--spring-rate",
+            "100lb/in",
+        ],
+        &["camsim", "--units", "si", "bench", "--force", "--quick"],
+        &["camsim", "--units", "si", "design", "spring", "--quick"],
+        &["camsim", "run", "--spring-rate", "100"],
+    ] {
+        assert_eq!(line(ok), None, "{ok:?}");
+    }
+    // The binary: exit 2 for the bare number (returns at once), 0 with its unit.
+    assert_eq!(
+        main(&[
+            "camsim",
+            "--units",
+            "si",
+            "run",
+            "--revolutions",
+            "1",
+            "--atol",
+            "1e-8"
+        ]),
+        2
+    );
+    assert_eq!(
+        main(&["camsim", "--units", "si", "contact", "--force", "222.41N", "--json"]),
+        0
+    );
+}

@@ -23,10 +23,10 @@ pub struct SceneArgs {
     /// Motion law of the return(s).
     #[arg(long = "return", value_name = "LAW", ignore_case = true)]
     pub ret: Option<Law>,
-    /// Return spring rate K_rs, lb/in (0.01-1e6).
+    /// Return spring rate K_rs, lb/in (0.01-1e6), or with its unit (17.5N/mm).
     #[arg(long, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = super::spring_rate)]
     pub spring_rate: Option<f64>,
-    /// Spring length compressed at assembly δ_rs, in (0-100).
+    /// Spring length compressed at assembly δ_rs, in (0-100), or with its unit (12.7mm).
     #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = super::preload_length)]
     pub preload_length: Option<f64>,
     /// Initial state (default: "thesis" for `run`, "static" for `jump-speed`, whose
@@ -36,7 +36,8 @@ pub struct SceneArgs {
     /// Solver relative tolerance (1e-13 to 0.1).
     #[arg(long, allow_hyphen_values = true, value_parser = super::rtol)]
     pub rtol: Option<f64>,
-    /// Solver absolute tolerance for displacements, in (1e-15 to 1e-3).
+    /// Solver absolute tolerance for displacements, in (1e-15 to 1e-3), or with its unit
+    /// (mm).
     #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = super::atol)]
     pub atol: Option<f64>,
     /// Largest double step, fraction of a revolution (default 1/2000; the reduced

@@ -16,7 +16,7 @@ pub struct Args {
     #[arg(value_name = "SCENE")]
     pub scene: Option<std::path::PathBuf>,
     /// Contact force in pounds (1e-6 up to about 1.5e6, where the Hertz band is as
-    /// wide as the roller).
+    /// wide as the roller), or with its unit (500N).
     #[arg(long, value_name = "LB", allow_hyphen_values = true, value_parser = crate::args::force)]
     pub force: f64,
     /// Print JSON instead of a table.

@@ -439,15 +439,15 @@ pub struct SpringArgs {
     /// Bracket width the search stops at, lb/in.
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::positive_finite)]
     pub resolution: f64,
-    /// Largest rate searched, lb/in.
-    #[arg(long, default_value_t = MAX_RATE, allow_hyphen_values = true, value_parser = crate::args::spring_rate)]
+    /// Largest rate searched, lb/in, or with its unit (N/mm).
+    #[arg(long, default_value_t = MAX_RATE, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = crate::args::spring_rate)]
     pub max_rate: f64,
     /// Search the spring's preload length δ_rs instead of its rate: the shortest
     /// compression at assembly (at the scene's or --spring-rate's rate) that passes.
     #[arg(long)]
     pub preload: bool,
-    /// Largest preload length searched with --preload, in.
-    #[arg(long, default_value_t = MAX_PRELOAD_LENGTH, value_name = "IN", allow_hyphen_values = true, value_parser = crate::args::positive_finite, requires = "preload")]
+    /// Largest preload length searched with --preload, in, or with its unit (mm).
+    #[arg(long, default_value_t = MAX_PRELOAD_LENGTH, value_name = "IN", allow_hyphen_values = true, value_parser = crate::args::positive_length, requires = "preload")]
     pub max_preload_length: f64,
     /// CI's quick mode: resolution 10 lb/in (0.1 in with --preload); with --actual,
     /// --p-max at least 0.1 (35 cams).

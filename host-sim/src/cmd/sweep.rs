@@ -30,10 +30,10 @@ pub struct Args {
     /// Motion law of the return(s).
     #[arg(long = "return", value_name = "LAW", ignore_case = true)]
     pub ret: Option<Law>,
-    /// Return spring rate K_rs, lb/in (0.01-1e6).
+    /// Return spring rate K_rs, lb/in (0.01-1e6), or with its unit (17.5N/mm).
     #[arg(long, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = args::spring_rate)]
     pub spring_rate: Option<f64>,
-    /// Spring length compressed at assembly δ_rs, in (0-100).
+    /// Spring length compressed at assembly δ_rs, in (0-100), or with its unit (12.7mm).
     #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = args::preload_length)]
     pub preload_length: Option<f64>,
     /// Solver relative tolerance of the theoretical cam's runs (1e-13 to 0.1).

@@ -58,7 +58,7 @@ pub struct Args {
     #[arg(long, value_name = "DEG", value_delimiter = ',', value_parser = crate::actual::interval_deg)]
     pub interval_deg: Vec<f64>,
     /// Camshaft-bearing and eccentricity tolerance, ± in (kept at VI.1's 0.001 in every
-    /// cell).
+    /// cell), or with its unit (mm).
     #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub eccentricity_tolerance: Option<f64>,
     /// Master seed (the same in every cell).
