@@ -112,6 +112,9 @@ smoke scene scene --default
 smoke scene-json scene --default --json --units si
 smoke run-si run --revolutions 1 --json --units si
 smoke run-si-text run --revolutions 1 --units si
+# An option given with its unit under --units si (a bare number there is refused).
+smoke run-si-unit run --revolutions 1 --units si --spring-rate 35N/mm --preload-length 10mm
+grep -q '^  spring:    35.00 N/mm' "$studies/run-si-unit.out" && grep -q 'preload F_p = 349.9. N' "$studies/run-si-unit.out" || { echo "smoke: run --spring-rate 35N/mm --preload-length 10mm does not run that spring (35 N/mm, about 350 N of preload)" >&2; exit 1; }
 # The scene in SI keys reads back (scene --check) and runs; bench's text and plots in SI.
 smoke scene-si scene --default --units si
 "$C" scene --check "$studies/scene-si.out" > /dev/null
