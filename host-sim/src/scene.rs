@@ -98,15 +98,21 @@ const HOST_KEYS: &[(&str, &str)] = &[
     ),
 ];
 
+/// The table a trimmed TOML line opens (`[design.geometry]`, `[[design.program.segment]]`),
+/// if it opens one.
+fn table_header(line: &str) -> Option<&str> {
+    line.strip_prefix("[[")
+        .and_then(|r| r.strip_suffix("]]"))
+        .or_else(|| line.strip_prefix('[').and_then(|r| r.strip_suffix(']')))
+}
+
 /// `text` with a comment after every known key saying what it is.
 fn annotate(text: &str) -> String {
     let mut header = String::new();
     let mut out = String::with_capacity(text.len() * 2);
     for line in text.lines() {
         let t = line.trim();
-        if let Some(name) = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")) {
-            header = name.to_string();
-        } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+        if let Some(name) = table_header(t) {
             header = name.to_string();
         }
         let doc = t.split_once(" = ").and_then(|(k, _)| {
@@ -200,9 +206,7 @@ pub fn in_si(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for line in text.lines() {
         let t = line.trim();
-        if let Some(name) = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")) {
-            table = name.to_string();
-        } else if let Some(name) = t.strip_prefix('[').and_then(|r| r.strip_suffix(']')) {
+        if let Some(name) = table_header(t) {
             table = name.to_string();
         }
         let converted = line.split_once(" = ").and_then(|(key, rest)| {

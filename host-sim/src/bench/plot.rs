@@ -121,14 +121,20 @@ fn log_tick(v: f64) -> String {
     format!("{v:.decimals$}")
 }
 
-/// Decade bounds around the values.
-fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
+/// The smallest and largest of the values that a log axis can show (finite, positive);
+/// `None` if there is none.
+fn positive_span(v: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     let (lo, hi) = v
         .filter(|x| x.is_finite() && *x > 0.0)
         .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
-    if !(lo.is_finite() && hi > 0.0) {
+    (lo.is_finite() && hi > 0.0).then_some((lo, hi))
+}
+
+/// Decade bounds around the values.
+fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let Some((lo, hi)) = positive_span(v) else {
         return (1.0, 10.0);
-    }
+    };
     (
         10f64.powf(lo.log10().floor()),
         10f64.powf(hi.log10().ceil().max(lo.log10().floor() + 1.0)),
@@ -139,12 +145,9 @@ fn log_bounds(v: impl Iterator<Item = f64>) -> (f64, f64) {
 /// work or time spans less than a decade, and whole decades would leave most of the
 /// panel empty).
 fn bounds_125(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = v
-        .filter(|x| x.is_finite() && *x > 0.0)
-        .fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
-    if !(lo.is_finite() && hi > 0.0) {
+    let Some((lo, hi)) = positive_span(v) else {
         return (1.0, 10.0);
-    }
+    };
     let steps = |x: f64| {
         let d = 10f64.powf(x.log10().floor());
         [d, 2.0 * d, 5.0 * d, 10.0 * d]
