@@ -325,7 +325,7 @@ pub fn spring(design: &Design<f64>) -> Result<SpringVerdict> {
     let cam_hz = camsim_core::rad_per_s_to_rpm(design.omega0) / 60.0;
     Ok(SpringVerdict {
         rate_lb_per_in: design.k_rs,
-        mass_lb: design.m_spring * 386.09,
+        mass_lb: design.m_spring * camsim_core::GRAVITY_IN_PER_S2,
         active_coils: s.active_coils,
         surge_hz: s.surge_hz,
         cam_hz,

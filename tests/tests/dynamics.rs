@@ -174,7 +174,7 @@ impl Fingerprint {
 fn listed_printed<T: Real>() -> Design<T> {
     let mut d = Design::<T>::reference();
     d.k_rs = T::from_f64(60.0);
-    d.m_spring = T::from_f64(0.151 / 386.09);
+    d.m_spring = T::from_f64(0.151 / camsim_core::GRAVITY_IN_PER_S2);
     d.contact_damping_ratio = T::ZERO;
     d.roller_bearing_damping_ratio = T::ZERO;
     d

@@ -416,7 +416,7 @@ mod tests {
     use crate::{MotionLaw, Segment, SegmentKind};
     use core::f64::consts::PI;
 
-    const STEEL: f64 = 0.2836 / 386.09;
+    const STEEL: f64 = crate::STEEL_DENSITY;
 
     fn base_circle() -> CamProgram<f64, 1> {
         CamProgram::new(&[Segment {

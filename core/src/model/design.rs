@@ -10,8 +10,13 @@ use crate::{
     non_negative, positive, CamGeometry, CamProgram, DriveLaw, Error, HertzContact, Real, Result,
 };
 
-/// Pounds-mass per cubic inch of steel (0.2836 lb/in³) over g (386.09 in/s²): lb·s²/in⁴.
-pub const STEEL_DENSITY: f64 = 0.2836 / 386.09;
+/// Standard gravity in in/s² (9.80665 m/s² is 386.0886 in/s²; 386.09 to the five figures
+/// handbooks quote): what turns a weight in pounds into the thesis's mass unit, lb·s²/in
+/// (mass = weight / g), and back.
+pub const GRAVITY_IN_PER_S2: f64 = 386.09;
+/// Pounds-mass per cubic inch of steel (0.2836 lb/in³) over g ([`GRAVITY_IN_PER_S2`]):
+/// lb·s²/in⁴.
+pub const STEEL_DENSITY: f64 = 0.2836 / GRAVITY_IN_PER_S2;
 /// Young's modulus of steel (VI.1), psi.
 pub const STEEL_YOUNGS: f64 = 30.0e6;
 /// Shear modulus of steel (VI.1), psi.
@@ -843,7 +848,10 @@ mod spring_tests {
         assert!((rate(9.0) - 60.825).abs() < 1e-3);
         // Mass: 7.5 coils of 0.0483611 in³ of steel at 0.2836 lb/in³.
         let lb = 7.5 * 0.048_361_1 * 0.2836;
-        assert!((SPRING_MASS * 386.09 / lb - 1.0).abs() < 1e-6, "{lb}");
+        assert!(
+            (SPRING_MASS * GRAVITY_IN_PER_S2 / lb - 1.0).abs() < 1e-6,
+            "{lb}"
+        );
         // The listed spring's 0.151 lb is the same wire over 11 coils (0.15087 lb, rounded).
         assert!((LISTED_SPRING_MASS / SPRING_MASS - 11.0 / 7.5).abs() < 2e-3);
         let d = Design::<f64>::reference();
@@ -864,9 +872,9 @@ mod spring_tests {
         let l = HelicalSpring::<f64>::of_rate(LISTED_SPRING_RATE).unwrap();
         assert_eq!((l.active_coils, l.total_coils), (9.0, 11.0));
         let lb = 11.0 * 0.048_361_1 * 0.2836;
-        assert!((l.mass * 386.09 / lb - 1.0).abs() < 1e-6);
+        assert!((l.mass * GRAVITY_IN_PER_S2 / lb - 1.0).abs() < 1e-6);
         // Surge by hand: m_active = 5.5 coils of 0.0483611 in³ at 0.2836/386.09.
-        let m_active = 5.5 * 0.048_361_1 * 0.2836 / 386.09;
+        let m_active = 5.5 * 0.048_361_1 * 0.2836 / GRAVITY_IN_PER_S2;
         let f = 0.5 * (100.0 / m_active).sqrt();
         assert!((s.surge_hz / f - 1.0).abs() < 1e-6, "{} {f}", s.surge_hz);
         assert!(HelicalSpring::<f64>::of_rate(200.0).unwrap().mass < s.mass);

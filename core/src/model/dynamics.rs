@@ -659,8 +659,8 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         vel: &[T; TRANS_DOFS],
     ) {
         let d = &self.d;
-        let [y1, x1, q2, x2, q3, x3, q4, q5] = *pos;
-        let [v1, vx1, v2, vx2, v3, vx3, v4, v5] = *vel;
+        let [y1, _, q2, x2, q3, x3, q4, q5] = *pos;
+        let [v1, _, v2, vx2, v3, vx3, v4, v5] = *vel;
         let (f1, f2) = (p.friction_follower, p.friction_cantilever);
         let y3 = q3 + p.lift.y;
         let (k_f, c_f1, k_vc) = match rods {
@@ -728,7 +728,37 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
                 T::ZERO
             }
         };
-        // The horizontal equations, evaluated only for the scenes that keep them.
+        let [a_cam_x, a_roller_x, a_cantilever_x] =
+            self.horizontal_equations(f_rb_x, f_h, y3, m_fc, pos, vel);
+        p.acc = [
+            kept(TransDof::CamY, a_cam),
+            a_cam_x,
+            kept(TransDof::RollerY, a_roller),
+            a_roller_x,
+            kept(TransDof::CantileverY, a_cantilever),
+            a_cantilever_x,
+            kept(TransDof::Follower, a_follower),
+            kept(TransDof::Load, a_load),
+        ];
+    }
+
+    /// The horizontal equations (Eq. IV.3), evaluated only for the scenes that keep them
+    /// (zero otherwise): the cam's, the roller's and the cantilever's horizontal
+    /// accelerations, from the bearing's horizontal force `f_rb_x`, the contact force's
+    /// horizontal component `f_h`, the cantilever's length `y3` and mass `m_fc`.
+    #[inline(always)]
+    fn horizontal_equations(
+        &self,
+        f_rb_x: T,
+        f_h: T,
+        y3: T,
+        m_fc: T,
+        pos: &[T; TRANS_DOFS],
+        vel: &[T; TRANS_DOFS],
+    ) -> [T; 3] {
+        let d = &self.d;
+        let [_, x1, _, _, _, x3, _, _] = *pos;
+        let [_, vx1, _, _, v3, vx3, _, _] = *vel;
         let a_cantilever_x = if S::DOFS.contains(TransDof::CantileverX) {
             // d(M_fc ẋ3)/dt = -ρA ẏ3 ẋ3 + M_fc ẍ3 (Eq. IV.3 corrected, docs/MODEL.md §4.4).
             (-f_rb_x - d.k_hc(y3) * x3 + self.rho_a * v3 * vx3) / m_fc
@@ -745,16 +775,7 @@ impl<T: Real, S: Scene, const N: usize, P: LiftProfile<T>> CamModel<T, S, N, P> 
         } else {
             T::ZERO
         };
-        p.acc = [
-            kept(TransDof::CamY, a_cam),
-            a_cam_x,
-            kept(TransDof::RollerY, a_roller),
-            a_roller_x,
-            kept(TransDof::CantileverY, a_cantilever),
-            a_cantilever_x,
-            kept(TransDof::Follower, a_follower),
-            kept(TransDof::Load, a_load),
-        ];
+        [a_cam_x, a_roller_x, a_cantilever_x]
     }
 
     /// The rotational system (Eq. IV.1) under the scene's drive, into `p`: the output

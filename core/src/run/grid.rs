@@ -203,7 +203,7 @@ fn time_at<T: Real>(theta: &Dense<'_, T, 1>, target: T) -> T {
         lo
     };
     let mut v = [T::ZERO];
-    for _ in 0..60 {
+    for _ in 0..TIME_AT_ITERATIONS {
         theta.eval(t, &mut v);
         let g = v[0] - target;
         if g == T::ZERO {
@@ -229,6 +229,64 @@ fn time_at<T: Real>(theta: &Dense<'_, T, 1>, target: T) -> T {
     }
     t
 }
+
+/// The samples at a step's nodes after its start: England's midpoint and end
+/// (`(Some(mid), end)`), or a pair's end (`(None, end)`); `None` if the extension had no
+/// end (never).
+fn step_nodes<T, S, const N: usize, P>(
+    model: &CamModel<T, S, N, P>,
+    d: &Dense<'_, T, N>,
+    stress: bool,
+    outputs: bool,
+) -> Option<(Option<Sample<T>>, Sample<T>)>
+where
+    T: Real,
+    S: Scene,
+    P: LiftProfile<T>,
+{
+    let mut nodes: [Option<Sample<T>>; 2] = [None, None];
+    for (slot, (t, yn)) in nodes.iter_mut().zip(d.inner_nodes()) {
+        *slot = Some(model.sample_with(t, yn, stress, outputs));
+    }
+    match nodes {
+        [Some(mid), Some(end)] => Some((Some(mid), end)),
+        [Some(end), None] => Some((None, end)),
+        _ => None,
+    }
+}
+
+/// The cam angle and speed at a step's start, midpoint (zero without one) and end: the
+/// nodes of the cam angle's own interpolant.
+type AngleNodes<T> = ([[T; 1]; 3], [[T; 1]; 3]);
+
+/// [`AngleNodes`] of a step from `start` through `inner` to `end`.
+fn angle_nodes<T: Real>(
+    start: &Sample<T>,
+    inner: Option<&Sample<T>>,
+    end: &Sample<T>,
+) -> AngleNodes<T> {
+    let (p0, p2) = (&start.point, &end.point);
+    let (th_mid, om_mid) = inner.map_or((T::ZERO, T::ZERO), |m| (m.point.theta_c, m.point.omega_c));
+    (
+        [[p0.theta_c], [th_mid], [p2.theta_c]],
+        [[p0.omega_c], [om_mid], [p2.omega_c]],
+    )
+}
+
+/// A sample interpolated at a grid point, labelled with the grid's exact revolution,
+/// angle and segment.
+fn grid_sample<T: Real>(mut s: Sample<T>, point: &GridPoint<T>) -> Sample<T> {
+    s.revolution = point.revolution;
+    s.angle_deg = point.within_deg;
+    s.segment = point.segment;
+    s
+}
+
+/// Most iterations of [`time_at`]: enough for bisection alone (taken when Newton's step
+/// would leave the bracket) to shrink a step's interval by `2^-60`, below the relative
+/// resolution of f64 (`2^-52`); Newton's steps converge in a few, and the loop ends on
+/// its own tolerance long before.
+const TIME_AT_ITERATIONS: u32 = 60;
 
 /// [`crate::simulate`] with samples on a cam-angle grid as well: `observer` receives
 /// exactly what [`crate::simulate`]'s would through [`Observer::observe`] (the start,
@@ -271,17 +329,9 @@ where
         Ok(solver.stats())
     } else {
         solver.integrate_dense(model, T::ZERO, &mut y, t_end, |d| {
-            // The step's nodes after its start: England's midpoint and end, or a pair's end.
-            let mut nodes: [Option<Sample<T>>; 2] = [None, None];
-            for (slot, (t, yn)) in nodes.iter_mut().zip(d.inner_nodes()) {
-                *slot = Some(model.sample_with(t, yn, stress, outputs));
-            }
-            let [first, second] = nodes;
-            let (inner, end) = match (first, second) {
-                (Some(mid), Some(end)) => (Some(mid), end),
-                (Some(end), None) => (None, end),
+            let Some((inner, end)) = step_nodes(model, d, stress, outputs) else {
                 // Unreachable: every extension has an end.
-                _ => return ControlFlow::Continue(()),
+                return ControlFlow::Continue(());
             };
             // Most steps hold no grid point (a segment-start grid has a handful a
             // revolution): nothing more to do than take the nodes.
@@ -298,19 +348,15 @@ where
             // The cam angle's own interpolant (the step's times always increase: the
             // solver's extension `d` was built on the same ones), of the same form as
             // the solver's.
-            let (p0, p2) = (&start.point, &end.point);
-            let (th_mid, om_mid) = inner
-                .as_ref()
-                .map_or((T::ZERO, T::ZERO), |m| (m.point.theta_c, m.point.omega_c));
-            let th = [[p0.theta_c], [th_mid], [p2.theta_c]];
-            let om = [[p0.omega_c], [om_mid], [p2.omega_c]];
+            let (th, om) = angle_nodes(&start, inner.as_ref(), &end);
+            let ([th0, th1, th2], [om0, om1, om2]) = (&th, &om);
             let theta = match &inner {
                 Some(_) => Dense::new(
                     [d.t_start(), d.t_mid(), d.t_end()],
-                    [&th[0], &th[1], &th[2]],
-                    [&om[0], &om[1], &om[2]],
+                    [th0, th1, th2],
+                    [om0, om1, om2],
                 ),
-                None => Dense::cubic([d.t_start(), d.t_end()], [&th[0], &th[2]], [&om[0], &om[2]]),
+                None => Dense::cubic([d.t_start(), d.t_end()], [th0, th2], [om0, om2]),
             };
             let theta = match theta {
                 Ok(theta) => theta,
@@ -328,10 +374,7 @@ where
                 {
                     let t = time_at(&theta, next.theta);
                     d.eval(t, &mut ys);
-                    let mut s: Sample<T> = model.sample_with(t, &ys, stress, outputs);
-                    s.revolution = next.revolution;
-                    s.angle_deg = next.within_deg;
-                    s.segment = next.segment;
+                    let s = grid_sample(model.sample_with(t, &ys, stress, outputs), &next);
                     let kind = next.kind;
                     if observer.observe_grid(&s, kind).is_break() {
                         run.stop();

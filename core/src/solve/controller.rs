@@ -790,20 +790,7 @@ pub fn spectral_radius<T: Real, const N: usize, S: OdeSystem<T, N>>(
         Ok(())
     };
 
-    // v is kept in the original coordinates, so that a change of D (with y) between two
-    // estimates does not turn a converged eigenvector into a contaminated start.
-    let mut u = [T::ZERO; N];
-    for ((a, b), di) in u.iter_mut().zip(v.iter()).zip(d.iter()) {
-        *a = *b / *di;
-    }
-    let mut nu = norm2(&u);
-    if !(nu > T::ZERO && nu.is_finite()) {
-        seed(&mut u);
-        nu = norm2(&u);
-    }
-    for a in u.iter_mut() {
-        *a /= nu;
-    }
+    let mut u = start_vector(v, &d);
     let mut w = [T::ZERO; N];
     jv(&u, &mut w)?;
     let mut nw = norm2(&w);
@@ -857,6 +844,26 @@ pub fn spectral_radius<T: Real, const N: usize, S: OdeSystem<T, N>>(
     }
     store(v, &u, &d);
     Ok(rho)
+}
+
+/// The power iteration's start in the scaled coordinates: the last vector `v` as
+/// `D⁻¹ v`, normalised (a fixed seed if it is zero or not finite). `v` is kept in the
+/// original coordinates, so that a change of D (with y) between two estimates does not
+/// turn a converged eigenvector into a contaminated start.
+fn start_vector<T: Real, const N: usize>(v: &[T; N], d: &[T; N]) -> [T; N] {
+    let mut u = [T::ZERO; N];
+    for ((a, b), di) in u.iter_mut().zip(v.iter()).zip(d.iter()) {
+        *a = *b / *di;
+    }
+    let mut nu = norm2(&u);
+    if !(nu > T::ZERO && nu.is_finite()) {
+        seed(&mut u);
+        nu = norm2(&u);
+    }
+    for a in u.iter_mut() {
+        *a /= nu;
+    }
+    u
 }
 
 /// The scales `D_i` of [`spectral_radius`]'s products and their difference step

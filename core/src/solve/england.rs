@@ -158,44 +158,135 @@ pub struct England<T, const N: usize> {
     pub(super) estimate_due: bool,
     /// Hairer's starting step is due at the next step.
     pub(super) initial_due: bool,
+    /// The next attempt retries a rejected one from the same point (its acceptance must
+    /// not grow the step).
+    pub(super) retry: bool,
     /// Right-hand-side evaluations outside the `9 · accepted + 7 · rejected` of the steps.
     pub(super) aux_evals: u32,
     /// Power-iteration vector, kept for a warm start.
     pub(super) power_v: [T; N],
 }
 
-/// How [`England::step_impl`] runs: the three uses of a double step.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum StepMode {
-    /// `f(t0, y0)` is evaluated first; attempts repeat until one is accepted
-    /// ([`England::step`]).
-    Fresh,
-    /// `self.f0` already holds `f(t0, y0)` (the previous step's end); attempts repeat until
-    /// one is accepted ([`England::integrate_dense`]).
-    Continue,
-    /// `self.f0` holds `f(t0, y0)`; one attempt, accepted or not
-    /// ([`England::integrate_events`]).
-    Once {
-        /// An earlier attempt from the same point was rejected (the retry does not grow
-        /// the step, as within one call).
-        rejected_before: bool,
-        /// Accept whatever the error (a step across a located event of at most a couple
-        /// of event tolerances, whose error the event's bracket bounds, not the step).
-        force: bool,
-    },
-}
-
-/// One attempted double step of [`England::step_impl`].
+/// One attempted double step: its sizes and times and its error ratio (accepted if at
+/// most 1, or when its caller forces it: [`England::integrate_events`]).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Attempt<T> {
     /// Error ratio.
     pub(super) err: T,
+    /// Sizes and times.
+    pub(super) plan: Plan<T>,
+}
+
+/// The right-hand side and its evaluation counter: each [`Rhs::stage`] is one
+/// evaluation.
+struct Rhs<'a, S> {
+    sys: &'a S,
+    evals: &'a mut u32,
+}
+
+impl<S> Rhs<'_, S> {
+    /// `out = scale · f(t, arg)`, counted and checked finite ([`stage`]).
+    #[inline(always)]
+    fn stage<T: Real, const N: usize>(
+        &mut self,
+        t: T,
+        arg: &[T; N],
+        scale: T,
+        out: &mut [T; N],
+    ) -> Result<()>
+    where
+        S: OdeSystem<T, N>,
+    {
+        stage(self.sys, t, arg, scale, out, self.evals)
+    }
+}
+
+/// One of England's two half steps, of size `s` from `(t, base)` (`(t0, y0)` for the
+/// first, `(t0 + s, y1)` for the second), written once and used for both: given its first
+/// stage `ka = s f(t, base)` ([`Half::middle_stages`]: `kb`, `kc`; [`Half::last_stage`]:
+/// `kd`; [`Half::end_point`]). Stages are `k1..k4` in the first half, `k5..k8` in the
+/// second.
+#[derive(Clone, Copy)]
+struct Half<'a, T, const N: usize> {
+    /// Start time.
+    t: T,
     /// Half step.
-    pub(super) s: T,
-    /// End time of the attempt.
-    pub(super) t_end: T,
-    /// Accepted (else rejected, with `once`).
-    pub(super) accepted: bool,
+    s: T,
+    /// Start state.
+    base: &'a [T; N],
+}
+
+impl<T: Real, const N: usize> Half<'_, T, N> {
+    /// `kb = s f(t + s/2, base + ka/2)` and `kc = s f(t + s/2, base + (ka + kb)/4)`.
+    #[inline(always)]
+    fn middle_stages<S: OdeSystem<T, N>>(
+        &self,
+        f: &mut Rhs<'_, S>,
+        ka: &[T; N],
+        kb: &mut [T; N],
+        kc: &mut [T; N],
+        arg: &mut [T; N],
+    ) -> Result<()> {
+        let (s, a2, a3) = (self.s, T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
+        for ((a, b), k1) in arg.iter_mut().zip(self.base.iter()).zip(ka.iter()) {
+            *a = *b + a2 * *k1;
+        }
+        f.stage(self.t + s * T::from_f64(Tableau::C[1]), arg, s, kb)?;
+        for (((a, b), k1), k2) in arg
+            .iter_mut()
+            .zip(self.base.iter())
+            .zip(ka.iter())
+            .zip(kb.iter())
+        {
+            *a = *b + a3 * (*k1 + *k2);
+        }
+        f.stage(self.t + s * T::from_f64(Tableau::C[2]), arg, s, kc)
+    }
+
+    /// `kd = s f(t_end, base - kb + 2 kc)`, at the half step's end time `t_end` (`t + s`,
+    /// or the end time asked for on a last step).
+    #[inline(always)]
+    fn last_stage<S: OdeSystem<T, N>>(
+        &self,
+        f: &mut Rhs<'_, S>,
+        t_end: T,
+        (kb, kc): (&[T; N], &[T; N]),
+        kd: &mut [T; N],
+        arg: &mut [T; N],
+    ) -> Result<()> {
+        for (((a, b), k2), k3) in arg
+            .iter_mut()
+            .zip(self.base.iter())
+            .zip(kb.iter())
+            .zip(kc.iter())
+        {
+            *a = accumulated(*b, &Tableau::A4, [*k2, *k3]);
+        }
+        f.stage(t_end, arg, self.s, kd)
+    }
+
+    /// The end point `out = base + (ka + 4 kc + kd)/6`, checked finite (reported at
+    /// `t_end`).
+    #[inline(always)]
+    fn end_point(&self, [ka, kc, kd]: [&[T; N]; 3], out: &mut [T; N], t_end: T) -> Result<()> {
+        let b_scale = T::from_f64(Tableau::B_SCALE);
+        for ((((o, b), k1), k3), k4) in out
+            .iter_mut()
+            .zip(self.base.iter())
+            .zip(ka.iter())
+            .zip(kc.iter())
+            .zip(kd.iter())
+        {
+            *o = *b + b_scale * weighted(&Tableau::B, [*k1, *k3, *k4]);
+        }
+        match first_non_finite(out) {
+            Some(i) => Err(Error::NonFinite {
+                t: t_end.to_f64(),
+                component: i,
+            }),
+            None => Ok(()),
+        }
+    }
 }
 
 /// England's tableau as data (the formulas of the module documentation): stage nodes,
@@ -236,6 +327,19 @@ impl Tableau {
 /// (1 %) to land on it instead of leaving a sliver.
 const STRETCH: f64 = 1.01;
 
+/// A rejected step of at least this fraction of the stiffness cap counts as rejected at
+/// the cap, so the cap's estimate may be stale: a step planned at the cap is the cap up to
+/// rounding, or slightly shorter where it lands on an end time; the same 1 % as
+/// [`STRETCH`].
+const AT_CAP: f64 = 0.99;
+
+/// A rejection this many refresh intervals ([`StiffnessCap::refresh_every`](crate::StiffnessCap))
+/// after the last stiffness estimate asks for a new one whatever the step: periodic
+/// estimates run only while the step is within a factor 2 of the cap, so a stiffness
+/// that grew past the cap while the step was held lower would otherwise go unseen. Four
+/// intervals keep such estimates rare (at most one per four intervals of rejections).
+const STALE_AFTER_REFRESHES: u32 = 4;
+
 /// `w_1 k_1 + w_2 k_2 + ...`, summed left to right starting from `w_1 k_1` (not from 0, which
 /// would turn a `-0` into `+0`).
 #[inline(always)]
@@ -260,21 +364,23 @@ fn accumulated<T: Real, const M: usize>(y: T, w: &[f64; M], k: [T; M]) -> T {
 
 /// The sizes and times of one attempted double step.
 #[derive(Clone, Copy, Debug)]
-struct Plan<T> {
+pub(super) struct Plan<T> {
+    /// Start time.
+    t0: T,
     /// The size planned (the controller's, capped), before shortening near an end time.
     h_plan: T,
     /// This attempt's double step.
     h: T,
     /// Half step `h/2`.
-    s: T,
+    pub(super) s: T,
     /// Midpoint time `t0 + s`.
-    t_mid: T,
+    pub(super) t_mid: T,
     /// End time (exactly the end time asked for on the last step).
-    t_end: T,
+    pub(super) t_end: T,
 }
 
 /// Checks the start of a step: `t0` finite, `t_end` finite and later, `y` finite.
-fn check_step_start<T: Real, const N: usize>(t0: T, t_end: T, y: &[T; N]) -> Result<()> {
+pub(super) fn check_step_start<T: Real, const N: usize>(t0: T, t_end: T, y: &[T; N]) -> Result<()> {
     if !t0.is_finite() {
         return Err(Error::InvalidParameter {
             field: "t",
@@ -463,6 +569,7 @@ impl<T: Real, const N: usize> England<T, N> {
             since_estimate: 0,
             estimate_due: true,
             initial_due: control.initial_step == InitialStep::Hairer,
+            retry: false,
             aux_evals: 0,
             power_v: z,
         })
@@ -537,6 +644,7 @@ impl<T: Real, const N: usize> England<T, N> {
         self.estimate_due = true;
         self.initial_due = self.control.initial_step == InitialStep::Hairer;
         self.power_v = [T::ZERO; N];
+        self.retry = false;
     }
 
     /// Hairer's starting step and the stiffness estimate, when due, from `f0 = f(t0, y0)`.
@@ -606,94 +714,81 @@ impl<T: Real, const N: usize> England<T, N> {
         t_end: T,
         mid: &mut (T, [T; N]),
     ) -> Result<T> {
-        self.step_impl(sys, t, y, t_end, mid, StepMode::Fresh)
+        check_step_start(*t, t_end, y)?;
+        // f(t0, y0), shared by every attempt from this point.
+        stage(sys, *t, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
+        self.until_accepted(sys, t, y, t_end, mid, None)
             .map(|a| a.err)
     }
 
-    /// [`England::step`] in `mode` ([`StepMode`]). With [`StepMode::Once`] it returns
-    /// after a rejected attempt too (`(t, y)` unchanged, `mid` its midpoint, `self.arg` its
-    /// auxiliary end point ŷ2, `self.k5` and `self.k9` `s f` at those, `self.h` the size of
-    /// the retry). Returns the attempt's error ratio, half step, end time and whether it
-    /// was accepted.
-    pub(super) fn step_impl<S: OdeSystem<T, N>>(
+    /// [`England::step`] with `self.f0 = f(t, y)` already evaluated, each attempt's `k5`
+    /// evaluated by `sampler` if given ([`England::integrate_shared`]); returns the
+    /// accepted attempt.
+    pub(super) fn until_accepted<'s, S: OdeSystem<T, N>>(
         &mut self,
         sys: &S,
         t: &mut T,
         y: &mut [T; N],
         t_end: T,
         mid: &mut (T, [T; N]),
-        mode: StepMode,
-    ) -> Result<Attempt<T>> {
-        self.step_sampled(sys, t, y, t_end, mid, mode, None)
-    }
-
-    /// [`England::step_impl`], with each attempt's `k5` evaluated by `sampler` if given
-    /// ([`England::integrate_shared`]).
-    #[allow(clippy::too_many_arguments)]
-    fn step_sampled<'s, S: OdeSystem<T, N>>(
-        &mut self,
-        sys: &S,
-        t: &mut T,
-        y: &mut [T; N],
-        t_end: T,
-        mid: &mut (T, [T; N]),
-        mode: StepMode,
         mut sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
     ) -> Result<Attempt<T>> {
-        let (f0_ready, once, force, mut rejected_here) = match mode {
-            StepMode::Fresh => (false, false, false, false),
-            StepMode::Continue => (true, false, false, false),
-            StepMode::Once {
-                rejected_before,
-                force,
-            } => (true, true, force, rejected_before),
-        };
-        let t0 = *t;
-        check_step_start(t0, t_end, y)?;
-        // f(t0, y0), shared by every attempt from this point.
-        if !f0_ready {
-            stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
-        }
+        self.retry = false;
         loop {
-            let steps = self.stats.accepted.saturating_add(self.stats.rejected);
-            if steps >= self.config.max_steps {
-                return Err(Error::StepBudgetExceeded {
-                    t: t0.to_f64(),
-                    steps,
-                });
+            let at = self.attempt(sys, *t, y, t_end, &mut mid.1, sampler.as_deref_mut())?;
+            if at.err <= T::ONE {
+                self.take(sys, &at, t, y, mid)?;
+                return Ok(at);
             }
-            // Starting step and stiffness estimate when due (never with the classic control).
-            if self.control.stiffness_cap.is_some() || self.initial_due {
-                self.prepare(sys, t0, y)?;
-            }
-            let p = self.plan(t0, t_end);
-            self.first_half(sys, t0, y, &p, &mut mid.1)?;
-            self.second_half(sys, y, &mid.1, &p, sampler.as_deref_mut())?;
-            let err = self.error_ratio(y, &p)?;
-            if err <= T::ONE || force {
-                self.accept(sys, &p, err, rejected_here, &mid.1, y)?;
-                mid.0 = p.t_mid;
-                *t = p.t_end;
-                return Ok(Attempt {
-                    err,
-                    s: p.s,
-                    t_end: p.t_end,
-                    accepted: true,
-                });
-            }
-            self.reject(t0, &p, err)?;
-            rejected_here = true;
-            if once {
-                return Ok(Attempt {
-                    err,
-                    s: p.s,
-                    t_end: p.t_end,
-                    accepted: false,
-                });
-            }
+            self.reject(&at)?;
         }
     }
 
+    /// One attempted double step from `(t0, y)` (`self.f0 = f(t0, y)`), to be taken
+    /// ([`England::take`]) or rejected ([`England::reject`]) by the caller: the midpoint
+    /// `y1`, `self.arg` the auxiliary end point ŷ2, `self.k5` and `self.k9` `s f` at those.
+    pub(super) fn attempt<'s, S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &[T; N],
+        t_end: T,
+        y1: &mut [T; N],
+        sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
+    ) -> Result<Attempt<T>> {
+        let steps = self.stats.accepted.saturating_add(self.stats.rejected);
+        if steps >= self.config.max_steps {
+            return Err(Error::StepBudgetExceeded {
+                t: t0.to_f64(),
+                steps,
+            });
+        }
+        // Starting step and stiffness estimate when due (never with the classic control).
+        if self.control.stiffness_cap.is_some() || self.initial_due {
+            self.prepare(sys, t0, y)?;
+        }
+        let plan = self.plan(t0, t_end);
+        self.first_half(sys, y, &plan, y1)?;
+        self.second_half(sys, y, y1, &plan, sampler)?;
+        let err = self.error_ratio(y, &plan)?;
+        Ok(Attempt { err, plan })
+    }
+
+    /// Takes an attempt whatever its error: `(t, y)` to its end point, `mid.0` to its
+    /// midpoint time (`mid.1` holds its midpoint), the controller's next size.
+    pub(super) fn take<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        at: &Attempt<T>,
+        t: &mut T,
+        y: &mut [T; N],
+        mid: &mut (T, [T; N]),
+    ) -> Result<()> {
+        self.accept(sys, &at.plan, at.err, &mid.1, y)?;
+        mid.0 = at.plan.t_mid;
+        *t = at.plan.t_end;
+        Ok(())
+    }
     /// This attempt's double step from `t0`: the planned size (capped), shortened to land
     /// on `t_end` when that is at most 1 % beyond it, or halving the rest when `t_end` is
     /// less than two steps away.
@@ -713,6 +808,7 @@ impl<T: Real, const N: usize> England<T, N> {
         };
         let s = h * T::HALF;
         Plan {
+            t0,
             h_plan,
             h,
             s,
@@ -725,12 +821,11 @@ impl<T: Real, const N: usize> England<T, N> {
     fn first_half<S: OdeSystem<T, N>>(
         &mut self,
         sys: &S,
-        t0: T,
         y: &[T; N],
         p: &Plan<T>,
         y1: &mut [T; N],
     ) -> Result<()> {
-        let s = p.s;
+        let (t0, s) = (p.t0, p.s);
         for (k, f) in self.k1.iter_mut().zip(self.f0.iter()) {
             *k = s * *f;
         }
@@ -740,76 +835,26 @@ impl<T: Real, const N: usize> England<T, N> {
                 component: i,
             });
         }
-        let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
-        for ((a, y0), k1) in self.arg.iter_mut().zip(y.iter()).zip(self.k1.iter()) {
-            *a = *y0 + a2 * *k1;
-        }
-        let t2 = t0 + s * T::from_f64(Tableau::C[1]);
-        stage(
+        let half = Half { t: t0, s, base: y };
+        let mut f = Rhs {
             sys,
-            t2,
-            &self.arg,
-            s,
-            &mut self.k2,
-            &mut self.stats.rhs_evals,
-        )?;
-        for (((a, y0), k1), k2) in self
-            .arg
-            .iter_mut()
-            .zip(y.iter())
-            .zip(self.k1.iter())
-            .zip(self.k2.iter())
-        {
-            *a = *y0 + a3 * (*k1 + *k2);
-        }
-        let t3 = t0 + s * T::from_f64(Tableau::C[2]);
-        stage(
-            sys,
-            t3,
-            &self.arg,
-            s,
-            &mut self.k3,
-            &mut self.stats.rhs_evals,
-        )?;
-        for (((a, y0), k2), k3) in self
-            .arg
-            .iter_mut()
-            .zip(y.iter())
-            .zip(self.k2.iter())
-            .zip(self.k3.iter())
-        {
-            *a = accumulated(*y0, &Tableau::A4, [*k2, *k3]);
-        }
-        let t4 = t0 + s * T::from_f64(Tableau::C[3]);
-        stage(
-            sys,
-            t4,
-            &self.arg,
-            s,
+            evals: &mut self.stats.rhs_evals,
+        };
+        half.middle_stages(&mut f, &self.k1, &mut self.k2, &mut self.k3, &mut self.arg)?;
+        // k4 at t0 + s · C[3] = t0 + s, the midpoint time.
+        half.last_stage(
+            &mut f,
+            p.t_mid,
+            (&self.k2, &self.k3),
             &mut self.k4,
-            &mut self.stats.rhs_evals,
+            &mut self.arg,
         )?;
-        let b_scale = T::from_f64(Tableau::B_SCALE);
-        for ((((m, y0), k1), k3), k4) in y1
-            .iter_mut()
-            .zip(y.iter())
-            .zip(self.k1.iter())
-            .zip(self.k3.iter())
-            .zip(self.k4.iter())
-        {
-            *m = *y0 + b_scale * weighted(&Tableau::B, [*k1, *k3, *k4]);
-        }
-        if let Some(i) = first_non_finite(y1) {
-            return Err(Error::NonFinite {
-                t: p.t_mid.to_f64(),
-                component: i,
-            });
-        }
-        Ok(())
+        half.end_point([&self.k1, &self.k3, &self.k4], y1, p.t_mid)
     }
 
     /// Second half step from the midpoint `y1` up to `k7`, then England's `k9` at the
-    /// auxiliary end point ŷ2 (left in `self.arg`).
+    /// auxiliary end point ŷ2 (left in `self.arg`); `k8` and `y2` only if the attempt is
+    /// taken ([`England::accept`]).
     fn second_half<'s, S: OdeSystem<T, N>>(
         &mut self,
         sys: &S,
@@ -819,7 +864,6 @@ impl<T: Real, const N: usize> England<T, N> {
         sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
     ) -> Result<()> {
         let (s, t_mid) = (p.s, p.t_mid);
-        let (a2, a3) = (T::from_f64(Tableau::A2), T::from_f64(Tableau::A3));
         match sampler {
             Some(sampler) => {
                 sampler.evaluate(t_mid, y1, &mut self.k5);
@@ -827,36 +871,16 @@ impl<T: Real, const N: usize> England<T, N> {
             }
             None => stage(sys, t_mid, y1, s, &mut self.k5, &mut self.stats.rhs_evals)?,
         }
-        for ((a, m), k5) in self.arg.iter_mut().zip(y1.iter()).zip(self.k5.iter()) {
-            *a = *m + a2 * *k5;
-        }
-        let t6 = t_mid + s * T::from_f64(Tableau::C[1]);
-        stage(
-            sys,
-            t6,
-            &self.arg,
+        let half = Half {
+            t: t_mid,
             s,
-            &mut self.k6,
-            &mut self.stats.rhs_evals,
-        )?;
-        for (((a, m), k5), k6) in self
-            .arg
-            .iter_mut()
-            .zip(y1.iter())
-            .zip(self.k5.iter())
-            .zip(self.k6.iter())
-        {
-            *a = *m + a3 * (*k5 + *k6);
-        }
-        let t7 = t_mid + s * T::from_f64(Tableau::C[2]);
-        stage(
+            base: y1,
+        };
+        let mut f = Rhs {
             sys,
-            t7,
-            &self.arg,
-            s,
-            &mut self.k7,
-            &mut self.stats.rhs_evals,
-        )?;
+            evals: &mut self.stats.rhs_evals,
+        };
+        half.middle_stages(&mut f, &self.k5, &mut self.k6, &mut self.k7, &mut self.arg)?;
         let a9_scale = T::from_f64(Tableau::A9_SCALE);
         // Nine arrays of length N in step (zipped: no index, no bounds check).
         for ((((((((a, y0), k1), k2), k3), k4), k5), k6), k7) in self
@@ -874,16 +898,8 @@ impl<T: Real, const N: usize> England<T, N> {
             let k = [*k1, *k2, *k3, *k4, *k5, *k6, *k7];
             *a = *y0 + a9_scale * weighted(&Tableau::A9, k);
         }
-        stage(
-            sys,
-            p.t_end,
-            &self.arg,
-            s,
-            &mut self.k9,
-            &mut self.stats.rhs_evals,
-        )
+        f.stage(p.t_end, &self.arg, s, &mut self.k9)
     }
-
     /// The error ratio of the attempt from `E = (-k1 + 4k3 + 17k4 - 23k5 + 4k7 - k9)/90`:
     /// `max_i |E_i| / (atol_i + rtol · max(|y0_i|, |ŷ2_i|))`, per unit step if asked.
     fn error_ratio(&self, y: &[T; N], p: &Plan<T>) -> Result<T> {
@@ -941,53 +957,37 @@ impl<T: Real, const N: usize> England<T, N> {
     }
 
     /// An accepted attempt: `k8` (into the `k9` buffer) and the end point `y2` (in place
-    /// of `y0`), the counters, and the next step's size from the controller.
-    #[allow(clippy::too_many_arguments)]
+    /// of `y0`) by the second half step, the counters, and the next step's size from the
+    /// controller (no growth right after a rejection from the same point).
     fn accept<S: OdeSystem<T, N>>(
         &mut self,
         sys: &S,
         p: &Plan<T>,
         err: T,
-        after_rejection: bool,
         y1: &[T; N],
         y: &mut [T; N],
     ) -> Result<()> {
-        for (((a, m), k6), k7) in self
-            .arg
-            .iter_mut()
-            .zip(y1.iter())
-            .zip(self.k6.iter())
-            .zip(self.k7.iter())
-        {
-            *a = accumulated(*m, &Tableau::A4, [*k6, *k7]);
-        }
-        stage(
+        let half = Half {
+            t: p.t_mid,
+            s: p.s,
+            base: y1,
+        };
+        let mut f = Rhs {
             sys,
+            evals: &mut self.stats.rhs_evals,
+        };
+        half.last_stage(
+            &mut f,
             p.t_end,
-            &self.arg,
-            p.s,
+            (&self.k6, &self.k7),
             &mut self.k9,
-            &mut self.stats.rhs_evals,
+            &mut self.arg,
         )?;
-        let b_scale = T::from_f64(Tableau::B_SCALE);
-        for ((((y2, m), k5), k7), k8) in y
-            .iter_mut()
-            .zip(y1.iter())
-            .zip(self.k5.iter())
-            .zip(self.k7.iter())
-            .zip(self.k9.iter())
-        {
-            *y2 = *m + b_scale * weighted(&Tableau::B, [*k5, *k7, *k8]);
-        }
-        if let Some(i) = first_non_finite(y) {
-            // Restoring y0 would need a copy on every step; report instead.
-            return Err(Error::NonFinite {
-                t: p.t_end.to_f64(),
-                component: i,
-            });
-        }
+        // Restoring y0 on a non-finite y2 would need a copy on every step; report instead.
+        half.end_point([&self.k5, &self.k7, &self.k9], y, p.t_end)?;
         self.stats.accepted = self.stats.accepted.saturating_add(1);
         let (h, h_plan) = (p.h, p.h_plan);
+        let after_rejection = core::mem::replace(&mut self.retry, false);
         let (fac, fac_unbounded) = self.control.controller.accept_raw(err, after_rejection);
         let mut h_next = h * fac;
         if h < h_plan {
@@ -1008,11 +1008,12 @@ impl<T: Real, const N: usize> England<T, N> {
         Ok(())
     }
 
-    /// A rejected attempt from `t0`: the counters, the smaller size of the retry, and a
-    /// new stiffness estimate when the cap may be stale. Fails at `h_min`.
-    fn reject(&mut self, t0: T, p: &Plan<T>, err: T) -> Result<()> {
+    /// Rejects an attempt: the counters, the smaller size of the retry (which will not
+    /// grow the step on acceptance), and a new stiffness estimate when the cap may be
+    /// stale. Fails at `h_min`.
+    pub(super) fn reject(&mut self, at: &Attempt<T>) -> Result<()> {
         self.stats.rejected = self.stats.rejected.saturating_add(1);
-        let (h, h_min) = (p.h, self.config.h_min);
+        let (t0, err, h, h_min) = (at.plan.t0, at.err, at.plan.h, self.config.h_min);
         if h <= h_min {
             return Err(Error::StepSizeUnderflow {
                 t: t0.to_f64(),
@@ -1025,14 +1026,15 @@ impl<T: Real, const N: usize> England<T, N> {
             // after it (the stiffness may have grown past the cap): it may be stale.
             let k = cap.refresh_every;
             let since = self.since_estimate;
-            if h >= T::from_f64(0.99) * self.h_cap
+            if h >= T::from_f64(AT_CAP) * self.h_cap
                 || (since >= k && h >= T::HALF * self.h_cap)
-                || since >= k.saturating_mul(4)
+                || since >= k.saturating_mul(STALE_AFTER_REFRESHES)
             {
                 self.estimate_due = true;
             }
         }
         self.h = (h * fac).max(h_min);
+        self.retry = true;
         Ok(())
     }
 
@@ -1042,6 +1044,7 @@ impl<T: Real, const N: usize> England<T, N> {
         self.stats = SolverStats::default();
         self.aux_evals = 0;
         self.estimate_due = true;
+        self.retry = false;
         if !t0.is_finite() {
             return Err(Error::InvalidParameter {
                 field: "t0",
@@ -1123,8 +1126,8 @@ impl<T: Real, const N: usize> England<T, N> {
         while t < t_end {
             // f(t, y) from the sampler: counted and checked as `stage` does.
             scaled_stage(t, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
-            let mode = StepMode::Continue;
-            self.step_sampled(sys, &mut t, y, t_end, &mut mid, mode, Some(&mut *sampler))?;
+            check_step_start(t, t_end, y)?;
+            self.until_accepted(sys, &mut t, y, t_end, &mut mid, Some(&mut *sampler))?;
             if sampler.show().is_break() {
                 // The caller stopped at the midpoint: leave y there.
                 *y = mid.1;
@@ -1208,8 +1211,10 @@ impl<T: Real, const N: usize> England<T, N> {
             let t_start = t;
             let y0 = *y;
             let f0 = self.f0;
+            check_step_start(t, t_end, y)?;
             let s = self
-                .step_impl(sys, &mut t, y, t_end, &mut mid, StepMode::Continue)?
+                .until_accepted(sys, &mut t, y, t_end, &mut mid, None)?
+                .plan
                 .s;
             // f(t1, y1) = k5 / s; f(t2, y2) is the next step's f(t0, y0).
             for (a, k5) in f1.iter_mut().zip(self.k5.iter()) {

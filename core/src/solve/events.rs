@@ -4,7 +4,7 @@
 
 use core::ops::ControlFlow;
 
-use super::england::{stage, Attempt, StepMode};
+use super::england::{check_step_start, stage, Attempt};
 use super::{Dense, England, OdeSystem};
 use crate::{Error, Real, Result, SolverStats};
 
@@ -94,113 +94,148 @@ impl<T: Real, const N: usize> England<T, N> {
     {
         config.validate()?;
         self.begin(t0, y, t_end)?;
-        let mut ev = EventStats::default();
         if t_end == t0 {
-            return Ok((self.stats, ev));
+            return Ok((self.stats, EventStats::default()));
         }
         stage(sys, t0, y, T::ONE, &mut self.f0, &mut self.stats.rhs_evals)?;
-        let mut g_prev = event.event(t0, y);
-        ev.event_evals = ev.event_evals.saturating_add(1);
-        let mut t = t0;
-        let mut mid = (t0, [T::ZERO; N]);
-        let mut f1 = [T::ZERO; N];
-        let mut f2 = [T::ZERO; N];
-        let mut y_ev = [T::ZERO; N];
-        let mut ap = Approach::new(config);
-        while t < t_end {
+        let mut w = EventWalk::new(config, t0, t_end, event.event(t0, y));
+        while w.t < t_end {
             let start = StepStart {
-                t,
+                t: w.t,
                 y0: *y,
                 f0: self.f0,
                 h_before: self.h,
             };
-            let stop = ap.target.map_or(t_end, |b| b.min(t_end));
-            // The step across the event, accepted as is: the target lies within two
-            // tolerances, or a rejected attempt ended within one past the event.
-            let force = ap.target.is_some() && (ap.force_next || stop - start.t <= ap.force_width);
-            ap.force_next = false;
-            let at = self.step_impl(
-                sys,
-                &mut t,
-                y,
-                stop,
-                &mut mid,
-                StepMode::Once {
-                    rejected_before: ap.rejected,
-                    force,
-                },
-            )?;
-            ap.rejected = !at.accepted;
-            if !at.accepted {
-                self.aim_at_crossing(event, config, &start, &mid.1, &at, g_prev, &mut ap, &mut ev)?;
+            let Some(s) = self.event_attempt(sys, event, &start, &mut w, y)? else {
                 continue;
-            }
-            for (a, k5) in f1.iter_mut().zip(self.k5.iter()) {
-                *a = *k5 / at.s;
-            }
-            stage(sys, t, y, T::ONE, &mut f2, &mut self.stats.rhs_evals)?;
-            let g = event.event(t, y);
-            ev.event_evals = ev.event_evals.saturating_add(1);
-            let crossed = side(g) != side(g_prev);
-            if ap.target.is_some_and(|b| t >= b) || crossed {
-                ap.target = None;
-            }
-            let (y0, f0) = (&start.y0, &start.f0);
-            let dense = Dense::new([start.t, mid.0, t], [y0, &mid.1, y], [f0, &f1, &f2])?;
-            if !crossed {
-                ap.discards = 0;
-                self.f0 = f2;
-                g_prev = g;
-                if observer(Report::Step(&dense)).is_break() {
-                    return Ok(self.end_events(ev));
-                }
-                continue;
-            }
-            let (a, b) = locate(
-                event,
-                &dense,
-                start.t,
-                g_prev,
-                t,
-                g,
-                config,
-                &mut ev.event_evals,
-            );
-            let at_end = t - b <= config.tol_t;
-            let mut found = Event {
-                t: b,
-                bracket: b - a,
-                rising: side(g),
-                restarted: false,
             };
-            if !at_end && b - start.t > config.tol_t && ap.discards < 4 {
-                // Discard the step and re-integrate from its start to b.
-                self.discard_step(&start, b, &mut ap, &mut ev);
-                t = start.t;
-                *y = start.y0;
-                continue;
-            }
-            // The root lies at an end of the step (or the discards ran out): keep it.
-            ap.discards = 0;
-            self.f0 = f2;
-            g_prev = g;
-            if at_end {
-                found.t = t;
-                found.restarted = true;
-                y_ev = *y;
-            } else {
-                dense.eval(b, &mut y_ev);
-            }
-            if observer(Report::Step(&dense)).is_break() {
-                return Ok(self.end_events(ev));
-            }
-            ev.events = ev.events.saturating_add(1);
-            self.restart_after_event(ap.h_keep.take().unwrap_or(start.h_before));
-            if observer(Report::Event(found, &y_ev)).is_break() {
-                return Ok(self.end_events(ev));
+            if self
+                .event_step(sys, event, &start, s, &mut w, y, &mut observer)?
+                .is_break()
+            {
+                break;
             }
         }
-        Ok(self.end_events(ev))
+        Ok(self.end_events(w.ev))
+    }
+
+    /// One attempt of [`England::integrate_events`] from `start`, to the event target if
+    /// one is aimed at; returns the half step of an attempt taken, `None` after a
+    /// rejection (aimed at the root when `g` changed side by the attempt's end).
+    fn event_attempt<S: OdeSystem<T, N>, E: EventFunction<T, N>>(
+        &mut self,
+        sys: &S,
+        event: &E,
+        start: &StepStart<T, N>,
+        w: &mut EventWalk<'_, T, N>,
+        y: &mut [T; N],
+    ) -> Result<Option<T>> {
+        let ap = &mut w.ap;
+        let stop = ap.target.map_or(w.t_end, |b| b.min(w.t_end));
+        // The step across the event, taken as is: the target lies within two
+        // tolerances, or a rejected attempt ended within one past the event.
+        let force = ap.target.is_some() && (ap.force_next || stop - start.t <= ap.force_width);
+        ap.force_next = false;
+        check_step_start(start.t, stop, y)?;
+        let at = self.attempt(sys, start.t, y, stop, &mut w.mid.1, None)?;
+        if at.err <= T::ONE || force {
+            self.take(sys, &at, &mut w.t, y, &mut w.mid)?;
+            return Ok(Some(at.plan.s));
+        }
+        self.reject(&at)?;
+        let g_prev = w.g_prev;
+        self.aim_at_crossing(
+            event, w.config, start, &w.mid.1, &at, g_prev, &mut w.ap, &mut w.ev,
+        )?;
+        Ok(None)
+    }
+
+    /// After a step from `start` of half step `s` was taken: its continuous extension and
+    /// `g` at its end; a step that did not cross is shown, one that crossed is discarded
+    /// (`(t, y)` back at its start, aimed at the root) or kept with its event
+    /// ([`England::keep_event`]).
+    #[allow(clippy::too_many_arguments)]
+    fn event_step<S, E, F>(
+        &mut self,
+        sys: &S,
+        event: &E,
+        start: &StepStart<T, N>,
+        s: T,
+        w: &mut EventWalk<'_, T, N>,
+        y: &mut [T; N],
+        observer: &mut F,
+    ) -> Result<ControlFlow<()>>
+    where
+        S: OdeSystem<T, N>,
+        E: EventFunction<T, N>,
+        F: FnMut(Report<'_, T, N>) -> ControlFlow<()>,
+    {
+        for (a, k5) in w.f1.iter_mut().zip(self.k5.iter()) {
+            *a = *k5 / s;
+        }
+        let t = w.t;
+        stage(sys, t, y, T::ONE, &mut w.f2, &mut self.stats.rhs_evals)?;
+        let g = event.event(t, y);
+        w.ev.event_evals = w.ev.event_evals.saturating_add(1);
+        let crossed = side(g) != side(w.g_prev);
+        if w.ap.target.is_some_and(|b| t >= b) || crossed {
+            w.ap.target = None;
+        }
+        let (y0, f0) = (&start.y0, &start.f0);
+        let dense = Dense::new([start.t, w.mid.0, t], [y0, &w.mid.1, y], [f0, &w.f1, &w.f2])?;
+        if !crossed {
+            w.ap.discards = 0;
+            self.f0 = w.f2;
+            w.g_prev = g;
+            return Ok(observer(Report::Step(&dense)));
+        }
+        let evals = &mut w.ev.event_evals;
+        let (a, b) = locate(event, &dense, start.t, w.g_prev, t, g, w.config, evals);
+        let tol_t = w.config.tol_t;
+        let at_end = t - b <= tol_t;
+        if !at_end && b - start.t > tol_t && w.ap.discards < MAX_DISCARDS {
+            // Discard the step and re-integrate from its start to b.
+            self.discard_step(start, b, &mut w.ap, &mut w.ev);
+            w.t = start.t;
+            *y = start.y0;
+            return Ok(ControlFlow::Continue(()));
+        }
+        let found = Event {
+            t: if at_end { t } else { b },
+            bracket: b - a,
+            rising: side(g),
+            restarted: at_end,
+        };
+        if at_end {
+            w.y_ev = *y;
+        } else {
+            dense.eval(b, &mut w.y_ev);
+        }
+        // The root lies at an end of the step (or the discards ran out): keep it.
+        w.ap.discards = 0;
+        self.f0 = w.f2;
+        w.g_prev = g;
+        if observer(Report::Step(&dense)).is_break() {
+            return Ok(ControlFlow::Break(()));
+        }
+        self.keep_event(start, found, w, observer)
+    }
+
+    /// Counts and reports an event kept at the end of a step from `start`, and restarts
+    /// the step-size control there.
+    fn keep_event<F>(
+        &mut self,
+        start: &StepStart<T, N>,
+        found: Event<T>,
+        w: &mut EventWalk<'_, T, N>,
+        observer: &mut F,
+    ) -> Result<ControlFlow<()>>
+    where
+        F: FnMut(Report<'_, T, N>) -> ControlFlow<()>,
+    {
+        w.ev.events = w.ev.events.saturating_add(1);
+        self.restart_after_event(w.ap.h_keep.take().unwrap_or(start.h_before));
+        Ok(observer(Report::Event(found, &w.y_ev)))
     }
 
     /// The counters at the end of [`England::integrate_events`]: its final evaluation of
@@ -226,8 +261,8 @@ impl<T: Real, const N: usize> England<T, N> {
         ap: &mut Approach<T>,
         ev: &mut EventStats,
     ) -> Result<()> {
-        let s = at.s;
-        let g_try = event.event(at.t_end, &self.arg);
+        let (s, t_end) = (at.plan.s, at.plan.t_end);
+        let g_try = event.event(t_end, &self.arg);
         ev.event_evals = ev.event_evals.saturating_add(1);
         let crossed = side(g_try) != side(g_prev) && s > T::ZERO;
         if !crossed {
@@ -244,7 +279,7 @@ impl<T: Real, const N: usize> England<T, N> {
         let y_try = self.arg;
         let t_start = start.t;
         let dense = Dense::new(
-            [t_start, t_start + s, at.t_end],
+            [t_start, t_start + s, t_end],
             [&start.y0, y1, &y_try],
             [&start.f0, &f1, &f2],
         )?;
@@ -253,20 +288,20 @@ impl<T: Real, const N: usize> England<T, N> {
             &dense,
             t_start,
             g_prev,
-            at.t_end,
+            t_end,
             g_try,
             config,
             &mut ev.event_evals,
         );
-        if at.t_end - a <= config.tol_t {
+        if t_end - a <= config.tol_t {
             // The attempt ends within a tolerance past the event: its error is the
             // event's (a jump in f it straddles), not the step's; retry it as is and
             // accept it.
             ap.force_next = true;
-            b = at.t_end;
+            b = t_end;
         } else if ap.target.is_some() {
             // Aimed at an estimate and rejected again: at least halve.
-            b = b.min(t_start + T::HALF * (at.t_end - t_start));
+            b = b.min(t_start + T::HALF * (t_end - t_start));
         }
         let b = b.max(t_start + ap.two_tol);
         ap.h_keep.get_or_insert(start.h_before);
@@ -356,6 +391,63 @@ impl<T: Real> EventConfig<T> {
     }
 }
 
+/// The state of one [`England::integrate_events`] run between its steps.
+struct EventWalk<'c, T, const N: usize> {
+    /// The settings.
+    config: &'c EventConfig<T>,
+    /// End time.
+    t_end: T,
+    /// Time reached.
+    t: T,
+    /// The last attempt's midpoint.
+    mid: (T, [T; N]),
+    /// `g` at the time reached.
+    g_prev: T,
+    /// The approach to an event.
+    ap: Approach<T>,
+    /// Counters.
+    ev: EventStats,
+    /// `f` at the step's midpoint and end (for its continuous extension).
+    f1: [T; N],
+    f2: [T; N],
+    /// The state at the last event.
+    y_ev: [T; N],
+}
+
+impl<'c, T: Real, const N: usize> EventWalk<'c, T, N> {
+    /// At `t0` with `g(t0, y0) = g0` (counted), no approach under way.
+    fn new(config: &'c EventConfig<T>, t0: T, t_end: T, g0: T) -> Self {
+        let ev = EventStats {
+            event_evals: 1,
+            ..EventStats::default()
+        };
+        Self {
+            config,
+            t_end,
+            t: t0,
+            mid: (t0, [T::ZERO; N]),
+            g_prev: g0,
+            ap: Approach::new(config),
+            ev,
+            f1: [T::ZERO; N],
+            f2: [T::ZERO; N],
+            y_ev: [T::ZERO; N],
+        }
+    }
+}
+/// Accepted steps discarded in a row from the same point before the next is kept with
+/// its event on the interpolant: each discard re-integrates to the located root, which
+/// normally ends the next step within `tol_t` of it; a root that keeps moving (an event
+/// function that is discontinuous along the re-integration) would otherwise repeat the
+/// step forever. Four leave room for the usual one or two.
+const MAX_DISCARDS: u32 = 4;
+
+/// Illinois steps without the bracket halving after which the root search bisects: the
+/// Illinois method converges superlinearly but can stall on one end; three is the
+/// [`EventConfig::max_iterations`] promise that the bracket halves at least every third
+/// evaluation.
+const BISECT_AFTER: u32 = 3;
+
 /// Where an attempt of [`England::integrate_events`] starts.
 struct StepStart<T, const N: usize> {
     /// Time.
@@ -375,8 +467,6 @@ struct Approach<T> {
     target: Option<T>,
     /// The step size planned before the approach to an event began (restored after it).
     h_keep: Option<T>,
-    /// The last attempt was rejected (the retry from the same point must not grow).
-    rejected: bool,
     /// Steps discarded in a row from the same point (bounded: then the step is kept).
     discards: u32,
     /// Force the next attempt (to `target`) through the error test.
@@ -394,7 +484,6 @@ impl<T: Real> Approach<T> {
         Self {
             target: None,
             h_keep: None,
-            rejected: false,
             discards: 0,
             force_next: false,
             two_tol: T::TWO * config.tol_t,
@@ -476,7 +565,7 @@ fn locate<T: Real, const N: usize, E: EventFunction<T, N>>(
             break;
         }
         let mid = a + T::HALF * width;
-        let mut c = if since_halving >= 3 {
+        let mut c = if since_halving >= BISECT_AFTER {
             mid
         } else {
             // Secant through the (modified) ends.
@@ -516,7 +605,7 @@ fn locate<T: Real, const N: usize, E: EventFunction<T, N>>(
         }
         if !(ga.is_finite() && gb.is_finite()) {
             // A non-finite g: plain bisection from here.
-            since_halving = 3;
+            since_halving = BISECT_AFTER;
             ga = if side_a { T::ONE } else { -T::ONE };
             gb = -ga;
         }

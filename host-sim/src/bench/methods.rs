@@ -4,7 +4,8 @@
 //! ([`Sampler`]):
 //! - England's method with the thesis's rule, uncapped ([`StepControl::classic`], the
 //!   `"thesis"` step control);
-//! - England's method as `camsim run` runs it by default: the thesis's rule with the
+//! - England's method as `camsim run --method england` runs it (the default method is
+//!   `auto`: Merson's pair at `rtol >= 1e-6`): the thesis's rule with the
 //!   tolerance-scaled stiffness cap ([`StepRule::ScaledCap`], `"scaled-cap"`);
 //! - England's method with the PI controller, Hairer's starting step and the stiffness
 //!   cap ([`StepControl::pi_capped`]);
@@ -36,9 +37,10 @@ use super::sample::{Counted, NodeHermite, Sampler};
 /// One method of the comparison.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
-    /// England's method with its original step-size rule (what `camsim run` uses).
+    /// England's method with its original step-size rule (`camsim run --method england
+    /// --step-control thesis`).
     England,
-    /// England's method as `camsim run` runs it by default ([`StepRule::ScaledCap`]): the
+    /// England's method as `camsim run --method england` runs it ([`StepRule::ScaledCap`]): the
     /// original rule with the stiffness cap scaled with the tolerance.
     EnglandScaledCap,
     /// England's method with the PI controller, Hairer's first step and the stiffness cap.

@@ -737,7 +737,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     let chosen = with_rate(&spec, answer_value)?;
     let hs = chosen.design.spring()?;
     report.preload_lb = chosen.design.preload()?;
-    report.spring_mass_lb = hs.mass * 386.09;
+    report.spring_mass_lb = hs.mass * camsim_core::GRAVITY_IN_PER_S2;
     report.active_coils = hs.active_coils;
     report.surge_hz = hs.surge_hz;
     report.wall_s = t0.elapsed().as_secs_f64();
