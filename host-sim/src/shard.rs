@@ -75,6 +75,19 @@ pub fn verify(path: &Path, file: &ShardFile) -> Result<()> {
     file.stats
         .check(file.samples)
         .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    match (&file.study.two_level, &file.two_level) {
+        (None, None) => {}
+        (Some(t), Some(stats)) => {
+            let n = file.shard.len(t.full_samples.min(file.study.samples));
+            stats
+                .check(n)
+                .map_err(|e| anyhow::anyhow!("{name}: full-model subsample: {e}"))?;
+        }
+        (Some(_), None) => {
+            bail!("{name}: a two-level study's shard without its full-model subsample")
+        }
+        (None, Some(_)) => bail!("{name}: a full-model subsample in a study of one model"),
+    }
     Ok(())
 }
 

@@ -205,15 +205,134 @@ fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
     let e = merge_err(&[&junk]);
     assert!(e.contains("bad shard file") && e.contains("stepz"), "{e}");
     // A version 2 shard (every sample's record) is named as such.
-    std::fs::write(&junk, text.replace("\"version\":4", "\"version\":2")).unwrap();
+    std::fs::write(&junk, text.replace("\"version\":5", "\"version\":2")).unwrap();
     let e = merge_err(&[&junk]);
     assert!(
-        e.contains("shard file version 2 (this camsim reads version 4)"),
+        e.contains("shard file version 2 (this camsim reads version 5)"),
         "{e}"
     );
     if let Some(dir) = junk.parent() {
         let _ = std::fs::remove_dir_all(dir);
     }
+}
+
+/// CHEAP without the constant cam speed (the reduced followers need the regulated drive).
+const TWO_LEVEL: [&str; 5] = ["--vertical", "--interval-deg", "10", "--seed", "7"];
+
+fn study_report(argv: &[&str]) -> montecarlo::MonteCarloReport {
+    match execute(&montecarlo_args(argv)).unwrap() {
+        Outcome::Study(r) => *r,
+        Outcome::Shard(_) => panic!("not a shard run"),
+    }
+}
+
+#[test]
+fn two_level_is_the_same_for_any_threads_and_shards() {
+    let base = [&["--samples", "6", "--two-level", "3"], &TWO_LEVEL[..]].concat();
+    let run = |threads: &str| study_report(&[&base[..], &["--threads", threads]].concat());
+    let (one, two) = (run("1"), run("2"));
+    let json = |r: &montecarlo::MonteCarloReport| {
+        (
+            serde_json::to_string(&r.summary).unwrap(),
+            serde_json::to_string(&r.two_level).unwrap(),
+        )
+    };
+    assert!(one.two_level.is_some());
+    assert_eq!(json(&one), json(&two));
+    let t = one.two_level.as_ref().unwrap();
+    assert_eq!((t.samples, t.full_samples), (6, 3));
+    assert_eq!(
+        t.jump.value,
+        (t.jump.reduced + t.jump.correction).clamp(0.0, 1.0)
+    );
+    // 2- and 3-way shards merged: the same bits.
+    for ways in [2usize, 3] {
+        let files: Vec<PathBuf> = (1..=ways)
+            .map(|k| tmp(&format!("two-level-{k}of{ways}.json")))
+            .collect();
+        for (k, f) in files.iter().enumerate() {
+            let shard = format!("{}/{ways}", k + 1);
+            let argv = [
+                &base[..],
+                &["--shard", &shard, "--out", f.to_str().unwrap(), "--force"],
+            ]
+            .concat();
+            execute(&montecarlo_args(&argv)).unwrap();
+            let file = montecarlo::read_shard(f).unwrap();
+            // The subsample is samples 0-2: shard K holds those of them ≡ K − 1.
+            let pairs = (k as u64..3).step_by(ways).count() as u64;
+            assert_eq!(file.two_level.as_ref().unwrap().full.samples, pairs);
+        }
+        let merged = merge(&files, &OutputArgs::default()).unwrap();
+        assert_eq!(json(&merged), json(&one), "{ways}-way");
+    }
+    // A one-model shard does not merge with a two-level one.
+    let plain = tmp("plain-1of2.json");
+    let argv = [
+        &[
+            "--samples",
+            "6",
+            "--shard",
+            "1/2",
+            "--out",
+            plain.to_str().unwrap(),
+            "--force",
+        ],
+        &TWO_LEVEL[..],
+    ]
+    .concat();
+    execute(&montecarlo_args(&argv)).unwrap();
+    let e = merge_err(&[&plain, &tmp("two-level-2of2.json")]);
+    assert!(e.contains("--two-level 3 vs one model"), "{e}");
+}
+
+#[test]
+fn two_level_over_every_cam_is_the_full_models_study() {
+    // n = N: the reduced model cancels, and the estimate is the full model's own study
+    // of the same cams (the same actual cam on both models).
+    let full = study_report(&[&["--samples", "4"], &TWO_LEVEL[..]].concat());
+    let two = study_report(&[&["--samples", "4", "--two-level", "4"], &TWO_LEVEL[..]].concat());
+    let t = two.two_level.clone().unwrap();
+    assert_eq!(t.subsample_full_jump, full.summary.jump);
+    assert!((t.jump.value - full.summary.jump.p).abs() < 1e-12);
+    for c in &t.whole_revolution {
+        let m = full.summary.whole_revolution.get(&c.column).unwrap().mean;
+        assert!(
+            (c.mean.value - m).abs() <= 1e-12 * m.abs(),
+            "{}: {} vs {m}",
+            c.column,
+            c.mean.value
+        );
+    }
+    // The reduced model is another model: its acceleration sum differs.
+    let acc = |r: &montecarlo::MonteCarloReport| {
+        r.summary.whole_revolution.get("acc_rms_sum").unwrap().mean
+    };
+    assert_ne!(acc(&two), acc(&full));
+    // Refusals: more full-model cams than cams; a drive the reduced followers lack; a
+    // forced follower.
+    let e = execute(&montecarlo_args(
+        &[&["--samples", "4", "--two-level", "2"], &CHEAP[..]].concat(),
+    ))
+    .unwrap_err();
+    assert!(format!("{e:#}").contains("regulated drive only"), "{e:#}");
+    let e = execute(&montecarlo_args(
+        &[&["--samples", "4", "--two-level", "5"], &TWO_LEVEL[..]].concat(),
+    ))
+    .unwrap_err();
+    assert!(format!("{e:#}").contains("at most --samples (4)"), "{e:#}");
+    let e = parse_from([
+        "camsim",
+        "montecarlo",
+        "--samples",
+        "4",
+        "--two-level",
+        "2",
+        "--follower",
+        "quasi-static-rod",
+    ])
+    .unwrap_err();
+    assert!(camsim::cli::usage_line(&e).contains("--follower"), "{e}");
 }
 
 #[test]

@@ -34,6 +34,13 @@ pub struct Args {
     /// Worker threads (default: every core). The result does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
+    /// The two-level estimate of the full model: every cam on the reduced model of the
+    /// design searches (quasi-static cantilever, vertical, rtol 1e-4), the first N cams
+    /// on the full model too; the full model's P(jump) and means are the reduced
+    /// model's plus the measured difference, with a 95 % interval that includes the
+    /// difference's uncertainty (docs/MODEL.md §9.7). N from 2 to --samples.
+    #[arg(long, value_name = "N", conflicts_with = "follower", value_parser = clap::value_parser!(u64).range(2..))]
+    pub two_level: Option<u64>,
     /// Run only shard K of N (K from 1): the samples i with i mod N = K - 1. Needs --out.
     #[arg(long, value_name = "K/N", value_parser = parse_shard, requires = "out")]
     pub shard: Option<Shard>,
@@ -85,7 +92,10 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         return merge(&m.files, &m.output).map(|r| Outcome::Study(Box::new(r)));
     }
     args.study.actual.refuse_actual_flag("montecarlo")?;
-    let study = Study::new(&args.study)?;
+    let mut study = Study::new(&args.study)?;
+    if let Some(n) = args.two_level {
+        study = study.two_level(n)?;
+    }
     let shard = args.shard.unwrap_or(Shard::WHOLE);
     let out = &args.output;
     // Every output checked before any sample runs.
@@ -115,9 +125,11 @@ pub fn execute(args: &Args) -> Result<Outcome> {
     // Memory does not grow with the samples (streamed statistics); time is estimated
     // from the first sample run alone (once more than the study needs: a sample depends
     // on its index only).
+    // (A two-level study's first sample runs on both models: its time counts the
+    // shard's full-model cams once more for each of its cams, an overestimate.)
     if let Some(first) = shard.indices(study.settings.samples).next() {
         let t = Instant::now();
-        study.sample(first)?;
+        study.pair(first)?;
         crate::study_limits::check_time(
             t.elapsed().as_secs_f64(),
             count,
@@ -126,7 +138,13 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         )?;
     }
     let t0 = Instant::now();
-    let stats = study.run_stats(shard, threads, true)?;
+    let tally = study.run_tally(shard, threads, true)?;
+    let stats = tally.stats;
+    let two_level = study
+        .settings
+        .two_level
+        .is_some()
+        .then_some(tally.two_level);
     let wall_s = t0.elapsed().as_secs_f64();
     let timing = Timing {
         threads,
@@ -134,10 +152,14 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         samples_per_s: stats.samples as f64 / wall_s,
         samples_per_s_per_thread: stats.samples as f64 / wall_s / threads as f64,
     };
-    let summary = if args.shard.is_none() {
-        Some(stats.summary(study.revolution())?)
+    let (summary, two_level_summary) = if args.shard.is_none() {
+        let t = match &two_level {
+            Some(t) => Some(t.summary(&stats)?),
+            None => None,
+        };
+        (Some(stats.summary(study.revolution())?), t)
     } else {
-        None
+        (None, None)
     };
     let mut plots = match (plot_target, &summary) {
         (Some(t), Some(_)) => {
@@ -156,6 +178,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
             shard,
             samples: n,
             stats,
+            two_level,
             digest: String::new(),
         };
         file.digest = crate::shard::digest(&file)?;
@@ -170,6 +193,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         Some(summary) => Ok(Outcome::Study(Box::new(MonteCarloReport {
             study: study.settings,
             summary,
+            two_level: two_level_summary,
             timing: Some(timing),
         }))),
         None => Ok(Outcome::Shard(ShardReport {
@@ -191,9 +215,14 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
-    let (study, stats) = crate::study::montecarlo::shard::collect(files)?;
+    let (study, tally) = crate::study::montecarlo::shard::collect(files)?;
+    let stats = tally.stats;
     let revolution = measured_revolution(study.revolutions);
     let summary = stats.summary(revolution)?;
+    let two_level = match &study.two_level {
+        Some(_) => Some(tally.two_level.summary(&stats)?),
+        None => None,
+    };
     if let Some(t) = plot_target {
         let mut dir = t.open()?;
         draw(&mut dir, &stats, revolution)?;
@@ -202,6 +231,7 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
     Ok(MonteCarloReport {
         study,
         summary,
+        two_level,
         timing: None,
     })
 }

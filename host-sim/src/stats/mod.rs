@@ -1,11 +1,13 @@
 //! Statistics shared by the studies: the one 95 % confidence interval of a
 //! probability (`montecarlo`, `compare`, `tolerance-study`), and the streaming
-//! statistics of a Monte Carlo study ([`stream`], [`study`]).
+//! statistics of a Monte Carlo study ([`stream`], [`study`]) and its two-level estimate
+//! ([`two_level`]).
 
 use serde::Serialize;
 
 pub mod stream;
 pub mod study;
+pub mod two_level;
 
 /// The standard normal quantile of 0.975 (a two-sided 95 % interval).
 pub const Z95: f64 = 1.959_963_984_540_054;

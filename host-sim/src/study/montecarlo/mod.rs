@@ -29,6 +29,13 @@
 //! separation in the period (or anywhere in revolution 2) with its 95 % Wilson
 //! interval. A non-finite statistic anywhere is an error, never a result.
 //!
+//! A two-level study (`--two-level n`, [`Study::two_level`]) runs every cam on the reduced
+//! model of the design searches ([`monte_carlo_model`]) and samples 0 to n − 1 on the full
+//! scene as well; the pairs' counts and exact sums ([`TwoLevelStats`],
+//! `crate::stats::two_level`, docs/MODEL.md §9.7) travel beside the reduced statistics in the
+//! shard file and give the full model's estimate with its interval, bit for bit the same for
+//! any threads or shards.
+//!
 //! The parts: the study and its samples (here), the statistics (`crate::stats`), the
 //! shard files and their merge ([`shard`]) and the printed report ([`report`]); the
 //! histograms are [`crate::plot::montecarlo`], the command line `crate::cmd::montecarlo`.
@@ -53,6 +60,7 @@ pub use crate::stats::stream::Moments;
 pub use crate::stats::study::{
     revolution_value, summarize, Columns, PeriodSummary, StudyStats, Summary, REVOLUTION_COLUMNS,
 };
+pub use crate::stats::two_level::{TwoLevelStats, TwoLevelSummary};
 pub use crate::stats::Probability;
 pub use report::{MonteCarloReport, ShardReport, Timing};
 pub use shard::{read_shard, ShardFile};
@@ -69,7 +77,7 @@ pub fn measured_revolution(revolutions: u32) -> u32 {
 /// The shard file's `format` tag.
 pub const SHARD_FORMAT: &str = "camsim-montecarlo-shard";
 /// The shard file's format version.
-pub const SHARD_VERSION: u32 = 4;
+pub const SHARD_VERSION: u32 = 5;
 
 /// Shard `index` (from 1) of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -218,6 +226,20 @@ pub struct StudySettings {
     pub scene: String,
     /// How the actual cams are made.
     pub profile: ProfileSettings,
+    /// The two-level estimate's levels (absent: every cam on the one model of `scene`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub two_level: Option<TwoLevelSettings>,
+}
+
+/// The levels of a two-level study (`--two-level n`): every cam on the reduced scene,
+/// the first n on the full one (`scene`) as well.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TwoLevelSettings {
+    /// n: the cams (samples 0 to n − 1) that run on the full model too.
+    pub full_samples: u64,
+    /// The reduced scene every cam runs on, as a complete scene file.
+    pub reduced_scene: String,
 }
 
 /// How a study's actual cams are made.
@@ -251,6 +273,26 @@ pub struct Study {
     pub actual: ActualArgs,
     /// What identifies the study.
     pub settings: StudySettings,
+    /// The reduced scene of a two-level study (`spec` is then its full one).
+    pub reduced: Option<RunSpec>,
+}
+
+/// What a study adds up: the statistics of the cams on the study's first model (the
+/// reduced one of a two-level study) and those of the full-model subsample (empty in a
+/// study of one model).
+#[derive(Clone, Debug, Default)]
+pub struct Tally {
+    /// Every cam.
+    pub stats: StudyStats,
+    /// The subsample's pairs.
+    pub two_level: TwoLevelStats,
+}
+
+impl Tally {
+    fn merge(&mut self, other: &Tally) -> Result<()> {
+        self.stats.merge(&other.stats)?;
+        self.two_level.merge(&other.two_level)
+    }
 }
 
 impl Study {
@@ -297,12 +339,49 @@ impl Study {
                 intervals,
                 interval_source: source.label(),
             },
+            two_level: None,
         };
         Ok(Study {
             spec,
             actual: fixed,
             settings,
+            reduced: None,
         })
+    }
+
+    /// The two-level study of this one (`--two-level n`): every cam on the Monte Carlo
+    /// model of the design searches ([`monte_carlo_model`]), samples 0 to n − 1 on this
+    /// study's full scene as well.
+    pub fn two_level(mut self, n: u64) -> Result<Self> {
+        let samples = self.settings.samples;
+        anyhow::ensure!(
+            self.spec.dofs.follower == FollowerModel::Full,
+            "--two-level {n}: the scene's follower is {}: the two-level estimate pairs the full follower with a reduced one (drop --follower, or the scene's run.follower)",
+            self.spec.dofs.follower.name()
+        );
+        anyhow::ensure!(
+            matches!(self.spec.design.drive, DriveLaw::Regulated { .. }),
+            "--two-level {n}: the reduced followers are built for the regulated drive only (drop --constant-cam-speed, or the scene's constant drive)"
+        );
+        anyhow::ensure!(
+            (2..=samples).contains(&n),
+            "--two-level {n}: the full-model cams must be at least 2 and at most --samples ({samples})"
+        );
+        let reduced = monte_carlo_model(&self.spec);
+        self.settings.two_level = Some(TwoLevelSettings {
+            full_samples: n,
+            reduced_scene: crate::scene::spec_text(&reduced)?,
+        });
+        self.reduced = Some(reduced);
+        Ok(self)
+    }
+
+    /// n of a two-level study (0 in a study of one model).
+    pub fn full_samples(&self) -> u64 {
+        self.settings
+            .two_level
+            .as_ref()
+            .map_or(0, |t| t.full_samples)
     }
 
     /// The revolution the study measures ([`measured_revolution`]).
@@ -310,13 +389,41 @@ impl Study {
         measured_revolution(self.spec.revolutions)
     }
 
-    /// Runs sample `index`: its profile, its simulation, its record of the measured
-    /// revolution.
+    /// Runs sample `index` on the study's first model (the reduced one of a two-level
+    /// study): its profile, its simulation, its record of the measured revolution.
     pub fn sample(&self, index: u64) -> Result<SampleRecord> {
-        let rev = self.revolution();
+        Ok(self.pair(index)?.0)
+    }
+
+    /// Runs sample `index` on the first model and, if it is in a two-level study's
+    /// subsample, on the full model too (the same actual cam).
+    pub fn pair(&self, index: u64) -> Result<(SampleRecord, Option<SampleRecord>)> {
         let (dev, stats) = actual::build_profile(&self.spec.design, &self.actual, index)?;
-        let mut spec = self.spec.clone();
-        spec.profile = Some(Arc::new(dev));
+        let dev = Arc::new(dev);
+        let first = self.reduced.as_ref().unwrap_or(&self.spec);
+        let rec = self.record(first, &dev, &stats, index)?;
+        let full = if index < self.full_samples() {
+            Some(
+                self.record(&self.spec, &dev, &stats, index)
+                    .map_err(|e| e.context("on the full model"))?,
+            )
+        } else {
+            None
+        };
+        Ok((rec, full))
+    }
+
+    /// The record of sample `index`'s cam `dev` simulated on `spec`.
+    fn record(
+        &self,
+        spec: &RunSpec,
+        dev: &Arc<sim::HostDeviation>,
+        stats: &actual::ProfileStats,
+        index: u64,
+    ) -> Result<SampleRecord> {
+        let rev = self.revolution();
+        let mut spec = spec.clone();
+        spec.profile = Some(Arc::clone(dev));
         let r = sim::run(&spec, &mut Nothing)?;
         let periods: Vec<PeriodValues> = sim::period_rows(&spec.design, &r.stats)
             .iter()
@@ -412,6 +519,11 @@ impl Study {
     /// failure stops the samples not yet started; the error names the lowest failing
     /// index among those that ran.
     pub fn run_stats(&self, shard: Shard, threads: usize, progress: bool) -> Result<StudyStats> {
+        Ok(self.run_tally(shard, threads, progress)?.stats)
+    }
+
+    /// [`Study::run_stats`] with the full-model subsample's pairs of a two-level study.
+    pub fn run_tally(&self, shard: Shard, threads: usize, progress: bool) -> Result<Tally> {
         let pool = super::pool(threads)?;
         let count = shard.len(self.settings.samples);
         let bar = crate::study_limits::progress_bar(
@@ -425,7 +537,7 @@ impl Study {
             progress && crate::study_limits::ProgressLines::batch(),
         );
         let stop = AtomicBool::new(false);
-        type Part = (StudyStats, Option<(u64, anyhow::Error)>);
+        type Part = (Tally, Option<(u64, anyhow::Error)>);
         fn lowest(
             a: Option<(u64, anyhow::Error)>,
             b: Option<(u64, anyhow::Error)>,
@@ -435,18 +547,24 @@ impl Study {
                 (x, y) => x.or(y),
             }
         }
-        let (stats, err): Part = pool.install(|| {
+        let (tally, err): Part = pool.install(|| {
             use rayon::iter::IntoParallelIterator;
             (0..count)
                 .into_par_iter()
                 .map(|j| shard.index - 1 + j * shard.count)
                 .fold(
-                    || (StudyStats::default(), None),
+                    || (Tally::default(), None),
                     |(mut acc, err): Part, i| {
                         if stop.load(Ordering::Relaxed) {
                             return (acc, err);
                         }
-                        let r = self.sample(i).and_then(|rec| acc.add(&rec));
+                        let r = self.pair(i).and_then(|(rec, full)| {
+                            acc.stats.add(&rec)?;
+                            match full {
+                                Some(f) => acc.two_level.add(&rec, &f),
+                                None => Ok(()),
+                            }
+                        });
                         bar.inc(1);
                         lines.inc();
                         match r {
@@ -459,7 +577,7 @@ impl Study {
                     },
                 )
                 .reduce(
-                    || (StudyStats::default(), None),
+                    || (Tally::default(), None),
                     |(mut a, ea): Part, (b, eb): Part| {
                         let e = match a.merge(&b) {
                             Ok(()) => None,
@@ -473,8 +591,12 @@ impl Study {
         if let Some((i, e)) = err {
             return Err(e.context(format!("sample {i} (seed {}) failed", self.settings.seed)));
         }
-        anyhow::ensure!(stats.samples == count, "a sample failed");
-        Ok(stats)
+        anyhow::ensure!(
+            tally.stats.samples == count
+                && tally.two_level.full.samples == shard.len(self.full_samples()),
+            "a sample failed"
+        );
+        Ok(tally)
     }
 }
 

@@ -5,8 +5,9 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use super::{Columns, Probability, Shard, StudySettings, Summary};
+use super::{Columns, Probability, Shard, StudySettings, Summary, TwoLevelSummary};
 use crate::report::Report;
+use crate::stats::two_level::Estimate;
 
 /// Run time of a study on this machine (not part of the result).
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -26,8 +27,11 @@ pub struct Timing {
 pub struct MonteCarloReport {
     /// The study.
     pub study: StudySettings,
-    /// The result.
+    /// The result (of the reduced model, on every cam, in a two-level study).
     pub summary: Summary,
+    /// A two-level study's estimate of the full model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub two_level: Option<TwoLevelSummary>,
     /// Run time (absent for a merge).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub timing: Option<Timing>,
@@ -131,6 +135,66 @@ fn probability_text(p: &Probability, n: u64) -> String {
     )
 }
 
+/// `value [lo, hi] = reduced + correction` of a probability.
+fn estimate_text(e: &Estimate) -> String {
+    format!(
+        "p = {:.4}, 95 % interval [{:.4}, {:.4}] = reduced {:.4} {} correction {:.4}",
+        e.value,
+        e.lo95,
+        e.hi95,
+        e.reduced,
+        if e.correction < 0.0 { "-" } else { "+" },
+        e.correction.abs()
+    )
+}
+
+/// The full model's estimate of a two-level study, in words.
+fn two_level_text(out: &mut String, t: &TwoLevelSummary) {
+    use std::fmt::Write;
+    let _ = writeln!(
+        out,
+        "\nfull model, two-level estimate ({}): every cam on the reduced model, cams 0-{} on the full model too",
+        t.estimator,
+        t.full_samples - 1
+    );
+    let d = &t.disagreements;
+    let _ = writeln!(
+        out,
+        "  of the {} pairs, {} jump on the full model only and {} on the reduced only; the full model alone: {}",
+        t.full_samples,
+        d.full_only,
+        d.reduced_only,
+        probability_text(&t.subsample_full_jump, t.full_samples)
+    );
+    for p in &t.periods {
+        let _ = writeln!(out, "  {}: jump {}", p.period, estimate_text(&p.jump));
+    }
+    let _ = writeln!(
+        out,
+        "  {:<17} {:>11} {:>11} {:>11} {:>11} {:>11}",
+        "mean", "estimate", "lo95", "hi95", "reduced", "correction"
+    );
+    for c in &t.whole_revolution {
+        let v = |x: f64| column_unit(&c.column).map_or(x, |unit| crate::units::value(unit, x));
+        let m = &c.mean;
+        let _ = writeln!(
+            out,
+            "  {:<17} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}",
+            label(&c.column),
+            v(m.value),
+            v(m.lo95),
+            v(m.hi95),
+            v(m.reduced),
+            v(m.correction)
+        );
+    }
+    let _ = writeln!(
+        out,
+        "  full-model jump anywhere: {}",
+        estimate_text(&t.jump)
+    );
+}
+
 impl Report for MonteCarloReport {
     fn text(&self) -> String {
         use std::fmt::Write;
@@ -156,6 +220,13 @@ impl Report for MonteCarloReport {
             360.0 / p.intervals as f64,
             p.interval_source
         );
+        if let Some(t) = &s.two_level {
+            let _ = writeln!(
+                out,
+                "two-level: the tables are the reduced model's (quasi-static cantilever, vertical, rtol 1e-4) on every cam; the full model's estimate follows them ({} cams on both)",
+                t.full_samples
+            );
+        }
         let _ = writeln!(
             out,
             "percentiles: linear between order statistics (type 7); sd with n - 1"
@@ -179,6 +250,9 @@ impl Report for MonteCarloReport {
             sm.revolution,
             probability_text(&sm.jump, sm.samples)
         );
+        if let Some(t) = &self.two_level {
+            two_level_text(&mut out, t);
+        }
         let _ = writeln!(
             out,
             "solver: {:.0} accepted steps per sample on average",

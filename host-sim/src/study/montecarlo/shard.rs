@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, bail, Result};
 use serde::{Deserialize, Serialize};
 
-use super::{Shard, StudySettings, StudyStats, SHARD_FORMAT, SHARD_VERSION};
+use super::{Shard, StudySettings, StudyStats, Tally, TwoLevelStats, SHARD_FORMAT, SHARD_VERSION};
 
 /// A shard file: the study and the statistics of one shard.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -26,6 +26,10 @@ pub struct ShardFile {
     pub samples: u64,
     /// Their statistics (version 3 on; version 2 held every sample's record).
     pub stats: StudyStats,
+    /// A two-level study's full-model subsample among its samples (the pairs of its
+    /// samples below n; version 5 on).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub two_level: Option<TwoLevelStats>,
     /// The content digest of everything above (`crate::shard::digest`; version 2 on).
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub digest: String,
@@ -75,6 +79,11 @@ fn settings_difference(a: &StudySettings, b: &StudySettings) -> String {
     if a.profile != b.profile {
         return format!("profile {:?} vs {:?}", b.profile, a.profile);
     }
+    let n = |s: &StudySettings| s.two_level.as_ref().map(|t| t.full_samples);
+    if n(a) != n(b) {
+        let t = |s: &StudySettings| n(s).map_or("one model".into(), |n| format!("--two-level {n}"));
+        return format!("{} vs {}", t(b), t(a));
+    }
     if let Some((x, y)) = a.scene.lines().zip(b.scene.lines()).find(|(x, y)| x != y) {
         return format!("scene line `{}` vs `{}`", y.trim(), x.trim());
     }
@@ -83,13 +92,14 @@ fn settings_difference(a: &StudySettings, b: &StudySettings) -> String {
 
 /// The statistics of a whole study from its shard files: every file of one study (the
 /// same settings), every shard K of one split N exactly once, added up.
-pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, StudyStats)> {
+pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, Tally)> {
     let first_path = files.first().ok_or_else(|| anyhow!("no shard files"))?;
     let mut study: Option<StudySettings> = None;
     // shard K -> the file that has it, all of one split N.
     let mut owner: BTreeMap<u64, usize> = BTreeMap::new();
     let mut split: Option<(u64, usize)> = None;
     let mut stats = StudyStats::default();
+    let mut two_level = TwoLevelStats::default();
     let mut seen: Vec<PathBuf> = Vec::new();
     for (f, path) in files.iter().enumerate() {
         let canonical = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
@@ -129,6 +139,11 @@ pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, StudyStats)> {
         stats
             .merge(&shard.stats)
             .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        if let Some(t) = &shard.two_level {
+            two_level
+                .merge(t)
+                .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        }
     }
     let study = study.ok_or_else(|| anyhow!("no shard files"))?;
     let n = study.samples;
@@ -162,5 +177,5 @@ pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, StudyStats)> {
         "the shards hold {} samples, the study {n}",
         stats.samples
     );
-    Ok((study, stats))
+    Ok((study, Tally { stats, two_level }))
 }
