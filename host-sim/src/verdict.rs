@@ -299,7 +299,7 @@ pub fn drive(design: &Design<f64>, watch: &Watch) -> DriveVerdict {
         DriveLaw::Regulated { k_p, t_max, .. } => (
             "regulated",
             format!(
-                "speed-regulated motor, gain {} {}, torque limit {} {} (the thesis's 1.75 hp drive unless [design.drive.regulated] says otherwise)",
+                "speed-regulated motor, gain {} {}, torque limit {} {} (the thesis's motor unless [design.drive.regulated] says otherwise)",
                 crate::units::q(camsim_scene_file::units::GAIN, k_p, 1),
                 crate::units::symbol(camsim_scene_file::units::GAIN),
                 crate::units::q(crate::units::TORQUE, t_max, 1),
