@@ -114,6 +114,14 @@ smoke run-actual run --actual --revolutions 2 --json
 smoke jump-speed jump-speed --resolution 10 --json
 smoke scene scene --default
 smoke scene-json scene --default --json --units si
+# Issue 30: scene --new writes a template that reads back (scene --check lists where each
+# value comes from: the file, derived, the reference) and runs, in either family.
+smoke scene-new scene --new
+smoke scene-new-si scene --new --units si
+smoke scene-new-check scene --check "$studies/scene-new-si.out" --units si
+grep -qF '# derived:' "$studies/scene-new-check.out" && grep -qF 'design.load_mass_kg = ' "$studies/scene-new-check.out" && grep -qF '# inherited from the reference design' "$studies/scene-new-check.out" || { echo "smoke: scene --check does not list the derived and inherited values" >&2; exit 1; }
+smoke scene-new-run run "$studies/scene-new.out" --revolutions 1 --json
+grep -qF '"moving_mass_lb": 4.5,' "$studies/scene-new-run.out" || { echo "smoke: run of scene --new's template does not move its 4.5 lb" >&2; exit 1; }
 smoke run-si run --revolutions 1 --json --units si
 smoke run-si-text run --revolutions 1 --units si
 # An option given with its unit under --units si (a bare number there is refused).

@@ -230,3 +230,154 @@ pub fn in_si(text: &str) -> String {
     }
     out
 }
+
+/// The groups of `scene --check`'s listing of inherited values, in order.
+const GROUPS: [&str; 5] = [
+    "drive",
+    "follower rod and bearings",
+    "cam width and materials",
+    "masses",
+    "spring, cam and program",
+];
+
+/// The group (index into [`GROUPS`]) of a design key (relative to `[design]`).
+fn group_of(rel: &str) -> usize {
+    let drive = [
+        key::I_M,
+        key::I_CP,
+        key::I_C,
+        key::C_MB,
+        key::C_S1,
+        key::C_S2,
+        key::C_CC,
+        key::K_S1,
+        key::K_S2,
+        key::COUPLING_BACKLASH,
+        key::OMEGA0,
+    ];
+    let rod = [
+        key::E1,
+        key::E2,
+        key::BEARING_A,
+        key::BEARING_B,
+        key::MU,
+        key::FRICTION_SMOOTHING,
+        key::DAMPING_RATIO_F1,
+        key::K_RB,
+        key::ROLLER_BEARING_DAMPING_RATIO,
+        key::K_VS,
+        key::C_VS,
+        key::K_HS,
+        key::C_HS,
+    ];
+    if rel.starts_with("drive") || drive.contains(&rel) {
+        0
+    } else if rel.contains("mass") {
+        3
+    } else if rel.starts_with("follower_") || rod.contains(&rel) {
+        1
+    } else if rel.starts_with("hertz.")
+        || rel == key::THICKNESS
+        || rel == key::CONTACT_DAMPING_RATIO
+    {
+        2
+    } else {
+        4
+    }
+}
+
+/// Every value of `design` but the program's, by its path relative to `[design]`
+/// (`geometry.base_radius_in`), as TOML writes it.
+fn design_values(design: &camsim_core::Design<f64>) -> Result<Vec<(String, toml::Value)>> {
+    fn flat(prefix: &str, v: &toml::Value, out: &mut Vec<(String, toml::Value)>) {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, v) in t {
+                    let p = if prefix.is_empty() {
+                        k.clone()
+                    } else {
+                        format!("{prefix}.{k}")
+                    };
+                    if p != "program" {
+                        flat(&p, v, out);
+                    }
+                }
+            }
+            other => out.push((prefix.to_string(), other.clone())),
+        }
+    }
+    let mut out = Vec::new();
+    flat("", &toml::Value::try_from(design)?, &mut out);
+    Ok(out)
+}
+
+/// `path = value` in the output's unit family (`--units`): the key renamed and the number
+/// converted, to 7 significant digits.
+fn in_family(path: &str, v: &toml::Value) -> String {
+    let (table, name) = path.rsplit_once('.').unwrap_or(("", path));
+    let joined = |n: &str| {
+        if table.is_empty() {
+            n.to_string()
+        } else {
+            format!("{table}.{n}")
+        }
+    };
+    let x = match v {
+        toml::Value::Float(x) => *x,
+        toml::Value::Integer(i) => *i as f64,
+        other => return format!("{path} = {other}"),
+    };
+    let (name, factor) = crate::units::key_in(name, crate::units::current());
+    let y = x * factor;
+    let y: f64 = format!("{y:.6e}").parse().unwrap_or(y);
+    format!("{} = {y}", joined(&name))
+}
+
+/// `scene --check`'s listing, as TOML comments: the values taken from the file (as
+/// written), the values derived (and from which of the user's keys), and the values
+/// inherited from the reference design, grouped.
+pub fn listing(text: &str, spec: &RunSpec) -> Result<String> {
+    use std::fmt::Write;
+    let origins = camsim_scene_file::origins(text)?;
+    let values = design_values(&spec.design)?;
+    let mut out = String::from("# where every value comes from (camsim scene --check):\n");
+    let _ = writeln!(out, "# taken from the file:");
+    if origins.from_file.is_empty() {
+        let _ = writeln!(out, "#   nothing: the file is the reference design");
+    }
+    for (_, user, raw) in &origins.from_file {
+        let _ = writeln!(out, "#   {user} = {raw}");
+    }
+    let _ = writeln!(out, "# derived:");
+    if origins.derived.is_empty() {
+        let _ = writeln!(out, "#   nothing");
+    }
+    for (path, from, rule) in &origins.derived {
+        let rel = path.strip_prefix("design.").unwrap_or(path);
+        let value = values
+            .iter()
+            .find(|(p, _)| p == rel)
+            .map_or(path.clone(), |(p, v)| format!("design.{}", in_family(p, v)));
+        let _ = writeln!(out, "#   {value} (from {from}: {rule})");
+    }
+    let _ = writeln!(
+        out,
+        "# inherited from the reference design (not in the file):"
+    );
+    let set = |rel: &str| {
+        let path = format!("design.{rel}");
+        origins.from_file.iter().any(|(p, _, _)| *p == path)
+            || origins.derived.iter().any(|(p, _, _)| *p == path)
+    };
+    for (g, name) in GROUPS.iter().enumerate() {
+        let mut group = values.iter().filter(|(p, _)| group_of(p) == g && !set(p));
+        let Some(first) = group.next() else {
+            continue;
+        };
+        let _ = writeln!(out, "#   {name}:");
+        for (p, v) in std::iter::once(first).chain(group) {
+            let _ = writeln!(out, "#     {}", in_family(p, v));
+        }
+    }
+    Ok(out)
+}

@@ -59,6 +59,8 @@ pub struct Watch {
     pub peak_power: Option<(f64, At)>,
     /// Largest Hertz stress, psi, and where.
     pub peak_stress: Option<(f64, At)>,
+    /// Smallest and largest cam speed θ̇_c, rad/s.
+    pub cam_speed: Option<(f64, f64)>,
 }
 
 impl Watch {
@@ -70,6 +72,7 @@ impl Watch {
             peak_torque: None,
             peak_power: None,
             peak_stress: None,
+            cam_speed: None,
         }
     }
 
@@ -120,6 +123,10 @@ impl Observer<f64> for Watch {
             |a, b| a > b,
         );
         keep(&mut self.peak_stress, s.contact_stress, at, |a, b| a > b);
+        if p.omega_c.is_finite() {
+            let (lo, hi) = self.cam_speed.unwrap_or((p.omega_c, p.omega_c));
+            self.cam_speed = Some((lo.min(p.omega_c), hi.max(p.omega_c)));
+        }
         ControlFlow::Continue(())
     }
 }
@@ -222,6 +229,95 @@ pub struct SpringVerdict {
     pub least_harmonic: f64,
 }
 
+/// The follower train's translating mass by its parts (weights, lb), as the model has it
+/// (docs/MODEL.md §5.1): the load takes what the rest leaves when a scene gives
+/// `moving_mass_kg|lb`.
+#[derive(Clone, Debug, Serialize)]
+pub struct MassVerdict {
+    /// The whole translating mass.
+    pub moving_mass_lb: f64,
+    /// M_l, the load.
+    pub load_mass_lb: f64,
+    /// ρ A (e1 + e2), the follower rod.
+    pub rod_mass_lb: f64,
+    /// M_r, the roller.
+    pub roller_mass_lb: f64,
+    /// A third of the return spring.
+    pub spring_share_mass_lb: f64,
+}
+
+/// Standard gravity, in/s² (a pound-mass is 1/g lb·s²/in).
+const G: f64 = camsim_scene_file::units::G_IN_PER_S2;
+
+/// The mass verdict of `design`.
+pub fn mass(design: &Design<f64>) -> MassVerdict {
+    let m = design.moving_mass();
+    MassVerdict {
+        moving_mass_lb: m.total() * G,
+        load_mass_lb: m.load * G,
+        rod_mass_lb: m.rod * G,
+        roller_mass_lb: m.roller * G,
+        spring_share_mass_lb: m.spring_share * G,
+    }
+}
+
+/// The drive and the cam speed it held over the judged revolutions.
+#[derive(Clone, Debug, Serialize)]
+pub struct DriveVerdict {
+    /// The drive as the scene names it (`regulated`, `constant-cam-speed`,
+    /// `constant-motor-speed`).
+    pub drive: &'static str,
+    /// What it is, in words.
+    pub description: String,
+    /// The nominal cam speed ω0, rpm.
+    pub nominal_rpm: f64,
+    /// Smallest cam speed over the judged revolutions, rpm.
+    pub min_cam_speed_rpm: f64,
+    /// Largest cam speed over the judged revolutions, rpm.
+    pub max_cam_speed_rpm: f64,
+    /// The larger of the two deviations from nominal, percent.
+    pub swing_percent: f64,
+    /// The swing accepted without a warning, percent
+    /// ([`camsim_core::CAM_SPEED_SWING_LIMIT`]).
+    pub swing_limit_percent: f64,
+}
+
+/// The drive verdict of `design` from the cam speeds `watch` saw.
+pub fn drive(design: &Design<f64>, watch: &Watch) -> DriveVerdict {
+    use camsim_core::{rad_per_s_to_rpm, DriveLaw};
+    let w0 = design.omega0;
+    let (lo, hi) = watch.cam_speed.unwrap_or((w0, w0));
+    let (drive, description) = match design.drive {
+        DriveLaw::ConstantCamSpeed => (
+            "constant-cam-speed",
+            "the cam turns at exactly the nominal speed (kinematic)".to_string(),
+        ),
+        DriveLaw::ConstantMotorSpeed => (
+            "constant-motor-speed",
+            "the motor held at the nominal speed; coupling and cam shafts twist".to_string(),
+        ),
+        DriveLaw::Regulated { k_p, t_max, .. } => (
+            "regulated",
+            format!(
+                "speed-regulated motor, gain {} {}, torque limit {} {} (the thesis's motor unless [design.drive.regulated] says otherwise)",
+                crate::units::q(camsim_scene_file::units::GAIN, k_p, 1),
+                crate::units::symbol(camsim_scene_file::units::GAIN),
+                crate::units::q(crate::units::TORQUE, t_max, 1),
+                crate::units::symbol(crate::units::TORQUE),
+            ),
+        ),
+    };
+    DriveVerdict {
+        drive,
+        description,
+        nominal_rpm: rad_per_s_to_rpm(w0),
+        min_cam_speed_rpm: rad_per_s_to_rpm(lo),
+        max_cam_speed_rpm: rad_per_s_to_rpm(hi),
+        swing_percent: 100.0 * ((w0 - lo).max(hi - w0) / w0),
+        swing_limit_percent: 100.0 * camsim_core::CAM_SPEED_SWING_LIMIT,
+    }
+}
+
 /// The jump margin (`--margin`).
 #[derive(Clone, Debug, Serialize)]
 pub struct MarginVerdict {
@@ -259,6 +355,10 @@ pub struct Verdict {
     pub loads: LoadsVerdict,
     /// The return spring.
     pub spring: SpringVerdict,
+    /// The translating mass by its parts.
+    pub mass: MassVerdict,
+    /// The drive and the cam speed's swing.
+    pub drive: DriveVerdict,
     /// The jump margin, when asked (`--margin`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub jump_margin: Option<MarginVerdict>,
@@ -683,6 +783,8 @@ pub fn text(v: &Verdict) -> String {
         s.surge_harmonic,
         s.cam_hz
     );
+    let _ = writeln!(out, "{}", mass_text(&v.mass));
+    let _ = writeln!(out, "{}", drive_text(&v.drive, c.revolutions));
     match &v.jump_margin {
         Some(m) => match (m.jump_onset_rpm, m.margin_percent) {
             (Some(j), Some(p)) => {
@@ -718,6 +820,52 @@ pub fn text(v: &Verdict) -> String {
         }
     }
     out
+}
+
+/// The verdict's mass line.
+fn mass_text(m: &MassVerdict) -> String {
+    use crate::units as u;
+    let q = |x: f64| u::q(u::WEIGHT, x, 4);
+    format!(
+        "  mass:      moving {} {w} = load {} + rod rho*A*(e1+e2) {} + roller {} + a third of the spring {}",
+        q(m.moving_mass_lb),
+        q(m.load_mass_lb),
+        q(m.rod_mass_lb),
+        q(m.roller_mass_lb),
+        q(m.spring_share_mass_lb),
+        w = u::symbol(u::WEIGHT)
+    )
+}
+
+/// The verdict's drive line.
+fn drive_text(d: &DriveVerdict, revolutions: [u32; 2]) -> String {
+    format!(
+        "  drive:     {}: {}; cam speed {:.1} to {:.1} rpm over revolutions {}-{}, {:.2} % from the nominal {:.1} rpm (limit {:.0} %)",
+        d.drive,
+        d.description,
+        d.min_cam_speed_rpm,
+        d.max_cam_speed_rpm,
+        revolutions[0],
+        revolutions[1],
+        d.swing_percent,
+        d.nominal_rpm,
+        d.swing_limit_percent
+    )
+}
+
+/// The warning on a cam speed that swings past the limit, if it does.
+pub fn swing_warning(d: &DriveVerdict) -> Option<String> {
+    (d.swing_percent > d.swing_limit_percent).then(|| {
+        format!(
+            "the cam speed swings {:.1} % from the nominal {:.1} rpm ({:.1} to {:.1} rpm; limit {:.0} %): the {} drive does not hold the speed the kinematic design assumes: give the drive ([design.drive.regulated] gain and torque for this machine, or drive = \"constant-cam-speed\" for the kinematic answer)",
+            d.swing_percent,
+            d.nominal_rpm,
+            d.min_cam_speed_rpm,
+            d.max_cam_speed_rpm,
+            d.swing_limit_percent,
+            d.drive
+        )
+    })
 }
 
 /// The contact verdict from the run's jumps and watch.

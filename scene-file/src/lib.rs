@@ -293,6 +293,8 @@ struct Present {
     user_path: String,
     value: Option<f64>,
     raw: String,
+    /// The value's text if it is a string or a boolean (`"cycloidal"`), for listings.
+    word: Option<String>,
 }
 
 /// What the first reading of a file found: the conversions and every key set.
@@ -300,6 +302,9 @@ struct Present {
 struct Reading {
     converted: Vec<Converted>,
     present: Vec<Present>,
+    /// `design.moving_mass_lb` (pound-mass; `_kg` converted), taken out of the design
+    /// table before it is read: not a field of the design but the rule that sets its load.
+    moving_mass: Option<f64>,
 }
 
 impl Reading {
@@ -383,7 +388,7 @@ fn walk<'a>(
 /// refusal of a quantity given in both families.
 fn survey(text: &str) -> Result<Reading, Error> {
     let mut root = toml::de::DeTable::parse(text)
-        .map_err(|e| toml_error(text, &e))?
+        .map_err(|e| toml_error(text, &e, &Reading::default()))?
         .into_inner();
     let mut reading = Reading::default();
     walk(&mut root, "", "", &mut |t, norm, disp| {
@@ -392,6 +397,11 @@ fn survey(text: &str) -> Result<Reading, Error> {
             let user_path = join(disp, name);
             let num = number_of(v.get_ref());
             let raw = num.as_ref().map(|(_, r)| r.clone()).unwrap_or_default();
+            let word = match v.get_ref() {
+                toml::de::DeValue::String(w) => Some(format!("{w:?}")),
+                toml::de::DeValue::Boolean(b) => Some(b.to_string()),
+                _ => None,
+            };
             match units::lookup(norm, name) {
                 Some((uk, true)) => {
                     let inch = uk.inch();
@@ -420,6 +430,7 @@ fn survey(text: &str) -> Result<Reading, Error> {
                         user_path,
                         value: si_value.map(|x| x / uk.unit.si_per_inch),
                         raw,
+                        word,
                     });
                 }
                 _ => reading.present.push(Present {
@@ -427,6 +438,7 @@ fn survey(text: &str) -> Result<Reading, Error> {
                     user_path,
                     value: num.map(|(x, _)| x),
                     raw,
+                    word,
                 }),
             }
         }
@@ -440,7 +452,7 @@ fn survey(text: &str) -> Result<Reading, Error> {
 fn read_scene(text: &str) -> Result<(SceneFile, Reading), Error> {
     use toml::de::DeValue;
     use toml::Spanned;
-    let reading = survey(text)?;
+    let mut reading = survey(text)?;
     // The converted values as TOML number text, parsed below into the values of the
     // renamed keys (the parsed table borrows its text).
     let mut numbers = String::new();
@@ -453,7 +465,8 @@ fn read_scene(text: &str) -> Result<(SceneFile, Reading), Error> {
         ranges.push(start..numbers.len());
         numbers.push(' ');
     }
-    let mut root = toml::de::DeTable::parse(text).map_err(|e| toml_error(text, &e))?;
+    let mut root =
+        toml::de::DeTable::parse(text).map_err(|e| toml_error(text, &e, &Reading::default()))?;
     let span = root.span();
     let mut next = 0;
     walk(root.get_mut(), "", "", &mut |t, _, disp| {
@@ -476,9 +489,32 @@ fn read_scene(text: &str) -> Result<(SceneFile, Reading), Error> {
         }
         Ok(())
     })?;
+    reading.moving_mass = take_moving_mass(root.get_mut(), text)?;
     let de = toml::de::Deserializer::from(Spanned::new(span, root.into_inner()));
-    let file = SceneFile::deserialize(de).map_err(|e| toml_error(text, &e))?;
+    let file = SceneFile::deserialize(de).map_err(|e| toml_error(text, &e, &reading))?;
     Ok((file, reading))
+}
+
+/// Takes `design.moving_mass_lb` (already converted from `_kg`) out of the root table:
+/// its value in pound-mass, if the file gives one (refused if not a number).
+fn take_moving_mass(root: &mut toml::de::DeTable<'_>, text: &str) -> Result<Option<f64>, Error> {
+    use toml::de::DeValue;
+    let Some(DeValue::Table(design)) = root.get_mut("design").map(|v| v.get_mut()) else {
+        return Ok(None);
+    };
+    let Some(v) = design.remove(units::MOVING_MASS) else {
+        return Ok(None);
+    };
+    match number_of(v.get_ref()) {
+        Some((x, _)) => Ok(Some(x)),
+        None => Err(located(
+            text,
+            &format!(
+                "design.{}: must be a number (the moving mass in lb, or moving_mass_kg in kg)",
+                units::MOVING_MASS
+            ),
+        )),
+    }
 }
 
 /// Parses and checks scene text. Errors are one line: where TOML or serde refused
@@ -494,9 +530,20 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
     // for `--spring-rate`. A file that gives the mass keeps it.
     let sets = |k: &str| reading.sets(&format!("design.{k}"));
     if sets(key::K_RS) && !sets(key::M_SPRING) {
+        // A rate the wire model gives no finite mass for (1e-310) keeps the reference's
+        // mass: the rate's own range check then names the rate, the key the user wrote.
         if let Ok(spring) = camsim_core::HelicalSpring::of_rate(file.design.k_rs) {
-            file.design.m_spring = spring.mass;
+            if spring.mass.is_finite() {
+                file.design.m_spring = spring.mass;
+            }
         }
+    }
+    // The modal analysis's rate follows the spring's unless the file gives it.
+    if sets(key::K_RS) && !sets(key::K_RS_MODAL) {
+        file.design.k_rs_modal = file.design.k_rs;
+    }
+    if let Some(lb) = reading.moving_mass {
+        apply_moving_mass(&mut file.design, lb, &reading).map_err(|m| located(text, &m))?;
     }
     if file.run.rpm.is_some() {
         if let Some(k) = [key::OMEGA0, key::DRIVE_OMEGA_REF]
@@ -515,6 +562,155 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
             &explain(&in_user_units(&e.message, &reading), &reading),
         )
     })
+}
+
+/// Where the design's values of a scene come from (`camsim scene --check`'s listing): the
+/// keys the file sets, and the values the reader derives from them. Every other design
+/// value is the reference design's.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Origins {
+    /// The keys the file sets: inch-family path with indices
+    /// (`design.geometry.base_radius_in`), the path as written (`..._mm`) and the value's
+    /// text as written.
+    pub from_file: Vec<(String, String, String)>,
+    /// The values derived: the derived key's inch-family path, the user's key it comes from
+    /// (as written), and the rule.
+    pub derived: Vec<(String, String, &'static str)>,
+}
+
+/// The [`Origins`] of scene `text` (read, not checked: call [`parse`] for that).
+pub fn origins(text: &str) -> Result<Origins, Error> {
+    let (_, reading) = read_scene(text)?;
+    let user = |inch: &str| {
+        reading
+            .present
+            .iter()
+            .find(|p| p.inch_path == inch)
+            .map_or(inch.to_string(), |p| p.user_path.clone())
+    };
+    let d = |k: &str| format!("design.{k}");
+    let sets = |k: &str| reading.sets(&d(k));
+    let mut derived = Vec::new();
+    if sets(key::K_RS) && !sets(key::M_SPRING) {
+        derived.push((
+            d(key::M_SPRING),
+            user(&d(key::K_RS)),
+            "the wire-and-coil model: the reference wire and coil diameter wound to the rate (docs/MODEL.md 5.6)",
+        ));
+    }
+    if sets(key::K_RS) && !sets(key::K_RS_MODAL) {
+        derived.push((
+            d(key::K_RS_MODAL),
+            user(&d(key::K_RS)),
+            "the modal analysis's rate follows the spring's",
+        ));
+    }
+    if reading.moving_mass.is_some() {
+        derived.push((
+            d(key::M_L),
+            user(&d(units::MOVING_MASS)),
+            "the moving mass less the rod rho*A*(e1+e2), the roller and a third of the spring (docs/MODEL.md 5.1)",
+        ));
+    }
+    if reading.sets("run.rpm") {
+        derived.push((
+            d(key::OMEGA0),
+            "run.rpm".to_string(),
+            "the cam speed (and the regulated drive's reference speed and feed-forward)",
+        ));
+    }
+    let from_file = reading
+        .present
+        .iter()
+        .filter_map(|p| {
+            let value = match &p.word {
+                Some(w) => w.clone(),
+                None if p.raw.is_empty() => return None,
+                None => p.raw.clone(),
+            };
+            Some((p.inch_path.clone(), p.user_path.clone(), value))
+        })
+        .collect();
+    Ok(Origins { from_file, derived })
+}
+
+/// Sets the load so that the translating mass is `lb` pound-mass (the file's
+/// `moving_mass_lb` or `_kg`): the load takes what the rod, roller and spring's share
+/// leave (camsim-core's `Design::set_moving_mass`, docs/MODEL.md §5.1). The refusal
+/// names the user's key and value and every part in the user's unit.
+fn apply_moving_mass(d: &mut Design<f64>, lb: f64, reading: &Reading) -> Result<(), String> {
+    let inch_path = format!("design.{}", units::MOVING_MASS);
+    let (user, raw) = reading
+        .present
+        .iter()
+        .find(|p| p.inch_path == inch_path)
+        .map_or((inch_path.as_str(), ""), |p| {
+            (p.user_path.as_str(), p.raw.as_str())
+        });
+    let si = !user.ends_with(units::POUND_MASS.inch);
+    let load_key = match si {
+        true => format!(
+            "design.{}",
+            units::si_name("design", key::M_L).unwrap_or_default()
+        ),
+        false => format!("design.{}", key::M_L),
+    };
+    if reading.sets(&format!("design.{}", key::M_L)) {
+        return Err(format!(
+            "{user} and {load_key} (or its other unit): both set the load: give the moving mass, or the load mass, not both"
+        ));
+    }
+    let unit = if si { "kg" } else { "lb" };
+    if !(lb.is_finite() && lb > 0.0) {
+        return Err(format!(
+            "{user} = {raw}: must be positive and finite ({unit})"
+        ));
+    }
+    let factor = units::G_IN_PER_S2
+        * if si {
+            units::POUND_MASS.si_per_inch
+        } else {
+            1.0
+        };
+    let m = d.moving_mass();
+    if d.set_moving_mass(lb / units::G_IN_PER_S2).is_err() {
+        let q = |x: f64| format!("{:.4} {unit}", x * factor);
+        return Err(format!(
+            "{user} = {raw}: leaves no load mass: the follower rod rho*A*(e1+e2) {}, the roller {} and a third of the spring {} already make {} (the load would be {}): give the whole translating mass, or lighter parts (follower_area, e1, e2, roller_mass, the spring)",
+            q(m.rod),
+            q(m.roller),
+            q(m.spring_share),
+            q(m.fixed_parts()),
+            q(lb / units::G_IN_PER_S2 - m.fixed_parts())
+        ));
+    }
+    Ok(())
+}
+
+/// A program's refusal (`design.program.segment = 0.0394: net displacement ...`, the
+/// value in inches) in the file's lift unit when the file gives its lifts in mm.
+fn program_in_user_units(msg: &str, reading: &Reading) -> String {
+    let si = reading.converted.iter().any(|c| c.si == "lift_mm");
+    let head = format!("design.{} = ", key::PROGRAM_SEGMENT);
+    match (
+        si,
+        msg.strip_prefix(head.as_str())
+            .and_then(|r| r.split_once(": ")),
+    ) {
+        (true, Some((v, rule))) => match v.parse::<f64>() {
+            Ok(x) => format!(
+                "design.{} (lift_mm) = {} mm: {rule}",
+                key::PROGRAM_SEGMENT,
+                short(
+                    format!("{:.6e}", x * units::MM_PER_IN)
+                        .parse()
+                        .unwrap_or(x * units::MM_PER_IN)
+                )
+            ),
+            Err(_) => msg.to_string(),
+        },
+        _ => msg.to_string(),
+    }
 }
 
 /// `msg` (a refusal starting with an inch-family key path and ` = value`) written with
@@ -553,6 +749,11 @@ fn in_user_units(msg: &str, reading: &Reading) -> String {
 /// refusal is put on the line of the user's key that makes its (default) value fail.
 /// `*` stands for any segment's index.
 pub const CAUSES: &[(&str, &[&str])] = &[
+    ("design.load_mass_lb_s2_per_in", &["design.moving_mass_lb"]),
+    (
+        "design.spring_modal_rate_lb_per_in",
+        &["design.spring_rate_lb_per_in"],
+    ),
     (
         "design.e2_in",
         &[
@@ -577,6 +778,13 @@ pub const CAUSES: &[(&str, &[&str])] = &[
             "design.program.segment[*].lift_in",
         ],
     ),
+];
+
+/// The keys of [`CAUSES`] whose value, when the file does not set it, is derived from
+/// the user's key (the load from the moving mass, the modal rate from the spring rate).
+const DERIVED: &[&str] = &[
+    "design.load_mass_lb_s2_per_in",
+    "design.spring_modal_rate_lb_per_in",
 ];
 
 /// Whether `path` (with indices) matches `pattern` (`[*]` for any index).
@@ -619,13 +827,41 @@ fn explain(msg: &str, reading: &Reading) -> String {
             } else {
                 format!(" = {}", p.raw)
             };
+            let head = if p.user_path != p.inch_path {
+                head_in_si(head)
+            } else {
+                head.to_string()
+            };
+            // The load and the modal rate follow the user's key; the rest is the reference's.
+            let whence = if DERIVED.contains(&refused) {
+                "derived from it"
+            } else {
+                "the reference's value"
+            };
             return format!(
-                "{}{value}: it makes {head} (not in the file: the reference's value) fail: {rule}",
+                "{}{value}: it makes {head} (not in the file: {whence}) fail: {rule}",
                 p.user_path
             );
         }
     }
     msg.to_string()
+}
+
+/// `design.e2_in = 2` in the SI family (`design.e2_mm = 50.8`), for a refusal of a key
+/// the file does not set, when the key that caused it is in SI.
+fn head_in_si(head: &str) -> String {
+    let (path, value) = head.split_once(" = ").unwrap_or((head, ""));
+    let (table, name) = path.rsplit_once('.').unwrap_or(("", path));
+    match units::lookup(table, name) {
+        Some((k, false)) => {
+            let si = format!("{table}.{}", k.si());
+            match value.parse::<f64>() {
+                Ok(x) => format!("{si} = {}", short(x * k.unit.si_per_inch)),
+                Err(_) => si,
+            }
+        }
+        _ => head.to_string(),
+    }
 }
 
 /// A core check's refusal in `section` (`design`, `solver`): its key under the section,
@@ -643,10 +879,11 @@ pub fn refusal(section: &str, error: camsim_core::Error) -> Error {
 
 /// One line for a TOML or serde error: line, column, the key there, the message. A
 /// program refused as it is read (by the core's `CamProgram::new`) names its own key.
-fn toml_error(text: &str, e: &toml::de::Error) -> Error {
+fn toml_error(text: &str, e: &toml::de::Error, reading: &Reading) -> Error {
     let msg = short_numbers(&e.message().trim().replace('\n', " "));
     if msg.starts_with(key::PROGRAM_SEGMENT) {
-        return located(text, &format!("design.{msg}"));
+        let msg = program_in_user_units(&format!("design.{msg}"), reading);
+        return located(text, &in_user_units(&msg, reading));
     }
     let Some(span) = e.span() else {
         return Error::new(msg);
@@ -1193,7 +1430,7 @@ mod tests {
             .to_string();
         assert!(
             e.starts_with(
-                "line 9: design.program.segment[0].lift_mm = 76.2: it makes design.e2_in"
+                "line 9: design.program.segment[0].lift_mm = 76.2: it makes design.e2_mm = 50.8 (not in the file"
             ),
             "{e}"
         );
@@ -1205,6 +1442,77 @@ mod tests {
             e.starts_with("line 2: design.e2_in = 2: cantilever length"),
             "{e}"
         );
+    }
+
+    /// The moving mass sets the load: the model's translating mass is the given one (1.2
+    /// kg is 1.2 / 0.45359237 lb, over g = 386.0886 in/s² in lb·s²/in), in either family.
+    #[test]
+    fn a_moving_mass_sets_the_load_and_a_light_one_is_refused() {
+        let si = parse("[design]\nmoving_mass_kg = 3.2\n").unwrap();
+        let want = 3.2 / 0.453_592_37 / (9.806_65 / 0.0254);
+        let total = si.design.moving_mass().total();
+        assert!((total / want - 1.0).abs() < 1e-12, "{total} {want}");
+        let inch = parse("[design]\nmoving_mass_lb = 7.054792389916\n").unwrap();
+        assert!((inch.design.m_l / si.design.m_l - 1.0).abs() < 1e-12);
+        // Only the load moved.
+        let mut d = Design::<f64>::reference();
+        d.m_l = si.design.m_l;
+        assert_eq!(si.design, d);
+        // Lighter than rod, roller and spring share (1.5698 kg): refused,
+        // naming the user's key and every part in kg.
+        let e = parse("[design]\nmoving_mass_kg = 0.5\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 2: design.moving_mass_kg = 0.5: leaves no load mass: the follower rod rho*A*(e1+e2) 1.5314 kg"),
+            "{e}"
+        );
+        assert!(e.contains(" kg, the roller 0.0228 kg"), "{e}");
+        // Not with the load mass as well.
+        let e = parse("[design]\nmoving_mass_lb = 5\nload_mass_kg = 1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("both set the load"), "{e}");
+        let e = parse("[design]\nmoving_mass_lb = -1\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("design.moving_mass_lb = -1: must be positive"),
+            "{e}"
+        );
+    }
+
+    /// A spring rate's derived values are refused under the rate (33.8), and the modal
+    /// rate follows the rate unless the file gives it.
+    #[test]
+    fn derived_spring_values_follow_and_name_the_rate() {
+        let e = parse("[design]\nspring_rate_lb_per_in = 1e-310\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("design.spring_rate_lb_per_in = 1e-310: must lie in"),
+            "{e}"
+        );
+        let d = parse("[design]\nspring_rate_n_per_mm = 10\n")
+            .unwrap()
+            .design;
+        assert_eq!(d.k_rs_modal, d.k_rs);
+        let d = parse("[design]\nspring_rate_lb_per_in = 60\nspring_modal_rate_lb_per_in = 90\n")
+            .unwrap()
+            .design;
+        assert_eq!((d.k_rs, d.k_rs_modal), (60.0, 90.0));
+    }
+
+    /// A program that does not close, in mm, is refused in mm.
+    #[test]
+    fn a_program_refusal_is_in_the_files_lift_unit() {
+        let text = "[[design.program.segment]]\nkind = \"rise\"\nlaw = \"cycloidal\"\nstart_deg = 0\nend_deg = 180\nlift_mm = 40\n\n[[design.program.segment]]\nkind = \"return\"\nlaw = \"cycloidal\"\nstart_deg = 180\nend_deg = 360\nlift_mm = 39\n";
+        let e = parse(text).unwrap_err().to_string();
+        assert!(
+            e.contains("design.program.segment (lift_mm) = 1 mm: net displacement"),
+            "{e}"
+        );
+        assert!(!e.contains("_in"), "{e}");
     }
 
     #[test]

@@ -146,6 +146,22 @@ pub const SPEED: Unit = Unit {
     si_symbol: "mm/s",
 };
 
+/// Masses a designer weighs: lb (pound-mass), kg (exact: 0.45359237 kg).
+pub const POUND_MASS: Unit = Unit {
+    inch: "lb",
+    si: "kg",
+    si_per_inch: 0.453_592_37,
+    inch_symbol: "lb",
+    si_symbol: "kg",
+};
+/// Standard gravity in the inch family, in/s² (exact: 9.80665 m/s² over 0.0254 m/in): a
+/// pound-mass is 1/g lb·s²/in.
+pub const G_IN_PER_S2: f64 = 9.806_65 / M_PER_IN;
+/// The `[design]` table's moving mass (lb; `_kg` in SI): the follower train's whole
+/// translating mass, from which the reader sets the load mass (camsim-core's
+/// `Design::set_moving_mass`, docs/MODEL.md §5.1). Not a field of the design.
+pub const MOVING_MASS: &str = "moving_mass_lb";
+
 /// The `[limits]` table's allowable contact stress (psi; `_mpa` in SI).
 pub const ALLOWABLE_CONTACT_STRESS: &str = "allowable_contact_stress_psi";
 /// The `[limits]` table's pressure-angle limit, degrees (no other family).
@@ -233,6 +249,7 @@ pub const UNIT_KEYS: &[UnitKey] = &[
     design(key::BEARING_B, &LENGTH),
     design(key::FRICTION_SMOOTHING, &SPEED),
     design(key::M_L, &MASS),
+    design(MOVING_MASS, &POUND_MASS),
     design(key::M_SPRING, &MASS),
     design(key::K_RS, &STIFFNESS),
     design(key::DELTA_RS, &LENGTH),

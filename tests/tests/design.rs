@@ -36,7 +36,14 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
     let smax = judged.map(|p| p.contact_stress_max).fold(0.0, f64::max);
     assert_eq!(v.contact.min_contact_force_lb, fmin);
     assert_eq!(v.loads.peak_contact_stress_psi, smax);
-    assert!(v.contact.holds && v.warnings.is_empty(), "{:?}", v.warnings);
+    // Contact holds; the one warning is the thesis drive's cam-speed swing (3.4 % at 800
+    // rpm, past the 2 % limit: the verdict's drive line).
+    assert!(v.contact.holds, "{:?}", v.warnings);
+    assert!(
+        v.warnings.len() == 1 && v.warnings[0].contains("cam speed swings"),
+        "{:?}",
+        v.warnings
+    );
     let d = camsim_core::Design::<f64>::reference();
     let th = v.geometry.max_pressure_angle_at_deg.to_radians();
     let f = d.program.follower(th);
@@ -192,4 +199,112 @@ fn design_spring_preload_brackets_the_criterion() {
     // The reference's 0.5 in does not hold at 920 rpm (its onset is 902 rpm): the answer
     // is longer.
     assert!(pass > 0.5);
+}
+
+/// A scene file under the temporary directory (removed by the caller).
+fn scene_file(name: &str, text: &str) -> std::path::PathBuf {
+    let p = std::env::temp_dir().join(format!("camsim-machine-{}-{name}.toml", std::process::id()));
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn run_scene(path: &std::path::Path) -> camsim::verdict::Verdict {
+    let mut a = RunArgs {
+        revolutions: Some(2),
+        ..Default::default()
+    };
+    a.scene.scene = Some(path.to_path_buf());
+    report(&a).unwrap().verdict.unwrap()
+}
+
+/// Issue 30: the verdict's mass line is the model's translating mass by its parts (the
+/// reference's by hand: M_l 3.428e-3, the rod M_f (1 + e2/e1) with M_f = 0.007764, the
+/// roller 0.00013, a third of the spring, times g = 386.0886 in/s^2), and the drive line
+/// holds the cam speed's extremes about the nominal, with the swing warning past 2 %.
+#[test]
+fn verdict_prints_the_moving_mass_and_the_drive_swing() {
+    let r = report(&RunArgs {
+        revolutions: Some(2),
+        ..Default::default()
+    })
+    .unwrap();
+    let v = r.verdict.unwrap();
+    let d = camsim_core::Design::<f64>::reference();
+    let g = 9.80665 / 0.0254;
+    let rod = 0.007764 * (1.0 + 2.0 / d.e1);
+    let hand = (3.428e-3 + rod + 0.00013 + camsim_core::SPRING_MASS / 3.0) * g;
+    assert!(
+        (v.mass.moving_mass_lb / hand - 1.0).abs() < 1e-9,
+        "{}",
+        v.mass.moving_mass_lb
+    );
+    let parts = v.mass.load_mass_lb
+        + v.mass.rod_mass_lb
+        + v.mass.roller_mass_lb
+        + v.mass.spring_share_mass_lb;
+    assert!((parts / v.mass.moving_mass_lb - 1.0).abs() < 1e-12);
+    let dr = &v.drive;
+    assert_eq!(dr.drive, "regulated");
+    assert!(
+        dr.min_cam_speed_rpm < 800.0 && dr.max_cam_speed_rpm > 800.0,
+        "{dr:?}"
+    );
+    let swing = 100.0 * (800.0 - dr.min_cam_speed_rpm).max(dr.max_cam_speed_rpm - 800.0) / 800.0;
+    assert!((dr.swing_percent - swing).abs() < 1e-9);
+    assert_eq!(dr.swing_limit_percent, 2.0);
+    assert_eq!(
+        v.warnings.iter().any(|w| w.contains("cam speed swings")),
+        swing > 2.0
+    );
+    // The constant-speed drive ("constant-speed" reads as "constant-cam-speed"): the cam
+    // speed is exactly the nominal at every sample, no swing, no warning.
+    let p = scene_file("constant", "[design]\ndrive = \"constant-speed\"\n");
+    let v = run_scene(&p);
+    std::fs::remove_file(&p).unwrap();
+    assert_eq!(v.drive.drive, "constant-cam-speed");
+    assert_eq!(v.drive.min_cam_speed_rpm, v.drive.nominal_rpm);
+    assert_eq!(v.drive.max_cam_speed_rpm, v.drive.nominal_rpm);
+    assert_eq!(v.drive.swing_percent, 0.0);
+    assert!(
+        !v.warnings.iter().any(|w| w.contains("cam speed")),
+        "{:?}",
+        v.warnings
+    );
+}
+
+/// Issue 30: a moving mass in kg is the model's translating mass, the verdict's total.
+#[test]
+fn a_moving_mass_is_the_models_translating_mass() {
+    let p = scene_file("moving", "[design]\nmoving_mass_kg = 2.5\n");
+    let v = run_scene(&p);
+    std::fs::remove_file(&p).unwrap();
+    let kg = v.mass.moving_mass_lb * 0.453_592_37;
+    assert!((kg - 2.5).abs() < 1e-9, "{kg}");
+}
+
+/// Issue 30: `scene --new`'s templates (inch and SI) read back and are the designer's
+/// machine: the keys they give are the design's, and the drive is named.
+#[test]
+fn scene_new_templates_read_back() {
+    for (text, kg) in [
+        (camsim::cmd::scene::NEW_INCH, 4.5 * 0.453_592_37),
+        (camsim::cmd::scene::NEW_SI, 2.0),
+    ] {
+        let spec = camsim::scene::parse(text).unwrap();
+        let total = spec.design.moving_mass().total() * 9.80665 / 0.0254 * 0.453_592_37;
+        assert!((total - kg).abs() < 1e-9, "{total} {kg}");
+        assert_eq!(spec.design.drive, camsim_core::DriveLaw::ConstantCamSpeed);
+        assert_eq!(spec.design.k_rs_modal, spec.design.k_rs);
+        assert!((camsim_core::rad_per_s_to_rpm(spec.design.omega0) - 300.0).abs() < 1e-9);
+        // Every line with a key carries a comment.
+        for l in text
+            .lines()
+            .filter(|l| l.contains(" = ") && !l.starts_with('#'))
+        {
+            let key = l.split(" = ").next().unwrap();
+            if !["kind", "start_deg", "end_deg"].contains(&key) {
+                assert!(l.contains("  # "), "{l}");
+            }
+        }
+    }
 }

@@ -69,6 +69,8 @@ fn the_shipped_variants_are_the_reference_with_their_keys() {
     let mut want = Design::<f64>::reference();
     want.k_rs = camsim_core::LISTED_SPRING_RATE;
     want.m_spring = camsim_core::LISTED_SPRING_MASS;
+    // The modal analysis's rate follows the rate the file gives (issue 30).
+    want.k_rs_modal = camsim_core::LISTED_SPRING_RATE;
     assert_eq!(bits(&spec.design), bits(&want));
     // The mass follows the rate by the wire model, as `--spring-rate 60` makes it.
     assert_eq!(
@@ -346,7 +348,7 @@ fn refusals_name_the_key_and_the_rule() {
         // A bad drive law, as a name and as a table.
         (
             "[design]\ndrive = \"turbo\"\n".into(),
-            "line 2, column 9: design.drive: unknown variant `turbo`, expected one of `constant-cam-speed`, `constant-motor-speed`, `regulated`",
+            "line 2, column 9: design.drive: unknown variant `turbo`, expected one of `constant-cam-speed`, `constant-speed`, `constant-motor-speed`, `regulated`",
         ),
         (
             "[design.drive.pid]\nk_p = 1\n".into(),

@@ -65,7 +65,9 @@ impl DriveKind {
 )]
 pub enum DriveLaw<T> {
     /// Ideal constant cam speed ω0: the rotational system is rigid (motor, coupling
-    /// and cam DOFs dropped). The cam angle is ω0 t; this is the "theoretical" speed.
+    /// and cam DOFs dropped). The cam angle is ω0 t; this is the "theoretical" speed, the
+    /// kinematic assumption of every cam textbook (`drive = "constant-speed"` also reads).
+    #[cfg_attr(feature = "serde", serde(alias = "constant-speed"))]
     ConstantCamSpeed,
     /// Motor held at ω0 by an ideal source; coupling and cam rotations stay free.
     ConstantMotorSpeed,

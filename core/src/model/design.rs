@@ -76,6 +76,14 @@ pub const SPRING_MIN_ACTIVE_COILS: f64 = SPRING_COIL_STEP;
 /// harmonics above about the 13th carry little of its acceleration). `camsim run` warns
 /// below it (docs/MODEL.md §5.6).
 pub const SURGE_HARMONIC_MARGIN: f64 = 13.0;
+/// The largest swing of the cam speed about its nominal, (ω_max − ω_min)'s larger side
+/// over ω0, that `camsim run` accepts without a warning: 2 %. Every kinematic design
+/// figure (the law's acceleration, the spring's margin, the pressure angle per degree)
+/// assumes a constant cam speed; the inertia force goes with ω², so a 2 % swing moves it
+/// by about 4 %, beyond which the constant-speed design calculation no longer describes
+/// the machine and the drive (motor, shaft, regulator) must be designed with the cam
+/// (docs/MODEL.md §5.17). Not from the thesis.
+pub const CAM_SPEED_SWING_LIMIT: f64 = 0.02;
 /// Allowable Hertz contact stress of the cam and roller, psi: 150 000, the surface
 /// endurance strength of through-hardened steel at 400 Brinell for 10⁸ cycles by
 /// Buckingham's S_C = 0.4 H_B − 10 kpsi (Shigley, *Mechanical Engineering Design*, surface
@@ -685,8 +693,14 @@ impl<T: Real> Default for Design<T> {
 impl<T: Real> Design<T> {
     /// Sets the return spring rate K_rs and its mass from the one wire-and-coil model
     /// ([`HelicalSpring::of_rate`]): what `--spring-rate` does.
+    ///
+    /// The modal analysis's rate K_rs (modal) follows when it equals the old rate (it
+    /// was not set apart, as in the reference): `camsim modal` then uses the new spring.
     pub fn set_spring_rate(&mut self, rate: T) -> Result<()> {
         let s = HelicalSpring::of_rate(rate)?;
+        if self.k_rs_modal == self.k_rs {
+            self.k_rs_modal = rate;
+        }
         self.k_rs = rate;
         self.m_spring = s.mass;
         Ok(())
@@ -708,6 +722,56 @@ impl<T: Real> Design<T> {
         let w = crate::rpm_to_rad_per_s(rpm);
         self.omega0 = w;
         self.drive = self.drive.at_speed(w);
+        Ok(())
+    }
+}
+
+/// The follower train's translating mass as the model splits it (lb·s²/in): what a
+/// designer weighs as "the moving mass" (docs/MODEL.md §5.1). The rod's share is
+/// ρ A (e1 + e2), its whole length at rest (M_f + the cantilever's ρ A (e2 − y3) at
+/// y3 = 0), the spring's a third of its mass (Appendix F.1), the roller M_r whole.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MovingMass<T> {
+    /// M_l, the load at the rod's end.
+    pub load: T,
+    /// ρ A (e1 + e2), the follower rod.
+    pub rod: T,
+    /// M_r, the roller.
+    pub roller: T,
+    /// m_spring / 3, the return spring's share.
+    pub spring_share: T,
+}
+
+impl<T: Real> MovingMass<T> {
+    /// The parts other than the load: rod, roller and the spring's share.
+    pub fn fixed_parts(&self) -> T {
+        self.rod + self.roller + self.spring_share
+    }
+    /// The whole translating mass: the load and [`Self::fixed_parts`].
+    pub fn total(&self) -> T {
+        self.load + self.fixed_parts()
+    }
+}
+
+impl<T: Real> Design<T> {
+    /// The translating mass of the follower train, by its parts.
+    pub fn moving_mass(&self) -> MovingMass<T> {
+        MovingMass {
+            load: self.m_l,
+            rod: self.rho * self.area * (self.e1 + self.e2),
+            roller: self.m_r,
+            spring_share: crate::spring_effective_mass(self.m_spring),
+        }
+    }
+
+    /// Sets the load M_l so that the translating mass is `total` (lb·s²/in): the load
+    /// takes what the rod, roller and spring's share leave (docs/MODEL.md §5.1). Refused
+    /// (naming `load_mass_lb_s2_per_in` with the load it would be) when that is not
+    /// positive and finite; the design is then unchanged.
+    pub fn set_moving_mass(&mut self, total: T) -> Result<()> {
+        let load = total - self.moving_mass().fixed_parts();
+        positive(crate::key::M_L, load)?;
+        self.m_l = load;
         Ok(())
     }
 }
@@ -1011,5 +1075,51 @@ mod cast_tests {
             Error::InvalidParameter { field: "e2_in", value, .. } if value == 1.875
         ));
         let _: String = std::format!("{e}");
+    }
+}
+
+#[cfg(test)]
+mod moving_mass_tests {
+    use super::*;
+
+    /// The parts by hand for the reference: rod ρ A (e1 + e2) with ρ A e1 = M_f = 0.007764
+    /// (§5.2), so the rod is 0.007764 (1 + 2 / e1); roller 0.00013; a third of the spring.
+    #[test]
+    fn moving_mass_is_the_sum_of_its_parts_and_sets_the_load() {
+        let d = Design::<f64>::reference();
+        let m = d.moving_mass();
+        let rod = 0.007764 * (1.0 + 2.0 / d.e1);
+        assert!((m.rod / rod - 1.0).abs() < 1e-12, "{} {rod}", m.rod);
+        assert_eq!(m.roller, 0.00013);
+        assert_eq!(m.spring_share, SPRING_MASS / 3.0);
+        assert_eq!(m.load, 3.428e-3);
+        let total = 3.428e-3 + rod + 0.00013 + SPRING_MASS / 3.0;
+        assert!((m.total() / total - 1.0).abs() < 1e-12);
+        // A given total: the model's translating mass is that total.
+        let mut e = d.clone();
+        e.set_moving_mass(0.02).unwrap();
+        assert!((e.moving_mass().total() - 0.02).abs() < 1e-15);
+        assert!((e.m_l - (0.02 - rod - 0.00013 - SPRING_MASS / 3.0)).abs() < 1e-15);
+        e.validate().unwrap();
+        // A total the fixed parts exceed is refused, the design unchanged.
+        let mut f = d.clone();
+        let err = f.set_moving_mass(0.005).unwrap_err();
+        assert!(matches!(
+            err,
+            Error::InvalidParameter { field: "load_mass_lb_s2_per_in", value, .. } if value < 0.0
+        ));
+        assert_eq!(f, d);
+        assert!(f.set_moving_mass(f64::NAN).is_err());
+    }
+
+    /// The modal rate follows `set_spring_rate` unless it was set apart.
+    #[test]
+    fn modal_rate_follows_the_spring_rate_unless_set_apart() {
+        let mut d = Design::<f64>::reference();
+        d.set_spring_rate(57.1).unwrap();
+        assert_eq!((d.k_rs, d.k_rs_modal), (57.1, 57.1));
+        d.k_rs_modal = 80.0;
+        d.set_spring_rate(60.0).unwrap();
+        assert_eq!((d.k_rs, d.k_rs_modal), (60.0, 80.0));
     }
 }

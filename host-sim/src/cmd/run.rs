@@ -439,12 +439,17 @@ fn verdict(
         None
     };
     let steady = v::steady(&report.per_period, &sim::steady_checks(&report.per_period));
-    let warnings = v::warnings(&contact, &geometry, &loads, &spring, jump_margin.as_ref());
+    let mut warnings = v::warnings(&contact, &geometry, &loads, &spring, jump_margin.as_ref());
+    let mass = v::mass(&spec.design);
+    let drive = v::drive(&spec.design, watch);
+    warnings.extend(v::swing_warning(&drive));
     Ok(v::Verdict {
         contact,
         geometry,
         loads,
         spring,
+        mass,
+        drive,
         jump_margin,
         steady,
         warnings,
