@@ -32,9 +32,10 @@ use crate::{Design, Error, FollowerLift, LiftProfile, Real, Result};
 /// pieces only at multiples of 1/8 of a segment.
 pub const TABLE_SEGMENT_MULTIPLE: usize = 8;
 
-/// Quantities kept at each knot: `y, y', y'', y'''`, `K_h`, `w = 1/√((R_a + y)² + y'²)`
-/// and `w'`.
-pub const TABLE_PER_KNOT: usize = 7;
+/// Quantities kept at each knot: `y, y', y'', y'''`, `K_h` and `w = 1/√((R_a + y)² + y'²)`
+/// (its slope `w' = -y' (R_a + y + y'') w³` is computed from them where it is needed:
+/// the same expression, so the same bits, as when it was kept, for 4 B a knot less).
+pub const TABLE_PER_KNOT: usize = 6;
 const PER_KNOT: usize = TABLE_PER_KNOT;
 
 /// What the table gives beside the lift for the model's contact (docs/MODEL.md §3.21).
@@ -92,7 +93,7 @@ impl<T: Real> TablePiece<T> {
 }
 
 /// The lift, its derivatives and the Hertz stiffness on a per-segment uniform grid of at
-/// most `K` knots (`S` program segments at most). Memory: `28 K + 24 S + 8` bytes in `f32`
+/// most `K` knots (`S` program segments at most). Memory: `24 K + 24 S + 12` bytes in `f32`
 /// (plus alignment). Built in place ([`Self::fill`]) so that a `static` table is never
 /// copied through the stack.
 #[derive(Clone, Debug, PartialEq)]
@@ -101,6 +102,17 @@ pub struct LiftTable<T, const K: usize, const S: usize = 8> {
     pieces: [Piece<T>; S],
     pieces_len: usize,
     knots_len: usize,
+    /// The design's prime radius R_a, in (for `w'`).
+    prime_radius: T,
+}
+
+/// The slope `w' = -y' (R_a + y + y'') w³` of the knot's `w`, rad⁻¹ in⁻¹, from its own
+/// `y, y', y''` and `w`.
+#[inline(always)]
+fn hyp_slope<T: Real>(prime_radius: T, k: &Knot<T>) -> T {
+    let [y, dy, d2y, _, _, w] = *k;
+    let rpy = prime_radius + y;
+    -dy * (rpy + d2y) * w * w * w
 }
 
 /// Cubic Hermite interpolant on `t ∈ [0, 1]` of values `f0, f1` and slopes `d0, d1`
@@ -122,6 +134,7 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
         pieces: [Piece::EMPTY; S],
         pieces_len: 0,
         knots_len: 0,
+        prime_radius: T::ZERO,
     };
 
     /// Knots in use.
@@ -132,21 +145,29 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
     /// A filled table from the parts of another ([`Self::knots_used`],
     /// [`Self::pieces_used`]), usually of the exact capacity: what the firmware's build
     /// script writes into a `static` in flash, so that the chip keeps no table in RAM and
-    /// interpolates the very bits the host's table holds. Counts beyond the capacity are
-    /// taken as the capacity. Parts that do not come from a filled table give a wrong lift,
-    /// but nothing panics: every access is checked.
+    /// interpolates the very bits the host's table holds; `prime_radius` is the design's
+    /// ([`Self::prime_radius`]). Counts beyond the capacity are taken as the capacity.
+    /// Parts that do not come from a filled table give a wrong lift, but nothing panics:
+    /// every access is checked.
     pub const fn from_parts(
         knots: [TableKnot<T>; K],
         pieces: [TablePiece<T>; S],
         knots_len: usize,
         pieces_len: usize,
+        prime_radius: T,
     ) -> Self {
         Self {
             knots,
             pieces,
             pieces_len: if pieces_len < S { pieces_len } else { S },
             knots_len: if knots_len < K { knots_len } else { K },
+            prime_radius,
         }
+    }
+
+    /// The prime radius R_a of the design the table was filled for, in.
+    pub fn prime_radius(&self) -> T {
+        self.prime_radius
     }
 
     /// The knots in use (what [`Self::from_parts`] takes back).
@@ -211,6 +232,7 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
         let program = &design.program;
         let g = &design.geometry;
         let prime_radius = g.prime_radius();
+        self.prime_radius = prime_radius;
         let multiple = T::from_usize(TABLE_SEGMENT_MULTIPLE);
         let mut first = 0usize;
         for (si, seg) in program.segments().iter().enumerate() {
@@ -258,9 +280,8 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
                 );
                 let rpy = prime_radius + l.y;
                 let w = T::ONE / (rpy * rpy + l.dy * l.dy).sqrt();
-                let dw = -l.dy * (rpy + l.d2y) * w * w * w;
                 if let Some(k) = self.knots.get_mut(first + j) {
-                    *k = [l.y, l.dy, l.d2y, l.d3y, k_h, w, dw];
+                    *k = [l.y, l.dy, l.d2y, l.d3y, k_h, w];
                 }
             }
             first += n + 1;
@@ -294,8 +315,12 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
     #[inline(always)]
     fn interpolate(&self, theta: T) -> Option<(FollowerLift<T>, ContactTerms<T>)> {
         let Interval { a, b, t, h, inv_h } = self.locate(theta)?;
-        let [y0, d0, a0, j0, k0, w0, dw0] = *a;
-        let [y1, d1, a1, j1, k1, w1, dw1] = *b;
+        let (dw0, dw1) = (
+            hyp_slope(self.prime_radius, a),
+            hyp_slope(self.prime_radius, b),
+        );
+        let [y0, d0, a0, j0, k0, w0] = *a;
+        let [y1, d1, a1, j1, k1, w1] = *b;
         let (y, _) = hermite(y0, h * d0, y1, h * d1, t);
         let (dy, _) = hermite(d0, h * a0, d1, h * a1, t);
         let (d2y, slope) = hermite(a0, h * j0, a1, h * j1, t);
@@ -549,7 +574,9 @@ mod tests {
         knots.copy_from_slice(t.knots_used());
         let mut pieces = [TablePiece::EMPTY; 4];
         pieces.copy_from_slice(t.pieces_used());
-        let exact = LiftTable::<f32, 372, 4>::from_parts(knots, pieces, n, p);
+        let r = t.prime_radius();
+        assert_eq!(r, d.geometry.prime_radius());
+        let exact = LiftTable::<f32, 372, 4>::from_parts(knots, pieces, n, p, r);
         assert_eq!(
             (exact.knots(), exact.max_interval()),
             (372, t.max_interval())
@@ -566,10 +593,15 @@ mod tests {
                 "at {th} rad"
             );
         }
-        let clamped = LiftTable::<f32, 372, 4>::from_parts(knots, pieces, 9999, 9999);
+        let clamped = LiftTable::<f32, 372, 4>::from_parts(knots, pieces, 9999, 9999, r);
         assert_eq!(clamped, exact);
-        let empty =
-            LiftTable::<f32, 1, 1>::from_parts([[0.0; TABLE_PER_KNOT]], [TablePiece::EMPTY], 0, 0);
+        let empty = LiftTable::<f32, 1, 1>::from_parts(
+            [[0.0; TABLE_PER_KNOT]],
+            [TablePiece::EMPTY],
+            0,
+            0,
+            r,
+        );
         assert_eq!(empty.knots(), 0);
         assert!(empty.follower_and_contact(&d.program, 1.0).1.is_none());
     }
