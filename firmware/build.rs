@@ -1,7 +1,14 @@
 //! Puts the repository's root `memory.x` (the flash/RAM budget) on the linker search
 //! path (for a real board, feature `stm32f446`, a `memory.x` at the board's origins with
-//! the budget's lengths instead: `build/board_memory.rs`), and compiles in the scene
-//! chosen at build time.
+//! the budget's lengths instead: `build/board_memory.rs`), compiles in the scene chosen
+//! at build time and builds the chip's lift table into flash.
+//!
+//! The lift table (`OUT_DIR/lift_table.rs`, always): the compiled-in design in `f32` (the
+//! reference, or the scene's as below) on the theoretical cam or on the measured profile
+//! (below), tabulated here on the host by `camsim_chip::ChipConfig::tabulate` (the code
+//! `camsim predict --f32` runs) and written out as a `static` of exactly its knots and
+//! segments (`LiftTable::from_parts`, raw `f32` bits): the chip keeps it in flash, not in
+//! RAM, and does no work for it at boot.
 //!
 //! `CAMSIM_SCENE=path/to/scene.toml` (a host scene file, `camsim scene --default`'s
 //! schema; a relative path is taken from this `firmware/` directory): the file is read
@@ -20,10 +27,9 @@
 //! the scene's `f64` design (`Measured::deviation_knots`: rows as they are, a lift minus
 //! the program, or a radius profile's roller envelope), narrowed to `f32` and checked by
 //! the chip's own spline (`DeviatedLift::refit_periodic` on the chip's `ChipDeviation`,
-//! which the firmware and `camsim predict --f32 --measured` call too), then written as two `f32` arrays (angle, rad, and
-//! deviation, in, as raw bits) into `OUT_DIR/profile.rs`, compiled into flash
-//! (`workload::chip_lift` splines them at boot). A refused file fails the build with one
-//! line naming the file and the line.
+//! which `camsim predict --f32 --measured` calls too); the lift table is then filled on
+//! that spline, which stays on the host (the chip keeps only the table). A refused file
+//! fails the build with one line naming the file and the line.
 
 use std::env;
 use std::fmt::Write as _;
@@ -79,36 +85,50 @@ fn main() {
 
     println!("cargo:rustc-check-cfg=cfg(camsim_profile)");
     println!("cargo:rerun-if-env-changed=CAMSIM_PROFILE");
-    let profile_out = out.join("profile.rs");
-    match env::var_os("CAMSIM_PROFILE") {
+    // The chip's design in f32: the scene's (as `scene_bytes` compiled it in), or the
+    // reference; in f64 for the measured profile's deviation knots.
+    let (design64, design) = match env::var_os("CAMSIM_SCENE") {
+        Some(scene) if !scene.is_empty() => {
+            let scene = manifest.join(PathBuf::from(scene));
+            let d = match camsim_scene_file::load(&scene) {
+                Ok(s) => s.design,
+                // Already refused above with its line.
+                Err(e) => refuse("CAMSIM_SCENE", &e.to_string()),
+            };
+            match camsim_chip::chip_design_from::<f32>(&d) {
+                Ok(d32) => (d, d32),
+                Err(e) => refuse("CAMSIM_SCENE", &e.to_string()),
+            }
+        }
+        _ => (
+            camsim_chip::chip_design::<f64>(),
+            camsim_chip::chip_design::<f32>(),
+        ),
+    };
+    let table = match env::var_os("CAMSIM_PROFILE") {
         Some(path) if !path.is_empty() => {
             let path = manifest.join(PathBuf::from(path));
             println!("cargo:rerun-if-changed={}", path.display());
-            // The design the deviation is taken on: the scene's, or the reference.
-            let design = match env::var_os("CAMSIM_SCENE") {
-                Some(scene) if !scene.is_empty() => {
-                    let scene = manifest.join(PathBuf::from(scene));
-                    match camsim_scene_file::load(&scene) {
-                        Ok(s) => s.design,
-                        // Already refused above with its line.
-                        Err(e) => refuse("CAMSIM_SCENE", &e.to_string()),
-                    }
-                }
-                _ => camsim_chip::chip_design::<f64>(),
-            };
-            match profile_source(&path, &design) {
-                Ok(src) => fs::write(&profile_out, src)
-                    .unwrap_or_else(|e| panic!("cannot write {}: {e}", profile_out.display())),
+            let table = match measured_table(&path, &design64, &design) {
+                Ok(src) => src,
                 Err(why) => refuse("CAMSIM_PROFILE", &why),
-            }
+            };
             let name = file_name(&path);
             println!("cargo:rustc-env=CAMSIM_PROFILE_NAME={name}");
             println!("cargo:rustc-cfg=camsim_profile");
+            table
         }
         _ => {
-            let _ = fs::remove_file(&profile_out);
+            let mut table = Box::new(camsim_chip::ChipTable::<f32>::EMPTY);
+            match camsim_chip::ChipConfig::new(&design).tabulate(&mut table) {
+                Ok(_) => table_source(&table, 0, "the theoretical cam"),
+                Err(e) => refuse("the chip's lift table", &e.to_string()),
+            }
         }
-    }
+    };
+    let table_out = out.join("lift_table.rs");
+    fs::write(&table_out, table)
+        .unwrap_or_else(|e| panic!("cannot write {}: {e}", table_out.display()));
 }
 
 /// The file name a boot line reports (the whole path if it has none).
@@ -125,14 +145,20 @@ fn refuse(var: &str, why: &str) -> ! {
     std::process::exit(1)
 }
 
-/// The measured profile at `path` on `design` as Rust source: `PROFILE_KNOTS` and the two
-/// `f32` arrays of the deviation knots (raw bits), or why not (one line starting with the
-/// file's name; a row's error names its line).
-fn profile_source(path: &Path, design: &Design<f64>) -> Result<String, String> {
+/// The chip's lift table on the measured profile at `path` as Rust source
+/// ([`table_source`]), or why not (one line starting with the file's name; a row's error
+/// names its line). The deviation knots are taken on `design64` (the scene's `f64`
+/// design), narrowed to `f32` and splined by the chip's own spline, as `camsim predict
+/// --f32 --measured` does; the table is then filled on `design`.
+fn measured_table(
+    path: &Path,
+    design64: &Design<f64>,
+    design: &Design<f32>,
+) -> Result<String, String> {
     use camsim_chip::CHIP_PROFILE_MAX_KNOTS as MAX;
     let measured = camsim_scene_file::measured::load_limited(path, MAX - 1)?;
     let (knots, values) = measured
-        .deviation_knots(design)
+        .deviation_knots(design64)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     if knots.len() > MAX {
         return Err(format!(
@@ -144,33 +170,62 @@ fn profile_source(path: &Path, design: &Design<f64>) -> Result<String, String> {
     // The chip's precision, narrowed as `camsim predict --f32 --measured` does.
     let k: Vec<f32> = knots.iter().map(|x| f32::from_f64(*x)).collect();
     let v: Vec<f32> = values.iter().map(|x| f32::from_f64(*x)).collect();
-    // The chip's own spline must accept them (the firmware builds it at boot).
     let mut dev = Box::new(camsim_chip::ChipDeviation::<f32, MAX>::EMPTY);
     dev.refit_periodic(&k, &v)
         .map_err(|e| format!("{}: in f32, the chip's precision: {e}", path.display()))?;
-    let n = k.len();
-    let array = |xs: &[f32]| {
-        let mut s = String::new();
-        for (i, x) in xs.iter().enumerate() {
-            let sep = if i % 6 == 0 { "\n    " } else { " " };
-            let _ = write!(s, "{sep}f32::from_bits({:#010x}),", x.to_bits());
-        }
-        s
-    };
-    Ok(format!(
-        "// Generated by build.rs from {} ({} rows, column {}): do not edit.\n\
-         /// Knots of the measured profile's deviation spline (the closing knot included).\n\
-         pub const PROFILE_KNOTS: usize = {n};\n\
-         /// The knots' cam angles, rad.\n\
-         pub static PROFILE_KNOTS_RAD: [f32; PROFILE_KNOTS] = [{}\n];\n\
-         /// The lift deviation at the knots, in.\n\
-         pub static PROFILE_DEVIATION_IN: [f32; PROFILE_KNOTS] = [{}\n];\n",
+    let mut table = Box::new(camsim_chip::ChipTable::<f32>::EMPTY);
+    camsim_chip::ChipConfig::new(design)
+        .on(&*dev)
+        .tabulate(&mut table)
+        .map_err(|e| format!("{}: the chip's lift table: {e}", path.display()))?;
+    let what = format!(
+        "the measured profile {} ({} rows, column {})",
         path.display(),
         measured.angles_deg.len(),
-        measured.column.name(),
-        array(&k),
-        array(&v)
-    ))
+        measured.column.name()
+    );
+    Ok(table_source(&table, k.len(), &what))
+}
+
+/// The filled lift table as Rust source: a `static` in flash of exactly its knots and
+/// segments (`LiftTable::from_parts`, the values as raw `f32` bits), and `PROFILE_KNOTS`,
+/// the deviation knots it was built on (0 for the theoretical cam).
+fn table_source(table: &camsim_chip::ChipTable<f32>, profile_knots: usize, what: &str) -> String {
+    let bits = |x: f32| format!("f32::from_bits({:#010x})", x.to_bits());
+    let mut knots = String::new();
+    for k in table.knots_used() {
+        let row: Vec<String> = k.iter().map(|x| bits(*x)).collect();
+        let _ = write!(knots, "\n    [{}],", row.join(", "));
+    }
+    let mut pieces = String::new();
+    for p in table.pieces_used() {
+        let _ = write!(
+            pieces,
+            "\n    camsim_core::TablePiece {{ start: {}, end: {}, h: {}, inv_h: {}, first: {}, n: {} }},",
+            bits(p.start),
+            bits(p.end),
+            bits(p.h),
+            bits(p.inv_h),
+            p.first,
+            p.n
+        );
+    }
+    format!(
+        "// Generated by build.rs: the chip's lift table on {what}. Do not edit.\n\
+         /// Knots of the measured profile's deviation spline the table was built on (0: the\n\
+         /// theoretical cam).\n\
+         pub const PROFILE_KNOTS: usize = {profile_knots};\n\
+         /// Knots of the lift table.\n\
+         pub const TABLE_KNOTS: usize = {};\n\
+         /// Program segments of the lift table.\n\
+         pub const TABLE_PIECES: usize = {};\n\
+         /// The lift table, in flash.\n\
+         pub static LIFT_TABLE: camsim_core::LiftTable<f32, TABLE_KNOTS, TABLE_PIECES> =\n\
+         camsim_core::LiftTable::from_parts([{knots}\n], [{pieces}\n], TABLE_KNOTS, TABLE_PIECES, {});\n",
+        table.knots_used().len(),
+        table.pieces_used().len(),
+        bits(table.prime_radius()),
+    )
 }
 
 /// The scene file at `path` as the chip's `Design<f32>` in postcard, or why not (one

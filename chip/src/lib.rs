@@ -38,18 +38,21 @@ pub const CHIP_STATES: usize = <ChipScene as Scene>::N;
 /// The chip's model type.
 pub type ChipModel<T> = CamModel<T, ChipScene, CHIP_STATES>;
 /// Largest interval of the chip's lift table, degrees of cam angle (docs/MODEL.md §3.21):
-/// the lift, its derivatives and the Hertz stiffness are tabulated once at boot
-/// ([`ChipConfig::tabulate`]) and interpolated in every right-hand side. 1° keeps the
+/// the lift, its derivatives and the Hertz stiffness are tabulated once
+/// ([`ChipConfig::tabulate`]; for the chip by its build script, into flash) and
+/// interpolated in every right-hand side. 1° keeps the
 /// reference design's lift within 6e-9 in, y'' within 1.3e-7 in/rad² and K_h within
 /// 4e-11 relative of the closed form (the Hermite bound `h⁴/384 max|f⁽⁴⁾|`, far below
 /// `f32`'s rounding), and follows a measured profile's deviation knots (0.5° apart, the
-/// spline between them cubic) at a quarter of the RAM a 0.5° grid would take.
+/// spline between them cubic) at a quarter of the memory a 0.5° grid would take.
 pub const CHIP_TABLE_STEP_DEG: f64 = 1.0;
 /// Knots of the chip's lift table: enough for any program of at most 8 segments at
 /// [`CHIP_TABLE_STEP_DEG`] (each segment rounds up to a multiple of 8 intervals, 8° of
-/// them: `360 + 8·8` intervals and a closing knot per segment). 20 B a knot in `f32`.
+/// them: `360 + 8·8` intervals and a closing knot per segment). 24 B a knot in `f32`.
+/// The host's capacity: the firmware keeps exactly the knots its design uses, in flash.
 pub const CHIP_TABLE_KNOTS: usize = 432;
-/// The chip's lift table (static RAM on the chip: [`LiftTable::bytes`]).
+/// The chip's lift table at [`CHIP_TABLE_KNOTS`]' capacity (`camsim predict` and the
+/// firmware's build script fill it; the firmware keeps its used knots in flash).
 pub type ChipTable<T> = LiftTable<T, CHIP_TABLE_KNOTS>;
 
 /// Number of grid speeds of the boot-time table.

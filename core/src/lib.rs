@@ -16,7 +16,9 @@ pub use kinematics::motion::{LawValue, MotionLaw};
 pub use kinematics::program::{
     CamProgram, FollowerLift, ProgramData, Segment, SegmentData, SegmentKind, SegmentType,
 };
-pub use kinematics::table::{ContactTerms, LiftTable, TABLE_SEGMENT_MULTIPLE};
+pub use kinematics::table::{
+    ContactTerms, LiftTable, TableKnot, TablePiece, TABLE_PER_KNOT, TABLE_SEGMENT_MULTIPLE,
+};
 
 mod forces;
 pub use forces::contact::{

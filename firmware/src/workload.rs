@@ -7,7 +7,7 @@
 //! - [`chip_design`]: the design compiled in (the reference design of VI.1), both;
 //! - [`Predictor`]: the boot-time table (`PredictionTable`) and its interpolation, the
 //!   `predictor` binary (the QEMU demonstration image; it instantiates only the chip's model);
-//! - [`chip_table`]: the chip's lift table, filled once at boot (both);
+//! - [`chip_table`]: the chip's lift table, built at build time into flash (both);
 //! - [`RHS_REPS`], [`rhs_probe`], [`evaluate_rhs`], [`revolution_model`],
 //!   [`simulate_revolution`]: the budget
 //!   probes, generic over the scene and the lift, which the `budget` binary instantiates for the chip's
@@ -22,28 +22,27 @@
 
 use core::ops::ControlFlow;
 
-use camsim_chip::{chip_solver_settings, ChipConfig, ChipTable, CHIP_GRID};
+use camsim_chip::{chip_solver_settings, ChipConfig, CHIP_GRID};
 use camsim_core::{
-    simulate, CamModel, Design, LiftProfile, Observer, PredictionTable, Sample, Scene,
+    simulate, CamModel, Design, LiftProfile, LiftTable, Observer, PredictionTable, Sample, Scene,
     SolverSettings, SpeedPrediction, SteadyState,
 };
 
-/// The chip's lift table (`camsim_chip::ChipTable`, `camsim_chip::ChipConfig::tabulate`)
-/// for `design` on `lift`, filled in place in a `static` (static RAM:
-/// `ChipTable::<f32>::bytes()`). Never panics: a second call (the `static` is filled once)
-/// or a table that does not fit is an error.
-pub fn chip_table(
-    design: &Design<f32>,
-    lift: LiftRef,
-) -> Result<&'static ChipTable<f32>, camsim_core::Error> {
-    let Some(slot) = cortex_m::singleton!(: ChipTable<f32> = ChipTable::EMPTY) else {
-        return Err(camsim_core::Error::InvalidParameter {
-            field: "lift table",
-            rule: "the lift table is built once, at boot",
-            value: 2.0,
-        });
-    };
-    Ok(ChipConfig::new(design).on(lift).tabulate(slot)?.lift)
+/// The lift table built at build time (`build.rs`: `camsim_chip::ChipConfig::tabulate` on
+/// the host, for the design and lift compiled in), in flash.
+mod lift_table {
+    include!(concat!(env!("OUT_DIR"), "/lift_table.rs"));
+}
+
+/// The chip's lift table: exactly the knots and segments of the compiled-in design's
+/// table, which `build.rs` filled on the host with the code `camsim predict --f32` runs
+/// (`camsim_chip::ChipConfig::tabulate`) and wrote out bit for bit: a `static` in flash,
+/// no RAM and no work at boot.
+pub type FlashTable = LiftTable<f32, { lift_table::TABLE_KNOTS }, { lift_table::TABLE_PIECES }>;
+
+/// The chip's lift table ([`FlashTable`]).
+pub fn chip_table() -> &'static FlashTable {
+    &lift_table::LIFT_TABLE
 }
 
 /// Right-hand-side evaluations timed to get instructions per evaluation.
@@ -67,13 +66,6 @@ pub const SCENE_NAME: &str = env!("CAMSIM_SCENE_NAME");
 #[cfg(not(camsim_scene))]
 pub const SCENE_NAME: &str = "reference";
 
-/// The measured profile chosen at build time (`CAMSIM_PROFILE`): `PROFILE_KNOTS` and the
-/// deviation knots as two `f32` arrays in flash, written by `build.rs`.
-#[cfg(camsim_profile)]
-mod measured_profile {
-    include!(concat!(env!("OUT_DIR"), "/profile.rs"));
-}
-
 /// Which cam the roller rides on: "theoretical", or the file name of the measured profile
 /// chosen at build time (`CAMSIM_PROFILE`).
 #[cfg(camsim_profile)]
@@ -83,56 +75,9 @@ pub const PROFILE_NAME: &str = env!("CAMSIM_PROFILE_NAME");
 #[cfg(not(camsim_profile))]
 pub const PROFILE_NAME: &str = "theoretical";
 
-/// Knots of the compiled-in deviation spline (0: the theoretical cam).
-#[cfg(camsim_profile)]
-pub const PROFILE_KNOTS: usize = measured_profile::PROFILE_KNOTS;
-/// Knots of the compiled-in deviation spline (0: the theoretical cam).
-#[cfg(not(camsim_profile))]
-pub const PROFILE_KNOTS: usize = 0;
-
-/// The lift the roller rides on: the measured profile's deviation spline (exactly its
-/// knots' capacity), or the theoretical cam.
-#[cfg(camsim_profile)]
-pub type ChipLift = camsim_chip::ChipDeviation<f32, PROFILE_KNOTS>;
-/// The lift the roller rides on: the measured profile's deviation spline (exactly its
-/// knots' capacity), or the theoretical cam.
-#[cfg(not(camsim_profile))]
-pub type ChipLift = camsim_core::TheoreticalLift;
-
-/// How the predictor holds the lift: the measured profile's deviation in its `static`
-/// (built once, in place), or the theoretical cam by value.
-#[cfg(camsim_profile)]
-pub type LiftRef = &'static ChipLift;
-/// How the predictor holds the lift: the measured profile's deviation in its `static`
-/// (built once, in place), or the theoretical cam by value.
-#[cfg(not(camsim_profile))]
-pub type LiftRef = camsim_core::TheoreticalLift;
-
-/// The compiled-in lift: the measured profile splined in place, in a `static` (static
-/// RAM: 12 B a knot), from its flash knots by `DeviatedLift::refit_periodic` (as
-/// `camsim predict --f32 --measured` does); or the theoretical cam. Never panics: bad
-/// knots, or a second call (the `static` is built once), are an error.
-pub fn chip_lift() -> Result<LiftRef, camsim_core::Error> {
-    #[cfg(camsim_profile)]
-    {
-        let Some(lift) = cortex_m::singleton!(: ChipLift = ChipLift::EMPTY) else {
-            return Err(camsim_core::Error::InvalidParameter {
-                field: "profile",
-                rule: "the measured profile's spline is built once, at boot",
-                value: 2.0,
-            });
-        };
-        lift.refit_periodic(
-            &measured_profile::PROFILE_KNOTS_RAD,
-            &measured_profile::PROFILE_DEVIATION_IN,
-        )?;
-        Ok(lift)
-    }
-    #[cfg(not(camsim_profile))]
-    {
-        Ok(camsim_core::TheoreticalLift)
-    }
-}
+/// Knots of the measured profile's deviation spline the lift table was built on (0: the
+/// theoretical cam); the spline itself stays on the host (`build.rs`).
+pub const PROFILE_KNOTS: usize = lift_table::PROFILE_KNOTS;
 
 /// The design compiled into the chip: the reference design of VI.1
 /// (`camsim_chip::chip_design`), or the scene chosen at build time, decoded from its
@@ -269,11 +214,11 @@ impl Observer<f32> for LastLoad {
 }
 
 /// The chip's predictor: the boot-time table over the scene's speed grid, interpolated,
-/// on the compiled-in lift ([`ChipLift`]) through the chip's lift table.
+/// on the compiled-in lift through the chip's lift table ([`chip_table`]).
 #[derive(Clone, Debug)]
 pub struct Predictor {
     design: Design<f32>,
-    lift: &'static ChipTable<f32>,
+    lift: &'static FlashTable,
     /// The table computed at boot.
     pub table: PredictionTable<f32, CHIP_GRID>,
 }
@@ -288,7 +233,7 @@ impl Predictor {
     /// step budget).
     pub fn boot_with(settings: &SolverSettings<f32>) -> Result<Self, camsim_core::Error> {
         let design = chip_design();
-        let lift = chip_table(&design, chip_lift()?)?;
+        let lift = chip_table();
         let table = ChipConfig::new(&design)
             .on(lift)
             .with_settings(*settings)

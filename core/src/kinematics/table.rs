@@ -32,9 +32,11 @@ use crate::{Design, Error, FollowerLift, LiftProfile, Real, Result};
 /// pieces only at multiples of 1/8 of a segment.
 pub const TABLE_SEGMENT_MULTIPLE: usize = 8;
 
-/// Quantities kept at each knot: `y, y', y'', y'''`, `K_h`, `w = 1/√((R_a + y)² + y'²)`
-/// and `w'`.
-const PER_KNOT: usize = 7;
+/// Quantities kept at each knot: `y, y', y'', y'''`, `K_h` and `w = 1/√((R_a + y)² + y'²)`
+/// (its slope `w' = -y' (R_a + y + y'') w³` is computed from them where it is needed:
+/// the same expression, so the same bits, as when it was kept, for 4 B a knot less).
+pub const TABLE_PER_KNOT: usize = 6;
+const PER_KNOT: usize = TABLE_PER_KNOT;
 
 /// What the table gives beside the lift for the model's contact (docs/MODEL.md §3.21).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -46,8 +48,9 @@ pub struct ContactTerms<T> {
     pub inv_hyp: T,
 }
 
-/// One knot's quantities.
-type Knot<T> = [T; PER_KNOT];
+/// One knot's quantities, in the order of [`TABLE_PER_KNOT`]'s list.
+pub type TableKnot<T> = [T; PER_KNOT];
+type Knot<T> = TableKnot<T>;
 
 /// The interval holding a cam angle: its two knots, the position `t ∈ [0, 1]` in it, its
 /// length and the inverse.
@@ -59,21 +62,26 @@ struct Interval<'a, T> {
     inv_h: T,
 }
 
-/// One program segment's run of knots.
+/// One program segment's run of knots (public so that a build script can write a filled
+/// table out as source: [`LiftTable::from_parts`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Piece<T> {
-    /// Segment start and end, rad.
-    start: T,
-    end: T,
-    /// Interval length, rad, and its inverse.
-    h: T,
-    inv_h: T,
-    /// Index of the first knot, and the number of intervals.
-    first: usize,
-    n: usize,
+pub struct TablePiece<T> {
+    /// Segment start, rad.
+    pub start: T,
+    /// Segment end, rad.
+    pub end: T,
+    /// Interval length, rad.
+    pub h: T,
+    /// Its inverse, 1/rad.
+    pub inv_h: T,
+    /// Index of the segment's first knot.
+    pub first: usize,
+    /// Number of intervals in the segment.
+    pub n: usize,
 }
+type Piece<T> = TablePiece<T>;
 
-impl<T: Real> Piece<T> {
+impl<T: Real> TablePiece<T> {
     const EMPTY: Self = Self {
         start: T::ZERO,
         end: T::ZERO,
@@ -85,7 +93,7 @@ impl<T: Real> Piece<T> {
 }
 
 /// The lift, its derivatives and the Hertz stiffness on a per-segment uniform grid of at
-/// most `K` knots (`S` program segments at most). Memory: `28 K + 24 S + 8` bytes in `f32`
+/// most `K` knots (`S` program segments at most). Memory: `24 K + 24 S + 12` bytes in `f32`
 /// (plus alignment). Built in place ([`Self::fill`]) so that a `static` table is never
 /// copied through the stack.
 #[derive(Clone, Debug, PartialEq)]
@@ -94,6 +102,17 @@ pub struct LiftTable<T, const K: usize, const S: usize = 8> {
     pieces: [Piece<T>; S],
     pieces_len: usize,
     knots_len: usize,
+    /// The design's prime radius R_a, in (for `w'`).
+    prime_radius: T,
+}
+
+/// The slope `w' = -y' (R_a + y + y'') w³` of the knot's `w`, rad⁻¹ in⁻¹, from its own
+/// `y, y', y''` and `w`.
+#[inline(always)]
+fn hyp_slope<T: Real>(prime_radius: T, k: &Knot<T>) -> T {
+    let [y, dy, d2y, _, _, w] = *k;
+    let rpy = prime_radius + y;
+    -dy * (rpy + d2y) * w * w * w
 }
 
 /// Cubic Hermite interpolant on `t ∈ [0, 1]` of values `f0, f1` and slopes `d0, d1`
@@ -115,11 +134,50 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
         pieces: [Piece::EMPTY; S],
         pieces_len: 0,
         knots_len: 0,
+        prime_radius: T::ZERO,
     };
 
     /// Knots in use.
     pub fn knots(&self) -> usize {
         self.knots_len
+    }
+
+    /// A filled table from the parts of another ([`Self::knots_used`],
+    /// [`Self::pieces_used`]), usually of the exact capacity: what the firmware's build
+    /// script writes into a `static` in flash, so that the chip keeps no table in RAM and
+    /// interpolates the very bits the host's table holds; `prime_radius` is the design's
+    /// ([`Self::prime_radius`]). Counts beyond the capacity are taken as the capacity.
+    /// Parts that do not come from a filled table give a wrong lift, but nothing panics:
+    /// every access is checked.
+    pub const fn from_parts(
+        knots: [TableKnot<T>; K],
+        pieces: [TablePiece<T>; S],
+        knots_len: usize,
+        pieces_len: usize,
+        prime_radius: T,
+    ) -> Self {
+        Self {
+            knots,
+            pieces,
+            pieces_len: if pieces_len < S { pieces_len } else { S },
+            knots_len: if knots_len < K { knots_len } else { K },
+            prime_radius,
+        }
+    }
+
+    /// The prime radius R_a of the design the table was filled for, in.
+    pub fn prime_radius(&self) -> T {
+        self.prime_radius
+    }
+
+    /// The knots in use (what [`Self::from_parts`] takes back).
+    pub fn knots_used(&self) -> &[TableKnot<T>] {
+        self.knots.get(..self.knots_len).unwrap_or(&[])
+    }
+
+    /// The program segments' runs of knots in use (what [`Self::from_parts`] takes back).
+    pub fn pieces_used(&self) -> &[TablePiece<T>] {
+        self.pieces.get(..self.pieces_len).unwrap_or(&[])
     }
 
     /// The largest interval, rad (0 for an empty table).
@@ -174,6 +232,7 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
         let program = &design.program;
         let g = &design.geometry;
         let prime_radius = g.prime_radius();
+        self.prime_radius = prime_radius;
         let multiple = T::from_usize(TABLE_SEGMENT_MULTIPLE);
         let mut first = 0usize;
         for (si, seg) in program.segments().iter().enumerate() {
@@ -221,9 +280,8 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
                 );
                 let rpy = prime_radius + l.y;
                 let w = T::ONE / (rpy * rpy + l.dy * l.dy).sqrt();
-                let dw = -l.dy * (rpy + l.d2y) * w * w * w;
                 if let Some(k) = self.knots.get_mut(first + j) {
-                    *k = [l.y, l.dy, l.d2y, l.d3y, k_h, w, dw];
+                    *k = [l.y, l.dy, l.d2y, l.d3y, k_h, w];
                 }
             }
             first += n + 1;
@@ -257,8 +315,12 @@ impl<T: Real, const K: usize, const S: usize> LiftTable<T, K, S> {
     #[inline(always)]
     fn interpolate(&self, theta: T) -> Option<(FollowerLift<T>, ContactTerms<T>)> {
         let Interval { a, b, t, h, inv_h } = self.locate(theta)?;
-        let [y0, d0, a0, j0, k0, w0, dw0] = *a;
-        let [y1, d1, a1, j1, k1, w1, dw1] = *b;
+        let (dw0, dw1) = (
+            hyp_slope(self.prime_radius, a),
+            hyp_slope(self.prime_radius, b),
+        );
+        let [y0, d0, a0, j0, k0, w0] = *a;
+        let [y1, d1, a1, j1, k1, w1] = *b;
         let (y, _) = hermite(y0, h * d0, y1, h * d1, t);
         let (dy, _) = hermite(d0, h * a0, d1, h * a1, t);
         let (d2y, slope) = hermite(a0, h * j0, a1, h * j1, t);
@@ -495,6 +557,53 @@ mod tests {
         // Wrapped: a revolution later, the same lift.
         let (l2, _) = t.follower_and_contact(&d.program, th + 2.0 * core::f64::consts::PI);
         assert!((l2.y - l.y).abs() < 1e-12);
+    }
+
+    /// A table rebuilt from another's parts at exactly its size (what the firmware keeps in
+    /// flash) interpolates the very same bits as the table it came from, at every cam angle
+    /// tried (knots, interval interiors, segment bounds, wrapped angles); counts beyond the
+    /// capacity are clamped, and an empty table's parts give an empty table.
+    #[test]
+    fn table_from_its_parts_gives_the_same_bits() {
+        let d = Design::<f32>::reference();
+        let mut t = Box::new(LiftTable::<f32, 432>::EMPTY);
+        t.fill(&d, &TheoreticalLift, 1f32.to_radians()).unwrap();
+        let (n, p) = (t.knots_used().len(), t.pieces_used().len());
+        assert_eq!((n, p), (372, 4));
+        let mut knots = [[0.0f32; TABLE_PER_KNOT]; 372];
+        knots.copy_from_slice(t.knots_used());
+        let mut pieces = [TablePiece::EMPTY; 4];
+        pieces.copy_from_slice(t.pieces_used());
+        let r = t.prime_radius();
+        assert_eq!(r, d.geometry.prime_radius());
+        let exact = LiftTable::<f32, 372, 4>::from_parts(knots, pieces, n, p, r);
+        assert_eq!(
+            (exact.knots(), exact.max_interval()),
+            (372, t.max_interval())
+        );
+        let bits = |x: (FollowerLift<f32>, Option<ContactTerms<f32>>)| {
+            let c = x.1.unwrap_or_default();
+            [x.0.y, x.0.dy, x.0.d2y, x.0.d3y, c.k_h, c.inv_hyp].map(f32::to_bits)
+        };
+        for i in -50..=3650 {
+            let th = (i as f32 * 0.1 + 0.037).to_radians();
+            assert_eq!(
+                bits(exact.follower_and_contact(&d.program, th)),
+                bits(t.follower_and_contact(&d.program, th)),
+                "at {th} rad"
+            );
+        }
+        let clamped = LiftTable::<f32, 372, 4>::from_parts(knots, pieces, 9999, 9999, r);
+        assert_eq!(clamped, exact);
+        let empty = LiftTable::<f32, 1, 1>::from_parts(
+            [[0.0; TABLE_PER_KNOT]],
+            [TablePiece::EMPTY],
+            0,
+            0,
+            r,
+        );
+        assert_eq!(empty.knots(), 0);
+        assert!(empty.follower_and_contact(&d.program, 1.0).1.is_none());
     }
 
     #[test]

@@ -154,12 +154,13 @@ fn compute_on<T: Real, P: LiftProfile<T> + Copy>(
     design: &Design<T>,
     profile: P,
 ) -> Result<Prediction<T>> {
-    // The lift table the firmware fills at boot (camsim_chip::ChipConfig::tabulate).
+    // The lift table the firmware's build script fills into the chip's flash
+    // (camsim_chip::ChipConfig::tabulate).
     let mut lift_table = Box::new(ChipTable::<T>::EMPTY);
     let chip = ChipConfig::new(design)
         .on(profile)
         .tabulate(&mut lift_table)
-        .map_err(|e| anyhow::anyhow!("the lift table (at boot on the chip): {e}"))?;
+        .map_err(|e| anyhow::anyhow!("the lift table (built into the chip's flash): {e}"))?;
     let table = chip
         .prediction_table()
         .map_err(|e| anyhow::anyhow!("the predictor's table (at boot on the chip): {e}"))?;
