@@ -318,7 +318,9 @@ pub fn report(args: &Args) -> Result<RunReport> {
         Some(dir) if spec.profile.is_some() => {
             Some(plan.dir("--plot", dir, &plot::FILES_WITH_PROFILE)?)
         }
-        Some(dir) => Some(plan.dir("--plot", dir, &plot::FILES)?),
+        Some(dir) => {
+            Some(plan.dir_replacing("--plot", dir, &plot::FILES, &[plot::PROFILE_FILE])?)
+        }
         None => None,
     };
     let mut csv_out = match csv_target {
