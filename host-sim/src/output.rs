@@ -169,6 +169,7 @@ impl Plan {
                 limit: None,
             });
         }
+        name_fits(&label, path)?;
         let target = resolve(path).map_err(|e| anyhow!("{label}: {e}"))?;
         self.claim(&label, &target, false)?;
         self.not_an_input(&label, &target)?;
@@ -227,6 +228,7 @@ impl Plan {
                 bail!("{label}: {name:?} is not a plain file name");
             }
         }
+        name_fits(&label, dir)?;
         let resolved = resolve(dir).map_err(|e| anyhow!("{label}: {e}"))?;
         self.claim(&label, &resolved, true)?;
         for name in names {
@@ -364,6 +366,16 @@ fn descriptor_of(path: &Path) -> Option<Option<i32>> {
         n.filter(|n| n.bytes().all(|b| b.is_ascii_digit()))
             .and_then(|n| n.parse().ok()),
     )
+}
+
+/// Refuses a path whose last name is longer than a file system allows (NAME_MAX, 255
+/// bytes), before anything runs: it could never be created.
+fn name_fits(label: &str, path: &Path) -> Result<()> {
+    let len = path.file_name().map_or(0, |n| n.as_encoded_bytes().len());
+    if len > NAME_MAX {
+        bail!("{label}: the file name is {len} bytes, over the {NAME_MAX} a file system allows");
+    }
+    Ok(())
 }
 
 /// Whether a resolved output path is `/dev/null` (a character device there).
