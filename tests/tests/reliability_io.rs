@@ -227,6 +227,16 @@ fn legal_long_output_names_are_written() {
         assert_eq!(listing(&d), std::slice::from_ref(&name));
         fs::remove_file(&csv).unwrap();
     }
+    // One byte more is no legal name: refused before the run, by the option.
+    let csv = d.join(format!("{}.csv", "c".repeat(252)));
+    assert_eq!(
+        outcome(&["run", "--csv", s(&csv)]),
+        format!(
+            "--csv {}: the file name is 256 bytes, over the 255 a file system allows",
+            s(&csv)
+        )
+    );
+    assert!(listing(&d).is_empty());
     fs::remove_dir_all(&d).unwrap();
 }
 
@@ -291,4 +301,47 @@ fn a_run_needs_no_more_than_256_kib_of_the_callers_stack() {
     );
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("EXIT 0"), "{err}");
+}
+
+// Defect 5: `run --plot DIR --force` after a run on an actual cam leaves no profile plot
+// of the earlier cam; the report lists what the run wrote.
+#[test]
+fn a_forced_run_plot_leaves_no_profile_plot_of_the_earlier_cam() {
+    let d = scratch("run-plot-set");
+    let plots = d.join("plots");
+    let first = outcome(&["run", "--revolutions", "1", "--actual", "--plot", s(&plots)]);
+    assert_eq!(first, "OK");
+    assert!(plots.join("profile_deviation.png").exists());
+    let argv = [
+        "camsim",
+        "run",
+        "--revolutions",
+        "1",
+        "--plot",
+        s(&plots),
+        "--force",
+    ];
+    let cli::Command::Run(args) = cli::parse_from(argv).unwrap().command else {
+        unreachable!()
+    };
+    let report = camsim::cmd::run::report(&args).unwrap();
+    let left = listing(&plots);
+    assert!(
+        !left.contains(&"profile_deviation.png".to_owned()),
+        "{left:?}"
+    );
+    let written: Vec<String> = (report.files.iter())
+        .map(|f| {
+            Path::new(f)
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    let mut sorted = written.clone();
+    sorted.sort();
+    assert_eq!(sorted, left, "the report lists exactly the files in DIR");
+    assert_eq!(written.len(), camsim::plot::FILES.len());
+    fs::remove_dir_all(&d).unwrap();
 }
