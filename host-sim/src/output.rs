@@ -1213,7 +1213,8 @@ fn same_file(f: &File, path: &Path) -> bool {
 }
 
 /// Removes the stale temporaries in `dir`: regular files named in this version's form
-/// ([`is_owned_form`]) whose lock ([`TempLock`]) nobody holds, that is whose writer
+/// (`.NAME.camsim-TOKEN.tmp`, TOKEN 16 hexadecimal digits) whose lock (the exclusive
+/// `flock` their writer holds while they live) nobody holds, that is whose writer
 /// died uncatchably (SIGKILL, a power cut). Best effort, returns how many were removed;
 /// a locked temporary (a live run, in any container), a file of another form, and one
 /// where locks do not work are left alone.
