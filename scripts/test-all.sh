@@ -183,6 +183,13 @@ smoke design-waviness design tolerance --waviness --quick --json
 smoke sweep sweep --rpm 700:1000:4 --csv "$studies/sweep.csv" --plot "$studies/sweep" --json
 smoke sweep-actual sweep --rpm 850:950:3 --actual --samples 4 --threads 2 --json
 smoke laws-plot laws --plot "$studies/laws"
+# Standard output and the stack on the binary itself (issue 33): --version and --help into
+# a full disk fail, a closed pipe on --csv /dev/stdout ends quietly, a 256 KiB main stack runs.
+! "$C" --version > /dev/full 2> /dev/null || { echo "smoke: camsim --version > /dev/full exits 0" >&2; exit 1; }
+! "$C" --help > /dev/full 2> /dev/null || { echo "smoke: camsim --help > /dev/full exits 0" >&2; exit 1; }
+"$C" run --revolutions 1 --csv /dev/stdout 2> "$studies/pipe.err" | head -c 100 > /dev/null \
+    && ! test -s "$studies/pipe.err" || { echo "smoke: camsim run --csv /dev/stdout | head -c 100 does not end quietly" >&2; exit 1; }
+(ulimit -s 256 && exec "$C" run --revolutions 1 > /dev/null) || { echo "smoke: camsim run under ulimit -s 256 fails" >&2; exit 1; }
 # Every command camsim lists is smoke-tested above (a new command must be added here).
 for c in $("$C" --help | awk '/^Commands:/{on=1; next} on && /^  [a-z]/{print $1} /^$/{on=0}'); do
     # firmware-check reads the firmware's QEMU logs: the firmware step below runs it.

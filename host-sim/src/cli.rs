@@ -263,16 +263,84 @@ pub fn main() -> ExitCode {
     ExitCode::from(main_from(std::env::args_os()))
 }
 
+/// The stack of the thread every command runs on: 64 MiB of address space (pages are
+/// taken only as they are touched). The main thread's stack is the shell's `ulimit -s`
+/// (8 MiB by default, 256 KiB on some systems and in some containers), which the
+/// solvers' state on the stack and the parsers' recursion must not depend on.
+pub const WORKER_STACK_BYTES: usize = 64 << 20;
+
 /// [`main`] for a given command line (the first item is the program name), returning the
-/// exit status: what the binary does, callable from tests.
+/// exit status: what the binary does, callable from tests. The command runs on a worker
+/// thread with a stack of [`WORKER_STACK_BYTES`] (a panic on it is raised again here).
 pub fn main_from<I, T>(args: I) -> u8
 where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
     let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
-    let cli = match Cli::try_parse_from(&args) {
-        Ok(c) if c.units == crate::units::Units::Si => match bare_inch_number(&args) {
+    let worker = std::thread::Builder::new()
+        .name("camsim".into())
+        .stack_size(WORKER_STACK_BYTES)
+        .spawn(move || main_on_worker(&args));
+    match worker.map(|w| w.join()) {
+        Ok(Ok(code)) => code,
+        Ok(Err(panic)) => std::panic::resume_unwind(panic),
+        Err(e) => {
+            report_error(&format!(
+                "camsim: error: cannot start the worker thread ({} of stack): {e}",
+                crate::output::human_bytes(WORKER_STACK_BYTES as u64)
+            ));
+            1
+        }
+    }
+}
+
+/// Writes clap's `--help` or `--version` text to standard output: 0, or 1 with a message
+/// naming standard output when the write fails (a full disk, `> /dev/full`, a closed
+/// descriptor); a closed pipe (`camsim --help | head -1`) ends quietly with 0.
+fn print_clap_output(e: &clap::Error) -> u8 {
+    use std::io::{IsTerminal, Write};
+    let mut out = std::io::stdout().lock();
+    // Styled on a terminal, as clap prints it; plain text into a file or a pipe.
+    let text = match out.is_terminal() {
+        true => e.render().ansi().to_string(),
+        false => e.render().to_string(),
+    };
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => 0,
+        Err(e) => stdout_failure(&e),
+    }
+}
+
+/// The exit status and message of a failed write to standard output: a closed pipe is
+/// the reader's choice (0, nothing printed); anything else is an error (1).
+fn stdout_failure(e: &std::io::Error) -> u8 {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        return 0;
+    }
+    report_error(&format!(
+        "camsim: error: standard output: write failed: {}",
+        one_line(&e.to_string())
+    ));
+    1
+}
+
+/// [`main_from`]'s work, on the worker thread.
+fn main_on_worker(args: &[OsString]) -> u8 {
+    let code = run_command_line(args);
+    // Whatever is still buffered for standard output is written now, so that a failure
+    // is reported (and the exit status says so) instead of being lost at exit.
+    use std::io::Write;
+    match std::io::stdout().lock().flush() {
+        Ok(()) => code,
+        Err(e) => stdout_failure(&e).max(code),
+    }
+}
+
+/// Parses and runs one command line; the exit status.
+fn run_command_line(args: &[OsString]) -> u8 {
+    let cli = match Cli::try_parse_from(args) {
+        Ok(c) if c.units == crate::units::Units::Si => match bare_inch_number(args) {
             Some(line) => {
                 report_error(&format!(
                     "camsim: error: {} (see camsim --help)",
@@ -286,8 +354,7 @@ where
         Err(e) => {
             // --help and --version are not errors.
             if !e.use_stderr() {
-                let _ = e.print();
-                return 0;
+                return print_clap_output(&e);
             }
             report_error(&format!(
                 "camsim: error: {} (see camsim --help)",

@@ -348,11 +348,21 @@ impl CsvOut {
     /// replaces the target), or the first write error (dropped, the temporary is removed
     /// and the target untouched).
     pub fn into_file(mut self) -> Result<AtomicFile> {
+        // Write errors stay I/O errors (their kind tells a closed pipe, which ends the
+        // command quietly, from a full disk).
         if let Some(e) = self.err.take() {
-            return Err(anyhow!("{e}"));
+            if !e.is_io_error() {
+                return Err(anyhow!("{e}"));
+            }
+            return Err(match e.into_kind() {
+                csv::ErrorKind::Io(io) => io.into(),
+                _ => anyhow!("CSV write failed"),
+            });
         }
-        self.out.flush().map_err(|e| anyhow!("{e}"))?;
-        self.out.into_inner().map_err(|e| anyhow!("{}", e.error()))
+        self.out.flush()?;
+        self.out
+            .into_inner()
+            .map_err(|e| anyhow!(std::io::Error::new(e.error().kind(), e.error().to_string())))
     }
 }
 

@@ -9,19 +9,24 @@
 //!    the same file) and [`FileTarget::limit`] refuses an output whose estimated size is
 //!    over a limit. Planning touches no file, so a refused option leaves everything as it was.
 //! 2. **open**: [`FileTarget::open`] creates a hidden temporary file in the target's own
-//!    directory (`.NAME.camsim-HOST-PID-N.tmp`) and returns an [`AtomicFile`], a buffered
+//!    directory (`.NAME.camsim-TOKEN.tmp`, TOKEN random, NAME cut so that the whole
+//!    name fits NAME_MAX) holding an exclusive lock on it, and returns an [`AtomicFile`], a buffered
 //!    [`Write`]r. [`DirTarget::open`] returns an [`AtomicDir`] whose [`AtomicDir::path`]
 //!    gives a temporary of the same form inside DIR for each declared file.
 //! 3. **write** while the simulation runs.
 //! 4. **commit**: [`AtomicFile::commit`] flushes, fsyncs and renames the temporary over
 //!    the target, so the target is either its old self or the complete new file.
 //!    Dropped without a commit (an error returned with `?`, a panic unwinding) the
-//!    temporary is removed and the target is untouched. On SIGINT, SIGTERM, SIGHUP,
-//!    SIGQUIT or SIGXCPU the temporaries of every live output are removed and the
-//!    process exits with 128 + the signal number; a write over the file size limit
+//!    temporary is removed and the target is untouched. On every catchable signal
+//!    that ends a process ([`CLEANUP_SIGNALS`]: SIGINT, SIGTERM, SIGHUP, SIGQUIT,
+//!    SIGXCPU, SIGUSR1, SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF) the temporaries of every
+//!    live output are removed and the process exits with 128 + the signal number; a write over the file size limit
 //!    (SIGXFSZ, `ulimit -f`) fails with an error that names the output, and its
 //!    temporary is removed. Temporaries of processes that died uncatchably (SIGKILL) are
-//!    removed by the next output created in the same directory on the same machine.
+//!    removed by the next output created in the same directory: a temporary whose lock
+//!    nobody holds is dead (the kernel drops a lock with its process, in any PID
+//!    namespace or container); files named as earlier versions named theirs are never
+//!    removed.
 //!
 //! ```no_run
 //! # fn main() -> anyhow::Result<()> {
@@ -43,13 +48,21 @@
 //! when the output opens and removed again (only if still empty) when it is dropped
 //! without a commit. Temporaries inside DIR rather than a temporary sibling directory:
 //! the temporary is always on DIR's file system (rename stays atomic), and DIR's parent
-//! need not be writable (`--plot .`, `--plot ~`, `--plot /tmp` all work).
+//! need not be writable (`--plot .`, `--plot ~`, `--plot /tmp` all work). The set of
+//! files is replaced as a whole: with `--force` the commit removes every file of the
+//! command's known outputs (the declared names, and [`Plan::dir_replacing`]'s others,
+//! such as the cutter path of `profile --cutter-radius`) that this run did not write,
+//! so that no file of an earlier run stays beside the new ones; [`AtomicDir::commit`]
+//! returns what it wrote and removed.
 //!
 //! A target that is not a regular file (a block or character device, a FIFO, a socket,
 //! also behind a symbolic link) is refused: written in place it would overwrite a disk
 //! image or hang on a FIFO with no reader. Two are allowed explicitly and written in
-//! place, never truncated: `/dev/null`, and the process's own streams (`/dev/stdout`,
-//! `/dev/stderr`, `/dev/fd/N`, which may be a shell redirection to a regular file).
+//! place, never truncated: `/dev/null`, and the process's own descriptors (`/dev/stdout`,
+//! `/dev/stderr`, `/dev/fd/N`, `/proc/self/fd/N`), written through the descriptor when it
+//! is open for writing and is none of the command's inputs; a regular file behind one
+//! must be open for writing only (a shell's `>`): a descriptor open for reading
+//! (`--csv /dev/fd/0 < scene.toml`) is refused.
 
 use std::collections::BTreeMap;
 use std::ffi::OsString;
@@ -141,16 +154,22 @@ impl Plan {
     /// `/dev/fd/N`) and `/dev/null`.
     pub fn file(&mut self, option: &str, path: &Path) -> Result<FileTarget> {
         let label = format!("{option} {}", path.display());
-        if is_direct_path(path) {
-            // The process's own streams: written in place, never renamed over.
+        if let Some(fd) = descriptor_of(path) {
+            // The process's own descriptors: written in place, never renamed over.
+            let fd = fd.ok_or_else(|| {
+                anyhow!("{label}: names no descriptor: outputs go to a file, /dev/stdout or /dev/fd/N with N a number")
+            })?;
+            self.writable_descriptor(&label, fd)?;
             return Ok(FileTarget {
                 label,
                 target: path.to_owned(),
                 force: self.force,
                 direct: true,
+                fd: Some(fd),
                 limit: None,
             });
         }
+        name_fits(&label, path)?;
         let target = resolve(path).map_err(|e| anyhow!("{label}: {e}"))?;
         self.claim(&label, &target, false)?;
         self.not_an_input(&label, &target)?;
@@ -174,6 +193,7 @@ impl Plan {
             target,
             force: self.force,
             direct,
+            fd: None,
             limit: None,
         })
     }
@@ -183,8 +203,23 @@ impl Plan {
     /// is created when the output opens); an existing DIR must be a writable directory
     /// and each of its files that the output would replace needs force.
     pub fn dir(&mut self, option: &str, dir: &Path, names: &[&str]) -> Result<DirTarget> {
+        self.dir_replacing(option, dir, names, &[])
+    }
+
+    /// [`Plan::dir`] for a command whose other variants write more files into DIR
+    /// (`others`: e.g. the cutter path that only `--cutter-radius` writes). The set is
+    /// replaced as a whole: with force the commit removes an existing file of `others`
+    /// (as it removes a declared file not written), so that none of an earlier run's
+    /// stays; without force an existing one refuses the output like a declared one.
+    pub fn dir_replacing(
+        &mut self,
+        option: &str,
+        dir: &Path,
+        names: &[&str],
+        others: &[&str],
+    ) -> Result<DirTarget> {
         let label = format!("{option} {}", dir.display());
-        for name in names {
+        for name in names.iter().chain(others) {
             let p = Path::new(name);
             if name.is_empty()
                 || p.components().count() != 1
@@ -193,10 +228,13 @@ impl Plan {
                 bail!("{label}: {name:?} is not a plain file name");
             }
         }
+        name_fits(&label, dir)?;
         let resolved = resolve(dir).map_err(|e| anyhow!("{label}: {e}"))?;
         self.claim(&label, &resolved, true)?;
         for name in names {
             self.claim(&label, &resolved.join(name), false)?;
+        }
+        for name in names.iter().chain(others) {
             self.not_an_input(
                 &format!("{option} {}", dir.join(name).display()),
                 &resolved.join(name),
@@ -210,7 +248,7 @@ impl Plan {
         };
         if exists {
             writable_dir(&label, &resolved)?;
-            for name in names {
+            for name in names.iter().chain(others) {
                 let f = resolved.join(name);
                 match fs::metadata(&f) {
                     Ok(m) if !m.is_file() => {
@@ -235,6 +273,7 @@ impl Plan {
             label,
             dir: resolved,
             names: names.iter().map(|s| s.to_string()).collect(),
+            others: others.iter().map(|s| s.to_string()).collect(),
             force: self.force,
         })
     }
@@ -257,12 +296,86 @@ impl Plan {
     }
 }
 
-/// Paths written in place: the process's own streams (whatever they point to).
-fn is_direct_path(path: &Path) -> bool {
-    path == Path::new("/dev/stdout")
-        || path == Path::new("/dev/stderr")
-        || ((path.starts_with("/dev/fd") || path.starts_with("/proc/self/fd"))
-            && path.file_name().is_some_and(|n| n != "fd"))
+impl Plan {
+    /// Checks a descriptor output (`/dev/stdout`, `/dev/fd/N`): it must be open, open
+    /// for writing, and not a directory; a regular file behind it must be open for
+    /// writing only (a shell's `>` or `>>`: a file also open for reading, such as
+    /// `< scene.toml` or `<> file`, is refused) and be none of the command's inputs.
+    /// Pipes, terminals and other devices open for writing are the streams they
+    /// usually are.
+    fn writable_descriptor(&self, label: &str, fd: i32) -> Result<()> {
+        #[cfg(unix)]
+        {
+            use nix::fcntl::{fcntl, FcntlArg, OFlag};
+            use nix::sys::stat::{fstat, SFlag};
+            use std::os::unix::fs::MetadataExt;
+            const RULE: &str = "outputs go to a file, or to a descriptor open for writing only";
+            let flags = fcntl(fd, FcntlArg::F_GETFL)
+                .map_err(|_| anyhow!("{label}: descriptor {fd} is not open: {RULE}"))?;
+            let st = fstat(fd).map_err(|e| anyhow!("{label}: descriptor {fd}: {e}"))?;
+            let kind = SFlag::from_bits_truncate(st.st_mode) & SFlag::S_IFMT;
+            let mode = OFlag::from_bits_truncate(flags) & OFlag::O_ACCMODE;
+            if kind == SFlag::S_IFDIR {
+                bail!("{label}: descriptor {fd} is a directory: {RULE}");
+            }
+            if mode == OFlag::O_RDONLY {
+                bail!("{label}: descriptor {fd} is open for reading only: an output never writes into a file open for reading");
+            }
+            for (input, path) in &self.inputs {
+                if let Ok(m) = fs::metadata(path) {
+                    if (m.dev(), m.ino()) == (st.st_dev, st.st_ino) {
+                        bail!("{label}: is the input {input}: an output never replaces an input, even with {FORCE_OPTION}");
+                    }
+                }
+            }
+            if kind == SFlag::S_IFREG && mode != OFlag::O_WRONLY {
+                bail!("{label}: descriptor {fd} is a file open for reading and writing: an output never writes into a file open for reading");
+            }
+        }
+        #[cfg(not(unix))]
+        let _ = (label, fd);
+        Ok(())
+    }
+}
+
+/// The descriptor a path names if it is one of the process's own (`/dev/stdin`,
+/// `/dev/stdout`, `/dev/stderr`, `/dev/fd/N`, `/proc/self/fd/N`,
+/// `/proc/thread-self/fd/N`, `/proc/PID/fd/N` with this process's PID): `Some(Some(N))`,
+/// or `Some(None)` for a name in a descriptor directory that is not a number. These are
+/// written in place through the descriptor itself, under [`Plan::writable_descriptor`]'s
+/// rules, never by a rename.
+fn descriptor_of(path: &Path) -> Option<Option<i32>> {
+    for (name, fd) in [("/dev/stdin", 0), ("/dev/stdout", 1), ("/dev/stderr", 2)] {
+        if path == Path::new(name) {
+            return Some(Some(fd));
+        }
+    }
+    let own = format!("/proc/{}/fd", std::process::id());
+    let parent = path.parent()?;
+    let dirs = [
+        "/dev/fd",
+        "/proc/self/fd",
+        "/proc/thread-self/fd",
+        own.as_str(),
+    ];
+    if !dirs.iter().any(|d| parent == Path::new(d)) {
+        return None;
+    }
+    let n = path.file_name()?.to_str();
+    Some(
+        n.filter(|n| n.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|n| n.parse().ok()),
+    )
+}
+
+/// Refuses a path whose last name is longer than a file system allows (NAME_MAX, 255
+/// bytes), before anything runs: it could never be created.
+fn name_fits(label: &str, path: &Path) -> Result<()> {
+    let len = path.file_name().map_or(0, |n| n.as_encoded_bytes().len());
+    if len > NAME_MAX {
+        bail!("{label}: the file name is {len} bytes, over the {NAME_MAX} a file system allows");
+    }
+    Ok(())
 }
 
 /// Whether a resolved output path is `/dev/null` (a character device there).
@@ -398,6 +511,8 @@ pub struct FileTarget {
     target: PathBuf,
     force: bool,
     direct: bool,
+    /// The process's descriptor that a direct target names (`/dev/stdout`: 1).
+    fd: Option<i32>,
     limit: Option<SizeLimit>,
 }
 
@@ -433,10 +548,12 @@ impl FileTarget {
     pub fn open(self) -> Result<AtomicFile> {
         let label = self.label;
         if self.direct {
-            let f = open_direct(&self.target).with_context(|| format!("{label}: cannot open"))?;
+            let f = open_direct(&self.target, self.fd)
+                .with_context(|| format!("{label}: cannot open"))?;
             return Ok(AtomicFile {
                 out: Some(BufWriter::new(f)),
                 tmp: None,
+                lock: None,
                 target: self.target,
                 label,
                 force: self.force,
@@ -450,11 +567,12 @@ impl FileTarget {
             Ok(m) => Some(m),
             Err(_) => None,
         };
-        let (f, tmp) = create_temp(parent_of(&self.target), &self.target)
+        let (f, tmp, lock) = create_temp(parent_of(&self.target), &self.target)
             .with_context(|| format!("{label}: cannot create a temporary file"))?;
         let out = AtomicFile {
             out: Some(BufWriter::new(f)),
             tmp: Some(tmp),
+            lock: Some(lock),
             target: self.target,
             label,
             force: self.force,
@@ -479,19 +597,41 @@ impl FileTarget {
 }
 
 /// Opens a target written in place. Standard output and error are shared with the
-/// process (same offset, as a shell redirection expects); nothing is truncated.
-fn open_direct(path: &Path) -> io::Result<File> {
+/// process (same offset, as a shell redirection expects); another descriptor is opened
+/// again through `/proc/self/fd/N` (appending if it appends, else at its offset); `/dev/null`
+/// is opened. Nothing is truncated.
+fn open_direct(path: &Path, fd: Option<i32>) -> io::Result<File> {
     #[cfg(unix)]
     {
         use std::os::fd::AsFd;
-        if path == Path::new("/dev/stdout") {
-            return Ok(File::from(io::stdout().as_fd().try_clone_to_owned()?));
-        }
-        if path == Path::new("/dev/stderr") {
-            return Ok(File::from(io::stderr().as_fd().try_clone_to_owned()?));
+        match fd {
+            Some(1) => return Ok(File::from(io::stdout().as_fd().try_clone_to_owned()?)),
+            Some(2) => return Ok(File::from(io::stderr().as_fd().try_clone_to_owned()?)),
+            Some(n) => return reopen_descriptor(n),
+            None => {}
         }
     }
+    let _ = fd;
     OpenOptions::new().write(true).open(path)
+}
+
+/// Opens descriptor `n` again for writing, in the mode it was opened with.
+#[cfg(unix)]
+fn reopen_descriptor(n: i32) -> io::Result<File> {
+    use nix::fcntl::{fcntl, FcntlArg, OFlag};
+    use nix::unistd::{lseek, Whence};
+    use std::io::{Seek, SeekFrom};
+    let flags = OFlag::from_bits_truncate(fcntl(n, FcntlArg::F_GETFL)?);
+    let append = flags.contains(OFlag::O_APPEND);
+    let mut f = OpenOptions::new()
+        .write(true)
+        .append(append)
+        .open(format!("/proc/self/fd/{n}"))?;
+    if !append && f.metadata()?.is_file() {
+        let at = lseek(n, 0, Whence::SeekCur)?;
+        f.seek(SeekFrom::Start(u64::try_from(at).unwrap_or(0)))?;
+    }
+    Ok(f)
 }
 
 /// A checked directory output, not yet opened.
@@ -500,6 +640,8 @@ pub struct DirTarget {
     label: String,
     dir: PathBuf,
     names: Vec<String>,
+    /// Files of the command's other variants, removed under force ([`Plan::dir_replacing`]).
+    others: Vec<String>,
     force: bool,
 }
 
@@ -526,6 +668,7 @@ impl DirTarget {
             label,
             dir: self.dir,
             names: self.names,
+            others: self.others,
             force: self.force,
             created,
             temps: BTreeMap::new(),
@@ -549,6 +692,8 @@ pub struct AtomicFile {
     out: Option<BufWriter<File>>,
     /// `None` for a target written in place (a device, a FIFO).
     tmp: Option<PathBuf>,
+    /// Held until the temporary is renamed or removed: marks it as live.
+    lock: Option<TempLock>,
     target: PathBuf,
     label: String,
     force: bool,
@@ -610,6 +755,7 @@ impl AtomicFile {
             reg.forget(&tmp);
         }
         self.tmp = None;
+        self.lock = None;
         sync_dir(parent_of(&self.target));
         Ok(())
     }
@@ -666,6 +812,8 @@ impl Drop for AtomicFile {
             let _ = fs::remove_file(&tmp);
             reg.forget(&tmp);
         }
+        // Released only once the temporary is gone.
+        self.lock = None;
     }
 }
 
@@ -678,10 +826,11 @@ pub struct AtomicDir {
     label: String,
     dir: PathBuf,
     names: Vec<String>,
+    others: Vec<String>,
     force: bool,
     created: bool,
-    /// Declared name -> its temporary, once asked for.
-    temps: BTreeMap<String, PathBuf>,
+    /// Declared name -> its temporary and the lock that marks it live, once asked for.
+    temps: BTreeMap<String, (PathBuf, TempLock)>,
     done: bool,
 }
 
@@ -695,16 +844,16 @@ impl AtomicDir {
     /// inside DIR, for writers that want a path (plotters, image encoders). The same
     /// name gives the same path. An undeclared name is an error.
     pub fn path(&mut self, name: &str) -> Result<PathBuf> {
-        if let Some(p) = self.temps.get(name) {
+        if let Some((p, _)) = self.temps.get(name) {
             return Ok(p.clone());
         }
         if !self.names.iter().any(|n| n == name) {
             bail!("{}: {name} is not one of the declared files", self.label);
         }
-        let (_, tmp) = create_temp(&self.dir, &self.dir.join(name)).with_context(|| {
+        let (_, tmp, lock) = create_temp(&self.dir, &self.dir.join(name)).with_context(|| {
             format!("{}: cannot create a temporary file for {name}", self.label)
         })?;
-        self.temps.insert(name.to_owned(), tmp.clone());
+        self.temps.insert(name.to_owned(), (tmp.clone(), lock));
         Ok(tmp)
     }
 
@@ -716,10 +865,13 @@ impl AtomicDir {
 
     /// Fsyncs every written file and renames each to its name in DIR. Without force no
     /// file that appeared meanwhile is replaced: all are checked before any is renamed.
-    /// Declared files never asked for by [`AtomicDir::path`] are not written.
-    pub fn commit(mut self) -> Result<()> {
+    /// Declared files never asked for by [`AtomicDir::path`] are not written; with force
+    /// those of them and of the others ([`Plan::dir_replacing`]) that exist in DIR (an
+    /// earlier run's) are removed, so DIR holds this run's set of files and no other.
+    /// Returns what was written and removed.
+    pub fn commit(mut self) -> Result<DirCommit> {
         let label = self.label.clone();
-        for (name, tmp) in &self.temps {
+        for (name, (tmp, _)) in &self.temps {
             File::open(tmp)
                 .and_then(|f| f.sync_all())
                 .with_context(|| format!("{label}: write of {name} failed (fsync)"))?;
@@ -739,7 +891,7 @@ impl AtomicDir {
                     }
                 }
             }
-            for (name, tmp) in &self.temps {
+            for (name, (tmp, _)) in &self.temps {
                 place(tmp, &self.dir.join(name), self.force)
                     .map_err(|e| anyhow!("{label}: {name}: {e}"))?;
                 reg.forget(tmp);
@@ -748,17 +900,64 @@ impl AtomicDir {
                 reg.forget(&self.dir);
             }
         }
+        let written: Vec<PathBuf> = (self.names.iter())
+            .filter(|n| self.temps.contains_key(*n))
+            .map(|n| self.dir.join(n))
+            .collect();
+        let removed = if self.force {
+            self.remove_unwritten()
+        } else {
+            Vec::new()
+        };
+        removed_note(&label, &removed);
         self.temps.clear();
         self.done = true;
         sync_dir(&self.dir);
-        Ok(())
+        Ok(DirCommit { written, removed })
     }
+
+    /// Removes the regular files of the command's known outputs that this run did not
+    /// write (never a directory, a link or anything of another name).
+    fn remove_unwritten(&self) -> Vec<PathBuf> {
+        let mut removed = Vec::new();
+        for name in self.names.iter().chain(&self.others) {
+            let f = self.dir.join(name);
+            let stale = fs::symlink_metadata(&f).is_ok_and(|m| m.is_file());
+            if !self.temps.contains_key(name) && stale && fs::remove_file(&f).is_ok() {
+                removed.push(f);
+            }
+        }
+        removed
+    }
+}
+
+/// What a directory output's commit did: the files it wrote, and the files of an
+/// earlier run it removed (under force: the known outputs this run did not write).
+#[derive(Debug, Default, Clone, PartialEq)]
+pub struct DirCommit {
+    /// The files written, in DIR, in the order of the declared names.
+    pub written: Vec<PathBuf>,
+    /// The earlier run's files removed, in DIR.
+    pub removed: Vec<PathBuf>,
+}
+
+/// The note printed to standard error when a commit removed an earlier run's files.
+fn removed_note(label: &str, removed: &[PathBuf]) {
+    if removed.is_empty() {
+        return;
+    }
+    let names: Vec<String> = removed.iter().map(|p| p.display().to_string()).collect();
+    let _ = writeln!(
+        io::stderr().lock(),
+        "camsim: note: {label}: removed {} (an earlier run's output that this run does not write)",
+        names.join(", ")
+    );
 }
 
 impl Drop for AtomicDir {
     fn drop(&mut self) {
         let mut reg = registry();
-        for tmp in self.temps.values() {
+        for (tmp, _) in self.temps.values() {
             let _ = fs::remove_file(tmp);
             reg.forget(tmp);
         }
@@ -875,120 +1074,183 @@ pub fn live_temporaries() -> Vec<PathBuf> {
 /// Distinguishes the temporaries of one process.
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
-/// The hidden temporary name for `target` in `dir`: `.NAME.camsim-HOST-PID-N.tmp`
-/// (HOST: this machine's name, so that a run on another machine sharing the directory
-/// never takes a live temporary for a stale one).
-fn temp_name(dir: &Path, target: &Path, n: u64) -> PathBuf {
+/// The marker between a temporary's target name and its token.
+const TEMP_MARK: &str = ".camsim-";
+/// The end of every temporary's name.
+const TEMP_END: &str = ".tmp";
+/// Hexadecimal digits of a temporary's token.
+const TOKEN_DIGITS: usize = 16;
+/// The longest file name (bytes) Linux and the BSDs allow in a directory (NAME_MAX).
+const NAME_MAX: usize = 255;
+
+/// A random 64-bit token: the standard library's per-process random hash keys over this
+/// process's id, the time and a counter (no two temporaries of any processes, in any
+/// PID namespace, share one in practice; the lock, not the name, proves ownership).
+fn temp_token() -> u64 {
+    use std::hash::{BuildHasher, Hasher};
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
+    h.write_u32(std::process::id());
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_nanos())
+        .unwrap_or(0);
+    h.write_u128(now);
+    h.finish()
+}
+
+/// The hidden temporary name for `target` in `dir`: `.NAME.camsim-TOKEN.tmp`, TOKEN 16
+/// hexadecimal digits ([`temp_token`]). NAME is the target's name cut (at a character
+/// boundary) so that the whole name stays within NAME_MAX: any legal target name works.
+fn temp_name(dir: &Path, target: &Path) -> PathBuf {
+    let base = target.file_name().unwrap_or_else(|| "out".as_ref());
+    let room = NAME_MAX - 1 - TEMP_MARK.len() - TOKEN_DIGITS - TEMP_END.len();
     let mut name = OsString::from(".");
-    name.push(target.file_name().unwrap_or_else(|| "out".as_ref()));
-    name.push(format!(
-        ".camsim-{}-{}-{n}.tmp",
-        host_tag(),
-        std::process::id()
-    ));
+    name.push(cut_name(base, room));
+    name.push(format!("{TEMP_MARK}{:016x}{TEMP_END}", temp_token()));
     dir.join(name)
 }
 
-/// This machine's name as the temporaries carry it (letters, digits, `-` and `_`;
-/// "host" if it has none).
-fn host_tag() -> &'static str {
-    static TAG: OnceLock<String> = OnceLock::new();
-    TAG.get_or_init(|| {
-        let raw = fs::read_to_string("/proc/sys/kernel/hostname")
-            .ok()
-            .or_else(|| std::env::var("HOSTNAME").ok())
-            .unwrap_or_default();
-        let tag: String = raw
-            .trim()
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .take(64)
-            .collect();
-        if tag.is_empty() {
-            "host".to_owned()
-        } else {
-            tag
+/// The first at most `room` bytes of a file name (whole characters if it is UTF-8).
+fn cut_name(name: &std::ffi::OsStr, room: usize) -> OsString {
+    if let Some(s) = name.to_str() {
+        let mut end = s.len().min(room);
+        while !s.is_char_boundary(end) {
+            end -= 1;
         }
-    })
-}
-
-/// The host and process id in a temporary's name (`.NAME.camsim-HOST-PID-N.tmp`, or
-/// `.NAME.camsim-PID-N.tmp` as earlier versions wrote it: host `None`).
-fn temp_owner(name: &str) -> Option<(Option<&str>, u32)> {
-    if !is_temp_name(name) {
-        return None;
+        return OsString::from(s.get(..end).unwrap_or_default());
     }
-    let rest = name.strip_suffix(".tmp")?;
-    let rest = &rest[rest.rfind(".camsim-")? + ".camsim-".len()..];
-    let mut parts = rest.rsplitn(3, '-');
-    let _n: u64 = parts.next()?.parse().ok()?;
-    let pid: u32 = parts.next()?.parse().ok()?;
-    Some((parts.next(), pid))
-}
-
-/// Whether process `pid` of this machine is alive (a process of another user counts).
-fn process_alive(pid: u32) -> bool {
     #[cfg(unix)]
     {
-        use nix::errno::Errno;
-        let Ok(p) = i32::try_from(pid) else {
-            return true;
-        };
-        if p <= 0 {
-            return true;
-        }
-        !matches!(
-            nix::sys::signal::kill(nix::unistd::Pid::from_raw(p), None),
-            Err(Errno::ESRCH)
-        )
+        use std::os::unix::ffi::OsStrExt;
+        let b = name.as_bytes();
+        std::ffi::OsStr::from_bytes(b.get(..b.len().min(room)).unwrap_or_default()).to_owned()
     }
     #[cfg(not(unix))]
     {
-        let _ = pid;
+        name.to_owned()
+    }
+}
+
+/// Whether a file name is a temporary of this version's form (`.NAME.camsim-TOKEN.tmp`):
+/// the only names the stale clean-up considers. Names of earlier versions' form
+/// (`.NAME.camsim-PID-N.tmp`, `.NAME.camsim-HOST-PID-N.tmp`) are never removed: their
+/// owner cannot be proven, and a user's file may look like one.
+fn is_owned_form(name: &str) -> bool {
+    let Some(rest) = name.strip_suffix(TEMP_END) else {
+        return false;
+    };
+    let Some(at) = rest.rfind(TEMP_MARK) else {
+        return false;
+    };
+    let token = rest.get(at + TEMP_MARK.len()..).unwrap_or_default();
+    name.starts_with('.')
+        && token.len() == TOKEN_DIGITS
+        && token
+            .bytes()
+            .all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'))
+}
+
+/// The lock that marks a temporary as live: an exclusive `flock` on it, held by the
+/// process writing it until the temporary is renamed or removed. The kernel releases it
+/// when the process dies, however it dies, so a temporary that can be locked is dead,
+/// in any PID namespace or container sharing the file system. `None` where the file
+/// system has no locks (such a temporary is never removed by another process).
+#[derive(Debug)]
+struct TempLock(#[allow(dead_code)] Option<LockHandle>);
+
+#[cfg(unix)]
+type LockHandle = nix::fcntl::Flock<File>;
+#[cfg(not(unix))]
+type LockHandle = File;
+
+/// What trying to lock a temporary found.
+enum Locked {
+    /// Locked by this process now.
+    Held(TempLock),
+    /// Another process holds it.
+    Busy,
+}
+
+/// Takes the exclusive lock on `f` without waiting.
+fn try_lock(f: &File) -> io::Result<Locked> {
+    #[cfg(unix)]
+    {
+        use nix::errno::Errno;
+        use nix::fcntl::{Flock, FlockArg};
+        match Flock::lock(f.try_clone()?, FlockArg::LockExclusiveNonblock) {
+            Ok(l) => Ok(Locked::Held(TempLock(Some(l)))),
+            Err((_, Errno::EWOULDBLOCK)) => Ok(Locked::Busy),
+            // No locks on this file system: nothing can be proven either way.
+            Err((_, Errno::ENOLCK | Errno::EOPNOTSUPP | Errno::ENOSYS)) => {
+                Ok(Locked::Held(TempLock(None)))
+            }
+            Err((_, e)) => Err(e.into()),
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = f;
+        Ok(Locked::Held(TempLock(None)))
+    }
+}
+
+/// Whether the open file `f` is still the file at `path` (not removed or replaced).
+fn same_file(f: &File, path: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (f.metadata(), fs::symlink_metadata(path)) {
+            (Ok(a), Ok(b)) => (a.dev(), a.ino()) == (b.dev(), b.ino()),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (f, path);
         true
     }
 }
 
-/// Removes the stale temporaries in `dir`: regular files named as this module's
-/// temporaries, made on this machine by a process that no longer runs (killed by
-/// SIGKILL, a power cut). Best effort, returns how many were removed; a file of a live
-/// process, of another machine, or that this user may not remove is left alone.
+/// Removes the stale temporaries in `dir`: regular files named in this version's form
+/// (`.NAME.camsim-TOKEN.tmp`, TOKEN 16 hexadecimal digits) whose lock (the exclusive
+/// `flock` their writer holds while they live) nobody holds, that is whose writer
+/// died uncatchably (SIGKILL, a power cut). Best effort, returns how many were removed;
+/// a locked temporary (a live run, in any container), a file of another form, and one
+/// where locks do not work are left alone.
 pub fn remove_stale_temporaries(dir: &Path) -> usize {
     let Ok(entries) = fs::read_dir(dir) else {
         return 0;
     };
-    let me = std::process::id();
     let mut removed = 0;
     for e in entries.flatten() {
         let name = e.file_name();
-        let Some(name) = name.to_str() else { continue };
-        let Some((host, pid)) = temp_owner(name) else {
-            continue;
-        };
-        if host.is_some_and(|h| h != host_tag()) || pid == me || process_alive(pid) {
+        if !name.to_str().is_some_and(is_owned_form) || !e.file_type().is_ok_and(|t| t.is_file()) {
             continue;
         }
-        if e.file_type().is_ok_and(|t| t.is_file()) && fs::remove_file(e.path()).is_ok() {
-            removed += 1;
+        let path = e.path();
+        let Ok(f) = File::open(&path) else { continue };
+        // Held: the lock proves no process writes it; the identity check that the
+        // name still names the file locked (not a new temporary under the same name).
+        if let Ok(Locked::Held(TempLock(Some(_lock)))) = try_lock(&f) {
+            if same_file(&f, &path) && fs::remove_file(&path).is_ok() {
+                removed += 1;
+            }
         }
     }
     removed
 }
 
-/// Whether a file name is one of this module's temporaries (any process).
+/// Whether a file name is one of this module's temporaries (any process, any version).
 pub fn is_temp_name(name: &str) -> bool {
-    name.starts_with('.') && name.ends_with(".tmp") && name.contains(".camsim-")
+    name.starts_with('.') && name.ends_with(TEMP_END) && name.contains(TEMP_MARK)
 }
 
-/// Creates and registers a new temporary for `target` in `dir`, under the registry lock
-/// so that the interrupt handler sees every temporary that exists.
-fn create_temp(dir: &Path, target: &Path) -> io::Result<(File, PathBuf)> {
+/// Creates, locks and registers a new temporary for `target` in `dir`, under the
+/// registry lock so that the interrupt handler sees every temporary that exists. A
+/// temporary that another process's clean-up took between its creation and its lock is
+/// given up for a new name.
+fn create_temp(dir: &Path, target: &Path) -> io::Result<(File, PathBuf, TempLock)> {
     install_interrupt_handler()?;
     remove_stale_temporaries(dir);
     let mut reg = registry();
@@ -996,15 +1258,19 @@ fn create_temp(dir: &Path, target: &Path) -> io::Result<(File, PathBuf)> {
         return Err(io::Error::new(io::ErrorKind::Interrupted, "interrupted"));
     }
     for _ in 0..100 {
-        let p = temp_name(dir, target, COUNTER.fetch_add(1, Ordering::Relaxed));
-        match OpenOptions::new().write(true).create_new(true).open(&p) {
-            Ok(f) => {
-                reg.live.push(Live::File(p.clone()));
-                return Ok((f, p));
-            }
-            // A stale temporary of an earlier process with the same id.
+        let p = temp_name(dir, target);
+        let f = match OpenOptions::new().write(true).create_new(true).open(&p) {
+            Ok(f) => f,
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
             Err(e) => return Err(e),
+        };
+        match try_lock(&f)? {
+            Locked::Held(lock) if same_file(&f, &p) => {
+                reg.live.push(Live::File(p.clone()));
+                return Ok((f, p, lock));
+            }
+            // Taken by a clean-up (which removes it): try another name.
+            _ => continue,
         }
     }
     Err(io::Error::new(
@@ -1026,8 +1292,9 @@ fn create_dir_registered(dir: &Path) -> io::Result<()> {
 }
 
 /// Installs, once per process and before the first temporary exists, the handler that
-/// on SIGINT, SIGTERM, SIGHUP, SIGQUIT or SIGXCPU removes every live temporary and exits
-/// with 128 + the signal (130, 143, 129, 131, 152), and catches SIGXFSZ (the write over
+/// on each of [`CLEANUP_SIGNALS`] (SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGXCPU, SIGUSR1,
+/// SIGUSR2, SIGALRM, SIGVTALRM, SIGPROF) removes every live temporary and exits with
+/// 128 + the signal (130, 143, 129, 131, 152, ...), and catches SIGXFSZ (the write over
 /// the file size limit then fails with an error). Commands that write no file keep the
 /// default signal behaviour.
 pub fn install_interrupt_handler() -> io::Result<()> {
@@ -1048,7 +1315,10 @@ fn clean_for_exit() -> usize {
 
 #[cfg(unix)]
 mod imp {
-    use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM, SIGXCPU, SIGXFSZ};
+    use signal_hook::consts::{
+        SIGALRM, SIGHUP, SIGINT, SIGPROF, SIGQUIT, SIGTERM, SIGUSR1, SIGUSR2, SIGVTALRM, SIGXCPU,
+        SIGXFSZ,
+    };
     use signal_hook::iterator::Signals;
 
     /// A thread waits for the signals (signal-hook's handler only writes to a pipe, so
@@ -1075,21 +1345,30 @@ mod imp {
 
     /// The signals that remove the temporaries and end the process with 128 + the
     /// signal, and their names.
-    pub(super) const SIGNALS: [(i32, &str); 5] = [
+    pub(super) const SIGNALS: [(i32, &str); 10] = [
         (SIGINT, "SIGINT"),
         (SIGTERM, "SIGTERM"),
         (SIGHUP, "SIGHUP"),
         (SIGQUIT, "SIGQUIT"),
         (SIGXCPU, "SIGXCPU"),
+        (SIGUSR1, "SIGUSR1"),
+        (SIGUSR2, "SIGUSR2"),
+        (SIGALRM, "SIGALRM"),
+        (SIGVTALRM, "SIGVTALRM"),
+        (SIGPROF, "SIGPROF"),
     ];
 }
 
-/// The catchable signals that end a run (interrupt, termination, a dropped terminal or
-/// ssh session, quit, the CPU time limit): each removes every live temporary and exits
+/// Every catchable signal whose default action ends the process (interrupt,
+/// termination, a dropped terminal or ssh session, quit, the CPU time limit, the user
+/// signals, the three interval timers): each removes every live temporary and exits
 /// with 128 + the signal. SIGKILL cannot be caught: its temporaries are removed by the
-/// next run in the directory ([`remove_stale_temporaries`]).
+/// next run in the directory ([`remove_stale_temporaries`]). The signals of faults
+/// (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT) are left to their default: the process is
+/// then in no state to run code, and its temporaries are removed like SIGKILL's; SIGPIPE
+/// is ignored by the Rust runtime (a write to a closed pipe fails instead).
 #[cfg(unix)]
-pub const CLEANUP_SIGNALS: [(i32, &str); 5] = imp::SIGNALS;
+pub const CLEANUP_SIGNALS: [(i32, &str); 10] = imp::SIGNALS;
 
 #[cfg(not(unix))]
 mod imp {
@@ -1429,11 +1708,28 @@ mod tests {
         fs::remove_dir_all(&d).unwrap();
         // The process's own streams are direct; a regular file elsewhere under /dev
         // (a tmpfs such as /dev/shm) is not.
-        for p in ["/dev/stdout", "/dev/stderr", "/dev/fd/3", "/proc/self/fd/1"] {
-            assert!(is_direct_path(Path::new(p)), "{p}");
+        let own = format!("/proc/{}/fd/7", std::process::id());
+        for (p, fd) in [
+            ("/dev/stdin", 0),
+            ("/dev/stdout", 1),
+            ("/dev/stderr", 2),
+            ("/dev/fd/3", 3),
+            ("/proc/self/fd/1", 1),
+            ("/proc/thread-self/fd/12", 12),
+            (own.as_str(), 7),
+        ] {
+            assert_eq!(descriptor_of(Path::new(p)), Some(Some(fd)), "{p}");
         }
-        for p in ["/dev/shm/out.csv", "/dev/fd", "/dev", "out.csv"] {
-            assert!(!is_direct_path(Path::new(p)), "{p}");
+        assert_eq!(descriptor_of(Path::new("/dev/fd/x")), Some(None));
+        assert_eq!(descriptor_of(Path::new("/dev/fd/-1")), Some(None));
+        for p in [
+            "/dev/shm/out.csv",
+            "/dev/fd",
+            "/dev",
+            "out.csv",
+            "/proc/1/fd/1",
+        ] {
+            assert_eq!(descriptor_of(Path::new(p)), None, "{p}");
         }
         // Standard error opens as a shared descriptor (nothing written to it here).
         let out = Plan::new(false)
@@ -1490,45 +1786,118 @@ mod tests {
     }
 
     #[test]
-    fn stale_temporaries_of_dead_processes_are_removed_at_the_next_open() {
+    fn only_unlocked_temporaries_of_this_form_are_removed_at_the_next_open() {
         let d = scratch("stale");
-        // A process that has exited: its id is free (until reused, when the file stays).
+        // A dead writer's temporary: this version's form, nobody holds its lock.
+        let dead = temp_name(&d, Path::new("out.csv"));
+        fs::write(&dead, b"partial").unwrap();
+        // A live writer's (in any PID namespace: only its lock counts), locked here
+        // through a descriptor of its own.
+        let live = temp_name(&d, Path::new("live.csv"));
+        fs::write(&live, b"partial").unwrap();
+        let held = match try_lock(&File::open(&live).unwrap()).unwrap() {
+            Locked::Held(l) => l,
+            Locked::Busy => panic!("nobody else holds it"),
+        };
+        assert!(held.0.is_some(), "this file system has locks");
+        // Earlier versions' forms (never provably ours, even of a dead process id: a
+        // user's file may look like one), and other names.
         let mut child = std::process::Command::new("true").spawn().unwrap();
-        let dead = child.id();
+        let pid = child.id();
         child.wait().unwrap();
-        let host = host_tag();
-        let stale = [
-            format!(".out.csv.camsim-{host}-{dead}-0.tmp"),
-            format!(".other.png.camsim-{dead}-3.tmp"),
-        ];
         let kept = [
-            // A live process (this one's parent), another machine, not a temporary.
-            format!(
-                ".out.csv.camsim-{host}-{}-0.tmp",
-                std::os::unix::process::parent_id()
-            ),
-            format!(".out.csv.camsim-elsewhere-{dead}-0.tmp"),
+            format!(".out.csv.camsim-{pid}-0.tmp"),
+            format!(".out.csv.camsim-somehost-{pid}-0.tmp"),
+            ".out.csv.camsim-0123456789ABCDEF.tmp".to_owned(),
+            ".out.csv.camsim-0123456789abcde.tmp".to_owned(),
             "notes.camsim-1-0.tmp".to_owned(),
         ];
-        for n in stale.iter().chain(&kept) {
-            fs::write(d.join(n), b"partial").unwrap();
+        for n in &kept {
+            fs::write(d.join(n), b"the user's").unwrap();
         }
-        assert_eq!(temp_owner(&stale[0]), Some((Some(host), dead)));
-        assert_eq!(temp_owner(&stale[1]), Some((None, dead)));
         let out = Plan::new(false)
             .file("--csv", &d.join("new.csv"))
             .unwrap()
             .open()
             .unwrap();
         drop(out);
+        let mut expect: Vec<String> = kept.to_vec();
+        expect.push(live.file_name().unwrap().to_string_lossy().into_owned());
+        expect.sort();
         let mut left: Vec<String> = fs::read_dir(&d)
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
             .collect();
         left.sort();
-        let mut expect = kept.to_vec();
-        expect.sort();
         assert_eq!(left, expect);
+        assert!(!dead.exists());
+        // Released, the live one is dead too.
+        drop(held);
+        assert_eq!(remove_stale_temporaries(&d), 1);
+        assert!(!live.exists());
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_temporary_name_fits_name_max_for_any_legal_target_name() {
+        let d = scratch("long");
+        for (len, ch) in [(255, "a"), (254, "a"), (226, "a"), (120, "é"), (85, "€")] {
+            let name = ch.repeat(len / ch.len());
+            assert!(name.len() <= 255);
+            let t = temp_name(&d, Path::new(&name));
+            let tn = t.file_name().unwrap().to_str().unwrap();
+            assert!(tn.len() <= 255, "{} bytes", tn.len());
+            assert!(is_owned_form(tn) && is_temp_name(tn), "{tn}");
+            // The legal name is written, through its temporary.
+            let mut out = Plan::new(false)
+                .file("--csv", &d.join(&name))
+                .unwrap()
+                .open()
+                .unwrap();
+            out.write_all(b"x").unwrap();
+            out.commit().unwrap();
+            assert_eq!(fs::read(d.join(&name)).unwrap(), b"x");
+            fs::remove_file(d.join(&name)).unwrap();
+        }
+        fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn a_forced_directory_output_replaces_the_whole_set_of_known_files() {
+        let d = scratch("dir-set");
+        for n in ["a.png", "b.png", "c.png", "notes.txt"] {
+            fs::write(d.join(n), b"earlier").unwrap();
+        }
+        // Without force an earlier run's file of the set refuses, even one this run
+        // would not write.
+        assert!(Plan::new(false)
+            .dir_replacing("--plot", &d.join("sub"), &["a.png"], &["c.png"])
+            .is_ok());
+        fs::create_dir(d.join("sub")).unwrap();
+        fs::write(d.join("sub/c.png"), b"earlier").unwrap();
+        let e = msg(Plan::new(false)
+            .dir_replacing("--plot", &d.join("sub"), &["a.png"], &["c.png"])
+            .unwrap_err());
+        assert!(
+            e.ends_with("sub/c.png exists (use --force to overwrite)"),
+            "{e}"
+        );
+        let mut out = Plan::new(true)
+            .dir_replacing("--plot", &d, &["a.png", "b.png"], &["c.png"])
+            .unwrap()
+            .open()
+            .unwrap();
+        out.write("a.png", b"new a").unwrap();
+        let done = out.commit().unwrap();
+        assert_eq!(done.written, [d.join("a.png")]);
+        assert_eq!(done.removed, [d.join("b.png"), d.join("c.png")]);
+        assert_eq!(fs::read(d.join("a.png")).unwrap(), b"new a");
+        let mut left = fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect::<Vec<_>>();
+        left.sort();
+        assert_eq!(left, ["a.png", "notes.txt", "sub"]);
         fs::remove_dir_all(&d).unwrap();
     }
 

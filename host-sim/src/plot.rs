@@ -1152,7 +1152,7 @@ mod tests {
     fn write_all(dir: &Path, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Result<()> {
         let mut out = Plan::new(true).dir("--plot", dir, &FILES)?.open()?;
         draw_all(&mut out, data, jumps)?;
-        out.commit()
+        out.commit().map(|_| ())
     }
 
     #[test]

@@ -30,6 +30,13 @@ fn child_writer() {
     let mode = std::env::var(ENV_MODE).unwrap_or_default();
     let deadline = Instant::now() + Duration::from_secs(10);
     let mut stdout = std::io::stdout();
+    if mode == "cleanup" {
+        // The stale clean-up of the next output in the directory `target`.
+        let n = camsim::output::remove_stale_temporaries(&target);
+        writeln!(stdout, "REMOVED {n}").unwrap();
+        stdout.flush().unwrap();
+        return;
+    }
     if mode == "fill" {
         // Writes as fast as it can until a write fails (the file size limit), then says
         // how it failed; the output is dropped with the error, as a command's `?` does.
@@ -97,6 +104,13 @@ fn child_writer() {
 /// Starts the child writer on `target`, waits until its temporary holds data, sends
 /// `signal` ("INT" or "TERM") and returns the exit code and the temporary's path.
 fn kill_mid_write(target: &Path, mode: &str, signal: &str) -> (Option<i32>, PathBuf) {
+    let (child, tmp) = start_writer(target, mode);
+    (kill_and_wait(child, signal), tmp)
+}
+
+/// Starts the child writer on `target` and waits until its temporary holds data and
+/// keeps growing; the child and the temporary's path.
+fn start_writer(target: &Path, mode: &str) -> (std::process::Child, PathBuf) {
     let exe = std::env::current_exe().unwrap();
     let mut child = Command::new(exe)
         .args([
@@ -133,6 +147,11 @@ fn kill_mid_write(target: &Path, mode: &str, signal: &str) -> (Option<i32>, Path
         );
         std::thread::sleep(Duration::from_millis(5));
     }
+    (child, tmp)
+}
+
+/// Sends `signal` to the child and returns its exit code.
+fn kill_and_wait(mut child: std::process::Child, signal: &str) -> Option<i32> {
     let status = Command::new("kill")
         .args([format!("-{signal}"), child.id().to_string()])
         .status()
@@ -149,7 +168,7 @@ fn kill_mid_write(target: &Path, mode: &str, signal: &str) -> (Option<i32>, Path
         }
         std::thread::sleep(Duration::from_millis(5));
     };
-    (code, tmp)
+    code
 }
 
 #[test]
@@ -204,6 +223,65 @@ fn sighup_and_sigquit_mid_write_leave_no_temporary() {
         assert!(listing(&d).is_empty(), "SIG{sig}: {:?}", listing(&d));
         fs::remove_dir_all(&d).unwrap();
     }
+}
+
+/// Issue 33, defect 13: every catchable signal that ends a process cleans up like SIGINT
+/// (the user signals and the three timers left tens of MB behind).
+#[test]
+fn the_user_and_timer_signals_mid_write_leave_no_temporary() {
+    for (sig, code) in [
+        ("USR1", 138),
+        ("USR2", 140),
+        ("ALRM", 142),
+        ("VTALRM", 154),
+        ("PROF", 155),
+    ] {
+        let d = scratch(&format!("sig-{sig}"));
+        let target = d.join("out.csv");
+        let (got, tmp) = kill_mid_write(&target, "new", sig);
+        assert_eq!(got, Some(code), "SIG{sig}");
+        assert!(!tmp.exists(), "SIG{sig}");
+        assert!(listing(&d).is_empty(), "SIG{sig}: {:?}", listing(&d));
+        fs::remove_dir_all(&d).unwrap();
+    }
+}
+
+/// Issue 33, defect 2: the stale clean-up of a run in another PID namespace (a container
+/// on a shared volume, where the writer's process id is unknown or another process's)
+/// leaves a live run's temporary alone, and the live run commits.
+#[test]
+fn a_clean_up_in_another_pid_namespace_leaves_a_live_temporary() {
+    let d = scratch("pidns");
+    let target = d.join("out.csv");
+    let (child, tmp) = start_writer(&target, "new");
+    let exe = std::env::current_exe().unwrap();
+    let out = Command::new("unshare")
+        .args(["--pid", "--fork", "--mount-proc"])
+        .arg(&exe)
+        .args([
+            "child_writer",
+            "--exact",
+            "--ignored",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(ENV_TARGET, &d)
+        .env(ENV_MODE, "cleanup")
+        .stderr(Stdio::null())
+        .output();
+    let text = match &out {
+        Ok(o) if o.status.success() => String::from_utf8_lossy(&o.stdout).into_owned(),
+        // No user namespaces here (unprivileged, or no unshare): the rest still runs.
+        _ => {
+            eprintln!("unshare --pid unavailable: the clean-up runs in this namespace");
+            format!("REMOVED {}", camsim::output::remove_stale_temporaries(&d))
+        }
+    };
+    assert!(text.contains("REMOVED 0"), "{text}");
+    assert!(tmp.exists(), "the live temporary was removed");
+    assert_eq!(kill_and_wait(child, "INT"), Some(130));
+    assert!(listing(&d).is_empty(), "{:?}", listing(&d));
+    fs::remove_dir_all(&d).unwrap();
 }
 
 /// Issue 20, point 5: over `ulimit -f` the write fails with an error naming the output

@@ -417,7 +417,8 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
         names.push(CUTTER_FILE);
     }
     let out_target = match &args.out {
-        Some(dir) => Some(plan.dir("--out", dir, &names)?),
+        // Replaced as a whole: a cutter path of an earlier design does not stay.
+        Some(dir) => Some(plan.dir_replacing("--out", dir, &names, &[CUTTER_FILE])?),
         None => None,
     };
     let plot_target = match &args.output.plot {
@@ -488,9 +489,8 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
             })
             .collect();
         out.write(DXF_FILE, export::dxf(&layers, args.units).as_bytes())?;
-        let dir = out.dir().to_path_buf();
-        out.commit()?;
-        files.extend(names.iter().map(|n| dir.join(n).display().to_string()));
+        let done = out.commit()?;
+        files.extend(done.written.iter().map(|p| p.display().to_string()));
     }
     if let Some(t) = plot_target {
         let mut out = t.open()?;

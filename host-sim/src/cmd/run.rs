@@ -224,6 +224,9 @@ pub struct RunReport {
     /// The name of each period of the program (text only).
     #[serde(skip)]
     pub periods: Vec<&'static str>,
+    /// The files the run wrote (--csv, the plots of --plot; absent when none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<String>,
 }
 
 impl RunReport {
@@ -265,6 +268,7 @@ impl RunReport {
             method: spec.solver.method.resolve(spec.solver.rtol).name(),
             atol_in: spec.solver.atol,
             periods: sim::period_names(&spec.design),
+            files: Vec::new(),
         }
     }
 }
@@ -318,7 +322,9 @@ pub fn report(args: &Args) -> Result<RunReport> {
         Some(dir) if spec.profile.is_some() => {
             Some(plan.dir("--plot", dir, &plot::FILES_WITH_PROFILE)?)
         }
-        Some(dir) => Some(plan.dir("--plot", dir, &plot::FILES)?),
+        Some(dir) => {
+            Some(plan.dir_replacing("--plot", dir, &plot::FILES, &[plot::PROFILE_FILE])?)
+        }
         None => None,
     };
     let mut csv_out = match csv_target {
@@ -362,10 +368,13 @@ pub fn report(args: &Args) -> Result<RunReport> {
     crate::report::ensure_finite(&report)?;
     crate::report::ensure_physical(&report)?;
     if let Some(f) = csv_file {
+        let path = f.target().display().to_string();
         f.commit()?;
+        report.files.push(path);
     }
     if let Some(p) = plots {
-        p.commit()?;
+        let done = p.commit()?;
+        (report.files).extend(done.written.iter().map(|f| f.display().to_string()));
     }
     Ok(report)
 }
@@ -668,6 +677,9 @@ impl Report for RunReport {
             method_title(self.method), self.rtol, crate::units::given(crate::units::LENGTH, self.atol_in), crate::units::symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
         );
         let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
+        for f in &self.files {
+            let _ = writeln!(out, "wrote {f}");
+        }
         out
     }
 }
