@@ -30,6 +30,12 @@ if ! command -v llvm-size >/dev/null 2>&1 && ! command -v llvm-size-14 >/dev/nul
     apt-get update -qq
     apt-get install -y -qq llvm-14 >/dev/null
 fi
+# GNU parallel runs the sharded Monte Carlo study of the smoke step (Debian's `parallel`).
+if ! command -v parallel >/dev/null 2>&1; then
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq parallel >/dev/null
+fi
 
 step "gates: format, lints (warnings denied), docs"
 cargo fmt --all -- --check
@@ -128,6 +134,21 @@ smoke bench bench --quick --json
 smoke models models --quick --json
 smoke predict predict --json
 smoke montecarlo montecarlo --samples 8 --json
+# The same kind of study as 2 shards under GNU parallel, merged: the result is the
+# single-process run's bit for bit (every number as printed; only the timing differs).
+smoke montecarlo-single montecarlo --samples 12 --seed 5 --json
+parallel --will-cite --halt now,fail=1 "$C" montecarlo --samples 12 --seed 5 --shard {}/2 \
+    --out "$studies/mc-shard-{}.json" --json ::: 1 2 > /dev/null
+smoke montecarlo-merged montecarlo merge "$studies/mc-shard-1.json" "$studies/mc-shard-2.json" --json
+python3 -c '
+import json, sys
+def study(f):
+    d = json.load(open(f), parse_float=str)
+    d.pop("timing", None)
+    return d
+a, b = study(sys.argv[1]), study(sys.argv[2])
+sys.exit(0 if a == b else "smoke: montecarlo merge of 2 shards under GNU parallel differs from the single run")
+' "$studies/montecarlo-single.out" "$studies/montecarlo-merged.out"
 smoke compare compare --quick --json
 smoke tolerance-study tolerance-study --quick --json
 # The study plots in SI (every axis converts through units.rs): the tolerance plots, the
