@@ -150,6 +150,9 @@ a, b = study(sys.argv[1]), study(sys.argv[2])
 sys.exit(0 if a == b else "smoke: montecarlo merge of 2 shards under GNU parallel differs from the single run")
 ' "$studies/montecarlo-single.out" "$studies/montecarlo-merged.out"
 smoke compare compare --quick --json
+# An unworkable law (its run leaves the model's valid range) is named and the rest ranked:
+# seed 4's actual cam throws the straight-line follower off the cam (issue 31).
+smoke compare-unworkable compare --seed 4 --json
 smoke tolerance-study tolerance-study --quick --json
 # The study plots in SI (every axis converts through units.rs): the tolerance plots, the
 # Monte Carlo histograms and compare's charts.
@@ -199,6 +202,8 @@ done
 if command -v jq >/dev/null 2>&1; then
     jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95)' "$studies/montecarlo.out" >/dev/null
     jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.out" >/dev/null
+    jq -e '(.laws | length) == 11 and ([.not_workable[].name] == ["straight-line"]) and (.not_workable[0].reason | test("valid range"))' \
+        "$studies/compare-unworkable.out" >/dev/null
     jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
            and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/models.out" >/dev/null
     # VI.4.3's groups at +-30 % on both cams, a baseline per cam at change 0, every output a number.
