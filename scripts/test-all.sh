@@ -30,6 +30,12 @@ if ! command -v llvm-size >/dev/null 2>&1 && ! command -v llvm-size-14 >/dev/nul
     apt-get update -qq
     apt-get install -y -qq llvm-14 >/dev/null
 fi
+# GNU parallel runs the sharded Monte Carlo study of the smoke step (Debian's `parallel`).
+if ! command -v parallel >/dev/null 2>&1; then
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq parallel >/dev/null
+fi
 
 step "gates: format, lints (warnings denied), docs"
 cargo fmt --all -- --check
@@ -142,7 +148,25 @@ smoke predict predict --json
 smoke montecarlo montecarlo --samples 8 --json
 # The two-level estimate (issue 34): every cam on the reduced model, 4 on the full one too.
 smoke montecarlo-two-level montecarlo --samples 8 --two-level 4 --threads 2 --json
+# The same kind of study as 2 shards under GNU parallel, merged: the result is the
+# single-process run's bit for bit (every number as printed; only the timing differs).
+smoke montecarlo-single montecarlo --samples 12 --seed 5 --json
+parallel --will-cite --halt now,fail=1 "$C" montecarlo --samples 12 --seed 5 --shard {}/2 \
+    --out "$studies/mc-shard-{}.json" --json ::: 1 2 > /dev/null
+smoke montecarlo-merged montecarlo merge "$studies/mc-shard-1.json" "$studies/mc-shard-2.json" --json
+python3 -c '
+import json, sys
+def study(f):
+    d = json.load(open(f), parse_float=str)
+    d.pop("timing", None)
+    return d
+a, b = study(sys.argv[1]), study(sys.argv[2])
+sys.exit(0 if a == b else "smoke: montecarlo merge of 2 shards under GNU parallel differs from the single run")
+' "$studies/montecarlo-single.out" "$studies/montecarlo-merged.out"
 smoke compare compare --quick --json
+# An unworkable law (its run leaves the model's valid range) is named and the rest ranked:
+# seed 4's actual cam throws the straight-line follower off the cam (issue 31).
+smoke compare-unworkable compare --seed 4 --json
 smoke tolerance-study tolerance-study --quick --json
 # The study plots in SI (every axis converts through units.rs): the tolerance plots, the
 # Monte Carlo histograms and compare's charts.
@@ -200,6 +224,8 @@ if command -v jq >/dev/null 2>&1; then
     jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95)' "$studies/montecarlo.out" >/dev/null
     jq -e '.two_level.full_samples == 4 and (.two_level.jump | .lo95 <= .value and .value <= .hi95 and .value == ([0, ([1, .reduced + .correction] | min)] | max))' "$studies/montecarlo-two-level.out" >/dev/null
     jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.out" >/dev/null
+    jq -e '(.laws | length) == 11 and ([.not_workable[].name] == ["straight-line"]) and (.not_workable[0].reason | test("valid range"))' \
+        "$studies/compare-unworkable.out" >/dev/null
     jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
            and any(.rows[]; .scene == "quasi-static-rod" and .rtol == 0.01 and .ok_onset)' "$studies/models.out" >/dev/null
     # VI.4.3's groups at +-30 % on both cams, a baseline per cam at change 0, every output a number.

@@ -209,11 +209,24 @@ impl<T: Copy> Ranks<T> {
     }
 }
 
+/// A law whose run left the model's valid range (docs/MODEL.md §3.20): not ranked.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NotWorkable {
+    /// The law's name (as `camsim laws` prints it).
+    pub name: String,
+    /// The cam whose run left the range: `theoretical` or `actual`.
+    pub cam: String,
+    /// Why: the core's error (the quantity, its value, the bound, the cam angle).
+    pub reason: String,
+}
+
 /// What `camsim compare` prints.
 #[derive(Clone, Debug, Serialize)]
 pub struct CompareReport {
-    /// Every law, in the order of `camsim laws`.
+    /// Every workable law, in the order of `camsim laws`.
     pub laws: Vec<LawStudy>,
+    /// The laws not workable (their run left the model's valid range), in the same order.
+    pub not_workable: Vec<NotWorkable>,
     /// Cam speed, rpm.
     pub rpm: f64,
     /// Whether the vertical scene ran (--quick).
@@ -401,7 +414,6 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         true,
         "{elapsed_precise} [{bar:40}] {pos}/{len} runs (every law, theoretical and actual), eta {eta}",
     );
-    type Job = Result<(CamStudy, Option<ProfileStats>)>;
     let results: Vec<Job> = pool.install(|| {
         jobs.par_iter()
             .map(|&(i, is_actual)| {
@@ -430,9 +442,17 @@ pub fn report(args: &Args) -> Result<CompareReport> {
     bar.finish_and_clear();
     let mut it = results.into_iter();
     let mut laws = Vec::new();
+    let mut not_workable = Vec::new();
     for (law, _) in &specs {
-        let (flex, _) = it.next().ok_or_else(|| anyhow!("missing run"))??;
-        let (cam, profile) = it.next().ok_or_else(|| anyhow!("missing run"))??;
+        let flex = it.next().ok_or_else(|| anyhow!("missing run"))?;
+        let cam = it.next().ok_or_else(|| anyhow!("missing run"))?;
+        let ((flex, _), (cam, profile)) = match workable(law.name(), flex, cam)? {
+            Ok(pair) => pair,
+            Err(n) => {
+                not_workable.push(n);
+                continue;
+            }
+        };
         let profile = profile.ok_or_else(|| anyhow!("missing profile"))?;
         let names = sim::period_names(&base.design);
         let kinds: Vec<SegmentKind> = base
@@ -483,15 +503,23 @@ pub fn report(args: &Args) -> Result<CompareReport> {
             ranks: Ranks::default(),
         });
     }
+    anyhow::ensure!(
+        !laws.is_empty(),
+        "no law is workable: every law's run left the model's valid range (first: {} on the {} cam: {})",
+        not_workable.first().map_or("", |n: &NotWorkable| n.name.as_str()),
+        not_workable.first().map_or("", |n| n.cam.as_str()),
+        not_workable.first().map_or("", |n| n.reason.as_str())
+    );
     fill_ranks(&mut laws);
     let rpm = camsim_core::rad_per_s_to_rpm(base.design.omega0);
     if let Some(t) = plot_target {
         let mut dir = t.open()?;
-        draw(&mut dir, &laws, &base, &actual_args)?;
+        draw(&mut dir, &laws, &not_workable, &base, &actual_args)?;
         dir.commit()?;
     }
     Ok(CompareReport {
         laws,
+        not_workable,
         rpm,
         quick: args.quick,
         seed: args.actual.seed(),
@@ -499,6 +527,35 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         interval_source,
         wall_s: t0.elapsed().as_secs_f64(),
     })
+}
+
+/// One run's study, and the actual cam's profile.
+type Run = (CamStudy, Option<ProfileStats>);
+type Job = Result<Run>;
+
+/// One law's two runs (theoretical, actual): both, or the law not workable when a run
+/// left the model's valid range (the theoretical cam's reason first). Any other failure
+/// is an error.
+fn workable(
+    law: &str,
+    flex: Job,
+    cam: Job,
+) -> Result<std::result::Result<(Run, Run), NotWorkable>> {
+    let not = |which: &str, e: anyhow::Error| {
+        if !crate::study::sweep::out_of_model(&e) {
+            return Err(e);
+        }
+        Ok(Err(NotWorkable {
+            name: law.to_string(),
+            cam: which.to_string(),
+            reason: format!("{}", e.root_cause()),
+        }))
+    };
+    match (flex, cam) {
+        (Ok(f), Ok(c)) => Ok(Ok((f, c))),
+        (Err(e), _) => not("theoretical", e),
+        (_, Err(e)) => not("actual", e),
+    }
 }
 
 /// Ranks every law in every column of [`RANKED`], then overall: the laws that hold
@@ -692,8 +749,24 @@ impl Report for CompareReport {
                 format!("{}/{}", yn(l.jump_rise), yn(l.jump_return))
             );
         }
+        not_workable_text(&mut out, &self.not_workable);
         let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
         out
+    }
+}
+
+/// The laws not ranked, each with the reason its run stopped.
+fn not_workable_text(out: &mut String, laws: &[NotWorkable]) {
+    use std::fmt::Write;
+    if laws.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\nnot workable (the run left the model's valid range, docs/MODEL.md §3.20; not ranked):"
+    );
+    for n in laws {
+        let _ = writeln!(out, "{:<21} on the {} cam: {}", n.name, n.cam, n.reason);
     }
 }
 
@@ -757,7 +830,13 @@ fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
 /// Colour of the actual cam's curves in responses.png (the legend's swatch).
 const ACTUAL: plotters::style::RGBColor = plots::PALETTE[0];
 
-fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualArgs) -> Result<()> {
+fn draw(
+    dir: &mut AtomicDir,
+    laws: &[LawStudy],
+    not_workable: &[NotWorkable],
+    base: &RunSpec,
+    actual: &ActualArgs,
+) -> Result<()> {
     use plotters::prelude::*;
     // Rankings: one bar chart per ranked column, the laws' values, the best bar marked.
     let names: Vec<&str> = laws.iter().map(|l| l.name.as_str()).collect();
@@ -765,12 +844,19 @@ fn draw(dir: &mut AtomicDir, laws: &[LawStudy], base: &RunSpec, actual: &ActualA
     let cols = 3;
     let rows = HEADERS.len().div_ceil(cols);
     let e = |e: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {e}");
+    let mut title =
+        "Every workable law's value in each ranked column, revolution 2 (rank 1 in red)"
+            .to_string();
+    if !not_workable.is_empty() {
+        let names: Vec<&str> = not_workable.iter().map(|n| n.name.as_str()).collect();
+        title += &format!(
+            "; not workable (left the model's valid range): {}",
+            names.join(", ")
+        );
+    }
     plots::png(dir, file, (1500, 420 * rows as u32 + 50), |root| {
         let root = root
-            .titled(
-                "Every law's value in each ranked column, revolution 2 (rank 1 in red)",
-                (crate::plot::FONT, 24),
-            )
+            .titled(&title, (crate::plot::FONT, 24))
             .map_err(|x| e(&x))?;
         for ((col, head), area) in HEADERS.iter().zip(root.split_evenly((rows, cols)).iter()) {
             let (what, unit, better) = rank_axis(col);

@@ -171,7 +171,7 @@ impl Observer<f64> for Watch {
 }
 
 /// Whether an error is the model leaving its valid range (docs/MODEL.md §3.20).
-fn out_of_model(e: &anyhow::Error) -> bool {
+pub(crate) fn out_of_model(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
         matches!(
             c.downcast_ref::<camsim_core::Error>(),

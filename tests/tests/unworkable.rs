@@ -1,0 +1,65 @@
+//! Studies survive an unworkable case: a law whose run leaves the model's valid range
+//! (docs/MODEL.md §3.20) is reported "not workable" with its reason and the study goes
+//! on; a study none of whose cases is workable exits 1.
+
+use camsim::cli::{main_from, parse_from, Command};
+use camsim::cmd::compare::{self, CompareReport};
+
+fn compare_report(extra: &[&str]) -> anyhow::Result<CompareReport> {
+    let argv = ["camsim", "compare"].iter().chain(extra).copied();
+    match parse_from(argv).unwrap().command {
+        Command::Compare(a) => compare::report(&a),
+        other => panic!("parsed as {other:?}"),
+    }
+}
+
+/// Seed 4's actual cam throws the straight-line follower into its slide bearing (the
+/// thesis marked the straight line "not workable", VI.4.2): compare ranks the other 11
+/// laws from 1 to 11, and names straight-line with the core's reason.
+#[test]
+fn compare_seed_4_ranks_the_workable_laws_and_names_straight_line() {
+    assert_eq!(main_from(["camsim", "compare", "--seed", "4", "--json"]), 0);
+    let r = compare_report(&["--seed", "4"]).unwrap();
+    assert_eq!(r.not_workable.len(), 1, "{:?}", r.not_workable);
+    let n = &r.not_workable[0];
+    assert_eq!(
+        (n.name.as_str(), n.cam.as_str()),
+        ("straight-line", "actual")
+    );
+    assert!(
+        n.reason.contains("left its valid range") && n.reason.contains("thrown off the cam"),
+        "{}",
+        n.reason
+    );
+    let laws = camsim_core::MotionLaw::ALL.len();
+    assert_eq!(r.laws.len(), laws - 1);
+    assert!(r.laws.iter().all(|l| l.name != "straight-line"));
+    let mut overall: Vec<usize> = r.laws.iter().map(|l| l.ranks.overall).collect();
+    overall.sort_unstable();
+    assert_eq!(overall, (1..laws).collect::<Vec<_>>(), "ranks 1..11");
+    let text = camsim::report::Report::text(&r);
+    assert!(text.contains("not workable"), "{text}");
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("straight-line")
+                && l.contains("on the actual cam: the model left")),
+        "{text}"
+    );
+    let json = serde_json::to_value(&r).unwrap();
+    assert_eq!(json["not_workable"][0]["name"], "straight-line");
+    assert!(json["not_workable"][0]["reason"].is_string());
+}
+
+/// At 3 000 rpm every law throws the follower off the theoretical cam already: nothing
+/// is workable, the command exits 1 and says so.
+#[test]
+fn compare_with_no_workable_law_exits_1() {
+    let e = compare_report(&["--quick", "--rpm", "3000"]).unwrap_err();
+    let msg = format!("{e:#}");
+    assert!(msg.contains("no law is workable"), "{msg}");
+    assert!(msg.contains("left its valid range"), "{msg}");
+    assert_eq!(
+        main_from(["camsim", "compare", "--quick", "--rpm", "3000"]),
+        1
+    );
+}
