@@ -107,6 +107,8 @@ smoke run-csv run --revolutions 1 --csv "$studies/run-grid.csv" --csv-every-deg 
 test "$(wc -l < "$studies/run-grid.csv")" -eq 362 || { echo "smoke: run --csv-every-deg 1 is not 360 rows and the end" >&2; exit 1; }
 smoke run-csv-steps run --revolutions 1 --csv "$studies/run-steps.csv" --csv-every-step --json
 smoke run-actual run --actual --revolutions 2 --json
+jq -e '.profile.method == "per-cam" and (.profile.axis_offset_in | type == "number")' "$studies/run-actual.out" >/dev/null || { echo "smoke: run --actual does not default to the per-cam method" >&2; exit 1; }
+smoke run-actual-thesis run --actual --revolutions 2 --profile-method thesis --json
 smoke jump-speed jump-speed --resolution 10 --json
 smoke scene scene --default
 smoke scene-json scene --default --json --units si
