@@ -146,6 +146,8 @@ smoke design-si-text design spring --quick --units si
 grep -qE '^camsim design spring: [0-9.]+ N/mm at preload length 12.7 mm' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not answer in N/mm and mm" >&2; exit 1; }
 smoke compare-plot compare --quick --plot "$studies/compare" --json
 smoke waviness waviness --seeds 1 --json
+smoke waviness-measured waviness --measured scenes/measured-wavy.csv --json
+jq -e '.fpr == 30 and .waviness_fpr == 30 and (.equivalent_tolerance_in > 0)' "$studies/waviness-measured.out" >/dev/null || { echo "smoke: waviness --measured does not report scenes/measured-wavy.csv's FPR 30" >&2; exit 1; }
 smoke sensitivity sensitivity --quick --json
 # The drawing and the scene-taking commands (issue 17): profile --out/--plot (and its
 # surface read back by run --measured), modal/contact/predict SCENE, jump-speed --actual.
