@@ -117,6 +117,8 @@ smoke run-csv run --revolutions 1 --csv "$studies/run-grid.csv" --csv-every-deg 
 test "$(wc -l < "$studies/run-grid.csv")" -eq 362 || { echo "smoke: run --csv-every-deg 1 is not 360 rows and the end" >&2; exit 1; }
 smoke run-csv-steps run --revolutions 1 --csv "$studies/run-steps.csv" --csv-every-step --json
 smoke run-actual run --actual --revolutions 2 --json
+jq -e '.profile.method == "per-cam" and (.profile.axis_offset_in | type == "number")' "$studies/run-actual.out" >/dev/null || { echo "smoke: run --actual does not default to the per-cam method" >&2; exit 1; }
+smoke run-actual-thesis run --actual --revolutions 2 --profile-method thesis --json
 smoke jump-speed jump-speed --resolution 10 --json
 smoke scene scene --default
 smoke scene-json scene --default --json --units si
@@ -182,6 +184,8 @@ smoke design-si-text design spring --quick --units si
 grep -qE '^camsim design spring: [0-9.]+ N/mm at preload length 12.7 mm' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not answer in N/mm and mm" >&2; exit 1; }
 smoke compare-plot compare --quick --plot "$studies/compare" --json
 smoke waviness waviness --seeds 1 --json
+smoke waviness-measured waviness --measured scenes/measured-wavy.csv --json
+jq -e '.fpr == 30 and .waviness_fpr == 30 and (.equivalent_tolerance_in > 0)' "$studies/waviness-measured.out" >/dev/null || { echo "smoke: waviness --measured does not report scenes/measured-wavy.csv's FPR 30" >&2; exit 1; }
 smoke sensitivity sensitivity --quick --json
 # The drawing and the scene-taking commands (issue 17): profile --out/--plot (and its
 # surface read back by run --measured), modal/contact/predict SCENE, jump-speed --actual.

@@ -88,8 +88,9 @@ pub use run::response::{
 pub use run::search::{Onset, OnsetSearch, Peak, PeakScan, ScanEnds};
 
 mod actual;
-pub use actual::deviation::DeviatedLift;
+pub use actual::deviation::{DeviatedLift, AXIS_KNOTS};
 pub use actual::envelope::{ActualCam, ENVELOPE_REFINE, ENVELOPE_SUBSTEPS};
+pub use actual::follower_axis::AxisErrors;
 pub use actual::profile::{
     check_interval, choose_interval, lift_sensitivity, ActualContour, ActualLift, ContourPoint,
     IntervalCheck, IntervalChoice, LiftSensitivity, ProfileSpec, Tolerances, CHECK_SUBSTEPS,

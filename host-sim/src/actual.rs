@@ -9,6 +9,9 @@
 //! sample 0.
 //!
 //! The profile methods (docs/MODEL.md §8):
+//! * `per-cam` (the default): the thesis's contour error at every `Δθ`, the roller
+//!   radius and the follower axis's offset drawn once and applied through the exact
+//!   geometry ([`DeviatedLift::per_cam`]);
 //! * `thesis` (IV.2.3): normal deviates of the lift with the linearised standard
 //!   deviation of Appendix E at every `Δθ`, joined by a periodic spline
 //!   ([`DeviatedLift::thesis`]);
@@ -30,9 +33,16 @@ use crate::sim::{HostDeviation, PROFILE_KNOTS};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProfileMethod {
-    /// The thesis's one-dimensional method (IV.2.3): random lift points within the
-    /// linearised tolerance band, spline-fitted.
+    /// The cam contour's error per point as the thesis's (linearised), the roller
+    /// radius's error and the follower axis's offset drawn once per cam and applied
+    /// through the exact geometry (docs/MODEL.md §8.9).
     #[default]
+    #[value(name = "per-cam")]
+    #[serde(rename = "per-cam")]
+    PerCam,
+    /// The thesis's one-dimensional method (IV.2.3): random lift points within the
+    /// linearised tolerance band, spline-fitted; the roller and eccentricity terms drawn
+    /// anew at every point.
     Thesis,
     /// Exact contact of the roller circle with the random cam contour of IV.2.2.
     Envelope,
@@ -42,6 +52,7 @@ impl ProfileMethod {
     /// The command-line name.
     pub fn name(self) -> &'static str {
         match self {
+            ProfileMethod::PerCam => "per-cam",
             ProfileMethod::Thesis => "thesis",
             ProfileMethod::Envelope => "envelope",
         }
@@ -124,8 +135,10 @@ pub struct ActualArgs {
     /// Master seed: sample i's profile comes from (seed, i) alone (default 1).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// How the lift is made from the tolerances.
-    #[arg(long, value_enum, default_value_t = ProfileMethod::Thesis)]
+    /// How the lift is made from the tolerances: per-cam (roller radius and axis offset
+    /// one value a cam, exact geometry), thesis (IV.2.3: every error drawn at every
+    /// point) or envelope (the roller on the random contour).
+    #[arg(long, value_enum, default_value_t = ProfileMethod::PerCam)]
     pub profile_method: ProfileMethod,
     /// Normal deviates: sum12 (Appendix B) or polar (exact; alias "exact").
     #[arg(long, value_enum, default_value_t = NormalArg::Sum12)]
@@ -349,11 +362,16 @@ pub struct ProfileStats {
     /// deviation `de/dθ` over one revolution (see [`FPR_SAMPLES`], [`FPR_THRESHOLD`]).
     pub fpr: usize,
     /// Knots of the deviation spline over one revolution (`intervals` for the thesis's
-    /// method, [`envelope_knots`] for the envelope).
+    /// method, a multiple of it of at least 1440 for the per-cam method when the roller or
+    /// the axis is off, [`envelope_knots`] for the envelope).
     pub deviation_knots: usize,
-    /// The envelope's actual roller radius, in (None for the thesis's method).
+    /// The actual roller radius drawn once, in (the per-cam method and the envelope;
+    /// None for the thesis's method).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub roller_radius_in: Option<f64>,
+    /// The per-cam method's follower-axis offset, in (None for the other methods).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axis_offset_in: Option<f64>,
     /// The envelope's rotation-centre offset (x, y) in the cam frame, in (None for the
     /// thesis's method).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -579,8 +597,14 @@ pub fn interval_for_fpr(
         .ok_or_else(|| anyhow::anyhow!("--waviness-fpr {target}: no interval to try"))
 }
 
-/// The envelope's drawn roller radius (in) and rotation-centre offset (x, y, in).
-type EnvelopeParts = (f64, [f64; 2]);
+/// The errors drawn once per cam: the roller radius (in), the envelope's rotation-centre
+/// offset (x, y, in) and the per-cam method's axis offset (in).
+#[derive(Clone, Copy, Debug, Default)]
+struct CamParts {
+    roller_radius: Option<f64>,
+    centre: Option<[f64; 2]>,
+    axis_offset: Option<f64>,
+}
 
 /// The envelope's largest interpolation error of the perfect cam, as a fraction of the
 /// cam tolerance's σ, for an interval [`interval_for_fpr`] may choose: 0.1 (the
@@ -594,7 +618,7 @@ fn profile_from(
     args: &ActualArgs,
     intervals: usize,
     rng: &mut RandomStream<f64>,
-) -> Result<(HostDeviation, Option<EnvelopeParts>)> {
+) -> Result<(HostDeviation, CamParts)> {
     let tol = args.tolerances()?;
     let (program, geometry) = (&design.program, &design.geometry);
     let spec = ProfileSpec {
@@ -604,14 +628,40 @@ fn profile_from(
         intervals,
     };
     Ok(match args.profile_method {
-        ProfileMethod::Thesis => (DeviatedLift::thesis(&spec, rng)?, None),
+        ProfileMethod::PerCam => per_cam_profile(&spec, rng)?,
+        ProfileMethod::Thesis => (DeviatedLift::thesis(&spec, rng)?, CamParts::default()),
         ProfileMethod::Envelope => {
             let cam = Box::new(ActualCam::<f64, PROFILE_KNOTS>::generate(&spec, rng)?);
             let dev = DeviatedLift::envelope(program, geometry, &cam, envelope_knots(intervals))
                 .context("the roller's envelope on the actual contour")?;
-            (dev, Some((cam.roller_radius, [cam.centre.0, cam.centre.1])))
+            let parts = CamParts {
+                roller_radius: Some(cam.roller_radius),
+                centre: Some([cam.centre.0, cam.centre.1]),
+                axis_offset: None,
+            };
+            (dev, parts)
         }
     })
+}
+
+/// The per-cam method's deviation and its drawn roller radius and axis offset (its own
+/// frame, not inlined: two revolution-long splines are large on a small stack).
+#[inline(never)]
+fn per_cam_profile(
+    spec: &ProfileSpec<'_, f64, 8>,
+    rng: &mut RandomStream<f64>,
+) -> Result<(HostDeviation, CamParts)> {
+    let mut contour = Box::new(HostDeviation::EMPTY);
+    let axis = contour.draw_per_cam(spec, rng)?;
+    let mut dev = Box::new(HostDeviation::EMPTY);
+    dev.refit_per_cam(&contour, &axis, spec)
+        .context("the roller and the follower axis on the actual cam")?;
+    let parts = CamParts {
+        roller_radius: Some(spec.geometry.roller_radius + axis.roller),
+        axis_offset: Some(axis.offset),
+        centre: None,
+    };
+    Ok((*dev, parts))
 }
 
 /// The actual cam of sample `sample` for `args` on `design`, and its statistics.
@@ -646,8 +696,9 @@ pub fn build_profile(
         rms_curvature_in_per_rad2: ds.rms_curvature_in_per_rad2,
         fpr: ds.fpr,
         deviation_knots: dev.spline().len().saturating_sub(1),
-        roller_radius_in: cam_parts.map(|c| c.0),
-        centre_offset_in: cam_parts.map(|c| c.1),
+        roller_radius_in: cam_parts.roller_radius,
+        axis_offset_in: cam_parts.axis_offset,
+        centre_offset_in: cam_parts.centre,
     };
     Ok((dev, stats))
 }

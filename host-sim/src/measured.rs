@@ -84,3 +84,45 @@ impl MeasuredProfile for Measured {
         ))
     }
 }
+
+/// A measured revolution's waviness as a study takes it (`camsim waviness --measured`,
+/// `camsim run --measured`): its FPR, RMS deviation, the equivalent ± cam tolerance
+/// (three times the RMS, as a tolerance is three standard deviations, IV.2.2) and the
+/// `--waviness-fpr` that studies cams of that waviness.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MeasuredWaviness {
+    /// Waviness frequency per revolution (VI.4.1).
+    pub fpr: usize,
+    /// RMS of the lift deviation over one revolution, in.
+    pub rms_deviation_in: f64,
+    /// The equivalent ± cam tolerance, 3 × RMS, in.
+    pub equivalent_tolerance_in: f64,
+    /// The `--waviness-fpr` to study it with: the FPR, within the option's 2..=2000.
+    pub waviness_fpr: u32,
+}
+
+impl MeasuredWaviness {
+    /// From a measured profile's statistics.
+    pub fn of(stats: &MeasuredStats) -> Self {
+        MeasuredWaviness {
+            fpr: stats.fpr,
+            rms_deviation_in: stats.rms_deviation_in,
+            equivalent_tolerance_in: 3.0 * stats.rms_deviation_in,
+            waviness_fpr: stats.fpr.clamp(2, 2000) as u32,
+        }
+    }
+
+    /// The one line both commands print.
+    pub fn line(&self) -> String {
+        use crate::units::{q, symbol, LENGTH};
+        let unit = symbol(LENGTH);
+        format!(
+            "measured waviness: FPR {}, RMS deviation {:.3e} {unit}, equivalent cam tolerance \
+             ±{:.3e} {unit} (3 sigma); study cams like it with --waviness-fpr {}",
+            self.fpr,
+            q(LENGTH, self.rms_deviation_in, 0).value,
+            q(LENGTH, self.equivalent_tolerance_in, 0).value,
+            self.waviness_fpr
+        )
+    }
+}

@@ -352,9 +352,10 @@ fn run_actual_reports_the_profile_and_is_reproducible() {
     let Some(run::ProfileReport::Actual(p)) = &a.profile else {
         panic!("{:?}", a.profile)
     };
+    // The per-cam method splines at 20 points an interval (1440 a revolution).
     assert_eq!(
         (p.seed, p.sample, p.intervals, p.deviation_knots),
-        (7, 0, 72, 72)
+        (7, 0, 72, 1440)
     );
     assert_eq!(a.fpr, Some(p.fpr));
     // The profile is camsim::actual::build_profile's sample 0.
@@ -396,7 +397,7 @@ fn run_actual_reports_the_profile_and_is_reproducible() {
     ] {
         assert!(json["profile"].get(key).is_some(), "{key}");
     }
-    assert_eq!(json["profile"]["method"], "thesis");
+    assert_eq!(json["profile"]["method"], "per-cam");
     // --plot adds the profile deviation against cam angle.
     let d = scratch("plot");
     let dir = d.join("plots");

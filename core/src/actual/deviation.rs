@@ -4,9 +4,14 @@
 //! contour; a measured revolution in [`crate::sampled_deviation`]).
 
 use crate::{
-    ActualCam, CamGeometry, CamProgram, CubicSpline, Error, FollowerLift, LiftProfile, ProfileSpec,
-    RandomStream, Real, Result, SplinePoint,
+    actual::follower_axis::AxisErrors, ActualCam, CamGeometry, CamProgram, CubicSpline, Error,
+    FollowerLift, LiftProfile, ProfileSpec, RandomStream, Real, Result, SplinePoint,
 };
+
+/// Points a revolution at least at which the per-cam method applies the roller's and
+/// the axis's exact geometry ([`DeviatedLift::per_cam`]): 1440, every 0.25° (the spline
+/// between them then follows the smooth per-cam lift far below 1e-9 in).
+pub const AXIS_KNOTS: usize = 1440;
 
 /// The program plus a periodic deviation spline over one revolution with at most `K`
 /// knots (the last knot repeats the first at 2π).
@@ -90,6 +95,84 @@ impl<T: Real, const K: usize> DeviatedLift<T, K> {
             let (_, sigma) = spec.lift_and_sigma(k, step);
             rng.gaussian(T::ZERO, sigma)
         })
+    }
+
+    /// The per-cam method's draws (docs/MODEL.md §8.9), in place: this deviation becomes
+    /// the cam contour's error per point as the thesis has it (`σ_c z_k / cos φ` at
+    /// `θ_k = 2πk/intervals`, the contour term of Eq. E.5, drawn first, so that with no
+    /// roller or axis error this is [`Self::thesis`] bit for bit); then once per cam
+    /// the roller radius's error `Δr = σ_r z` and the follower axis's offset
+    /// `e = σ_e z` are drawn and returned. [`Self::refit_per_cam`] adds them through the
+    /// exact geometry. Needs `3 ≤ intervals < K`.
+    pub fn draw_per_cam<const S: usize>(
+        &mut self,
+        spec: &ProfileSpec<'_, T, S>,
+        rng: &mut RandomStream<T>,
+    ) -> Result<AxisErrors<T>> {
+        let step = spec.step::<K>()?;
+        let (_, sr, se) = spec.tolerances.sigmas();
+        let cam_only = crate::Tolerances {
+            roller: T::ZERO,
+            eccentricity: T::ZERO,
+            ..*spec.tolerances
+        };
+        self.spline
+            .refit_periodic_from_fn(step, spec.intervals, |k| {
+                let f = spec.program.follower(T::from_usize(k) * step);
+                rng.gaussian(T::ZERO, cam_only.lift_sigma(spec.geometry, f.y, f.dy))
+            })?;
+        Ok(AxisErrors {
+            roller: rng.gaussian(T::ZERO, sr),
+            offset: rng.gaussian(T::ZERO, se),
+        })
+    }
+
+    /// Points a revolution of the per-cam lift for `intervals` contour points: the
+    /// smallest multiple of `intervals` of at least [`AXIS_KNOTS`], at most `K − 1`.
+    pub fn per_cam_points(intervals: usize) -> usize {
+        let n = intervals.max(1);
+        let per = AXIS_KNOTS.div_ceil(n).min(K.saturating_sub(1) / n).max(1);
+        per * n
+    }
+
+    /// This deviation becomes the per-cam lift: `contour` (from [`Self::draw_per_cam`])
+    /// plus `axis` applied through the exact geometry ([`AxisErrors::lift_deviation`])
+    /// at [`Self::per_cam_points`] points, splined (the contour's knots are among them).
+    /// With both errors zero it becomes `contour` itself. In place: a `K`-knot spline is
+    /// large, and the contour is read while this one is built.
+    pub fn refit_per_cam<const S: usize>(
+        &mut self,
+        contour: &Self,
+        axis: &AxisErrors<T>,
+        spec: &ProfileSpec<'_, T, S>,
+    ) -> Result<()> {
+        if axis.is_zero() {
+            self.clone_from(contour);
+            return Ok(());
+        }
+        let n = Self::per_cam_points(spec.intervals);
+        let fine = T::TWO * T::PI / T::from_usize(n);
+        let mut failed = None;
+        self.spline.refit_periodic_from_fn(fine, n, |j| {
+            let th = T::from_usize(j) * fine;
+            let a = axis
+                .lift_deviation(spec.program, spec.geometry, th)
+                .unwrap_or_else(|e| {
+                    failed.get_or_insert(e);
+                    T::ZERO
+                });
+            contour.spline.value(th) + a
+        })?;
+        if let Err(e) = Self::check_span(&self.spline) {
+            self.spline
+                .refit(&[], &[], crate::SplineEnds::Periodic)
+                .ok();
+            return Err(e);
+        }
+        match failed {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
     }
 
     /// The lift deviation of the exact envelope on `cam`: at `θ_k = 2πk/intervals`,

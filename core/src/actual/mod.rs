@@ -4,6 +4,7 @@
 
 pub(crate) mod deviation;
 pub(crate) mod envelope;
+pub(crate) mod follower_axis;
 pub(crate) mod profile;
 pub(crate) mod random;
 pub(crate) mod sampled;

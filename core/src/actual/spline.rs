@@ -400,6 +400,55 @@ impl<T: Real, const N: usize> CubicSpline<T, N> {
         )
     }
 
+    /// [`Self::periodic_from_fn`] in place (no second spline on the stack). On an error
+    /// it is left without points ([`Self::is_empty`]).
+    pub fn refit_periodic_from_fn(
+        &mut self,
+        step: T,
+        intervals: usize,
+        mut value: impl FnMut(usize) -> T,
+    ) -> Result<(), SplineError> {
+        let r = self.refit_periodic_inner(step, intervals, &mut value);
+        if r.is_err() {
+            self.n = 0;
+        }
+        r
+    }
+
+    fn refit_periodic_inner(
+        &mut self,
+        step: T,
+        intervals: usize,
+        value: &mut impl FnMut(usize) -> T,
+    ) -> Result<(), SplineError> {
+        if !(step.is_finite() && step > T::ZERO) {
+            return Err(SplineError::NotIncreasing { index: 1 });
+        }
+        let points = intervals.saturating_add(1);
+        Self::check_count(points, SplineEnds::Periodic)?;
+        self.x.fill(T::ZERO);
+        self.y.fill(T::ZERO);
+        self.m.fill(T::ZERO);
+        self.n = points;
+        self.periodic = true;
+        self.inv_step = T::ZERO;
+        let mut first = T::ZERO;
+        for (i, (dst, vdst)) in self
+            .x
+            .iter_mut()
+            .zip(self.y.iter_mut())
+            .take(points)
+            .enumerate()
+        {
+            *dst = T::from_usize(i) * step;
+            *vdst = if i == intervals { first } else { value(i) };
+            if i == 0 {
+                first = *vdst;
+            }
+        }
+        self.build(SplineEnds::Periodic)
+    }
+
     /// The spline through `point(i) = (knot, value)`, `i < points` (called once for
     /// each `i`, in order), without buffers of knots and values: [`Self::new`]'s count,
     /// finiteness and order checks and its arithmetic.

@@ -563,6 +563,8 @@ impl Report for RunReport {
                         p.fpr
                     )
                 );
+                let w = crate::measured::MeasuredWaviness::of(p);
+                let _ = writeln!(out, "{}", w.line());
             }
             None => {}
         }

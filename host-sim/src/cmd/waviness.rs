@@ -18,6 +18,7 @@ use camsim_core::{check_interval, Design, ProfileSpec, RandomStream};
 use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileMethod};
+use crate::measured::{MeasuredProfile, MeasuredWaviness};
 use crate::report::Report;
 
 /// Command-line options.
@@ -29,6 +30,11 @@ pub struct Args {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Instead of the table, a measured revolution's waviness (the CSV of `run
+    /// --measured`, on the reference design): its FPR, RMS deviation, the equivalent
+    /// ± cam tolerance (3 sigma) and the --waviness-fpr to study cams like it with.
+    #[arg(long, value_name = "FILE", conflicts_with = "seeds")]
+    pub measured: Option<std::path::PathBuf>,
 }
 
 /// The whole-degree intervals of the table.
@@ -127,6 +133,7 @@ pub fn report(args: &Args) -> Result<WavinessReport> {
         }
         let first = ActualArgs {
             seed: seeds.first().copied(),
+            profile_method: ProfileMethod::Thesis,
             ..ActualArgs::default()
         };
         let mut rng = RandomStream::<f64>::new(first.seed(), first.normal.into());
@@ -163,7 +170,25 @@ pub fn report(args: &Args) -> Result<WavinessReport> {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
+    if let Some(path) = &args.measured {
+        return crate::report::print(&measured(path)?, args.json);
+    }
     crate::report::print(&report(&args)?, args.json)
+}
+
+/// `--measured FILE`: the revolution's waviness on the reference design.
+pub fn measured(path: &std::path::Path) -> Result<MeasuredWaviness> {
+    let design = Design::<f64>::reference();
+    let (_, stats) = crate::measured::load(path)?
+        .profile(&design)
+        .map_err(|e| anyhow::anyhow!("--measured {}: {e:#}", path.display()))?;
+    Ok(MeasuredWaviness::of(&stats))
+}
+
+impl Report for MeasuredWaviness {
+    fn text(&self) -> String {
+        format!("{}\n", self.line())
+    }
 }
 
 fn range(v: &[usize]) -> String {
@@ -236,5 +261,39 @@ impl Report for WavinessReport {
              curvature of the actual displacement curve, {unit} (the second reading of crit. 1: rho_y >= roller radius)"
         );
         out
+    }
+}
+
+#[cfg(test)]
+mod measured_tests {
+    use super::*;
+
+    #[test]
+    fn n_sinusoidal_waves_have_fpr_2n() {
+        // e = a sin nθ: e' = a n cos nθ has 2n extrema a revolution (FPR 2n), RMS a/√2,
+        // the equivalent tolerance 3a/√2.
+        let dir = std::env::temp_dir().join(format!("camsim-wav-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let a = 2e-4;
+        for n in [3usize, 7, 20, 45] {
+            let mut csv = String::from("angle_deg,deviation_in\n");
+            for k in 0..720 {
+                let th = (k as f64 * 0.5).to_radians();
+                csv.push_str(&format!(
+                    "{},{:e}\n",
+                    k as f64 * 0.5,
+                    a * (n as f64 * th).sin()
+                ));
+            }
+            let f = dir.join(format!("w{n}.csv"));
+            std::fs::write(&f, csv).unwrap();
+            let w = measured(&f).unwrap();
+            assert_eq!((w.fpr, w.waviness_fpr), (2 * n, 2 * n as u32), "n {n}");
+            let rms = a / 2f64.sqrt();
+            assert!((w.rms_deviation_in - rms).abs() < 1e-3 * rms, "{w:?}");
+            assert_eq!(w.equivalent_tolerance_in, 3.0 * w.rms_deviation_in);
+            assert!(w.line().contains(&format!("--waviness-fpr {}", 2 * n)));
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }
