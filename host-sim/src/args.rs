@@ -412,6 +412,35 @@ pub fn tolerance_in(s: &str) -> Result<f64, String> {
     }
 }
 
+/// The range `--allowable-stress` takes, psi: 1 000 psi (6.9 MPa) to 1 000 000 psi
+/// (6 895 MPa). The contact endurance strength of cam materials lies inside it, from
+/// about 8 000 psi for a cast nylon to about 300 000 psi for a carburised steel (Norton,
+/// Cam Design and Manufacturing Handbook); a value outside is a slip of the unit (a
+/// psi number read as MPa is 145 times too large) or of a digit.
+pub const ALLOWABLE_STRESS_PSI: (f64, f64) = (1.0e3, 1.0e6);
+
+/// An allowable contact stress, psi (or with its unit, MPa): within
+/// [`ALLOWABLE_STRESS_PSI`].
+pub fn allowable_stress(s: &str) -> Result<f64, String> {
+    let x = in_inch_family(s, camsim_scene_file::units::STRESS)?;
+    let (lo, hi) = ALLOWABLE_STRESS_PSI;
+    if x.is_finite() && (lo..=hi).contains(&x) {
+        Ok(x)
+    } else {
+        Err(format!(
+            "must lie in [{lo}, {hi}] psi = [6.89, 6895] MPa (the contact endurance of cam materials; give the unit, 150000psi or 1034MPa)"
+        ))
+    }
+}
+
+/// A spring-rate resolution, lb/in (or with its unit, N/mm): positive and finite.
+pub fn rate_resolution(s: &str) -> Result<f64, String> {
+    match in_inch_family(s, camsim_scene_file::units::STIFFNESS)? {
+        x if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err("must be positive and finite".into()),
+    }
+}
+
 /// A speed resolution, rpm: positive, at most the whole speed range (10 000 rpm); below
 /// the numbers' spacing the bisection ends on neighbouring speeds.
 pub fn resolution_rpm(s: &str) -> Result<f64, String> {

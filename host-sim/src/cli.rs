@@ -211,7 +211,7 @@ fn report_error(line: &str) {
 }
 
 /// Under `--units si`, the first option that takes an inch-family quantity (its value
-/// name `IN`, `LB_PER_IN` or `LB`) and was given a bare number: the message refusing it.
+/// name `IN`, `LB_PER_IN`, `LB` or `PSI`) and was given a bare number: the message refusing it.
 /// A bare number there is inch (as the option's help says), which a command line in SI
 /// would not mean; with its unit (`17.5N/mm`, `100lb/in`) it is read either way.
 pub fn bare_inch_number(args: &[OsString]) -> Option<String> {
@@ -234,6 +234,7 @@ fn bare_in(cmd: &clap::Command, m: &clap::ArgMatches) -> Option<String> {
             Some("IN") => LENGTH,
             Some("LB_PER_IN") => STIFFNESS,
             Some("LB") => crate::units::FORCE,
+            Some("PSI") => camsim_scene_file::units::STRESS,
             _ => continue,
         };
         let id = arg.get_id().as_str();

@@ -436,8 +436,8 @@ pub struct SpringArgs {
     /// Worker threads (default: every core). The answer does not depend on it.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub threads: Option<u32>,
-    /// Bracket width the search stops at, lb/in.
-    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::positive_finite)]
+    /// Bracket width the search stops at, lb/in, or with its unit (0.2N/mm).
+    #[arg(long, default_value_t = 1.0, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = crate::args::rate_resolution)]
     pub resolution: f64,
     /// Largest rate searched, lb/in, or with its unit (N/mm).
     #[arg(long, default_value_t = MAX_RATE, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = crate::args::spring_rate)]

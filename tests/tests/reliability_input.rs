@@ -1,0 +1,86 @@
+//! Issue 33 (reliability, third pass), the input defects: each as a test that failed on
+//! 6b065a3. The commands run through `camsim::cli` as the binary runs them:
+//! [`camsim::cli::bare_inch_number`] for the unit rule under `--units si`, the parse and
+//! [`camsim::cli::execute`] for a refusal's line.
+
+use camsim::cli;
+
+mod common;
+
+/// Parses and runs a command line; the refusal's one line (as the binary prints it
+/// after `camsim: error: `), or "OK".
+fn outcome(args: &[&str]) -> String {
+    let argv = std::iter::once("camsim").chain(args.iter().copied());
+    match cli::parse_from(argv) {
+        Err(e) => format!("usage: {}", cli::usage_message(&e)),
+        Ok(c) => match cli::execute(c) {
+            Ok(()) => "OK".into(),
+            Err(e) => cli::error_line(&e),
+        },
+    }
+}
+
+/// The refusal of a bare number under `--units si`, if any.
+fn si_bare(args: &[&str]) -> Option<String> {
+    let argv: Vec<std::ffi::OsString> = std::iter::once("camsim")
+        .chain(args.iter().copied())
+        .map(Into::into)
+        .collect();
+    cli::bare_inch_number(&argv)
+}
+
+// Defect 7: stress in psi or MPa with a range; the lengths and the spring search's
+// resolution take their unit.
+#[test]
+fn stress_and_length_options_take_their_unit_and_stress_has_a_range() {
+    // A psi number under --units si is refused, not read as 150 000 MPa.
+    let e = si_bare(&["--units", "si", "run", "--allowable-stress", "150000"]).unwrap();
+    assert!(
+        e.contains("--allowable-stress 150000") && e.contains("150000MPa"),
+        "{e}"
+    );
+    // 1034 MPa and 149 969 psi (1034 / 0.0068947572931783...) are one allowable.
+    let parse = |v: &str| {
+        let c = cli::parse_from(["camsim", "run", "--allowable-stress", v]).unwrap();
+        let cli::Command::Run(a) = c.command else {
+            panic!("not run")
+        };
+        a.verdict.allowable_stress.unwrap()
+    };
+    let psi_per_mpa = 25.4 * 25.4 / 4.448_221_615_260_5;
+    assert!((parse("1034MPa") - 1034.0 * psi_per_mpa).abs() < 1e-9);
+    assert_eq!(parse("150000psi"), 150_000.0);
+    // Far outside any cam material's endurance: refused with the range.
+    for bad in ["0.001", "1e9", "1e6MPa", "-5", "nan"] {
+        let e = outcome(&["run", "--allowable-stress", bad]);
+        assert!(
+            e.contains("--allowable-stress") && e.contains("[1000, 1000000] psi"),
+            "{bad}: {e}"
+        );
+    }
+    // The lengths of profile and the resolution of design spring take their unit.
+    for argv in [
+        &["profile", "--cutter-radius", "12.7mm"][..],
+        &["profile", "--chord-error", "0.002mm"],
+        &["design", "spring", "--resolution", "1N/mm"],
+    ] {
+        let c = cli::parse_from(std::iter::once("camsim").chain(argv.iter().copied()));
+        assert!(c.is_ok(), "{argv:?}: {:?}", c.err().map(|e| e.to_string()));
+        let mut si = vec!["--units", "si"];
+        si.extend_from_slice(argv);
+        assert_eq!(si_bare(&si), None, "{si:?}");
+        // Without the unit under si: refused naming the option.
+        si.pop();
+        si.push("1");
+        let e = si_bare(&si).unwrap();
+        assert!(
+            e.starts_with(&format!("{} 1: with --units si", argv[argv.len() - 2])),
+            "{e}"
+        );
+    }
+    let c = cli::parse_from(["camsim", "profile", "--cutter-radius", "12.7mm"]).unwrap();
+    let cli::Command::Profile(a) = c.command else {
+        panic!("not profile")
+    };
+    assert_eq!(a.cutter_radius, Some(0.5));
+}
