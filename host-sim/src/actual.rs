@@ -113,7 +113,7 @@ pub struct ActualArgs {
     /// whose profile, drawn from the master seed, has the FPR nearest N. Default 17,
     /// the thesis's study cams at VI.1's tolerances (Table VI.2); 39 its rougher cam,
     /// 57 its cams at ±0.0025/±0.0005 in.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=2000))]
+    #[arg(long, value_name = "N", value_parser = crate::args::whole_u32::<2, 2000>)]
     pub waviness_fpr: Option<u32>,
     /// How the interval is set when --interval-deg is not given: `waviness` (the FPR of
     /// --waviness-fpr, default 17) or `criteria` (the smallest whole-degree interval
@@ -122,7 +122,7 @@ pub struct ActualArgs {
     #[arg(long, value_enum, default_value_t = IntervalRule::Waviness)]
     pub interval: IntervalRule,
     /// Master seed: sample i's profile comes from (seed, i) alone (default 1).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// How the lift is made from the tolerances.
     #[arg(long, value_enum, default_value_t = ProfileMethod::Thesis)]

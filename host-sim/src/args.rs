@@ -450,6 +450,31 @@ pub fn resolution_rpm(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A random seed: a whole number from 0 to 2^64 - 1 (`-1` is refused by this rule, not
+/// taken for a flag).
+pub fn seed(s: &str) -> Result<u64, String> {
+    s.trim()
+        .parse::<u64>()
+        .map_err(|_| format!("must be a whole number from 0 to {}", u64::MAX))
+}
+
+/// A whole number from `LO` to `HI` (counts: samples, threads, points), read so that a
+/// negative or fractional value is refused by the option's own range.
+pub fn whole_u64<const LO: u64, const HI: u64>(s: &str) -> Result<u64, String> {
+    match s.trim().parse::<u64>() {
+        Ok(n) if (LO..=HI).contains(&n) => Ok(n),
+        _ => Err(format!("must be a whole number from {LO} to {HI}")),
+    }
+}
+
+/// [`whole_u64`] for a `u32` count.
+pub fn whole_u32<const LO: u32, const HI: u32>(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(n) if (LO..=HI).contains(&n) => Ok(n),
+        _ => Err(format!("must be a whole number from {LO} to {HI}")),
+    }
+}
+
 /// A whole number of megabytes, at least 1 (size limits).
 pub fn megabytes(s: &str) -> Result<u64, String> {
     match s.trim().parse::<u64>() {

@@ -93,13 +93,37 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    Cli::try_parse_from(args)
+    use clap::FromArgMatches;
+    let matches = command().try_get_matches_from(args)?;
+    Cli::from_arg_matches(&matches)
 }
 
-/// The command tree as clap builds it (its commands, options and help).
+/// The command tree as clap builds it (its commands, options and help), every option
+/// that takes a value taking a negative number as its value ([`negatives_are_values`]).
 pub fn command() -> clap::Command {
     use clap::CommandFactory;
-    Cli::command()
+    negatives_are_values(Cli::command())
+}
+
+/// `cmd` and its subcommands with every value-taking option accepting a value that
+/// looks like a negative number (`--seed -1`, `--shard -1/2`, `--rpm -100:100:3`), so
+/// that it reaches the option's own rule and its message names the option, instead of
+/// clap's "unexpected argument '-1' found".
+fn negatives_are_values(cmd: clap::Command) -> clap::Command {
+    let cmd = cmd.mut_args(|a| {
+        if a.get_action().takes_values() {
+            a.allow_negative_numbers(true)
+        } else {
+            a
+        }
+    });
+    let names: Vec<String> = cmd
+        .get_subcommands()
+        .map(|s| s.get_name().to_string())
+        .collect();
+    names
+        .into_iter()
+        .fold(cmd, |c, n| c.mut_subcommand(n, negatives_are_values))
 }
 
 /// Runs a parsed command.
@@ -163,9 +187,8 @@ pub fn usage_line(e: &clap::Error) -> String {
 /// command (bare `camsim`) says so and lists the commands instead of printing the tool's
 /// description as if it were the error.
 pub fn usage_message(e: &clap::Error) -> String {
-    use clap::CommandFactory;
     if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
-        let cmd = Cli::command();
+        let cmd = command();
         let names: Vec<&str> = cmd
             .get_subcommands()
             .filter(|c| !c.is_hide_set())
@@ -215,7 +238,7 @@ fn report_error(line: &str) {
 /// A bare number there is inch (as the option's help says), which a command line in SI
 /// would not mean; with its unit (`17.5N/mm`, `100lb/in`) it is read either way.
 pub fn bare_inch_number(args: &[OsString]) -> Option<String> {
-    if Cli::try_parse_from(args).ok()?.units != crate::units::Units::Si {
+    if parse_from(args).ok()?.units != crate::units::Units::Si {
         return None;
     }
     let cmd = command();
@@ -272,7 +295,7 @@ where
     T: Into<OsString> + Clone,
 {
     let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
-    let cli = match Cli::try_parse_from(&args) {
+    let cli = match parse_from(&args) {
         Ok(c) if c.units == crate::units::Units::Si => match bare_inch_number(&args) {
             Some(line) => {
                 report_error(&format!(

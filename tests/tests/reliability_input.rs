@@ -84,3 +84,48 @@ fn stress_and_length_options_take_their_unit_and_stress_has_a_range() {
     };
     assert_eq!(a.cutter_radius, Some(0.5));
 }
+
+// Defect 10: a negative value reaches the option's own rule, and the message names the
+// option (not clap's "unexpected argument '-1' found").
+#[test]
+fn negative_values_reach_the_options_rule() {
+    for (argv, rule) in [
+        (
+            &["design", "tolerance", "--waviness-fpr", "-1"][..],
+            "--waviness-fpr",
+        ),
+        (&["design", "spring", "--actual", "--seed", "-1"], "--seed"),
+        (&["waviness", "--seeds", "1,-1"], "--seeds"),
+        (&["tolerance-study", "--seed", "-1"], "--seed"),
+        (&["montecarlo", "--samples", "-3"], "--samples"),
+        (
+            &[
+                "montecarlo",
+                "--samples",
+                "2",
+                "--out",
+                "x",
+                "--shard",
+                "-1/2",
+            ],
+            "--shard",
+        ),
+        (&["sweep", "--rpm", "-100:100:3"], "--rpm"),
+        (&["sweep", "--threads", "-2"], "--threads"),
+    ] {
+        let e = outcome(argv);
+        assert!(
+            e.starts_with("usage: invalid value '-") && e.contains(rule),
+            "{argv:?}: {e}"
+        );
+        assert!(!e.contains("unexpected argument"), "{argv:?}: {e}");
+    }
+    // The rules say what they take.
+    let e = outcome(&["design", "spring", "--actual", "--seed", "-1"]);
+    assert!(
+        e.contains("whole number from 0 to 18446744073709551615"),
+        "{e}"
+    );
+    let e = outcome(&["sweep", "--rpm", "-100:100:3"]);
+    assert!(e.contains("FROM -100: must lie in [1, 10000] rpm"), "{e}");
+}

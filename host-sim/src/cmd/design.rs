@@ -59,17 +59,17 @@ pub struct McArgs {
     pub p_max: f64,
     /// Actual cams a step (default: the fewest whose upper bound can be at most --p-max
     /// with no jump, 381 for 0.01).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    #[arg(long, value_parser = crate::args::whole_u64::<1, 1_000_000>)]
     pub samples: Option<u64>,
     /// Master seed of the actual cams (the same cams at every step).
-    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED)]
+    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, value_parser = crate::args::seed)]
     pub seed: u64,
     /// Worker threads (default: every core). The answer does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// The cams' waviness, FPR (default 17, the thesis's study cams; 39 and 57 its
     /// rougher ones): the tolerance that passes depends strongly on it.
-    #[arg(long, value_name = "FPR", value_parser = clap::value_parser!(u32).range(2..=2000))]
+    #[arg(long, value_name = "FPR", value_parser = crate::args::whole_u32::<2, 2000>)]
     pub waviness_fpr: Option<u32>,
     /// `design tolerance` only: search the roughest waviness instead, the highest FPR
     /// (the shortest waves: the acceleration a wave imposes grows as FPR², docs/MODEL.md
@@ -428,13 +428,13 @@ pub struct SpringArgs {
     pub p_max: f64,
     /// Actual cams per rate, with --actual (default: the fewest whose upper bound can be
     /// at most --p-max with no jump, 381 for 0.01).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=1_000_000), requires = "actual")]
+    #[arg(long, value_parser = crate::args::whole_u64::<1, 1_000_000>, requires = "actual")]
     pub samples: Option<u64>,
     /// Master seed of the actual cams (the same cams at every rate).
-    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, requires = "actual")]
+    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, value_parser = crate::args::seed, requires = "actual")]
     pub seed: u64,
     /// Worker threads (default: every core). The answer does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// Bracket width the search stops at, lb/in, or with its unit (0.2N/mm).
     #[arg(long, default_value_t = 1.0, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = crate::args::rate_resolution)]

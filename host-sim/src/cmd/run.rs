@@ -42,7 +42,7 @@ pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Revolutions to simulate, 1-16 (default 3, or the scene's).
-    #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::whole_u32::<1, 16>)]
     pub revolutions: Option<u32>,
     /// Write the response to FILE as CSV: one row every --csv-every-deg degrees of cam
     /// angle (written whole at the end of a successful run; an existing FILE needs --force).
