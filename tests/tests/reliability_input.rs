@@ -129,3 +129,37 @@ fn negative_values_reach_the_options_rule() {
     let e = outcome(&["sweep", "--rpm", "-100:100:3"]);
     assert!(e.contains("FROM -100: must lie in [1, 10000] rpm"), "{e}");
 }
+
+// Defect 3: a --p-max no study within the sample limit can show is refused before any
+// work, naming the smallest p the limit allows; that p is itself accepted.
+#[test]
+fn an_impossible_p_max_is_refused_naming_the_smallest_it_allows() {
+    for argv in [
+        &["design", "tolerance", "--p-max", "1e-9"][..],
+        &["design", "speed", "--p-max", "1e-12"],
+        &["design", "spring", "--actual", "--p-max", "1e-12"],
+    ] {
+        let e = outcome(argv);
+        assert!(
+            e.contains("over the sample limit of a study")
+                && e.contains("the smallest --p-max it allows is"),
+            "{argv:?}: {e}"
+        );
+    }
+    let e = outcome(&["design", "tolerance", "--p-max", "1e-9"]);
+    let p: f64 = e
+        .rsplit("allows is ")
+        .next()
+        .unwrap()
+        .trim_end_matches(')')
+        .parse()
+        .unwrap();
+    // Independently: the Wilson upper 95 % bound with no jump in n cams is
+    // z^2 / (n + z^2), z = 1.959963984540054; at n = 1e6 it is 3.8415e-6.
+    let z2 = 1.959_963_984_540_054_f64.powi(2);
+    let bound = z2 / (1e6 + z2);
+    assert!(p >= bound && p < bound * 1.01, "{p} vs {bound}");
+    // The p it names needs at most the limit's cams, the same limit as --samples.
+    assert!(camsim::cmd::design::samples_for(p) <= camsim::study_limits::MAX_STUDY_SAMPLES);
+    assert!(outcome(&["design", "tolerance", "--samples", "1000001"]).contains("1 to 1000000"));
+}
