@@ -140,7 +140,7 @@ pub struct ActualArgs {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum IntervalRule {
-    /// The waviness stated by `--waviness-fpr` (default [`DEFAULT_FPR`]).
+    /// The waviness stated by `--waviness-fpr` (default 17, the thesis's study cams).
     #[default]
     Waviness,
     /// The three criteria of IV.2.3.

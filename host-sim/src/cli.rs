@@ -12,27 +12,20 @@ use crate::cmd;
 
 /// Simulation of real cam-follower mechanisms (Kim 1982, eleven degrees of freedom).
 #[derive(Parser, Debug)]
-#[command(name = "camsim", version, about, long_about = None)]
+#[command(name = "camsim", version, about, long_about = None, after_long_help = UNITS_HELP)]
 pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
-    /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
-    /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), every command's
-    /// tables (run, sweep, jump-speed, laws, modal, contact, montecarlo, compare,
-    /// tolerance-study, sensitivity, design, models, bench, predict, waviness), the scene
-    /// file of scene (SI keys), the --csv of run and sweep, the plots, and
-    /// run's --allowable-stress (MPa); firmware-check prints bytes, instructions and rpm
-    /// only, the same in either. The options with a length, spring rate or force
-    /// (--spring-rate, --preload-length, --atol, the tolerances, contact's --force) take a
-    /// value with its unit in either family (17.5N/mm, 12.7mm); a bare number is the
-    /// inch family's, and with si it is refused (give the unit).
+    /// Units of the output: inch (in, lb, psi; the default) or si (mm, N, MPa); with si a
+    /// length, rate, force or stress option needs its unit (see `camsim --help`).
     #[arg(
         long,
         global = true,
         value_enum,
         value_name = "FAMILY",
-        default_value = "inch"
+        default_value = "inch",
+        hide_possible_values = true
     )]
     pub units: crate::units::Units,
 }
@@ -63,7 +56,7 @@ pub enum Command {
     Predict(cmd::predict::Args),
     /// Check the firmware's decoded QEMU logs: memory against llvm-size and memory.x, real-time factor, fault reactions, boot failure.
     FirmwareCheck(cmd::firmware_check::Args),
-    /// Many actual cams in parallel: statistics of every per-period column and the jump probability.
+    /// Many actual cams in parallel: statistics of every per-period column and the jump probability; `montecarlo merge` combines the shards of a study.
     Montecarlo(cmd::montecarlo::Args),
     /// The cam as a drawing: surface, pitch curve and cutter path as DXF and CSV; the SVAJ plot.
     Profile(cmd::profile::Args),
@@ -79,9 +72,24 @@ pub enum Command {
     /// of a grid, on the theoretical cam and (--actual) as P(jump) and bands over actual cams.
     Sweep(cmd::sweep::Args),
     /// What to build, found by search: `design spring` (the smallest return-spring rate
-    /// holding contact with a margin, or P(jump) <= p on actual cams).
+    /// holding contact with a margin, or P(jump) <= p on actual cams), `design speed` (the
+    /// highest speed) and `design tolerance` (the loosest tolerance or roughest waviness)
+    /// at P(jump) <= p.
     Design(cmd::design::Args),
 }
+
+/// `--units`, explained once (the end of `camsim --help`; each command's help gives
+/// one line).
+pub const UNITS_HELP: &str = "Units (--units inch|si, on every command):
+  inch (the thesis's: in, lb, psi, lb in; the default; `in` also reads) or si (mm, N,
+  MPa, N m, N/mm, kg; `mm` also reads). The family converts every --json key (each names
+  its unit), every command's tables, the scene file of `scene` (SI keys), the --csv of
+  run and sweep and the plots; firmware-check prints bytes, instructions and rpm only,
+  the same in either. The options with a length, spring rate, force or stress
+  (--spring-rate, --preload-length, --atol, the tolerances, contact's --force, run's
+  --allowable-stress, profile's --cutter-radius and --chord-error, design spring's
+  --resolution) take a value with its unit in either family (17.5N/mm, 12.7mm, 1034MPa);
+  a bare number is the inch family's, and with si it is refused (give the unit).";
 
 /// What `camsim scenes` prints to standard error before it runs `models`.
 pub const SCENES_RENAMED: &str =

@@ -163,3 +163,53 @@ fn an_impossible_p_max_is_refused_naming_the_smallest_it_allows() {
     assert!(camsim::cmd::design::samples_for(p) <= camsim::study_limits::MAX_STUDY_SAMPLES);
     assert!(outcome(&["design", "tolerance", "--samples", "1000001"]).contains("1 to 1000000"));
 }
+
+/// Every command's long help, depth first, with its path (`camsim design spring`).
+fn helps(cmd: &mut clap::Command, path: &str, out: &mut Vec<(String, String)>) {
+    let path = format!("{path} {}", cmd.get_name()).trim().to_string();
+    out.push((path.clone(), cmd.render_long_help().to_string()));
+    for sub in cmd.get_subcommands_mut() {
+        helps(sub, &path, out);
+    }
+}
+
+// Issue 30 point 5: each command's summary names its subcommands; no rustdoc link text
+// in any help; --units explained once, at the top, with one line in each command.
+#[test]
+fn help_names_subcommands_has_no_rustdoc_links_and_explains_units_once() {
+    let mut top = cli::command();
+    top.build();
+    let mut all = Vec::new();
+    helps(&mut top, "", &mut all);
+    assert!(all.len() > 20, "{}", all.len());
+    for (path, text) in &all {
+        assert!(!text.contains("[`"), "{path}: rustdoc link text in help");
+        if path != "camsim" {
+            assert!(
+                !text.contains("Units (--units"),
+                "{path}: --units explained again"
+            );
+            if text.contains("--units <FAMILY>") {
+                let line = text
+                    .lines()
+                    .skip_while(|l| !l.contains("--units <FAMILY>"))
+                    .nth(1)
+                    .unwrap();
+                assert!(line.contains("see `camsim --help`"), "{path}: {line}");
+            }
+        }
+    }
+    let top_help = &all[0].1;
+    assert_eq!(top_help.matches("Units (--units").count(), 1);
+    let design = top.find_subcommand("design").unwrap();
+    let about = design.get_about().unwrap().to_string();
+    for sub in design.get_subcommands().filter(|s| s.get_name() != "help") {
+        assert!(
+            about.contains(&format!("`design {}`", sub.get_name())),
+            "{about}"
+        );
+    }
+    let mc = top.find_subcommand("montecarlo").unwrap();
+    let about = mc.get_about().unwrap().to_string();
+    assert!(about.contains("`montecarlo merge`"), "{about}");
+}
