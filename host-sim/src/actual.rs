@@ -124,7 +124,7 @@ pub struct ActualArgs {
     /// whose profile, drawn from the master seed, has the FPR nearest N. Default 17,
     /// the thesis's study cams at VI.1's tolerances (Table VI.2); 39 its rougher cam,
     /// 57 its cams at ±0.0025/±0.0005 in.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(2..=2000))]
+    #[arg(long, value_name = "N", value_parser = crate::args::whole_u32::<2, 2000>)]
     pub waviness_fpr: Option<u32>,
     /// How the interval is set when --interval-deg is not given: `waviness` (the FPR of
     /// --waviness-fpr, default 17) or `criteria` (the smallest whole-degree interval
@@ -133,7 +133,7 @@ pub struct ActualArgs {
     #[arg(long, value_enum, default_value_t = IntervalRule::Waviness)]
     pub interval: IntervalRule,
     /// Master seed: sample i's profile comes from (seed, i) alone (default 1).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// How the lift is made from the tolerances: per-cam (roller radius and axis offset
     /// one value a cam, exact geometry), thesis (IV.2.3: every error drawn at every
@@ -153,7 +153,7 @@ pub struct ActualArgs {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum IntervalRule {
-    /// The waviness stated by `--waviness-fpr` (default [`DEFAULT_FPR`]).
+    /// The waviness stated by `--waviness-fpr` (default 17, the thesis's study cams).
     #[default]
     Waviness,
     /// The three criteria of IV.2.3.

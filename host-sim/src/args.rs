@@ -412,12 +412,66 @@ pub fn tolerance_in(s: &str) -> Result<f64, String> {
     }
 }
 
+/// The range `--allowable-stress` takes, psi: 1 000 psi (6.9 MPa) to 1 000 000 psi
+/// (6 895 MPa). The contact endurance strength of cam materials lies inside it, from
+/// about 8 000 psi for a cast nylon to about 300 000 psi for a carburised steel (Norton,
+/// Cam Design and Manufacturing Handbook); a value outside is a slip of the unit (a
+/// psi number read as MPa is 145 times too large) or of a digit.
+pub const ALLOWABLE_STRESS_PSI: (f64, f64) = (1.0e3, 1.0e6);
+
+/// An allowable contact stress, psi (or with its unit, MPa): within
+/// [`ALLOWABLE_STRESS_PSI`].
+pub fn allowable_stress(s: &str) -> Result<f64, String> {
+    let x = in_inch_family(s, camsim_scene_file::units::STRESS)?;
+    let (lo, hi) = ALLOWABLE_STRESS_PSI;
+    if x.is_finite() && (lo..=hi).contains(&x) {
+        Ok(x)
+    } else {
+        Err(format!(
+            "must lie in [{lo}, {hi}] psi = [6.89, 6895] MPa (the contact endurance of cam materials; give the unit, 150000psi or 1034MPa)"
+        ))
+    }
+}
+
+/// A spring-rate resolution, lb/in (or with its unit, N/mm): positive and finite.
+pub fn rate_resolution(s: &str) -> Result<f64, String> {
+    match in_inch_family(s, camsim_scene_file::units::STIFFNESS)? {
+        x if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err("must be positive and finite".into()),
+    }
+}
+
 /// A speed resolution, rpm: positive, at most the whole speed range (10 000 rpm); below
 /// the numbers' spacing the bisection ends on neighbouring speeds.
 pub fn resolution_rpm(s: &str) -> Result<f64, String> {
     match positive_finite(s)? {
         x if x <= camsim_core::key::SPEED_RPM.max => Ok(x),
         _ => Err("must be at most 10000 rpm (the whole speed range)".into()),
+    }
+}
+
+/// A random seed: a whole number from 0 to 2^64 - 1 (`-1` is refused by this rule, not
+/// taken for a flag).
+pub fn seed(s: &str) -> Result<u64, String> {
+    s.trim()
+        .parse::<u64>()
+        .map_err(|_| format!("must be a whole number from 0 to {}", u64::MAX))
+}
+
+/// A whole number from `LO` to `HI` (counts: samples, threads, points), read so that a
+/// negative or fractional value is refused by the option's own range.
+pub fn whole_u64<const LO: u64, const HI: u64>(s: &str) -> Result<u64, String> {
+    match s.trim().parse::<u64>() {
+        Ok(n) if (LO..=HI).contains(&n) => Ok(n),
+        _ => Err(format!("must be a whole number from {LO} to {HI}")),
+    }
+}
+
+/// [`whole_u64`] for a `u32` count.
+pub fn whole_u32<const LO: u32, const HI: u32>(s: &str) -> Result<u32, String> {
+    match s.trim().parse::<u32>() {
+        Ok(n) if (LO..=HI).contains(&n) => Ok(n),
+        _ => Err(format!("must be a whole number from {LO} to {HI}")),
     }
 }
 

@@ -12,27 +12,20 @@ use crate::cmd;
 
 /// Simulation of real cam-follower mechanisms (Kim 1982, eleven degrees of freedom).
 #[derive(Parser, Debug)]
-#[command(name = "camsim", version, about, long_about = None)]
+#[command(name = "camsim", version, about, long_about = None, after_long_help = UNITS_HELP)]
 pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
-    /// Units of the output: inch (the thesis's: in, lb, psi, lb in; the default) or si (mm, N,
-    /// MPa, N m, N/mm, kg). Converts every --json key (each names its unit), every command's
-    /// tables (run, sweep, jump-speed, laws, modal, contact, montecarlo, compare,
-    /// tolerance-study, sensitivity, design, models, bench, predict, waviness), the scene
-    /// file of scene (SI keys), the --csv of run and sweep, the plots, and
-    /// run's --allowable-stress (MPa); firmware-check prints bytes, instructions and rpm
-    /// only, the same in either. The options with a length, spring rate or force
-    /// (--spring-rate, --preload-length, --atol, the tolerances, contact's --force) take a
-    /// value with its unit in either family (17.5N/mm, 12.7mm); a bare number is the
-    /// inch family's, and with si it is refused (give the unit).
+    /// Units of the output: inch (in, lb, psi; the default) or si (mm, N, MPa); with si a
+    /// length, rate, force or stress option needs its unit (see `camsim --help`).
     #[arg(
         long,
         global = true,
         value_enum,
         value_name = "FAMILY",
-        default_value = "inch"
+        default_value = "inch",
+        hide_possible_values = true
     )]
     pub units: crate::units::Units,
 }
@@ -63,7 +56,7 @@ pub enum Command {
     Predict(cmd::predict::Args),
     /// Check the firmware's decoded QEMU logs: memory against llvm-size and memory.x, real-time factor, fault reactions, boot failure.
     FirmwareCheck(cmd::firmware_check::Args),
-    /// Many actual cams in parallel: statistics of every per-period column and the jump probability.
+    /// Many actual cams in parallel: statistics of every per-period column and the jump probability; `montecarlo merge` combines the shards of a study.
     Montecarlo(cmd::montecarlo::Args),
     /// The cam as a drawing: surface, pitch curve and cutter path as DXF and CSV; the SVAJ plot.
     Profile(cmd::profile::Args),
@@ -79,9 +72,24 @@ pub enum Command {
     /// of a grid, on the theoretical cam and (--actual) as P(jump) and bands over actual cams.
     Sweep(cmd::sweep::Args),
     /// What to build, found by search: `design spring` (the smallest return-spring rate
-    /// holding contact with a margin, or P(jump) <= p on actual cams).
+    /// holding contact with a margin, or P(jump) <= p on actual cams), `design speed` (the
+    /// highest speed) and `design tolerance` (the loosest tolerance or roughest waviness)
+    /// at P(jump) <= p.
     Design(cmd::design::Args),
 }
+
+/// `--units`, explained once (the end of `camsim --help`; each command's help gives
+/// one line).
+pub const UNITS_HELP: &str = "Units (--units inch|si, on every command):
+  inch (the thesis's: in, lb, psi, lb in; the default; `in` also reads) or si (mm, N,
+  MPa, N m, N/mm, kg; `mm` also reads). The family converts every --json key (each names
+  its unit), every command's tables, the scene file of `scene` (SI keys), the --csv of
+  run and sweep and the plots; firmware-check prints bytes, instructions and rpm only,
+  the same in either. The options with a length, spring rate, force or stress
+  (--spring-rate, --preload-length, --atol, the tolerances, contact's --force, run's
+  --allowable-stress, profile's --cutter-radius and --chord-error, design spring's
+  --resolution) take a value with its unit in either family (17.5N/mm, 12.7mm, 1034MPa);
+  a bare number is the inch family's, and with si it is refused (give the unit).";
 
 /// What `camsim scenes` prints to standard error before it runs `models`.
 pub const SCENES_RENAMED: &str =
@@ -93,13 +101,37 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    Cli::try_parse_from(args)
+    use clap::FromArgMatches;
+    let matches = command().try_get_matches_from(args)?;
+    Cli::from_arg_matches(&matches)
 }
 
-/// The command tree as clap builds it (its commands, options and help).
+/// The command tree as clap builds it (its commands, options and help), every option
+/// that takes a value taking a negative number as its value ([`negatives_are_values`]).
 pub fn command() -> clap::Command {
     use clap::CommandFactory;
-    Cli::command()
+    negatives_are_values(Cli::command())
+}
+
+/// `cmd` and its subcommands with every value-taking option accepting a value that
+/// looks like a negative number (`--seed -1`, `--shard -1/2`, `--rpm -100:100:3`), so
+/// that it reaches the option's own rule and its message names the option, instead of
+/// clap's "unexpected argument '-1' found".
+fn negatives_are_values(cmd: clap::Command) -> clap::Command {
+    let cmd = cmd.mut_args(|a| {
+        if a.get_action().takes_values() {
+            a.allow_negative_numbers(true)
+        } else {
+            a
+        }
+    });
+    let names: Vec<String> = cmd
+        .get_subcommands()
+        .map(|s| s.get_name().to_string())
+        .collect();
+    names
+        .into_iter()
+        .fold(cmd, |c, n| c.mut_subcommand(n, negatives_are_values))
 }
 
 /// Runs a parsed command.
@@ -163,9 +195,8 @@ pub fn usage_line(e: &clap::Error) -> String {
 /// command (bare `camsim`) says so and lists the commands instead of printing the tool's
 /// description as if it were the error.
 pub fn usage_message(e: &clap::Error) -> String {
-    use clap::CommandFactory;
     if e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
-        let cmd = Cli::command();
+        let cmd = command();
         let names: Vec<&str> = cmd
             .get_subcommands()
             .filter(|c| !c.is_hide_set())
@@ -211,11 +242,11 @@ fn report_error(line: &str) {
 }
 
 /// Under `--units si`, the first option that takes an inch-family quantity (its value
-/// name `IN`, `LB_PER_IN` or `LB`) and was given a bare number: the message refusing it.
+/// name `IN`, `LB_PER_IN`, `LB` or `PSI`) and was given a bare number: the message refusing it.
 /// A bare number there is inch (as the option's help says), which a command line in SI
 /// would not mean; with its unit (`17.5N/mm`, `100lb/in`) it is read either way.
 pub fn bare_inch_number(args: &[OsString]) -> Option<String> {
-    if Cli::try_parse_from(args).ok()?.units != crate::units::Units::Si {
+    if parse_from(args).ok()?.units != crate::units::Units::Si {
         return None;
     }
     let cmd = command();
@@ -234,6 +265,7 @@ fn bare_in(cmd: &clap::Command, m: &clap::ArgMatches) -> Option<String> {
             Some("IN") => LENGTH,
             Some("LB_PER_IN") => STIFFNESS,
             Some("LB") => crate::units::FORCE,
+            Some("PSI") => camsim_scene_file::units::STRESS,
             _ => continue,
         };
         let id = arg.get_id().as_str();
@@ -339,7 +371,7 @@ fn main_on_worker(args: &[OsString]) -> u8 {
 
 /// Parses and runs one command line; the exit status.
 fn run_command_line(args: &[OsString]) -> u8 {
-    let cli = match Cli::try_parse_from(args) {
+    let cli = match parse_from(args) {
         Ok(c) if c.units == crate::units::Units::Si => match bare_inch_number(args) {
             Some(line) => {
                 report_error(&format!(

@@ -32,6 +32,42 @@ pub fn check_time(first_s: f64, samples: u64, threads: usize, allow: bool) -> Re
     Ok(estimate)
 }
 
+/// The most samples any study takes: an explicit `--samples` and the count a `--p-max`
+/// implies are held to the same 1 000 000 (at the reference's few milliseconds a
+/// two-revolution sample, about a day on one core: [`MAX_STUDY_SECONDS`]).
+pub const MAX_STUDY_SAMPLES: u64 = 1_000_000;
+
+/// Refuses a `--p-max` whose study needs more than [`MAX_STUDY_SAMPLES`] cams a step
+/// (`needed`, the fewest whose upper bound with no jump is `p_max`), naming the smallest
+/// p the limit allows (`smallest`, the bound at [`MAX_STUDY_SAMPLES`] cams).
+pub fn check_p_max(p_max: f64, needed: u64, smallest: f64) -> Result<()> {
+    if needed > MAX_STUDY_SAMPLES {
+        // Rounded up to 3 significant digits, so the p printed is itself allowed.
+        let scale = 10f64.powi(smallest.log10().floor() as i32 - 2);
+        let smallest = (smallest / scale).ceil() * scale;
+        bail!(
+            "--p-max {p_max:e}: showing it needs more than {MAX_STUDY_SAMPLES} actual cams a step with no jump, over the sample limit of a study (the smallest --p-max it allows is {smallest:.2e})"
+        );
+    }
+    Ok(())
+}
+
+/// Refuses a search of up to `steps` steps of `samples` samples each whose estimate from
+/// one sample (`first_s` seconds) on `threads` threads is over [`MAX_STUDY_SECONDS`]:
+/// the same time limit as a Monte Carlo study's, checked before the search starts.
+pub fn check_search(first_s: f64, samples: u64, steps: u64, threads: usize) -> Result<f64> {
+    let total = samples.saturating_mul(steps);
+    let estimate = first_s * total as f64 / threads.max(1) as f64;
+    if estimate > MAX_STUDY_SECONDS {
+        bail!(
+            "up to {steps} search steps of {samples} actual cams would take about {} on {threads} threads (one cam took {first_s:.3} s), over the {} limit of a study (give a larger --p-max or fewer --samples)",
+            duration(estimate),
+            duration(MAX_STUDY_SECONDS)
+        );
+    }
+    Ok(estimate)
+}
+
 /// A duration in words: "3.2 h", "12 min", "40 s", "5.1 days".
 pub fn duration(s: f64) -> String {
     if s >= 2.0 * 86_400.0 {

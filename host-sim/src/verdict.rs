@@ -375,7 +375,7 @@ pub const ALLOWABLE_SOURCE: &str = "through-hardened steel, 400 HB, 1e8 cycles: 
 /// [`ALLOWABLE_SOURCE`] in SI: Shigley's SI form of the same rule (0.4 kpsi = 2.76 MPa a
 /// Brinell point, 10 kpsi = 68.9 MPa, which Shigley rounds to 70: 1034 MPa at 400 HB,
 /// the 150 kpsi the default is), and the option in MPa as `--units si` reads it.
-pub const ALLOWABLE_SOURCE_SI: &str = "through-hardened steel, 400 HB, 1e8 cycles: Buckingham's S_C = 2.76 H_B - 70 MPa (Shigley); limits.allowable_contact_stress_mpa (or _psi) in the scene, or --allowable-stress MPA (with --units si), to change";
+pub const ALLOWABLE_SOURCE_SI: &str = "through-hardened steel, 400 HB, 1e8 cycles: Buckingham's S_C = 2.76 H_B - 70 MPa (Shigley); limits.allowable_contact_stress_mpa (or _psi) in the scene, or --allowable-stress with its unit (1034MPa), to change";
 
 /// The source of the default allowable contact stress in the output's family
 /// (`--units`).

@@ -111,7 +111,7 @@ fn the_dxf_holds_the_csv_curves_closed_with_units() {
         "--units",
         "mm",
         "--cutter-radius",
-        "12.7",
+        "12.7mm",
     ]);
     let s = read_dxf(&std::fs::read_to_string(out.join(profile::DXF_FILE)).unwrap()).unwrap();
     assert_eq!(s.insunits, Some(4));

@@ -478,8 +478,8 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
         assert!(inch_label(inch).is_some(), "{name}: the check cannot fail");
     }
 
-    // --- --allowable-stress reads MPa with --units si, psi with inch; the note speaks
-    // the family's units.
+    // --- --allowable-stress reads a value with its unit (MPa or psi) in either family;
+    // the note speaks the family's units.
     let verdict = |units: Units, extra: &[&str]| -> String {
         units::set(units);
         let mut argv = vec!["camsim", "run", "--revolutions", "1"];
@@ -494,7 +494,7 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
             .unwrap()
             .to_string()
     };
-    let si = verdict(Units::Si, &["--allowable-stress", "1000"]);
+    let si = verdict(Units::Si, &["--allowable-stress", "1000MPa"]);
     // 1000 MPa in psi, from the definitions.
     let psi = format!("{:.0}", 1000.0 / PSI_MPA);
     let inch = verdict(Units::Inch, &["--allowable-stress", &psi]);
@@ -519,7 +519,10 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     assert_eq!(pct(&si), pct(&inch), "{si}\n{inch}");
     let note = verdict(Units::Si, &[]);
     assert!(note.contains("S_C = 2.76 H_B - 70 MPa"), "{note}");
-    assert!(note.contains("--allowable-stress MPA"), "{note}");
+    assert!(
+        note.contains("--allowable-stress with its unit (1034MPa)"),
+        "{note}"
+    );
     // The scene key's other family may be named (`(or _psi)`), no psi value or option.
     assert!(
         !note.contains(" psi") && !note.contains("kpsi") && !note.contains("PSI"),

@@ -7,14 +7,14 @@ use super::{ActualArgs, SceneArgs};
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct StudyArgs {
     /// Number of actual cams.
-    #[arg(long, required = true, value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    #[arg(long, required = true, value_parser = crate::args::whole_u64::<1, 100_000_000>)]
     pub samples: Option<u64>,
     /// The scene and its overrides.
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Revolutions to simulate, 1-16 (default 2: the statistics are revolution 2's;
     /// with 1, a reduced study, revolution 1's: give it --start static).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 16>)]
     pub revolutions: Option<u32>,
     /// Reduced model: drop the horizontal motion (x1, x2, x3).
     #[arg(long)]

@@ -23,7 +23,7 @@ pub struct Args {
     #[arg(long)]
     pub quick: bool,
     /// Timed repetitions of each run, the median reported [default: 5, 3 with --quick].
-    #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=100))]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::whole_u32::<1, 100>)]
     pub repeat: Option<u32>,
     /// Run a bench estimated (from its first, reference run) past 1 hour, which is
     /// otherwise refused (`camsim::bench::MAX_BENCH_SECONDS`).

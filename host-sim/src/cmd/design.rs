@@ -59,17 +59,17 @@ pub struct McArgs {
     pub p_max: f64,
     /// Actual cams a step (default: the fewest whose upper bound can be at most --p-max
     /// with no jump, 381 for 0.01).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=1_000_000))]
+    #[arg(long, value_parser = crate::args::whole_u64::<1, 1_000_000>)]
     pub samples: Option<u64>,
     /// Master seed of the actual cams (the same cams at every step).
-    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED)]
+    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, value_parser = crate::args::seed)]
     pub seed: u64,
     /// Worker threads (default: every core). The answer does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// The cams' waviness, FPR (default 17, the thesis's study cams; 39 and 57 its
     /// rougher ones): the tolerance that passes depends strongly on it.
-    #[arg(long, value_name = "FPR", value_parser = clap::value_parser!(u32).range(2..=2000))]
+    #[arg(long, value_name = "FPR", value_parser = crate::args::whole_u32::<2, 2000>)]
     pub waviness_fpr: Option<u32>,
     /// `design tolerance` only: search the roughest waviness instead, the highest FPR
     /// (the shortest waves: the acceleration a wave imposes grows as FPR², docs/MODEL.md
@@ -89,9 +89,40 @@ pub struct McArgs {
 
 /// The P(jump) limit of a Monte Carlo search (at least [`QUICK_P_MAX`] in the quick mode)
 /// and its actual cams a step (`samples`, or the fewest that can pass).
-fn p_max_and_samples(p_max: f64, quick: bool, samples: Option<u64>) -> (f64, u64) {
+/// A `--p-max` that needs more cams than any study may take is refused
+/// ([`crate::study_limits::check_p_max`]).
+fn p_max_and_samples(p_max: f64, quick: bool, samples: Option<u64>) -> Result<(f64, u64)> {
+    use crate::study_limits::{check_p_max, MAX_STUDY_SAMPLES};
     let p = if quick { p_max.max(QUICK_P_MAX) } else { p_max };
-    (p, samples.unwrap_or_else(|| samples_for(p)))
+    if samples.is_none() {
+        let smallest = Probability::of(0, MAX_STUDY_SAMPLES).hi95;
+        check_p_max(p, samples_for(p), smallest)?;
+    }
+    Ok((p, samples.unwrap_or_else(|| samples_for(p))))
+}
+
+/// Times one actual cam of `mc` and refuses a search of up to `steps` steps of `n` cams
+/// past the study time limit ([`crate::study_limits::check_search`]), before it starts.
+fn check_search_time(
+    mc: &RunSpec,
+    actual: &ActualArgs,
+    n: u64,
+    steps: u64,
+    nthreads: usize,
+) -> Result<()> {
+    let t = Instant::now();
+    // Only its time is wanted: a cam that leaves the model's range is a jump to the search.
+    let _ = Study::from_spec(mc.clone(), actual, 1)?.run(&[0], 1, false);
+    crate::study_limits::check_search(t.elapsed().as_secs_f64(), n, steps, nthreads)?;
+    Ok(())
+}
+
+/// The most steps of a search from `start` doubling to `max`, then halving its bracket to
+/// `resolution`.
+fn search_steps(start: f64, max: f64, resolution: f64) -> u64 {
+    let up = (max / start).log2().ceil().max(0.0);
+    let down = (max / resolution).log2().ceil().max(0.0);
+    (up + down) as u64 + 1
 }
 
 /// P(jump) in revolution 2 over `n` actual cams of `mc` (`actual`'s tolerances and seed).
@@ -187,7 +218,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     spec.revolutions = 2;
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let mc = crate::study::montecarlo::monte_carlo_model(&spec);
-    let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
+    let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
     let nthreads = threads(args.threads);
     let reference = camsim_core::Tolerances::<f64>::reference();
     let mut runs = 0u64;
@@ -208,6 +239,14 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         (0.1, 20.0, if args.quick { 0.5 } else { 0.05 })
     };
     let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
+    let first = ActualArgs {
+        actual: true,
+        seed: Some(args.seed),
+        waviness_fpr: args.waviness_fpr,
+        ..ActualArgs::default()
+    };
+    let steps = search_steps(start, max, resolution);
+    check_search_time(&mc, &first, n, steps, nthreads)?;
     let onset = search.find(|x| -> Result<bool> {
         let mut s = mc.clone();
         let mut actual = ActualArgs {
@@ -428,16 +467,16 @@ pub struct SpringArgs {
     pub p_max: f64,
     /// Actual cams per rate, with --actual (default: the fewest whose upper bound can be
     /// at most --p-max with no jump, 381 for 0.01).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=1_000_000), requires = "actual")]
+    #[arg(long, value_parser = crate::args::whole_u64::<1, 1_000_000>, requires = "actual")]
     pub samples: Option<u64>,
     /// Master seed of the actual cams (the same cams at every rate).
-    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, requires = "actual")]
+    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, value_parser = crate::args::seed, requires = "actual")]
     pub seed: u64,
     /// Worker threads (default: every core). The answer does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
-    /// Bracket width the search stops at, lb/in.
-    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = crate::args::positive_finite)]
+    /// Bracket width the search stops at, lb/in, or with its unit (0.2N/mm).
+    #[arg(long, default_value_t = 1.0, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = crate::args::rate_resolution)]
     pub resolution: f64,
     /// Largest rate searched, lb/in, or with its unit (N/mm).
     #[arg(long, default_value_t = MAX_RATE, value_name = "LB_PER_IN", allow_hyphen_values = true, value_parser = crate::args::spring_rate)]
@@ -626,13 +665,15 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     let unit = if preload { "in" } else { "lb/in" };
     let mut report = if args.actual {
         let mc = crate::study::montecarlo::monte_carlo_model(&spec);
-        let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples);
+        let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
         let actual = ActualArgs {
             actual: true,
             seed: Some(args.seed),
             ..ActualArgs::default()
         };
         let nthreads = threads(args.threads);
+        let steps = search_steps(start, max, resolution);
+        check_search_time(&with_rate(&mc, start)?, &actual, n, steps, nthreads)?;
         let mut last_p: Option<(f64, Probability)> = None;
         let onset = search.find(|k| -> Result<bool> {
             let p = p_jump_on_actual_cams(&with_rate(&mc, k)?, &actual, n, nthreads, &mut runs)

@@ -31,10 +31,10 @@ pub struct Args {
     #[command(flatten)]
     pub actual: crate::actual::ActualArgs,
     /// With --actual: machined cams drawn, samples 0 to N-1 of --seed (default 20).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10000))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 10000>)]
     pub samples: Option<u32>,
     /// With --actual: worker threads (default: every core); the result does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
 }
 

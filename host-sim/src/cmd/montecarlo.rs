@@ -32,7 +32,7 @@ pub struct Args {
     #[command(flatten)]
     pub study: StudyArgs,
     /// Worker threads (default: every core). The result does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// The two-level estimate of the full model: every cam on the reduced model of the
     /// design searches (quasi-static cantilever, vertical, rtol 1e-4), the first N cams
@@ -42,7 +42,7 @@ pub struct Args {
     #[arg(long, value_name = "N", conflicts_with = "follower", value_parser = clap::value_parser!(u64).range(2..))]
     pub two_level: Option<u64>,
     /// Run only shard K of N (K from 1): the samples i with i mod N = K - 1. Needs --out.
-    #[arg(long, value_name = "K/N", value_parser = parse_shard, requires = "out")]
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true, value_parser = parse_shard, requires = "out")]
     pub shard: Option<Shard>,
     /// Write the samples' statistics to FILE (JSON; the shard file `merge` reads).
     #[arg(long, value_name = "FILE")]

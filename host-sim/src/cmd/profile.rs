@@ -19,7 +19,7 @@ use camsim_core::{CamGeometry, FollowerLift};
 use serde::Serialize;
 
 use crate::actual::{ActualArgs, ProfileStats};
-use crate::args::{positive_finite, spec_from, OutputArgs, SceneArgs};
+use crate::args::{positive_length, spec_from, OutputArgs, SceneArgs};
 use crate::export::{self, CurvePoint, Layer, Units};
 use crate::output::Plan;
 use crate::report::Report;
@@ -63,16 +63,16 @@ pub struct Args {
     /// of `run --measured`), pitch.csv and, with --cutter-radius, cutter.csv.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Radius of the cutter (grinding wheel or end mill), in the --units length (in or mm): also write its
-    /// centre path.
-    #[arg(long, value_name = "LEN", allow_hyphen_values = true, value_parser = positive_finite)]
+    /// Radius of the cutter (grinding wheel or end mill), in, or with its unit (6mm):
+    /// also write its centre path.
+    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = positive_length)]
     pub cutter_radius: Option<f64>,
-    /// Largest distance of a chord from the curve, in the --units length (default 0.0001 in,
-    /// 0.00254 mm: a fifth of the thesis's cam tolerance).
-    #[arg(long, value_name = "LEN", allow_hyphen_values = true, value_parser = positive_finite)]
+    /// Largest distance of a chord from the curve, in, or with its unit (0.002mm)
+    /// (default 0.0001 in = 0.00254 mm: a fifth of the thesis's cam tolerance).
+    #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = positive_length)]
     pub chord_error: Option<f64>,
-    /// Length unit of the DXF, of the x/y CSVs, of the report and of --cutter-radius and
-    /// --chord-error: the global `--units` (inch: in; si: mm; surface_radius.csv stays in
+    /// Length unit of the DXF, of the x/y CSVs and of the report: the global `--units`
+    /// (inch: in; si: mm; surface_radius.csv stays in
     /// inches, as `run --measured` reads it). Set by the command line, not an option here.
     #[arg(skip)]
     pub units: Units,
@@ -321,10 +321,11 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
         dev: actual.as_ref().map(|a| &a.0),
     };
     let scale = args.units.per_inch();
-    let bound = args.chord_error.unwrap_or(DEFAULT_CHORD_ERROR_IN * scale);
+    // The options are read in inch (their parser converts a value given in mm).
+    let bound = args.chord_error.unwrap_or(DEFAULT_CHORD_ERROR_IN) * scale;
     let g = design.geometry;
     let rr = g.roller_radius;
-    let cutter_in = args.cutter_radius.map(|c| c / scale);
+    let cutter_in = args.cutter_radius;
 
     // Curvature of the surface over one revolution (Eq. V.12), 0.05° apart.
     let (mut convex, mut concave): (Option<f64>, Option<f64>) = (None, None);
@@ -396,7 +397,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
         chord_error_bound: bound,
         base_radius: g.base_radius * scale,
         roller_radius: rr * scale,
-        cutter_radius: args.cutter_radius,
+        cutter_radius: args.cutter_radius.map(|c| c * scale),
         min_convex_surface_radius: convex.map(|r| r * scale),
         min_concave_surface_radius: concave.map(|r| r * scale),
         warnings,

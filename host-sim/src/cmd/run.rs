@@ -42,7 +42,7 @@ pub struct Args {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Revolutions to simulate, 1-16 (default 3, or the scene's).
-    #[arg(long, allow_hyphen_values = true, value_parser = clap::value_parser!(u32).range(1..=16))]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::args::whole_u32::<1, 16>)]
     pub revolutions: Option<u32>,
     /// Write the response to FILE as CSV: one row every --csv-every-deg degrees of cam
     /// angle (written whole at the end of a successful run; an existing FILE needs --force).
@@ -82,11 +82,11 @@ pub struct Args {
 /// What the verdict that opens `camsim run` judges against.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct VerdictArgs {
-    /// Allowable Hertz contact stress, in the units of --units: psi, or MPa with --units si
-    /// (default: the scene's limits.allowable_contact_stress_psi or _mpa, else 150 000 psi =
-    /// 1034 MPa: through-hardened steel at 400 HB, 1e8 cycles, Buckingham's S_C = 0.4 H_B -
-    /// 10 kpsi = 2.76 H_B - 70 MPa as Shigley gives it).
-    #[arg(long, value_name = "PSI|MPA", allow_hyphen_values = true, value_parser = args::positive_finite)]
+    /// Allowable Hertz contact stress, psi, or with its unit (1034MPa), 1 000 to
+    /// 1 000 000 psi (default: the scene's limits.allowable_contact_stress_psi or _mpa,
+    /// else 150 000 psi = 1034 MPa: through-hardened steel at 400 HB, 1e8 cycles,
+    /// Buckingham's S_C = 0.4 H_B - 10 kpsi = 2.76 H_B - 70 MPa as Shigley gives it).
+    #[arg(long, value_name = "PSI", allow_hyphen_values = true, value_parser = args::allowable_stress)]
     pub allowable_stress: Option<f64>,
     /// Largest pressure angle without a warning, degrees (default: the scene's
     /// limits.pressure_angle_limit_deg, else 30, the usual limit for a translating
@@ -103,12 +103,10 @@ impl VerdictArgs {
     /// The limits asked for, the scene's (`[limits]`, or the defaults) otherwise.
     pub fn limits(&self, scene: &camsim_scene_file::Limits) -> crate::verdict::Limits {
         crate::verdict::Limits {
-            // The option is read in the output's family: psi, or MPa with --units si.
+            // The option is read in psi (its parser converts a value given in MPa).
             allowable_contact_stress_psi: self
                 .allowable_stress
-                .map_or(scene.allowable_contact_stress_psi, |v| {
-                    crate::units::inch_value(crate::units::STRESS, v)
-                }),
+                .unwrap_or(scene.allowable_contact_stress_psi),
             pressure_angle_limit_deg: self
                 .pressure_angle_limit
                 .unwrap_or(scene.pressure_angle_limit_deg),

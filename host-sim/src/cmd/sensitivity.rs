@@ -68,7 +68,7 @@ pub struct Args {
     #[arg(long)]
     pub per_key: bool,
     /// Worker threads (default: every core). The result does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// The actual cam (sample 0 of --seed): both cams always run.
     #[command(flatten)]

@@ -19,7 +19,7 @@ use crate::study::sweep::{self, RpmGrid, Sweep};
 #[command(mut_arg("force", |a| a.help("Replace existing --csv and --plot files")))]
 pub struct Args {
     /// The speeds: N equally spaced cam speeds from FROM to TO, rpm (e.g. 300:1200:19).
-    #[arg(long, value_name = "FROM:TO:N", value_parser = sweep::parse_rpm_grid)]
+    #[arg(long, value_name = "FROM:TO:N", allow_hyphen_values = true, value_parser = sweep::parse_rpm_grid)]
     pub rpm: RpmGrid,
     /// Scene file (TOML, see `camsim scene --default`); the reference design if omitted.
     /// Its speed is the operating speed marked on the plot.
@@ -51,10 +51,10 @@ pub struct Args {
     #[command(flatten)]
     pub actual: ActualArgs,
     /// With --actual: actual cams a speed, the same at every speed (default 100).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    #[arg(long, value_parser = crate::args::whole_u64::<1, 100_000>)]
     pub samples: Option<u64>,
     /// Worker threads (default: every core); the result does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// Write one row per speed to FILE.csv (units in the header's names).
     #[arg(long, value_name = "FILE")]

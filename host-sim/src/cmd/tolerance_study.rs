@@ -46,12 +46,12 @@ pub struct Args {
     #[arg(long, allow_negative_numbers = true, value_parser = crate::args::rpm)]
     pub rpm: Option<f64>,
     /// Actual cams per cell (default 8; 1 with --quick).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    #[arg(long, value_parser = crate::args::whole_u64::<1, 100_000>)]
     pub samples: Option<u64>,
     /// The waviness axis, FPR (default 17,39,57; FPR 2n is a single harmonic of n
     /// undulations a revolution): each cell's interval is the one whose profile, drawn
     /// from the master seed at the cell's tolerances, has the FPR nearest.
-    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = clap::value_parser!(u32).range(2..=2000), conflicts_with = "interval_deg")]
+    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = crate::args::whole_u32::<2, 2000>, conflicts_with = "interval_deg")]
     pub waviness_fpr: Vec<u32>,
     /// Profile point intervals, degrees, instead of the waviness axis (each a whole
     /// number of intervals a revolution).
@@ -62,7 +62,7 @@ pub struct Args {
     #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
     pub eccentricity_tolerance: Option<f64>,
     /// Master seed (the same in every cell).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::args::seed)]
     pub seed: Option<u64>,
     /// Normal deviates.
     #[arg(long, value_enum, default_value_t = NormalArg::Sum12)]
@@ -71,7 +71,7 @@ pub struct Args {
     #[arg(long)]
     pub quick: bool,
     /// Worker threads (default: every core). The result does not depend on it.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// What it prints and draws.
     #[command(flatten)]

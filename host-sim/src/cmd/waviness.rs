@@ -25,7 +25,7 @@ use crate::report::Report;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Master seeds (default 1,2,3).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', value_parser = crate::args::seed)]
     pub seeds: Vec<u64>,
     /// Print JSON instead of a table.
     #[arg(long)]
