@@ -146,6 +146,9 @@ pub const SPEED: Unit = Unit {
     si_symbol: "mm/s",
 };
 
+/// `[design.spring]`'s free length (in; `_mm` in SI).
+pub const SPRING_FREE_LENGTH: &str = "spring.free_length_in";
+
 /// The `[limits]` table's allowable contact stress (psi; `_mpa` in SI).
 pub const ALLOWABLE_CONTACT_STRESS: &str = "allowable_contact_stress_psi";
 /// The `[limits]` table's pressure-angle limit, degrees (no other family).
@@ -237,6 +240,12 @@ pub const UNIT_KEYS: &[UnitKey] = &[
     design(key::K_RS, &STIFFNESS),
     design(key::DELTA_RS, &LENGTH),
     design(key::K_RS_MODAL, &STIFFNESS),
+    design(camsim_core::spring_key::WIRE, &LENGTH),
+    design(camsim_core::spring_key::MEAN, &LENGTH),
+    design(camsim_core::spring_key::SHEAR, &STRESS),
+    design(camsim_core::spring_key::DENSITY, &DENSITY),
+    design(camsim_core::spring_key::ALLOWABLE, &STRESS),
+    design(SPRING_FREE_LENGTH, &LENGTH),
     design(key::BASE_RADIUS, &LENGTH),
     design(key::ROLLER_RADIUS, &LENGTH),
     design(key::THICKNESS, &LENGTH),
