@@ -78,6 +78,26 @@ fn design_spring_theoretical_brackets_the_criterion() {
     assert!(!at(r.spring_rate_lb_per_in));
     assert!(at(below));
     assert!(r.jump_onset_rpm.unwrap() > 920.0);
+    // Issue 30: the spring to build passes every check the verdict makes, re-read as a
+    // scene's [design.spring] and judged by the verdict outside the search: contact at
+    // 920 rpm with its own rate and mass, surge at least 13 x the cam's 13.33 Hz, Wahl
+    // stress at full compression within the allowable, not solid, no spring warning.
+    let p = r.part.as_ref().unwrap();
+    let c = &p.spring;
+    let scene = format!(
+        "[design.spring]\nwire_diameter_in = {}\nmean_diameter_in = {}\nactive_coils = {}\nends = \"{}\"\nmaterial = \"{}\"\nfree_length_in = {}\n",
+        c.wire_diameter_in, c.mean_diameter_in, c.active_coils, p.ends, p.material, c.free_length_in
+    );
+    let built = camsim::scene::parse(&scene).unwrap();
+    assert!(built.design.k_rs >= r.spring_rate_lb_per_in);
+    let v = camsim::verdict::spring(&built.design, built.spring.as_ref()).unwrap();
+    assert!(v.surge_hz >= 13.0 * 800.0 / 60.0, "{}", v.surge_hz);
+    assert!(v.shear_stress_psi <= v.allowable_shear_psi);
+    assert_eq!(v.solid(), Some(false));
+    assert!(camsim::verdict::spring_part_warnings(&v).is_empty());
+    let mut s = spec.clone();
+    s.design = built.design.clone();
+    assert!(!camsim::sim::jumps_at(&s, 920.0).unwrap());
 }
 
 /// The actual-cam search gives the same answer, bit for bit, on 1 and 2 threads.
