@@ -370,7 +370,7 @@ pub fn spring(design: &Design<f64>, part: Option<&SpringPart>) -> Result<SpringV
         None => (
             HelicalSpring::of_rate(design.k_rs)?.part(),
             false,
-            "steel of G 11.4e6 psi, music wire's allowable",
+            "VI.1's steel, music wire's allowable",
             None,
         ),
     };
