@@ -181,6 +181,13 @@ smoke montecarlo-plot-si montecarlo --samples 8 --plot "$studies/mc-si" --units 
 smoke montecarlo-si-text montecarlo --samples 8 --units si
 grep -qF '  rms_a, mm/s^2 ' "$studies/montecarlo-si-text.out" || { echo "smoke: montecarlo --units si prints no mm/s^2 column" >&2; exit 1; }
 smoke design-si-text design spring --quick --units si
+grep -q '^  spring to build: ' "$studies/design-si-text.out" && grep -q 'as a scene: \[design.spring\] wire_diameter_mm = ' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not give a spring to build in mm" >&2; exit 1; }
+# [design.spring]: a spring given as a part (SI keys) runs, and the verdict judges its stress and solid height.
+printf '[design.spring]\nwire_diameter_mm = 6.3\nmean_diameter_mm = 63\nactive_coils = 3.25\nmaterial = "music-wire"\nfree_length_mm = 91.5\n' > "$studies/spring-part.toml"
+smoke run-spring-part run "$studies/spring-part.toml" --revolutions 2 --units si
+grep -q '^             \[design.spring\]: wire 6.30 mm, mean coil 63.00 mm' "$studies/run-spring-part.out" && grep -q 'shear stress .* MPa (Wahl)' "$studies/run-spring-part.out" && grep -q 'not solid' "$studies/run-spring-part.out" || { echo "smoke: run with [design.spring] does not judge the part" >&2; exit 1; }
+smoke design-spring-si-json design spring --quick --json --units si
+grep -q '"rates_tried_n_per_mm"' "$studies/design-spring-si-json.out" || { echo "smoke: design spring --json --units si does not name the tried rates' unit" >&2; exit 1; }
 grep -qE '^camsim design spring: [0-9.]+ N/mm at preload length 12.7 mm' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not answer in N/mm and mm" >&2; exit 1; }
 smoke compare-plot compare --quick --plot "$studies/compare" --json
 smoke waviness waviness --seeds 1 --json

@@ -21,6 +21,7 @@ pub use kinematics::table::{
 };
 
 mod forces;
+pub use forces::coil_spring::{spring_key, CoilEnds, CoilSpring, SpringMaterial};
 pub use forces::contact::{
     bearing_normal_forces, contact_force, coulomb_friction, damped_contact_force,
     damping_coefficient, spring_damper_force, BearingLevers, ContactForce, HertzContact,
@@ -40,6 +41,10 @@ pub use model::design::{
     SPRING_COIL_STEP, SPRING_MASS, SPRING_MEAN_DIAMETER, SPRING_MIN_ACTIVE_COILS,
     SPRING_TOTAL_COILS, SPRING_WIRE_DIAMETER, STEEL_DENSITY, STEEL_POISSON, STEEL_SHEAR,
     STEEL_YOUNGS, STRUCTURAL_DAMPING_RATIO, SURGE_HARMONIC_MARGIN,
+};
+pub use model::design::{
+    SpringWire, ASSUMED_SPRING_WIRE, SPRING_CLASH_ALLOWANCE, SPRING_INDEX_RANGE, SPRING_WIRES,
+    STANDARD_WIRE_DIAMETERS_MM,
 };
 pub use model::dynamics::{state_quantity_name, CamModel, ModelPoint, ValidityBounds};
 pub use model::keys::key;

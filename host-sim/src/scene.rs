@@ -40,6 +40,7 @@ pub fn run_spec(scene: CheckedScene) -> RunSpec {
         revolutions: scene.revolutions,
         profile: None,
         limits: scene.limits,
+        spring: scene.spring,
     }
 }
 
@@ -55,6 +56,7 @@ fn scene_file(spec: &RunSpec) -> SceneFile {
         solver: spec.solver,
         design: spec.design.clone(),
         limits: spec.limits,
+        spring: None,
     }
 }
 

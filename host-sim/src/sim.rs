@@ -57,6 +57,9 @@ pub struct RunSpec {
     /// What the verdict judges against: the scene's `[limits]` (the defaults without
     /// one); `run --allowable-stress` and `--pressure-angle-limit` override them.
     pub limits: camsim_scene_file::Limits,
+    /// The return spring as a part (`[design.spring]`; None: the wire-and-coil model's
+    /// spring of the design's rate). `--spring-rate` drops it.
+    pub spring: Option<camsim_scene_file::spring::SpringPart>,
 }
 
 impl RunSpec {
@@ -72,6 +75,7 @@ impl RunSpec {
             revolutions: 3,
             profile: None,
             limits: camsim_scene_file::Limits::default(),
+            spring: None,
         }
     }
 }

@@ -6,6 +6,7 @@ use std::ops::ControlFlow;
 
 use anyhow::Result;
 use camsim_core::{Design, HelicalSpring, Observer, PeakScan, Sample, ScanEnds};
+use camsim_scene_file::spring::SpringPart;
 use serde::Serialize;
 
 use crate::sim::{PeriodRow, SteadyCheck};
@@ -210,16 +211,29 @@ pub struct LoadsVerdict {
     pub stress_ratio: f64,
 }
 
-/// The return spring as the wire-and-coil model makes it.
+/// The return spring: the part `[design.spring]` gives, or the wire-and-coil model's
+/// spring of the rate (assumed: docs/MODEL.md §5.6).
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringVerdict {
     /// Rate, lb/in.
     pub rate_lb_per_in: f64,
     /// Mass the model uses, lb (weight).
     pub mass_lb: f64,
-    /// Active coils of the wire model.
+    /// Whether the part is the scene's (`[design.spring]`) or assumed from the rate.
+    pub given: bool,
+    /// The wire: a named wire's title, or `explicit material values`.
+    pub material: String,
+    /// End type.
+    pub ends: &'static str,
+    /// Wire diameter d, in.
+    pub wire_diameter_in: f64,
+    /// Mean coil diameter D, in.
+    pub mean_diameter_in: f64,
+    /// Active coils.
     pub active_coils: f64,
-    /// Surge frequency of the wire model, Hz.
+    /// Total coils.
+    pub total_coils: f64,
+    /// Surge frequency, Hz.
     pub surge_hz: f64,
     /// Cam rotation frequency, Hz.
     pub cam_hz: f64,
@@ -227,6 +241,30 @@ pub struct SpringVerdict {
     pub surge_harmonic: f64,
     /// The least harmonic ratio accepted without a warning.
     pub least_harmonic: f64,
+    /// Spring force at full compression (assembly compression plus the largest lift), lb.
+    pub full_compression_force_lb: f64,
+    /// Wahl-corrected shear stress at that force, psi.
+    pub shear_stress_psi: f64,
+    /// The allowable shear stress, psi.
+    pub allowable_shear_psi: f64,
+    /// Solid height, in.
+    pub solid_height_in: f64,
+    /// Compression at full lift (assembly compression plus the largest lift), in.
+    pub full_compression_in: f64,
+    /// Free length, in (absent: not given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub free_length_in: Option<f64>,
+    /// The least free length that is not solid at full compression: solid height plus
+    /// the full compression, in.
+    pub least_free_length_in: f64,
+}
+
+impl SpringVerdict {
+    /// Whether the spring is solid (or beyond) at full compression: only with a free length.
+    pub fn solid(&self) -> Option<bool> {
+        self.free_length_in
+            .map(|l| l - self.full_compression_in <= self.solid_height_in)
+    }
 }
 
 /// The follower train's translating mass by its parts (weights, lb), as the model has it
@@ -419,18 +457,52 @@ pub fn geometry(design: &Design<f64>, limits: &Limits) -> Result<GeometryVerdict
     })
 }
 
-/// The spring verdict of `design` at its speed.
-pub fn spring(design: &Design<f64>) -> Result<SpringVerdict> {
-    let s = HelicalSpring::of_rate(design.k_rs)?;
+/// The spring verdict of `design` at its speed: `part` (the scene's `[design.spring]`),
+/// or the wire-and-coil model's spring of the design's rate.
+pub fn spring(design: &Design<f64>, part: Option<&SpringPart>) -> Result<SpringVerdict> {
+    let (coil, given, material, free_length) = match part {
+        Some(p) => (
+            p.coil,
+            true,
+            p.wire.map_or("explicit material values", |w| w.title),
+            p.free_length,
+        ),
+        None => (
+            HelicalSpring::of_rate(design.k_rs)?.part(),
+            false,
+            "VI.1's steel, music wire's allowable",
+            None,
+        ),
+    };
     let cam_hz = camsim_core::rad_per_s_to_rpm(design.omega0) / 60.0;
+    let compression = design.delta_rs + design.program.max_lift();
+    let force = design.k_rs * compression;
+    // The wire model's surge is the rate asked's (its quarter-turn coils differ a little).
+    let surge_hz = match part {
+        Some(_) => coil.surge_hz(),
+        None => HelicalSpring::of_rate(design.k_rs)?.surge_hz,
+    };
     Ok(SpringVerdict {
         rate_lb_per_in: design.k_rs,
         mass_lb: design.m_spring * camsim_core::GRAVITY_IN_PER_S2,
-        active_coils: s.active_coils,
-        surge_hz: s.surge_hz,
+        given,
+        material: material.to_string(),
+        ends: coil.ends.name(),
+        wire_diameter_in: coil.wire_diameter,
+        mean_diameter_in: coil.mean_diameter,
+        active_coils: coil.active_coils,
+        total_coils: coil.total_coils(),
+        surge_hz,
         cam_hz,
-        surge_harmonic: s.surge_hz / cam_hz,
+        surge_harmonic: surge_hz / cam_hz,
         least_harmonic: camsim_core::SURGE_HARMONIC_MARGIN,
+        full_compression_force_lb: force,
+        shear_stress_psi: coil.shear_stress(force),
+        allowable_shear_psi: coil.material.allowable_shear,
+        solid_height_in: coil.solid_height(),
+        full_compression_in: compression,
+        free_length_in: free_length,
+        least_free_length_in: coil.solid_height() + compression,
     })
 }
 
@@ -612,6 +684,106 @@ fn short(v: f64) -> String {
     }
 }
 
+/// The spring's stress and solid-height warnings: the part's shear stress at full
+/// compression over its allowable, the free length too short for full compression. An
+/// assumed spring (a rate without `[design.spring]`) is not judged on them: its wire is
+/// the model's assumption, not the designer's part.
+pub fn spring_part_warnings(spring: &SpringVerdict) -> Vec<String> {
+    use crate::units as u;
+    let mut w = Vec::new();
+    if !spring.given {
+        return w;
+    }
+    let su = u::symbol(u::STRESS);
+    if spring.shear_stress_psi > spring.allowable_shear_psi {
+        w.push(format!(
+            "spring shear stress {} {su} at full compression ({} {fu}) exceeds the allowable {} {su} (design.spring): a thicker wire, a smaller coil or a softer spring",
+            u::q(u::STRESS, spring.shear_stress_psi, 0),
+            u::q(u::FORCE, spring.full_compression_force_lb, 1),
+            u::q(u::STRESS, spring.allowable_shear_psi, 0),
+            fu = u::symbol(u::FORCE)
+        ));
+    }
+    if spring.solid() == Some(true) {
+        w.push(format!(
+            "the spring is solid at full compression: free length {} {lu} less the compression {} {lu} is not above the solid height {} {lu} (design.spring.free_length_in or _mm: at least {} {lu})",
+            u::q(u::LENGTH, spring.free_length_in.unwrap_or(f64::NAN), 3),
+            u::q(u::LENGTH, spring.full_compression_in, 3),
+            u::q(u::LENGTH, spring.solid_height_in, 3),
+            u::q(u::LENGTH, spring.least_free_length_in, 3),
+            lu = u::symbol(u::LENGTH)
+        ));
+    }
+    w
+}
+
+/// The verdict's spring lines: rate, mass, coils and surge; the part (given, or assumed
+/// from the rate); stress at full compression and the solid-height check.
+fn spring_lines(out: &mut String, s: &SpringVerdict) {
+    use crate::units as u;
+    use std::fmt::Write;
+    let (lu, su) = (u::symbol(u::LENGTH), u::symbol(u::STRESS));
+    let _ = writeln!(
+        out,
+        "  spring:    {} {}, {:.2} active coils, {} {}; surge {:.0} Hz = {:.1} x the cam's {:.2} Hz",
+        u::q(u::STIFFNESS, s.rate_lb_per_in, 1),
+        u::symbol(u::STIFFNESS),
+        s.active_coils,
+        u::q(u::WEIGHT, s.mass_lb, 4),
+        u::symbol(u::WEIGHT),
+        s.surge_hz,
+        s.surge_harmonic,
+        s.cam_hz
+    );
+    let part = format!(
+        "wire {} {lu}, mean coil {} {lu}, {:.2} total coils, {} ends, {}",
+        u::q(u::LENGTH, s.wire_diameter_in, 3),
+        u::q(u::LENGTH, s.mean_diameter_in, 3),
+        s.total_coils,
+        s.ends,
+        s.material
+    );
+    if s.given {
+        let _ = writeln!(out, "             [design.spring]: {part}");
+    } else {
+        let _ = writeln!(
+            out,
+            "             assumed from the rate (no [design.spring]): {part}; stress and solid height not judged"
+        );
+    }
+    let _ = writeln!(
+        out,
+        "             at full compression {} {lu} ({} {}): shear stress {} {su} (Wahl), {:.0} % of the allowable {} {su}",
+        u::q(u::LENGTH, s.full_compression_in, 3),
+        u::q(u::FORCE, s.full_compression_force_lb, 1),
+        u::symbol(u::FORCE),
+        u::q(u::STRESS, s.shear_stress_psi, 0),
+        100.0 * s.shear_stress_psi / s.allowable_shear_psi,
+        u::q(u::STRESS, s.allowable_shear_psi, 0)
+    );
+    let solid = match s.free_length_in {
+        Some(l) => format!(
+            "free length {} {lu}: {} {lu} at full compression, {}",
+            u::q(u::LENGTH, l, 3),
+            u::q(u::LENGTH, l - s.full_compression_in, 3),
+            if s.solid() == Some(true) {
+                "SOLID"
+            } else {
+                "not solid"
+            }
+        ),
+        None => format!(
+            "free length not given (design.spring.free_length_in or _mm): at least {} {lu}",
+            u::q(u::LENGTH, s.least_free_length_in, 3)
+        ),
+    };
+    let _ = writeln!(
+        out,
+        "             solid height {} {lu}; {solid}",
+        u::q(u::LENGTH, s.solid_height_in, 3)
+    );
+}
+
 /// The warnings of a verdict (pressure angle, undercut, stress, surge, separation).
 pub fn warnings(
     contact: &ContactVerdict,
@@ -667,6 +839,7 @@ pub fn warnings(
             spring.least_harmonic
         ));
     }
+    w.extend(spring_part_warnings(spring));
     if let Some(m) = margin {
         if let Some(p) = m.margin_percent {
             if p <= 0.0 {
@@ -770,19 +943,7 @@ pub fn text(v: &Verdict) -> String {
         l.allowable_source,
         su = u::symbol(u::STRESS)
     );
-    let s = &v.spring;
-    let _ = writeln!(
-        out,
-        "  spring:    {} {}, {:.2} active coils, {} {}; surge {:.0} Hz = {:.1} x the cam's {:.2} Hz",
-        u::q(u::STIFFNESS, s.rate_lb_per_in, 1),
-        u::symbol(u::STIFFNESS),
-        s.active_coils,
-        u::q(u::WEIGHT, s.mass_lb, 4),
-        u::symbol(u::WEIGHT),
-        s.surge_hz,
-        s.surge_harmonic,
-        s.cam_hz
-    );
+    spring_lines(&mut out, &v.spring);
     let _ = writeln!(out, "{}", mass_text(&v.mass));
     let _ = writeln!(out, "{}", drive_text(&v.drive, c.revolutions));
     match &v.jump_margin {

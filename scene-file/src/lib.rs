@@ -21,6 +21,7 @@ use camsim_core::{key, Design, FollowerModel, SolverSettings};
 use serde::{Deserialize, Serialize};
 
 pub mod measured;
+pub mod spring;
 pub mod units;
 
 /// Revolutions a run simulates unless `run.revolutions` says otherwise.
@@ -120,6 +121,10 @@ pub struct SceneFile {
     pub design: Design<f64>,
     /// `[limits]`.
     pub limits: Limits,
+    /// `[design.spring]`, the return spring as a part ([`spring`]; read apart from the
+    /// design, whose rate and spring mass it gives).
+    #[serde(skip)]
+    pub spring: Option<spring::SpringTable>,
 }
 
 /// A scene file read and checked: what a run or a build uses.
@@ -137,6 +142,9 @@ pub struct CheckedScene {
     pub follower: FollowerModel,
     /// The verdict's limits, checked by [`Limits::check`].
     pub limits: Limits,
+    /// The return spring as a part (`[design.spring]`), if the file gives one: the
+    /// design's rate and spring mass are its.
+    pub spring: Option<spring::SpringPart>,
 }
 
 /// Why a scene file was refused: one line (the file, where it can be told the line and
@@ -490,8 +498,25 @@ fn read_scene(text: &str) -> Result<(SceneFile, Reading), Error> {
         Ok(())
     })?;
     reading.moving_mass = take_moving_mass(root.get_mut(), text)?;
+    // `[design.spring]` is read apart: the design has no such key.
+    let spring_table = match root.get_mut().get_mut("design").map(|d| d.get_mut()) {
+        Some(DeValue::Table(design)) => design.remove("spring"),
+        _ => None,
+    };
     let de = toml::de::Deserializer::from(Spanned::new(span, root.into_inner()));
-    let file = SceneFile::deserialize(de).map_err(|e| toml_error(text, &e, &reading))?;
+    let mut file = SceneFile::deserialize(de).map_err(|e| toml_error(text, &e, &reading))?;
+    if let Some(v) = spring_table {
+        let span = v.span();
+        let DeValue::Table(t) = v.into_inner() else {
+            return Err(located(
+                text,
+                "design.spring: must be a table ([design.spring] with its keys)",
+            ));
+        };
+        let de = toml::de::Deserializer::from(Spanned::new(span, t));
+        file.spring =
+            Some(spring::SpringTable::deserialize(de).map_err(|e| toml_error(text, &e, &reading))?);
+    }
     Ok((file, reading))
 }
 
@@ -538,8 +563,26 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
             }
         }
     }
+    if file.spring.is_some() {
+        let given = [key::K_RS, key::M_SPRING].into_iter().find_map(|k| {
+            let path = format!("design.{k}");
+            reading.present.iter().find(|p| p.inch_path == path)
+        });
+        if let Some(p) = given {
+            return Err(located(
+                text,
+                &format!("{} and [design.spring] both give the spring: [design.spring] sets the rate and the spring mass; give one of them", p.user_path),
+            ));
+        }
+    }
+    // The part's rate and mass before the moving mass is shared out (its third of the
+    // spring) and the modal rate follows; a part that is refused is refused by `check`.
+    if let Some(Ok(p)) = file.spring.as_ref().map(spring::SpringTable::part) {
+        file.design.k_rs = p.coil.rate();
+        file.design.m_spring = p.coil.mass();
+    }
     // The modal analysis's rate follows the spring's unless the file gives it.
-    if sets(key::K_RS) && !sets(key::K_RS_MODAL) {
+    if (sets(key::K_RS) || file.spring.is_some()) && !sets(key::K_RS_MODAL) {
         file.design.k_rs_modal = file.design.k_rs;
     }
     if let Some(lb) = reading.moving_mass {
@@ -1150,10 +1193,19 @@ impl SceneFile {
                 other => refusal("run", other),
             })?;
         }
+        let spring = match &self.spring {
+            Some(t) => Some(t.part()?),
+            None => None,
+        };
+        if let Some(p) = &spring {
+            design.k_rs = p.coil.rate();
+            design.m_spring = p.coil.mass();
+        }
         design
             .validate()
             .map_err(|error| refusal("design", error))?;
         Ok(CheckedScene {
+            spring,
             design,
             solver: self.solver,
             revolutions,
@@ -1304,11 +1356,55 @@ mod tests {
     }
 
     #[test]
+    fn the_spring_part_reads_in_either_family_and_gives_the_rate_and_mass() {
+        let inch = "[design.spring]\nwire_diameter_in = 0.2\nmean_diameter_in = 1.2\nactive_coils = 6\nmaterial = \"chrome-silicon\"\nfree_length_in = 4\nshear_modulus_psi = 11e6\n";
+        let si = "[design.spring]\nwire_diameter_mm = 5.08\nmean_diameter_mm = 30.48\nactive_coils = 6\nmaterial = \"chrome-silicon\"\nfree_length_mm = 101.6\nshear_modulus_mpa = 75842.33022485198\n";
+        let (a, b) = (parse(inch).unwrap(), parse(si).unwrap());
+        let (pa, pb) = (a.spring.unwrap(), b.spring.unwrap());
+        // k = G d^4 / (8 D^3 N_a) = 11e6 * 0.0016 / (8 * 1.728 * 6) = 212.19 lb/in; the
+        // explicit G overrides the named wire's 11.2e6 psi.
+        let k = 11e6 * 0.2f64.powi(4) / (8.0 * 1.2f64.powi(3) * 6.0);
+        assert!((a.design.k_rs / k - 1.0).abs() < 1e-12, "{}", a.design.k_rs);
+        assert!((b.design.k_rs / k - 1.0).abs() < 1e-9, "{}", b.design.k_rs);
+        // Mass: 8 total coils (squared and ground, the default) of steel wire.
+        let m =
+            0.2836 / 386.09 * (std::f64::consts::PI * 0.01) * (std::f64::consts::PI * 1.2) * 8.0;
+        assert!((a.design.m_spring / m - 1.0).abs() < 1e-12);
+        assert!((pb.free_length.unwrap() - 4.0).abs() < 1e-12);
+        assert!((pa.coil.wire_diameter - pb.coil.wire_diameter).abs() < 1e-15);
+        // The allowable is chrome-silicon's at d: 0.5 * 202 kpsi / 0.2^0.108.
+        let allowable = 0.5 * 202e3 / 0.2f64.powf(0.108);
+        assert!((pa.coil.material.allowable_shear / allowable - 1.0).abs() < 1e-12);
+        // A rate beside the part is refused, named as the user wrote it.
+        let e = parse(&format!("[design]\nspring_rate_n_per_mm = 10\n{si}"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "line 2: design.spring_rate_n_per_mm and [design.spring] both give the spring"
+            ),
+            "{e}"
+        );
+        let e = parse(&si.replace("chrome-silicon", "piano"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 5: design.spring.material = \"piano\": not a named wire"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn a_scene_in_si_units_is_the_same_scene_in_inch() {
         let (inch, si, n) = scaled_scene_in_both_families();
         // Every dimensional key of the table appears: the design's, the segments'
-        // lifts, the solver's atol and the limits' stress.
-        assert!(n >= units::UNIT_KEYS.len() - 2, "{n}");
+        // lifts, the solver's atol and the limits' stress ([design.spring]'s keys are not
+        // in the default scene: `the_spring_part_reads_in_either_family`).
+        let spring_keys = units::UNIT_KEYS
+            .iter()
+            .filter(|k| k.key.starts_with("spring."))
+            .count();
+        assert!(n >= units::UNIT_KEYS.len() - spring_keys - 2, "{n}");
         assert!(si.contains("spring_rate_n_per_mm = "), "{si}");
         assert!(si.contains("base_radius_mm = "), "{si}");
         assert!(si.contains("lift_mm = "), "{si}");

@@ -161,6 +161,8 @@ pub const G_IN_PER_S2: f64 = 9.806_65 / M_PER_IN;
 /// translating mass, from which the reader sets the load mass (camsim-core's
 /// `Design::set_moving_mass`, docs/MODEL.md §5.1). Not a field of the design.
 pub const MOVING_MASS: &str = "moving_mass_lb";
+/// `[design.spring]`'s free length (in; `_mm` in SI).
+pub const SPRING_FREE_LENGTH: &str = "spring.free_length_in";
 
 /// The `[limits]` table's allowable contact stress (psi; `_mpa` in SI).
 pub const ALLOWABLE_CONTACT_STRESS: &str = "allowable_contact_stress_psi";
@@ -254,6 +256,12 @@ pub const UNIT_KEYS: &[UnitKey] = &[
     design(key::K_RS, &STIFFNESS),
     design(key::DELTA_RS, &LENGTH),
     design(key::K_RS_MODAL, &STIFFNESS),
+    design(camsim_core::spring_key::WIRE, &LENGTH),
+    design(camsim_core::spring_key::MEAN, &LENGTH),
+    design(camsim_core::spring_key::SHEAR, &STRESS),
+    design(camsim_core::spring_key::DENSITY, &DENSITY),
+    design(camsim_core::spring_key::ALLOWABLE, &STRESS),
+    design(SPRING_FREE_LENGTH, &LENGTH),
     design(key::BASE_RADIUS, &LENGTH),
     design(key::ROLLER_RADIUS, &LENGTH),
     design(key::THICKNESS, &LENGTH),

@@ -85,6 +85,26 @@ fn design_spring_theoretical_brackets_the_criterion() {
     assert!(!at(r.spring_rate_lb_per_in));
     assert!(at(below));
     assert!(r.jump_onset_rpm.unwrap() > 920.0);
+    // Issue 30: the spring to build passes every check the verdict makes, re-read as a
+    // scene's [design.spring] and judged by the verdict outside the search: contact at
+    // 920 rpm with its own rate and mass, surge at least 13 x the cam's 13.33 Hz, Wahl
+    // stress at full compression within the allowable, not solid, no spring warning.
+    let p = r.part.as_ref().unwrap();
+    let c = &p.spring;
+    let scene = format!(
+        "[design.spring]\nwire_diameter_in = {}\nmean_diameter_in = {}\nactive_coils = {}\nends = \"{}\"\nmaterial = \"{}\"\nfree_length_in = {}\n",
+        c.wire_diameter_in, c.mean_diameter_in, c.active_coils, p.ends, p.material, c.free_length_in
+    );
+    let built = camsim::scene::parse(&scene).unwrap();
+    assert!(built.design.k_rs >= r.spring_rate_lb_per_in);
+    let v = camsim::verdict::spring(&built.design, built.spring.as_ref()).unwrap();
+    assert!(v.surge_hz >= 13.0 * 800.0 / 60.0, "{}", v.surge_hz);
+    assert!(v.shear_stress_psi <= v.allowable_shear_psi);
+    assert_eq!(v.solid(), Some(false));
+    assert!(camsim::verdict::spring_part_warnings(&v).is_empty());
+    let mut s = spec.clone();
+    s.design = built.design.clone();
+    assert!(!camsim::sim::jumps_at(&s, 920.0).unwrap());
 }
 
 /// The actual-cam search gives the same answer, bit for bit, on 1 and 2 threads.
@@ -307,4 +327,61 @@ fn scene_new_templates_read_back() {
             }
         }
     }
+}
+
+/// Issue 30: the verdict's spring checks on a `[design.spring]` part, against the closed
+/// forms: force at full compression k (δ_rs + h), Wahl's stress τ = K_W 8 F D / (π d³),
+/// solid height d N_t (squared and ground), and the free-length check L_0 − (δ_rs + h) > L_s.
+#[test]
+fn the_spring_part_is_judged_on_stress_and_solid_height() {
+    use camsim::verdict::{spring as spring_verdict, spring_part_warnings};
+    let scene = |free: f64, wire: f64| {
+        camsim::scene::parse(&format!(
+            "[design]\nspring_preload_length_in = 0.5\n[design.spring]\nwire_diameter_in = {wire}\nmean_diameter_in = 1.2\nactive_coils = 6\nmaterial = \"chrome-silicon\"\nfree_length_in = {free}\n"
+        ))
+        .unwrap()
+    };
+    let spec = scene(4.0, 0.2);
+    let v = spring_verdict(&spec.design, spec.spring.as_ref()).unwrap();
+    let h = spec.design.program.max_lift();
+    assert_eq!(h, 1.5, "the reference program's lift");
+    let k = 11.2e6 * 0.2f64.powi(4) / (8.0 * 1.2f64.powi(3) * 6.0);
+    let f = k * (0.5 + h);
+    assert!((v.full_compression_force_lb / f - 1.0).abs() < 1e-12);
+    let c = 6.0;
+    let kw = (4.0 * c - 1.0) / (4.0 * c - 4.0) + 0.615 / c;
+    let tau = kw * 8.0 * f * 1.2 / (std::f64::consts::PI * 0.008);
+    assert!(
+        (v.shear_stress_psi / tau - 1.0).abs() < 1e-12,
+        "{}",
+        v.shear_stress_psi
+    );
+    assert!((v.solid_height_in - 0.2 * 8.0).abs() < 1e-12);
+    // 4 in free, 2 in of compression: 2.0 in at full lift, above the solid 1.6 in; the
+    // stress (about 197 kpsi) is over chrome-silicon's 0.5 * 202 / 0.2^0.108 = 119 kpsi.
+    assert_eq!(v.solid(), Some(false));
+    let w = spring_part_warnings(&v);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].starts_with("spring shear stress"), "{w:?}");
+    // 3.5 in free: 1.5 in at full lift, below the solid 1.6 in.
+    let spec = scene(3.5, 0.2);
+    let v = spring_verdict(&spec.design, spec.spring.as_ref()).unwrap();
+    assert_eq!(v.solid(), Some(true));
+    assert_eq!(spring_part_warnings(&v).len(), 2);
+    // A thicker wire at the same coil: k grows as d^4, the stress as K_W F / d^3; with
+    // 0.3 in wire (C = 4) the 6-coil spring is solid at 2.4 in, so 5 in free passes that.
+    let spec = scene(5.0, 0.3);
+    let v = spring_verdict(&spec.design, spec.spring.as_ref()).unwrap();
+    assert_eq!(v.solid(), Some(false));
+    assert!(
+        v.shear_stress_psi > v.allowable_shear_psi,
+        "k grows faster than d^3"
+    );
+    // An assumed spring (the rate alone) is shown, not judged.
+    let reference = camsim::sim::RunSpec::reference();
+    let v = spring_verdict(&reference.design, None).unwrap();
+    assert!(!v.given);
+    assert!(spring_part_warnings(&v).is_empty());
+    assert_eq!(v.free_length_in, None);
+    assert!((v.least_free_length_in - (1.05 + 2.0)).abs() < 1e-12);
 }

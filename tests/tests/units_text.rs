@@ -617,6 +617,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     let w = waviness::report(&waviness::Args {
         seeds: vec![1],
         json: false,
+        measured: None,
     })
     .unwrap();
     let (inch, si) = both(|| camsim::report::Report::text(&w));

@@ -84,6 +84,123 @@ pub const SURGE_HARMONIC_MARGIN: f64 = 13.0;
 /// the machine and the drive (motor, shaft, regulator) must be designed with the cam
 /// (docs/MODEL.md §5.17). Not from the thesis.
 pub const CAM_SPEED_SWING_LIMIT: f64 = 0.02;
+
+/// A spring-wire grade: its shear modulus, density, and static allowable shear stress as
+/// a fraction of its tensile strength S_ut = A / d^m (Shigley, *Mechanical Engineering
+/// Design*, 9th ed., tables 10-4, 10-5, 10-6; docs/MODEL.md §5.6). The allowable is
+/// Shigley's for static service with the set not removed: the cam spring's fatigue is
+/// not checked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringWire {
+    /// The name a scene writes (`music-wire`).
+    pub name: &'static str,
+    /// What it is, for a spring maker (`music wire, ASTM A228`).
+    pub title: &'static str,
+    /// Shear modulus G, psi.
+    pub shear_modulus_psi: f64,
+    /// Weight density, lb/in³.
+    pub weight_density_lb_per_in3: f64,
+    /// Diameter bands of table 10-4: (largest d of the band in inches, A in psi·in^m,
+    /// m); the last band covers every larger wire.
+    pub strength: [(f64, f64, f64); 3],
+    /// Allowable static shear stress over S_ut (table 10-6).
+    pub static_fraction: f64,
+}
+
+impl SpringWire {
+    /// Tensile strength S_ut of wire `d` in, psi: A / d^m of d's band.
+    pub fn tensile_strength<T: Real>(&self, d: T) -> T {
+        let (a, m) = self
+            .strength
+            .iter()
+            .find(|b| d.to_f64() <= b.0)
+            .or(self.strength.last())
+            .map_or((f64::NAN, 1.0), |b| (b.1, b.2));
+        T::from_f64(a) / d.powf(T::from_f64(m))
+    }
+
+    /// The material of wire `d` in: G, density, and the allowable static shear stress.
+    pub fn material<T: Real>(&self, d: T) -> crate::SpringMaterial<T> {
+        crate::SpringMaterial {
+            shear_modulus: T::from_f64(self.shear_modulus_psi),
+            density: T::from_f64(self.weight_density_lb_per_in3 / GRAVITY_IN_PER_S2),
+            allowable_shear: T::from_f64(self.static_fraction) * self.tensile_strength(d),
+        }
+    }
+
+    /// The grade named `name` (one of [`SPRING_WIRES`]).
+    pub fn named(name: &str) -> Option<&'static SpringWire> {
+        SPRING_WIRES.iter().find(|w| w.name == name)
+    }
+}
+
+/// Steel spring wire's weight density, lb/in³ (0.2836: the model's steel, VI.1's).
+const SPRING_STEEL_WEIGHT: f64 = 0.2836;
+
+/// The named spring wires (Shigley, tables 10-4 to 10-6): G for wire of about 0.1 in
+/// (table 10-5 varies it by a few percent with the diameter), A and m of S_ut = A/d^m, and
+/// the static allowable's fraction of S_ut (45 % for cold-drawn music wire, 50 % for
+/// hardened and tempered steels, 35 % for austenitic stainless). Stainless 302's weight
+/// density, 0.286 lb/in³ (7.92 g/cm³), is AISI 302's.
+pub const SPRING_WIRES: [SpringWire; 4] = [
+    SpringWire {
+        name: "music-wire",
+        title: "music wire, ASTM A228",
+        shear_modulus_psi: 11.75e6,
+        weight_density_lb_per_in3: SPRING_STEEL_WEIGHT,
+        strength: [(f64::INFINITY, 201e3, 0.145); 3],
+        static_fraction: 0.45,
+    },
+    SpringWire {
+        name: "oil-tempered",
+        title: "oil-tempered wire, ASTM A229",
+        shear_modulus_psi: 11.2e6,
+        weight_density_lb_per_in3: SPRING_STEEL_WEIGHT,
+        strength: [(f64::INFINITY, 147e3, 0.187); 3],
+        static_fraction: 0.50,
+    },
+    SpringWire {
+        name: "chrome-silicon",
+        title: "chrome-silicon wire, ASTM A401",
+        shear_modulus_psi: 11.2e6,
+        weight_density_lb_per_in3: SPRING_STEEL_WEIGHT,
+        strength: [(f64::INFINITY, 202e3, 0.108); 3],
+        static_fraction: 0.50,
+    },
+    SpringWire {
+        name: "stainless-302",
+        title: "stainless 302 wire, ASTM A313",
+        shear_modulus_psi: 10.0e6,
+        weight_density_lb_per_in3: 0.286,
+        strength: [
+            (0.10, 169e3, 0.146),
+            (0.20, 128e3, 0.263),
+            (f64::INFINITY, 90e3, 0.478),
+        ],
+        static_fraction: 0.35,
+    },
+];
+
+/// The wire of a spring given by its rate alone (`--spring-rate`, a scene's rate
+/// without `[design.spring]`): [`HelicalSpring`]'s steel of VI.1's G, judged with music
+/// wire's allowable (the commonest spring wire).
+pub const ASSUMED_SPRING_WIRE: &SpringWire = &SPRING_WIRES[0];
+
+/// Standard wire diameters `camsim design spring` searches, in: the R20 preferred
+/// numbers (ISO 3) from 0.5 to 12.5 mm, the series spring-wire sizes are drawn to.
+pub const STANDARD_WIRE_DIAMETERS_MM: [f64; 29] = [
+    0.5, 0.56, 0.63, 0.71, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4, 1.6, 1.8, 2.0, 2.24, 2.5, 2.8, 3.15,
+    3.55, 4.0, 4.5, 5.0, 5.6, 6.3, 7.1, 8.0, 9.0, 10.0, 11.2, 12.5,
+];
+
+/// Spring indexes C = D/d `camsim design spring` tries: 4 to 12 in steps of 0.5, Shigley's
+/// recommended range (below 4 the coil is hard to wind, above 12 it tangles and buckles).
+pub const SPRING_INDEX_RANGE: (f64, f64, f64) = (4.0, 12.0, 0.5);
+
+/// Fractional overrun to closure ξ: a spring's free length leaves 15 % of its working
+/// deflection before it is solid, L_0 = L_s + (1 + ξ) y_max (Shigley, ξ ≥ 0.15). `camsim
+/// design spring` winds its answer to this free length.
+pub const SPRING_CLASH_ALLOWANCE: f64 = 0.15;
 /// Allowable Hertz contact stress of the cam and roller, psi: 150 000, the surface
 /// endurance strength of through-hardened steel at 400 Brinell for 10⁸ cycles by
 /// Buckingham's S_C = 0.4 H_B − 10 kpsi (Shigley, *Mechanical Engineering Design*, surface
@@ -139,6 +256,24 @@ impl<T: Real> HelicalSpring<T> {
             mass,
             surge_hz,
         })
+    }
+
+    /// The part this spring is: the reference wire and coil, squared and ground ends
+    /// (two closed coils), VI.1's steel, judged with [`ASSUMED_SPRING_WIRE`]'s allowable.
+    pub fn part(&self) -> crate::CoilSpring<T> {
+        let d = T::from_f64(SPRING_WIRE_DIAMETER);
+        let wire = ASSUMED_SPRING_WIRE.material(d);
+        crate::CoilSpring {
+            wire_diameter: d,
+            mean_diameter: T::from_f64(SPRING_MEAN_DIAMETER),
+            active_coils: self.active_coils,
+            ends: crate::CoilEnds::SquaredGround,
+            material: crate::SpringMaterial {
+                shear_modulus: T::from_f64(STEEL_SHEAR),
+                density: T::from_f64(STEEL_DENSITY),
+                allowable_shear: wire.allowable_shear,
+            },
+        }
     }
 }
 
@@ -900,6 +1035,33 @@ mod spring_tests {
     /// The spring constants by hand: k = G d⁴ / (8 D³ n) with G = 11.4e6 psi,
     /// d⁴ = 3.8416e-4 in⁴, D = 1 in: 4379.42 / (8 n) = 547.43 / n lb/in; the wire's
     /// volume per coil π² d² D / 4 = 0.0483611 in³.
+    #[test]
+    fn spring_wire_strengths_are_shigleys() {
+        // Shigley (9th ed.) Example 10-1: no. 16 music wire, d = 0.037 in: S_ut = 201 /
+        // 0.037^0.145 = 324 kpsi, S_sy = 0.45 S_ut = 146 kpsi.
+        let music = SpringWire::named("music-wire").unwrap();
+        let m = music.material(0.037);
+        assert!((music.tensile_strength(0.037) / 324.2e3 - 1.0).abs() < 1e-3);
+        assert!((m.allowable_shear / 145.9e3 - 1.0).abs() < 1e-3);
+        // Stainless 302 changes band at 0.10 in: 169/0.1^0.146 = 236.4 kpsi below,
+        // 128/0.1^0.263 = 234.6 kpsi above (table 10-4's bands meet within 1 %).
+        let ss = SpringWire::named("stainless-302").unwrap();
+        assert!((ss.tensile_strength(0.1) / 236.4e3 - 1.0).abs() < 1e-3);
+        assert!((ss.tensile_strength(0.1000001) / 234.6e3 - 1.0).abs() < 1e-3);
+        assert!(SpringWire::named("piano").is_none());
+        // The assumed wire model's part has the wire model's rate, mass and surge.
+        let h = HelicalSpring::<f64>::of_rate(REFERENCE_SPRING_RATE).unwrap();
+        let p = h.part();
+        let k = STEEL_SHEAR * 0.14f64.powi(4) / (8.0 * 5.5);
+        assert!((p.rate() / k - 1.0).abs() < 1e-12);
+        assert!((p.mass() / h.mass - 1.0).abs() < 1e-12);
+        // The wire model's surge takes the rate asked (100), the part its coils' (99.53):
+        // sqrt(99.53 / 100) = 0.99765.
+        assert!((p.surge_hz() / h.surge_hz - (k / 100.0).sqrt()).abs() < 1e-12);
+        // Squared and ground: solid height d N_t = 0.14 * 7.5 in.
+        assert!((p.solid_height() - 1.05).abs() < 1e-12);
+    }
+
     #[test]
     fn spring_rate_and_mass_follow_from_the_wire() {
         let rate = |n: f64| {

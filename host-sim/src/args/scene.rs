@@ -90,6 +90,8 @@ pub fn spec_from(args: &SceneArgs) -> Result<RunSpec> {
         spec.design
             .set_spring_rate(k)
             .map_err(|e| anyhow::anyhow!("--spring-rate {k}: {e}"))?;
+        // A rate alone is the wire-and-coil model's spring, not the scene's part.
+        spec.spring = None;
     }
     if let Some(d) = args.preload_length {
         spec.design.delta_rs = d;

@@ -23,6 +23,7 @@ use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
+use crate::study::coil_spring::{candidates, CoilChoice, CoilQuery, Rejections};
 use crate::study::montecarlo::{threads, Study};
 use crate::units;
 
@@ -589,12 +590,129 @@ pub struct SpringReport {
     pub seed: Option<u64>,
     /// Which model produced the answer.
     pub model: String,
-    /// Rates tried (lb/in) in order, each with whether it passed.
+    /// Rates tried (lb/in; with --preload lengths, in) in order, each with whether it
+    /// passed. Its JSON key names the unit (`rates_tried_lb_per_in`,
+    /// `preload_lengths_tried_in`, or their SI names).
+    #[serde(skip)]
     pub tried: Vec<(f64, bool)>,
+    /// The spring to build: wire, coil and coils that pass every check of the verdict.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub part: Option<PartReport>,
     /// Model runs of the search (each of 2 revolutions), and of the onset check.
     pub model_runs: u64,
     /// Wall time, s.
     pub wall_s: f64,
+}
+
+/// The spring `design spring` answers with ([`crate::study::coil_spring`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct PartReport {
+    /// The spring.
+    pub spring: CoilChoice,
+    /// The wire (`chrome-silicon wire, ASTM A401`).
+    pub wire: String,
+    /// The wire's scene name.
+    pub material: &'static str,
+    /// End type.
+    pub ends: &'static str,
+    /// The rule closest to its limit.
+    pub binding: String,
+    /// Its use of the limit, percent.
+    pub binding_percent: f64,
+    /// Candidates each rule turned away.
+    pub rejected: Rejections,
+    /// Whether contact was checked with this spring's own rate and mass (a simulation);
+    /// with --actual it is judged at the rate found, with the wire model's mass.
+    pub contact_checked: bool,
+}
+
+/// The candidates' contact checks a search runs at most before it gives up.
+const MAX_PART_CHECKS: usize = 12;
+
+/// The spring to build for `spec` at its rate and preload length: the lightest standard
+/// candidate that passes stress and surge and, with `at_rpm`, holds contact at that speed
+/// with its own rate and mass. Returns it and the spec with its rate and mass.
+fn choose_part(
+    spec: &RunSpec,
+    at_rpm: Option<f64>,
+    runs: &mut u64,
+) -> Result<(PartReport, RunSpec)> {
+    let part = spec.spring.as_ref();
+    let wire = part
+        .and_then(|p| p.wire)
+        .unwrap_or(camsim_core::ASSUMED_SPRING_WIRE);
+    let q = CoilQuery {
+        rate: spec.design.k_rs,
+        full_compression: spec.design.delta_rs + spec.design.program.max_lift(),
+        cam_hz: camsim_core::rad_per_s_to_rpm(spec.design.omega0) / 60.0,
+        wire,
+        ends: part.map_or(camsim_core::CoilEnds::SquaredGround, |p| p.coil.ends),
+        fixed: part.map(|p| (p.coil.wire_diameter, p.coil.mean_diameter)),
+    };
+    let (found, rejected) = candidates(&q);
+    let lu = units::symbol(units::LENGTH);
+    if found.is_empty() {
+        bail!(
+            "no {} spring of {} {} passes: of the wire and coil sizes tried, {} need fewer than {} active coils, {} exceed the allowable stress at full compression ({} {lu}), {} surge below {} x the cam's {:.2} Hz: a longer preload length with a softer spring, a gentler program or a lower speed",
+            wire.title,
+            units::q(units::STIFFNESS, q.rate, 1),
+            units::symbol(units::STIFFNESS),
+            rejected.too_stiff,
+            crate::study::coil_spring::MIN_ACTIVE_COILS,
+            rejected.stress,
+            units::q(units::LENGTH, q.full_compression, 3),
+            rejected.surge,
+            camsim_core::SURGE_HARMONIC_MARGIN,
+            q.cam_hz
+        );
+    }
+    let with = |c: &CoilChoice| {
+        let mut s = spec.clone();
+        s.design.k_rs = c.rate_lb_per_in;
+        s.design.m_spring = c.mass_lb / camsim_core::GRAVITY_IN_PER_S2;
+        s
+    };
+    let mut chosen = None;
+    for c in found.iter().take(MAX_PART_CHECKS) {
+        let s = with(c);
+        let ok = match at_rpm {
+            Some(rpm) => {
+                *runs += 1;
+                !sim::jumps_at(&s, rpm)?
+            }
+            None => true,
+        };
+        if ok {
+            chosen = Some((*c, s));
+            break;
+        }
+    }
+    let Some((c, s)) = chosen else {
+        bail!(
+            "none of the {} lightest springs that pass stress and surge holds contact with its own mass: a larger --margin on the rate, or a lighter program",
+            MAX_PART_CHECKS.min(found.len())
+        );
+    };
+    let (rule, use_) = c.binding(&q);
+    let mut s = s;
+    s.spring = Some(camsim_scene_file::spring::SpringPart {
+        coil: c.coil(&q),
+        wire: Some(wire),
+        free_length: Some(c.free_length_in),
+    });
+    Ok((
+        PartReport {
+            spring: c,
+            wire: wire.title.to_string(),
+            material: wire.name,
+            ends: q.ends.name(),
+            binding: rule.to_string(),
+            binding_percent: 100.0 * use_,
+            rejected,
+            contact_checked: at_rpm.is_some(),
+        },
+        s,
+    ))
 }
 
 fn describe(spec: &RunSpec) -> String {
@@ -686,6 +804,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             Ok(ok)
         })?;
         let (rate, below) = answer(onset, max, preload, "P(jump) above --p-max")?;
+        let (part, _) = choose_part(&with_rate(&spec, rate)?, None, &mut runs)?;
         let p = last_p.filter(|(k, _)| *k == rate).map(|(_, p)| p);
         SpringReport {
             searched: what.into(),
@@ -712,6 +831,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             seed: Some(args.seed),
             model: describe(&mc),
             tried,
+            part: Some(part),
             model_runs: runs,
             wall_s: 0.0,
         }
@@ -728,8 +848,9 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             Ok(ok)
         })?;
         let (rate, below) = answer(onset, max, preload, "separates")?;
+        // The spring to build, contact checked with its own rate and mass.
+        let (part, chosen) = choose_part(&with_rate(&spec, rate)?, Some(at_rpm), &mut runs)?;
         // The chosen spring's own jump onset: the margin it really has.
-        let chosen = with_rate(&spec, rate)?;
         let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
         SpringReport {
@@ -757,6 +878,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             seed: None,
             model: describe(&spec),
             tried,
+            part: Some(part),
             model_runs: runs,
             wall_s: 0.0,
         }
@@ -775,12 +897,19 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     } else {
         report.spring_rate_lb_per_in
     };
-    let chosen = with_rate(&spec, answer_value)?;
+    let mut chosen = with_rate(&spec, answer_value)?;
     let hs = chosen.design.spring()?;
-    report.preload_lb = chosen.design.preload()?;
     report.spring_mass_lb = hs.mass * camsim_core::GRAVITY_IN_PER_S2;
     report.active_coils = hs.active_coils;
     report.surge_hz = hs.surge_hz;
+    if let Some(p) = &report.part {
+        // The part's own rate, mass, coils and surge.
+        chosen.design.k_rs = p.spring.rate_lb_per_in;
+        report.spring_mass_lb = p.spring.mass_lb;
+        report.active_coils = p.spring.active_coils;
+        report.surge_hz = p.spring.surge_hz;
+    }
+    report.preload_lb = chosen.design.preload()?;
     report.wall_s = t0.elapsed().as_secs_f64();
     crate::report::ensure_finite(&report)?;
     Ok(report)
@@ -803,7 +932,17 @@ fn answer(onset: Onset<f64>, max: f64, preload: bool, fails: &str) -> Result<(f6
 
 impl Report for SpringReport {
     fn json(&self) -> serde_json::Result<String> {
-        crate::report::sorted_pretty_json(self)
+        // The tried values under a key that names their unit (`--units` converts it).
+        let mut v = serde_json::to_value(self)?;
+        let key = if self.searched == "preload length" {
+            "preload_lengths_tried_in"
+        } else {
+            "rates_tried_lb_per_in"
+        };
+        if let Some(o) = v.as_object_mut() {
+            o.insert(key.into(), serde_json::to_value(&self.tried)?);
+        }
+        crate::report::sorted_pretty_json(&v)
     }
     fn text(&self) -> String {
         use std::fmt::Write;
@@ -896,6 +1035,9 @@ impl Report for SpringReport {
                 p.text(4)
             );
         }
+        if let Some(p) = &self.part {
+            part_lines(&mut out, p);
+        }
         let _ = writeln!(out, "  model: {}", self.model);
         let tried: Vec<String> = self
             .tried
@@ -938,6 +1080,68 @@ impl Report for SpringReport {
         );
         out
     }
+}
+
+/// The spring to build: the part, its checks, the rule that binds, and the
+/// `[design.spring]` lines that describe it in the output's family.
+fn part_lines(out: &mut String, p: &PartReport) {
+    use std::fmt::Write;
+    let c = &p.spring;
+    let (lu, su) = (units::symbol(units::LENGTH), units::symbol(units::STRESS));
+    let _ = writeln!(
+        out,
+        "  spring to build: {}, wire {} {lu}, mean coil {} {lu} (index {:.1}), {:.2} active / {:.2} total coils, {} ends; rate {} {}, {} {}",
+        p.wire,
+        units::q(units::LENGTH, c.wire_diameter_in, 3),
+        units::q(units::LENGTH, c.mean_diameter_in, 3),
+        c.index,
+        c.active_coils,
+        c.total_coils,
+        p.ends,
+        units::q(units::STIFFNESS, c.rate_lb_per_in, 1),
+        units::symbol(units::STIFFNESS),
+        units::q(units::WEIGHT, c.mass_lb, 4),
+        units::symbol(units::WEIGHT)
+    );
+    let _ = writeln!(
+        out,
+        "    checks: stress {} {su} at full compression, {:.0} % of the allowable {} {su}; surge {:.0} Hz = {:.1} x the cam (least {:.0}); free length {} {lu}, {} {lu} at full compression above the solid {} {lu}; contact {}",
+        units::q(units::STRESS, c.shear_stress_psi, 0),
+        100.0 * c.shear_stress_psi / c.allowable_shear_psi,
+        units::q(units::STRESS, c.allowable_shear_psi, 0),
+        c.surge_hz,
+        c.surge_harmonic,
+        camsim_core::SURGE_HARMONIC_MARGIN,
+        units::q(units::LENGTH, c.free_length_in, 3),
+        units::q(units::LENGTH, c.full_compression_length_in, 3),
+        units::q(units::LENGTH, c.solid_height_in, 3),
+        if p.contact_checked {
+            "checked with its own rate and mass"
+        } else {
+            "judged at the rate found, with the wire model's mass"
+        }
+    );
+    let _ = writeln!(
+        out,
+        "    binding: {} ({:.0} % of its limit); turned away: {} too stiff for {} coils, {} over the stress, {} low surge",
+        p.binding,
+        p.binding_percent,
+        p.rejected.too_stiff,
+        crate::study::coil_spring::MIN_ACTIVE_COILS,
+        p.rejected.stress,
+        p.rejected.surge
+    );
+    let k = units::key_suffix(units::LENGTH);
+    let _ = writeln!(
+        out,
+        "    as a scene: [design.spring] wire_diameter_{k} = {}, mean_diameter_{k} = {}, active_coils = {}, ends = \"{}\", material = \"{}\", free_length_{k} = {}",
+        units::q(units::LENGTH, c.wire_diameter_in, 4),
+        units::q(units::LENGTH, c.mean_diameter_in, 4),
+        c.active_coils,
+        p.ends,
+        p.material,
+        units::q(units::LENGTH, c.free_length_in, 4)
+    );
 }
 
 /// Runs the command.

@@ -429,7 +429,7 @@ fn verdict(
     )?;
     let geometry = v::geometry(&spec.design, &limits)?;
     let loads = v::loads(watch, &limits)?;
-    let spring = v::spring(&spec.design)?;
+    let spring = v::spring(&spec.design, spec.spring.as_ref())?;
     let jump_margin = if args.margin {
         let mut s = spec.clone();
         s.solver.start = camsim_core::Start::Static;
