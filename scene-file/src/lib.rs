@@ -1049,7 +1049,11 @@ fn toml_error(text: &str, e: &toml::de::Error, reading: &Reading) -> Error {
         ));
     }
     let path = line_paths(text).get(line - 1).cloned().unwrap_or_default();
-    let msg = did_you_mean(&msg, &path).unwrap_or(msg);
+    let mut msg = did_you_mean(&msg, &path).unwrap_or(msg);
+    // The drives the reader itself takes (take_drive_preset), which serde's list lacks.
+    if path.starts_with("design.drive") && msg.starts_with("unknown variant") {
+        msg.push_str("; or `thesis`, or a [design.drive.motor] table");
+    }
     Error::new(match Some(&path).filter(|k| !k.is_empty()) {
         Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
         None => format!("line {line}, column {col}: {msg}"),

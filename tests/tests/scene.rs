@@ -348,7 +348,7 @@ fn refusals_name_the_key_and_the_rule() {
         // A bad drive law, as a name and as a table.
         (
             "[design]\ndrive = \"turbo\"\n".into(),
-            "line 2, column 9: design.drive: unknown variant `turbo`, expected one of `constant-cam-speed`, `constant-speed`, `constant-motor-speed`, `regulated`",
+            "line 2, column 9: design.drive: unknown variant `turbo`, expected one of `constant-cam-speed`, `constant-speed`, `constant-motor-speed`, `regulated`; or `thesis`, or a [design.drive.motor] table",
         ),
         (
             "[design.drive.pid]\nk_p = 1\n".into(),
