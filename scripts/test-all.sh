@@ -129,6 +129,10 @@ smoke scene-new-si scene --new --units si
 smoke scene-new-check scene --check "$studies/scene-new-si.out" --units si
 grep -qF '# derived:' "$studies/scene-new-check.out" && grep -qF 'design.load_mass_kg = ' "$studies/scene-new-check.out" && grep -qF '# inherited from the reference design' "$studies/scene-new-check.out" || { echo "smoke: scene --check does not list the derived and inherited values" >&2; exit 1; }
 smoke scene-new-run run "$studies/scene-new.out" --revolutions 1 --json
+# A motor drive in a designer's terms: its gain is derived into the regulated drive's k_p.
+printf '[design.drive.motor]\ngain_n_m_s_per_rad = 9.3\n' > "$studies/motor.toml"
+smoke scene-motor-check scene --check "$studies/motor.toml" --units si
+grep -qF '(from design.drive.motor.gain_n_m_s_per_rad: ' "$studies/scene-motor-check.out" || { echo "smoke: scene --check does not list the motor's gain as derived" >&2; exit 1; }
 grep -qF '"moving_mass_lb": 4.5,' "$studies/scene-new-run.out" || { echo "smoke: run of scene --new's template does not move its 4.5 lb" >&2; exit 1; }
 smoke run-si run --revolutions 1 --json --units si
 smoke run-si-text run --revolutions 1 --units si

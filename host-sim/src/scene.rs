@@ -156,7 +156,9 @@ pub fn default_text() -> Result<String> {
          # Every key is optional: absent keys take these\n\
          # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
          # (and moves the regulated drive's reference with it, like --rpm).\n\
-         # drive: \"constant-cam-speed\", \"constant-motor-speed\" or a [design.drive.regulated] table.\n\
+         # drive: \"constant-cam-speed\" (or \"constant-speed\"), \"constant-motor-speed\", \"thesis\" (the\n\
+         # default below), a [design.drive.regulated] table, or a [design.drive.motor] table (inertia,\n\
+         # shaft_stiffness, gain, torque_limit, each with its unit; see docs/MODEL.md 5.17).\n\
          # program: [[design.program.segment]] with kind \"dwell\", \"rise\" or \"return\",\n\
          # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, lift_in.\n\n{body}"
     ))
@@ -175,7 +177,9 @@ pub fn default_text_si() -> Result<String> {
          # Every key is optional: absent keys take these\n\
          # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
          # (and moves the regulated drive's reference with it, like --rpm).\n\
-         # drive: \"constant-cam-speed\", \"constant-motor-speed\" or a [design.drive.regulated] table.\n\
+         # drive: \"constant-cam-speed\" (or \"constant-speed\"), \"constant-motor-speed\", \"thesis\" (the\n\
+         # default below), a [design.drive.regulated] table, or a [design.drive.motor] table (inertia,\n\
+         # shaft_stiffness, gain, torque_limit, each with its unit; see docs/MODEL.md 5.17).\n\
          # program: [[design.program.segment]] with kind \"dwell\", \"rise\" or \"return\",\n\
          # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, lift_mm.\n\n{body}"
     ))

@@ -313,7 +313,48 @@ struct Reading {
     /// `design.moving_mass_lb` (pound-mass; `_kg` converted), taken out of the design
     /// table before it is read: not a field of the design but the rule that sets its load.
     moving_mass: Option<f64>,
+    /// `[design.drive.motor]`'s values (inch family), taken out of the drive before the
+    /// design is read: the rules that set the design's I_m, K_s1 and the regulator.
+    motor: Option<Motor>,
 }
+
+/// A `[design.drive.motor]` table: a motor with a speed regulator in a designer's terms,
+/// each value in the inch family (`None`: not given, the thesis's value is kept).
+#[derive(Debug, Default, Clone, Copy)]
+struct Motor {
+    /// Rotor inertia, lb·in·s² (the design's I_m).
+    inertia: Option<f64>,
+    /// Motor-coupling shaft stiffness, lb·in/rad (K_s1).
+    shaft_stiffness: Option<f64>,
+    /// Regulator gain, lb·in·s/rad (the regulated drive's k_p).
+    gain: Option<f64>,
+    /// Torque limit, lb·in (t_max).
+    torque_limit: Option<f64>,
+}
+
+/// The motor keys (relative to `[design]`), the design key each sets and what it is.
+const MOTOR_RULES: [(&str, &str, &str); 4] = [
+    (
+        units::MOTOR_INERTIA,
+        key::I_M,
+        "the rotor inertia is the design's I_m",
+    ),
+    (
+        units::MOTOR_SHAFT_STIFFNESS,
+        key::K_S1,
+        "the shaft stiffness is the design's K_s1",
+    ),
+    (
+        units::MOTOR_GAIN,
+        key::DRIVE_K_P,
+        "the regulator's gain is k_p",
+    ),
+    (
+        units::MOTOR_TORQUE_LIMIT,
+        key::DRIVE_T_MAX,
+        "the torque limit is t_max",
+    ),
+];
 
 impl Reading {
     /// Whether the file sets `path` (inch-family, with indices) in either family.
@@ -498,6 +539,7 @@ fn read_scene(text: &str) -> Result<(SceneFile, Reading), Error> {
         Ok(())
     })?;
     reading.moving_mass = take_moving_mass(root.get_mut(), text)?;
+    reading.motor = take_drive_preset(root.get_mut(), text)?;
     // `[design.spring]` is read apart: the design has no such key.
     let spring_table = match root.get_mut().get_mut("design").map(|d| d.get_mut()) {
         Some(DeValue::Table(design)) => design.remove("spring"),
@@ -540,6 +582,100 @@ fn take_moving_mass(root: &mut toml::de::DeTable<'_>, text: &str) -> Result<Opti
             ),
         )),
     }
+}
+
+/// Reads the drive names the core does not know: `drive = "thesis"` (the thesis's
+/// regulated drive, exactly what a scene without a drive gets: the key is dropped) and
+/// `[design.drive.motor]` (dropped too, its values returned: the design keeps the thesis's
+/// regulated drive and [`apply_motor`] sets the motor's values into it).
+fn take_drive_preset(root: &mut toml::de::DeTable<'_>, text: &str) -> Result<Option<Motor>, Error> {
+    use toml::de::DeValue;
+    let Some(DeValue::Table(design)) = root.get_mut("design").map(|v| v.get_mut()) else {
+        return Ok(None);
+    };
+    let motor = match design.get("drive").map(|v| v.get_ref()) {
+        Some(DeValue::String(s)) if s.as_ref() == "thesis" => None,
+        Some(DeValue::Table(t)) if t.contains_key("motor") => match t.get("motor").map(|v| v.get_ref()) {
+            Some(DeValue::Table(m)) if t.len() == 1 => Some(motor_of(m, text)?),
+            Some(DeValue::Table(_)) => {
+                return Err(located(
+                    text,
+                    "design.drive: give one drive: [design.drive.motor] or [design.drive.regulated], not both",
+                ))
+            }
+            _ => return Err(located(text, "design.drive.motor: must be a table of the motor's keys")),
+        },
+        _ => return Ok(None),
+    };
+    design.remove("drive");
+    Ok(motor)
+}
+
+/// The values of a `[design.drive.motor]` table (already converted to the inch family);
+/// an unknown key or a value that is not a number is refused, naming it.
+fn motor_of(m: &toml::de::DeTable<'_>, text: &str) -> Result<Motor, Error> {
+    let mut motor = Motor::default();
+    for (k, v) in m.iter() {
+        let name: &str = k.get_ref();
+        let slot = match MOTOR_RULES.iter().position(|r| r.0.ends_with(&format!(".{name}"))) {
+            Some(0) => &mut motor.inertia,
+            Some(1) => &mut motor.shaft_stiffness,
+            Some(2) => &mut motor.gain,
+            Some(3) => &mut motor.torque_limit,
+            _ => {
+                return Err(located(
+                    text,
+                    &format!(
+                        "design.drive.motor.{name}: unknown key (the motor's keys: inertia, shaft_stiffness, gain, torque_limit, each with its unit: inertia_kg_m2 or inertia_lb_in_s2, shaft_stiffness_n_m_per_rad, gain_n_m_s_per_rad, torque_limit_n_m)"
+                    ),
+                ))
+            }
+        };
+        match number_of(v.get_ref()) {
+            Some((x, _)) => *slot = Some(x),
+            None => {
+                return Err(located(
+                    text,
+                    &format!("design.drive.motor.{name}: must be a number"),
+                ))
+            }
+        }
+    }
+    Ok(motor)
+}
+
+/// Sets a `[design.drive.motor]`'s values into the design by MOTOR_RULES (docs/MODEL.md
+/// §5.17): rotor inertia → I_m, shaft stiffness → K_s1, gain → k_p, torque limit → t_max;
+/// a key not given keeps the thesis's value. Each value must be positive and finite; the
+/// refusal quotes the user's key and value. A file that also sets the design key is refused.
+fn apply_motor(d: &mut Design<f64>, m: &Motor, reading: &Reading) -> Result<(), String> {
+    let values = [m.inertia, m.shaft_stiffness, m.gain, m.torque_limit];
+    for ((motor_key, design_key, _), v) in MOTOR_RULES.iter().zip(values) {
+        let Some(v) = v else { continue };
+        let path = format!("design.{motor_key}");
+        let (user, raw) = reading
+            .present
+            .iter()
+            .find(|p| p.inch_path == path)
+            .map_or((path.clone(), String::new()), |p| {
+                (p.user_path.clone(), p.raw.clone())
+            });
+        if !(v.is_finite() && v > 0.0) {
+            return Err(format!("{user} = {raw}: must be positive and finite"));
+        }
+        if reading.sets(&format!("design.{design_key}")) {
+            return Err(format!(
+                "{user} and design.{design_key} (or its other unit): both set the same value: give one of them"
+            ));
+        }
+    }
+    d.i_m = m.inertia.unwrap_or(d.i_m);
+    d.k_s1 = m.shaft_stiffness.unwrap_or(d.k_s1);
+    if let camsim_core::DriveLaw::Regulated { k_p, t_max, .. } = &mut d.drive {
+        *k_p = m.gain.unwrap_or(*k_p);
+        *t_max = m.torque_limit.unwrap_or(*t_max);
+    }
+    Ok(())
 }
 
 /// Parses and checks scene text. Errors are one line: where TOML or serde refused
@@ -587,6 +723,9 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
     }
     if let Some(lb) = reading.moving_mass {
         apply_moving_mass(&mut file.design, lb, &reading).map_err(|m| located(text, &m))?;
+    }
+    if let Some(motor) = &reading.motor {
+        apply_motor(&mut file.design, motor, &reading).map_err(|m| located(text, &m))?;
     }
     if file.run.rpm.is_some() {
         if let Some(k) = [key::OMEGA0, key::DRIVE_OMEGA_REF]
@@ -654,6 +793,14 @@ pub fn origins(text: &str) -> Result<Origins, Error> {
             user(&d(units::MOVING_MASS)),
             "the moving mass less the rod rho*A*(e1+e2), the roller and a third of the spring (docs/MODEL.md 5.1)",
         ));
+    }
+    if let Some(m) = &reading.motor {
+        let values = [m.inertia, m.shaft_stiffness, m.gain, m.torque_limit];
+        for ((motor_key, design_key, rule), v) in MOTOR_RULES.iter().zip(values) {
+            if v.is_some() {
+                derived.push((d(design_key), user(&d(motor_key)), *rule));
+            }
+        }
     }
     if reading.sets("run.rpm") {
         derived.push((
@@ -945,7 +1092,11 @@ fn toml_error(text: &str, e: &toml::de::Error, reading: &Reading) -> Error {
         ));
     }
     let path = line_paths(text).get(line - 1).cloned().unwrap_or_default();
-    let msg = did_you_mean(&msg, &path).unwrap_or(msg);
+    let mut msg = did_you_mean(&msg, &path).unwrap_or(msg);
+    // The drives the reader itself takes (take_drive_preset), which serde's list lacks.
+    if path.starts_with("design.drive") && msg.starts_with("unknown variant") {
+        msg.push_str("; or `thesis`, or a [design.drive.motor] table");
+    }
     Error::new(match Some(&path).filter(|k| !k.is_empty()) {
         Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
         None => format!("line {line}, column {col}: {msg}"),
@@ -1399,12 +1550,13 @@ mod tests {
         let (inch, si, n) = scaled_scene_in_both_families();
         // Every dimensional key of the table appears: the design's, the segments'
         // lifts, the solver's atol and the limits' stress ([design.spring]'s keys are not
-        // in the default scene: `the_spring_part_reads_in_either_family`).
+        // in the default scene: `the_spring_part_reads_in_either_family`; the motor's four
+        // keys are rules that set other keys, not fields a scene writes).
         let spring_keys = units::UNIT_KEYS
             .iter()
             .filter(|k| k.key.starts_with("spring."))
             .count();
-        assert!(n >= units::UNIT_KEYS.len() - spring_keys - 2, "{n}");
+        assert!(n >= units::UNIT_KEYS.len() - spring_keys - 2 - 4, "{n}");
         assert!(si.contains("spring_rate_n_per_mm = "), "{si}");
         assert!(si.contains("base_radius_mm = "), "{si}");
         assert!(si.contains("lift_mm = "), "{si}");

@@ -164,6 +164,15 @@ pub const MOVING_MASS: &str = "moving_mass_lb";
 /// `[design.spring]`'s free length (in; `_mm` in SI).
 pub const SPRING_FREE_LENGTH: &str = "spring.free_length_in";
 
+/// `[design.drive.motor]`: the rotor's polar moment of inertia (becomes the design's I_m).
+pub const MOTOR_INERTIA: &str = "drive.motor.inertia_lb_in_s2";
+/// `[design.drive.motor]`: the motor-coupling shaft's torsional stiffness (becomes K_s1).
+pub const MOTOR_SHAFT_STIFFNESS: &str = "drive.motor.shaft_stiffness_lb_in_per_rad";
+/// `[design.drive.motor]`: the speed regulator's proportional gain (becomes k_p).
+pub const MOTOR_GAIN: &str = "drive.motor.gain_lb_in_s_per_rad";
+/// `[design.drive.motor]`: the motor's torque limit (becomes t_max).
+pub const MOTOR_TORQUE_LIMIT: &str = "drive.motor.torque_limit_lb_in";
+
 /// The `[limits]` table's allowable contact stress (psi; `_mpa` in SI).
 pub const ALLOWABLE_CONTACT_STRESS: &str = "allowable_contact_stress_psi";
 /// The `[limits]` table's pressure-angle limit, degrees (no other family).
@@ -271,6 +280,10 @@ pub const UNIT_KEYS: &[UnitKey] = &[
     design(key::DRIVE_T_STEADY, &TORQUE),
     design(key::DRIVE_K_P, &GAIN),
     design(key::DRIVE_T_MAX, &TORQUE),
+    design(MOTOR_INERTIA, &INERTIA),
+    design(MOTOR_SHAFT_STIFFNESS, &TORSIONAL_STIFFNESS),
+    design(MOTOR_GAIN, &GAIN),
+    design(MOTOR_TORQUE_LIMIT, &TORQUE),
     UnitKey {
         section: "design.program.segment",
         key: "lift_in",

@@ -385,3 +385,37 @@ fn the_spring_part_is_judged_on_stress_and_solid_height() {
     assert_eq!(v.free_length_in, None);
     assert!((v.least_free_length_in - (1.05 + 2.0)).abs() < 1e-12);
 }
+
+/// Issue 30: a stiffer speed regulator holds the cam speed closer: on the reference design
+/// (800 rpm, 2 revolutions) the measured swing falls as `[design.drive.motor]`'s gain
+/// rises through half, once and twice the thesis's (the middle one is the thesis drive, so
+/// its swing is the default's).
+#[test]
+fn a_stiffer_regulator_gives_a_smaller_cam_speed_swing() {
+    let camsim_core::DriveLaw::Regulated { k_p, .. } =
+        camsim_core::Design::<f64>::reference().drive
+    else {
+        panic!("the reference drive is regulated");
+    };
+    let p = scene_file("no-drive", "");
+    let default = run_scene(&p).drive.swing_percent;
+    std::fs::remove_file(&p).unwrap();
+    let swings: Vec<f64> = [0.5, 1.0, 2.0]
+        .iter()
+        .map(|f| {
+            let text = format!(
+                "[design.drive.motor]\ngain_lb_in_s_per_rad = {:?}\n",
+                f * k_p
+            );
+            let p = scene_file(&format!("gain-{f}"), &text);
+            let v = run_scene(&p);
+            std::fs::remove_file(&p).unwrap();
+            v.drive.swing_percent
+        })
+        .collect();
+    assert_eq!(swings[1], default, "{swings:?}");
+    assert!(
+        swings.windows(2).all(|w| w[1] < w[0]) && swings.iter().all(|s| s.is_finite()),
+        "{swings:?}"
+    );
+}

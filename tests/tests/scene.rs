@@ -348,7 +348,7 @@ fn refusals_name_the_key_and_the_rule() {
         // A bad drive law, as a name and as a table.
         (
             "[design]\ndrive = \"turbo\"\n".into(),
-            "line 2, column 9: design.drive: unknown variant `turbo`, expected one of `constant-cam-speed`, `constant-speed`, `constant-motor-speed`, `regulated`",
+            "line 2, column 9: design.drive: unknown variant `turbo`, expected one of `constant-cam-speed`, `constant-speed`, `constant-motor-speed`, `regulated`; or `thesis`, or a [design.drive.motor] table",
         ),
         (
             "[design.drive.pid]\nk_p = 1\n".into(),
@@ -455,4 +455,93 @@ fn a_sliver_of_a_segment_is_refused_by_the_tolerance_it_misses() {
         err(text),
         "line 8: design.program.segment[1].end_deg = 30.0000001: must exceed the segment's start_deg by more than the angle tolerance (1e-6 deg; 3.4e-4 deg in f32)"
     );
+}
+
+/// Issue 30: `drive = "thesis"` names the drive a scene without one gets: bit for bit.
+#[test]
+fn the_thesis_drive_by_name_is_the_default_bit_for_bit() {
+    let named = parse("[design]\ndrive = \"thesis\"\n").unwrap();
+    let none = parse("").unwrap();
+    assert_eq!(bits(&named.design), bits(&none.design));
+    assert_eq!(bits(&named.design), bits(&RunSpec::reference().design));
+}
+
+/// Issue 30: a `[design.drive.motor]` with the thesis's rotor inertia, shaft stiffness,
+/// gain and torque limit (given in SI, converted back) is the thesis drive; each key sets
+/// its design value and no other; a key not given keeps the thesis's value.
+#[test]
+fn a_motor_with_the_thesis_values_is_the_thesis_drive() {
+    let r = RunSpec::reference().design;
+    let DriveLaw::Regulated { k_p, t_max, .. } = r.drive else {
+        panic!("the reference drive is regulated");
+    };
+    let nm = 4.448_221_615_260_5 * 0.0254; // N m per lb in
+    let text = format!(
+        "[design.drive.motor]\ninertia_kg_m2 = {:?}\nshaft_stiffness_n_m_per_rad = {:?}\ngain_n_m_s_per_rad = {:?}\ntorque_limit_n_m = {:?}\n",
+        r.i_m * nm,
+        r.k_s1 * nm,
+        k_p * nm,
+        t_max * nm
+    );
+    let d = parse(&text).unwrap().design;
+    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-14;
+    assert!(close(d.i_m, r.i_m) && close(d.k_s1, r.k_s1), "{d:?}");
+    let DriveLaw::Regulated {
+        k_p: k2,
+        t_max: t2,
+        omega_ref,
+        t_steady,
+    } = d.drive
+    else {
+        panic!("a motor drive is regulated");
+    };
+    assert!(close(k2, k_p) && close(t2, t_max));
+    // In the inch family, the very numbers: bit for bit.
+    let text = format!(
+        "[design.drive.motor]\ninertia_lb_in_s2 = {:?}\nshaft_stiffness_lb_in_per_rad = {:?}\ngain_lb_in_s_per_rad = {:?}\ntorque_limit_lb_in = {:?}\n",
+        r.i_m, r.k_s1, k_p, t_max
+    );
+    assert_eq!(bits(&parse(&text).unwrap().design), bits(&r));
+    // One key: only its value moves.
+    let d = parse("[design.drive.motor]\ngain_lb_in_s_per_rad = 82\n")
+        .unwrap()
+        .design;
+    assert_eq!((d.i_m, d.k_s1), (r.i_m, r.k_s1));
+    let DriveLaw::Regulated {
+        k_p: k3,
+        t_max: t3,
+        omega_ref: o3,
+        t_steady: s3,
+    } = d.drive
+    else {
+        panic!("a motor drive is regulated");
+    };
+    assert_eq!((k3, t3, o3, s3), (82.0, t_max, omega_ref, t_steady));
+}
+
+/// Issue 30: a motor key's refusal quotes the key and value as written and the rule.
+#[test]
+fn a_bad_motor_key_is_refused_by_name() {
+    let cases = [
+        (
+            "[design.drive.motor]\ngain_n_m_s_per_rad = -3\n",
+            "line 2: design.drive.motor.gain_n_m_s_per_rad = -3: must be positive and finite",
+        ),
+        (
+            "[design.drive.motor]\ninertia_kg_m2 = 0\n",
+            "line 2: design.drive.motor.inertia_kg_m2 = 0: must be positive and finite",
+        ),
+        (
+            "[design.drive.motor]\nhorsepower = 2\n",
+            "design.drive.motor.horsepower: unknown key",
+        ),
+        (
+            "[design]\ni_m_lb_in_s2 = 0.03\n[design.drive.motor]\ninertia_lb_in_s2 = 0.03\n",
+            "design.drive.motor.inertia_lb_in_s2 and design.i_m_lb_in_s2",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = err(text);
+        assert!(e.contains(want), "{text:?}: {e}");
+    }
 }

@@ -89,7 +89,7 @@ rpm = 300.0  # cam speed, rpm
 moving_mass_lb = 4.5  # all that translates: load, follower rod, roller and a third of the spring, lb
 spring_rate_lb_per_in = 60.0  # return spring rate
 spring_preload_length_in = 1.0  # how far the spring is compressed with the roller on the base circle
-drive = "constant-cam-speed"  # the cam turns at exactly rpm; or [design.drive.regulated] for a motor with a speed regulator
+drive = "constant-cam-speed"  # the cam turns at exactly rpm; or "thesis" (its regulated 1.75 hp motor), or a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit)
 
 [design.geometry]
 base_radius_in = 2.5  # base circle radius
@@ -137,7 +137,7 @@ rpm = 300.0  # cam speed, rpm
 moving_mass_kg = 2.0  # all that translates: load, follower rod, roller and a third of the spring, kg
 spring_rate_n_per_mm = 10.0  # return spring rate
 spring_preload_length_mm = 25.0  # how far the spring is compressed with the roller on the base circle
-drive = "constant-cam-speed"  # the cam turns at exactly rpm; or [design.drive.regulated] for a motor with a speed regulator
+drive = "constant-cam-speed"  # the cam turns at exactly rpm; or "thesis" (its regulated 1.75 hp motor), or a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit)
 
 [design.geometry]
 base_radius_mm = 60.0  # base circle radius
