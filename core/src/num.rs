@@ -315,14 +315,14 @@ pub fn rad_per_s_to_rpm<T: Real>(rad_per_s: T) -> T {
 /// is software double arithmetic (its cost is measured in docs/FIRMWARE.md).
 /// This is Cephes' `sinf`/`cosf` (S. L. Moshier): reduction by π/4 in three parts
 /// (Cody-Waite, exact for |x| < 8192) and minimax polynomials on [-π/4, π/4]; peak error
-/// within 2 ulp (tested against `f64` below). Larger, infinite and NaN arguments fall back
-/// to libm.
+/// within 2 ulp (tested against `f64` below). Larger arguments go through
+/// [`sin_cos_f32_large`]; infinite and NaN arguments give NaN.
 #[cfg(not(feature = "micromath"))]
 #[inline(never)] // one copy: inlining it at every call site costs the chip's flash
 fn sin_cos_f32(x: f32) -> (f32, f32) {
     let ax = if x < 0.0 { -x } else { x };
     if ax.is_nan() || ax >= 8192.0 {
-        return libm::sincosf(x);
+        return sin_cos_f32_large(x);
     }
     const FOPI: f32 = 1.273_239_5; // 4/π
     const DP1: f32 = 0.785_156_25;
@@ -351,6 +351,24 @@ fn sin_cos_f32(x: f32) -> (f32, f32) {
     } else {
         (s, c)
     }
+}
+
+/// Sine and cosine for |x| >= 8192 (and NaN, ±∞, which give NaN): the argument is reduced
+/// by the exact remainder (`fmodf`, exact in IEEE arithmetic) modulo τ rounded to `f32`
+/// (6.283 185 5, 1.748e-7 above τ), and the reduced angle, below 6.29, takes the
+/// polynomial path. The angle used is then `x - n·τ_f32 = x - n·τ - n·1.748e-7` with
+/// `n <= |x|/τ`: it lies within |x|·2.78e-8 of x, less than half of x's own `f32` spacing
+/// (at least |x|·2^-24 = |x|·5.96e-8), so within the rounding that x already carries. This
+/// replaces libm's `sincosf` (Payne-Hanek reduction and `f64` kernels, 7.5 KB of the chip's
+/// flash with software double arithmetic); no cam angle reaches it.
+#[cfg(not(feature = "micromath"))]
+#[cold]
+#[inline(never)]
+fn sin_cos_f32_large(x: f32) -> (f32, f32) {
+    if !x.is_finite() {
+        return (f32::NAN, f32::NAN);
+    }
+    sin_cos_f32(libm::fmodf(x, core::f32::consts::TAU))
 }
 
 #[cfg(feature = "micromath")]
@@ -464,11 +482,47 @@ mod tests {
             x += 0.000_731;
         }
         assert!(worst <= 2.0, "worst error {worst} ulp");
-        // Exact points and the fallback.
+        // Exact points and the non-finite arguments.
         assert_eq!(super::sin_cos_f32(0.0), (0.0, 1.0));
-        assert!(super::sin_cos_f32(f32::NAN).0.is_nan());
-        let big = 1.0e6f32;
-        assert_eq!(super::sin_cos_f32(big), libm::sincosf(big));
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            let (s, c) = super::sin_cos_f32(bad);
+            assert!(s.is_nan() && c.is_nan(), "{bad}");
+        }
+    }
+
+    #[cfg(not(feature = "micromath"))]
+    #[test]
+    fn large_arguments_within_half_their_own_spacing() {
+        // |x| >= 8192: the angle used is within |x|·(τ_f32 - τ)/τ of x (the remainder is
+        // exact), under half of x's f32 spacing; sin and cos are 1-Lipschitz, so the error
+        // against f64 is at most that shift plus the polynomial path's 2 ulp of 1.
+        let shift_per_x =
+            (core::f32::consts::TAU as f64 - core::f64::consts::TAU) / core::f64::consts::TAU;
+        let mut x = 8192.0f32;
+        let mut checked = 0;
+        while x.is_finite() {
+            for arg in [x, -x, f32::from_bits(x.to_bits() + 12_345)] {
+                let (s, c) = super::sin_cos_f32(arg);
+                let (s64, c64) = (arg as f64).sin_cos();
+                let spacing = f32::from_bits(arg.abs().to_bits() + 1) as f64 - arg.abs() as f64;
+                let bound = arg.abs() as f64 * shift_per_x + 2.0 * f32::EPSILON as f64;
+                assert!(bound < 0.5 * spacing + 2.0 * f32::EPSILON as f64, "{arg}");
+                assert!(
+                    (s as f64 - s64).abs() <= bound,
+                    "sin {arg}: {s} against {s64}"
+                );
+                assert!(
+                    (c as f64 - c64).abs() <= bound,
+                    "cos {arg}: {c} against {c64}"
+                );
+                assert!((s * s + c * c - 1.0).abs() < 1e-6, "{arg}");
+                checked += 1;
+            }
+            x *= 1.37;
+        }
+        assert!(checked > 200);
+        let (s, c) = super::sin_cos_f32(f32::MAX);
+        assert!(s.is_finite() && c.is_finite());
     }
 
     #[test]
