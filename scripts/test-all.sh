@@ -134,6 +134,7 @@ smoke predict predict --json
 smoke montecarlo montecarlo --samples 8 --json
 # The two-level estimate (issue 34): every cam on the reduced model, 4 on the full one too.
 smoke montecarlo-two-level montecarlo --samples 8 --two-level 4 --threads 2 --json
+smoke montecarlo-one-model montecarlo --samples 4 --two-level 0 --json
 smoke compare compare --quick --json
 smoke tolerance-study tolerance-study --quick --json
 # The study plots in SI (every axis converts through units.rs): the tolerance plots, the
@@ -182,7 +183,8 @@ for c in $("$C" --help | awk '/^Commands:/{on=1; next} on && /^  [a-z]/{print $1
     [ -e "$studies/$c.out" ] || { echo "smoke: camsim $c is not smoke-tested in scripts/test-all.sh" >&2; exit 1; }
 done
 if command -v jq >/dev/null 2>&1; then
-    jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95)' "$studies/montecarlo.out" >/dev/null
+    jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95) and .two_level.full_samples == 8' "$studies/montecarlo.out" >/dev/null
+    jq -e '.two_level == null and .study.one_model == "the full model alone (--two-level 0)"' "$studies/montecarlo-one-model.out" >/dev/null
     jq -e '.two_level.full_samples == 4 and (.two_level.jump | .lo95 <= .value and .value <= .hi95 and .value == ([0, ([1, .reduced + .correction] | min)] | max))' "$studies/montecarlo-two-level.out" >/dev/null
     jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.out" >/dev/null
     jq -e '(.rows | length) == 12 and all(.rows[]; (.ok_onset | not) or ((.onset_err_pct | fabs) <= 1 and (.model_onset_err_pct | fabs) <= 1))
