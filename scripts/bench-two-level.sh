@@ -8,17 +8,23 @@
 #
 #   bash scripts/bench-two-level.sh                  # 10 000 cams (about 30 minutes on 2 loaded cores)
 #   bash scripts/bench-two-level.sh --samples 2000   # fewer cams
+#   bash scripts/bench-two-level.sh --interval-deg 5 # cams cut on 5° intervals: some jump
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SAMPLES=10000
+CAMS=()
 while [ $# -gt 0 ]; do
     case "$1" in
     --samples)
         SAMPLES="${2:?--samples needs a number}"
         shift 2
         ;;
+    --interval-deg)
+        CAMS=(--interval-deg "${2:?--interval-deg needs a number}")
+        shift 2
+        ;;
     *)
-        printf 'bench-two-level.sh: unknown argument %s (--samples N)\n' "$1" >&2
+        printf 'bench-two-level.sh: unknown argument %s (--samples N, --interval-deg D)\n' "$1" >&2
         exit 2
         ;;
     esac
@@ -42,8 +48,8 @@ printf 'machine: %s cores, load average %s\n\n' "$(nproc)" "$(cut -d' ' -f1-3 /p
 printf '| rpm | cams | full model: P(jump) [95 %%] | time, s | two-level (%s on the full model): P(jump) [95 %%] | time, s | in the full interval |\n' "$FULL_N"
 printf '|---|---|---|---|---|---|---|\n'
 for rpm in 800 880; do
-    "$C" montecarlo --samples "$SAMPLES" --rpm "$rpm" --threads 2 --json >"$WORK/full.json"
-    "$C" montecarlo --samples "$SAMPLES" --rpm "$rpm" --threads 2 --two-level "$FULL_N" --json >"$WORK/two.json"
+    "$C" montecarlo --samples "$SAMPLES" --rpm "$rpm" --threads 2 "${CAMS[@]}" --two-level 0 --json >"$WORK/full.json"
+    "$C" montecarlo --samples "$SAMPLES" --rpm "$rpm" --threads 2 "${CAMS[@]}" --two-level "$FULL_N" --json >"$WORK/two.json"
     full=$(jq -r '.summary.jump | "\(.p * 10000 | round / 10000) [\(.lo95 * 10000 | round / 10000), \(.hi95 * 10000 | round / 10000)]"' "$WORK/full.json")
     two=$(jq -r '.two_level.jump | "\(.value * 10000 | round / 10000) [\(.lo95 * 10000 | round / 10000), \(.hi95 * 10000 | round / 10000)]"' "$WORK/two.json")
     inside=$(jq -rn --slurpfile f "$WORK/full.json" --slurpfile t "$WORK/two.json" \

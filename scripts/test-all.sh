@@ -169,6 +169,7 @@ def study(f):
 a, b = study(sys.argv[1]), study(sys.argv[2])
 sys.exit(0 if a == b else "smoke: montecarlo merge of 2 shards under GNU parallel differs from the single run")
 ' "$studies/montecarlo-single.out" "$studies/montecarlo-merged.out"
+smoke montecarlo-one-model montecarlo --samples 4 --two-level 0 --json
 smoke compare compare --quick --json
 # An unworkable law (its run leaves the model's valid range) is named and the rest ranked:
 # seed 4's actual cam throws the straight-line follower off the cam (issue 31).
@@ -236,7 +237,8 @@ for c in $("$C" --help | awk '/^Commands:/{on=1; next} on && /^  [a-z]/{print $1
     [ -e "$studies/$c.out" ] || { echo "smoke: camsim $c is not smoke-tested in scripts/test-all.sh" >&2; exit 1; }
 done
 if command -v jq >/dev/null 2>&1; then
-    jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95)' "$studies/montecarlo.out" >/dev/null
+    jq -e '.summary.samples == 8 and (.summary.jump | (.p | type == "number") and .lo95 <= .p and .p <= .hi95) and .two_level.full_samples == 8' "$studies/montecarlo.out" >/dev/null
+    jq -e '.two_level == null and .study.one_model == "the full model alone (--two-level 0)"' "$studies/montecarlo-one-model.out" >/dev/null
     jq -e '.two_level.full_samples == 4 and (.two_level.jump | .lo95 <= .value and .value <= .hi95 and .value == ([0, ([1, .reduced + .correction] | min)] | max))' "$studies/montecarlo-two-level.out" >/dev/null
     jq -e '(.laws | length) == 12 and all(.laws[]; .ranks.overall >= 1)' "$studies/compare.out" >/dev/null
     jq -e '(.laws | length) == 11 and ([.not_workable[].name] == ["straight-line"]) and (.not_workable[0].reason | test("valid range"))' \

@@ -272,6 +272,8 @@ fn two_level_is_the_same_for_any_threads_and_shards() {
         &[
             "--samples",
             "6",
+            "--two-level",
+            "0",
             "--shard",
             "1/2",
             "--out",
@@ -290,7 +292,7 @@ fn two_level_is_the_same_for_any_threads_and_shards() {
 fn two_level_over_every_cam_is_the_full_models_study() {
     // n = N: the reduced model cancels, and the estimate is the full model's own study
     // of the same cams (the same actual cam on both models).
-    let full = study_report(&[&["--samples", "4"], &TWO_LEVEL[..]].concat());
+    let full = study_report(&[&["--samples", "4", "--two-level", "0"], &TWO_LEVEL[..]].concat());
     let two = study_report(&[&["--samples", "4", "--two-level", "4"], &TWO_LEVEL[..]].concat());
     let t = two.two_level.clone().unwrap();
     assert_eq!(t.subsample_full_jump, full.summary.jump);
@@ -333,6 +335,53 @@ fn two_level_over_every_cam_is_the_full_models_study() {
     ])
     .unwrap_err();
     assert!(camsim::cli::usage_line(&e).contains("--follower"), "{e}");
+}
+
+#[test]
+fn the_default_is_two_level_and_its_estimate_lies_in_the_full_models_interval() {
+    // Cams cut on 5° intervals: rough enough that some jump and some do not on the
+    // regulated drive (P(jump) well inside (0, 1)), so the estimate has something to
+    // estimate. The same 24 cams on the full model alone (--two-level 0) and by default
+    // with n = 8 of them on the full model too.
+    let cams = ["--samples", "24", "--interval-deg", "5", "--seed", "3"];
+    let full = study_report(&[&cams[..], &["--two-level", "0"]].concat());
+    let jumped = full.summary.jump.count;
+    assert!(
+        0 < jumped && jumped < 24,
+        "{jumped} of 24 jump on the full model"
+    );
+    assert_eq!(
+        full.study.one_model.as_deref(),
+        Some("the full model alone (--two-level 0)")
+    );
+    let two = study_report(&[&cams[..], &["--two-level", "8"]].concat());
+    let t = two.two_level.as_ref().unwrap();
+    assert_eq!((t.samples, t.full_samples), (24, 8));
+    let (lo, hi) = (full.summary.jump.lo95, full.summary.jump.hi95);
+    assert!(
+        lo <= t.jump.value && t.jump.value <= hi,
+        "two-level {} outside the full model's [{lo}, {hi}]",
+        t.jump.value
+    );
+    // No option: the two-level estimate with the default subsample (all 24: at least 30).
+    let default = study_report(&cams);
+    assert_eq!(default.two_level.as_ref().unwrap().full_samples, 24);
+    assert_eq!(montecarlo::default_full_samples(24), 24);
+    assert_eq!(montecarlo::default_full_samples(1000), 100);
+    assert_eq!(montecarlo::default_full_samples(10_001), 1001);
+    // A constant cam speed: the full model alone, and the report says why.
+    let constant =
+        study_report(&[&["--samples", "2", "--constant-cam-speed"], &TWO_LEVEL[..]].concat());
+    assert!(constant.two_level.is_none());
+    assert!(
+        constant
+            .study
+            .one_model
+            .as_deref()
+            .is_some_and(|w| w.contains("regulated drive")),
+        "{:?}",
+        constant.study.one_model
+    );
 }
 
 #[test]

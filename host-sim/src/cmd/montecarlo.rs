@@ -12,10 +12,10 @@ pub use crate::args::{OutputArgs, StudyArgs};
 use crate::output::Plan;
 use crate::plot::montecarlo::{draw, PLOT_FILES};
 pub use crate::study::montecarlo::{
-    measured_revolution, parse_shard, read_shard, summarize, threads, Columns, Moments,
-    MonteCarloReport, PeriodSummary, PeriodValues, Probability, ProfileSettings, SampleRecord,
-    Shard, ShardFile, ShardReport, Study, StudySettings, StudyStats, Summary, Timing, COLUMNS,
-    REVOLUTION, REVOLUTION_COLUMNS, SHARD_FORMAT, SHARD_VERSION,
+    default_full_samples, measured_revolution, parse_shard, read_shard, summarize, threads,
+    Columns, Moments, MonteCarloReport, PeriodSummary, PeriodValues, Probability, ProfileSettings,
+    SampleRecord, Shard, ShardFile, ShardReport, Study, StudySettings, StudyStats, Summary, Timing,
+    COLUMNS, REVOLUTION, REVOLUTION_COLUMNS, SHARD_FORMAT, SHARD_VERSION,
 };
 
 /// Command-line options of `camsim montecarlo`.
@@ -34,12 +34,15 @@ pub struct Args {
     /// Worker threads (default: every core). The result does not depend on it.
     #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
-    /// The two-level estimate of the full model: every cam on the reduced model of the
-    /// design searches (quasi-static cantilever, vertical, rtol 1e-4), the first N cams
-    /// on the full model too; the full model's P(jump) and means are the reduced
-    /// model's plus the measured difference, with a 95 % interval that includes the
-    /// difference's uncertainty (docs/MODEL.md §9.7). N from 2 to --samples.
-    #[arg(long, value_name = "N", conflicts_with = "follower", value_parser = clap::value_parser!(u64).range(2..))]
+    /// The full model's answer as a two-level estimate (the default when --follower is
+    /// not given): every cam on the reduced model of the design searches (quasi-static
+    /// cantilever, vertical, rtol 1e-4), the first N cams on the full model too; the full
+    /// model's P(jump) and means are the reduced model's plus the measured difference,
+    /// with a 95 % interval that includes the difference's uncertainty (docs/MODEL.md
+    /// §9.7). Default N: a tenth of --samples, at least 30, at most --samples. N = 0: every
+    /// cam on the full model alone (as --follower full). The scene's constant cam speed
+    /// or run.follower runs its one model, said in the report.
+    #[arg(long, value_name = "N", conflicts_with = "follower", value_parser = clap::value_parser!(u64))]
     pub two_level: Option<u64>,
     /// Run only shard K of N (K from 1): the samples i with i mod N = K - 1. Needs --out.
     #[arg(long, value_name = "K/N", allow_hyphen_values = true, value_parser = parse_shard, requires = "out")]
@@ -92,10 +95,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         return merge(&m.files, &m.output).map(|r| Outcome::Study(Box::new(r)));
     }
     args.study.actual.refuse_actual_flag("montecarlo")?;
-    let mut study = Study::new(&args.study)?;
-    if let Some(n) = args.two_level {
-        study = study.two_level(n)?;
-    }
+    let study = levels(Study::new(&args.study)?, args)?;
     let shard = args.shard.unwrap_or(Shard::WHOLE);
     let out = &args.output;
     // Every output checked before any sample runs.
@@ -202,6 +202,20 @@ pub fn execute(args: &Args) -> Result<Outcome> {
             out: args.out.clone().unwrap_or_default(),
             timing,
         })),
+    }
+}
+
+/// The study's models: `--two-level N` (0: the full model alone), `--follower` one
+/// model, neither the default two-level estimate ([`Study::default_levels`]).
+fn levels(mut study: Study, args: &Args) -> Result<Study> {
+    match args.two_level {
+        Some(0) => {
+            study.settings.one_model = Some("the full model alone (--two-level 0)".into());
+            Ok(study)
+        }
+        Some(n) => study.two_level(n),
+        None if args.study.scene.follower.is_some() => Ok(study),
+        None => study.default_levels(),
     }
 }
 

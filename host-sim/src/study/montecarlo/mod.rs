@@ -229,6 +229,10 @@ pub struct StudySettings {
     /// The two-level estimate's levels (absent: every cam on the one model of `scene`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub two_level: Option<TwoLevelSettings>,
+    /// Why a study without `--follower` or `--two-level` runs one model rather than the
+    /// default two-level estimate ([`Study::default_levels`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub one_model: Option<String>,
 }
 
 /// The levels of a two-level study (`--two-level n`): every cam on the reduced scene,
@@ -261,6 +265,15 @@ pub struct ProfileSettings {
     /// `given` (--interval-deg), `criteria` (IV.2.3's three, on the master seed) or
     /// `waviness FPR n (master seed's profile FPR m)` (--waviness-fpr).
     pub interval_source: String,
+}
+
+/// The fewest full-model cams of a default two-level study.
+pub const MIN_FULL_SAMPLES: u64 = 30;
+
+/// The default subsample of a two-level study of `samples` cams (docs/MODEL.md §9.7):
+/// a tenth of the cams, at least [`MIN_FULL_SAMPLES`], at most all of them.
+pub fn default_full_samples(samples: u64) -> u64 {
+    samples.div_ceil(10).max(MIN_FULL_SAMPLES).min(samples)
 }
 
 /// A study ready to run: the scene, and the actual-cam options with the interval
@@ -340,6 +353,7 @@ impl Study {
                 interval_source: source.label(),
             },
             two_level: None,
+            one_model: None,
         };
         Ok(Study {
             spec,
@@ -373,6 +387,27 @@ impl Study {
             reduced_scene: crate::scene::spec_text(&reduced)?,
         });
         self.reduced = Some(reduced);
+        Ok(self)
+    }
+
+    /// The study montecarlo runs when neither `--follower` nor `--two-level` is given:
+    /// the two-level estimate with [`default_full_samples`] cams on the full model, or,
+    /// where it cannot run, the scene's one model with the reason in `one_model`.
+    pub fn default_levels(mut self) -> Result<Self> {
+        let samples = self.settings.samples;
+        let why = if self.spec.dofs.follower != FollowerModel::Full {
+            format!(
+                "the scene's run.follower ({})",
+                self.spec.dofs.follower.name()
+            )
+        } else if !matches!(self.spec.design.drive, DriveLaw::Regulated { .. }) {
+            "the full model alone: the reduced followers need the regulated drive (constant cam speed given)".to_string()
+        } else if samples < 2 {
+            "the full model alone: the two-level estimate needs at least 2 cams".to_string()
+        } else {
+            return self.two_level(default_full_samples(samples));
+        };
+        self.settings.one_model = Some(why);
         Ok(self)
     }
 

@@ -227,6 +227,9 @@ impl Report for MonteCarloReport {
                 t.full_samples
             );
         }
+        if let Some(why) = &s.one_model {
+            let _ = writeln!(out, "one model: {why}");
+        }
         let _ = writeln!(
             out,
             "percentiles: linear between order statistics (type 7); sd with n - 1"
