@@ -244,9 +244,10 @@ pub fn check_parity(log: &str, host: &[String]) -> Result<usize> {
     Ok(fw.len())
 }
 
-/// A number of the report, serialized as the `f64` it is: a report is printed only when
-/// every number in it is finite ([`ensure_reached`], `report::ensure_finite`), so no
-/// `null` or NaN reaches the output.
+/// A number of the report: infinities as `"inf"` / `"-inf"` (a speed margin with no jump
+/// onset), every other value as the `f64` it is. A report is printed only when no
+/// number in it is NaN ([`ensure_reached`], `report::ensure_finite`), so no `null`
+/// reaches the output; the text output formats the `f64` itself.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Num(pub f64);
 
@@ -258,7 +259,12 @@ impl Num {
 
 impl Serialize for Num {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        s.serialize_f64(self.0)
+        let v = self.0;
+        if v.is_infinite() {
+            s.serialize_str(if v > 0.0 { "inf" } else { "-inf" })
+        } else {
+            s.serialize_f64(v)
+        }
     }
 }
 
