@@ -268,8 +268,14 @@ fn report_names_its_scene_and_feeds_text_and_json() {
         );
         assert!(text.contains(&format!("jump onset: {j:.3} rpm")));
     }
-    // Not measured -> null; no onset -> "inf" margins.
-    assert_eq!(serde_json::to_string(&Num(f64::NAN)).unwrap(), "null");
+    // NaN is a number the finiteness check finds (a report with one is refused, never
+    // printed as null); no onset -> "inf" margins, which it lets through.
+    assert!(camsim::report::non_finite(&Num(f64::NAN))
+        .unwrap()
+        .is_some());
+    assert!(camsim::report::non_finite(&Num(f64::INFINITY))
+        .unwrap()
+        .is_none());
     assert_eq!(
         serde_json::to_string(&Num(f64::INFINITY)).unwrap(),
         "\"inf\""

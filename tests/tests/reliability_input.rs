@@ -213,3 +213,18 @@ fn help_names_subcommands_has_no_rustdoc_links_and_explains_units_once() {
     let about = mc.get_about().unwrap().to_string();
     assert!(about.contains("`montecarlo merge`"), "{about}");
 }
+
+// Defect 4: a weak spring (5 lb/in) leaves the follower off the cam at every grid speed,
+// so no timing point is crossed: predict refuses, naming the first row and point, where
+// on 6b065a3 it exited 0 with NaN in its table and null in its JSON.
+#[test]
+fn predict_refuses_a_timing_point_never_crossed() {
+    let scene = std::env::temp_dir().join(format!("camsim-weak-{}.toml", std::process::id()));
+    std::fs::write(&scene, "[design]\nspring_rate_lb_per_in = 5\n").unwrap();
+    let e = outcome(&["predict", "--json", "--scene", scene.to_str().unwrap()]);
+    let _ = std::fs::remove_file(&scene);
+    assert!(
+        e.starts_with("not reached: at 300.0 rpm") && e.contains("rise 10 % lift point"),
+        "{e}"
+    );
+}

@@ -19,6 +19,7 @@
 
 use std::path::PathBuf;
 
+use crate::measured::MeasuredProfile;
 use anyhow::{bail, Result};
 use serde::Serialize;
 
@@ -243,8 +244,10 @@ pub fn check_parity(log: &str, host: &[String]) -> Result<usize> {
     Ok(fw.len())
 }
 
-/// A number of the report: finite values as JSON numbers, NaN (not measured) as `null`,
-/// infinities as `"inf"` / `"-inf"`; the text output formats the `f64` itself.
+/// A number of the report: infinities as `"inf"` / `"-inf"` (a speed margin with no jump
+/// onset), every other value as the `f64` it is. A report is printed only when no
+/// number in it is NaN ([`ensure_reached`], `report::ensure_finite`), so no `null`
+/// reaches the output; the text output formats the `f64` itself.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Num(pub f64);
 
@@ -257,12 +260,10 @@ impl Num {
 impl Serialize for Num {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         let v = self.0;
-        if v.is_finite() {
-            s.serialize_f64(v)
-        } else if v.is_nan() {
-            s.serialize_none()
-        } else {
+        if v.is_infinite() {
             s.serialize_str(if v > 0.0 { "inf" } else { "-inf" })
+        } else {
+            s.serialize_f64(v)
         }
     }
 }
@@ -752,7 +753,11 @@ pub fn run(args: Args) -> Result<()> {
     let profile = match &args.measured {
         Some(p) => {
             let d64 = scene.clone().unwrap_or_else(chip_design::<f64>);
-            // Named as the option, as `run --measured` names it.
+            // `run --measured`'s checks first: a profile it refuses is refused here
+            // with its reason, named as the option as it names it.
+            crate::measured::load(p)?
+                .profile(&d64)
+                .map_err(|e| anyhow::anyhow!("--measured {}: {e:#}", p.display()))?;
             Some(ProfileKnots::load(p, &d64).map_err(|e| anyhow::anyhow!("--measured {e:#}"))?)
         }
         None => None,
@@ -778,7 +783,36 @@ pub fn run(args: Args) -> Result<()> {
             measured,
         )
     };
+    ensure_reached(&report)?;
+    crate::report::ensure_finite(&report)?;
     crate::report::print(&report, args.json)
+}
+
+/// The six timing points of a row, in the order of `timing_deg`.
+const TIMING_POINTS: [&str; 6] = [
+    "rise 10 %",
+    "rise 50 %",
+    "rise 90 %",
+    "return 10 %",
+    "return 50 %",
+    "return 90 %",
+];
+
+/// Refuses a table with a timing point the follower never crossed (its timing error is
+/// not a number): the first such row and point, with the row's contact, as the error.
+fn ensure_reached(r: &PredictReport) -> Result<()> {
+    for row in &r.table {
+        let missing = row.timing_deg.iter().zip(TIMING_POINTS);
+        if let Some((_, point)) = missing.into_iter().find(|(v, _)| !v.0.is_finite()) {
+            bail!(
+                "not reached: at {:.1} rpm the follower never crosses the {point} lift point ({}, smallest contact force {:.4} lb), so the timing table has no value there; nothing was reported (a stiffer spring or a lower speed range keeps the follower on the cam)",
+                row.rpm.0,
+                if row.jumped { "it left the cam" } else { "it stayed on the cam" },
+                row.min_force_lb.0
+            );
+        }
+    }
+    Ok(())
 }
 
 impl crate::report::Report for PredictReport {
