@@ -220,6 +220,7 @@ smoke design-speed design speed --quick --json
 smoke design-tolerance design tolerance --quick --json
 smoke design-preload design spring --preload --quick --json
 smoke design-waviness design tolerance --waviness --quick --json
+smoke design-tolerance-fprs design tolerance --waviness-fpr 17,57 --quick --json
 smoke sweep sweep --rpm 700:1000:4 --csv "$studies/sweep.csv" --plot "$studies/sweep" --json
 smoke sweep-actual sweep --rpm 850:950:3 --actual --samples 4 --threads 2 --json
 smoke laws-plot laws --plot "$studies/laws"

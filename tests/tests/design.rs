@@ -125,7 +125,11 @@ fn mc_args(threads: u32) -> camsim::cmd::design::McArgs {
         samples: None,
         seed: 1,
         threads: Some(threads),
-        waviness_fpr: None,
+        waviness_fpr: Vec::new(),
+        cam_tolerance: None,
+        roller_tolerance: None,
+        eccentricity_tolerance: None,
+        profile_method: camsim::actual::ProfileMethod::PerCam,
         waviness: false,
         tolerance_factor: None,
         quick: true,
@@ -417,5 +421,42 @@ fn a_stiffer_regulator_gives_a_smaller_cam_speed_swing() {
     assert!(
         swings.windows(2).all(|w| w[1] < w[0]) && swings.iter().all(|s| s.is_finite()),
         "{swings:?}"
+}
+
+/// `design tolerance --waviness-fpr 17,57`: each row of the table is the single-FPR
+/// search's answer (the same cams, seeded, at every FPR), the roller and eccentricity
+/// tolerances held as given, and a second FPR is refused where one search is made.
+#[test]
+fn design_tolerance_table_rows_are_the_single_fpr_answers() {
+    use camsim::cmd::design::{mc_search, tolerance_table};
+    let args = |fprs: Vec<u32>| camsim::cmd::design::McArgs {
+        waviness_fpr: fprs,
+        roller_tolerance: Some(0.00005),
+        eccentricity_tolerance: Some(0.0),
+        p_max: 0.3,
+        samples: Some(10),
+        ..mc_args(2)
+    };
+    let table = tolerance_table(&args(vec![17, 57])).unwrap();
+    assert_eq!(table.0.len(), 2);
+    for (row, f) in table.0.iter().zip([17u32, 57]) {
+        let single = mc_search(&args(vec![f]), false).unwrap();
+        assert_eq!(row.waviness_fpr, Some(f));
+        assert_eq!(
+            (row.answer, row.failing),
+            (single.answer, single.failing),
+            "FPR {f}"
+        );
+        assert_eq!(row.tried, single.tried, "FPR {f}");
+        assert_eq!(row.roller_tolerance_in, Some(0.00005));
+        assert_eq!(row.eccentricity_tolerance_in, Some(0.0));
+        assert_eq!(row.cam_tolerance_in, Some(0.0005 * row.answer));
+    }
+    let e = mc_search(&args(vec![17, 57]), false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("--waviness-fpr 17,57") && e.contains("list"),
+        "{e}"
     );
 }

@@ -616,6 +616,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     // --- waviness: the radii of curvature and the stated lengths.
     let w = waviness::report(&waviness::Args {
         seeds: vec![1],
+        measured: None,
         json: false,
         measured: None,
     })

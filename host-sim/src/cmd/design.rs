@@ -69,9 +69,25 @@ pub struct McArgs {
     #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
     /// The cams' waviness, FPR (default 17, the thesis's study cams; 39 and 57 its
-    /// rougher ones): the tolerance that passes depends strongly on it.
-    #[arg(long, value_name = "FPR", value_parser = crate::args::whole_u32::<2, 2000>)]
-    pub waviness_fpr: Option<u32>,
+    /// rougher ones): the tolerance that passes depends strongly on it. `design
+    /// tolerance` takes a comma list (17,39,57) and answers for each.
+    #[arg(long, value_name = "FPR", value_delimiter = ',', value_parser = crate::args::whole_u32::<2, 2000>)]
+    pub waviness_fpr: Vec<u32>,
+    /// `design speed` only: cam profile tolerance, ± in (default 0.0005, VI.1's), or
+    /// with its unit (mm). `design tolerance` searches it.
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
+    pub cam_tolerance: Option<f64>,
+    /// Roller radius tolerance, ± in (default 0.0001, VI.1's), or with its unit (mm);
+    /// held as given.
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
+    pub roller_tolerance: Option<f64>,
+    /// Camshaft-bearing non-roundness and base-circle eccentricity together, ± in
+    /// (default 0.001, VI.1's), or with its unit (mm); held as given.
+    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
+    pub eccentricity_tolerance: Option<f64>,
+    /// How the lift is made from the tolerances (as montecarlo's --profile-method).
+    #[arg(long, value_enum, default_value_t = crate::actual::ProfileMethod::PerCam)]
+    pub profile_method: crate::actual::ProfileMethod,
     /// `design tolerance` only: search the roughest waviness instead, the highest FPR
     /// (the shortest waves: the acceleration a wave imposes grows as FPR², docs/MODEL.md
     /// §9.6) that passes at the tolerance --tolerance-factor.
@@ -175,9 +191,15 @@ pub struct McSearchReport {
     /// With `design tolerance`: the cam profile tolerance at the answer, ± in.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cam_tolerance_in: Option<f64>,
-    /// With `design tolerance`: the roller tolerance at the answer, ± in.
+    /// With `design tolerance`: the roller tolerance (held), ± in.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub roller_tolerance_in: Option<f64>,
+    /// With `design tolerance`: the eccentricity tolerance (held), ± in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eccentricity_tolerance_in: Option<f64>,
+    /// With `design tolerance` (not --waviness): the cams' waviness, FPR.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub waviness_fpr: Option<u32>,
     /// With `design speed`: the theoretical cam's jump onset (full model), rpm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub theoretical_onset_rpm: Option<f64>,
@@ -207,6 +229,46 @@ pub struct McSearchReport {
 /// answer is the largest value tried below it that passes. P(jump) is assumed to rise
 /// with the speed and the tolerance (the report says so).
 pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
+    anyhow::ensure!(
+        args.waviness_fpr.len() <= 1,
+        "--waviness-fpr {}: one FPR here (only `design tolerance` takes a list)",
+        fpr_list(&args.waviness_fpr)
+    );
+    mc_search_at(args, speed, args.waviness_fpr.first().copied())
+}
+
+/// The FPR list as the user wrote it (`17,39,57`).
+fn fpr_list(fprs: &[u32]) -> String {
+    fprs.iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// `design tolerance`: the loosest cam tolerance for each FPR of --waviness-fpr (the
+/// default FPR when none is given), one search each; --waviness searches the FPR.
+pub fn tolerance_table(args: &McArgs) -> Result<ToleranceTable> {
+    if args.waviness {
+        return Ok(ToleranceTable(vec![mc_search(args, false)?]));
+    }
+    anyhow::ensure!(
+        args.cam_tolerance.is_none(),
+        "--cam-tolerance: `design tolerance` searches the cam tolerance (hold the roller and eccentricity tolerances with --roller-tolerance and --eccentricity-tolerance)"
+    );
+    let fprs = if args.waviness_fpr.is_empty() {
+        vec![crate::actual::DEFAULT_FPR]
+    } else {
+        args.waviness_fpr.clone()
+    };
+    let rows = fprs
+        .iter()
+        .map(|&f| mc_search_at(args, false, Some(f)).map_err(|e| e.context(format!("FPR {f}"))))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(ToleranceTable(rows))
+}
+
+/// One Monte Carlo search at the waviness `fpr` (None: the default).
+fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearchReport> {
     let t0 = Instant::now();
     anyhow::ensure!(
         !(speed && args.waviness),
@@ -222,6 +284,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
     let nthreads = threads(args.threads);
     let reference = camsim_core::Tolerances::<f64>::reference();
+    let roller = args.roller_tolerance;
     let mut runs = 0u64;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut passed: Vec<(f64, Probability)> = Vec::new();
@@ -253,7 +316,11 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         let mut actual = ActualArgs {
             actual: true,
             seed: Some(args.seed),
-            waviness_fpr: args.waviness_fpr,
+            waviness_fpr: fpr,
+            cam_tolerance: args.cam_tolerance,
+            roller_tolerance: args.roller_tolerance,
+            eccentricity_tolerance: args.eccentricity_tolerance,
+            profile_method: args.profile_method,
             ..ActualArgs::default()
         };
         // A waviness is a whole number of waves.
@@ -263,10 +330,10 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
         } else if waviness {
             actual.waviness_fpr = Some(x as u32);
             actual.cam_tolerance = Some(reference.cam * factor);
-            actual.roller_tolerance = Some(reference.roller * factor);
+            actual.roller_tolerance = Some(roller.unwrap_or(reference.roller * factor));
         } else {
             actual.cam_tolerance = Some(reference.cam * x);
-            actual.roller_tolerance = Some(reference.roller * x);
+            actual.roller_tolerance = Some(roller.unwrap_or(reference.roller));
         }
         let p = p_jump_on_actual_cams(&s, &actual, n, nthreads, &mut runs)
             .map_err(|e| e.context(format!("at {x}")))?;
@@ -316,18 +383,23 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
             "FPR".into()
         } else {
             format!(
-                "factor on VI.1's tolerances (cam {} {lu}, roller {} {lu})",
+                "factor on VI.1's cam tolerance ({} {})",
                 units::given(units::LENGTH, 0.0005),
-                units::given(units::LENGTH, 0.0001),
-                lu = units::symbol(units::LENGTH)
+                units::symbol(units::LENGTH)
             )
         },
         tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
         cam_tolerance_in: (!speed).then_some(reference.cam * if waviness { factor } else { answer }),
-        roller_tolerance_in: (!speed)
-            .then_some(reference.roller * if waviness { factor } else { answer }),
+        roller_tolerance_in: (!speed).then_some(
+            roller.unwrap_or(reference.roller * if waviness { factor } else { 1.0 }),
+        ),
+        eccentricity_tolerance_in: (!speed).then_some(
+            args.eccentricity_tolerance
+                .unwrap_or(reference.eccentricity),
+        ),
+        waviness_fpr: if waviness { None } else { Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR)) },
         theoretical_onset_rpm,
         operating_rpm: op_rpm,
         p_jump,
@@ -337,7 +409,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
             if waviness {
                 format!("searched, tolerances {factor} x VI.1's")
             } else {
-                args.waviness_fpr
+                fpr
                     .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
             },
             if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
@@ -396,10 +468,12 @@ impl Report for McSearchReport {
         } else {
             let _ = writeln!(
                 out,
-                "camsim design tolerance: {:.3} x VI.1's tolerances: cam ±{} {lu}, roller ±{} {lu}",
-                self.answer,
+                "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
                 units::q(units::LENGTH, self.cam_tolerance_in.unwrap_or(0.0), 5),
+                self.answer,
+                self.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
                 units::q(units::LENGTH, self.roller_tolerance_in.unwrap_or(0.0), 6),
+                units::q(units::LENGTH, self.eccentricity_tolerance_in.unwrap_or(0.0), 5),
                 lu = units::symbol(units::LENGTH)
             );
         }
@@ -445,6 +519,70 @@ impl Report for McSearchReport {
             "  {} model runs of 2 revolutions, {:.1} s",
             self.model_runs, self.wall_s
         );
+        out
+    }
+}
+
+/// `design tolerance`'s answers, one a waviness (JSON: an array of the searches).
+#[derive(Clone, Debug, Serialize)]
+#[serde(transparent)]
+pub struct ToleranceTable(pub Vec<McSearchReport>);
+
+impl Report for ToleranceTable {
+    fn json(&self) -> serde_json::Result<String> {
+        crate::report::sorted_pretty_json(self)
+    }
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let rows = &self.0;
+        if rows.len() == 1 || rows.iter().any(|r| r.search != "tolerance") {
+            return rows.iter().map(Report::text).collect();
+        }
+        let lu = units::symbol(units::LENGTH);
+        let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "camsim design tolerance: the loosest cam tolerance at each waviness"
+        );
+        let _ = writeln!(
+            out,
+            "  {:>5}  {:>12}  {:>14}  {:>22}  {:>9}",
+            "FPR",
+            "x VI.1's cam",
+            format!("cam ± {lu}"),
+            "P(jump) there",
+            "fails at"
+        );
+        for r in rows {
+            let p = r.p_jump.map_or_else(|| "-".to_string(), |p| p.text(3));
+            let fails = r
+                .failing
+                .map_or_else(|| "none".to_string(), |f| format!("{f:.3}"));
+            let _ = writeln!(
+                out,
+                "  {:>5}  {:>12.3}  {:>14}  {:>22}  {:>9}",
+                r.waviness_fpr.unwrap_or(0),
+                r.answer,
+                units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5).to_string(),
+                p,
+                fails
+            );
+        }
+        if let Some(r) = rows.first() {
+            let _ = writeln!(
+                out,
+                "  held: roller ±{} {lu}, eccentricity ±{} {lu}",
+                units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+                units::q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+            );
+            let fpr = format!("waviness FPR {}", r.waviness_fpr.unwrap_or(0));
+            let criterion = r.criterion.replace(&fpr, "waviness the row's FPR");
+            let _ = writeln!(out, "  criterion: {criterion}");
+            let _ = writeln!(out, "  model: {}", r.model);
+        }
+        let runs: u64 = rows.iter().map(|r| r.model_runs).sum();
+        let wall: f64 = rows.iter().map(|r| r.wall_s).sum();
+        let _ = writeln!(out, "  {runs} model runs of 2 revolutions, {wall:.1} s");
         out
     }
 }
@@ -1156,7 +1294,7 @@ pub fn run(args: Args) -> Result<()> {
             crate::report::print(&r, a.json)
         }
         What::Tolerance(a) => {
-            let r = mc_search(&a, false)?;
+            let r = tolerance_table(&a)?;
             crate::report::print(&r, a.json)
         }
     }
