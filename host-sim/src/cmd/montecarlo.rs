@@ -129,7 +129,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
     // shard's full-model cams once more for each of its cams, an overestimate.)
     if let Some(first) = shard.indices(study.settings.samples).next() {
         let t = Instant::now();
-        study.pair(first)?;
+        let _ = study.pair(first)?;
         crate::study_limits::check_time(
             t.elapsed().as_secs_f64(),
             count,
@@ -149,8 +149,8 @@ pub fn execute(args: &Args) -> Result<Outcome> {
     let timing = Timing {
         threads,
         wall_s,
-        samples_per_s: stats.samples as f64 / wall_s,
-        samples_per_s_per_thread: stats.samples as f64 / wall_s / threads as f64,
+        samples_per_s: stats.accounted() as f64 / wall_s,
+        samples_per_s_per_thread: stats.accounted() as f64 / wall_s / threads as f64,
     };
     let (summary, two_level_summary) = if args.shard.is_none() {
         let t = match &two_level {
@@ -169,7 +169,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         }
         _ => None,
     };
-    let n = stats.samples;
+    let n = stats.accounted();
     if let Some(mut f) = out_file.take() {
         let mut file = ShardFile {
             format: SHARD_FORMAT.into(),

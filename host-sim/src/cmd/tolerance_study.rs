@@ -216,9 +216,10 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
         let theoretical = cam == 0.0 && roller == 0.0 && ecc == 0.0;
         let n = if theoretical { 1 } else { samples };
         let study = Study::from_spec(spec.clone(), &actual, n)?;
-        let indices: Vec<u64> = (0..n).collect();
-        let summary =
-            montecarlo::summarize(&study.run(&indices, threads, false)?, study.revolution())?;
+        // Samples that leave the model's range are counted (jumps or not workable).
+        let summary = study
+            .run_stats(montecarlo::Shard::WHOLE, threads, false)?
+            .summary(study.revolution())?;
         let acc = summary
             .whole_revolution
             .get("acc_rms_sum")

@@ -86,6 +86,15 @@ pub struct Summary {
     pub profile: Columns,
     /// Accepted solver steps per sample.
     pub steps: Moments,
+    /// Samples counted as jumps because their run left the model's valid range after
+    /// the follower separated (in `jump`, not in the statistics).
+    pub left_range_jumps: u64,
+    /// Samples not workable: their run left the model's valid range with the follower
+    /// on the cam (excluded from everything above).
+    pub not_workable: u64,
+    /// The lowest-indexed not-workable sample's reason.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_workable_reason: Option<String>,
 }
 
 /// One period's statistics: a stream per column of [`COLUMNS`] and the jumps.
@@ -124,6 +133,18 @@ pub struct StudyStats {
     pub rms_deviation_in: Stream,
     /// Accepted solver steps.
     pub steps: Stream,
+    /// Samples whose run left the model's valid range after the follower separated
+    /// (docs/MODEL.md §3.20): jumps, with no statistics (not in `samples`).
+    #[serde(default)]
+    pub left_range_jumps: u64,
+    /// Samples whose run left the model's valid range with the follower on the cam:
+    /// not workable, excluded (not in `samples`).
+    #[serde(default)]
+    pub not_workable: u64,
+    /// The lowest-indexed not-workable sample and its reason (the same for any threads
+    /// or shards).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_not_workable: Option<(u64, String)>,
 }
 
 impl StudyStats {
@@ -185,13 +206,51 @@ impl StudyStats {
         Ok(())
     }
 
+    /// Every sample accounted for: those with statistics, the jumps that left the
+    /// model's range and the samples not workable.
+    pub fn accounted(&self) -> u64 {
+        self.samples + self.left_range_jumps + self.not_workable
+    }
+
+    /// Counts sample `index` that left the model's valid range: a jump if the follower
+    /// had separated (`separated`), otherwise not workable for `reason`.
+    pub fn add_left_range(&mut self, index: u64, separated: bool, reason: &str) {
+        if separated {
+            self.left_range_jumps += 1;
+            return;
+        }
+        self.not_workable += 1;
+        self.note_not_workable(Some((index, reason.to_string())));
+    }
+
+    fn note_not_workable(&mut self, other: Option<(u64, String)>) {
+        if let Some((i, r)) = other {
+            if self.first_not_workable.as_ref().is_none_or(|(j, _)| i < *j) {
+                self.first_not_workable = Some((i, r));
+            }
+        }
+    }
+
     /// Adds another set of samples' statistics (of the same study).
     pub fn merge(&mut self, other: &StudyStats) -> Result<()> {
+        self.left_range_jumps += other.left_range_jumps;
+        self.not_workable += other.not_workable;
+        self.note_not_workable(other.first_not_workable.clone());
         if other.samples == 0 {
             return Ok(());
         }
         if self.samples == 0 {
+            let (l, n, f) = (
+                self.left_range_jumps,
+                self.not_workable,
+                self.first_not_workable.take(),
+            );
             *self = other.clone();
+            (
+                self.left_range_jumps,
+                self.not_workable,
+                self.first_not_workable,
+            ) = (l, n, f);
             return Ok(());
         }
         let theirs: Vec<&str> = other.periods.iter().map(|p| p.period.as_str()).collect();
@@ -245,6 +304,18 @@ impl StudyStats {
 
     /// The result of `revolution`'s statistics.
     pub fn summary(&self, revolution: u32) -> Result<Summary> {
+        if let (0, Some((i, why))) = (self.samples, &self.first_not_workable) {
+            anyhow::bail!(
+                "no sample is workable: {} of {} left the model's valid range with the follower on the cam (sample {i}: {why})",
+                self.not_workable,
+                self.accounted()
+            );
+        }
+        ensure!(
+            self.samples > 0 || self.left_range_jumps == 0,
+            "every one of the {} samples jumped and then left the model's valid range (docs/MODEL.md §3.20): P(jump) = 1, and no sample has statistics to report",
+            self.left_range_jumps
+        );
         ensure!(self.samples > 0, "no samples to summarize");
         let n = self.samples;
         let mut periods = Vec::new();
@@ -268,7 +339,10 @@ impl StudyStats {
             revolution,
             periods,
             whole_revolution: Columns(whole),
-            jump: Probability::of(self.jumps, n),
+            jump: Probability::of(
+                self.jumps + self.left_range_jumps,
+                n + self.left_range_jumps,
+            ),
             profile: Columns(vec![
                 ("fpr".into(), self.fpr.moments("fpr")?),
                 (
@@ -277,6 +351,12 @@ impl StudyStats {
                 ),
             ]),
             steps: self.steps.moments("steps")?,
+            left_range_jumps: self.left_range_jumps,
+            not_workable: self.not_workable,
+            not_workable_reason: self
+                .first_not_workable
+                .as_ref()
+                .map(|(i, r)| format!("sample {i}: {r}")),
         })
     }
 
@@ -286,11 +366,23 @@ impl StudyStats {
     /// averages and maxima, jumps at most the samples).
     pub fn check(&self, samples: u64) -> Result<()> {
         ensure!(
-            self.samples == samples,
+            self.accounted() == samples,
             "the statistics hold {} samples, the shard {samples}",
-            self.samples
+            self.accounted()
         );
-        if samples == 0 {
+        ensure!(
+            (self.not_workable == 0) == self.first_not_workable.is_none(),
+            "{} samples not workable, with the first's reason {}",
+            self.not_workable,
+            if self.first_not_workable.is_some() {
+                "given"
+            } else {
+                "missing"
+            }
+        );
+        // The streams hold the samples with statistics only.
+        let samples = self.samples;
+        if self.samples == 0 {
             ensure!(
                 self.periods.is_empty()
                     && self.whole_revolution.is_empty()

@@ -40,18 +40,19 @@
 //! shard files and their merge ([`shard`]) and the printed report ([`report`]); the
 //! histograms are [`crate::plot::montecarlo`], the command line `crate::cmd::montecarlo`.
 
+use std::ops::ControlFlow;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use anyhow::{anyhow, Result};
-use camsim_core::{DriveLaw, FollowerModel};
+use camsim_core::{jump_verdict, DriveLaw, FollowerModel, JumpWatch, Observer, Sample};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::actual::{self, value_name, ActualArgs};
 use crate::args::spec_from;
 use crate::args::StudyArgs;
-use crate::sim::{self, Nothing, PeriodRow, RunSpec};
+use crate::sim::{self, PeriodRow, RunSpec};
 
 pub mod report;
 pub mod shard;
@@ -206,6 +207,29 @@ impl SampleRecord {
     /// Whether the follower separated anywhere in revolution 2.
     pub fn jump(&self) -> bool {
         self.periods.iter().any(|p| p.jump)
+    }
+}
+
+/// A sample whose run left the model's valid range (docs/MODEL.md §3.20): no record.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LeftRange {
+    /// Whether the follower had separated first (then the sample is a jump, the rule of
+    /// `camsim jump-speed` and the sweeps); otherwise it is not workable.
+    pub separated: bool,
+    /// The run's error.
+    pub reason: String,
+}
+
+/// What a sample's run gave: its record, or how it left the model's range.
+pub type Outcome = std::result::Result<SampleRecord, LeftRange>;
+
+/// Core's jump rule's watch, fed every solver sample of a run.
+struct Separation(JumpWatch<f64>);
+
+impl Observer<f64> for Separation {
+    fn observe(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
+        let _ = self.0.note_sample(s);
+        ControlFlow::Continue(())
     }
 }
 
@@ -426,26 +450,28 @@ impl Study {
 
     /// Runs sample `index` on the study's first model (the reduced one of a two-level
     /// study): its profile, its simulation, its record of the measured revolution.
+    /// A run that leaves the model's valid range is an error here.
     pub fn sample(&self, index: u64) -> Result<SampleRecord> {
-        Ok(self.pair(index)?.0)
+        self.pair(index)?.0.map_err(|l| anyhow!(l.reason))
     }
 
     /// Runs sample `index` on the first model and, if it is in a two-level study's
-    /// subsample, on the full model too (the same actual cam).
-    pub fn pair(&self, index: u64) -> Result<(SampleRecord, Option<SampleRecord>)> {
+    /// subsample, on the full model too (the same actual cam). A subsample cam that
+    /// leaves the model's valid range on either model is an error (its pair is needed).
+    pub fn pair(&self, index: u64) -> Result<(Outcome, Option<SampleRecord>)> {
         let (dev, stats) = actual::build_profile(&self.spec.design, &self.actual, index)?;
         let dev = Arc::new(dev);
         let first = self.reduced.as_ref().unwrap_or(&self.spec);
         let rec = self.record(first, &dev, &stats, index)?;
-        let full = if index < self.full_samples() {
-            Some(
-                self.record(&self.spec, &dev, &stats, index)
-                    .map_err(|e| e.context("on the full model"))?,
-            )
-        } else {
-            None
-        };
-        Ok((rec, full))
+        if index >= self.full_samples() {
+            return Ok((rec, None));
+        }
+        let rec = rec.map_err(|l| anyhow!(l.reason))?;
+        let full = self
+            .record(&self.spec, &dev, &stats, index)
+            .and_then(|f| f.map_err(|l| anyhow!(l.reason)))
+            .map_err(|e| e.context("on the full model"))?;
+        Ok((Ok(rec), Some(full)))
     }
 
     /// The record of sample `index`'s cam `dev` simulated on `spec`.
@@ -455,11 +481,25 @@ impl Study {
         dev: &Arc<sim::HostDeviation>,
         stats: &actual::ProfileStats,
         index: u64,
-    ) -> Result<SampleRecord> {
+    ) -> Result<Outcome> {
         let rev = self.revolution();
         let mut spec = spec.clone();
         spec.profile = Some(Arc::clone(dev));
-        let r = sim::run(&spec, &mut Nothing)?;
+        let mut watch = Separation(JumpWatch::new());
+        let r = match sim::run(&spec, &mut watch) {
+            Ok(r) => r,
+            Err(e) => {
+                // Core's rule: a failure after a separation is a jump; leaving the
+                // range with the follower on the cam is not workable; anything else
+                // is an error.
+                let separated = jump_verdict::<(), (), f64>(Err(()), &watch.0).is_ok();
+                if !separated && !crate::study::sweep::out_of_model(&e) {
+                    return Err(e);
+                }
+                let reason = format!("{e:#}");
+                return Ok(Err(LeftRange { separated, reason }));
+            }
+        };
         let periods: Vec<PeriodValues> = sim::period_rows(&spec.design, &r.stats)
             .iter()
             .filter(|p| p.revolution == rev)
@@ -481,13 +521,13 @@ impl Study {
             stats.rms_deviation_in.is_finite(),
             "profile RMS deviation is not finite"
         );
-        Ok(SampleRecord {
+        Ok(Ok(SampleRecord {
             index,
             fpr: stats.fpr,
             rms_deviation_in: stats.rms_deviation_in,
             periods,
             steps: r.solver.accepted,
-        })
+        }))
     }
 
     /// Runs the samples `indices` on a local pool of `threads` threads, with a progress
@@ -593,11 +633,15 @@ impl Study {
                         if stop.load(Ordering::Relaxed) {
                             return (acc, err);
                         }
-                        let r = self.pair(i).and_then(|(rec, full)| {
-                            acc.stats.add(&rec)?;
-                            match full {
-                                Some(f) => acc.two_level.add(&rec, &f),
-                                None => Ok(()),
+                        let r = self.pair(i).and_then(|(rec, full)| match (rec, full) {
+                            (Ok(rec), Some(f)) => {
+                                acc.stats.add(&rec)?;
+                                acc.two_level.add(&rec, &f)
+                            }
+                            (Ok(rec), None) => acc.stats.add(&rec),
+                            (Err(l), _) => {
+                                acc.stats.add_left_range(i, l.separated, &l.reason);
+                                Ok(())
                             }
                         });
                         bar.inc(1);
@@ -627,7 +671,7 @@ impl Study {
             return Err(e.context(format!("sample {i} (seed {}) failed", self.settings.seed)));
         }
         anyhow::ensure!(
-            tally.stats.samples == count
+            tally.stats.accounted() == count
                 && tally.two_level.full.samples == shard.len(self.full_samples()),
             "a sample failed"
         );

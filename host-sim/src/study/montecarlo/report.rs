@@ -251,8 +251,9 @@ impl Report for MonteCarloReport {
             out,
             "\njump anywhere in revolution {}: {}",
             sm.revolution,
-            probability_text(&sm.jump, sm.samples)
+            probability_text(&sm.jump, sm.samples + sm.left_range_jumps)
         );
+        left_range_text(&mut out, sm);
         if let Some(t) = &self.two_level {
             two_level_text(&mut out, t);
         }
@@ -269,5 +270,25 @@ impl Report for MonteCarloReport {
             );
         }
         out
+    }
+}
+
+/// The samples that left the model's valid range (docs/MODEL.md §3.20): jumps after a
+/// separation, not workable before one.
+fn left_range_text(out: &mut String, sm: &Summary) {
+    use std::fmt::Write;
+    if sm.left_range_jumps > 0 {
+        let _ = writeln!(
+            out,
+            "  of which {} left the model's valid range after the follower separated: counted as jumps, without statistics",
+            sm.left_range_jumps
+        );
+    }
+    if let Some(why) = &sm.not_workable_reason {
+        let _ = writeln!(
+            out,
+            "not workable: {} samples left the model's valid range with the follower on the cam and are excluded from every statistic (first: {why})",
+            sm.not_workable
+        );
     }
 }

@@ -173,9 +173,9 @@ pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, Tally)> {
         );
     }
     anyhow::ensure!(
-        stats.samples == n,
+        stats.accounted() == n,
         "the shards hold {} samples, the study {n}",
-        stats.samples
+        stats.accounted()
     );
     Ok((study, Tally { stats, two_level }))
 }
