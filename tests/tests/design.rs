@@ -421,6 +421,7 @@ fn a_stiffer_regulator_gives_a_smaller_cam_speed_swing() {
     assert!(
         swings.windows(2).all(|w| w[1] < w[0]) && swings.iter().all(|s| s.is_finite()),
         "{swings:?}"
+    );
 }
 
 /// `design tolerance --waviness-fpr 17,57`: each row of the table is the single-FPR

@@ -618,7 +618,6 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         seeds: vec![1],
         measured: None,
         json: false,
-        measured: None,
     })
     .unwrap();
     let (inch, si) = both(|| camsim::report::Report::text(&w));

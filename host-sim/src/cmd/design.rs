@@ -306,7 +306,7 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     let first = ActualArgs {
         actual: true,
         seed: Some(args.seed),
-        waviness_fpr: args.waviness_fpr,
+        waviness_fpr: fpr,
         ..ActualArgs::default()
     };
     let steps = search_steps(start, max, resolution);
