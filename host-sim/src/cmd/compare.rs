@@ -454,54 +454,7 @@ pub fn report(args: &Args) -> Result<CompareReport> {
             }
         };
         let profile = profile.ok_or_else(|| anyhow!("missing profile"))?;
-        let names = sim::period_names(&base.design);
-        let kinds: Vec<SegmentKind> = base
-            .design
-            .program
-            .segments()
-            .iter()
-            .map(|s| s.kind)
-            .collect();
-        let jump_in = |rise: bool| {
-            cam.per_period.iter().zip(&kinds).any(|(p, k)| {
-                p.jump
-                    && matches!(
-                        (k, rise),
-                        (SegmentKind::Rise(_), true) | (SegmentKind::Return(_), false)
-                    )
-            })
-        };
-        debug_assert_eq!(names.len(), cam.per_period.len());
-        let sensitivity_to_tolerance = cam.sensitivity - flex.sensitivity;
-        anyhow::ensure!(
-            sensitivity_to_tolerance.is_finite(),
-            "{}: the sensitivity to tolerance is not finite",
-            law.name()
-        );
-        let values = Ranks {
-            sensitivity_to_flexibility: flex.sensitivity,
-            sensitivity_to_tolerance,
-            shock_index: flex.shock_index,
-            torque_avg: flex.torque_avg_rise,
-            torque_max: flex.torque_max,
-            contact_force_min: flex.contact_force_min,
-            contact_force_max: flex.contact_force_max,
-            contact_stress_max: flex.contact_stress_max,
-            overall: 0.0,
-        };
-        laws.push(LawStudy {
-            name: law.name().to_string(),
-            jump_rise: jump_in(true),
-            jump_return: jump_in(false),
-            flexibility: flex,
-            actual: ActualStudy {
-                cam,
-                sensitivity_to_tolerance,
-                profile,
-            },
-            values,
-            ranks: Ranks::default(),
-        });
+        laws.push(law_study(&base, *law, flex, cam, profile)?);
     }
     anyhow::ensure!(
         !laws.is_empty(),
@@ -526,6 +479,65 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         intervals,
         interval_source,
         wall_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// One workable law's study: its runs on the theoretical and the actual cam, the
+/// periods it jumps in, and the values it is ranked by.
+fn law_study(
+    base: &RunSpec,
+    law: MotionLaw,
+    flex: CamStudy,
+    cam: CamStudy,
+    profile: ProfileStats,
+) -> Result<LawStudy> {
+    let names = sim::period_names(&base.design);
+    let kinds: Vec<SegmentKind> = base
+        .design
+        .program
+        .segments()
+        .iter()
+        .map(|s| s.kind)
+        .collect();
+    let jump_in = |rise: bool| {
+        cam.per_period.iter().zip(&kinds).any(|(p, k)| {
+            p.jump
+                && matches!(
+                    (k, rise),
+                    (SegmentKind::Rise(_), true) | (SegmentKind::Return(_), false)
+                )
+        })
+    };
+    debug_assert_eq!(names.len(), cam.per_period.len());
+    let sensitivity_to_tolerance = cam.sensitivity - flex.sensitivity;
+    anyhow::ensure!(
+        sensitivity_to_tolerance.is_finite(),
+        "{}: the sensitivity to tolerance is not finite",
+        law.name()
+    );
+    let values = Ranks {
+        sensitivity_to_flexibility: flex.sensitivity,
+        sensitivity_to_tolerance,
+        shock_index: flex.shock_index,
+        torque_avg: flex.torque_avg_rise,
+        torque_max: flex.torque_max,
+        contact_force_min: flex.contact_force_min,
+        contact_force_max: flex.contact_force_max,
+        contact_stress_max: flex.contact_stress_max,
+        overall: 0.0,
+    };
+    Ok(LawStudy {
+        name: law.name().to_string(),
+        jump_rise: jump_in(true),
+        jump_return: jump_in(false),
+        flexibility: flex,
+        actual: ActualStudy {
+            cam,
+            sensitivity_to_tolerance,
+            profile,
+        },
+        values,
+        ranks: Ranks::default(),
     })
 }
 
@@ -695,6 +707,41 @@ impl Report for CompareReport {
             }
             let _ = writeln!(out);
         }
+        self.write_inertial(&mut out);
+        let _ = writeln!(
+            out,
+            "ranks (1 = best; S_tol and the jumps on the actual cam, the rest on the theoretical cam; Fc_min larger is better;\n\
+             overall: the laws holding contact on the theoretical cam first, then by the sum of the ranks)"
+        );
+        let _ = write!(out, "{:<21}", "law");
+        for (_, h) in HEADERS {
+            let _ = write!(out, " {:>7}", h);
+        }
+        let _ = writeln!(out, " {:>11}", "jump r/ret");
+        let mut order: Vec<&LawStudy> = self.laws.iter().collect();
+        order.sort_by_key(|l| l.ranks.overall);
+        for l in order {
+            let _ = write!(out, "{:<21}", l.name);
+            for (c, _) in HEADERS {
+                let _ = write!(out, " {:>7}", l.ranks.get(c).unwrap_or(0));
+            }
+            let yn = |b: bool| if b { "yes" } else { "no" };
+            let _ = writeln!(
+                out,
+                " {:>11}",
+                format!("{}/{}", yn(l.jump_rise), yn(l.jump_return))
+            );
+        }
+        not_workable_text(&mut out, &self.not_workable);
+        let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
+        out
+    }
+}
+
+impl CompareReport {
+    /// The inertial responses' tables, cycle II, on the theoretical and the actual cam.
+    fn write_inertial(&self, out: &mut String) {
+        use std::fmt::Write;
         for (title, actual) in [
             ("inertial responses, cycle II, theoretical cam", false),
             ("inertial responses, cycle II, actual cam", true),
@@ -725,33 +772,6 @@ impl Report for CompareReport {
             }
             let _ = writeln!(out);
         }
-        let _ = writeln!(
-            out,
-            "ranks (1 = best; S_tol and the jumps on the actual cam, the rest on the theoretical cam; Fc_min larger is better;\n\
-             overall: the laws holding contact on the theoretical cam first, then by the sum of the ranks)"
-        );
-        let _ = write!(out, "{:<21}", "law");
-        for (_, h) in HEADERS {
-            let _ = write!(out, " {:>7}", h);
-        }
-        let _ = writeln!(out, " {:>11}", "jump r/ret");
-        let mut order: Vec<&LawStudy> = self.laws.iter().collect();
-        order.sort_by_key(|l| l.ranks.overall);
-        for l in order {
-            let _ = write!(out, "{:<21}", l.name);
-            for (c, _) in HEADERS {
-                let _ = write!(out, " {:>7}", l.ranks.get(c).unwrap_or(0));
-            }
-            let yn = |b: bool| if b { "yes" } else { "no" };
-            let _ = writeln!(
-                out,
-                " {:>11}",
-                format!("{}/{}", yn(l.jump_rise), yn(l.jump_return))
-            );
-        }
-        not_workable_text(&mut out, &self.not_workable);
-        let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
-        out
     }
 }
 
@@ -829,6 +849,37 @@ fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
 
 /// Colour of the actual cam's curves in responses.png (the legend's swatch).
 const ACTUAL: plotters::style::RGBColor = plots::PALETTE[0];
+
+/// The laws whose responses `compare --plot` draws (the two best overall and the
+/// reference program's two), each on the theoretical cam and on one actual cam.
+fn response_traces(
+    laws: &[LawStudy],
+    base: &RunSpec,
+    actual: &ActualArgs,
+) -> Result<Vec<(String, Trace, Trace)>> {
+    let mut picks: Vec<usize> = Vec::new();
+    let by_rank = |r: usize| laws.iter().position(|l| l.ranks.overall == r);
+    for i in [by_rank(1), by_rank(2)].into_iter().flatten().chain(
+        ["modified-trapezoidal", "4-5-6-7"]
+            .iter()
+            .filter_map(|n| laws.iter().position(|l| l.name == *n)),
+    ) {
+        if !picks.contains(&i) {
+            picks.push(i);
+        }
+    }
+    let mut traces = Vec::new();
+    for &i in &picks {
+        let law = MotionLaw::from_name(&laws[i].name).ok_or_else(|| anyhow!("unknown law"))?;
+        let spec = with_law(base, law)?;
+        let theo = trace(&spec)?;
+        let (dev, _) = actual::build_profile(&spec.design, actual, 0)?;
+        let mut s = spec.clone();
+        s.profile = Some(Arc::new(dev));
+        traces.push((laws[i].name.clone(), theo, trace(&s)?));
+    }
+    Ok(traces)
+}
 
 fn draw(
     dir: &mut AtomicDir,
@@ -948,27 +999,7 @@ fn draw(
     })?;
     // Responses: the two best laws overall and the reference program's two laws (the
     // worst laws' impacts would swamp the scale).
-    let mut picks: Vec<usize> = Vec::new();
-    let by_rank = |r: usize| laws.iter().position(|l| l.ranks.overall == r);
-    for i in [by_rank(1), by_rank(2)].into_iter().flatten().chain(
-        ["modified-trapezoidal", "4-5-6-7"]
-            .iter()
-            .filter_map(|n| laws.iter().position(|l| l.name == *n)),
-    ) {
-        if !picks.contains(&i) {
-            picks.push(i);
-        }
-    }
-    let mut traces = Vec::new();
-    for &i in &picks {
-        let law = MotionLaw::from_name(&laws[i].name).ok_or_else(|| anyhow!("unknown law"))?;
-        let spec = with_law(base, law)?;
-        let theo = trace(&spec)?;
-        let (dev, _) = actual::build_profile(&spec.design, actual, 0)?;
-        let mut s = spec.clone();
-        s.profile = Some(Arc::new(dev));
-        traces.push((laws[i].name.clone(), theo, trace(&s)?));
-    }
+    let traces = response_traces(laws, base, actual)?;
     let file = PLOT_FILES[1];
     let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
     // Small multiples: a row per law, its theoretical cam (grey) under its actual cam

@@ -274,11 +274,9 @@ impl RunReport {
 /// Runs the simulation `args` asks for and writes its outputs: every output is checked
 /// before the simulation (a refusal touches no file), written to temporaries during it,
 /// and committed only when all succeeded.
-pub fn report(args: &Args) -> Result<RunReport> {
-    let mut spec = spec_from(&args.scene)?;
-    if let Some(n) = args.revolutions {
-        spec.revolutions = n;
-    }
+/// Attaches the cam's measured (`--measured`) or as-cut (`--actual`) profile to
+/// `spec`, if one was asked for, and returns its report.
+fn attach_profile(spec: &mut RunSpec, args: &Args) -> Result<Option<ProfileReport>> {
     args.actual.ensure_actual_if_options()?;
     let profile = if let Some(path) = &args.measured {
         let (dev, stats) = crate::measured::load(path)?
@@ -293,6 +291,11 @@ pub fn report(args: &Args) -> Result<RunReport> {
     };
     let profile_report = profile.as_ref().map(|p| p.1.clone());
     spec.profile = profile.map(|p| std::sync::Arc::new(p.0));
+    Ok(profile_report)
+}
+
+/// The output plan, told which files the run reads (so no output overwrites them).
+fn input_plan(args: &Args) -> Plan {
     let mut plan = Plan::new(args.output.force);
     if let Some(p) = &args.scene.scene {
         plan.input("scene file", p);
@@ -300,6 +303,16 @@ pub fn report(args: &Args) -> Result<RunReport> {
     if let Some(p) = &args.measured {
         plan.input("--measured", p);
     }
+    plan
+}
+
+pub fn report(args: &Args) -> Result<RunReport> {
+    let mut spec = spec_from(&args.scene)?;
+    if let Some(n) = args.revolutions {
+        spec.revolutions = n;
+    }
+    let profile_report = attach_profile(&mut spec, args)?;
+    let mut plan = input_plan(args);
     // The grid's step was checked by the option's parser.
     let grid = match args.csv_every_step {
         false => Some(camsim_core::AngleGrid::new(args.csv_every_deg)?),
@@ -605,6 +618,42 @@ impl Report for RunReport {
             );
         }
         let _ = writeln!(out);
+        self.write_jumps(&mut out);
+        match (&self.verdict, &self.steady_state) {
+            (
+                Some(crate::verdict::Verdict {
+                    steady: Some(st), ..
+                }),
+                _,
+            ) => {
+                let _ = writeln!(out, "steady state: {}", st.summary);
+            }
+            (_, Some(c)) => {
+                let _ = writeln!(
+                    out,
+                    "steady state: revolution {} vs {}: largest relative change of the per-period statistics {:.2e} ({})",
+                    c.compared[1], c.compared[0], c.max_rel_change, c.statistic
+                );
+            }
+            _ => {}
+        }
+        let _ = writeln!(
+            out,
+            "solver: {} adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
+            method_title(self.method), self.rtol, crate::units::given(crate::units::LENGTH, self.atol_in), crate::units::symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
+        );
+        let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
+        for f in &self.files {
+            let _ = writeln!(out, "wrote {f}");
+        }
+        out
+    }
+}
+
+impl RunReport {
+    /// The jumps' lines: none, or one summary line per burst of separations.
+    fn write_jumps(&self, out: &mut String) {
+        use std::fmt::Write;
         if self.jumps.is_empty() {
             let _ = writeln!(out, "jumps: none (the follower stays on the cam)");
         } else {
@@ -635,15 +684,15 @@ impl Report for RunReport {
             }
             for g in groups {
                 let _ = writeln!(
-                    out,
-                    "  revolution {}, {:<10}: {:>4} intervals from {:7.2} to {:7.2} deg, {:6.2} deg off the cam",
-                    g.revolution,
-                    self.periods.get(g.period).copied().unwrap_or("?"),
-                    g.intervals,
-                    g.first_onset_deg,
-                    g.last_landing_deg,
-                    g.off_cam_deg
-                );
+                out,
+                "  revolution {}, {:<10}: {:>4} intervals from {:7.2} to {:7.2} deg, {:6.2} deg off the cam",
+                g.revolution,
+                self.periods.get(g.period).copied().unwrap_or("?"),
+                g.intervals,
+                g.first_onset_deg,
+                g.last_landing_deg,
+                g.off_cam_deg
+            );
             }
             if self.jumps_dropped > 0 {
                 let _ = writeln!(
@@ -653,34 +702,6 @@ impl Report for RunReport {
                 );
             }
         }
-        match (&self.verdict, &self.steady_state) {
-            (
-                Some(crate::verdict::Verdict {
-                    steady: Some(st), ..
-                }),
-                _,
-            ) => {
-                let _ = writeln!(out, "steady state: {}", st.summary);
-            }
-            (_, Some(c)) => {
-                let _ = writeln!(
-                    out,
-                    "steady state: revolution {} vs {}: largest relative change of the per-period statistics {:.2e} ({})",
-                    c.compared[1], c.compared[0], c.max_rel_change, c.statistic
-                );
-            }
-            _ => {}
-        }
-        let _ = writeln!(
-            out,
-            "solver: {} adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
-            method_title(self.method), self.rtol, crate::units::given(crate::units::LENGTH, self.atol_in), crate::units::symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
-        );
-        let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
-        for f in &self.files {
-            let _ = writeln!(out, "wrote {f}");
-        }
-        out
     }
 }
 
