@@ -218,6 +218,7 @@ assert abs(i['max_abs_deviation_in'] - s['max_abs_deviation_in']) <= 1e-4, (i, s
 smoke design design spring --quick --json
 smoke design-actual design spring --actual --quick --json
 smoke design-speed design speed --quick --json
+jq -e '(.speeds_tried_rpm | length > 0) and (has("tried") | not)' "$studies/design-speed.out" >/dev/null || { echo "smoke: design speed's tried speeds do not name their unit (speeds_tried_rpm)" >&2; exit 1; }
 smoke design-tolerance design tolerance --quick --json
 smoke design-preload design spring --preload --quick --json
 smoke design-waviness design tolerance --waviness --quick --json
