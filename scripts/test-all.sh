@@ -206,6 +206,9 @@ smoke profile profile "$studies/ref.toml" --out "$studies/cam" --plot "$studies/
     --cutter-radius 0.5 --units inch --json
 smoke profile-actual profile --actual --seed 3 --units si --json
 smoke roundtrip run --measured "$studies/cam/surface_radius.csv" --revolutions 1 --json
+smoke profile-si profile "$studies/ref.toml" --out "$studies/cam-si" --units si --json
+grep -qx 'angle_deg,radius_mm' "$studies/cam-si/surface_radius.csv" || { echo "smoke: profile --units si does not write radius_mm" >&2; exit 1; }
+smoke roundtrip-si run --measured "$studies/cam-si/surface_radius.csv" --revolutions 1 --json
 smoke modal-scene modal "$studies/ref.toml" --json
 smoke contact-scene contact "$studies/ref.toml" --force 50 --json
 smoke predict-scene predict "$studies/ref.toml" --json
@@ -214,9 +217,13 @@ smoke jump-actual jump-speed --actual --samples 2 --threads 2 --follower quasi-s
 python3 -c "import json,sys; p=json.load(open(sys.argv[1])); r=json.load(open(sys.argv[2]));
 assert r['profile']['max_abs_deviation_in'] <= p['chord_error_bound_in'], (r['profile'], p['chord_error_bound_in'])" \
     "$studies/profile.out" "$studies/roundtrip.out"
+python3 -c "import json,sys; i=json.load(open(sys.argv[1]))['profile']; s=json.load(open(sys.argv[2]))['profile'];
+assert abs(i['max_abs_deviation_in'] - s['max_abs_deviation_in']) <= 1e-4, (i, s)" \
+    "$studies/roundtrip.out" "$studies/roundtrip-si.out"
 smoke design design spring --quick --json
 smoke design-actual design spring --actual --quick --json
 smoke design-speed design speed --quick --json
+jq -e '(.speeds_tried_rpm | length > 0) and (has("tried") | not)' "$studies/design-speed.out" >/dev/null || { echo "smoke: design speed's tried speeds do not name their unit (speeds_tried_rpm)" >&2; exit 1; }
 smoke design-tolerance design tolerance --quick --json
 smoke design-preload design spring --preload --quick --json
 smoke design-waviness design tolerance --waviness --quick --json

@@ -202,15 +202,20 @@ fn pair(out: &mut String, code: u16, value: impl std::fmt::Display) {
     let _ = write!(out, "{code:>3}\n{value}\n");
 }
 
-/// The R12 ASCII DXF of `layers` (each a closed polyline) with the unit in the header
-/// and a `POINT` at the rotation centre on layer `CENTRE`.
-pub fn dxf(layers: &[Layer], units: Units) -> String {
+/// The R12 ASCII DXF of `layers` (each a closed polyline) with the unit in the header,
+/// a `POINT` at the rotation centre on layer `CENTRE` and `note`'s lines as `TEXT`
+/// entities on layer `0` below the drawing.
+pub fn dxf(layers: &[Layer], units: Units, note: &[String]) -> String {
     let mut s = String::new();
     let (mut lo, mut hi) = ((0.0f64, 0.0f64), (0.0f64, 0.0f64));
     for p in layers.iter().flat_map(|l| l.points) {
         lo = (lo.0.min(p.x), lo.1.min(p.y));
         hi = (hi.0.max(p.x), hi.1.max(p.y));
     }
+    // The note's text height: a fortieth of the drawing's height, lines 1.5 apart.
+    let height = (hi.1 - lo.1) / 40.0;
+    let text_top = lo.1 - 2.0 * height;
+    lo.1 = text_top - 1.5 * height * note.len() as f64;
     pair(
         &mut s,
         999,
@@ -286,6 +291,19 @@ pub fn dxf(layers: &[Layer], units: Units) -> String {
     pair(&mut s, 10, "0.0");
     pair(&mut s, 20, "0.0");
     pair(&mut s, 30, "0.0");
+    for (k, line) in note.iter().enumerate() {
+        pair(&mut s, 0, "TEXT");
+        pair(&mut s, 8, "0");
+        pair(&mut s, 10, format!("{:.10}", lo.0));
+        pair(
+            &mut s,
+            20,
+            format!("{:.10}", text_top - 1.5 * height * k as f64),
+        );
+        pair(&mut s, 30, "0.0");
+        pair(&mut s, 40, format!("{height:.10}"));
+        pair(&mut s, 1, line);
+    }
     pair(&mut s, 0, "ENDSEC");
     pair(&mut s, 0, "EOF");
     s
@@ -445,11 +463,13 @@ mod tests {
                 },
             ],
             Units::Mm,
+            &["Units: mm".to_string()],
         );
         let s = read_dxf(&text).unwrap();
         assert_eq!(s.insunits, Some(4));
         assert!(s.eof);
-        assert_eq!(s.entities, 3);
+        // Two polylines, the centre point and the note's one TEXT.
+        assert_eq!(s.entities, 4);
         assert_eq!(s.polylines.len(), 2);
         assert_eq!(s.polylines[0].0, "SURFACE");
         assert!(s.polylines.iter().all(|p| p.1));

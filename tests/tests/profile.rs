@@ -116,8 +116,8 @@ fn the_dxf_holds_the_csv_curves_closed_with_units() {
     let s = read_dxf(&std::fs::read_to_string(out.join(profile::DXF_FILE)).unwrap()).unwrap();
     assert_eq!(s.insunits, Some(4));
     assert!(s.eof);
-    // Surface, pitch, cutter and the centre point.
-    assert_eq!(s.entities, 4);
+    // Surface, pitch, cutter, the centre point and the note's three TEXT lines.
+    assert_eq!(s.entities, 7);
     let names: Vec<&str> = s.polylines.iter().map(|p| p.0.as_str()).collect();
     assert_eq!(names, ["SURFACE", "PITCH", "CUTTER"]);
     for (p, c) in s.polylines.iter().zip(&r.curves) {
@@ -135,8 +135,9 @@ fn the_dxf_holds_the_csv_curves_closed_with_units() {
     );
     // The CSV has the same points.
     let csv = std::fs::read_to_string(out.join(profile::SURFACE_FILE)).unwrap();
-    assert!(csv.starts_with("cam_angle_deg,x_mm,y_mm,polar_angle_deg,radius_mm\n"));
-    assert_eq!(csv.lines().count() - 1, r.curves[0].points);
+    let rows: Vec<&str> = csv.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(rows[0], "cam_angle_deg,x_mm,y_mm,polar_angle_deg,radius_mm");
+    assert_eq!(rows.len() - 1, r.curves[0].points);
     let _ = std::fs::remove_dir_all(&out);
 }
 
@@ -153,4 +154,83 @@ fn a_too_fine_chord_error_is_refused_by_name() {
         e.starts_with("--chord-error 1e-12: needs more than 3600 points"),
         "{e}"
     );
+}
+
+/// The `#` lines of a file (or the DXF's TEXT values) hold the unit, the rotation
+/// direction and the 0° datum: each of the three convention lines, verbatim.
+fn has_conventions(text: &str, unit: &str) {
+    for line in profile::conventions(if unit == "mm" {
+        camsim::export::Units::Mm
+    } else {
+        camsim::export::Units::In
+    }) {
+        assert!(text.contains(&line), "{line:?} missing");
+    }
+    assert!(text.contains(&format!("({unit})")), "no unit {unit}");
+    assert!(text.contains("counterclockwise") && text.contains("0 deg datum"));
+}
+
+#[test]
+fn every_file_states_units_rotation_and_datum_and_headers_name_the_unit() {
+    for (units, u) in [("si", "mm"), ("inch", "in")] {
+        let out = dir(&format!("notes-{u}"));
+        export(&[
+            "--out",
+            out.to_str().unwrap(),
+            "--units",
+            units,
+            "--cutter-radius",
+            "0.5",
+        ]);
+        for (file, header) in [
+            (
+                profile::SURFACE_RADIUS_FILE,
+                format!("angle_deg,radius_{u}"),
+            ),
+            (
+                profile::SURFACE_FILE,
+                format!("cam_angle_deg,x_{u},y_{u},polar_angle_deg,radius_{u}"),
+            ),
+            (profile::PITCH_FILE, format!("cam_angle_deg,x_{u},y_{u}")),
+            (profile::CUTTER_FILE, format!("cam_angle_deg,x_{u},y_{u}")),
+        ] {
+            let text = std::fs::read_to_string(out.join(file)).unwrap();
+            let comments: String = text.lines().take_while(|l| l.starts_with('#')).collect();
+            has_conventions(&comments, u);
+            let first = text.lines().find(|l| !l.starts_with('#')).unwrap();
+            assert_eq!(first, header, "{file}");
+        }
+        let dxf = std::fs::read_to_string(out.join(profile::DXF_FILE)).unwrap();
+        let texts: String = dxf.lines().collect::<Vec<_>>().join("\n");
+        assert!(dxf.contains("\nTEXT\n"));
+        has_conventions(&texts, u);
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}
+
+#[test]
+fn an_si_surface_file_reads_back_as_the_inch_one_within_the_chordal_error() {
+    let bound = 1e-4;
+    let (si, inch) = (dir("si"), dir("inch"));
+    export(&["--out", si.to_str().unwrap(), "--units", "si"]);
+    export(&["--out", inch.to_str().unwrap(), "--units", "inch"]);
+    let text = std::fs::read_to_string(si.join(profile::SURFACE_RADIUS_FILE)).unwrap();
+    assert!(text.contains("\nangle_deg,radius_mm\n"));
+    let (m_si, m_in) = (
+        camsim::measured::load(&si.join(profile::SURFACE_RADIUS_FILE)).unwrap(),
+        camsim::measured::load(&inch.join(profile::SURFACE_RADIUS_FILE)).unwrap(),
+    );
+    // The same points, in mm = 25.4 x in (each rounded to 10 decimals).
+    assert_eq!(m_si.angles_deg.len(), m_in.angles_deg.len());
+    let design = camsim_core::Design::<f64>::reference();
+    let (lift_si, lift_in) = (
+        m_si.deviation(&design).unwrap(),
+        m_in.deviation(&design).unwrap(),
+    );
+    for k in 0..3600 {
+        let th = (k as f64 * 0.1).to_radians();
+        let d = (lift_si.deviation(th).y - lift_in.deviation(th).y).abs();
+        assert!(d <= bound, "{k}: {d}");
+    }
+    let _ = (std::fs::remove_dir_all(&si), std::fs::remove_dir_all(&inch));
 }

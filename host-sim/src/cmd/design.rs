@@ -433,8 +433,17 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
 }
 
 impl Report for McSearchReport {
+    /// `design speed`'s tried speeds under a key naming their unit (`speeds_tried_rpm`).
     fn json(&self) -> serde_json::Result<String> {
-        crate::report::sorted_pretty_json(self)
+        let mut v = serde_json::to_value(self)?;
+        if self.search == "speed" {
+            if let Some(o) = v.as_object_mut() {
+                if let Some(t) = o.remove("tried") {
+                    o.insert("speeds_tried_rpm".into(), t);
+                }
+            }
+        }
+        crate::report::sorted_pretty_json(&v)
     }
     fn text(&self) -> String {
         use std::fmt::Write;

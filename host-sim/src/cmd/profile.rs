@@ -7,8 +7,10 @@
 //! surface moved outwards by the cutter radius). Each curve is sampled so that no
 //! chord is farther than `--chord-error` from the curve ([`crate::export`]), and written
 //! as CSV and as closed polylines of one DXF. The surface's polar radius is also written
-//! in the format `camsim run --measured` reads (`surface_radius.csv`, inches), so the
-//! drawing can be simulated back. With `--actual` the cam is a simulated machined one
+//! in the format `camsim run --measured` reads (`surface_radius.csv`, in the drawing's
+//! unit: `radius_in` or `radius_mm`), so the drawing can be simulated back. Every CSV
+//! starts with `#` lines and the DXF carries a note giving the unit, the rotation
+//! direction and the 0° datum ([`conventions`]). With `--actual` the cam is a simulated machined one
 //! ([`crate::actual::build_profile`], sample 0 of `--seed`), to compare against a CMM
 //! measurement. `--plot DIR` draws the program's SVAJ diagram (`svaj.png`).
 
@@ -71,9 +73,8 @@ pub struct Args {
     /// (default 0.0001 in = 0.00254 mm: a fifth of the thesis's cam tolerance).
     #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = positive_length)]
     pub chord_error: Option<f64>,
-    /// Length unit of the DXF, of the x/y CSVs and of the report: the global `--units`
-    /// (inch: in; si: mm; surface_radius.csv stays in
-    /// inches, as `run --measured` reads it). Set by the command line, not an option here.
+    /// Length unit of the DXF, of every CSV and of the report: the global `--units`
+    /// (inch: in; si: mm). Set by the command line, not an option here.
     #[arg(skip)]
     pub units: Units,
     /// A simulated machined cam (`--actual` and its options) instead of the theoretical.
@@ -101,7 +102,7 @@ pub struct CurveReport {
 /// What `camsim profile` reports.
 #[derive(Clone, Debug, Serialize)]
 pub struct ProfileReport {
-    /// Length unit of every length below but the radius file's (in).
+    /// Length unit of every length below and of the files.
     pub units: Units,
     /// "theoretical" or "actual".
     pub cam: &'static str,
@@ -263,6 +264,29 @@ impl Cam<'_> {
         let (x, y) = self.geometry().pitch_offset_point(theta, f.y, f.dy, d);
         (x * scale, y * scale)
     }
+}
+
+/// The drawing's conventions, one line each (the DXF's note, the CSVs' `#` lines): the
+/// unit, which way the cam turns and where angle 0 is. The cam-fixed frame is that of
+/// [`CamGeometry::pitch_point`] (docs/MODEL.md §1.2): the roller centre at cam angle θ
+/// sits at (R_a + y)(sin θ, cos θ), so the point under the follower (fixed on +y) at cam
+/// angle θ was at θ clockwise from +y: the cam turns counterclockwise as drawn.
+pub fn conventions(units: Units) -> [String; 3] {
+    let (u, long) = match units {
+        Units::In => ("in", "inches"),
+        Units::Mm => ("mm", "millimetres"),
+    };
+    [
+        format!(
+            "Units: lengths in {long} ({u}), angles in degrees; rotation centre at the origin."
+        ),
+        "Rotation: the cam turns counterclockwise as drawn (x right, y up, seen from +z), \
+         the follower on the +y axis."
+            .to_string(),
+        "0 deg datum: the +y axis, the follower axis at cam angle 0 (the lift program's start); \
+         cam and polar angles grow clockwise as drawn."
+            .to_string(),
+    ]
 }
 
 /// Polyline length of a closed curve.
@@ -437,17 +461,18 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
             ),
             None => "the theoretical cam".to_string(),
         };
+        let note = conventions(args.units);
+        let comment: String = note.iter().map(|l| format!("# {l}\n")).collect();
         let mut radius = format!(
-            "# camsim profile: cam surface polar radius of {what}, from the rotation centre;\n\
-             # polar angle 0 where the follower axis points at cam angle 0, growing with the cam angle.\n\
-             # Chordal error bound {bound:e} {u}. Read back by: camsim run --measured {SURFACE_RADIUS_FILE}\n\
-             angle_deg,radius_in\n"
+            "# camsim profile: cam surface polar radius of {what}, from the rotation centre.\n\
+             {comment}# Chordal error bound {bound:e} {u}. Read back by: camsim run --measured {SURFACE_RADIUS_FILE}\n\
+             angle_deg,radius_{u}\n"
         );
-        for (a, r) in polar_rows(surface, scale)? {
+        for (a, r) in polar_rows(surface, 1.0)? {
             radius.push_str(&format!("{a:.9},{r:.10}\n"));
         }
         out.write(SURFACE_RADIUS_FILE, radius.as_bytes())?;
-        let mut s = format!("cam_angle_deg,x_{u},y_{u},polar_angle_deg,radius_{u}\n");
+        let mut s = format!("{comment}cam_angle_deg,x_{u},y_{u},polar_angle_deg,radius_{u}\n");
         for p in surface {
             let a = p.x.atan2(p.y).to_degrees().rem_euclid(360.0);
             s.push_str(&format!(
@@ -461,7 +486,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
         out.write(SURFACE_FILE, s.as_bytes())?;
         for (name, file) in [("pitch", PITCH_FILE), ("cutter", CUTTER_FILE)] {
             if let Some((_, _, pts)) = curves.iter().find(|c| c.0 == name) {
-                let mut s = format!("cam_angle_deg,x_{u},y_{u}\n");
+                let mut s = format!("{comment}cam_angle_deg,x_{u},y_{u}\n");
                 for p in pts {
                     s.push_str(&format!(
                         "{:.9},{:.10},{:.10}\n",
@@ -489,7 +514,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
                 points: pts,
             })
             .collect();
-        out.write(DXF_FILE, export::dxf(&layers, args.units).as_bytes())?;
+        out.write(DXF_FILE, export::dxf(&layers, args.units, &note).as_bytes())?;
         let done = out.commit()?;
         files.extend(done.written.iter().map(|p| p.display().to_string()));
     }
