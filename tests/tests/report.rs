@@ -101,7 +101,11 @@ fn a_refused_or_failed_run_never_creates_or_touches_the_csv() {
             "--rise",
             "possible values: straight-line",
         ),
-        (["--revolutions", "0"], "--revolutions", "not in 1..=16"),
+        (
+            ["--revolutions", "0"],
+            "--revolutions",
+            "must be a whole number from 1 to 16",
+        ),
         (["--rtol", "1"], "--rtol", "must lie in [1e-13, 0.1]"),
         (
             ["--spring-rate", "1e300"],
