@@ -391,7 +391,15 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     assert!(inch_label(&camsim::cmd::laws::report().text()).is_some());
 
     // --- montecarlo: every statistic of every table, 4 cams.
-    let mc = ["montecarlo", "--samples", "4", "--threads", "2"];
+    let mc = [
+        "montecarlo",
+        "--samples",
+        "4",
+        "--threads",
+        "2",
+        "--two-level",
+        "0",
+    ];
     let (inch, si) = (study_text(&mc, Units::Inch), study_text(&mc, Units::Si));
     let (ri, rs) = (moments_rows(&inch), moments_rows(&si));
     assert_eq!(ri.len(), 4 * 13 + 6 + 2, "{inch}");

@@ -13,13 +13,15 @@ fn compare_report(extra: &[&str]) -> anyhow::Result<CompareReport> {
     }
 }
 
-/// Seed 4's actual cam throws the straight-line follower into its slide bearing (the
+/// Seed 4's actual cam, cut by the thesis's per-point method, throws the straight-line follower into its slide bearing (the
 /// thesis marked the straight line "not workable", VI.4.2): compare ranks the other 11
 /// laws from 1 to 11, and names straight-line with the core's reason.
 #[test]
 fn compare_seed_4_ranks_the_workable_laws_and_names_straight_line() {
-    assert_eq!(main_from(["camsim", "compare", "--seed", "4", "--json"]), 0);
-    let r = compare_report(&["--seed", "4"]).unwrap();
+    let args = ["--seed", "4", "--profile-method", "thesis"];
+    let argv = ["camsim", "compare"].iter().chain(&args).chain(&["--json"]);
+    assert_eq!(main_from(argv.copied()), 0);
+    let r = compare_report(&args).unwrap();
     assert_eq!(r.not_workable.len(), 1, "{:?}", r.not_workable);
     let n = &r.not_workable[0];
     assert_eq!(
