@@ -804,6 +804,37 @@ fn choose_part(
             q.cam_hz
         );
     }
+    let (c, s) = lightest_in_contact(spec, &found, at_rpm, runs)?;
+    let (rule, use_) = c.binding(&q);
+    let mut s = s;
+    s.spring = Some(camsim_scene_file::spring::SpringPart {
+        coil: c.coil(&q),
+        wire: Some(wire),
+        free_length: Some(c.free_length_in),
+    });
+    Ok((
+        PartReport {
+            spring: c,
+            wire: wire.title.to_string(),
+            material: wire.name,
+            ends: q.ends.name(),
+            binding: rule.to_string(),
+            binding_percent: 100.0 * use_,
+            rejected,
+            contact_checked: at_rpm.is_some(),
+        },
+        s,
+    ))
+}
+
+/// The lightest of the first springs `found` that holds contact at `at_rpm` (counting the
+/// runs; any passes without a speed), with the spec carrying its rate and mass.
+fn lightest_in_contact(
+    spec: &RunSpec,
+    found: &[CoilChoice],
+    at_rpm: Option<f64>,
+    runs: &mut u64,
+) -> Result<(CoilChoice, RunSpec)> {
     let with = |c: &CoilChoice| {
         let mut s = spec.clone();
         s.design.k_rs = c.rate_lb_per_in;
@@ -825,32 +856,13 @@ fn choose_part(
             break;
         }
     }
-    let Some((c, s)) = chosen else {
+    let Some(chosen) = chosen else {
         bail!(
             "none of the {} lightest springs that pass stress and surge holds contact with its own mass: a larger --margin on the rate, or a lighter program",
             MAX_PART_CHECKS.min(found.len())
         );
     };
-    let (rule, use_) = c.binding(&q);
-    let mut s = s;
-    s.spring = Some(camsim_scene_file::spring::SpringPart {
-        coil: c.coil(&q),
-        wire: Some(wire),
-        free_length: Some(c.free_length_in),
-    });
-    Ok((
-        PartReport {
-            spring: c,
-            wire: wire.title.to_string(),
-            material: wire.name,
-            ends: q.ends.name(),
-            binding: rule.to_string(),
-            binding_percent: 100.0 * use_,
-            rejected,
-            contact_checked: at_rpm.is_some(),
-        },
-        s,
-    ))
+    Ok(chosen)
 }
 
 fn describe(spec: &RunSpec) -> String {
