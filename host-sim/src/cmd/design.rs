@@ -267,6 +267,77 @@ pub fn tolerance_table(args: &McArgs) -> Result<ToleranceTable> {
     Ok(ToleranceTable(rows))
 }
 
+/// (start, max, resolution) of the search over the value that makes it fail (growth 2).
+fn search_range(speed: bool, waviness: bool, quick: bool) -> (f64, f64, f64) {
+    if speed {
+        (
+            100.0,
+            crate::study::jump_speed::MAX_RPM,
+            if quick { 100.0 } else { 5.0 },
+        )
+    } else if waviness {
+        // FPR: from 8 doubling to the finest waviness the profile can be given (720
+        // points a revolution, about FPR 570), to one wave.
+        (8.0, 512.0, if quick { 16.0 } else { 1.0 })
+    } else {
+        (0.1, 20.0, if quick { 0.5 } else { 0.05 })
+    }
+}
+
+/// The search's answer (the last passing value) and the first failing one, if bracketed.
+fn answer_of(
+    onset: Onset<f64>,
+    speed: bool,
+    waviness: bool,
+    p_max: f64,
+) -> Result<(f64, Option<f64>)> {
+    Ok(match onset {
+        Onset::Bracketed { below, at } if waviness => (below.round(), Some(at.round())),
+        Onset::Bracketed { below, at } => (below, Some(at)),
+        Onset::Beyond(m) => (m, None),
+        Onset::AtStart(x) => bail!(
+            "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
+            if speed {
+                "rpm"
+            } else if waviness {
+                "FPR: a tighter --tolerance-factor"
+            } else {
+                "times VI.1's tolerances"
+            }
+        ),
+    })
+}
+
+/// The pass criterion of a search, in words.
+fn criterion(
+    args: &McArgs,
+    speed: bool,
+    fpr: Option<u32>,
+    n: u64,
+    p_max: f64,
+    op_rpm: f64,
+) -> String {
+    let (waviness, factor) = (args.waviness, args.tolerance_factor.unwrap_or(1.0));
+    format!(
+        "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
+        args.seed,
+        if waviness {
+            format!("searched, tolerances {factor} x VI.1's")
+        } else {
+            fpr
+                .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
+        },
+        if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
+        if speed {
+            "speed"
+        } else if waviness {
+            "FPR (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+        } else {
+            "tolerance"
+        }
+    )
+}
+
 /// One Monte Carlo search at the waviness `fpr` (None: the default).
 fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearchReport> {
     let t0 = Instant::now();
@@ -288,20 +359,7 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     let mut runs = 0u64;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut passed: Vec<(f64, Probability)> = Vec::new();
-    // (start, growth, max, resolution) of the search over the value that makes it fail.
-    let (start, max, resolution) = if speed {
-        (
-            100.0,
-            crate::study::jump_speed::MAX_RPM,
-            if args.quick { 100.0 } else { 5.0 },
-        )
-    } else if waviness {
-        // FPR: from 8 doubling to the finest waviness the profile can be given (720
-        // points a revolution, about FPR 570), to one wave.
-        (8.0, 512.0, if args.quick { 16.0 } else { 1.0 })
-    } else {
-        (0.1, 20.0, if args.quick { 0.5 } else { 0.05 })
-    };
+    let (start, max, resolution) = search_range(speed, waviness, args.quick);
     let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
     let first = ActualArgs {
         actual: true,
@@ -344,21 +402,7 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
         }
         Ok(!ok)
     })?;
-    let (answer, failing) = match onset {
-        Onset::Bracketed { below, at } if waviness => (below.round(), Some(at.round())),
-        Onset::Bracketed { below, at } => (below, Some(at)),
-        Onset::Beyond(m) => (m, None),
-        Onset::AtStart(x) => bail!(
-            "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
-            if speed {
-                "rpm"
-            } else if waviness {
-                "FPR: a tighter --tolerance-factor"
-            } else {
-                "times VI.1's tolerances"
-            }
-        ),
-    };
+    let (answer, failing) = answer_of(onset, speed, waviness, p_max)?;
     let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
     let theoretical_onset_rpm = if speed {
         let js = crate::study::jump_speed::find(&spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
@@ -391,36 +435,23 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
         tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed).then_some(reference.cam * if waviness { factor } else { answer }),
-        roller_tolerance_in: (!speed).then_some(
-            roller.unwrap_or(reference.roller * if waviness { factor } else { 1.0 }),
-        ),
+        cam_tolerance_in: (!speed)
+            .then_some(reference.cam * if waviness { factor } else { answer }),
+        roller_tolerance_in: (!speed)
+            .then_some(roller.unwrap_or(reference.roller * if waviness { factor } else { 1.0 })),
         eccentricity_tolerance_in: (!speed).then_some(
             args.eccentricity_tolerance
                 .unwrap_or(reference.eccentricity),
         ),
-        waviness_fpr: if waviness { None } else { Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR)) },
+        waviness_fpr: if waviness {
+            None
+        } else {
+            Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR))
+        },
         theoretical_onset_rpm,
         operating_rpm: op_rpm,
         p_jump,
-        criterion: format!(
-            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
-            args.seed,
-            if waviness {
-                format!("searched, tolerances {factor} x VI.1's")
-            } else {
-                fpr
-                    .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
-            },
-            if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
-            if speed {
-                "speed"
-            } else if waviness {
-                "FPR (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
-            } else {
-                "tolerance"
-            }
-        ),
+        criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
         samples: n,
         seed: args.seed,
         model: describe(&mc),
