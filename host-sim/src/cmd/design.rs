@@ -908,15 +908,10 @@ fn describe(spec: &RunSpec) -> String {
     )
 }
 
-/// The spring search.
-pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
-    let t0 = Instant::now();
-    let mut spec = spec_from(&args.scene)?;
-    spec.solver.start = Start::Static;
-    spec.revolutions = 2;
-    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let preload = args.preload;
-    let (start, max, resolution) = if preload {
+/// (start, max, resolution) of `design spring`'s search: over the rate, or over the
+/// preload length with --preload.
+fn spring_search_range(args: &SpringArgs) -> Result<(f64, f64, f64)> {
+    Ok(if args.preload {
         let res = if args.quick { 0.1 } else { PRELOAD_RESOLUTION };
         if args.max_preload_length <= START_PRELOAD_LENGTH {
             bail!(
@@ -938,7 +933,29 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             );
         }
         (START_RATE, args.max_rate, res)
-    };
+    })
+}
+
+/// Moves a preload search's answer (held in the rate's fields) to the preload length's;
+/// the rate is the scene's `k_rs`.
+fn answer_is_preload_length(report: &mut SpringReport, k_rs: f64) {
+    let length = report.spring_rate_lb_per_in;
+    report.failing_preload_length_in = report.failing_rate_lb_per_in.take();
+    report.preload_bracket_in = Some(report.bracket_lb_per_in);
+    report.bracket_lb_per_in = 0.0;
+    report.spring_rate_lb_per_in = k_rs;
+    report.preload_length_in = length;
+}
+
+/// The spring search.
+pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
+    let t0 = Instant::now();
+    let mut spec = spec_from(&args.scene)?;
+    spec.solver.start = Start::Static;
+    spec.revolutions = 2;
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
+    let preload = args.preload;
+    let (start, max, resolution) = spring_search_range(args)?;
     let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut runs: u64 = 0;
@@ -1065,13 +1082,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         }
     };
     if preload {
-        // The answer is a length: the rate is the scene's.
-        let length = report.spring_rate_lb_per_in;
-        report.failing_preload_length_in = report.failing_rate_lb_per_in.take();
-        report.preload_bracket_in = Some(report.bracket_lb_per_in);
-        report.bracket_lb_per_in = 0.0;
-        report.spring_rate_lb_per_in = spec.design.k_rs;
-        report.preload_length_in = length;
+        answer_is_preload_length(&mut report, spec.design.k_rs);
     }
     let answer_value = if preload {
         report.preload_length_in
