@@ -463,6 +463,49 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     Ok(report)
 }
 
+/// The first lines of a search's text: its answer in the user's words.
+fn search_headline(r: &McSearchReport, out: &mut String) {
+    use std::fmt::Write;
+    if r.search == "speed" {
+        let _ = writeln!(
+            out,
+            "camsim design speed: {:.1} rpm on actual cams",
+            r.answer
+        );
+        if let Some(t) = r.theoretical_onset_rpm {
+            let _ = writeln!(
+                out,
+                "  theoretical cam's jump onset: {t:.1} rpm (full model)"
+            );
+        }
+    } else if r.search == "waviness" {
+        let _ = writeln!(
+            out,
+            "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
+            r.answer,
+            r.tolerance_factor.unwrap_or(1.0),
+            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            lu = units::symbol(units::LENGTH)
+        );
+        let _ = writeln!(
+            out,
+            "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
+            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            r.answer,
+            r.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
+            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            units::q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+            lu = units::symbol(units::LENGTH)
+        );
+    }
+}
+
 impl Report for McSearchReport {
     fn json(&self) -> serde_json::Result<String> {
         crate::report::sorted_pretty_json(self)
@@ -470,44 +513,7 @@ impl Report for McSearchReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        if self.search == "speed" {
-            let _ = writeln!(
-                out,
-                "camsim design speed: {:.1} rpm on actual cams",
-                self.answer
-            );
-            if let Some(t) = self.theoretical_onset_rpm {
-                let _ = writeln!(
-                    out,
-                    "  theoretical cam's jump onset: {t:.1} rpm (full model)"
-                );
-            }
-        } else if self.search == "waviness" {
-            let _ = writeln!(
-                out,
-                "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
-                self.answer,
-                self.tolerance_factor.unwrap_or(1.0),
-                units::q(units::LENGTH, self.cam_tolerance_in.unwrap_or(0.0), 5),
-                units::q(units::LENGTH, self.roller_tolerance_in.unwrap_or(0.0), 6),
-                lu = units::symbol(units::LENGTH)
-            );
-            let _ = writeln!(
-                out,
-                "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
-            );
-        } else {
-            let _ = writeln!(
-                out,
-                "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
-                units::q(units::LENGTH, self.cam_tolerance_in.unwrap_or(0.0), 5),
-                self.answer,
-                self.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
-                units::q(units::LENGTH, self.roller_tolerance_in.unwrap_or(0.0), 6),
-                units::q(units::LENGTH, self.eccentricity_tolerance_in.unwrap_or(0.0), 5),
-                lu = units::symbol(units::LENGTH)
-            );
-        }
+        search_headline(self, &mut out);
         let d = if self.search == "waviness" { 0 } else { 4 };
         match self.failing {
             Some(f) => {
