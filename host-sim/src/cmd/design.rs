@@ -1145,77 +1145,7 @@ impl Report for SpringReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        if self.searched == "preload length" {
-            let _ = writeln!(
-                out,
-                "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
-                units::q(units::LENGTH, self.preload_length_in, 3),
-                units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
-                units::q(units::FORCE, self.preload_lb, 2),
-                self.active_coils,
-                units::q(units::WEIGHT, self.spring_mass_lb, 4),
-                self.surge_hz,
-                lu = units::symbol(units::LENGTH),
-                ku = units::symbol(units::STIFFNESS),
-                fu = units::symbol(units::FORCE),
-                wu = units::symbol(units::WEIGHT)
-            );
-            match (self.failing_preload_length_in, self.preload_bracket_in) {
-                (Some(b), Some(w)) => {
-                    let _ = writeln!(
-                        out,
-                        "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
-                        units::q(units::LENGTH, b, 3),
-                        units::q(units::LENGTH, self.preload_length_in, 3),
-                        units::q(units::LENGTH, w, 3),
-                        lu = units::symbol(units::LENGTH)
-                    );
-                }
-                _ => {
-                    let _ = writeln!(
-                        out,
-                        "  searched: the preload length; the first length tried passes: any length up to it may do"
-                    );
-                }
-            }
-        } else {
-            let _ = writeln!(
-                out,
-                "camsim design spring: {} {ku} at preload length {} {lu} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
-                units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
-                units::given(units::LENGTH, self.preload_length_in),
-                units::q(units::FORCE, self.preload_lb, 2),
-                self.active_coils,
-                units::q(units::WEIGHT, self.spring_mass_lb, 4),
-                self.surge_hz,
-                lu = units::symbol(units::LENGTH),
-                ku = units::symbol(units::STIFFNESS),
-                fu = units::symbol(units::FORCE),
-                wu = units::symbol(units::WEIGHT)
-            );
-        }
-        match self
-            .failing_rate_lb_per_in
-            .filter(|_| self.searched != "preload length")
-        {
-            Some(b) => {
-                let _ = writeln!(
-                    out,
-                    "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
-                    units::q(units::STIFFNESS, b, 1),
-                    units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
-                    units::q(units::STIFFNESS, self.bracket_lb_per_in, 2),
-                    ku = units::symbol(units::STIFFNESS)
-                );
-            }
-            None if self.searched != "preload length" => {
-                let _ = writeln!(
-                    out,
-                    "  the first rate tried passes: any rate up to it may do"
-                );
-            }
-            None => {}
-        }
+        spring_headline(self, &mut out);
         let _ = writeln!(out, "  criterion: {}", self.criterion);
         if let (Some(j), Some(b)) = (self.jump_onset_rpm, self.jump_onset_bracket_rpm) {
             let _ = writeln!(
@@ -1277,6 +1207,82 @@ impl Report for SpringReport {
             self.model_runs, self.wall_s
         );
         out
+    }
+}
+
+/// The first lines of the spring search's text: the answer and its bracket.
+fn spring_headline(r: &SpringReport, out: &mut String) {
+    use std::fmt::Write;
+    if r.searched == "preload length" {
+        let _ = writeln!(
+            out,
+            "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+            units::q(units::LENGTH, r.preload_length_in, 3),
+            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
+            units::q(units::FORCE, r.preload_lb, 2),
+            r.active_coils,
+            units::q(units::WEIGHT, r.spring_mass_lb, 4),
+            r.surge_hz,
+            lu = units::symbol(units::LENGTH),
+            ku = units::symbol(units::STIFFNESS),
+            fu = units::symbol(units::FORCE),
+            wu = units::symbol(units::WEIGHT)
+        );
+        match (r.failing_preload_length_in, r.preload_bracket_in) {
+            (Some(b), Some(w)) => {
+                let _ = writeln!(
+                    out,
+                    "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
+                    units::q(units::LENGTH, b, 3),
+                    units::q(units::LENGTH, r.preload_length_in, 3),
+                    units::q(units::LENGTH, w, 3),
+                    lu = units::symbol(units::LENGTH)
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    out,
+                    "  searched: the preload length; the first length tried passes: any length up to it may do"
+                );
+            }
+        }
+    } else {
+        let _ = writeln!(
+            out,
+            "camsim design spring: {} {ku} at preload length {} {lu} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
+            units::given(units::LENGTH, r.preload_length_in),
+            units::q(units::FORCE, r.preload_lb, 2),
+            r.active_coils,
+            units::q(units::WEIGHT, r.spring_mass_lb, 4),
+            r.surge_hz,
+            lu = units::symbol(units::LENGTH),
+            ku = units::symbol(units::STIFFNESS),
+            fu = units::symbol(units::FORCE),
+            wu = units::symbol(units::WEIGHT)
+        );
+    }
+    match r
+        .failing_rate_lb_per_in
+        .filter(|_| r.searched != "preload length")
+    {
+        Some(b) => {
+            let _ = writeln!(
+                out,
+                "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
+                units::q(units::STIFFNESS, b, 1),
+                units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
+                units::q(units::STIFFNESS, r.bracket_lb_per_in, 2),
+                ku = units::symbol(units::STIFFNESS)
+            );
+        }
+        None if r.searched != "preload length" => {
+            let _ = writeln!(
+                out,
+                "  the first rate tried passes: any rate up to it may do"
+            );
+        }
+        None => {}
     }
 }
 
