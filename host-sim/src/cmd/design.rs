@@ -267,6 +267,77 @@ pub fn tolerance_table(args: &McArgs) -> Result<ToleranceTable> {
     Ok(ToleranceTable(rows))
 }
 
+/// (start, max, resolution) of the search over the value that makes it fail (growth 2).
+fn search_range(speed: bool, waviness: bool, quick: bool) -> (f64, f64, f64) {
+    if speed {
+        (
+            100.0,
+            crate::study::jump_speed::MAX_RPM,
+            if quick { 100.0 } else { 5.0 },
+        )
+    } else if waviness {
+        // FPR: from 8 doubling to the finest waviness the profile can be given (720
+        // points a revolution, about FPR 570), to one wave.
+        (8.0, 512.0, if quick { 16.0 } else { 1.0 })
+    } else {
+        (0.1, 20.0, if quick { 0.5 } else { 0.05 })
+    }
+}
+
+/// The search's answer (the last passing value) and the first failing one, if bracketed.
+fn answer_of(
+    onset: Onset<f64>,
+    speed: bool,
+    waviness: bool,
+    p_max: f64,
+) -> Result<(f64, Option<f64>)> {
+    Ok(match onset {
+        Onset::Bracketed { below, at } if waviness => (below.round(), Some(at.round())),
+        Onset::Bracketed { below, at } => (below, Some(at)),
+        Onset::Beyond(m) => (m, None),
+        Onset::AtStart(x) => bail!(
+            "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
+            if speed {
+                "rpm"
+            } else if waviness {
+                "FPR: a tighter --tolerance-factor"
+            } else {
+                "times VI.1's tolerances"
+            }
+        ),
+    })
+}
+
+/// The pass criterion of a search, in words.
+fn criterion(
+    args: &McArgs,
+    speed: bool,
+    fpr: Option<u32>,
+    n: u64,
+    p_max: f64,
+    op_rpm: f64,
+) -> String {
+    let (waviness, factor) = (args.waviness, args.tolerance_factor.unwrap_or(1.0));
+    format!(
+        "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
+        args.seed,
+        if waviness {
+            format!("searched, tolerances {factor} x VI.1's")
+        } else {
+            fpr
+                .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
+        },
+        if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
+        if speed {
+            "speed"
+        } else if waviness {
+            "FPR (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+        } else {
+            "tolerance"
+        }
+    )
+}
+
 /// One Monte Carlo search at the waviness `fpr` (None: the default).
 fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearchReport> {
     let t0 = Instant::now();
@@ -288,20 +359,7 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     let mut runs = 0u64;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut passed: Vec<(f64, Probability)> = Vec::new();
-    // (start, growth, max, resolution) of the search over the value that makes it fail.
-    let (start, max, resolution) = if speed {
-        (
-            100.0,
-            crate::study::jump_speed::MAX_RPM,
-            if args.quick { 100.0 } else { 5.0 },
-        )
-    } else if waviness {
-        // FPR: from 8 doubling to the finest waviness the profile can be given (720
-        // points a revolution, about FPR 570), to one wave.
-        (8.0, 512.0, if args.quick { 16.0 } else { 1.0 })
-    } else {
-        (0.1, 20.0, if args.quick { 0.5 } else { 0.05 })
-    };
+    let (start, max, resolution) = search_range(speed, waviness, args.quick);
     let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
     let first = ActualArgs {
         actual: true,
@@ -344,21 +402,7 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
         }
         Ok(!ok)
     })?;
-    let (answer, failing) = match onset {
-        Onset::Bracketed { below, at } if waviness => (below.round(), Some(at.round())),
-        Onset::Bracketed { below, at } => (below, Some(at)),
-        Onset::Beyond(m) => (m, None),
-        Onset::AtStart(x) => bail!(
-            "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
-            if speed {
-                "rpm"
-            } else if waviness {
-                "FPR: a tighter --tolerance-factor"
-            } else {
-                "times VI.1's tolerances"
-            }
-        ),
-    };
+    let (answer, failing) = answer_of(onset, speed, waviness, p_max)?;
     let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
     let theoretical_onset_rpm = if speed {
         let js = crate::study::jump_speed::find(&spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
@@ -391,36 +435,23 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
         tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed).then_some(reference.cam * if waviness { factor } else { answer }),
-        roller_tolerance_in: (!speed).then_some(
-            roller.unwrap_or(reference.roller * if waviness { factor } else { 1.0 }),
-        ),
+        cam_tolerance_in: (!speed)
+            .then_some(reference.cam * if waviness { factor } else { answer }),
+        roller_tolerance_in: (!speed)
+            .then_some(roller.unwrap_or(reference.roller * if waviness { factor } else { 1.0 })),
         eccentricity_tolerance_in: (!speed).then_some(
             args.eccentricity_tolerance
                 .unwrap_or(reference.eccentricity),
         ),
-        waviness_fpr: if waviness { None } else { Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR)) },
+        waviness_fpr: if waviness {
+            None
+        } else {
+            Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR))
+        },
         theoretical_onset_rpm,
         operating_rpm: op_rpm,
         p_jump,
-        criterion: format!(
-            "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
-            args.seed,
-            if waviness {
-                format!("searched, tolerances {factor} x VI.1's")
-            } else {
-                fpr
-                    .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
-            },
-            if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
-            if speed {
-                "speed"
-            } else if waviness {
-                "FPR (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
-            } else {
-                "tolerance"
-            }
-        ),
+        criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
         samples: n,
         seed: args.seed,
         model: describe(&mc),
@@ -430,6 +461,49 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     };
     crate::report::ensure_finite(&report)?;
     Ok(report)
+}
+
+/// The first lines of a search's text: its answer in the user's words.
+fn search_headline(r: &McSearchReport, out: &mut String) {
+    use std::fmt::Write;
+    if r.search == "speed" {
+        let _ = writeln!(
+            out,
+            "camsim design speed: {:.1} rpm on actual cams",
+            r.answer
+        );
+        if let Some(t) = r.theoretical_onset_rpm {
+            let _ = writeln!(
+                out,
+                "  theoretical cam's jump onset: {t:.1} rpm (full model)"
+            );
+        }
+    } else if r.search == "waviness" {
+        let _ = writeln!(
+            out,
+            "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
+            r.answer,
+            r.tolerance_factor.unwrap_or(1.0),
+            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            lu = units::symbol(units::LENGTH)
+        );
+        let _ = writeln!(
+            out,
+            "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
+            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            r.answer,
+            r.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
+            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            units::q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+            lu = units::symbol(units::LENGTH)
+        );
+    }
 }
 
 impl Report for McSearchReport {
@@ -448,44 +522,7 @@ impl Report for McSearchReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        if self.search == "speed" {
-            let _ = writeln!(
-                out,
-                "camsim design speed: {:.1} rpm on actual cams",
-                self.answer
-            );
-            if let Some(t) = self.theoretical_onset_rpm {
-                let _ = writeln!(
-                    out,
-                    "  theoretical cam's jump onset: {t:.1} rpm (full model)"
-                );
-            }
-        } else if self.search == "waviness" {
-            let _ = writeln!(
-                out,
-                "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
-                self.answer,
-                self.tolerance_factor.unwrap_or(1.0),
-                units::q(units::LENGTH, self.cam_tolerance_in.unwrap_or(0.0), 5),
-                units::q(units::LENGTH, self.roller_tolerance_in.unwrap_or(0.0), 6),
-                lu = units::symbol(units::LENGTH)
-            );
-            let _ = writeln!(
-                out,
-                "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
-            );
-        } else {
-            let _ = writeln!(
-                out,
-                "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
-                units::q(units::LENGTH, self.cam_tolerance_in.unwrap_or(0.0), 5),
-                self.answer,
-                self.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
-                units::q(units::LENGTH, self.roller_tolerance_in.unwrap_or(0.0), 6),
-                units::q(units::LENGTH, self.eccentricity_tolerance_in.unwrap_or(0.0), 5),
-                lu = units::symbol(units::LENGTH)
-            );
-        }
+        search_headline(self, &mut out);
         let d = if self.search == "waviness" { 0 } else { 4 };
         match self.failing {
             Some(f) => {
@@ -813,33 +850,7 @@ fn choose_part(
             q.cam_hz
         );
     }
-    let with = |c: &CoilChoice| {
-        let mut s = spec.clone();
-        s.design.k_rs = c.rate_lb_per_in;
-        s.design.m_spring = c.mass_lb / camsim_core::GRAVITY_IN_PER_S2;
-        s
-    };
-    let mut chosen = None;
-    for c in found.iter().take(MAX_PART_CHECKS) {
-        let s = with(c);
-        let ok = match at_rpm {
-            Some(rpm) => {
-                *runs += 1;
-                !sim::jumps_at(&s, rpm)?
-            }
-            None => true,
-        };
-        if ok {
-            chosen = Some((*c, s));
-            break;
-        }
-    }
-    let Some((c, s)) = chosen else {
-        bail!(
-            "none of the {} lightest springs that pass stress and surge holds contact with its own mass: a larger --margin on the rate, or a lighter program",
-            MAX_PART_CHECKS.min(found.len())
-        );
-    };
+    let (c, s) = lightest_in_contact(spec, &found, at_rpm, runs)?;
     let (rule, use_) = c.binding(&q);
     let mut s = s;
     s.spring = Some(camsim_scene_file::spring::SpringPart {
@@ -862,6 +873,44 @@ fn choose_part(
     ))
 }
 
+/// The lightest of the first springs `found` that holds contact at `at_rpm` (counting the
+/// runs; any passes without a speed), with the spec carrying its rate and mass.
+fn lightest_in_contact(
+    spec: &RunSpec,
+    found: &[CoilChoice],
+    at_rpm: Option<f64>,
+    runs: &mut u64,
+) -> Result<(CoilChoice, RunSpec)> {
+    let with = |c: &CoilChoice| {
+        let mut s = spec.clone();
+        s.design.k_rs = c.rate_lb_per_in;
+        s.design.m_spring = c.mass_lb / camsim_core::GRAVITY_IN_PER_S2;
+        s
+    };
+    let mut chosen = None;
+    for c in found.iter().take(MAX_PART_CHECKS) {
+        let s = with(c);
+        let ok = match at_rpm {
+            Some(rpm) => {
+                *runs += 1;
+                !sim::jumps_at(&s, rpm)?
+            }
+            None => true,
+        };
+        if ok {
+            chosen = Some((*c, s));
+            break;
+        }
+    }
+    let Some(chosen) = chosen else {
+        bail!(
+            "none of the {} lightest springs that pass stress and surge holds contact with its own mass: a larger --margin on the rate, or a lighter program",
+            MAX_PART_CHECKS.min(found.len())
+        );
+    };
+    Ok(chosen)
+}
+
 fn describe(spec: &RunSpec) -> String {
     format!(
         "{} follower, {} DOFs, rtol {:e}, atol {:e} {}, largest step {} rev, static start, 2 revolutions",
@@ -874,15 +923,10 @@ fn describe(spec: &RunSpec) -> String {
     )
 }
 
-/// The spring search.
-pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
-    let t0 = Instant::now();
-    let mut spec = spec_from(&args.scene)?;
-    spec.solver.start = Start::Static;
-    spec.revolutions = 2;
-    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let preload = args.preload;
-    let (start, max, resolution) = if preload {
+/// (start, max, resolution) of `design spring`'s search: over the rate, or over the
+/// preload length with --preload.
+fn spring_search_range(args: &SpringArgs) -> Result<(f64, f64, f64)> {
+    Ok(if args.preload {
         let res = if args.quick { 0.1 } else { PRELOAD_RESOLUTION };
         if args.max_preload_length <= START_PRELOAD_LENGTH {
             bail!(
@@ -904,7 +948,29 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             );
         }
         (START_RATE, args.max_rate, res)
-    };
+    })
+}
+
+/// Moves a preload search's answer (held in the rate's fields) to the preload length's;
+/// the rate is the scene's `k_rs`.
+fn answer_is_preload_length(report: &mut SpringReport, k_rs: f64) {
+    let length = report.spring_rate_lb_per_in;
+    report.failing_preload_length_in = report.failing_rate_lb_per_in.take();
+    report.preload_bracket_in = Some(report.bracket_lb_per_in);
+    report.bracket_lb_per_in = 0.0;
+    report.spring_rate_lb_per_in = k_rs;
+    report.preload_length_in = length;
+}
+
+/// The spring search.
+pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
+    let t0 = Instant::now();
+    let mut spec = spec_from(&args.scene)?;
+    spec.solver.start = Start::Static;
+    spec.revolutions = 2;
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
+    let preload = args.preload;
+    let (start, max, resolution) = spring_search_range(args)?;
     let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut runs: u64 = 0;
@@ -1031,13 +1097,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         }
     };
     if preload {
-        // The answer is a length: the rate is the scene's.
-        let length = report.spring_rate_lb_per_in;
-        report.failing_preload_length_in = report.failing_rate_lb_per_in.take();
-        report.preload_bracket_in = Some(report.bracket_lb_per_in);
-        report.bracket_lb_per_in = 0.0;
-        report.spring_rate_lb_per_in = spec.design.k_rs;
-        report.preload_length_in = length;
+        answer_is_preload_length(&mut report, spec.design.k_rs);
     }
     let answer_value = if preload {
         report.preload_length_in
@@ -1094,77 +1154,7 @@ impl Report for SpringReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        if self.searched == "preload length" {
-            let _ = writeln!(
-                out,
-                "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
-                units::q(units::LENGTH, self.preload_length_in, 3),
-                units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
-                units::q(units::FORCE, self.preload_lb, 2),
-                self.active_coils,
-                units::q(units::WEIGHT, self.spring_mass_lb, 4),
-                self.surge_hz,
-                lu = units::symbol(units::LENGTH),
-                ku = units::symbol(units::STIFFNESS),
-                fu = units::symbol(units::FORCE),
-                wu = units::symbol(units::WEIGHT)
-            );
-            match (self.failing_preload_length_in, self.preload_bracket_in) {
-                (Some(b), Some(w)) => {
-                    let _ = writeln!(
-                        out,
-                        "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
-                        units::q(units::LENGTH, b, 3),
-                        units::q(units::LENGTH, self.preload_length_in, 3),
-                        units::q(units::LENGTH, w, 3),
-                        lu = units::symbol(units::LENGTH)
-                    );
-                }
-                _ => {
-                    let _ = writeln!(
-                        out,
-                        "  searched: the preload length; the first length tried passes: any length up to it may do"
-                    );
-                }
-            }
-        } else {
-            let _ = writeln!(
-                out,
-                "camsim design spring: {} {ku} at preload length {} {lu} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
-                units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
-                units::given(units::LENGTH, self.preload_length_in),
-                units::q(units::FORCE, self.preload_lb, 2),
-                self.active_coils,
-                units::q(units::WEIGHT, self.spring_mass_lb, 4),
-                self.surge_hz,
-                lu = units::symbol(units::LENGTH),
-                ku = units::symbol(units::STIFFNESS),
-                fu = units::symbol(units::FORCE),
-                wu = units::symbol(units::WEIGHT)
-            );
-        }
-        match self
-            .failing_rate_lb_per_in
-            .filter(|_| self.searched != "preload length")
-        {
-            Some(b) => {
-                let _ = writeln!(
-                    out,
-                    "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
-                    units::q(units::STIFFNESS, b, 1),
-                    units::q(units::STIFFNESS, self.spring_rate_lb_per_in, 1),
-                    units::q(units::STIFFNESS, self.bracket_lb_per_in, 2),
-                    ku = units::symbol(units::STIFFNESS)
-                );
-            }
-            None if self.searched != "preload length" => {
-                let _ = writeln!(
-                    out,
-                    "  the first rate tried passes: any rate up to it may do"
-                );
-            }
-            None => {}
-        }
+        spring_headline(self, &mut out);
         let _ = writeln!(out, "  criterion: {}", self.criterion);
         if let (Some(j), Some(b)) = (self.jump_onset_rpm, self.jump_onset_bracket_rpm) {
             let _ = writeln!(
@@ -1226,6 +1216,82 @@ impl Report for SpringReport {
             self.model_runs, self.wall_s
         );
         out
+    }
+}
+
+/// The first lines of the spring search's text: the answer and its bracket.
+fn spring_headline(r: &SpringReport, out: &mut String) {
+    use std::fmt::Write;
+    if r.searched == "preload length" {
+        let _ = writeln!(
+            out,
+            "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+            units::q(units::LENGTH, r.preload_length_in, 3),
+            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
+            units::q(units::FORCE, r.preload_lb, 2),
+            r.active_coils,
+            units::q(units::WEIGHT, r.spring_mass_lb, 4),
+            r.surge_hz,
+            lu = units::symbol(units::LENGTH),
+            ku = units::symbol(units::STIFFNESS),
+            fu = units::symbol(units::FORCE),
+            wu = units::symbol(units::WEIGHT)
+        );
+        match (r.failing_preload_length_in, r.preload_bracket_in) {
+            (Some(b), Some(w)) => {
+                let _ = writeln!(
+                    out,
+                    "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
+                    units::q(units::LENGTH, b, 3),
+                    units::q(units::LENGTH, r.preload_length_in, 3),
+                    units::q(units::LENGTH, w, 3),
+                    lu = units::symbol(units::LENGTH)
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    out,
+                    "  searched: the preload length; the first length tried passes: any length up to it may do"
+                );
+            }
+        }
+    } else {
+        let _ = writeln!(
+            out,
+            "camsim design spring: {} {ku} at preload length {} {lu} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
+            units::given(units::LENGTH, r.preload_length_in),
+            units::q(units::FORCE, r.preload_lb, 2),
+            r.active_coils,
+            units::q(units::WEIGHT, r.spring_mass_lb, 4),
+            r.surge_hz,
+            lu = units::symbol(units::LENGTH),
+            ku = units::symbol(units::STIFFNESS),
+            fu = units::symbol(units::FORCE),
+            wu = units::symbol(units::WEIGHT)
+        );
+    }
+    match r
+        .failing_rate_lb_per_in
+        .filter(|_| r.searched != "preload length")
+    {
+        Some(b) => {
+            let _ = writeln!(
+                out,
+                "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
+                units::q(units::STIFFNESS, b, 1),
+                units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
+                units::q(units::STIFFNESS, r.bracket_lb_per_in, 2),
+                ku = units::symbol(units::STIFFNESS)
+            );
+        }
+        None if r.searched != "preload length" => {
+            let _ = writeln!(
+                out,
+                "  the first rate tried passes: any rate up to it may do"
+            );
+        }
+        None => {}
     }
 }
 

@@ -121,22 +121,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         None => None,
     };
     let threads = threads(args.threads);
-    let count = shard.len(study.settings.samples);
-    // Memory does not grow with the samples (streamed statistics); time is estimated
-    // from the first sample run alone (once more than the study needs: a sample depends
-    // on its index only).
-    // (A two-level study's first sample runs on both models: its time counts the
-    // shard's full-model cams once more for each of its cams, an overestimate.)
-    if let Some(first) = shard.indices(study.settings.samples).next() {
-        let t = Instant::now();
-        let _ = study.pair(first)?;
-        crate::study_limits::check_time(
-            t.elapsed().as_secs_f64(),
-            count,
-            threads,
-            args.allow_long,
-        )?;
-    }
+    first_sample_time(&study, shard, threads, args.allow_long)?;
     let t0 = Instant::now();
     let tally = study.run_tally(shard, threads, true)?;
     let stats = tally.stats;
@@ -170,21 +155,8 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         _ => None,
     };
     let n = stats.accounted();
-    if let Some(mut f) = out_file.take() {
-        let mut file = ShardFile {
-            format: SHARD_FORMAT.into(),
-            version: SHARD_VERSION,
-            study: study.settings.clone(),
-            shard,
-            samples: n,
-            stats,
-            two_level,
-            digest: String::new(),
-        };
-        file.digest = crate::shard::digest(&file)?;
-        serde_json::to_writer(&mut f, &file)?;
-        f.write_all(b"\n")?;
-        f.commit()?;
+    if let Some(f) = out_file.take() {
+        write_shard(f, &study.settings, shard, stats, two_level)?;
     }
     if let Some(p) = plots.take() {
         p.commit()?;
@@ -203,6 +175,46 @@ pub fn execute(args: &Args) -> Result<Outcome> {
             timing,
         })),
     }
+}
+
+/// Refuses a shard whose estimated time is too long (unless `allow_long`), before it runs.
+fn first_sample_time(study: &Study, shard: Shard, threads: usize, allow_long: bool) -> Result<()> {
+    let count = shard.len(study.settings.samples);
+    // Memory does not grow with the samples (streamed statistics); time is estimated
+    // from the first sample run alone (once more than the study needs: a sample depends
+    // on its index only).
+    // (A two-level study's first sample runs on both models: its time counts the
+    // shard's full-model cams once more for each of its cams, an overestimate.)
+    if let Some(first) = shard.indices(study.settings.samples).next() {
+        let t = Instant::now();
+        let _ = study.pair(first)?;
+        crate::study_limits::check_time(t.elapsed().as_secs_f64(), count, threads, allow_long)?;
+    }
+    Ok(())
+}
+
+/// Writes the shard's statistics (with their digest) to its output file and commits it.
+fn write_shard(
+    mut f: crate::output::AtomicFile,
+    settings: &StudySettings,
+    shard: Shard,
+    stats: StudyStats,
+    two_level: Option<crate::stats::two_level::TwoLevelStats>,
+) -> Result<()> {
+    let mut file = ShardFile {
+        format: SHARD_FORMAT.into(),
+        version: SHARD_VERSION,
+        study: settings.clone(),
+        shard,
+        samples: stats.accounted(),
+        stats,
+        two_level,
+        digest: String::new(),
+    };
+    file.digest = crate::shard::digest(&file)?;
+    serde_json::to_writer(&mut f, &file)?;
+    f.write_all(b"\n")?;
+    f.commit()
 }
 
 /// The study's models: `--two-level N` (0: the full model alone), `--follower` one

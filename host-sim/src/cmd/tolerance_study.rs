@@ -170,6 +170,17 @@ fn law_of(spec: &RunSpec, rise: bool) -> String {
         .to_string()
 }
 
+/// The waviness axis: (FPR asked, interval given) per column.
+fn waviness_axis(args: &Args) -> Vec<(Option<u32>, Option<f64>)> {
+    if !args.interval_deg.is_empty() {
+        args.interval_deg.iter().map(|&d| (None, Some(d))).collect()
+    } else if !args.waviness_fpr.is_empty() {
+        args.waviness_fpr.iter().map(|&f| (Some(f), None)).collect()
+    } else {
+        WAVINESS_FPR.iter().map(|&f| (Some(f), None)).collect()
+    }
+}
+
 /// Runs the grid.
 pub fn report(args: &Args) -> Result<ToleranceReport> {
     let t0 = std::time::Instant::now();
@@ -184,14 +195,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
-    // The waviness axis: (FPR asked, interval given).
-    let axis: Vec<(Option<u32>, Option<f64>)> = if !args.interval_deg.is_empty() {
-        args.interval_deg.iter().map(|&d| (None, Some(d))).collect()
-    } else if !args.waviness_fpr.is_empty() {
-        args.waviness_fpr.iter().map(|&f| (Some(f), None)).collect()
-    } else {
-        WAVINESS_FPR.iter().map(|&f| (Some(f), None)).collect()
-    };
+    let axis = waviness_axis(args);
     let reference = camsim_core::Tolerances::<f64>::reference();
     let ecc = args
         .eccentricity_tolerance

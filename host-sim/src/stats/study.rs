@@ -400,6 +400,24 @@ impl StudyStats {
                 && !self.periods.is_empty(),
             "the statistics do not have the study's columns"
         );
+        self.check_streams(samples)?;
+        self.check_jumped_streams()?;
+        let steps_min = self.steps.range().map_or(0.0, |r| r.0);
+        ensure!(
+            steps_min >= 1.0,
+            "steps = {steps_min}: every run takes solver steps"
+        );
+        ensure!(
+            self.jumps <= samples,
+            "{} jumps in {samples} samples",
+            self.jumps
+        );
+        self.check_periods_ordered()
+    }
+
+    /// Every stream's own consistency, its count of `samples`, and the non-negative ones
+    /// not negative.
+    fn check_streams(&self, samples: u64) -> Result<()> {
         let all = self
             .periods
             .iter()
@@ -437,6 +455,11 @@ impl StudyStats {
                 "{name}: minimum {lo}: must not be negative"
             );
         }
+        Ok(())
+    }
+
+    /// Every jumped sample's stream: its own consistency and its count of the jumps.
+    fn check_jumped_streams(&self) -> Result<()> {
         let jumped = self
             .periods
             .iter()
@@ -461,16 +484,12 @@ impl StudyStats {
                 self.jumps
             );
         }
-        let steps_min = self.steps.range().map_or(0.0, |r| r.0);
-        ensure!(
-            steps_min >= 1.0,
-            "steps = {steps_min}: every run takes solver steps"
-        );
-        ensure!(
-            self.jumps <= samples,
-            "{} jumps in {samples} samples",
-            self.jumps
-        );
+        Ok(())
+    }
+
+    /// Every period's jumps at most the revolution's, and its minima at most its averages
+    /// and maxima.
+    fn check_periods_ordered(&self) -> Result<()> {
         let col = |n: &str| COLUMNS.iter().position(|c| *c == n);
         for p in &self.periods {
             ensure!(

@@ -148,6 +148,18 @@ pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, Tally)> {
     let study = study.ok_or_else(|| anyhow!("no shard files"))?;
     let n = study.samples;
     let count = split.map_or(1, |s| s.0);
+    every_shard_present(&owner, count, n)?;
+    anyhow::ensure!(
+        stats.accounted() == n,
+        "the shards hold {} samples, the study {n}",
+        stats.accounted()
+    );
+    Ok((study, Tally { stats, two_level }))
+}
+
+/// Fails, naming the first missing samples and shards, unless every shard K of the split
+/// `count` is in `owner`.
+fn every_shard_present(owner: &BTreeMap<u64, usize>, count: u64, n: u64) -> Result<()> {
     let missing: Vec<u64> = (1..=count).filter(|k| !owner.contains_key(k)).collect();
     let lost: u64 = missing
         .iter()
@@ -172,10 +184,5 @@ pub fn collect(files: &[PathBuf]) -> Result<(StudySettings, Tally)> {
             shards.join(", ")
         );
     }
-    anyhow::ensure!(
-        stats.accounted() == n,
-        "the shards hold {} samples, the study {n}",
-        stats.accounted()
-    );
-    Ok((study, Tally { stats, two_level }))
+    Ok(())
 }
