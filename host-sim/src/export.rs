@@ -221,92 +221,106 @@ pub fn dxf(layers: &[Layer], units: Units, note: &[String]) -> String {
         999,
         "camsim profile: cam drawing, rotation centre at the origin",
     );
-    pair(&mut s, 0, "SECTION");
-    pair(&mut s, 2, "HEADER");
-    pair(&mut s, 9, "$ACADVER");
-    pair(&mut s, 1, "AC1009");
-    pair(&mut s, 9, "$INSUNITS");
-    pair(&mut s, 70, units.insunits());
-    pair(&mut s, 9, "$MEASUREMENT");
-    pair(&mut s, 70, units.measurement());
+    dxf_header(&mut s, units, lo, hi);
+    dxf_tables(&mut s, layers);
+    dxf_entities(&mut s, layers, note, (lo.0, text_top, height));
+    pair(&mut s, 0, "EOF");
+    s
+}
+
+/// The DXF's HEADER section: the version, the unit and the drawing's extent.
+fn dxf_header(s: &mut String, units: Units, lo: (f64, f64), hi: (f64, f64)) {
+    pair(s, 0, "SECTION");
+    pair(s, 2, "HEADER");
+    pair(s, 9, "$ACADVER");
+    pair(s, 1, "AC1009");
+    pair(s, 9, "$INSUNITS");
+    pair(s, 70, units.insunits());
+    pair(s, 9, "$MEASUREMENT");
+    pair(s, 70, units.measurement());
     for (name, p) in [("$EXTMIN", lo), ("$EXTMAX", hi)] {
-        pair(&mut s, 9, name);
-        pair(&mut s, 10, format!("{:.10}", p.0));
-        pair(&mut s, 20, format!("{:.10}", p.1));
-        pair(&mut s, 30, "0.0");
+        pair(s, 9, name);
+        pair(s, 10, format!("{:.10}", p.0));
+        pair(s, 20, format!("{:.10}", p.1));
+        pair(s, 30, "0.0");
     }
-    pair(&mut s, 0, "ENDSEC");
-    pair(&mut s, 0, "SECTION");
-    pair(&mut s, 2, "TABLES");
-    pair(&mut s, 0, "TABLE");
-    pair(&mut s, 2, "LTYPE");
-    pair(&mut s, 70, 1);
-    pair(&mut s, 0, "LTYPE");
-    pair(&mut s, 2, "CONTINUOUS");
-    pair(&mut s, 70, 0);
-    pair(&mut s, 3, "Solid line");
-    pair(&mut s, 72, 65);
-    pair(&mut s, 73, 0);
-    pair(&mut s, 40, "0.0");
-    pair(&mut s, 0, "ENDTAB");
-    pair(&mut s, 0, "TABLE");
-    pair(&mut s, 2, "LAYER");
-    pair(&mut s, 70, layers.len() + 1);
+    pair(s, 0, "ENDSEC");
+}
+
+/// The DXF's TABLES section: the continuous line type and a layer for each of `layers`
+/// and the centre point.
+fn dxf_tables(s: &mut String, layers: &[Layer]) {
+    pair(s, 0, "SECTION");
+    pair(s, 2, "TABLES");
+    pair(s, 0, "TABLE");
+    pair(s, 2, "LTYPE");
+    pair(s, 70, 1);
+    pair(s, 0, "LTYPE");
+    pair(s, 2, "CONTINUOUS");
+    pair(s, 70, 0);
+    pair(s, 3, "Solid line");
+    pair(s, 72, 65);
+    pair(s, 73, 0);
+    pair(s, 40, "0.0");
+    pair(s, 0, "ENDTAB");
+    pair(s, 0, "TABLE");
+    pair(s, 2, "LAYER");
+    pair(s, 70, layers.len() + 1);
     let centre = Layer {
         name: "CENTRE",
         color: 8,
         points: &[],
     };
     for l in layers.iter().chain([&centre]) {
-        pair(&mut s, 0, "LAYER");
-        pair(&mut s, 2, l.name);
-        pair(&mut s, 70, 0);
-        pair(&mut s, 62, l.color);
-        pair(&mut s, 6, "CONTINUOUS");
+        pair(s, 0, "LAYER");
+        pair(s, 2, l.name);
+        pair(s, 70, 0);
+        pair(s, 62, l.color);
+        pair(s, 6, "CONTINUOUS");
     }
-    pair(&mut s, 0, "ENDTAB");
-    pair(&mut s, 0, "ENDSEC");
-    pair(&mut s, 0, "SECTION");
-    pair(&mut s, 2, "ENTITIES");
+    pair(s, 0, "ENDTAB");
+    pair(s, 0, "ENDSEC");
+}
+
+/// The DXF's ENTITIES section: `layers` as closed polylines, the centre point, and
+/// `note`'s lines as TEXT at (x, top) going down, `height` high and 1.5 heights apart.
+fn dxf_entities(s: &mut String, layers: &[Layer], note: &[String], text: (f64, f64, f64)) {
+    let (x, text_top, height) = text;
+    pair(s, 0, "SECTION");
+    pair(s, 2, "ENTITIES");
     for l in layers {
-        pair(&mut s, 0, "POLYLINE");
-        pair(&mut s, 8, l.name);
-        pair(&mut s, 66, 1);
-        pair(&mut s, 10, "0.0");
-        pair(&mut s, 20, "0.0");
-        pair(&mut s, 30, "0.0");
-        pair(&mut s, 70, 1);
+        pair(s, 0, "POLYLINE");
+        pair(s, 8, l.name);
+        pair(s, 66, 1);
+        pair(s, 10, "0.0");
+        pair(s, 20, "0.0");
+        pair(s, 30, "0.0");
+        pair(s, 70, 1);
         for p in l.points {
-            pair(&mut s, 0, "VERTEX");
-            pair(&mut s, 8, l.name);
-            pair(&mut s, 10, format!("{:.10}", p.x));
-            pair(&mut s, 20, format!("{:.10}", p.y));
-            pair(&mut s, 30, "0.0");
+            pair(s, 0, "VERTEX");
+            pair(s, 8, l.name);
+            pair(s, 10, format!("{:.10}", p.x));
+            pair(s, 20, format!("{:.10}", p.y));
+            pair(s, 30, "0.0");
         }
-        pair(&mut s, 0, "SEQEND");
-        pair(&mut s, 8, l.name);
+        pair(s, 0, "SEQEND");
+        pair(s, 8, l.name);
     }
-    pair(&mut s, 0, "POINT");
-    pair(&mut s, 8, "CENTRE");
-    pair(&mut s, 10, "0.0");
-    pair(&mut s, 20, "0.0");
-    pair(&mut s, 30, "0.0");
+    pair(s, 0, "POINT");
+    pair(s, 8, "CENTRE");
+    pair(s, 10, "0.0");
+    pair(s, 20, "0.0");
+    pair(s, 30, "0.0");
     for (k, line) in note.iter().enumerate() {
-        pair(&mut s, 0, "TEXT");
-        pair(&mut s, 8, "0");
-        pair(&mut s, 10, format!("{:.10}", lo.0));
-        pair(
-            &mut s,
-            20,
-            format!("{:.10}", text_top - 1.5 * height * k as f64),
-        );
-        pair(&mut s, 30, "0.0");
-        pair(&mut s, 40, format!("{height:.10}"));
-        pair(&mut s, 1, line);
+        pair(s, 0, "TEXT");
+        pair(s, 8, "0");
+        pair(s, 10, format!("{x:.10}"));
+        pair(s, 20, format!("{:.10}", text_top - 1.5 * height * k as f64));
+        pair(s, 30, "0.0");
+        pair(s, 40, format!("{height:.10}"));
+        pair(s, 1, line);
     }
-    pair(&mut s, 0, "ENDSEC");
-    pair(&mut s, 0, "EOF");
-    s
+    pair(s, 0, "ENDSEC");
 }
 
 /// A polyline as [`read_dxf`] finds it: layer, closed flag set, vertices (x, y).

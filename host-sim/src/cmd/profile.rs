@@ -330,6 +330,33 @@ pub fn polar_rows(points: &[CurvePoint], per_inch: f64) -> Result<Vec<(f64, f64)
     Ok(rows)
 }
 
+/// The surface's smallest convex and concave radii of curvature over one revolution
+/// (Eq. V.12, 0.05° apart), and the last cam angle, deg, where the pitch curve's radius
+/// is below the roller's (undercut).
+fn surface_curvature(
+    cam: &Cam,
+    g: &camsim_core::CamGeometry<f64>,
+) -> (Option<f64>, Option<f64>, Option<f64>) {
+    let rr = g.roller_radius;
+    let (mut convex, mut concave): (Option<f64>, Option<f64>) = (None, None);
+    let mut undercut: Option<f64> = None;
+    for k in 0..7200 {
+        let th = (k as f64 * 0.05).to_radians();
+        let f = cam.lift(th);
+        let rho_pitch = g.pitch_curvature_radius(f.y, f.dy, f.d2y);
+        if rho_pitch > 0.0 && rho_pitch <= rr {
+            undercut = Some(th.to_degrees());
+        } else if rho_pitch > rr {
+            let r = rho_pitch - rr;
+            convex = Some(convex.map_or(r, |c| c.min(r)));
+        } else if rho_pitch < 0.0 {
+            let r = rr - rho_pitch;
+            concave = Some(concave.map_or(r, |c| c.min(r)));
+        }
+    }
+    (convex, concave, undercut)
+}
+
 /// Computes the drawing and writes what `args` asks for.
 pub fn report(args: &Args) -> Result<ProfileReport> {
     let spec = spec_from(&args.scene)?;
@@ -351,23 +378,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
     let rr = g.roller_radius;
     let cutter_in = args.cutter_radius;
 
-    // Curvature of the surface over one revolution (Eq. V.12), 0.05° apart.
-    let (mut convex, mut concave): (Option<f64>, Option<f64>) = (None, None);
-    let mut undercut: Option<f64> = None;
-    for k in 0..7200 {
-        let th = (k as f64 * 0.05).to_radians();
-        let f = cam.lift(th);
-        let rho_pitch = g.pitch_curvature_radius(f.y, f.dy, f.d2y);
-        if rho_pitch > 0.0 && rho_pitch <= rr {
-            undercut = Some(th.to_degrees());
-        } else if rho_pitch > rr {
-            let r = rho_pitch - rr;
-            convex = Some(convex.map_or(r, |c| c.min(r)));
-        } else if rho_pitch < 0.0 {
-            let r = rr - rho_pitch;
-            concave = Some(concave.map_or(r, |c| c.min(r)));
-        }
-    }
+    let (convex, concave, undercut) = surface_curvature(&cam, &g);
     let mut warnings = Vec::new();
     if let (Some(c), Some(r)) = (cutter_in, concave) {
         if c > r {
