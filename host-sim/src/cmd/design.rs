@@ -903,12 +903,67 @@ fn lightest_in_contact(
         }
     }
     let Some(chosen) = chosen else {
-        bail!(
-            "none of the {} lightest springs that pass stress and surge holds contact with its own mass: a larger --margin on the rate, or a lighter program",
-            MAX_PART_CHECKS.min(found.len())
-        );
+        return Err(NoPartHoldsContact(MAX_PART_CHECKS.min(found.len())).into());
     };
     Ok(chosen)
+}
+
+/// None of the lightest springs that pass stress and surge holds contact with its own
+/// mass (their count): [`choose_part_holding_contact`] then asks for a stiffer rate.
+#[derive(Debug)]
+struct NoPartHoldsContact(usize);
+
+impl std::fmt::Display for NoPartHoldsContact {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "none of the {} lightest springs that pass stress and surge holds contact with its own mass, up to {} % above the rate found: a larger --margin on the rate, or a lighter program",
+            self.0,
+            ((1.0 + RATE_RAISE).powi(MAX_RATE_RAISES) * 100.0 - 100.0).round()
+        )
+    }
+}
+
+impl std::error::Error for NoPartHoldsContact {}
+
+/// How much [`choose_part_holding_contact`] raises the rate each time no buildable spring
+/// of it holds contact with its own mass (a real spring is heavier than the massless
+/// search assumed, so its rate must be a little higher), and how many times at most.
+const RATE_RAISE: f64 = 0.05;
+const MAX_RATE_RAISES: i32 = 10;
+
+/// [`choose_part`] on `spec_at(rate)` (the searched value, `what`: the rate, or the
+/// preload length at the rate held), raised by [`RATE_RAISE`] while no buildable spring of
+/// it holds contact at `at_rpm` with its own mass; the part's binding rule says so when
+/// it was raised.
+fn choose_part_holding_contact(
+    spec_at: &dyn Fn(f64) -> Result<RunSpec>,
+    rate: f64,
+    what: &str,
+    at_rpm: f64,
+    runs: &mut u64,
+) -> Result<(PartReport, RunSpec)> {
+    let (mut asked, mut raises) = (rate, 0);
+    loop {
+        match choose_part(&spec_at(asked)?, Some(at_rpm), runs) {
+            Ok((mut part, chosen)) => {
+                if raises > 0 {
+                    part.binding = format!(
+                        "contact with the spring's own mass (the {what} raised {:.0} % above the one found, in {} step(s) of {:.0} %)",
+                        (asked / rate - 1.0) * 100.0,
+                        raises,
+                        RATE_RAISE * 100.0
+                    );
+                }
+                return Ok((part, chosen));
+            }
+            Err(e) if e.is::<NoPartHoldsContact>() && raises < MAX_RATE_RAISES => {
+                asked *= 1.0 + RATE_RAISE;
+                raises += 1;
+            }
+            Err(e) => return Err(e),
+        }
+    }
 }
 
 fn describe(spec: &RunSpec) -> String {
@@ -1062,7 +1117,8 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         })?;
         let (rate, below) = answer(onset, max, preload, "separates")?;
         // The spring to build, contact checked with its own rate and mass.
-        let (part, chosen) = choose_part(&with_rate(&spec, rate)?, Some(at_rpm), &mut runs)?;
+        let spec_at = |x: f64| with_rate(&spec, x);
+        let (part, chosen) = choose_part_holding_contact(&spec_at, rate, what, at_rpm, &mut runs)?;
         // The chosen spring's own jump onset: the margin it really has.
         let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
