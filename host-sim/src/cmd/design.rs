@@ -1116,9 +1116,8 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             Ok(ok)
         })?;
         let (rate, below) = answer(onset, max, preload, "separates")?;
-        // The spring to build, contact checked with its own rate and mass.
-        let spec_at = |x: f64| with_rate(&spec, x);
-        let (part, chosen) = choose_part_holding_contact(&spec_at, rate, what, at_rpm, &mut runs)?;
+        let at = |x: f64| with_rate(&spec, x); // the spring to build, contact with its own mass
+        let (part, chosen) = choose_part_holding_contact(&at, rate, what, at_rpm, &mut runs)?;
         // The chosen spring's own jump onset: the margin it really has.
         let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
