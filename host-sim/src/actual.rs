@@ -11,7 +11,7 @@
 //! The profile methods (docs/MODEL.md §8):
 //! * `per-cam` (the default): the thesis's contour error at every `Δθ`, the roller
 //!   radius and the follower axis's offset drawn once and applied through the exact
-//!   geometry ([`DeviatedLift::per_cam`]);
+//!   geometry ([`DeviatedLift::draw_per_cam`]);
 //! * `thesis` (IV.2.3): normal deviates of the lift with the linearised standard
 //!   deviation of Appendix E at every `Δθ`, joined by a periodic spline
 //!   ([`DeviatedLift::thesis`]);

@@ -107,7 +107,7 @@ where
 }
 
 /// The command tree as clap builds it (its commands, options and help), every option
-/// that takes a value taking a negative number as its value ([`negatives_are_values`]).
+/// that takes a value taking a negative number as its value (`negatives_are_values`).
 pub fn command() -> clap::Command {
     use clap::CommandFactory;
     negatives_are_values(Cli::command())

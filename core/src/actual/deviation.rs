@@ -9,7 +9,7 @@ use crate::{
 };
 
 /// Points a revolution at least at which the per-cam method applies the roller's and
-/// the axis's exact geometry ([`DeviatedLift::per_cam`]): 1440, every 0.25° (the spline
+/// the axis's exact geometry ([`DeviatedLift::draw_per_cam`]): 1440, every 0.25° (the spline
 /// between them then follows the smooth per-cam lift far below 1e-9 in).
 pub const AXIS_KNOTS: usize = 1440;
 

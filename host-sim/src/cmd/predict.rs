@@ -246,7 +246,7 @@ pub fn check_parity(log: &str, host: &[String]) -> Result<usize> {
 
 /// A number of the report: infinities as `"inf"` / `"-inf"` (a speed margin with no jump
 /// onset), every other value as the `f64` it is. A report is printed only when no
-/// number in it is NaN ([`ensure_reached`], `report::ensure_finite`), so no `null`
+/// number in it is NaN (`ensure_reached`, `report::ensure_finite`), so no `null`
 /// reaches the output; the text output formats the `f64` itself.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Num(pub f64);
