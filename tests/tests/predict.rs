@@ -268,22 +268,11 @@ fn report_names_its_scene_and_feeds_text_and_json() {
         );
         assert!(text.contains(&format!("jump onset: {j:.3} rpm")));
     }
-    // NaN is a number the finiteness check finds (a report with one is refused, never
-    // printed as null); no onset -> "inf" margins, which it lets through.
-    assert!(camsim::report::non_finite(&Num(f64::NAN))
-        .unwrap()
-        .is_some());
-    assert!(camsim::report::non_finite(&Num(f64::INFINITY))
-        .unwrap()
-        .is_none());
-    assert_eq!(
-        serde_json::to_string(&Num(f64::INFINITY)).unwrap(),
-        "\"inf\""
-    );
-    assert_eq!(
-        serde_json::to_string(&Num(-f64::INFINITY)).unwrap(),
-        "\"-inf\""
-    );
+    // NaN and the infinities are numbers the finiteness check finds (a report with one is
+    // refused, never printed as null or as a string).
+    for bad in [f64::NAN, f64::INFINITY, -f64::INFINITY] {
+        assert!(camsim::report::non_finite(&Num(bad)).unwrap().is_some());
+    }
     assert_eq!(serde_json::to_string(&Num(0.5)).unwrap(), "0.5");
 }
 
@@ -357,4 +346,33 @@ fn a_measured_profile_is_read_as_the_firmware_reads_it() {
         "{e}"
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn with_no_jump_onset_the_speed_margin_is_absent_with_its_reason() {
+    // A spring twice as stiff as the reference's holds contact up to the predictor's search limit:
+    // no onset, so no margin exists. The report leaves the number out and says why; it
+    // never prints an infinity, "inf" or null.
+    let mut d = camsim_core::Design::<f64>::reference();
+    d.k_rs *= 2.0;
+    d.validate().unwrap();
+    let p = compute::<f64>(Some(&d), None).unwrap();
+    assert_eq!(p.table.jump_rpm, None);
+    let r = report(&p, false, "stiff");
+    assert!(camsim::report::non_finite(&r).unwrap().is_none());
+    let v = serde_json::to_value(&r).unwrap();
+    let samples = v["samples"].as_array().unwrap();
+    assert!(!samples.is_empty());
+    let reason = format!(
+        "no jump onset up to the search limit of {} rpm",
+        CHIP_MAX_RPM
+    );
+    for s in samples {
+        assert!(s.get("speed_margin_rpm").is_none(), "{s}");
+        assert_eq!(s["speed_margin_absent"], reason.as_str());
+    }
+    let text = render_text(&r);
+    assert!(!text.contains("inf"), "{text}");
+    assert!(text.contains("speed margin none (no onset)"), "{text}");
+    assert!(text.contains(&format!("jump onset: none up to {} rpm", CHIP_MAX_RPM)));
 }

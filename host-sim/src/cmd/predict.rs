@@ -244,10 +244,10 @@ pub fn check_parity(log: &str, host: &[String]) -> Result<usize> {
     Ok(fw.len())
 }
 
-/// A number of the report: infinities as `"inf"` / `"-inf"` (a speed margin with no jump
-/// onset), every other value as the `f64` it is. A report is printed only when no
-/// number in it is NaN (`ensure_reached`, `report::ensure_finite`), so no `null`
-/// reaches the output; the text output formats the `f64` itself.
+/// A number of the report, the `f64` it is. A report is printed only when every number in
+/// it is finite (`ensure_reached`, `report::ensure_finite`), so no `null` reaches the output;
+/// a value that does not exist (the speed margin with no jump onset) is an absent field
+/// with its reason, never an infinity. The text output formats the `f64` itself.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Num(pub f64);
 
@@ -259,12 +259,7 @@ impl Num {
 
 impl Serialize for Num {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        let v = self.0;
-        if v.is_infinite() {
-            s.serialize_str(if v > 0.0 { "inf" } else { "-inf" })
-        } else {
-            s.serialize_f64(v)
-        }
+        s.serialize_f64(self.0)
     }
 }
 
@@ -390,8 +385,13 @@ pub struct SampleRow {
     pub rpm: Num,
     /// Interpolated smallest contact force, lb.
     pub force_margin_lb: Num,
-    /// Jump-onset speed minus the measured speed, rpm.
-    pub speed_margin_rpm: Num,
+    /// Jump-onset speed minus the measured speed, rpm (absent when no jump onset was found
+    /// up to the search limit: `speed_margin_absent` says so).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed_margin_rpm: Option<Num>,
+    /// Why `speed_margin_rpm` is absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speed_margin_absent: Option<String>,
     /// Whether the speed lies on the grid.
     pub in_grid: bool,
     /// Alarm state after this sample.
@@ -571,7 +571,12 @@ pub fn report_measured<T: Real>(
                 reading: i,
                 rpm: Num::of(q.rpm),
                 force_margin_lb: Num::of(q.force_margin_lb),
-                speed_margin_rpm: Num::of(q.speed_margin_rpm),
+                speed_margin_rpm: q
+                    .speed_margin_rpm
+                    .is_finite()
+                    .then(|| Num::of(q.speed_margin_rpm)),
+                speed_margin_absent: (!q.speed_margin_rpm.is_finite())
+                    .then(|| format!("no jump onset up to the search limit of {CHIP_MAX_RPM} rpm")),
                 in_grid: q.in_grid,
                 alarm: s.alarm,
                 timing_deg,
@@ -673,11 +678,14 @@ pub fn render_text(r: &PredictReport) -> String {
     loop {
         let (line, alarm) = match (si.peek(), fi.peek()) {
             (Some(s), f) if f.is_none_or(|f| s.reading < f.reading) => {
+                let margin = s.speed_margin_rpm.map_or_else(
+                    || "none (no onset)".to_string(),
+                    |m| format!("{:>8.2} rpm", m.0),
+                );
                 let line = format!(
-                    "speed {:>6.1} rpm: force margin {:>9} {lb}, speed margin {:>8.2} rpm, timing rise50 {:+.4} return50 {:+.4} deg",
+                    "speed {:>6.1} rpm: force margin {:>9} {lb}, speed margin {margin}, timing rise50 {:+.4} return50 {:+.4} deg",
                     s.rpm.0,
                     force(s.force_margin_lb.0),
-                    s.speed_margin_rpm.0,
                     s.timing_deg[1].0,
                     s.timing_deg[4].0,
                 );
