@@ -309,6 +309,11 @@ IMAGE_NAMES = {
 }
 
 
+def percent(part, whole):
+    """Whole percent rounded down, as `camsim firmware-check` prints it."""
+    return f"{part * 100 // max(whole, 1)} %"
+
+
 def firmware_rows(name, entry):
     rep = entry["firmware_check"]
     flash_budget, ram_budget = rep["flash_budget_bytes"], rep["ram_budget_bytes"]
@@ -329,8 +334,8 @@ def firmware_rows(name, entry):
             rtf_top = f"{top['realtime_factor']:.3f} ({grouped(top['instr_per_rev'])}) at {float(top_rpm):g} rpm"
         rows.append([
             f"{kind}, {IMAGE_NAMES[name]}",
-            f"{grouped(m['flash_bytes'])} ({100 * m['flash_bytes'] / flash_budget:.0f} %)",
-            f"{grouped(m['ram_bytes'])} = {grouped(m['ram_static_bytes'])} + {grouped(m['stack_peak_bytes'])} ({100 * m['ram_bytes'] / ram_budget:.0f} %)",
+            f"{grouped(m['flash_bytes'])} ({percent(m['flash_bytes'], flash_budget)})",
+            f"{grouped(m['ram_bytes'])} = {grouped(m['ram_static_bytes'])} + {grouped(m['stack_peak_bytes'])} ({percent(m['ram_bytes'], ram_budget)})",
             grouped(n["boot_instr"]) if kind == "product" else "",
             rtf, rtf_top,
         ])
