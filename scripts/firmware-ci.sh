@@ -101,6 +101,9 @@ run_and_check() {
     run_qemu "$BUDGET_ELF" "$budget_log"
     check --product "$log" "$PREDICTOR_ELF" --budget "$budget_log" "$BUDGET_ELF" "$@" \
         || fail "firmware checks: see the line above"
+    # The same checks' JSON beside the log, for the tables of docs/FIRMWARE.md (scripts/bench-doc.py).
+    check --json --product "$log" "$PREDICTOR_ELF" --budget "$budget_log" "$BUDGET_ELF" "$@" \
+        >"${log%.log}.json" || fail "firmware checks (--json): see the line above"
 }
 run_and_check "$LOG" "$BUDGET_LOG"
 
@@ -168,6 +171,8 @@ PROFILE_PATH="$PWD/$PROFILE"   # absolute: build.rs runs in firmware/
 run_qemu "$PREDICTOR_ELF" "$PROFILE_LOG"
 check --product "$PROFILE_LOG" "$PREDICTOR_ELF" --profile "$PROFILE_NAME" \
     || fail "profile image: see the line above"
+check --json --product "$PROFILE_LOG" "$PREDICTOR_ELF" --profile "$PROFILE_NAME" \
+    >"${PROFILE_LOG%.log}.json" || fail "profile image (--json): see the line above"
 panic_sites "$PREDICTOR_ELF" "$TRANSPORT_ORIGINS"
 [ "$PANIC_OUTSIDE" -eq 0 ] || fail "$PANIC_OUTSIDE panic call site(s) of the profile image outside the logging transport (listed above)"
 "$CAMSIM" predict --f32 --measured "$PROFILE" --check-log "$PROFILE_LOG" \

@@ -70,6 +70,9 @@ cargo build --release -p camsim
 bash scripts/cli-doc.sh --check
 # Every output block the docs quote beside a FIGURES.md link is still in FIGURES.md.
 python3 scripts/check-quotes.py
+# The measured tables of BENCHMARKS.md and FIRMWARE.md match the JSON they are generated from
+# (docs/bench/*.json; regenerate with `python3 scripts/bench-doc.py`).
+python3 scripts/bench-doc.py --check
 studies=$(mktemp -d)
 # The growth plot scripts/growth.sh draws, from the checked-in measurements.
 cargo run --release -q -p camsim --example growth_plot -- docs/growth.csv "$studies/growth.png"
