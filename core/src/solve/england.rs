@@ -36,7 +36,7 @@
 
 use core::ops::ControlFlow;
 
-use super::step_size::StepController;
+use super::step_size::{StepController, Stepper};
 use super::{Dense, OdeSystem, Tolerance};
 use crate::{Error, Real, Result, StepControl};
 
@@ -533,7 +533,7 @@ impl<T: Real, const N: usize> England<T, N> {
             k7: z,
             k9: z,
             arg: z,
-            step: StepController::new(control, config.h_init),
+            step: StepController::new(Stepper::England, control, config.h_init),
             aux_evals: 0,
         })
     }

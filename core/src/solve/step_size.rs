@@ -1,5 +1,6 @@
-//! England's step-size controller: one type, [`StepController`], that owns the rules of
-//! step control as data and all the state they need, behind one interface.
+//! The step-size controller of England's method and of the embedded pairs: one type,
+//! [`StepController`], that owns the rules of step control as data and all the state they
+//! need, behind one interface.
 //!
 //! - The rules are data ([`StepControl`], built from a run's [`StepRule`](crate::StepRule)
 //!   by name): the factor rule ([`Controller`](crate::Controller): England's classic
@@ -16,7 +17,8 @@
 //!   [`StepController::accept`] or [`StepController::reject`] (the next size).
 //!
 //! The integrator keeps what is its own: the landing on an end time, the stages, the
-//! counters and the step budget.
+//! counters and the step budget. What differs between England's double step and a pair's
+//! single step is the [`Stepper`] the controller is built for.
 
 use crate::{
     initial_step, spectral_radius, EnglandConfig, InitialStep, OdeSystem, Real, Result, StepControl,
@@ -34,6 +36,33 @@ const AT_CAP: f64 = 0.99;
 /// that grew past the cap while the step was held lower would otherwise go unseen. Four
 /// intervals keep such estimates rare (at most one per four intervals of rejections).
 const STALE_AFTER_REFRESHES: u32 = 4;
+
+/// The integrator a [`StepController`] controls: where the stiffness cap's scale and
+/// schedule differ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Stepper {
+    /// England's double step: two half steps, each within the stability boundary, so the
+    /// cap is `2 · fraction · boundary / ρ`. The estimate is renewed every
+    /// `refresh_every` accepted steps only while the step is within a factor 2 of the cap,
+    /// and after a rejection that suggests it is stale; the next step is capped as soon as
+    /// it is planned.
+    England,
+    /// An embedded pair's single step (the pair's own boundary): the cap is
+    /// `fraction · boundary / ρ`, renewed every `refresh_every` accepted steps, applied
+    /// when the step is proposed.
+    #[cfg_attr(not(feature = "pairs"), allow(dead_code))]
+    Pair,
+}
+
+impl Stepper {
+    /// Steps of the boundary's method in one step: 2 half steps for England, 1 for a pair.
+    fn steps<T: Real>(self) -> T {
+        match self {
+            Stepper::England => T::TWO,
+            Stepper::Pair => T::ONE,
+        }
+    }
+}
 
 /// The stiffness cap's state: the cap and the estimate it comes from (its age and whether
 /// a new one is due are [`StepController`]'s, beside its flags: one padded group, not
@@ -59,10 +88,12 @@ impl<T: Real, const N: usize> Stiffness<T, N> {
     }
 }
 
-/// England's step-size controller: the rules ([`StepControl`]) and their state (module
-/// documentation). All sizes are double-step sizes.
+/// The step-size controller: the rules ([`StepControl`]) and their state (module
+/// documentation). Sizes are the integrator's steps (England's double steps).
 #[derive(Clone, Debug)]
 pub(crate) struct StepController<T, const N: usize> {
+    /// The integrator whose steps it controls.
+    stepper: Stepper,
     /// The rules (a PI factor rule keeps its previous error in it).
     rule: StepControl<T>,
     /// Next double-step size to try (before the cap).
@@ -81,9 +112,10 @@ pub(crate) struct StepController<T, const N: usize> {
 }
 
 impl<T: Real, const N: usize> StepController<T, N> {
-    /// A controller with `rule` whose first double step is `h_init`.
-    pub(crate) fn new(rule: StepControl<T>, h_init: T) -> Self {
+    /// A controller of `stepper`'s steps with `rule` whose first step is `h_init`.
+    pub(crate) fn new(stepper: Stepper, rule: StepControl<T>, h_init: T) -> Self {
         Self {
+            stepper,
             rule,
             h: h_init,
             retry: false,
@@ -178,9 +210,13 @@ impl<T: Real, const N: usize> StepController<T, N> {
     ) -> Result<()> {
         if let Some(cap) = self.rule.stiffness_cap {
             let st = &mut self.stiffness;
-            // Periodic estimates only while the cap may bind (the planned step within a
-            // factor 2 of it); rejections ask for one through `estimate_due`.
-            let periodic = self.since_estimate >= cap.refresh_every && self.h >= T::HALF * st.h_cap;
+            // England: periodic estimates only while the cap may bind (the planned step
+            // within a factor 2 of it); rejections ask for one through `estimate_due`.
+            let near_cap = match self.stepper {
+                Stepper::England => self.h >= T::HALF * st.h_cap,
+                Stepper::Pair => true,
+            };
+            let periodic = self.since_estimate >= cap.refresh_every.max(1) && near_cap;
             if self.estimate_due || periodic {
                 let rho = match sys.spectral_radius(t0, y) {
                     Some(r) if r.is_finite() && r >= T::ZERO => r,
@@ -198,7 +234,7 @@ impl<T: Real, const N: usize> StepController<T, N> {
                     _ => T::NAN,
                 };
                 st.rho = rho;
-                st.h_cap = cap.h_cap_at(rho, config.tol.rtol);
+                st.h_cap = cap.step_cap_at(rho, config.tol.rtol, self.stepper.steps());
                 self.since_estimate = 0;
                 self.estimate_due = false;
             }
@@ -248,7 +284,9 @@ impl<T: Real, const N: usize> StepController<T, N> {
         self.h = h_next.clamp(h_min, h_max);
         if self.rule.stiffness_cap.is_some() {
             self.since_estimate = self.since_estimate.saturating_add(1);
-            self.h = self.h.min(self.stiffness.h_cap).max(h_min);
+            if self.stepper == Stepper::England {
+                self.h = self.h.min(self.stiffness.h_cap).max(h_min);
+            }
         }
     }
 
@@ -257,7 +295,11 @@ impl<T: Real, const N: usize> StepController<T, N> {
     /// stiffness estimate when the cap may be stale.
     pub(crate) fn reject(&mut self, err: T, h: T, h_min: T) {
         let fac = self.rule.controller.reject(err);
-        if let Some(cap) = &self.rule.stiffness_cap {
+        let cap = self
+            .rule
+            .stiffness_cap
+            .filter(|_| self.stepper == Stepper::England);
+        if let Some(cap) = &cap {
             // Rejected at the cap, or near it long after the last estimate, or very long
             // after it (the stiffness may have grown past the cap): it may be stale.
             let (k, since, h_cap) = (cap.refresh_every, self.since_estimate, self.stiffness.h_cap);
