@@ -4,6 +4,10 @@
 //! ([`initial_step`]) and a cap on the step from an estimate of the spectral radius of
 //! the Jacobian ([`StiffnessCap`], [`spectral_radius`]).
 //!
+//! These are the rules as data; the state they move and the one cycle that applies them
+//! (prepare, propose, judge, accept or reject), for England and the embedded pairs alike,
+//! are the crate's `StepController` (`solve/step_size.rs`).
+//!
 //! Why a cap: an explicit method on a problem whose fastest mode carries no accuracy
 //! information (a stiff, almost undamped mode of tiny amplitude) is held by *stability*,
 //! not accuracy. An error-per-step controller then finds the stability boundary by

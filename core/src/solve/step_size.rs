@@ -314,3 +314,62 @@ impl<T: Real, const N: usize> StepController<T, N> {
         self.retry = true;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{StepController, Stepper};
+    use crate::{StepControl, StiffnessCap};
+
+    /// England's double step is two RK4 half steps, each within the boundary, so its cap
+    /// is exactly twice a single step's: `2 · 0.95 · 2√2 / ρ` against `0.95 · 2√2 / ρ`.
+    #[test]
+    fn a_double_step_is_capped_at_two_single_steps() {
+        let cap = StiffnessCap::<f64>::new();
+        let rho = 2.5e5;
+        let single = cap.step_cap_at(rho, 1e-6, Stepper::Pair.steps());
+        let double = cap.step_cap_at(rho, 1e-6, Stepper::England.steps());
+        assert_eq!(double, 2.0 * single);
+        let expected = 0.95 * 2.0 * core::f64::consts::SQRT_2 / rho;
+        assert!(
+            (single - expected).abs() <= 1e-15 * expected,
+            "{single} {expected}"
+        );
+        assert_eq!(double, cap.h_cap_at(rho, 1e-6));
+    }
+
+    /// England's rule: after an accepted step with error ratio `err` the next step is
+    /// `h · 0.9 err^(-1/5)`; after a rejection `h · 0.9 err^(-1/5)` too (at most 1), and
+    /// the retry's acceptance does not grow the step whatever its error.
+    #[test]
+    fn the_classic_rule_grows_shrinks_and_holds_after_a_retry() {
+        let (h_min, h_max, h) = (1e-9, 1.0, 1e-3);
+        let mut c = StepController::<f64, 2>::new(Stepper::England, StepControl::classic(), h);
+        assert_eq!(c.propose(h_min), h);
+        c.accept(0.5, h, h, h_min, h_max);
+        let grown = h * 0.9 * 0.5f64.powf(-0.2);
+        assert!((c.step_size() - grown).abs() <= 1e-15 * grown);
+        c.reject(2.0, h, h_min);
+        let shrunk = h * 0.9 * 2.0f64.powf(-0.2);
+        assert!((c.step_size() - shrunk).abs() <= 1e-15 * shrunk);
+        let retry = c.step_size();
+        c.accept(1e-6, retry, retry, h_min, h_max);
+        assert_eq!(c.step_size(), retry);
+        // The next accepted step from a new point may grow again (at most 5 times).
+        c.begin_step();
+        c.accept(1e-6, retry, retry, h_min, h_max);
+        assert_eq!(c.step_size(), 5.0 * retry);
+    }
+
+    /// A proposal never exceeds the cap nor falls below `h_min`; without a cap it is the
+    /// next size itself.
+    #[test]
+    fn a_proposal_is_within_the_cap_and_h_min() {
+        let mut c = StepController::<f64, 2>::new(Stepper::Pair, StepControl::classic(), 0.5);
+        assert_eq!(c.propose(1e-3), 0.5);
+        let control = StepControl::classic_capped();
+        c = StepController::new(Stepper::Pair, control, 0.5);
+        c.stiffness.h_cap = 0.1;
+        assert_eq!(c.propose(1e-3), 0.1);
+        assert_eq!(c.propose(0.2), 0.2);
+    }
+}
