@@ -4,6 +4,10 @@
 //! ([`initial_step`]) and a cap on the step from an estimate of the spectral radius of
 //! the Jacobian ([`StiffnessCap`], [`spectral_radius`]).
 //!
+//! These are the rules as data; the state they move and the one cycle that applies them
+//! (prepare, propose, judge, accept or reject), for England and the embedded pairs alike,
+//! are the crate's `StepController` (`solve/step_size.rs`).
+//!
 //! Why a cap: an explicit method on a problem whose fastest mode carries no accuracy
 //! information (a stiff, almost undamped mode of tiny amplitude) is held by *stability*,
 //! not accuracy. An error-per-step controller then finds the stability boundary by
@@ -379,9 +383,21 @@ impl<T: Real> StiffnessCap<T> {
         self.h_cap_with(rho, self.fraction_at(rtol))
     }
 
+    /// The largest step of `steps` steps of the boundary's method (England's double step:
+    /// 2 RK4 half steps; a pair's step: 1) for spectral radius `rho` at relative tolerance
+    /// `rtol` (`T::MAX` for `rho` zero or not finite, or a cap beyond the range: no cap).
+    pub(crate) fn step_cap_at(&self, rho: T, rtol: T, steps: T) -> T {
+        self.cap_of(rho, self.fraction_at(rtol), steps)
+    }
+
     fn h_cap_with(&self, rho: T, fraction: T) -> T {
+        self.cap_of(rho, fraction, T::TWO)
+    }
+
+    /// `steps · fraction · boundary / rho`, or `T::MAX`.
+    fn cap_of(&self, rho: T, fraction: T, steps: T) -> T {
         if rho.is_finite() && rho > T::ZERO {
-            let h = T::TWO * fraction * self.boundary / rho;
+            let h = steps * fraction * self.boundary / rho;
             if h.is_finite() {
                 return h;
             }

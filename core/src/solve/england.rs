@@ -36,8 +36,9 @@
 
 use core::ops::ControlFlow;
 
+use super::step_size::{StepController, Stepper};
 use super::{Dense, OdeSystem, Tolerance};
-use crate::{initial_step, spectral_radius, Error, InitialStep, Real, Result, StepControl};
+use crate::{Error, Real, Result, StepControl};
 
 /// Settings of [`England`]; every step size is a double-step size (time advanced by one
 /// accepted step).
@@ -130,8 +131,6 @@ pub struct SolverStats {
 #[derive(Clone, Debug)]
 pub struct England<T, const N: usize> {
     pub(super) config: EnglandConfig<T, N>,
-    /// Next double-step size to try.
-    pub(super) h: T,
     pub(super) stats: SolverStats,
     // Stage buffers (each already multiplied by the half step s).
     pub(super) f0: [T; N],
@@ -146,25 +145,10 @@ pub struct England<T, const N: usize> {
     pub(super) k9: [T; N],
     /// Argument of the stage being evaluated.
     pub(super) arg: [T; N],
-    /// Step-size control beyond the configuration ([`StepControl::classic`] by default).
-    pub(super) control: StepControl<T>,
-    /// Double-step cap from the last stiffness estimate (`T::MAX`: none).
-    pub(super) h_cap: T,
-    /// Last spectral-radius estimate (NaN: none yet).
-    pub(super) rho: T,
-    /// Accepted steps since the last stiffness estimate.
-    pub(super) since_estimate: u32,
-    /// A stiffness estimate is due at the next step.
-    pub(super) estimate_due: bool,
-    /// Hairer's starting step is due at the next step.
-    pub(super) initial_due: bool,
-    /// The next attempt retries a rejected one from the same point (its acceptance must
-    /// not grow the step).
-    pub(super) retry: bool,
+    /// Step-size control: its rules ([`StepControl::classic`] by default) and state.
+    pub(super) step: StepController<T, N>,
     /// Right-hand-side evaluations outside the `9 · accepted + 7 · rejected` of the steps.
     pub(super) aux_evals: u32,
-    /// Power-iteration vector, kept for a warm start.
-    pub(super) power_v: [T; N],
 }
 
 /// One attempted double step: its sizes and times and its error ratio (accepted if at
@@ -326,19 +310,6 @@ impl Tableau {
 /// The last step before an end time may stretch the planned size by at most this factor
 /// (1 %) to land on it instead of leaving a sliver.
 const STRETCH: f64 = 1.01;
-
-/// A rejected step of at least this fraction of the stiffness cap counts as rejected at
-/// the cap, so the cap's estimate may be stale: a step planned at the cap is the cap up to
-/// rounding, or slightly shorter where it lands on an end time; the same 1 % as
-/// [`STRETCH`].
-const AT_CAP: f64 = 0.99;
-
-/// A rejection this many refresh intervals ([`StiffnessCap::refresh_every`](crate::StiffnessCap))
-/// after the last stiffness estimate asks for a new one whatever the step: periodic
-/// estimates run only while the step is within a factor 2 of the cap, so a stiffness
-/// that grew past the cap while the step was held lower would otherwise go unseen. Four
-/// intervals keep such estimates rare (at most one per four intervals of rejections).
-const STALE_AFTER_REFRESHES: u32 = 4;
 
 /// `w_1 k_1 + w_2 k_2 + ...`, summed left to right starting from `w_1 k_1` (not from 0, which
 /// would turn a `-0` into `+0`).
@@ -551,7 +522,6 @@ impl<T: Real, const N: usize> England<T, N> {
         let z = [T::ZERO; N];
         Ok(Self {
             config,
-            h: config.h_init,
             stats: SolverStats::default(),
             f0: z,
             k1: z,
@@ -563,40 +533,25 @@ impl<T: Real, const N: usize> England<T, N> {
             k7: z,
             k9: z,
             arg: z,
-            control,
-            h_cap: T::MAX,
-            rho: T::NAN,
-            since_estimate: 0,
-            estimate_due: true,
-            initial_due: control.initial_step == InitialStep::Hairer,
-            retry: false,
+            step: StepController::new(Stepper::England, control, config.h_init),
             aux_evals: 0,
-            power_v: z,
         })
     }
 
     /// The step-size control it was built with.
     pub fn control(&self) -> &StepControl<T> {
-        &self.control
+        self.step.rule()
     }
 
     /// The last spectral-radius estimate of the stiffness cap (`None` without a cap or
     /// before the first step).
     pub fn spectral_radius(&self) -> Option<T> {
-        if self.rho.is_nan() {
-            None
-        } else {
-            Some(self.rho)
-        }
+        self.step.spectral_radius()
     }
 
     /// The current double-step cap of the stiffness cap (`None` without one).
     pub fn step_cap(&self) -> Option<T> {
-        if self.control.stiffness_cap.is_some() && self.h_cap < T::MAX {
-            Some(self.h_cap)
-        } else {
-            None
-        }
+        self.step.step_cap()
     }
 
     /// Right-hand-side evaluations since the counters were last reset that are not part of
@@ -611,7 +566,7 @@ impl<T: Real, const N: usize> England<T, N> {
     /// Asks for a new stiffness estimate at the next step (after the caller changed the
     /// system, for example); no effect without a [`StiffnessCap`](crate::StiffnessCap).
     pub fn refresh_stiffness(&mut self) {
-        self.estimate_due = true;
+        self.step.refresh_stiffness();
     }
 
     /// The configuration it was built with.
@@ -626,71 +581,26 @@ impl<T: Real, const N: usize> England<T, N> {
 
     /// The next double-step size it will try.
     pub fn step_size(&self) -> T {
-        self.h
+        self.step.step_size()
     }
 
     /// Forgets the controller's history: the next step tries `h_init` (or Hairer's
-    /// starting step, with [`InitialStep::Hairer`]) and the counters (and so the step
+    /// starting step, with [`InitialStep::Hairer`](crate::InitialStep::Hairer)) and the counters (and so the step
     /// budget) restart from zero; a PI controller forgets its previous error and the
     /// stiffness cap starts over from a fresh estimate.
     pub fn reset(&mut self) {
-        self.h = self.config.h_init;
+        self.step.reset(self.config.h_init);
         self.stats = SolverStats::default();
         self.aux_evals = 0;
-        self.control.controller.reset();
-        self.h_cap = T::MAX;
-        self.rho = T::NAN;
-        self.since_estimate = 0;
-        self.estimate_due = true;
-        self.initial_due = self.control.initial_step == InitialStep::Hairer;
-        self.power_v = [T::ZERO; N];
-        self.retry = false;
     }
 
-    /// Hairer's starting step and the stiffness estimate, when due, from `f0 = f(t0, y0)`.
+    /// Hairer's starting step and the stiffness estimate, when due, from `f0 = f(t0, y0)`
+    /// ([`StepController::prepare`]), their evaluations counted as auxiliary.
     pub(super) fn prepare<S: OdeSystem<T, N>>(&mut self, sys: &S, t0: T, y: &[T; N]) -> Result<()> {
         let before = self.stats.rhs_evals;
-        if let Some(cap) = self.control.stiffness_cap {
-            // Periodic estimates only while the cap may bind (the planned step within a
-            // factor 2 of it); rejections ask for one through `estimate_due`.
-            let periodic =
-                self.since_estimate >= cap.refresh_every && self.h >= T::HALF * self.h_cap;
-            if self.estimate_due || periodic {
-                let rho = match sys.spectral_radius(t0, y) {
-                    Some(r) if r.is_finite() && r >= T::ZERO => r,
-                    _ if cap.max_iterations > 0 => spectral_radius(
-                        sys,
-                        t0,
-                        y,
-                        &self.f0,
-                        &self.config.tol,
-                        &mut self.power_v,
-                        cap.max_iterations,
-                        cap.rel_tol,
-                        &mut self.stats.rhs_evals,
-                    )?,
-                    _ => T::NAN,
-                };
-                self.rho = rho;
-                self.h_cap = cap.h_cap_at(rho, self.config.tol.rtol);
-                self.since_estimate = 0;
-                self.estimate_due = false;
-            }
-        }
-        if self.initial_due {
-            self.initial_due = false;
-            let h = initial_step(
-                sys,
-                t0,
-                y,
-                &self.f0,
-                &self.config.tol,
-                4,
-                self.config.h_max,
-                &mut self.stats.rhs_evals,
-            )?;
-            self.h = h.clamp(self.config.h_min, self.config.h_max);
-        }
+        let evals = &mut self.stats.rhs_evals;
+        self.step
+            .prepare(sys, t0, y, &self.f0, &self.config, evals)?;
         self.aux_evals = self
             .aux_evals
             .saturating_add(self.stats.rhs_evals.saturating_sub(before));
@@ -733,7 +643,7 @@ impl<T: Real, const N: usize> England<T, N> {
         mid: &mut (T, [T; N]),
         mut sampler: Option<&mut (dyn Sampler<T, N> + 's)>,
     ) -> Result<Attempt<T>> {
-        self.retry = false;
+        self.step.begin_step();
         loop {
             let at = self.attempt(sys, *t, y, t_end, &mut mid.1, sampler.as_deref_mut())?;
             if at.err <= T::ONE {
@@ -764,7 +674,7 @@ impl<T: Real, const N: usize> England<T, N> {
             });
         }
         // Starting step and stiffness estimate when due (never with the classic control).
-        if self.control.stiffness_cap.is_some() || self.initial_due {
+        if self.step.needs_preparation() {
             self.prepare(sys, t0, y)?;
         }
         let plan = self.plan(t0, t_end);
@@ -793,11 +703,7 @@ impl<T: Real, const N: usize> England<T, N> {
     /// on `t_end` when that is at most 1 % beyond it, or halving the rest when `t_end` is
     /// less than two steps away.
     fn plan(&self, t0: T, t_end: T) -> Plan<T> {
-        let h_plan = if self.control.stiffness_cap.is_some() {
-            self.h.min(self.h_cap).max(self.config.h_min)
-        } else {
-            self.h
-        };
+        let h_plan = self.step.propose(self.config.h_min);
         let remaining = t_end - t0;
         let (h, last) = if remaining <= h_plan * T::from_f64(STRETCH) {
             (remaining, true)
@@ -950,10 +856,7 @@ impl<T: Real, const N: usize> England<T, N> {
                 component: first_non_finite(&e_all).unwrap_or(0),
             });
         }
-        if let Some(u) = &self.control.per_unit_step {
-            err = u.ratio(err, p.h, rtol);
-        }
-        Ok(err)
+        Ok(self.step.judge(err, p.h, rtol))
     }
 
     /// An accepted attempt: `k8` (into the `k9` buffer) and the end point `y2` (in place
@@ -986,25 +889,8 @@ impl<T: Real, const N: usize> England<T, N> {
         // Restoring y0 on a non-finite y2 would need a copy on every step; report instead.
         half.end_point([&self.k5, &self.k7, &self.k9], y, p.t_end)?;
         self.stats.accepted = self.stats.accepted.saturating_add(1);
-        let (h, h_plan) = (p.h, p.h_plan);
-        let after_rejection = core::mem::replace(&mut self.retry, false);
-        let (fac, fac_unbounded) = self.control.controller.accept_raw(err, after_rejection);
-        let mut h_next = h * fac;
-        if h < h_plan {
-            // A step shortened to meet t_end says nothing against the planned size.
-            let h_ok = if fac_unbounded >= h_plan / h {
-                h_plan
-            } else {
-                h * fac_unbounded
-            };
-            h_next = h_next.max(h_ok);
-        }
         let (h_min, h_max) = (self.config.h_min, self.config.h_max);
-        self.h = h_next.clamp(h_min, h_max);
-        if self.control.stiffness_cap.is_some() {
-            self.since_estimate = self.since_estimate.saturating_add(1);
-            self.h = self.h.min(self.h_cap).max(h_min);
-        }
+        self.step.accept(err, p.h, p.h_plan, h_min, h_max);
         Ok(())
     }
 
@@ -1020,21 +906,7 @@ impl<T: Real, const N: usize> England<T, N> {
                 h: h.to_f64(),
             });
         }
-        let fac = self.control.controller.reject(err);
-        if let Some(cap) = &self.control.stiffness_cap {
-            // Rejected at the cap, or near it long after the last estimate, or very long
-            // after it (the stiffness may have grown past the cap): it may be stale.
-            let k = cap.refresh_every;
-            let since = self.since_estimate;
-            if h >= T::from_f64(AT_CAP) * self.h_cap
-                || (since >= k && h >= T::HALF * self.h_cap)
-                || since >= k.saturating_mul(STALE_AFTER_REFRESHES)
-            {
-                self.estimate_due = true;
-            }
-        }
-        self.h = (h * fac).max(h_min);
-        self.retry = true;
+        self.step.reject(err, h, h_min);
         Ok(())
     }
 
@@ -1043,8 +915,7 @@ impl<T: Real, const N: usize> England<T, N> {
     pub(super) fn begin(&mut self, t0: T, y: &[T; N], t_end: T) -> Result<()> {
         self.stats = SolverStats::default();
         self.aux_evals = 0;
-        self.estimate_due = true;
-        self.retry = false;
+        self.step.begin();
         if !t0.is_finite() {
             return Err(Error::InvalidParameter {
                 field: "t0",

@@ -104,7 +104,7 @@ impl<T: Real, const N: usize> England<T, N> {
                 t: w.t,
                 y0: *y,
                 f0: self.f0,
-                h_before: self.h,
+                h_before: self.step.step_size(),
             };
             let Some(s) = self.event_attempt(sys, event, &start, &mut w, y)? else {
                 continue;
@@ -306,7 +306,8 @@ impl<T: Real, const N: usize> England<T, N> {
         let b = b.max(t_start + ap.two_tol);
         ap.h_keep.get_or_insert(start.h_before);
         ap.target = Some(b);
-        self.h = self.h.max(b - t_start);
+        let h = self.step.step_size().max(b - t_start);
+        self.step.set_step_size(h);
         Ok(())
     }
 
@@ -327,7 +328,7 @@ impl<T: Real, const N: usize> England<T, N> {
         self.aux_evals = self.aux_evals.saturating_add(9);
         self.f0 = start.f0;
         ap.h_keep.get_or_insert(start.h_before);
-        self.h = start.h_before.max(b - start.t);
+        self.step.set_step_size(start.h_before.max(b - start.t));
         ap.target = Some(b.max(start.t + ap.two_tol));
     }
 
@@ -335,10 +336,7 @@ impl<T: Real, const N: usize> England<T, N> {
     /// error, the stiffness estimate) and plan the next step at `h` (the size planned
     /// before the step that crossed the event).
     fn restart_after_event(&mut self, h: T) {
-        self.control.controller.reset();
-        self.estimate_due = true;
-        self.since_estimate = 0;
-        self.h = h.clamp(self.config.h_min, self.config.h_max);
+        self.step.restart(h, self.config.h_min, self.config.h_max);
     }
 }
 

@@ -23,9 +23,10 @@
 use core::ops::ControlFlow;
 
 use crate::solve::england::{first_non_finite, Sampler};
+use crate::solve::step_size::{StepController, Stepper};
 use crate::{
-    spectral_radius, Dense, EnglandConfig, Error, OdeSystem, PiController, Real, Result,
-    SolverStats, StiffnessCap,
+    Controller, Dense, EnglandConfig, Error, InitialStep, OdeSystem, PiController, Real, Result,
+    SolverStats, StepControl, StiffnessCap,
 };
 
 /// An explicit embedded Runge-Kutta pair of `S` stages as data.
@@ -108,17 +109,6 @@ fn check_config<T: Real, const N: usize>(c: &EnglandConfig<T, N>) -> Result<()> 
     Ok(())
 }
 
-/// The state of one integration: time, step, controller, stiffness cap.
-struct Walk<T, const N: usize> {
-    t: T,
-    h: T,
-    ctl: PiController<T>,
-    after_reject: bool,
-    h_cap: T,
-    since_cap: u32,
-    v: [T; N],
-}
-
 impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
     /// A solver of the pair `tab` with `config` (single-step sizes). Errors: a negative or
     /// non-finite tolerance, a non-positive or non-finite step size, `h_min > h_max`.
@@ -164,6 +154,20 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
             ..cap
         });
         Ok(s)
+    }
+
+    /// The step control of one integration: Hairer's PI controller with the pair's
+    /// exponents and the stiffness cap if any, from the configured first step.
+    fn step_controller(&self) -> StepController<T, N> {
+        let rule = StepControl {
+            controller: Controller::Pi(self.tab.controller::<T>()),
+            initial_step: InitialStep::Given,
+            stiffness_cap: self.cap,
+            per_unit_step: None,
+        };
+        let cfg = &self.config;
+        let h_init = cfg.h_init.min(cfg.h_max).max(cfg.h_min);
+        StepController::new(Stepper::Pair, rule, h_init)
     }
 
     /// The pair's tableau.
@@ -280,108 +284,61 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
             });
         }
         let cfg = self.config;
-        let mut w = Walk {
-            t: t0,
-            h: cfg.h_init.min(cfg.h_max).max(cfg.h_min),
-            ctl: self.tab.controller::<T>(),
-            after_reject: false,
-            h_cap: T::INFINITY,
-            since_cap: u32::MAX,
-            v: [T::ZERO; N],
-        };
+        let mut ctl = self.step_controller();
+        let mut t = t0;
         let mut f0 = [T::ZERO; N];
-        sampler.evaluate(w.t, y, &mut f0);
-        self.count_checked(w.t, y, &f0)?;
+        sampler.evaluate(t, y, &mut f0);
+        self.count_checked(t, y, &f0)?;
         if sampler.show().is_break() {
             return Ok(self.stats);
         }
         let mut y1 = [T::ZERO; N];
         let mut f1 = [T::ZERO; N];
-        while w.t < t_end {
+        while t < t_end {
             let steps = self.stats.accepted.saturating_add(self.stats.rejected);
             if steps >= cfg.max_steps {
                 return Err(Error::StepBudgetExceeded {
-                    t: w.t.to_f64(),
+                    t: t.to_f64(),
                     steps,
                 });
             }
-            self.refresh_cap(sys, &mut w, y, &f0)?;
+            if ctl.needs_preparation() {
+                ctl.prepare(sys, t, y, &f0, &cfg, &mut self.stats.rhs_evals)?;
+            }
+            let h = ctl.propose(cfg.h_min);
             // Land on t_end: stretch by at most 1 %, or take the short last step.
-            let rest = t_end - w.t;
-            let last = w.h * T::from_f64(1.01) >= rest;
-            let hs = if last { rest } else { w.h };
-            let t1 = if last { t_end } else { w.t + hs };
-            let err = self.attempt(sys, w.t, y, &f0, hs, t1, &mut y1, &mut f1, sampler)?;
+            let rest = t_end - t;
+            let last = h * T::from_f64(1.01) >= rest;
+            let hs = if last { rest } else { h };
+            let t1 = if last { t_end } else { t + hs };
+            let err = self.attempt(sys, t, y, &f0, hs, t1, &mut y1, &mut f1, sampler)?;
             if err <= T::ONE {
-                let factor = w.ctl.accept(err, w.after_reject);
-                w.after_reject = false;
-                w.since_cap = w.since_cap.saturating_add(1);
+                // After a last step the next size is not used.
+                ctl.accept(err, hs, h, cfg.h_min, cfg.h_max);
                 if !self.tab.fsal {
                     sampler.evaluate(t1, &y1, &mut f1);
                     self.count_checked(t1, &y1, &f1)?;
                 }
                 self.stats.accepted = self.stats.accepted.saturating_add(1);
-                let flow = step_done(w.t, y, &f0, t1, &y1, &f1);
+                let flow = step_done(t, y, &f0, t1, &y1, &f1);
                 *y = y1;
                 f0 = f1;
-                w.t = t1;
+                t = t1;
                 if flow.is_break() || sampler.show().is_break() {
                     break;
                 }
-                if !last {
-                    w.h = (hs * factor).min(cfg.h_max).max(cfg.h_min);
-                }
             } else {
-                let factor = w.ctl.reject(err);
-                w.after_reject = true;
                 self.stats.rejected = self.stats.rejected.saturating_add(1);
                 if hs <= cfg.h_min {
                     return Err(Error::StepSizeUnderflow {
-                        t: w.t.to_f64(),
+                        t: t.to_f64(),
                         h: hs.to_f64(),
                     });
                 }
-                w.h = (hs * factor).max(cfg.h_min);
+                ctl.reject(err, hs, cfg.h_min);
             }
         }
         Ok(self.stats)
-    }
-
-    /// A new stiffness estimate when due, and the step capped by it.
-    fn refresh_cap<Sys: OdeSystem<T, N>>(
-        &mut self,
-        sys: &Sys,
-        w: &mut Walk<T, N>,
-        y: &[T; N],
-        f0: &[T; N],
-    ) -> Result<()> {
-        let Some(cap) = &self.cap else {
-            return Ok(());
-        };
-        let cfg = &self.config;
-        if w.since_cap >= cap.refresh_every.max(1) {
-            let mut evals = 0u32;
-            let rho = spectral_radius(
-                sys,
-                w.t,
-                y,
-                f0,
-                &cfg.tol,
-                &mut w.v,
-                cap.max_iterations,
-                cap.rel_tol,
-                &mut evals,
-            )?;
-            self.stats.rhs_evals = self.stats.rhs_evals.saturating_add(evals);
-            w.h_cap = if rho > T::ZERO && rho.is_finite() {
-                cap.fraction_at(cfg.tol.rtol) * cap.boundary / rho
-            } else {
-                T::INFINITY
-            };
-            w.since_cap = 0;
-        }
-        w.h = w.h.min(w.h_cap).max(cfg.h_min);
-        Ok(())
     }
 
     /// Counts one evaluation at `(t, y)` and checks that `y` and `f` are finite.

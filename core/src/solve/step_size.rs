@@ -1,0 +1,375 @@
+//! The step-size controller of England's method and of the embedded pairs: one type,
+//! [`StepController`], that owns the rules of step control as data and all the state they
+//! need, behind one interface.
+//!
+//! - The rules are data ([`StepControl`], built from a run's [`StepRule`](crate::StepRule)
+//!   by name): the factor rule ([`Controller`](crate::Controller): England's classic
+//!   `0.9 err^(-1/5)` or Gustafsson's PI), the first step
+//!   ([`InitialStep`]), the stiffness cap as an optional limit
+//!   ([`StiffnessCap`](crate::StiffnessCap), tolerance-scaled or not) and error per unit
+//!   step as an optional judge of the error ([`PerUnitStep`](crate::PerUnitStep)).
+//! - The state is the next step, whether the next attempt retries a rejected one, the
+//!   stiffness estimate (cap, spectral radius, its age, whether one is due, the power
+//!   iteration's vector) and whether Hairer's first step is due.
+//! - The interface is the cycle of one attempt: [`StepController::prepare`] (the
+//!   estimates that are due), [`StepController::propose`] (the size to try),
+//!   [`StepController::judge`] (the error ratio the step is accepted by), then
+//!   [`StepController::accept`] or [`StepController::reject`] (the next size).
+//!
+//! The integrator keeps what is its own: the landing on an end time, the stages, the
+//! counters and the step budget. What differs between England's double step and a pair's
+//! single step is the [`Stepper`] the controller is built for.
+
+use crate::{
+    initial_step, spectral_radius, EnglandConfig, InitialStep, OdeSystem, Real, Result, StepControl,
+};
+
+/// A rejected step of at least this fraction of the stiffness cap counts as rejected at
+/// the cap, so the cap's estimate may be stale: a step planned at the cap is the cap up to
+/// rounding, or slightly shorter where it lands on an end time; the same 1 % as
+/// England's stretch of a last step.
+const AT_CAP: f64 = 0.99;
+
+/// A rejection this many refresh intervals ([`StiffnessCap::refresh_every`](crate::StiffnessCap))
+/// after the last stiffness estimate asks for a new one whatever the step: periodic
+/// estimates run only while the step is within a factor 2 of the cap, so a stiffness
+/// that grew past the cap while the step was held lower would otherwise go unseen. Four
+/// intervals keep such estimates rare (at most one per four intervals of rejections).
+const STALE_AFTER_REFRESHES: u32 = 4;
+
+/// The integrator a [`StepController`] controls: where the stiffness cap's scale and
+/// schedule differ.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Stepper {
+    /// England's double step: two half steps, each within the stability boundary, so the
+    /// cap is `2 · fraction · boundary / ρ`. The estimate is renewed every
+    /// `refresh_every` accepted steps only while the step is within a factor 2 of the cap,
+    /// and after a rejection that suggests it is stale; the next step is capped as soon as
+    /// it is planned.
+    England,
+    /// An embedded pair's single step (the pair's own boundary): the cap is
+    /// `fraction · boundary / ρ`, renewed every `refresh_every` accepted steps, applied
+    /// when the step is proposed.
+    #[cfg_attr(not(feature = "pairs"), allow(dead_code))]
+    Pair,
+}
+
+impl Stepper {
+    /// Steps of the boundary's method in one step: 2 half steps for England, 1 for a pair.
+    fn steps<T: Real>(self) -> T {
+        match self {
+            Stepper::England => T::TWO,
+            Stepper::Pair => T::ONE,
+        }
+    }
+}
+
+/// The stiffness cap's state: the cap and the estimate it comes from (its age and whether
+/// a new one is due are [`StepController`]'s, beside its flags: one padded group, not
+/// two, so the solver is no larger than before).
+#[derive(Clone, Debug)]
+struct Stiffness<T, const N: usize> {
+    /// Double-step cap from the last estimate (`T::MAX`: none).
+    h_cap: T,
+    /// Last spectral-radius estimate (NaN: none yet).
+    rho: T,
+    /// Power-iteration vector, kept for a warm start.
+    v: [T; N],
+}
+
+impl<T: Real, const N: usize> Stiffness<T, N> {
+    /// No estimate yet.
+    fn fresh() -> Self {
+        Self {
+            h_cap: T::MAX,
+            rho: T::NAN,
+            v: [T::ZERO; N],
+        }
+    }
+}
+
+/// The step-size controller: the rules ([`StepControl`]) and their state (module
+/// documentation). Sizes are the integrator's steps (England's double steps).
+#[derive(Clone, Debug)]
+pub(crate) struct StepController<T, const N: usize> {
+    /// The integrator whose steps it controls.
+    stepper: Stepper,
+    /// The rules (a PI factor rule keeps its previous error in it).
+    rule: StepControl<T>,
+    /// Next double-step size to try (before the cap).
+    h: T,
+    /// The next attempt retries a rejected one from the same point (its acceptance must
+    /// not grow the step).
+    retry: bool,
+    /// The stiffness cap's state (unused without a cap).
+    stiffness: Stiffness<T, N>,
+    /// Accepted steps since the last stiffness estimate.
+    since_estimate: u32,
+    /// A stiffness estimate is due at the next step.
+    estimate_due: bool,
+    /// Hairer's starting step is due at the next step.
+    initial_due: bool,
+}
+
+impl<T: Real, const N: usize> StepController<T, N> {
+    /// A controller of `stepper`'s steps with `rule` whose first step is `h_init`.
+    pub(crate) fn new(stepper: Stepper, rule: StepControl<T>, h_init: T) -> Self {
+        Self {
+            stepper,
+            rule,
+            h: h_init,
+            retry: false,
+            stiffness: Stiffness::fresh(),
+            since_estimate: 0,
+            estimate_due: true,
+            initial_due: rule.initial_step == InitialStep::Hairer,
+        }
+    }
+
+    /// The rules.
+    pub(crate) fn rule(&self) -> &StepControl<T> {
+        &self.rule
+    }
+
+    /// The next double-step size it will propose (before the cap).
+    pub(crate) fn step_size(&self) -> T {
+        self.h
+    }
+
+    /// The last spectral-radius estimate (`None` without a cap or before the first).
+    pub(crate) fn spectral_radius(&self) -> Option<T> {
+        let rho = self.stiffness.rho;
+        (!rho.is_nan()).then_some(rho)
+    }
+
+    /// The current double-step cap (`None` without one).
+    pub(crate) fn step_cap(&self) -> Option<T> {
+        let h_cap = self.stiffness.h_cap;
+        (self.rule.stiffness_cap.is_some() && h_cap < T::MAX).then_some(h_cap)
+    }
+
+    /// Asks for a new stiffness estimate at the next step.
+    pub(crate) fn refresh_stiffness(&mut self) {
+        self.estimate_due = true;
+    }
+
+    /// Forgets everything: the next step is `h_init` (or Hairer's), a PI rule forgets its
+    /// previous error and the cap starts over from a fresh estimate.
+    pub(crate) fn reset(&mut self, h_init: T) {
+        self.h = h_init;
+        self.rule.controller.reset();
+        self.stiffness = Stiffness::fresh();
+        self.since_estimate = 0;
+        self.estimate_due = true;
+        self.initial_due = self.rule.initial_step == InitialStep::Hairer;
+        self.retry = false;
+    }
+
+    /// A new integration: a stiffness estimate is due and no attempt is a retry.
+    pub(crate) fn begin(&mut self) {
+        self.estimate_due = true;
+        self.retry = false;
+    }
+
+    /// A new step from a new point: its first attempt is not a retry.
+    pub(crate) fn begin_step(&mut self) {
+        self.retry = false;
+    }
+
+    /// After an event: forget the history (a PI rule's previous error, the stiffness
+    /// estimate) and propose `h` next (clamped to `[h_min, h_max]`).
+    pub(crate) fn restart(&mut self, h: T, h_min: T, h_max: T) {
+        self.rule.controller.reset();
+        self.estimate_due = true;
+        self.since_estimate = 0;
+        self.h = h.clamp(h_min, h_max);
+    }
+
+    /// Sets the next size (an integrator aiming at a point: an event's bracket).
+    pub(crate) fn set_step_size(&mut self, h: T) {
+        self.h = h;
+    }
+
+    /// Whether [`StepController::prepare`] has anything to do (never with the classic
+    /// rules).
+    pub(crate) fn needs_preparation(&self) -> bool {
+        self.rule.stiffness_cap.is_some() || self.initial_due
+    }
+
+    /// The stiffness estimate and Hairer's starting step, when due, at `(t0, y)` with
+    /// `f0 = f(t0, y)`; their evaluations are added to `evals`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn prepare<S: OdeSystem<T, N>>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        y: &[T; N],
+        f0: &[T; N],
+        config: &EnglandConfig<T, N>,
+        evals: &mut u32,
+    ) -> Result<()> {
+        if let Some(cap) = self.rule.stiffness_cap {
+            let st = &mut self.stiffness;
+            // England: periodic estimates only while the cap may bind (the planned step
+            // within a factor 2 of it); rejections ask for one through `estimate_due`.
+            let near_cap = match self.stepper {
+                Stepper::England => self.h >= T::HALF * st.h_cap,
+                Stepper::Pair => true,
+            };
+            let periodic = self.since_estimate >= cap.refresh_every.max(1) && near_cap;
+            if self.estimate_due || periodic {
+                let rho = match sys.spectral_radius(t0, y) {
+                    Some(r) if r.is_finite() && r >= T::ZERO => r,
+                    _ if cap.max_iterations > 0 => spectral_radius(
+                        sys,
+                        t0,
+                        y,
+                        f0,
+                        &config.tol,
+                        &mut st.v,
+                        cap.max_iterations,
+                        cap.rel_tol,
+                        evals,
+                    )?,
+                    _ => T::NAN,
+                };
+                st.rho = rho;
+                st.h_cap = cap.step_cap_at(rho, config.tol.rtol, self.stepper.steps());
+                self.since_estimate = 0;
+                self.estimate_due = false;
+            }
+        }
+        if self.initial_due {
+            self.initial_due = false;
+            let h = initial_step(sys, t0, y, f0, &config.tol, 4, config.h_max, evals)?;
+            self.h = h.clamp(config.h_min, config.h_max);
+        }
+        Ok(())
+    }
+
+    /// The double step to try: the next size, capped (never below `h_min`).
+    pub(crate) fn propose(&self, h_min: T) -> T {
+        if self.rule.stiffness_cap.is_some() {
+            self.h.min(self.stiffness.h_cap).max(h_min)
+        } else {
+            self.h
+        }
+    }
+
+    /// The error ratio a double step `h` with per-step ratio `err` is judged by at
+    /// relative tolerance `rtol`: `err`, or per unit step ([`PerUnitStep::ratio`](crate::PerUnitStep::ratio)).
+    pub(crate) fn judge(&self, err: T, h: T, rtol: T) -> T {
+        match &self.rule.per_unit_step {
+            Some(u) => u.ratio(err, h, rtol),
+            None => err,
+        }
+    }
+
+    /// An attempt of size `h` (proposed `h_plan`, shortened when `h < h_plan`) taken with
+    /// error ratio `err`: the next size from the factor rule (no growth right after a
+    /// rejection), within `[h_min, h_max]` and the cap.
+    pub(crate) fn accept(&mut self, err: T, h: T, h_plan: T, h_min: T, h_max: T) {
+        let after_rejection = core::mem::replace(&mut self.retry, false);
+        let (fac, fac_unbounded) = self.rule.controller.accept_raw(err, after_rejection);
+        let mut h_next = h * fac;
+        if h < h_plan {
+            // A step shortened to meet t_end says nothing against the planned size.
+            let h_ok = if fac_unbounded >= h_plan / h {
+                h_plan
+            } else {
+                h * fac_unbounded
+            };
+            h_next = h_next.max(h_ok);
+        }
+        self.h = h_next.clamp(h_min, h_max);
+        if self.rule.stiffness_cap.is_some() {
+            self.since_estimate = self.since_estimate.saturating_add(1);
+            if self.stepper == Stepper::England {
+                self.h = self.h.min(self.stiffness.h_cap).max(h_min);
+            }
+        }
+    }
+
+    /// An attempt of size `h` rejected with error ratio `err`: the smaller size of the
+    /// retry (at least `h_min`; its acceptance will not grow the step), and a new
+    /// stiffness estimate when the cap may be stale.
+    pub(crate) fn reject(&mut self, err: T, h: T, h_min: T) {
+        let fac = self.rule.controller.reject(err);
+        let cap = self
+            .rule
+            .stiffness_cap
+            .filter(|_| self.stepper == Stepper::England);
+        if let Some(cap) = &cap {
+            // Rejected at the cap, or near it long after the last estimate, or very long
+            // after it (the stiffness may have grown past the cap): it may be stale.
+            let (k, since, h_cap) = (cap.refresh_every, self.since_estimate, self.stiffness.h_cap);
+            if h >= T::from_f64(AT_CAP) * h_cap
+                || (since >= k && h >= T::HALF * h_cap)
+                || since >= k.saturating_mul(STALE_AFTER_REFRESHES)
+            {
+                self.estimate_due = true;
+            }
+        }
+        self.h = (h * fac).max(h_min);
+        self.retry = true;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{StepController, Stepper};
+    use crate::{StepControl, StiffnessCap};
+
+    /// England's double step is two RK4 half steps, each within the boundary, so its cap
+    /// is exactly twice a single step's: `2 · 0.95 · 2√2 / ρ` against `0.95 · 2√2 / ρ`.
+    #[test]
+    fn a_double_step_is_capped_at_two_single_steps() {
+        let cap = StiffnessCap::<f64>::new();
+        let rho = 2.5e5;
+        let single = cap.step_cap_at(rho, 1e-6, Stepper::Pair.steps());
+        let double = cap.step_cap_at(rho, 1e-6, Stepper::England.steps());
+        assert_eq!(double, 2.0 * single);
+        let expected = 0.95 * 2.0 * core::f64::consts::SQRT_2 / rho;
+        assert!(
+            (single - expected).abs() <= 1e-15 * expected,
+            "{single} {expected}"
+        );
+        assert_eq!(double, cap.h_cap_at(rho, 1e-6));
+    }
+
+    /// England's rule: after an accepted step with error ratio `err` the next step is
+    /// `h · 0.9 err^(-1/5)`; after a rejection `h · 0.9 err^(-1/5)` too (at most 1), and
+    /// the retry's acceptance does not grow the step whatever its error.
+    #[test]
+    fn the_classic_rule_grows_shrinks_and_holds_after_a_retry() {
+        let (h_min, h_max, h) = (1e-9, 1.0, 1e-3);
+        let mut c = StepController::<f64, 2>::new(Stepper::England, StepControl::classic(), h);
+        assert_eq!(c.propose(h_min), h);
+        c.accept(0.5, h, h, h_min, h_max);
+        let grown = h * 0.9 * 0.5f64.powf(-0.2);
+        assert!((c.step_size() - grown).abs() <= 1e-15 * grown);
+        c.reject(2.0, h, h_min);
+        let shrunk = h * 0.9 * 2.0f64.powf(-0.2);
+        assert!((c.step_size() - shrunk).abs() <= 1e-15 * shrunk);
+        let retry = c.step_size();
+        c.accept(1e-6, retry, retry, h_min, h_max);
+        assert_eq!(c.step_size(), retry);
+        // The next accepted step from a new point may grow again (at most 5 times).
+        c.begin_step();
+        c.accept(1e-6, retry, retry, h_min, h_max);
+        assert_eq!(c.step_size(), 5.0 * retry);
+    }
+
+    /// A proposal never exceeds the cap nor falls below `h_min`; without a cap it is the
+    /// next size itself.
+    #[test]
+    fn a_proposal_is_within_the_cap_and_h_min() {
+        let mut c = StepController::<f64, 2>::new(Stepper::Pair, StepControl::classic(), 0.5);
+        assert_eq!(c.propose(1e-3), 0.5);
+        let control = StepControl::classic_capped();
+        c = StepController::new(Stepper::Pair, control, 0.5);
+        c.stiffness.h_cap = 0.1;
+        assert_eq!(c.propose(1e-3), 0.1);
+        assert_eq!(c.propose(0.2), 0.2);
+    }
+}
