@@ -27,6 +27,7 @@ use crate::sim::HostDeviation;
 
 pub mod montecarlo;
 pub mod study;
+pub mod sweep;
 
 /// Writes an RGB buffer of `size` pixels as the PNG `file` into the directory output
 /// `out` (to the file's temporary: the caller commits `out`). Every plot is saved here.
