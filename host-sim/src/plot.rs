@@ -25,6 +25,7 @@ use plotters::prelude::*;
 use crate::output::AtomicDir;
 use crate::sim::HostDeviation;
 
+pub mod charts;
 pub mod compare;
 pub mod montecarlo;
 pub mod study;

@@ -281,7 +281,7 @@ impl Coord {
 }
 
 /// The smallest 1, 2 or 5 times a power of ten at least `rough`.
-fn nice_step(rough: f64) -> f64 {
+pub fn nice_step(rough: f64) -> f64 {
     if !(rough.is_finite() && rough > 0.0) {
         return 1.0;
     }
@@ -352,6 +352,15 @@ fn tick_label(a: &Axis, v: f64, (lo, hi): (f64, f64)) -> String {
                 .unwrap_or_default()
         }
         (_, Scale::Log) => log_tick(v),
+        (Ticks::At { major, .. }, _) if major.len() > 1 => {
+            // Decimals for the ticks' own step (fmt_tick assumes about 8 ticks a span).
+            let step = major
+                .windows(2)
+                .map(|w| (w[1] - w[0]).abs())
+                .fold(f64::INFINITY, f64::min);
+            let v = if v.abs() < 1e-9 * step { 0.0 } else { v };
+            crate::plot::fmt_tick(v, 8.0 * step)
+        }
         _ => {
             let span = hi - lo;
             let v = if v.abs() < 1e-9 * span { 0.0 } else { v };
@@ -606,11 +615,11 @@ fn entries(p: &Panel) -> Vec<Entry> {
 fn x_label_area(p: &Panel) -> u32 {
     if p.x.labelled {
         TICK_FONT
-            + 14
+            + 12
             + if p.x.label().is_empty() {
                 0
             } else {
-                AXIS_FONT + 12
+                AXIS_FONT + 4
             }
     } else {
         10
