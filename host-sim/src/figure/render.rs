@@ -106,6 +106,9 @@ const STRIP_ROW: i32 = 26;
 const SWATCH_W: i32 = 30;
 /// A legend box's row height inside a panel, pixels.
 const BOX_ROW: f64 = 20.0;
+/// The narrowest y label area of panels over one another, pixels: a panel keeps its
+/// plotting area when the tick labels of the one below it widen a little.
+const Y_LABEL_MIN: u32 = 100;
 /// The data's margin on an axis with no range given: 5 % of its span either side.
 const PAD: f64 = 0.05;
 /// The narrowest a span (a jump) is drawn, pixels.
@@ -422,7 +425,8 @@ fn draw_figure<DB: DrawingBackend>(
         .zip(&cells)
         .map(|(p, a)| y_label_area(a, p))
         .max()
-        .unwrap_or(0);
+        .unwrap_or(0)
+        .max(if fig.columns <= 1 { Y_LABEL_MIN } else { 0 });
     let mut areas = Vec::new();
     for (p, area) in fig.panels.iter().zip(&cells) {
         areas.push(draw_panel(area, p, y_area)?);
@@ -756,7 +760,32 @@ fn draw_mesh<DB: DrawingBackend>(
     mesh.draw()
 }
 
-/// Spans (at least [`MIN_SPAN_PX`] wide, touching ones merged), bands between curves, whiskers.
+/// Spans of one colour, each at least [`MIN_SPAN_PX`] wide, those that then touch drawn
+/// as one (overlapping translucent fills would darken).
+fn spans(p: &Panel, min: f64) -> Vec<(Colour, f64, f64, f64)> {
+    let mut v: Vec<(Colour, f64, f64, f64)> = p
+        .bands
+        .iter()
+        .filter_map(|b| match b.shape {
+            Shape::Span(a, c) => {
+                let (a, c) = widen(a, c, min);
+                Some((b.colour, b.alpha, a, c))
+            }
+            _ => None,
+        })
+        .collect();
+    v.sort_by(|x, y| x.2.total_cmp(&y.2));
+    let mut out: Vec<(Colour, f64, f64, f64)> = Vec::new();
+    for s in v {
+        match out.last_mut() {
+            Some(l) if l.0 == s.0 && l.1 == s.1 && s.2 <= l.3 => l.3 = l.3.max(s.3),
+            _ => out.push(s),
+        }
+    }
+    out
+}
+
+/// Spans (see [`spans`]), bands between curves, whiskers.
 fn draw_bands<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     p: &Panel,
@@ -765,16 +794,17 @@ fn draw_bands<DB: DrawingBackend>(
 ) -> DrawResult<(), DB> {
     let (px, _) = chart.plotting_area().get_pixel_range();
     let per_px = (xr.1 - xr.0) / f64::from((px.end - px.start).max(1));
+    for (c, alpha, a, b) in spans(p, MIN_SPAN_PX * per_px) {
+        let fill = c.rgb().mix(alpha).filled();
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(a, yr.0), (b, yr.1)],
+            fill,
+        )))?;
+    }
     for b in &p.bands {
         let fill = b.colour.rgb().mix(b.alpha).filled();
         match &b.shape {
-            Shape::Span(a, c) => {
-                let (a, c) = widen(*a, *c, MIN_SPAN_PX * per_px);
-                chart.draw_series(std::iter::once(Rectangle::new(
-                    [(a, yr.0), (c, yr.1)],
-                    fill,
-                )))?;
-            }
+            Shape::Span(..) => {}
             Shape::Between(v) => {
                 for run in finite_runs(v) {
                     let mut poly: Vec<(f64, f64)> = run.iter().map(|q| (q.0, q.1)).collect();

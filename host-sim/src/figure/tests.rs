@@ -55,6 +55,9 @@ fn a_legend_box_raises_the_top_and_leaves_the_data_below_it() {
     let (_, (y0, y1)) = ranges(&p, 0.2).unwrap();
     assert!((y0 + 0.5).abs() < 1e-12);
     assert!((y1 - (10.0 + 10.0 * 1.05 * 0.2 / 0.8)).abs() < 1e-9, "{y1}");
+    // Flat data still get a window: ±1 % of the value, then the margin.
+    let (_, (y0, y1)) = ranges(&panel(vec![(0.0, 83.8), (1.0, 83.8)]), 0.0).unwrap();
+    assert!(y0 < 83.8 && y1 > 83.8 && y1 - y0 < 3.0, "{y0} {y1}");
 }
 
 /// A panel with no finite value is refused, naming it; the renderer refuses the
