@@ -8,6 +8,7 @@ pub mod cli;
 pub mod cmd;
 pub mod csv;
 pub mod export;
+pub mod figure;
 pub mod firmware_log;
 pub mod measured;
 pub mod output;

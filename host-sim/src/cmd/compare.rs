@@ -19,7 +19,6 @@ use serde::Serialize;
 use crate::actual::{self, ActualArgs, ProfileStats};
 use crate::args::OutputArgs;
 use crate::output::{AtomicDir, Plan};
-use crate::plot::study as plots;
 use crate::report::Report;
 use crate::sim::{self, PeriodRow, RunSpec};
 use camsim_scene_file::units::Unit;
@@ -603,7 +602,7 @@ pub fn run(args: Args) -> Result<()> {
 }
 
 /// Column headers of the ranking table.
-const HEADERS: [(&str, &str); 9] = [
+pub(crate) const HEADERS: [(&str, &str); 9] = [
     ("sensitivity_to_flexibility", "S_flex"),
     ("sensitivity_to_tolerance", "S_tol"),
     ("shock_index", "shock"),
@@ -795,7 +794,7 @@ pub const PLOT_FILES: [&str; 2] = ["rankings.png", "responses.png"];
 
 /// Revolution-2 samples of one run: (cam angle in degrees, acceleration deviation,
 /// contact force).
-type Trace = Vec<(f64, f64, f64)>;
+pub(crate) type Trace = Vec<(f64, f64, f64)>;
 
 fn trace(spec: &RunSpec) -> Result<Trace> {
     let mut out = Vec::new();
@@ -815,7 +814,7 @@ fn trace(spec: &RunSpec) -> Result<Trace> {
 
 /// A ranked column's quantity and unit on a plot axis (`None`: dimensionless), and
 /// which way is better.
-fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
+pub(crate) fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
     use crate::units::{ACCELERATION, FORCE};
     use camsim_scene_file::units::{STRESS, TORQUE};
     match col {
@@ -846,9 +845,6 @@ fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
         ),
     }
 }
-
-/// Colour of the actual cam's curves in responses.png (the legend's swatch).
-const ACTUAL: plotters::style::RGBColor = plots::PALETTE[0];
 
 /// The laws whose responses `compare --plot` draws (the two best overall and the
 /// reference program's two), each on the theoretical cam and on one actual cam.
@@ -881,6 +877,8 @@ fn response_traces(
     Ok(traces)
 }
 
+/// Draws [`PLOT_FILES`]: the rankings, then the responses of the laws
+/// [`response_traces`] picks.
 fn draw(
     dir: &mut AtomicDir,
     laws: &[LawStudy],
@@ -888,234 +886,9 @@ fn draw(
     base: &RunSpec,
     actual: &ActualArgs,
 ) -> Result<()> {
-    use plotters::prelude::*;
-    // Rankings: one bar chart per ranked column, the laws' values, the best bar marked.
-    let names: Vec<&str> = laws.iter().map(|l| l.name.as_str()).collect();
-    let file = PLOT_FILES[0];
-    let cols = 3;
-    let rows = HEADERS.len().div_ceil(cols);
-    let e = |e: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {e}");
-    let mut title =
-        "Every workable law's value in each ranked column, revolution 2 (rank 1 in red)"
-            .to_string();
-    if !not_workable.is_empty() {
-        let names: Vec<&str> = not_workable.iter().map(|n| n.name.as_str()).collect();
-        title += &format!(
-            "; not workable (left the model's valid range): {}",
-            names.join(", ")
-        );
-    }
-    plots::png(dir, file, (1500, 420 * rows as u32 + 50), |root| {
-        let root = root
-            .titled(&title, (crate::plot::FONT, 24))
-            .map_err(|x| e(&x))?;
-        for ((col, head), area) in HEADERS.iter().zip(root.split_evenly((rows, cols)).iter()) {
-            let (what, unit, better) = rank_axis(col);
-            let (factor, unit) = unit.map_or((1.0, String::new()), crate::units::axis);
-            let v: Vec<f64> = laws
-                .iter()
-                .map(|l| factor * l.values.get(col).unwrap_or(0.0))
-                .collect();
-            let lo = v.iter().copied().fold(0.0f64, f64::min);
-            let hi = v.iter().copied().fold(0.0f64, f64::max);
-            let pad = 0.08 * (hi - lo).max(1e-12);
-            let (scale, sname) = plots::axis_scale(lo - pad, hi + pad);
-            let (lo, hi, pad) = (lo / scale, hi / scale, pad / scale);
-            let v: Vec<f64> = v.iter().map(|x| x / scale).collect();
-            let span = hi - lo + 2.0 * pad;
-            let x_fmt = |x: &f64| {
-                let x = if x.abs() < 1e-9 * span { 0.0 } else { *x };
-                crate::plot::fmt_tick(x, span * 0.8)
-            };
-            let mut chart = ChartBuilder::on(area)
-                .caption(format!("{head}: {better}"), (crate::plot::FONT, 17))
-                .margin(8)
-                .margin_right(24)
-                .x_label_area_size(50)
-                .y_label_area_size(150)
-                .build_cartesian_2d((lo - pad)..(hi + pad), (0..laws.len()).into_segmented())
-                .map_err(|x| e(&x))?;
-            chart
-                .configure_mesh()
-                .disable_y_mesh()
-                .y_labels(laws.len())
-                .y_label_formatter(&|sv| match sv {
-                    SegmentValue::Exact(i) | SegmentValue::CenterOf(i) => {
-                        names.get(*i).map(|s| s.to_string()).unwrap_or_default()
-                    }
-                    SegmentValue::Last => String::new(),
-                })
-                .x_labels(5)
-                .x_label_formatter(&x_fmt)
-                .x_desc(plots::axis_title(what, &unit, sname))
-                .label_style((crate::plot::FONT, 13))
-                .axis_desc_style((crate::plot::FONT, 14))
-                .draw()
-                .map_err(|x| e(&x))?;
-            chart
-                .draw_series(laws.iter().enumerate().map(|(i, l)| {
-                    let best = l.ranks.get(col) == Some(1);
-                    let color = if best {
-                        plots::PALETTE[1]
-                    } else {
-                        plots::PALETTE[0]
-                    };
-                    let mut r = Rectangle::new(
-                        [
-                            (0.0, SegmentValue::Exact(i)),
-                            (v[i], SegmentValue::Exact(i + 1)),
-                        ],
-                        color.filled(),
-                    );
-                    r.set_margin(3, 3, 0, 0);
-                    r
-                }))
-                .map_err(|x| e(&x))?;
-            if *col == "contact_force_min" {
-                // A law that jumps has no bar here: say so.
-                let font = (crate::plot::FONT, 13).into_font().color(&BLACK).pos(
-                    plotters::style::text_anchor::Pos::new(
-                        plotters::style::text_anchor::HPos::Left,
-                        plotters::style::text_anchor::VPos::Center,
-                    ),
-                );
-                chart
-                    .draw_series(
-                        v.iter()
-                            .enumerate()
-                            .filter(|(_, x)| **x <= 0.0)
-                            .map(|(i, _)| {
-                                Text::new(
-                                    format!("0 {unit}: contact lost"),
-                                    (0.02 * (hi + pad), SegmentValue::CenterOf(i)),
-                                    font.clone(),
-                                )
-                            }),
-                    )
-                    .map_err(|x| e(&x))?;
-            }
-        }
-        Ok(())
-    })?;
-    // Responses: the two best laws overall and the reference program's two laws (the
-    // worst laws' impacts would swamp the scale).
+    use crate::plot::compare::{rankings, responses};
+    let units = units::current();
+    crate::figure::draw(dir, PLOT_FILES[0], &rankings(laws, not_workable), units)?;
     let traces = response_traces(laws, base, actual)?;
-    let file = PLOT_FILES[1];
-    let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
-    // Small multiples: a row per law, its theoretical cam (grey) under its actual cam
-    // (colour); the acceleration deviation on the left, the contact force on the right,
-    // each column on one scale so the laws compare.
-    let rows = traces.len().max(1);
-    let (fa, ua) = crate::units::axis(crate::units::ACCELERATION);
-    let (ff, uf) = crate::units::axis(crate::units::FORCE);
-    // compare simulates one actual cam per law (sample 0): no band over samples to draw.
-    let traces: Vec<(String, Trace, Trace)> = traces
-        .into_iter()
-        .map(|(n, a, b)| {
-            let conv = |t: Trace| -> Trace {
-                t.into_iter().map(|(x, y, z)| (x, fa * y, ff * z)).collect()
-            };
-            (n, conv(a), conv(b))
-        })
-        .collect();
-    plots::png(dir, file, (1500, 90 + 300 * rows as u32), |root| {
-        let (head, body) = root.split_vertically(90);
-        crate::plot::draw_title(
-            &head,
-            "Revolution 2 on the theoretical cam and on one actual cam (sample 0 of --seed), by law",
-            24,
-            10,
-        )
-        .map_err(|x| e(&x))?;
-        plots::legend_row(
-            &head,
-            &[
-                (RGBColor(150, 150, 150), "theoretical cam".to_string()),
-                (
-                    ACTUAL,
-                    "one actual cam (sample 0; for the spread over many cams: camsim montecarlo)"
-                        .to_string(),
-                ),
-            ],
-            66,
-        )
-        .map_err(|x| e(&x))?;
-        let range = |acc: bool| {
-            let (lo, hi) = traces
-                .iter()
-                .flat_map(|t| t.1.iter().chain(&t.2))
-                .map(|p| if acc { p.1 } else { p.2 })
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(v), b.max(v))
-                });
-            let (lo, hi) = if lo < hi { (lo, hi) } else { (-1.0, 1.0) };
-            let pad = 0.05 * (hi - lo);
-            (lo - pad, hi + pad)
-        };
-        let areas = body.split_evenly((rows, 2));
-        for (k, t) in traces.iter().enumerate() {
-            for (c, acc) in [true, false].into_iter().enumerate() {
-                let Some(area) = areas.get(2 * k + c) else {
-                    continue;
-                };
-                let (lo, hi) = range(acc);
-                let last = k + 1 == traces.len();
-                let what = if acc {
-                    format!("load acceleration − the law's rigid acceleration ({ua})")
-                } else {
-                    format!("contact force Fc ({uf})")
-                };
-                let mut chart = ChartBuilder::on(area)
-                    .caption(
-                        format!(
-                            "{}: {}",
-                            t.0,
-                            if acc {
-                                "acceleration deviation"
-                            } else {
-                                "contact force"
-                            }
-                        ),
-                        (crate::plot::FONT, 17),
-                    )
-                    .margin(8)
-                    .margin_right(20)
-                    .x_label_area_size(if last { 50 } else { 22 })
-                    .y_label_area_size(70)
-                    .build_cartesian_2d(0.0..360.0, lo..hi)
-                    .map_err(|x| e(&x))?;
-                let span = hi - lo;
-                let y_fmt = |v: &f64| crate::plot::fmt_tick(*v, span * 0.8);
-                let mut mesh = chart.configure_mesh();
-                mesh.x_labels(13)
-                    .y_labels(5)
-                    .x_label_formatter(&|v| format!("{v:.0}"))
-                    .y_label_formatter(&y_fmt)
-                    .y_desc(if acc { ua.as_str() } else { uf.as_str() })
-                    .label_style((crate::plot::FONT, 13))
-                    .axis_desc_style((crate::plot::FONT, 14))
-                    .light_line_style(RGBColor(240, 240, 240))
-                    .bold_line_style(RGBColor(215, 215, 215));
-                if last {
-                    mesh.x_desc(format!("cam angle θ (deg); {what}"));
-                }
-                mesh.draw().map_err(|x| e(&x))?;
-                for (trace, style) in [
-                    (&t.1, RGBColor(150, 150, 150).stroke_width(2)),
-                    (&t.2, ACTUAL.stroke_width(1)),
-                ] {
-                    let xs: Vec<f64> = trace.iter().map(|p| p.0).collect();
-                    let ys: Vec<f64> = trace.iter().map(|p| if acc { p.1 } else { p.2 }).collect();
-                    for run in crate::plot::decimate(&xs, &ys, 0.0..360.0, 1400) {
-                        chart
-                            .draw_series(LineSeries::new(run, style))
-                            .map_err(|x| e(&x))?;
-                    }
-                }
-            }
-        }
-        Ok(())
-    })?;
-    Ok(())
+    crate::figure::draw(dir, PLOT_FILES[1], &responses(&traces), units)
 }

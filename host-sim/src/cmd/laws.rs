@@ -5,6 +5,7 @@
 use camsim_core::{CamGeometry, CamProgram, LawValue, MotionLaw, PeakScan, ScanEnds};
 use serde::Serialize;
 
+use crate::figure::{palette, Axis, Entry, Figure, Panel, Series, Strip, Stroke, Swatch, Ticks};
 use crate::report::Report;
 
 /// Command-line options.
@@ -27,121 +28,60 @@ pub const PLOT_SIZE: (u32, u32) = (1200, 1600);
 /// Points of each curve over u in [0, 1].
 const PLOT_POINTS: usize = 2000;
 
-/// One colour a law (Tableau's 10 and two more), in the order of [`MotionLaw::ALL`].
-const LAW_COLORS: [plotters::style::RGBColor; 12] = [
-    plotters::style::RGBColor(31, 119, 180),
-    plotters::style::RGBColor(255, 127, 14),
-    plotters::style::RGBColor(44, 160, 44),
-    plotters::style::RGBColor(214, 39, 40),
-    plotters::style::RGBColor(148, 103, 189),
-    plotters::style::RGBColor(140, 86, 75),
-    plotters::style::RGBColor(227, 119, 194),
-    plotters::style::RGBColor(127, 127, 127),
-    plotters::style::RGBColor(188, 189, 34),
-    plotters::style::RGBColor(23, 190, 207),
-    plotters::style::RGBColor(0, 0, 0),
-    plotters::style::RGBColor(255, 187, 120),
-];
-
-/// Draws every law's s, ds/du, d²s/du² and d³s/du³ over u in [0, 1] (a unit rise over a
+/// Every law's s, ds/du, d²s/du² and d³s/du³ over u in [0, 1] (a unit rise over a
 /// unit angle), four panels, one colour a law, the legend in a strip of its own above.
-pub fn draw(dir: &mut crate::output::AtomicDir, file: &str) -> anyhow::Result<()> {
-    use plotters::prelude::*;
-    let err = |e: &dyn std::fmt::Display| anyhow::anyhow!("cannot draw plot {file}: {e}");
+pub fn figure() -> Figure {
     let us: Vec<f64> = (0..=PLOT_POINTS)
         .map(|k| k as f64 / PLOT_POINTS as f64)
         .collect();
     type Pick = fn(&LawValue<f64>) -> f64;
-    let panels: [(&str, Pick); 4] = [
+    let quantities: [(&str, Pick); 4] = [
         ("S: lift s (fraction of the rise)", |x| x.s),
         ("V: ds/du", |x| x.v),
         ("A: d²s/du²", |x| x.a),
         ("J: d³s/du³", |x| x.j),
     ];
-    crate::plot::study::png(dir, file, PLOT_SIZE, |root| {
-        let (title, rest) = root.split_vertically(50);
-        crate::plot::draw_title(
-            &title,
-            "Motion laws (Appendix A), normalized: a unit rise over a unit angle, u = θ/β",
-            24,
-            14,
-        )
-        .map_err(|e| err(&e))?;
-        let (legend, body) = rest.split_vertically(125);
-        legend
-            .draw(&Text::new(
-                "Not drawn: the impulses at a velocity or acceleration jump (straight-line at its ends, parabolic and cubic-1 at mid-stroke).",
-                (110, 96),
-                (crate::plot::FONT, 15).into_font().color(&RGBColor(90, 90, 90)),
-            ))
-            .map_err(|e| err(&e))?;
-        for (k, law) in MotionLaw::ALL.iter().enumerate() {
-            let color = LAW_COLORS.get(k).copied().unwrap_or(BLACK);
-            let x = 110 + (k % 4) as i32 * 270;
-            let y = 12 + (k / 4) as i32 * 28;
-            legend
-                .draw(&PathElement::new(
-                    vec![(x, y + 9), (x + 30, y + 9)],
-                    color.stroke_width(3),
-                ))
-                .map_err(|e| err(&e))?;
-            legend
-                .draw(&Text::new(
-                    law.name(),
-                    (x + 38, y),
-                    (crate::plot::FONT, 17).into_font().color(&BLACK),
-                ))
-                .map_err(|e| err(&e))?;
-        }
-        let areas = body.split_evenly((panels.len(), 1));
-        let last = panels.len() - 1;
-        for (p, ((desc, pick), area)) in panels.iter().zip(areas.iter()).enumerate() {
-            let curves: Vec<Vec<(f64, f64)>> = MotionLaw::ALL
-                .iter()
-                .map(|law| us.iter().map(|&u| (u, pick(&law.eval(u)))).collect())
-                .collect();
-            let (lo, hi) = curves
-                .iter()
-                .flatten()
-                .map(|p| p.1)
-                .filter(|v| v.is_finite())
-                .fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
-            let pad = 0.05 * (hi - lo).max(1e-9);
-            let (y0, y1) = (lo - pad, hi + pad);
-            let mut chart = ChartBuilder::on(area)
-                .margin_left(10)
-                .margin_right(25)
-                .margin_top(8)
-                .margin_bottom(4)
-                .x_label_area_size(if p == last { 55 } else { 30 })
-                .y_label_area_size(90)
-                .build_cartesian_2d(0.0..1.0, y0..y1)
-                .map_err(|e| err(&e))?;
-            let yfmt = |v: &f64| crate::plot::fmt_tick(*v, y1 - y0);
-            let xfmt = |v: &f64| format!("{v:.1}");
-            let mut mesh = chart.configure_mesh();
-            mesh.y_desc(*desc)
-                .y_labels(8)
-                .x_labels(11)
-                .x_label_formatter(&xfmt)
-                .y_label_formatter(&yfmt)
-                .label_style((crate::plot::FONT, 16))
-                .axis_desc_style((crate::plot::FONT, 18))
-                .bold_line_style(RGBColor(215, 215, 215))
-                .light_line_style(RGBColor(240, 240, 240));
-            if p == last {
-                mesh.x_desc("u = θ/β (fraction of the rise angle)");
+    let colour = |k: usize| palette::SERIES.get(k).copied().unwrap_or(palette::BLACK);
+    let panels = quantities
+        .iter()
+        .enumerate()
+        .map(|(p, (title, pick))| {
+            let last = p + 1 == quantities.len();
+            let x = Axis::plain(
+                if last {
+                    "u = θ/β (fraction of the rise angle)"
+                } else {
+                    ""
+                },
+                "",
+            );
+            let mut y = Axis::plain(title, "");
+            y.zero = true;
+            let mut panel = Panel::new(x.range(0.0, 1.0).ticks(Ticks::Auto(10)), y);
+            for (k, law) in MotionLaw::ALL.iter().enumerate() {
+                let points = us.iter().map(|&u| (u, pick(&law.eval(u)))).collect();
+                panel
+                    .series
+                    .push(Series::line(None, points, Stroke::solid(colour(k), 2)));
             }
-            mesh.draw().map_err(|e| err(&e))?;
-            for (k, c) in curves.into_iter().enumerate() {
-                let color = LAW_COLORS.get(k).copied().unwrap_or(BLACK);
-                chart
-                    .draw_series(LineSeries::new(c, color.stroke_width(2)))
-                    .map_err(|e| err(&e))?;
-            }
-        }
-        Ok(())
-    })
+            panel
+        })
+        .collect();
+    let title = "Motion laws (Appendix A), normalized: a unit rise over a unit angle, u = θ/β";
+    let mut fig = Figure::new(title, PLOT_SIZE, panels);
+    fig.strip = Strip {
+        entries: MotionLaw::ALL
+            .iter()
+            .enumerate()
+            .map(|(k, law)| Entry {
+                swatch: Swatch::Line(Stroke::solid(colour(k), 3), None),
+                text: law.name().to_string(),
+            })
+            .collect(),
+        columns: 4,
+        note: Some("Not drawn: the impulses at a velocity or acceleration jump (straight-line at its ends, parabolic and cubic-1 at mid-stroke).".into()),
+    };
+    fig
 }
 
 /// One law's peak coefficients (unit rise over a unit angle) and reference-cam pressure angle.
@@ -285,7 +225,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(d) = &args.output.plot {
         let mut plan = crate::output::Plan::new(args.output.force);
         let mut dir = plan.dir("--plot", d, &PLOT_FILES)?.open()?;
-        draw(&mut dir, PLOT_FILES[0])?;
+        crate::figure::draw(&mut dir, PLOT_FILES[0], &figure(), crate::units::current())?;
         dir.commit()?;
     }
     crate::report::print(&report(), args.output.json)

@@ -118,7 +118,8 @@ pub fn run(args: Args) -> Result<()> {
     let mut plot = match plot_target {
         Some(t) => {
             let mut dir = t.open()?;
-            sweep::draw(&mut dir, PLOT_FILES[0], &report)?;
+            let fig = crate::plot::sweep::figure(&report);
+            crate::figure::draw(&mut dir, PLOT_FILES[0], &fig, crate::units::current())?;
             Some(dir)
         }
         None => None,

@@ -4,7 +4,7 @@
 
 use anyhow::Result;
 
-use super::study::{probability_chart, stacked_histograms, HistPanel, ProbBar, ALL, HELD, JUMPED};
+use super::charts::{histograms, probabilities, HistPanel, ProbBar, ALL, HELD, JUMPED};
 use crate::output::AtomicDir;
 use crate::stats::stream::Stream;
 use crate::stats::Probability;
@@ -41,7 +41,7 @@ fn quantity(col: &str) -> (&'static str, &'static str, Option<Unit>) {
     }
 }
 
-/// A column's factor on its inch-family values and its unit on the axis, in the
+/// A column's factor on its inch-family values and its unit (for a panel's note), in the
 /// output's family (`--units`).
 fn axis_unit(col: &str) -> (f64, String) {
     quantity(col)
@@ -67,9 +67,8 @@ fn panel(
         .zip(&jumped)
         .map(|(a, j)| a.saturating_sub(*j))
         .collect();
-    let (_, q, _) = quantity(col);
+    let (_, q, quantity_unit) = quantity(col);
     let (factor, unit) = axis_unit(col);
-    let (lo, hi) = (lo * factor, hi * factor);
     let note = all.range().filter(|(a, b)| a == b).map(|(v, _)| {
         let v = v * factor;
         let lost = if col.starts_with("contact_force_min") && v <= 0.0 {
@@ -85,7 +84,7 @@ fn panel(
     HistPanel {
         caption,
         quantity: q.to_string(),
-        unit,
+        unit: quantity_unit,
         lo,
         hi,
         held,
@@ -162,15 +161,10 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
         bins,
         n,
     ));
-    stacked_histograms(
-        dir,
-        PLOT_FILES[0],
-        &format!("{n} actual cams, revolution {revolution}: histograms"),
-        &legend_profiles,
-        "cams",
-        &panels,
-        4,
-    )?;
+    let units = crate::units::current();
+    let title = format!("{n} actual cams, revolution {revolution}: histograms");
+    let fig = histograms(&title, &legend_profiles, "cams", &panels, 4);
+    crate::figure::draw(dir, PLOT_FILES[0], &fig, units)?;
     let mut panels = Vec::new();
     for col in [
         "rms_acceleration",
@@ -193,25 +187,14 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
             }
         }
     }
-    stacked_histograms(
-        dir,
-        PLOT_FILES[1],
-        &format!("{n} actual cams, revolution {revolution}, by period: histograms"),
-        &legend,
-        "cams",
-        &panels,
-        stats.periods.len().max(1),
-    )?;
-    probability_chart(
-        dir,
-        PLOT_FILES[2],
-        &format!(
-            "Probability of a jump in revolution {revolution} over {n} actual cams, by period and over the revolution"
-        ),
-        "P(jump)",
-        n,
-        &jump_bars(stats),
-    )
+    let title = format!("{n} actual cams, revolution {revolution}, by period: histograms");
+    let fig = histograms(&title, &legend, "cams", &panels, stats.periods.len().max(1));
+    crate::figure::draw(dir, PLOT_FILES[1], &fig, units)?;
+    let title = format!(
+        "Probability of a jump in revolution {revolution} over {n} actual cams, by period and over the revolution"
+    );
+    let fig = probabilities(&title, "P(jump)", n, &jump_bars(stats));
+    crate::figure::draw(dir, PLOT_FILES[2], &fig, units)
 }
 
 #[cfg(test)]
