@@ -333,6 +333,64 @@ fn scene_new_templates_read_back() {
     }
 }
 
+/// The keys of `scene` output (the listing's `# path = value` lines and the scene's
+/// `key = value` lines), without their table path.
+fn output_keys(out: &str) -> Vec<String> {
+    out.lines()
+        .filter_map(|l| l.trim_start_matches(['#', ' ']).split_once(" = "))
+        .map(|(k, _)| k.rsplit('.').next().unwrap().to_string())
+        .collect()
+}
+
+/// Issue 30: `scene --check` on an SI file lists and prints it back in SI whatever
+/// `--units` says (every key with a unit is the SI one: converting it to SI leaves it
+/// as it is), the user's values as written and the derived ones under SI keys; an inch
+/// file under the default units stays in inch (the check can fail).
+#[test]
+fn scene_check_keeps_an_si_files_unit_family() {
+    use camsim::units::{key_in, Units};
+    let si = scene_file("check-si", camsim::cmd::scene::NEW_SI);
+    let inch = scene_file("check-inch", camsim::cmd::scene::NEW_INCH);
+    let out = |p: &std::path::Path, json: bool| {
+        let mut argv = vec!["camsim", "scene", "--check", p.to_str().unwrap()];
+        if json {
+            argv.push("--json");
+        }
+        let camsim::cli::Command::Scene(a) = camsim::cli::parse_from(argv).unwrap().command else {
+            panic!("not scene")
+        };
+        camsim::cmd::scene::output(&a, Units::Inch).unwrap()
+    };
+    let text = out(&si, false);
+    let keys = output_keys(&text);
+    assert!(keys.len() > 100, "{text}");
+    for k in &keys {
+        assert_eq!(
+            key_in(k, Units::Si).0,
+            *k,
+            "an inch key in an SI file's check:\n{text}"
+        );
+    }
+    for line in [
+        "#   design.moving_mass_kg = 2.0",
+        "#   design.spring_rate_n_per_mm = 10.0",
+        "#   design.load_mass_kg = ",
+        "#     e2_mm = 50.8",
+        "\nbase_radius_mm = 60",
+    ] {
+        assert!(text.contains(line), "{line:?} missing:\n{text}");
+    }
+    let json: serde_json::Value = serde_json::from_str(&out(&si, true)).unwrap();
+    assert_eq!(json["design"]["geometry"]["base_radius_mm"], 60.0);
+    assert!(json["design"]["geometry"].get("base_radius_in").is_none());
+    let inch_text = out(&inch, false);
+    assert!(inch_text.contains("#   design.moving_mass_lb = 4.5"));
+    assert!(output_keys(&inch_text)
+        .iter()
+        .all(|k| key_in(k, Units::Inch).0 == *k));
+    let _ = (std::fs::remove_file(&si), std::fs::remove_file(&inch));
+}
+
 /// Issue 30: the verdict's spring checks on a `[design.spring]` part, against the closed
 /// forms: force at full compression k (δ_rs + h), Wahl's stress τ = K_W 8 F D / (π d³),
 /// solid height d N_t (squared and ground), and the free-length check L_0 − (δ_rs + h) > L_s.

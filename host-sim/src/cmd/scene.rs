@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
+use crate::units::Units;
+
 /// Command-line options of `camsim scene`.
 #[derive(clap::Args, Debug)]
 #[command(group(clap::ArgGroup::new("what").required(true).args(["default", "check", "new"])))]
@@ -21,7 +23,9 @@ pub struct Args {
     /// Validate a scene file, list as comments where each value comes from (taken from
     /// the file, derived and from what, inherited from the reference design, grouped:
     /// drive, follower rod and bearings, cam width and materials, masses), and print it
-    /// back complete (every key, defaults filled in; with `--units si`, its keys in SI).
+    /// back complete (every key, defaults filled in). Both in the file's unit family: an
+    /// SI file's (keys in mm, N, kg) in SI whatever --units says, an inch file's in
+    /// inch unless --units si.
     #[arg(long, value_name = "FILE")]
     pub check: Option<PathBuf>,
     /// Print the scene as JSON (the file's tables as objects, every key with its unit;
@@ -32,18 +36,30 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
+    crate::report::out(&output(&args, crate::units::current())?)
+}
+
+/// What the command prints, `units` being `--units`.
+pub fn output(args: &Args, units: Units) -> Result<String> {
     if args.new {
-        return crate::report::out(match crate::units::current() {
-            crate::units::Units::Inch => NEW_INCH,
-            crate::units::Units::Si => NEW_SI,
-        });
+        return Ok(match units {
+            Units::Inch => NEW_INCH,
+            Units::Si => NEW_SI,
+        }
+        .to_string());
     }
     let mut listing = String::new();
+    let mut units = units;
     let text = if let Some(p) = &args.check {
         let spec = crate::scene::load(p)?;
         let file =
             camsim_scene_file::read_text(p, camsim_scene_file::MAX_SCENE_BYTES, "the scene file")?;
-        listing = crate::scene::listing(&file, &spec)?;
+        // An SI file is listed and printed back in SI: never an inch key for a value
+        // the user wrote in mm, N or kg.
+        if crate::scene::file_family(&file)? == Some(Units::Si) {
+            units = Units::Si;
+        }
+        listing = crate::scene::listing(&file, &spec, units)?;
         crate::scene::spec_text(&spec)?
     } else if args.default {
         crate::scene::default_text()?
@@ -51,28 +67,32 @@ pub fn run(args: Args) -> Result<()> {
         anyhow::bail!("camsim scene: give --default (print the reference scene) or --check FILE");
     };
     if args.json {
-        return crate::report::out(&format!("{}\n", json(&text)?));
+        return Ok(format!("{}\n", json_in(&text, units)?));
     }
     if !listing.is_empty() {
-        crate::report::out(&format!("{listing}\n"))?;
+        listing.push('\n');
     }
-    match crate::units::current() {
-        crate::units::Units::Inch => crate::report::out(&text),
+    let scene = match units {
+        Units::Inch => text,
         // The same scene with its keys in SI (`base_radius_mm`, ...): it reads back to
         // the same design.
-        crate::units::Units::Si if args.default => {
-            crate::report::out(&crate::scene::default_text_si()?)
-        }
-        crate::units::Units::Si => crate::report::out(&crate::scene::in_si(&text)),
-    }
+        Units::Si if args.default => crate::scene::default_text_si()?,
+        Units::Si => crate::scene::in_si(&text),
+    };
+    Ok(listing + &scene)
 }
 
 /// A scene file's text as JSON: its tables as objects, its arrays of tables as arrays,
 /// every key in the unit family of `--units` ([`crate::units`]).
 pub fn json(text: &str) -> Result<String> {
+    json_in(text, crate::units::current())
+}
+
+/// [`json`] in the unit family `units`.
+fn json_in(text: &str, units: Units) -> Result<String> {
     let doc: toml::Table = toml::from_str(text)
         .map_err(|e| anyhow::anyhow!("the scene as written does not read back: {e}"))?;
-    let value = crate::units::convert(serde_json::to_value(&doc)?, crate::units::current());
+    let value = crate::units::convert(serde_json::to_value(&doc)?, units);
     Ok(serde_json::to_string_pretty(&value)?)
 }
 
