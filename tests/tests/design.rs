@@ -310,11 +310,13 @@ fn a_moving_mass_is_the_models_translating_mass() {
 /// machine: the keys they give are the design's, and the drive is named.
 #[test]
 fn scene_new_templates_read_back() {
+    use camsim::cmd::scene::new_template;
+    use camsim::units::Units;
     for (text, kg) in [
-        (camsim::cmd::scene::NEW_INCH, 4.5 * 0.453_592_37),
-        (camsim::cmd::scene::NEW_SI, 2.0),
+        (new_template(Units::Inch), 4.5 * 0.453_592_37),
+        (new_template(Units::Si), 2.0),
     ] {
-        let spec = camsim::scene::parse(text).unwrap();
+        let spec = camsim::scene::parse(&text).unwrap();
         let total = spec.design.moving_mass().total() * 9.80665 / 0.0254 * 0.453_592_37;
         assert!((total - kg).abs() < 1e-9, "{total} {kg}");
         assert_eq!(spec.design.drive, camsim_core::DriveLaw::ConstantCamSpeed);
@@ -349,8 +351,8 @@ fn output_keys(out: &str) -> Vec<String> {
 #[test]
 fn scene_check_keeps_an_si_files_unit_family() {
     use camsim::units::{key_in, Units};
-    let si = scene_file("check-si", camsim::cmd::scene::NEW_SI);
-    let inch = scene_file("check-inch", camsim::cmd::scene::NEW_INCH);
+    let si = scene_file("check-si", &camsim::cmd::scene::new_template(Units::Si));
+    let inch = scene_file("check-inch", &camsim::cmd::scene::new_template(Units::Inch));
     let out = |p: &std::path::Path, json: bool| {
         let mut argv = vec!["camsim", "scene", "--check", p.to_str().unwrap()];
         if json {
@@ -375,7 +377,8 @@ fn scene_check_keeps_an_si_files_unit_family() {
         "#   design.moving_mass_kg = 2.0",
         "#   design.spring_rate_n_per_mm = 10.0",
         "#   design.load_mass_kg = ",
-        "#     e2_mm = 50.8",
+        "#   design.e2_mm = 80.0",
+        "#     follower_density_kg_per_m3 = 7849.99",
         "\nbase_radius_mm = 60",
     ] {
         assert!(text.contains(line), "{line:?} missing:\n{text}");
@@ -389,6 +392,62 @@ fn scene_check_keeps_an_si_files_unit_family() {
         .iter()
         .all(|k| key_in(k, Units::Inch).0 == *k));
     let _ = (std::fs::remove_file(&si), std::fs::remove_file(&inch));
+}
+
+/// Issue 30's task from `scene --new --units si`: the template with only its values
+/// changed to a 40 mm rise and return over 120° each (modified sine), base radius 60 mm,
+/// roller 15 mm, 1.2 kg moving, 300 rpm, 10 N/mm with 30 mm preload. It reads back (the
+/// template's rod leaves a load, and its e2 clears a 40 mm lift with a 15 mm roller),
+/// its mass line is the closed form (the template's 16 mm steel rod,
+/// rho A (e1 + e2) = 7849.99 kg/m^3 x 201.06 mm^2 x 230 mm), and it runs: contact holds,
+/// as it must where the spring's least force k delta = 300 N exceeds the largest
+/// inertia force 1.2 kg x C_a h (omega/beta)^2 = 59.7 N (modified sine, C_a = 5.528).
+#[test]
+fn the_issues_task_runs_from_the_si_template() {
+    let task = [
+        ("moving_mass_kg", "1.2"),
+        ("spring_rate_n_per_mm", "10.0"),
+        ("spring_preload_length_mm", "30.0"),
+        ("base_radius_mm", "60.0"),
+        ("roller_radius_mm", "15.0"),
+        ("lift_mm", "40.0"),
+        ("rpm", "300.0"),
+    ];
+    let template = camsim::cmd::scene::new_template(camsim::units::Units::Si);
+    let mut changed = 0;
+    let text: String = template
+        .lines()
+        .map(|l| {
+            let key = l.split(" = ").next().unwrap();
+            match task.iter().find(|(k, _)| *k == key) {
+                Some((k, v)) => {
+                    changed += 1;
+                    format!("{k} = {v}\n")
+                }
+                None => format!("{l}\n"),
+            }
+        })
+        .collect();
+    assert_eq!(changed, 8, "every task value has its key in the template");
+    let p = scene_file("task", &text);
+    let v = run_scene(&p);
+    std::fs::remove_file(&p).unwrap();
+    let kg = 0.453_592_37;
+    let rod = 7849.99 * 201.06e-9 * 230.0;
+    assert!((v.mass.moving_mass_lb * kg - 1.2).abs() < 1e-9);
+    assert!(
+        (v.mass.rod_mass_lb * kg / rod - 1.0).abs() < 1e-5,
+        "{:?}",
+        v.mass
+    );
+    assert!(v.mass.load_mass_lb * kg > 0.7, "{:?}", v.mass);
+    assert!(v.contact.holds, "{:?}", v.contact);
+    let inertia = 1.2
+        * 5.528
+        * 0.040
+        * (10.0 * std::f64::consts::PI / (2.0 * std::f64::consts::PI / 3.0)).powi(2);
+    assert!((inertia - 59.7).abs() < 0.1, "{inertia}");
+    assert!(v.contact.min_contact_force_lb * 4.448_221_615_260_5 > 300.0 - inertia);
 }
 
 /// Issue 30: the verdict's spring checks on a `[design.spring]` part, against the closed
