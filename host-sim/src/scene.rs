@@ -41,6 +41,7 @@ pub fn run_spec(scene: CheckedScene) -> RunSpec {
         profile: None,
         limits: scene.limits,
         spring: scene.spring,
+        motor_table: scene.motor_table,
     }
 }
 
