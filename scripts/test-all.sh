@@ -212,6 +212,9 @@ smoke roundtrip run --measured "$studies/cam/surface_radius.csv" --revolutions 1
 smoke profile-si profile "$studies/ref.toml" --out "$studies/cam-si" --units si --json
 grep -qx 'angle_deg,radius_mm' "$studies/cam-si/surface_radius.csv" || { echo "smoke: profile --units si does not write radius_mm" >&2; exit 1; }
 smoke roundtrip-si run --measured "$studies/cam-si/surface_radius.csv" --revolutions 1 --json
+smoke profile-every profile "$studies/ref.toml" --out "$studies/cam-deg" --every-deg 1 --units si --json
+jq -e '.every_deg == 1' "$studies/profile-every.out" >/dev/null || { echo "smoke: profile --every-deg 1 does not report its step" >&2; exit 1; }
+smoke roundtrip-every run --measured "$studies/cam-deg/surface_radius.csv" --revolutions 1 --json
 smoke modal-scene modal "$studies/ref.toml" --json
 smoke contact-scene contact "$studies/ref.toml" --force 50 --json
 smoke predict-scene predict "$studies/ref.toml" --json

@@ -41,6 +41,7 @@ pub fn run_spec(scene: CheckedScene) -> RunSpec {
         profile: None,
         limits: scene.limits,
         spring: scene.spring,
+        motor_table: scene.motor_table,
     }
 }
 
@@ -319,7 +320,7 @@ fn design_values(design: &camsim_core::Design<f64>) -> Result<Vec<(String, toml:
 
 /// `path = value` in the output's unit family (`--units`): the key renamed and the number
 /// converted, to 7 significant digits.
-fn in_family(path: &str, v: &toml::Value) -> String {
+fn in_family(path: &str, v: &toml::Value, units: crate::units::Units) -> String {
     let (table, name) = path.rsplit_once('.').unwrap_or(("", path));
     let joined = |n: &str| {
         if table.is_empty() {
@@ -333,16 +334,38 @@ fn in_family(path: &str, v: &toml::Value) -> String {
         toml::Value::Integer(i) => *i as f64,
         other => return format!("{path} = {other}"),
     };
-    let (name, factor) = crate::units::key_in(name, crate::units::current());
+    let (name, factor) = crate::units::key_in(name, units);
     let y = x * factor;
     let y: f64 = format!("{y:.6e}").parse().unwrap_or(y);
     format!("{} = {y}", joined(&name))
 }
 
+/// The unit family scene `text`'s keys are written in: `Some(Si)` when every key with a
+/// unit is an SI one (`base_radius_mm`), `Some(Inch)` when every one is in the inch
+/// family, `None` when it has none or mixes them.
+pub fn file_family(text: &str) -> Result<Option<crate::units::Units>> {
+    use crate::units::{key_in, Units};
+    let origins = camsim_scene_file::origins(text)?;
+    let (mut si, mut inch) = (false, false);
+    for (inch_path, user, _) in &origins.from_file {
+        let name = user.rsplit('.').next().unwrap_or(user);
+        if *inch_path != *user {
+            si = true;
+        } else if key_in(name, Units::Si).0 != name {
+            inch = true;
+        }
+    }
+    Ok(match (si, inch) {
+        (true, false) => Some(Units::Si),
+        (false, true) => Some(Units::Inch),
+        _ => None,
+    })
+}
+
 /// `scene --check`'s listing, as TOML comments: the values taken from the file (as
 /// written), the values derived (and from which of the user's keys), and the values
 /// inherited from the reference design, grouped.
-pub fn listing(text: &str, spec: &RunSpec) -> Result<String> {
+pub fn listing(text: &str, spec: &RunSpec, units: crate::units::Units) -> Result<String> {
     use std::fmt::Write;
     let origins = camsim_scene_file::origins(text)?;
     let values = design_values(&spec.design)?;
@@ -363,7 +386,9 @@ pub fn listing(text: &str, spec: &RunSpec) -> Result<String> {
         let value = values
             .iter()
             .find(|(p, _)| p == rel)
-            .map_or(path.clone(), |(p, v)| format!("design.{}", in_family(p, v)));
+            .map_or(path.clone(), |(p, v)| {
+                format!("design.{}", in_family(p, v, units))
+            });
         let _ = writeln!(out, "#   {value} (from {from}: {rule})");
     }
     let _ = writeln!(
@@ -382,7 +407,7 @@ pub fn listing(text: &str, spec: &RunSpec) -> Result<String> {
         };
         let _ = writeln!(out, "#   {name}:");
         for (p, v) in std::iter::once(first).chain(group) {
-            let _ = writeln!(out, "#     {}", in_family(p, v));
+            let _ = writeln!(out, "#     {}", in_family(p, v, units));
         }
     }
     Ok(out)

@@ -60,6 +60,9 @@ pub struct RunSpec {
     /// The return spring as a part (`[design.spring]`; None: the wire-and-coil model's
     /// spring of the design's rate). `--spring-rate` drops it.
     pub spring: Option<camsim_scene_file::spring::SpringPart>,
+    /// The scene gave its drive as a `[design.drive.motor]` table: the drive's messages
+    /// name that table.
+    pub motor_table: bool,
 }
 
 impl RunSpec {
@@ -76,6 +79,7 @@ impl RunSpec {
             profile: None,
             limits: camsim_scene_file::Limits::default(),
             spring: None,
+            motor_table: false,
         }
     }
 }
@@ -103,7 +107,7 @@ pub fn stall_hint(design: &Design<f64>) -> Option<String> {
         design.k_rs
     );
     let drive = format!(
-        "the drive's torque limit of {t_max:.0} lb in (design.drive.regulated.t_max_lb_in)"
+        "the drive's torque limit of {t_max:.0} lb in (design.drive.regulated.t_max_lb_in, or torque_limit_lb_in of [design.drive.motor])"
     );
     Some(if peak > t_max {
         format!("{spring}, more than {drive}: a softer spring or a stronger drive")

@@ -302,8 +302,8 @@ pub fn mass(design: &Design<f64>) -> MassVerdict {
 /// The drive and the cam speed it held over the judged revolutions.
 #[derive(Clone, Debug, Serialize)]
 pub struct DriveVerdict {
-    /// The drive as the scene names it (`regulated`, `constant-cam-speed`,
-    /// `constant-motor-speed`).
+    /// The drive: `constant-cam-speed`, `constant-motor-speed`, `regulated` (the thesis's
+    /// or a `[design.drive.regulated]` table) or `motor` (a `[design.drive.motor]` table).
     pub drive: &'static str,
     /// What it is, in words.
     pub description: String,
@@ -320,9 +320,10 @@ pub struct DriveVerdict {
     pub swing_limit_percent: f64,
 }
 
-/// The drive verdict of `design` from the cam speeds `watch` saw.
-pub fn drive(design: &Design<f64>, watch: &Watch) -> DriveVerdict {
+/// The drive verdict of `spec` from the cam speeds `watch` saw.
+pub fn drive(spec: &crate::sim::RunSpec, watch: &Watch) -> DriveVerdict {
     use camsim_core::{rad_per_s_to_rpm, DriveLaw};
+    let design = &spec.design;
     let w0 = design.omega0;
     let (lo, hi) = watch.cam_speed.unwrap_or((w0, w0));
     let (drive, description) = match design.drive {
@@ -335,13 +336,22 @@ pub fn drive(design: &Design<f64>, watch: &Watch) -> DriveVerdict {
             "the motor held at the nominal speed; coupling and cam shafts twist".to_string(),
         ),
         DriveLaw::Regulated { k_p, t_max, .. } => (
-            "regulated",
+            if spec.motor_table {
+                "motor"
+            } else {
+                "regulated"
+            },
             format!(
-                "speed-regulated motor, gain {} {}, torque limit {} {} (the thesis's motor unless [design.drive.regulated] says otherwise)",
+                "speed-regulated motor, gain {} {}, torque limit {} {} ({})",
                 crate::units::q(camsim_scene_file::units::GAIN, k_p, 1),
                 crate::units::symbol(camsim_scene_file::units::GAIN),
                 crate::units::q(crate::units::TORQUE, t_max, 1),
                 crate::units::symbol(crate::units::TORQUE),
+                if spec.motor_table {
+                    "the scene's [design.drive.motor]; what it does not give, the thesis's"
+                } else {
+                    "the thesis's motor unless [design.drive.regulated] or [design.drive.motor] says otherwise"
+                }
             ),
         ),
     };
@@ -1018,13 +1028,18 @@ fn drive_text(d: &DriveVerdict, revolutions: [u32; 2]) -> String {
 pub fn swing_warning(d: &DriveVerdict) -> Option<String> {
     (d.swing_percent > d.swing_limit_percent).then(|| {
         format!(
-            "the cam speed swings {:.1} % from the nominal {:.1} rpm ({:.1} to {:.1} rpm; limit {:.0} %): the {} drive does not hold the speed the kinematic design assumes: give the drive ([design.drive.regulated] gain and torque for this machine, or drive = \"constant-cam-speed\" for the kinematic answer)",
+            "the cam speed swings {:.1} % from the nominal {:.1} rpm ({:.1} to {:.1} rpm; limit {:.0} %): the {} drive does not hold the speed the kinematic design assumes: give the drive ({} for this machine, or drive = \"constant-cam-speed\" for the kinematic answer)",
             d.swing_percent,
             d.nominal_rpm,
             d.min_cam_speed_rpm,
             d.max_cam_speed_rpm,
             d.swing_limit_percent,
-            d.drive
+            d.drive,
+            if d.drive == "motor" {
+                "the [design.drive.motor] table's inertia, shaft_stiffness, gain and torque_limit"
+            } else {
+                "a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit) or [design.drive.regulated] k_p and t_max"
+            }
         )
     })
 }

@@ -145,6 +145,9 @@ pub struct CheckedScene {
     /// The return spring as a part (`[design.spring]`), if the file gives one: the
     /// design's rate and spring mass are its.
     pub spring: Option<spring::SpringPart>,
+    /// The file gave its drive as a `[design.drive.motor]` table (the regulated drive
+    /// with the motor's values), so messages about the drive name that table.
+    pub motor_table: bool,
 }
 
 /// Why a scene file was refused: one line (the file, where it can be told the line and
@@ -738,12 +741,15 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
             ));
         }
     }
-    file.check().map_err(|e| {
-        located(
-            text,
-            &explain(&in_user_units(&e.message, &reading), &reading),
-        )
-    })
+    let motor_table = reading.motor.is_some();
+    file.check()
+        .map(|c| CheckedScene { motor_table, ..c })
+        .map_err(|e| {
+            located(
+                text,
+                &explain(&in_user_units(&e.message, &reading), &reading),
+            )
+        })
 }
 
 /// Where the design's values of a scene come from (`camsim scene --check`'s listing): the
@@ -1363,6 +1369,7 @@ impl SceneFile {
             horizontal_motion: self.run.horizontal_motion,
             follower,
             limits: self.limits,
+            motor_table: false,
         })
     }
 }

@@ -234,3 +234,86 @@ fn an_si_surface_file_reads_back_as_the_inch_one_within_the_chordal_error() {
     }
     let _ = (std::fs::remove_dir_all(&si), std::fs::remove_dir_all(&inch));
 }
+
+/// The data rows of a CSV (after its `#` lines and header), as numbers.
+fn csv_rows(path: &Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect()
+}
+
+/// `--every-deg D`: 360/D rows at k·D degrees. Each pitch.csv point lies at the roller
+/// centre's radius R_prime + y(θ) (MODEL.md §1.2); each surface_radius.csv point is
+/// where a roller on the pitch curve touches without cutting in (its least distance to
+/// the pitch curve is the roller radius). Read back by `run --measured`, the cam is the
+/// program's to the spline's fourth order: halving D divides the error by about 16
+/// (asserted at least 8), and at 1° it is within the default chordal error.
+#[test]
+fn every_deg_writes_uniform_rows_that_read_back_at_fourth_order() {
+    let design = camsim_core::Design::<f64>::reference();
+    let g = design.geometry;
+    let mut last = f64::INFINITY;
+    for deg in [4.0, 2.0, 1.0] {
+        let out = dir(&format!("every{deg}"));
+        let r = export(&[
+            "--out",
+            out.to_str().unwrap(),
+            "--every-deg",
+            &format!("{deg}"),
+        ]);
+        assert_eq!(r.every_deg, Some(deg));
+        let n = (360.0 / deg) as usize;
+        let pitch = csv_rows(&out.join(profile::PITCH_FILE));
+        let radius = csv_rows(&out.join(profile::SURFACE_RADIUS_FILE));
+        assert_eq!((pitch.len(), radius.len()), (n, n));
+        for (k, (p, s)) in pitch.iter().zip(&radius).enumerate() {
+            let a = k as f64 * deg;
+            assert!((p[0] - a).abs() < 1e-9 && (s[0] - a).abs() < 1e-9, "{k}");
+            let y = design.program.follower(a.to_radians()).y;
+            assert!(
+                (p[1].hypot(p[2]) - (g.prime_radius() + y)).abs() < 1e-9,
+                "{k}"
+            );
+            if deg == 4.0 {
+                // The least distance from the surface point to the pitch curve.
+                let q = (s[1] * a.to_radians().sin(), s[1] * a.to_radians().cos());
+                let least = (-3000..=3000)
+                    .map(|j| {
+                        let t = (a + j as f64 * 0.01).to_radians();
+                        let (x, y) = g.pitch_point(t, design.program.follower(t).y);
+                        (x - q.0).hypot(y - q.1)
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!((least - g.roller_radius).abs() < 1e-6, "{k}: {least}");
+            }
+        }
+        let (max_dev, _) = read_back(&out);
+        assert!(max_dev * 8.0 < last, "{deg}: {max_dev} after {last}");
+        last = max_dev;
+        let _ = std::fs::remove_dir_all(&out);
+    }
+    assert!(last <= profile::DEFAULT_CHORD_ERROR_IN, "{last}");
+}
+
+#[test]
+fn an_every_deg_that_does_not_divide_360_into_4_to_3600_steps_is_refused_by_name() {
+    for (d, rule) in [
+        ("7", "must divide 360"),
+        ("0.05", "into 4 to 3600 steps"),
+        ("120", "into 4 to 3600 steps"),
+        ("-1", "positive"),
+        ("1mm", "not a number of degrees"),
+    ] {
+        let e = parse_from(["camsim", "profile", "--every-deg", d])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("'{d}' for '--every-deg <DEG>'")) && e.contains(rule),
+            "{d}: {e}"
+        );
+    }
+}

@@ -799,9 +799,12 @@ pub struct PartReport {
     pub material: &'static str,
     /// End type.
     pub ends: &'static str,
-    /// The rule closest to its limit.
+    /// The rule that binds: the one closest to its limit (`limit_rule`), or contact when
+    /// the rate had to be raised for it.
     pub binding: String,
-    /// Its use of the limit, percent.
+    /// The rule of stress, surge and coil count closest to its limit.
+    pub limit_rule: String,
+    /// `limit_rule`'s use of its limit, percent.
     pub binding_percent: f64,
     /// Candidates each rule turned away.
     pub rejected: Rejections,
@@ -865,6 +868,7 @@ fn choose_part(
             material: wire.name,
             ends: q.ends.name(),
             binding: rule.to_string(),
+            limit_rule: rule.to_string(),
             binding_percent: 100.0 * use_,
             rejected,
             contact_checked: at_rpm.is_some(),
@@ -1350,6 +1354,23 @@ fn spring_headline(r: &SpringReport, out: &mut String) {
     }
 }
 
+/// The binding rule as the part's text gives it: `binding` at `percent` of its limit; or,
+/// when contact bound (`binding` is not `limit_rule`: the rate was raised until a buildable
+/// spring held contact with its own mass, and `binding` says by how much), the part's
+/// own stress and surge use of their limits, percent.
+fn binding_text(p: &PartReport) -> String {
+    if p.binding == p.limit_rule {
+        return format!("{} ({:.0} % of its limit)", p.binding, p.binding_percent);
+    }
+    let c = &p.spring;
+    format!(
+        "{}; the part's stress at {:.0} % and surge at {:.0} % of their limits",
+        p.binding,
+        100.0 * c.shear_stress_psi / c.allowable_shear_psi,
+        100.0 * camsim_core::SURGE_HARMONIC_MARGIN / c.surge_harmonic
+    )
+}
+
 /// The spring to build: the part, its checks, the rule that binds, and the
 /// `[design.spring]` lines that describe it in the output's family.
 fn part_lines(out: &mut String, p: &PartReport) {
@@ -1391,9 +1412,8 @@ fn part_lines(out: &mut String, p: &PartReport) {
     );
     let _ = writeln!(
         out,
-        "    binding: {} ({:.0} % of its limit); turned away: {} too stiff for {} coils, {} over the stress, {} low surge",
-        p.binding,
-        p.binding_percent,
+        "    binding: {}; turned away: {} too stiff for {} coils, {} over the stress, {} low surge",
+        binding_text(p),
         p.rejected.too_stiff,
         crate::study::coil_spring::MIN_ACTIVE_COILS,
         p.rejected.stress,
@@ -1433,6 +1453,51 @@ pub fn run(args: Args) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The binding text (issue 30): a part bound by contact after a raised rate gives its
+    /// own stress and surge use (here 500/1000 psi and a surge harmonic of twice the
+    /// least), not the stale use of the rule before the raise; an unraised part gives its
+    /// rule's.
+    #[test]
+    fn a_raised_rates_binding_text_gives_the_parts_own_figures() {
+        let c = crate::study::coil_spring::CoilChoice {
+            wire_diameter_in: 0.1,
+            mean_diameter_in: 1.0,
+            index: 10.0,
+            active_coils: 8.0,
+            total_coils: 10.0,
+            rate_lb_per_in: 20.0,
+            mass_lb: 0.1,
+            surge_hz: 100.0,
+            surge_harmonic: 2.0 * camsim_core::SURGE_HARMONIC_MARGIN,
+            shear_stress_psi: 500.0,
+            allowable_shear_psi: 1000.0,
+            solid_height_in: 1.0,
+            free_length_in: 3.0,
+            full_compression_length_in: 2.0,
+        };
+        let mut p = PartReport {
+            spring: c,
+            wire: "music wire".into(),
+            material: "music-wire",
+            ends: "squared-ground",
+            binding: "contact with the spring's own mass (the rate raised 10 % above the one found, in 2 step(s) of 5 %)".into(),
+            limit_rule: "contact (the rate asked)".into(),
+            binding_percent: 99.0,
+            rejected: Rejections::default(),
+            contact_checked: true,
+        };
+        let t = binding_text(&p);
+        assert!(
+            t.ends_with("; the part's stress at 50 % and surge at 50 % of their limits"),
+            "{t}"
+        );
+        assert!(!t.contains("99"), "{t}");
+        p.binding = "stress".into();
+        p.limit_rule = "stress".into();
+        p.binding_percent = 87.0;
+        assert_eq!(binding_text(&p), "stress (87 % of its limit)");
+    }
 
     #[test]
     fn samples_for_is_the_least_n_whose_empty_upper_bound_is_p() {

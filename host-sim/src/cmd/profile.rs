@@ -52,6 +52,34 @@ pub const DXF_FILE: &str = "cam.dxf";
 /// The SVAJ plot (`--plot`).
 pub const SVAJ_FILE: &str = "svaj.png";
 
+/// `--every-deg`: a positive step, degrees, that divides 360 into 4 to
+/// [`MAX_CURVE_POINTS`] steps (so the rows close the revolution and read back).
+pub fn every_deg(s: &str) -> Result<f64, String> {
+    let d: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{s}\" is not a number of degrees"))?;
+    let steps = 360.0 / d;
+    let n = steps.round();
+    if !(d.is_finite() && d > 0.0) {
+        return Err("must be a positive number of degrees".into());
+    }
+    if (steps - n).abs() > 1e-9 * n {
+        return Err(format!(
+            "must divide 360 so that the last step ends at 360 = 0 deg \
+             (360/{d} = {steps:.4} steps); e.g. 0.5, 1, 2, 5 or 10"
+        ));
+    }
+    if n < 4.0 || n > MAX_CURVE_POINTS as f64 {
+        return Err(format!(
+            "must divide 360 into 4 to {MAX_CURVE_POINTS} steps (360/{d} = {n} steps): \
+             a step from {:.1} to 90 deg",
+            360.0 / MAX_CURVE_POINTS as f64
+        ));
+    }
+    Ok(d)
+}
+
 /// Command-line options.
 #[derive(clap::Args, Debug, Clone)]
 #[command(mut_arg("json", |a| a.help("Print JSON instead of a table")))]
@@ -73,6 +101,14 @@ pub struct Args {
     /// (default 0.0001 in = 0.00254 mm: a fifth of the thesis's cam tolerance).
     #[arg(long, value_name = "IN", allow_hyphen_values = true, value_parser = positive_length)]
     pub chord_error: Option<f64>,
+    /// Write the CSVs at a uniform step of DEG degrees instead of the chordal sampling:
+    /// surface.csv, pitch.csv and cutter.csv every DEG of cam angle, surface_radius.csv
+    /// every DEG of polar angle (as a rotary table or CMM reads the cam). DEG must divide
+    /// 360 (0.5, 1, 2, 5 ...) into 4 to 3600 steps: the last step ends at 360 = 0 deg,
+    /// the first row. The DXF keeps the chordal sampling (its chords stay within
+    /// --chord-error).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = every_deg)]
+    pub every_deg: Option<f64>,
     /// Length unit of the DXF, of every CSV and of the report: the global `--units`
     /// (inch: in; si: mm). Set by the command line, not an option here.
     #[arg(skip)]
@@ -124,8 +160,11 @@ pub struct ProfileReport {
     pub min_concave_surface_radius: Option<f64>,
     /// Warnings for the shop: a cutter that cannot cut a concave part.
     pub warnings: Vec<String>,
-    /// The sampled curves.
+    /// The sampled curves (the DXF's polylines; the CSVs' too without `every_deg`).
     pub curves: Vec<CurveReport>,
+    /// The CSVs' uniform angle step, deg (`--every-deg`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub every_deg: Option<f64>,
     /// The actual cam's profile (with --actual).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub actual: Option<ProfileStats>,
@@ -224,6 +263,14 @@ impl Report for ProfileReport {
             None => {
                 let _ = writeln!(s, "  the surface is convex everywhere");
             }
+        }
+        if let Some(d) = self.every_deg {
+            let _ = writeln!(
+                s,
+                "  the CSVs every {d} deg ({} rows; surface_radius.csv by polar angle), \
+                 the DXF by the chordal error bound",
+                (360.0 / d).round()
+            );
         }
         for w in &self.warnings {
             let _ = writeln!(s, "  warning: {w}");
@@ -328,6 +375,139 @@ pub fn polar_rows(points: &[CurvePoint], per_inch: f64) -> Result<Vec<(f64, f64)
         }
     }
     Ok(rows)
+}
+
+/// How the CSVs' rows are spaced.
+#[derive(Clone, Copy, Debug)]
+enum Step {
+    /// The drawing's own points: chords within this bound, in the drawing unit.
+    Chordal(f64),
+    /// Every this many degrees (dividing 360, [`every_deg`]).
+    Every(f64),
+}
+
+/// The closed curve `curve` at the `n` cam angles 2πk/n, k = 0..n.
+fn uniform(curve: impl Fn(f64) -> (f64, f64), n: usize) -> Result<Vec<CurvePoint>> {
+    (0..n)
+        .map(|k| {
+            let theta = std::f64::consts::TAU * k as f64 / n as f64;
+            let (x, y) = curve(theta);
+            if !(x.is_finite() && y.is_finite()) {
+                bail!(
+                    "the curve has a non-finite point at cam angle {:.3} deg",
+                    theta.to_degrees()
+                );
+            }
+            Ok(CurvePoint { theta, x, y })
+        })
+        .collect()
+}
+
+/// The surface `curve` (cam angle to point, the drawing unit) at the `n` polar angles
+/// 360k/n deg: (polar angle deg, radius). The surface point lies off the pitch point
+/// (at polar angle θ) by the roller radius along the normal, less than 90° away
+/// in polar angle, so the cam angle of polar angle φ lies in (φ - 90°, φ + 90°), found
+/// by bisection (the polar angle grows with the cam angle: [`polar_rows`] checked it).
+fn polar_uniform(curve: impl Fn(f64) -> (f64, f64), n: usize) -> Vec<(f64, f64)> {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    (0..n)
+        .map(|k| {
+            let phi = TAU * k as f64 / n as f64;
+            // The polar angle's signed offset from φ, in (-π, π].
+            let off = |t: f64| {
+                let (x, y) = curve(t.rem_euclid(TAU));
+                let d = (x.atan2(y) - phi).rem_euclid(TAU);
+                if d > PI {
+                    d - TAU
+                } else {
+                    d
+                }
+            };
+            let (mut lo, mut hi) = (phi - FRAC_PI_2, phi + FRAC_PI_2);
+            for _ in 0..64 {
+                let mid = 0.5 * (lo + hi);
+                if off(mid) < 0.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let (x, y) = curve((0.5 * (lo + hi)).rem_euclid(TAU));
+            (phi.to_degrees(), x.hypot(y))
+        })
+        .collect()
+}
+
+/// The CSV files (name, text) of the sampled `curves` (name, offset from the pitch curve
+/// in in, points), spaced by `step`, in `units` (`scale` per inch).
+fn csv_files(
+    cam: &Cam,
+    curves: &[(&'static str, f64, Vec<CurvePoint>)],
+    step: Step,
+    units: Units,
+    what: &str,
+    scale: f64,
+) -> Result<Vec<(&'static str, String)>> {
+    let u = units.name();
+    let comment: String = conventions(units)
+        .iter()
+        .map(|l| format!("# {l}\n"))
+        .collect();
+    let points = |(_, d, pts): &(&str, f64, Vec<CurvePoint>)| match step {
+        Step::Chordal(_) => Ok(pts.clone()),
+        Step::Every(deg) => uniform(|t| cam.offset(t, *d, scale), (360.0 / deg).round() as usize),
+    };
+    let Some(surface) = curves.first() else {
+        bail!("no cam surface was sampled");
+    };
+    // Refused here when the surface's polar angle does not grow (an undercut cam).
+    let chordal_rows = polar_rows(&surface.2, 1.0)?;
+    let (rows, spacing) = match step {
+        Step::Chordal(bound) => (chordal_rows, format!("Chordal error bound {bound:e} {u}.")),
+        Step::Every(deg) => (
+            polar_uniform(
+                |t| cam.offset(t, surface.1, scale),
+                (360.0 / deg).round() as usize,
+            ),
+            format!("Every {deg} deg of polar angle."),
+        ),
+    };
+    let mut radius = format!(
+        "# camsim profile: cam surface polar radius of {what}, from the rotation centre.\n\
+         {comment}# {spacing} Read back by: camsim run --measured {SURFACE_RADIUS_FILE}\n\
+         angle_deg,radius_{u}\n"
+    );
+    for (a, r) in rows {
+        radius.push_str(&format!("{a:.9},{r:.10}\n"));
+    }
+    let mut files = vec![(SURFACE_RADIUS_FILE, radius)];
+    let mut s = format!("{comment}cam_angle_deg,x_{u},y_{u},polar_angle_deg,radius_{u}\n");
+    for p in points(surface)? {
+        let a = p.x.atan2(p.y).to_degrees().rem_euclid(360.0);
+        s.push_str(&format!(
+            "{:.9},{:.10},{:.10},{a:.9},{:.10}\n",
+            p.theta.to_degrees(),
+            p.x,
+            p.y,
+            p.x.hypot(p.y)
+        ));
+    }
+    files.push((SURFACE_FILE, s));
+    for (name, file) in [("pitch", PITCH_FILE), ("cutter", CUTTER_FILE)] {
+        if let Some(c) = curves.iter().find(|c| c.0 == name) {
+            let mut s = format!("{comment}cam_angle_deg,x_{u},y_{u}\n");
+            for p in points(c)? {
+                s.push_str(&format!(
+                    "{:.9},{:.10},{:.10}\n",
+                    p.theta.to_degrees(),
+                    p.x,
+                    p.y
+                ));
+            }
+            files.push((file, s));
+        }
+    }
+    Ok(files)
 }
 
 /// The surface's smallest convex and concave radii of curvature over one revolution
@@ -437,6 +617,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
         min_concave_surface_radius: concave.map(|r| r * scale),
         warnings,
         curves: curve_reports,
+        every_deg: args.every_deg,
         actual: actual.as_ref().map(|a| a.1.clone()),
         files: Vec::new(),
     };
@@ -462,9 +643,7 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
         None => None,
     };
     if let Some(t) = out_target {
-        let u = args.units.name();
         let mut out = t.open()?;
-        let surface = &curves[0].2;
         let what = match &actual {
             Some((_, s)) => format!(
                 "a simulated machined cam (camsim profile --actual, seed {}, sample {})",
@@ -472,43 +651,14 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
             ),
             None => "the theoretical cam".to_string(),
         };
+        let step = match args.every_deg {
+            Some(d) => Step::Every(d),
+            None => Step::Chordal(bound),
+        };
+        for (file, text) in csv_files(&cam, &curves, step, args.units, &what, scale)? {
+            out.write(file, text.as_bytes())?;
+        }
         let note = conventions(args.units);
-        let comment: String = note.iter().map(|l| format!("# {l}\n")).collect();
-        let mut radius = format!(
-            "# camsim profile: cam surface polar radius of {what}, from the rotation centre.\n\
-             {comment}# Chordal error bound {bound:e} {u}. Read back by: camsim run --measured {SURFACE_RADIUS_FILE}\n\
-             angle_deg,radius_{u}\n"
-        );
-        for (a, r) in polar_rows(surface, 1.0)? {
-            radius.push_str(&format!("{a:.9},{r:.10}\n"));
-        }
-        out.write(SURFACE_RADIUS_FILE, radius.as_bytes())?;
-        let mut s = format!("{comment}cam_angle_deg,x_{u},y_{u},polar_angle_deg,radius_{u}\n");
-        for p in surface {
-            let a = p.x.atan2(p.y).to_degrees().rem_euclid(360.0);
-            s.push_str(&format!(
-                "{:.9},{:.10},{:.10},{a:.9},{:.10}\n",
-                p.theta.to_degrees(),
-                p.x,
-                p.y,
-                p.x.hypot(p.y)
-            ));
-        }
-        out.write(SURFACE_FILE, s.as_bytes())?;
-        for (name, file) in [("pitch", PITCH_FILE), ("cutter", CUTTER_FILE)] {
-            if let Some((_, _, pts)) = curves.iter().find(|c| c.0 == name) {
-                let mut s = format!("{comment}cam_angle_deg,x_{u},y_{u}\n");
-                for p in pts {
-                    s.push_str(&format!(
-                        "{:.9},{:.10},{:.10}\n",
-                        p.theta.to_degrees(),
-                        p.x,
-                        p.y
-                    ));
-                }
-                out.write(file, s.as_bytes())?;
-            }
-        }
         let layers: Vec<Layer> = curves
             .iter()
             .map(|(name, _, pts)| Layer {

@@ -461,7 +461,7 @@ fn verdict(
     let steady = v::steady(&report.per_period, &sim::steady_checks(&report.per_period));
     let mut warnings = v::warnings(&contact, &geometry, &loads, &spring, jump_margin.as_ref());
     let mass = v::mass(&spec.design);
-    let drive = v::drive(&spec.design, watch);
+    let drive = v::drive(spec, watch);
     warnings.extend(v::swing_warning(&drive));
     Ok(v::Verdict {
         contact,

@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
+use crate::units::Units;
+
 /// Command-line options of `camsim scene`.
 #[derive(clap::Args, Debug)]
 #[command(group(clap::ArgGroup::new("what").required(true).args(["default", "check", "new"])))]
@@ -13,15 +15,17 @@ pub struct Args {
     #[arg(long, conflicts_with = "check")]
     pub default: bool,
     /// Print a short template of what a designer must decide (program, base and roller
-    /// radius, cam width, rpm, moving mass, spring, drive), each key with a one-line
-    /// comment (with `--units si`, in mm, kg and N/mm): save it, edit it, then `scene
+    /// radius, cam width, rpm, moving mass, spring, drive, follower rod), each key with a
+    /// one-line comment (with `--units si`, in mm, kg and N/mm): save it, edit it, then `scene
     /// --check FILE` and `run FILE`.
     #[arg(long, conflicts_with_all = ["check", "default", "json"])]
     pub new: bool,
     /// Validate a scene file, list as comments where each value comes from (taken from
     /// the file, derived and from what, inherited from the reference design, grouped:
     /// drive, follower rod and bearings, cam width and materials, masses), and print it
-    /// back complete (every key, defaults filled in; with `--units si`, its keys in SI).
+    /// back complete (every key, defaults filled in). Both in the file's unit family: an
+    /// SI file's (keys in mm, N, kg) in SI whatever --units says, an inch file's in
+    /// inch unless --units si.
     #[arg(long, value_name = "FILE")]
     pub check: Option<PathBuf>,
     /// Print the scene as JSON (the file's tables as objects, every key with its unit;
@@ -32,18 +36,26 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args) -> Result<()> {
+    crate::report::out(&output(&args, crate::units::current())?)
+}
+
+/// What the command prints, `units` being `--units`.
+pub fn output(args: &Args, units: Units) -> Result<String> {
     if args.new {
-        return crate::report::out(match crate::units::current() {
-            crate::units::Units::Inch => NEW_INCH,
-            crate::units::Units::Si => NEW_SI,
-        });
+        return Ok(new_template(units));
     }
     let mut listing = String::new();
+    let mut units = units;
     let text = if let Some(p) = &args.check {
         let spec = crate::scene::load(p)?;
         let file =
             camsim_scene_file::read_text(p, camsim_scene_file::MAX_SCENE_BYTES, "the scene file")?;
-        listing = crate::scene::listing(&file, &spec)?;
+        // An SI file is listed and printed back in SI: never an inch key for a value
+        // the user wrote in mm, N or kg.
+        if crate::scene::file_family(&file)? == Some(Units::Si) {
+            units = Units::Si;
+        }
+        listing = crate::scene::listing(&file, &spec, units)?;
         crate::scene::spec_text(&spec)?
     } else if args.default {
         crate::scene::default_text()?
@@ -51,123 +63,202 @@ pub fn run(args: Args) -> Result<()> {
         anyhow::bail!("camsim scene: give --default (print the reference scene) or --check FILE");
     };
     if args.json {
-        return crate::report::out(&format!("{}\n", json(&text)?));
+        return Ok(format!("{}\n", json_in(&text, units)?));
     }
     if !listing.is_empty() {
-        crate::report::out(&format!("{listing}\n"))?;
+        listing.push('\n');
     }
-    match crate::units::current() {
-        crate::units::Units::Inch => crate::report::out(&text),
+    let scene = match units {
+        Units::Inch => text,
         // The same scene with its keys in SI (`base_radius_mm`, ...): it reads back to
         // the same design.
-        crate::units::Units::Si if args.default => {
-            crate::report::out(&crate::scene::default_text_si()?)
-        }
-        crate::units::Units::Si => crate::report::out(&crate::scene::in_si(&text)),
-    }
+        Units::Si if args.default => crate::scene::default_text_si()?,
+        Units::Si => crate::scene::in_si(&text),
+    };
+    Ok(listing + &scene)
 }
 
 /// A scene file's text as JSON: its tables as objects, its arrays of tables as arrays,
 /// every key in the unit family of `--units` ([`crate::units`]).
 pub fn json(text: &str) -> Result<String> {
+    json_in(text, crate::units::current())
+}
+
+/// [`json`] in the unit family `units`.
+fn json_in(text: &str, units: Units) -> Result<String> {
     let doc: toml::Table = toml::from_str(text)
         .map_err(|e| anyhow::anyhow!("the scene as written does not read back: {e}"))?;
-    let value = crate::units::convert(serde_json::to_value(&doc)?, crate::units::current());
+    let value = crate::units::convert(serde_json::to_value(&doc)?, units);
     Ok(serde_json::to_string_pretty(&value)?)
 }
 
-/// `scene --new`'s template in the inch family: a machine of the reference's size at
-/// 300 rpm with a lighter 0.75 in rise and return.
-pub const NEW_INCH: &str = r#"# A cam machine in a designer's terms (camsim scene --new): decide each value, then
-# `camsim scene --check FILE` (everything the model takes from elsewhere) and `camsim run FILE`.
-# Every key not here is the reference design's (docs/MODEL.md section 5).
+/// One line of `scene --new`'s template.
+enum Line {
+    /// The same in both unit families (a table header, a key without a unit, a comment).
+    Same(&'static str),
+    /// `key = value  # note`: the key in the inch family (its SI name is
+    /// [`crate::units::key_in`]'s), a round value in each family.
+    Key {
+        key: &'static str,
+        inch: f64,
+        si: f64,
+        note: &'static str,
+    },
+}
 
-[run]
-rpm = 300.0  # cam speed, rpm
+use Line::{Key, Same};
 
-[design]
-moving_mass_lb = 4.5  # all that translates: load, follower rod, roller and a third of the spring, lb
-spring_rate_lb_per_in = 60.0  # return spring rate
-spring_preload_length_in = 1.0  # how far the spring is compressed with the roller on the base circle
-drive = "constant-cam-speed"  # the cam turns at exactly rpm; or "thesis" (its regulated 1.75 hp motor), or a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit)
+/// `scene --new`'s template: what a designer must decide, one table for both unit
+/// families. In inch, a machine of the reference's size at 300 rpm with a 0.75 in rise
+/// and return; in SI the same machine in round mm, kg and N/mm with a 20 mm lift. The
+/// follower rod (0.625 in, 16 mm steel) is light enough for the moving masses a
+/// designer of such a cam gives, and its cantilever e2 long enough for a 40 mm lift
+/// with a 15 mm roller.
+const TEMPLATE: &[Line] = &[
+    Same("# Every key not here is the reference design's (docs/MODEL.md section 5).\n\n[run]"),
+    Same("rpm = 300.0  # cam speed, rpm\n\n[design]"),
+    Key {
+        key: "moving_mass_lb",
+        inch: 4.5,
+        si: 2.0,
+        note: "all that translates: load, follower rod, roller and a third of the spring",
+    },
+    Key {
+        key: "spring_rate_lb_per_in",
+        inch: 60.0,
+        si: 10.0,
+        note: "return spring rate (or a [design.spring] part: camsim design spring gives one)",
+    },
+    Key {
+        key: "spring_preload_length_in",
+        inch: 1.0,
+        si: 25.0,
+        note: "how far the spring is compressed with the roller on the base circle",
+    },
+    Same(
+        "drive = \"constant-cam-speed\"  # the cam turns at exactly rpm; or \"thesis\" (its regulated \
+         1.75 hp motor), or a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit)",
+    ),
+    Same("# The follower rod (steel), guided by a slide bearing between the load and the roller:"),
+    Key {
+        key: "follower_area_in2",
+        inch: 0.3068,
+        si: 201.06,
+        note: "rod cross-section pi d^2/4 (a 16 mm, 0.625 in rod): its mass rho*A*(e1+e2) and axial stiffness E*A/e1, E*A/e2",
+    },
+    Key {
+        key: "follower_second_moment_in4",
+        inch: 0.00749,
+        si: 3217.0,
+        note: "rod second moment of area pi d^4/64 (the same rod): the cantilever's side stiffness 3*E*I/e2^3",
+    },
+    Key {
+        key: "e1_in",
+        inch: 6.0,
+        si: 150.0,
+        note: "rod length from the slide bearing to the load: mass and axial stiffness E*A/e1",
+    },
+    Key {
+        key: "e2_in",
+        inch: 3.0,
+        si: 80.0,
+        note: "rod length from the slide bearing to the roller centre: more than the lift plus the roller radius",
+    },
+    Key {
+        key: "bearing_a_in",
+        inch: 3.0,
+        si: 80.0,
+        note: "lever of the side load from the roller to the near bearing reaction (as e2)",
+    },
+    Key {
+        key: "bearing_b_in",
+        inch: 3.0,
+        si: 80.0,
+        note: "distance between the two bearing reactions: with bearing_a, the friction the side load makes",
+    },
+    Same("\n[design.geometry]"),
+    Key {
+        key: "base_radius_in",
+        inch: 2.5,
+        si: 60.0,
+        note: "base circle radius",
+    },
+    Key {
+        key: "roller_radius_in",
+        inch: 0.5,
+        si: 12.5,
+        note: "roller radius",
+    },
+    Key {
+        key: "thickness_in",
+        inch: 0.375,
+        si: 10.0,
+        note: "cam width (its mass)",
+    },
+    Same("\n[design.hertz]"),
+    Key {
+        key: "contact_length_in",
+        inch: 0.375,
+        si: 10.0,
+        note: "cam width in contact with the roller (sets the contact stress)",
+    },
+    Same(
+        "\n[[design.program.segment]]  # rise over 120 deg from 0 deg (the roller on the base circle)\n\
+         kind = \"rise\"\nlaw = \"modified-sine\"  # camsim laws lists the motion laws\n\
+         start_deg = 0.0\nend_deg = 120.0",
+    ),
+    Key {
+        key: "lift_in",
+        inch: 0.75,
+        si: 20.0,
+        note: "lift of this segment",
+    },
+    Same(
+        "\n[[design.program.segment]]  # dwell at full lift\nkind = \"dwell\"\nstart_deg = 120.0\n\
+         end_deg = 180.0\n\n[[design.program.segment]]  # return over 120 deg\nkind = \"return\"\n\
+         law = \"modified-sine\"  # the return's motion law\nstart_deg = 180.0\nend_deg = 300.0",
+    ),
+    Key {
+        key: "lift_in",
+        inch: 0.75,
+        si: 20.0,
+        note: "the returns undo the rises",
+    },
+    Same(
+        "\n[[design.program.segment]]  # dwell on the base circle\nkind = \"dwell\"\n\
+         start_deg = 300.0\nend_deg = 360.0",
+    ),
+];
 
-[design.geometry]
-base_radius_in = 2.5  # base circle radius
-roller_radius_in = 0.5  # roller radius
-thickness_in = 0.375  # cam width (its mass)
-
-[design.hertz]
-contact_length_in = 0.375  # cam width in contact with the roller (sets the contact stress)
-
-[[design.program.segment]]  # rise over 120 deg from 0 deg (the roller on the base circle)
-kind = "rise"
-law = "modified-sine"  # camsim laws lists the motion laws
-start_deg = 0.0
-end_deg = 120.0
-lift_in = 0.75  # lift of this segment
-
-[[design.program.segment]]  # dwell at full lift
-kind = "dwell"
-start_deg = 120.0
-end_deg = 180.0
-
-[[design.program.segment]]  # return over 120 deg
-kind = "return"
-law = "modified-sine"  # the return's motion law
-start_deg = 180.0
-end_deg = 300.0
-lift_in = 0.75  # the returns undo the rises
-
-[[design.program.segment]]  # dwell on the base circle
-kind = "dwell"
-start_deg = 300.0
-end_deg = 360.0
-"#;
-
-/// `scene --new`'s template in SI (`--units si`): [`NEW_INCH`]'s machine in round mm, kg
-/// and N/mm.
-pub const NEW_SI: &str = r#"# A cam machine in a designer's terms (camsim scene --new --units si): decide each value, then
-# `camsim scene --check FILE` (everything the model takes from elsewhere) and `camsim run FILE`.
-# Every key not here is the reference design's (docs/MODEL.md section 5).
-
-[run]
-rpm = 300.0  # cam speed, rpm
-
-[design]
-moving_mass_kg = 2.0  # all that translates: load, follower rod, roller and a third of the spring, kg
-spring_rate_n_per_mm = 10.0  # return spring rate
-spring_preload_length_mm = 25.0  # how far the spring is compressed with the roller on the base circle
-drive = "constant-cam-speed"  # the cam turns at exactly rpm; or "thesis" (its regulated 1.75 hp motor), or a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit)
-
-[design.geometry]
-base_radius_mm = 60.0  # base circle radius
-roller_radius_mm = 12.5  # roller radius
-thickness_mm = 10.0  # cam width (its mass)
-
-[design.hertz]
-contact_length_mm = 10.0  # cam width in contact with the roller (sets the contact stress)
-
-[[design.program.segment]]  # rise over 120 deg from 0 deg (the roller on the base circle)
-kind = "rise"
-law = "modified-sine"  # camsim laws lists the motion laws
-start_deg = 0.0
-end_deg = 120.0
-lift_mm = 20.0  # lift of this segment
-
-[[design.program.segment]]  # dwell at full lift
-kind = "dwell"
-start_deg = 120.0
-end_deg = 180.0
-
-[[design.program.segment]]  # return over 120 deg
-kind = "return"
-law = "modified-sine"  # the return's motion law
-start_deg = 180.0
-end_deg = 300.0
-lift_mm = 20.0  # the returns undo the rises
-
-[[design.program.segment]]  # dwell on the base circle
-kind = "dwell"
-start_deg = 300.0
-end_deg = 360.0
-"#;
+/// `scene --new`'s template in `units` ([`TEMPLATE`]).
+pub fn new_template(units: Units) -> String {
+    let flag = match units {
+        Units::Inch => "",
+        Units::Si => " --units si",
+    };
+    let mut s = format!(
+        "# A cam machine in a designer's terms (camsim scene --new{flag}): decide each value, then\n\
+         # `camsim scene --check FILE` (everything the model takes from elsewhere) and `camsim run FILE`.\n"
+    );
+    for line in TEMPLATE {
+        match line {
+            Same(text) => s.push_str(text),
+            Key {
+                key,
+                inch,
+                si,
+                note,
+            } => {
+                let (key, _) = crate::units::key_in(key, units);
+                let v = if units == Units::Si { si } else { inch };
+                let mut v = format!("{v}");
+                if !v.contains('.') {
+                    v.push_str(".0");
+                }
+                s.push_str(&format!("{key} = {v}  # {note}"));
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
