@@ -123,9 +123,10 @@ pub struct ActualArgs {
     /// 12181), has FPR 2n). The interval is the whole number of points a revolution
     /// whose profile, drawn from the master seed, has the FPR nearest N. Default 17,
     /// the thesis's study cams at VI.1's tolerances (Table VI.2); 39 its rougher cam,
-    /// 57 its cams at ±0.0025/±0.0005 in.
-    #[arg(long, value_name = "N", value_parser = crate::args::whole_u32::<2, 2000>)]
-    pub waviness_fpr: Option<u32>,
+    /// 57 its cams at ±0.0025/±0.0005 in. `design tolerance` takes a comma list
+    /// (17,39,57) and answers for each; every other command takes one.
+    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = crate::args::whole_u32::<2, 2000>)]
+    pub waviness_fpr: Vec<u32>,
     /// How the interval is set when --interval-deg is not given: `waviness` (the FPR of
     /// --waviness-fpr, default 17) or `criteria` (the smallest whole-degree interval
     /// passing the three criteria of IV.2.3 on the master seed's profile: 2 deg, FPR
@@ -175,6 +176,28 @@ impl ActualArgs {
         )?)
     }
 
+    /// The one waviness `--waviness-fpr` states (None: not given); a list is refused
+    /// (a usage error: only `design tolerance` takes one).
+    pub fn fpr(&self) -> Result<Option<u32>> {
+        match self.waviness_fpr.as_slice() {
+            [] => Ok(None),
+            [f] => Ok(Some(*f)),
+            list => Err(crate::args::usage(format!(
+                "--waviness-fpr {}: one FPR here (only `design tolerance` takes a list)",
+                fpr_list(list)
+            ))),
+        }
+    }
+
+    /// The same options at the one waviness `fpr` (None: the default).
+    pub fn at_fpr(&self, fpr: Option<u32>) -> ActualArgs {
+        ActualArgs {
+            waviness_fpr: fpr.into_iter().collect(),
+            resolved: None,
+            ..self.clone()
+        }
+    }
+
     /// The master seed.
     pub fn seed(&self) -> u64 {
         self.seed.unwrap_or(DEFAULT_SEED)
@@ -200,8 +223,8 @@ impl ActualArgs {
         num("roller-tolerance", self.roller_tolerance);
         num("eccentricity-tolerance", self.eccentricity_tolerance);
         num("interval-deg", self.interval_deg);
-        if let Some(n) = self.waviness_fpr {
-            given.push(format!("--waviness-fpr {n}"));
+        if !self.waviness_fpr.is_empty() {
+            given.push(format!("--waviness-fpr {}", fpr_list(&self.waviness_fpr)));
         }
         if let Some(s) = self.seed {
             given.push(format!("--seed {s}"));
@@ -253,6 +276,14 @@ impl ActualArgs {
         a.resolved = Some(intervals_for(design, self)?);
         Ok(a)
     }
+}
+
+/// An FPR list as the user writes it (`17,39,57`).
+pub fn fpr_list(fprs: &[u32]) -> String {
+    fprs.iter()
+        .map(u32::to_string)
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 /// `--interval-deg`: positive, and 360/interval a whole number of points (within
@@ -455,17 +486,18 @@ pub fn intervals_for(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, 
     if let Some(r) = args.resolved {
         return Ok(r);
     }
+    let fpr = args.fpr()?;
     if let Some(deg) = args.interval_deg {
         let n = intervals_of(deg).map_err(|e| anyhow::anyhow!("--interval-deg {deg}: {e}"))?;
         return Ok((n, IntervalSource::Given));
     }
     if args.interval == IntervalRule::Criteria {
-        if let Some(f) = args.waviness_fpr {
+        if let Some(f) = fpr {
             bail!("--waviness-fpr {f}: not with --interval criteria (the criteria choose the interval; give one or the other)");
         }
         return criteria_intervals(design, args);
     }
-    let target = args.waviness_fpr.unwrap_or(DEFAULT_FPR);
+    let target = fpr.unwrap_or(DEFAULT_FPR);
     let (n, probe_fpr) = interval_for_fpr(design, args, target)?;
     Ok((
         n,
@@ -802,13 +834,13 @@ mod tests {
         assert_eq!((s0.intervals, s0.interval_source), (n, src));
         let g = ActualArgs {
             interval_deg: Some(5.0),
-            waviness_fpr: Some(57),
+            waviness_fpr: vec![57],
             ..ActualArgs::default()
         };
         assert_eq!(intervals_for(&d, &g).unwrap(), (72, IntervalSource::Given));
         let bad = ActualArgs {
             interval: IntervalRule::Criteria,
-            waviness_fpr: Some(39),
+            waviness_fpr: vec![39],
             ..ActualArgs::default()
         };
         let e = intervals_for(&d, &bad).unwrap_err().to_string();

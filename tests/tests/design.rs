@@ -7,10 +7,12 @@ fn spring_args(actual: bool, threads: u32) -> SpringArgs {
     SpringArgs {
         scene: SceneArgs::default(),
         margin: 15.0,
-        actual,
+        actual: camsim::actual::ActualArgs {
+            actual,
+            ..Default::default()
+        },
         p_max: 0.01,
         samples: None,
-        seed: 1,
         threads: Some(threads),
         resolution: 1.0,
         max_rate: 1000.0,
@@ -123,13 +125,8 @@ fn mc_args(threads: u32) -> camsim::cmd::design::McArgs {
         scene: SceneArgs::default(),
         p_max: 0.01,
         samples: None,
-        seed: 1,
         threads: Some(threads),
-        waviness_fpr: Vec::new(),
-        cam_tolerance: None,
-        roller_tolerance: None,
-        eccentricity_tolerance: None,
-        profile_method: camsim::actual::ProfileMethod::PerCam,
+        actual: camsim::actual::ActualArgs::default(),
         waviness: false,
         tolerance_factor: None,
         quick: true,
@@ -595,9 +592,12 @@ fn a_stiffer_regulator_gives_a_smaller_cam_speed_swing() {
 fn design_tolerance_table_rows_are_the_single_fpr_answers() {
     use camsim::cmd::design::{mc_search, tolerance_table};
     let args = |fprs: Vec<u32>| camsim::cmd::design::McArgs {
-        waviness_fpr: fprs,
-        roller_tolerance: Some(0.00005),
-        eccentricity_tolerance: Some(0.0),
+        actual: camsim::actual::ActualArgs {
+            waviness_fpr: fprs,
+            roller_tolerance: Some(0.00005),
+            eccentricity_tolerance: Some(0.0),
+            ..Default::default()
+        },
         p_max: 0.3,
         samples: Some(10),
         ..mc_args(2)

@@ -65,3 +65,59 @@ fn compare_with_no_workable_law_exits_1() {
         1
     );
 }
+
+fn sensitivity_report(
+    extra: &[&str],
+) -> anyhow::Result<camsim::cmd::sensitivity::SensitivityReport> {
+    let argv = ["camsim", "sensitivity"].iter().chain(extra).copied();
+    match parse_from(argv).unwrap().command {
+        Command::Sensitivity(a) => camsim::cmd::sensitivity::report(&a),
+        other => panic!("parsed as {other:?}"),
+    }
+}
+
+/// At 1300 rpm (vertical scene) the follower is thrown into its slide bearing after it
+/// separates in most cases, the baselines too: those cases are reported as jumps with
+/// the core's reason (text, JSON, plot), the mass -30 % cases keep their outputs, every
+/// case is accounted for once, and the study exits 0.
+#[test]
+fn sensitivity_reports_cases_that_leave_the_range_and_goes_on() {
+    let dir = std::env::temp_dir().join(format!("camsim-unworkable-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let plot = dir.to_string_lossy().to_string();
+    let args = ["--quick", "--rpm", "1300"];
+    let r = sensitivity_report(&[&args[..], &["--plot", &plot]].concat()).unwrap();
+    assert!(dir.join("sensitivity.png").is_file());
+    // 2 baselines + 3 groups x 2 changes x 2 cams, each once.
+    assert_eq!(r.baseline.len() + r.cases.len() + r.not_workable.len(), 14);
+    assert!(r.baseline.is_empty(), "{:?}", r.baseline);
+    for cam in ["theoretical", "actual"] {
+        assert!(
+            r.cases
+                .iter()
+                .any(|c| c.cam == cam && c.group == "mass" && c.change_pct == -30),
+            "{cam}"
+        );
+    }
+    assert!(!r.not_workable.is_empty());
+    for n in &r.not_workable {
+        assert!(n.jump, "{n:?}");
+        assert!(n.reason.contains("left its valid range"), "{}", n.reason);
+    }
+    let text = camsim::report::Report::text(&r);
+    assert!(
+        text.contains("jumps, then the model left its valid range")
+            && text.contains("baseline on the actual cam: the model left its valid range")
+            && text.contains("its baseline left the model's valid range"),
+        "{text}"
+    );
+    let json = serde_json::to_value(&r).unwrap();
+    assert_eq!(json["not_workable"][0]["group"], "baseline");
+    assert_eq!(json["not_workable"][0]["jump"], true);
+    let argv = ["camsim", "sensitivity"]
+        .iter()
+        .chain(&args)
+        .chain(&["--json"]);
+    assert_eq!(main_from(argv.copied()), 0);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -18,13 +18,13 @@ use anyhow::{bail, Result};
 use camsim_core::{Onset, OnsetSearch, Start};
 use serde::Serialize;
 
-use crate::actual::ActualArgs;
+use crate::actual::{intervals_for, ActualArgs};
 use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
 use crate::study::coil_spring::{candidates, CoilChoice, CoilQuery, Rejections};
-use crate::study::montecarlo::{threads, Study};
+use crate::study::montecarlo::{threads, ProfileSettings, Study};
 use crate::units;
 
 /// Command-line options of `camsim design`.
@@ -51,6 +51,7 @@ pub enum What {
 
 /// Command-line options of the Monte Carlo searches (`design speed`, `design tolerance`).
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("actual", |a| a.hide(true)))]
 pub struct McArgs {
     /// The scene and its overrides (the operating speed is its --rpm).
     #[command(flatten)]
@@ -62,32 +63,15 @@ pub struct McArgs {
     /// with no jump, 381 for 0.01).
     #[arg(long, value_parser = crate::args::whole_u64::<1, 1_000_000>)]
     pub samples: Option<u64>,
-    /// Master seed of the actual cams (the same cams at every step).
-    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, value_parser = crate::args::seed)]
-    pub seed: u64,
     /// Worker threads (default: every core). The answer does not depend on it.
     #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
-    /// The cams' waviness, FPR (default 17, the thesis's study cams; 39 and 57 its
-    /// rougher ones): the tolerance that passes depends strongly on it. `design
-    /// tolerance` takes a comma list (17,39,57) and answers for each.
-    #[arg(long, value_name = "FPR", value_delimiter = ',', value_parser = crate::args::whole_u32::<2, 2000>)]
-    pub waviness_fpr: Vec<u32>,
-    /// `design speed` only: cam profile tolerance, ± in (default 0.0005, VI.1's), or
-    /// with its unit (mm). `design tolerance` searches it.
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
-    pub cam_tolerance: Option<f64>,
-    /// Roller radius tolerance, ± in (default 0.0001, VI.1's), or with its unit (mm);
-    /// held as given.
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
-    pub roller_tolerance: Option<f64>,
-    /// Camshaft-bearing non-roundness and base-circle eccentricity together, ± in
-    /// (default 0.001, VI.1's), or with its unit (mm); held as given.
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
-    pub eccentricity_tolerance: Option<f64>,
-    /// How the lift is made from the tolerances (as montecarlo's --profile-method).
-    #[arg(long, value_enum, default_value_t = crate::actual::ProfileMethod::PerCam)]
-    pub profile_method: crate::actual::ProfileMethod,
+    /// The actual cams, as montecarlo's (the same cams at every step; the waviness
+    /// matters: the tolerance that passes depends strongly on it). `design tolerance`
+    /// searches the cam tolerance, holds the roller and eccentricity tolerances as given,
+    /// and takes a list of FPRs.
+    #[command(flatten)]
+    pub actual: ActualArgs,
     /// `design tolerance` only: search the roughest waviness instead, the highest FPR
     /// (the shortest waves: the acceleration a wave imposes grows as FPR², docs/MODEL.md
     /// §9.6) that passes at the tolerance --tolerance-factor.
@@ -200,6 +184,9 @@ pub struct McSearchReport {
     /// With `design tolerance` (not --waviness): the cams' waviness, FPR.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub waviness_fpr: Option<u32>,
+    /// How the actual cams at the answer are made (their method, normal deviates,
+    /// tolerances and interval).
+    pub profile: ProfileSettings,
     /// With `design speed`: the theoretical cam's jump onset (full model), rpm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub theoretical_onset_rpm: Option<f64>,
@@ -229,36 +216,38 @@ pub struct McSearchReport {
 /// answer is the largest value tried below it that passes. P(jump) is assumed to rise
 /// with the speed and the tolerance (the report says so).
 pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
-    anyhow::ensure!(
-        args.waviness_fpr.len() <= 1,
-        "--waviness-fpr {}: one FPR here (only `design tolerance` takes a list)",
-        fpr_list(&args.waviness_fpr)
-    );
-    mc_search_at(args, speed, args.waviness_fpr.first().copied())
-}
-
-/// The FPR list as the user wrote it (`17,39,57`).
-fn fpr_list(fprs: &[u32]) -> String {
-    fprs.iter()
-        .map(u32::to_string)
-        .collect::<Vec<_>>()
-        .join(",")
+    let command = if speed {
+        "design speed"
+    } else {
+        "design tolerance"
+    };
+    args.actual.refuse_actual_flag(command)?;
+    let fpr = args.actual.fpr()?;
+    mc_search_at(args, speed, fpr)
 }
 
 /// `design tolerance`: the loosest cam tolerance for each FPR of --waviness-fpr (the
 /// default FPR when none is given), one search each; --waviness searches the FPR.
 pub fn tolerance_table(args: &McArgs) -> Result<ToleranceTable> {
+    let a = &args.actual;
+    a.refuse_actual_flag("design tolerance")?;
+    if a.interval_deg.is_some() || a.interval == crate::actual::IntervalRule::Criteria {
+        return Err(crate::args::usage(
+            "--interval-deg and --interval criteria fix the profile's interval: `design tolerance` sets it from the waviness (--waviness-fpr)",
+        ));
+    }
+    if let Some(t) = a.cam_tolerance {
+        return Err(crate::args::usage(format!(
+            "--cam-tolerance {t}: `design tolerance` searches the cam tolerance (with --waviness it is --tolerance-factor times VI.1's; hold the roller and eccentricity tolerances with --roller-tolerance and --eccentricity-tolerance)"
+        )));
+    }
     if args.waviness {
         return Ok(ToleranceTable(vec![mc_search(args, false)?]));
     }
-    anyhow::ensure!(
-        args.cam_tolerance.is_none(),
-        "--cam-tolerance: `design tolerance` searches the cam tolerance (hold the roller and eccentricity tolerances with --roller-tolerance and --eccentricity-tolerance)"
-    );
-    let fprs = if args.waviness_fpr.is_empty() {
+    let fprs = if a.waviness_fpr.is_empty() {
         vec![crate::actual::DEFAULT_FPR]
     } else {
-        args.waviness_fpr.clone()
+        a.waviness_fpr.clone()
     };
     let rows = fprs
         .iter()
@@ -320,7 +309,7 @@ fn criterion(
     let (waviness, factor) = (args.waviness, args.tolerance_factor.unwrap_or(1.0));
     format!(
         "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
-        args.seed,
+        args.actual.seed(),
         if waviness {
             format!("searched, tolerances {factor} x VI.1's")
         } else {
@@ -336,6 +325,24 @@ fn criterion(
             "tolerance"
         }
     )
+}
+
+/// The actual cams of a search's step at `x` (its speed, cam-tolerance factor or FPR):
+/// the options given, at the waviness `fpr`, the searched tolerance or FPR set.
+fn step_cams(args: &McArgs, speed: bool, fpr: Option<u32>, x: f64) -> ActualArgs {
+    let reference = camsim_core::Tolerances::<f64>::reference();
+    let mut actual = args.actual.at_fpr(fpr);
+    actual.actual = true;
+    let roller = args.actual.roller_tolerance;
+    if args.waviness {
+        let factor = args.tolerance_factor.unwrap_or(1.0);
+        actual.waviness_fpr = vec![x.round() as u32];
+        actual.cam_tolerance = Some(reference.cam * factor);
+        actual.roller_tolerance = Some(roller.unwrap_or(reference.roller * factor));
+    } else if !speed {
+        actual.cam_tolerance = Some(reference.cam * x);
+    }
+    actual
 }
 
 /// One Monte Carlo search at the waviness `fpr` (None: the default).
@@ -354,45 +361,22 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     let mc = crate::study::montecarlo::monte_carlo_model(&spec);
     let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
     let nthreads = threads(args.threads);
-    let reference = camsim_core::Tolerances::<f64>::reference();
-    let roller = args.roller_tolerance;
     let mut runs = 0u64;
     let mut tried: Vec<(f64, bool)> = Vec::new();
     let mut passed: Vec<(f64, Probability)> = Vec::new();
     let (start, max, resolution) = search_range(speed, waviness, args.quick);
     let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
-    let first = ActualArgs {
-        actual: true,
-        seed: Some(args.seed),
-        waviness_fpr: fpr,
-        ..ActualArgs::default()
-    };
     let steps = search_steps(start, max, resolution);
-    check_search_time(&mc, &first, n, steps, nthreads)?;
+    let at = |x: f64| step_cams(args, speed, fpr, x);
+    check_search_time(&mc, &at(start), n, steps, nthreads)?;
     let onset = search.find(|x| -> Result<bool> {
         let mut s = mc.clone();
-        let mut actual = ActualArgs {
-            actual: true,
-            seed: Some(args.seed),
-            waviness_fpr: fpr,
-            cam_tolerance: args.cam_tolerance,
-            roller_tolerance: args.roller_tolerance,
-            eccentricity_tolerance: args.eccentricity_tolerance,
-            profile_method: args.profile_method,
-            ..ActualArgs::default()
-        };
         // A waviness is a whole number of waves.
         let x = if waviness { x.round() } else { x };
         if speed {
             s.design.set_speed_rpm(x)?;
-        } else if waviness {
-            actual.waviness_fpr = Some(x as u32);
-            actual.cam_tolerance = Some(reference.cam * factor);
-            actual.roller_tolerance = Some(roller.unwrap_or(reference.roller * factor));
-        } else {
-            actual.cam_tolerance = Some(reference.cam * x);
-            actual.roller_tolerance = Some(roller.unwrap_or(reference.roller));
         }
+        let actual = at(x);
         let p = p_jump_on_actual_cams(&s, &actual, n, nthreads, &mut runs)
             .map_err(|e| e.context(format!("at {x}")))?;
         let ok = p.hi95 <= p_max;
@@ -404,6 +388,8 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     })?;
     let (answer, failing) = answer_of(onset, speed, waviness, p_max)?;
     let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
+    let cams = at(answer);
+    let profile = ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?;
     let theoretical_onset_rpm = if speed {
         let js = crate::study::jump_speed::find(&spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
         runs += u64::from(js.simulations);
@@ -435,14 +421,9 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
         tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed)
-            .then_some(reference.cam * if waviness { factor } else { answer }),
-        roller_tolerance_in: (!speed)
-            .then_some(roller.unwrap_or(reference.roller * if waviness { factor } else { 1.0 })),
-        eccentricity_tolerance_in: (!speed).then_some(
-            args.eccentricity_tolerance
-                .unwrap_or(reference.eccentricity),
-        ),
+        cam_tolerance_in: (!speed).then_some(profile.cam_tolerance_in),
+        roller_tolerance_in: (!speed).then_some(profile.roller_tolerance_in),
+        eccentricity_tolerance_in: (!speed).then_some(profile.eccentricity_tolerance_in),
         waviness_fpr: if waviness {
             None
         } else {
@@ -453,7 +434,8 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
         p_jump,
         criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
         samples: n,
-        seed: args.seed,
+        seed: args.actual.seed(),
+        profile,
         model: describe(&mc),
         tried,
         model_runs: runs,
@@ -635,6 +617,7 @@ impl Report for ToleranceTable {
 
 /// Command-line options of `camsim design spring`.
 #[derive(clap::Args, Debug)]
+#[command(mut_arg("actual", |a| a.help("Judge on actual cams instead (made by the options below, as montecarlo's; the same cams at every rate): the upper 95 % bound of P(jump) at the operating speed must be at most --p-max")))]
 pub struct SpringArgs {
     /// The scene and its overrides (the operating speed is its --rpm).
     #[command(flatten)]
@@ -643,10 +626,9 @@ pub struct SpringArgs {
     /// times the operating speed (0-100).
     #[arg(long, default_value_t = 15.0, allow_hyphen_values = true, value_parser = margin_percent)]
     pub margin: f64,
-    /// Judge on actual cams instead: the upper 95 % bound of P(jump) at the operating
-    /// speed must be at most --p-max.
-    #[arg(long)]
-    pub actual: bool,
+    /// The actual cams of --actual.
+    #[command(flatten)]
+    pub actual: ActualArgs,
     /// Largest acceptable P(jump) (its upper 95 % Wilson bound), with --actual (0-1).
     #[arg(long, default_value_t = 0.01, allow_hyphen_values = true, value_parser = crate::args::unit_interval, requires = "actual")]
     pub p_max: f64,
@@ -654,9 +636,6 @@ pub struct SpringArgs {
     /// at most --p-max with no jump, 381 for 0.01).
     #[arg(long, value_parser = crate::args::whole_u64::<1, 1_000_000>, requires = "actual")]
     pub samples: Option<u64>,
-    /// Master seed of the actual cams (the same cams at every rate).
-    #[arg(long, default_value_t = crate::actual::DEFAULT_SEED, value_parser = crate::args::seed, requires = "actual")]
-    pub seed: u64,
     /// Worker threads (default: every core). The answer does not depend on it.
     #[arg(long, value_parser = crate::args::whole_u32::<1, 1024>)]
     pub threads: Option<u32>,
@@ -772,6 +751,9 @@ pub struct SpringReport {
     /// Actual cams: the master seed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub seed: Option<u64>,
+    /// Actual cams: how they are made (method, normal deviates, tolerances, interval).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profile: Option<ProfileSettings>,
     /// Which model produced the answer.
     pub model: String,
     /// Rates tried (lb/in; with --preload lengths, in) in order, each with whether it
@@ -1053,14 +1035,11 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
         "spring rate"
     };
     let unit = if preload { "in" } else { "lb/in" };
-    let mut report = if args.actual {
+    args.actual.ensure_actual_if_options()?;
+    let mut report = if args.actual.actual {
         let mc = crate::study::montecarlo::monte_carlo_model(&spec);
         let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
-        let actual = ActualArgs {
-            actual: true,
-            seed: Some(args.seed),
-            ..ActualArgs::default()
-        };
+        let actual = args.actual.resolve(&mc.design)?;
         let nthreads = threads(args.threads);
         let steps = search_steps(start, max, resolution);
         check_search_time(&with_rate(&mc, start)?, &actual, n, steps, nthreads)?;
@@ -1093,14 +1072,15 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             operating_rpm: op_rpm,
             criterion: format!(
                 "upper 95 % Wilson bound of P(jump) in revolution 2 at {op_rpm:.1} rpm over {n} actual cams (seed {}) at most {}",
-                args.seed, p_max
+                actual.seed(), p_max
             ),
             checked_at_rpm: None,
             jump_onset_rpm: None,
             jump_onset_bracket_rpm: None,
             p_jump: p,
             samples: Some(n),
-            seed: Some(args.seed),
+            seed: Some(actual.seed()),
+            profile: Some(ProfileSettings::of(&actual, intervals_for(&mc.design, &actual)?)?),
             model: describe(&mc),
             tried,
             part: Some(part),
@@ -1148,6 +1128,7 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
             p_jump: None,
             samples: None,
             seed: None,
+            profile: None,
             model: describe(&spec),
             tried,
             part: Some(part),

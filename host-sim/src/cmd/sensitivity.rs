@@ -21,7 +21,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::{anyhow, Context, Result};
-use camsim_core::{key, Design, DriveLaw, Observer, Sample, Start};
+use camsim_core::{jump_verdict, key, Both, Design, DriveLaw, JumpWatch, Observer, Sample, Start};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -31,6 +31,7 @@ use crate::output::{AtomicDir, Plan};
 use crate::plot::study as plots;
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
+use crate::study::montecarlo::LeftRange;
 
 /// The changes of every group, % (VI.4.3).
 pub const CHANGES_PCT: [i32; 4] = [-30, -10, 10, 30];
@@ -376,10 +377,28 @@ impl Observer<f64> for RevolutionIntegrals {
 /// the cam-speed deviation and the stress from [`RevolutionIntegrals`], and the jump
 /// from the periods' flags.
 pub fn outputs(spec: &RunSpec) -> Result<Outputs> {
+    outputs_or_left_range(spec)?.map_err(|l| anyhow!(l.reason))
+}
+
+/// [`outputs`], or how the run left the model's valid range (docs/MODEL.md §3.20):
+/// after a separation (a jump, the rule of `camsim jump-speed`) or with the follower on
+/// the cam. Any other failure is an error.
+pub fn outputs_or_left_range(spec: &RunSpec) -> Result<std::result::Result<Outputs, LeftRange>> {
     let mut s = spec.clone();
     s.revolutions = REVOLUTION;
     let mut integrals = RevolutionIntegrals::new(REVOLUTION, s.design.omega0);
-    let r = sim::run(&s, &mut integrals)?;
+    let mut watch = JumpWatch::<f64>::new();
+    let r = match sim::run(&s, &mut Both(&mut integrals, &mut watch)) {
+        Ok(r) => r,
+        Err(e) => {
+            let separated = jump_verdict::<(), (), f64>(Err(()), &watch).is_ok();
+            if !crate::study::sweep::out_of_model(&e) {
+                return Err(e);
+            }
+            let reason = format!("{}", e.root_cause());
+            return Ok(Err(LeftRange { separated, reason }));
+        }
+    };
     let periods: Vec<_> = (0..s.design.program.segments().len())
         .filter_map(|i| r.stats.period(REVOLUTION, i))
         .filter(|p| p.samples > 0)
@@ -408,7 +427,47 @@ pub fn outputs(spec: &RunSpec) -> Result<Outputs> {
     for ((name, _, _), v) in OUTPUTS.iter().zip(out.values()) {
         anyhow::ensure!(v.is_finite(), "{name} is {v}");
     }
-    Ok(out)
+    Ok(Ok(out))
+}
+
+/// A case whose run left the model's valid range (docs/MODEL.md §3.20): reported with its
+/// reason, not in the table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct NotWorkableCase {
+    /// "mass", "damping", "stiffness" or "baseline".
+    pub group: &'static str,
+    /// The group's change, %.
+    pub change_pct: i32,
+    /// "theoretical" or "actual".
+    pub cam: &'static str,
+    /// Whether the follower had separated before the run left the range: the case then
+    /// jumps (the rule of `camsim jump-speed`), only its outputs are unknown.
+    pub jump: bool,
+    /// The core's error (the quantity, its value, the bound, the cam angle).
+    pub reason: String,
+}
+
+impl NotWorkableCase {
+    /// The case in words (`stiffness -30 % on the actual cam`).
+    pub fn name(&self) -> String {
+        if self.group == "baseline" {
+            format!("baseline on the {} cam", self.cam)
+        } else {
+            format!(
+                "{} {:+} % on the {} cam",
+                self.group, self.change_pct, self.cam
+            )
+        }
+    }
+
+    /// What the case is, in words: a jump whose outputs are unknown, or not workable.
+    pub fn verdict(&self) -> &'static str {
+        if self.jump {
+            "jumps, then the model left its valid range (a jump, docs/MODEL.md §3.20; no outputs)"
+        } else {
+            "not workable: the model left its valid range with the follower on the cam"
+        }
+    }
 }
 
 /// One case of the study (a baseline has group "baseline" and change 0).
@@ -644,8 +703,11 @@ pub struct SensitivityReport {
     pub actual_profile: ProfileStats,
     /// The baseline on each cam (change 0).
     pub baseline: Vec<Case>,
-    /// Every group, change and cam.
+    /// Every group, change and cam whose run stayed in the model's valid range.
     pub cases: Vec<Case>,
+    /// The cases whose run left the model's valid range (docs/MODEL.md §3.20), in the
+    /// study's order: each a jump (the follower had separated first) or not workable.
+    pub not_workable: Vec<NotWorkableCase>,
     /// `--per-key`'s elasticities.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub per_key: Option<PerKey>,
@@ -671,6 +733,23 @@ fn base_spec(args: &Args) -> Result<RunSpec> {
     spec.design.validate()?;
     Ok(spec)
 }
+
+/// The study's error when no case has an answer: every run left the model's valid range
+/// with the follower on the cam. A case that separated first is a jump, an answer (as a
+/// Monte Carlo sample is).
+pub fn all_failed(cases: &[Case], not_workable: &[NotWorkableCase]) -> Result<()> {
+    match not_workable.first() {
+        Some(n) if cases.is_empty() && not_workable.iter().all(|n| !n.jump) => anyhow::bail!(
+            "no case is workable: every run left the model's valid range with the follower on the cam (first: {}: {})",
+            n.name(),
+            n.reason
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// A case's outcome: its outputs, or how it left the model's valid range.
+type CaseOutcome = std::result::Result<Case, NotWorkableCase>;
 
 /// Runs the study.
 pub fn report(args: &Args) -> Result<SensitivityReport> {
@@ -705,7 +784,7 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
     }
     let threads = crate::study::montecarlo::threads(args.threads);
     let pool = crate::study::pool(threads)?;
-    let results: Vec<Result<Case>> = pool.install(|| {
+    let results: Vec<Result<CaseOutcome>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(g, c, actual)| {
                 let mut s = spec.clone();
@@ -719,23 +798,36 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
                     s.profile = Some(dev.clone());
                 }
                 let cam = if actual { "actual" } else { "theoretical" };
-                let out = outputs(&s).with_context(|| {
-                    format!("{cam} cam, {} {c:+} %", g.map_or("baseline", Group::name))
-                })?;
-                Ok(Case {
-                    group: g.map_or("baseline", Group::name),
-                    change_pct: c,
-                    cam,
-                    outputs: out,
+                let group = g.map_or("baseline", Group::name);
+                let out = outputs_or_left_range(&s)
+                    .with_context(|| format!("{cam} cam, {group} {c:+} %"))?;
+                Ok(match out {
+                    Ok(outputs) => Ok(Case {
+                        group,
+                        change_pct: c,
+                        cam,
+                        outputs,
+                    }),
+                    Err(l) => Err(NotWorkableCase {
+                        group,
+                        change_pct: c,
+                        cam,
+                        jump: l.separated,
+                        reason: l.reason,
+                    }),
                 })
             })
             .collect()
     });
-    let mut all = Vec::with_capacity(results.len());
+    let (mut all, mut not_workable) = (Vec::new(), Vec::new());
     for r in results {
-        all.push(r?);
+        match r? {
+            Ok(c) => all.push(c),
+            Err(n) => not_workable.push(n),
+        }
     }
-    let cases = all.split_off(2);
+    all_failed(&all, &not_workable)?;
+    let cases = all.split_off(all.iter().take_while(|c| c.group == "baseline").count());
     let per_key = if args.per_key {
         let res = if args.quick {
             QUICK_ONSET_RESOLUTION_RPM
@@ -753,6 +845,7 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
         actual_profile: profile,
         baseline: all,
         cases,
+        not_workable,
         per_key,
         wall_s: t0.elapsed().as_secs_f64(),
     };
@@ -868,10 +961,14 @@ impl Report for SensitivityReport {
             output_label(4)
         );
         for cam in ["theoretical", "actual"] {
-            let Some(b) = self.baseline.iter().find(|c| c.cam == cam) else {
-                continue;
-            };
+            let b = self.baseline.iter().find(|c| c.cam == cam);
             let _ = writeln!(out, "\n{cam} cam");
+            if b.is_none() {
+                let _ = writeln!(
+                    out,
+                    "  (its baseline left the model's valid range: the changes are not computed against it)"
+                );
+            }
             let _ = write!(out, "  {:<10} {:>6}", "group", "change");
             for (i, (_, h, _)) in OUTPUTS.iter().enumerate() {
                 let _ = write!(out, " {:>19}", format!("{h} ({})", output_label(i)));
@@ -884,14 +981,9 @@ impl Report for SensitivityReport {
                     c.group,
                     format!("{:+}", c.change_pct)
                 );
-                for (i, (v, bv)) in c
-                    .outputs
-                    .values()
-                    .into_iter()
-                    .zip(b.outputs.values())
-                    .enumerate()
-                {
-                    let cell = if c.group == "baseline" {
+                let base = b.map_or([f64::NAN; 5], |b| b.outputs.values());
+                for (i, (v, bv)) in c.outputs.values().into_iter().zip(base).enumerate() {
+                    let cell = if c.group == "baseline" || bv.is_nan() {
                         fmt_value(i, v)
                     } else {
                         match pct(v, bv) {
@@ -903,9 +995,29 @@ impl Report for SensitivityReport {
                 }
                 let _ = writeln!(out, "  {}", if c.outputs.jump { "yes" } else { "no" });
             };
-            row(&mut out, b);
+            if let Some(b) = b {
+                row(&mut out, b);
+            }
             for c in self.cases.iter().filter(|c| c.cam == cam) {
                 row(&mut out, c);
+            }
+            for n in self.not_workable.iter().filter(|n| n.cam == cam) {
+                let _ = writeln!(
+                    out,
+                    "  {:<10} {:>5}%  {}",
+                    n.group,
+                    format!("{:+}", n.change_pct),
+                    n.verdict()
+                );
+            }
+        }
+        if !self.not_workable.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nleft the model's valid range (docs/MODEL.md §3.20; after a separation the case is a jump, as in `camsim jump-speed`):"
+            );
+            for n in &self.not_workable {
+                let _ = writeln!(out, "  {}: {}", n.name(), n.reason);
             }
         }
         if let Some(pk) = &self.per_key {
@@ -952,7 +1064,17 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
     let file = PLOT_FILES[0];
     let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
     let changes: Vec<i32> = {
-        let mut v: Vec<i32> = r.cases.iter().map(|c| c.change_pct).collect();
+        let mut v: Vec<i32> = r
+            .cases
+            .iter()
+            .map(|c| c.change_pct)
+            .chain(
+                r.not_workable
+                    .iter()
+                    .filter(|n| n.group != "baseline")
+                    .map(|n| n.change_pct),
+            )
+            .collect();
         v.sort_unstable();
         v.dedup();
         v
@@ -1021,6 +1143,14 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                     }
                 ),
                 _ => "theoretical cam".to_string(),
+            };
+            let row_title = match r
+                .not_workable
+                .iter()
+                .find(|n| n.cam == *cam && n.group == "baseline")
+            {
+                Some(n) => format!("{row_title}: the baseline {}", n.verdict()),
+                None => row_title,
             };
             let row = row
                 .titled(&row_title, ("sans-serif", 19))
@@ -1151,6 +1281,30 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                         },
                     ))
                     .map_err(|x| e(&x))?;
+                // A case that left the model's valid range: no bar (no value), a mark.
+                chart
+                    .draw_series(
+                        r.not_workable
+                            .iter()
+                            .filter(|n| n.cam == *cam)
+                            .filter_map(|n| {
+                                let gi = Group::ALL.iter().position(|g| g.name() == n.group)?;
+                                let mark = if n.jump {
+                                    " jump, then out of range "
+                                } else {
+                                    " not workable "
+                                };
+                                Some(Text::new(
+                                    mark,
+                                    (0.0, top_of(gi, n.change_pct) - 0.5 * w),
+                                    ("sans-serif", 13)
+                                        .into_font()
+                                        .color(&RED)
+                                        .pos(Pos::new(HPos::Left, VPos::Center)),
+                                ))
+                            }),
+                    )
+                    .map_err(|x| e(&x))?;
             }
         }
         Ok(())
@@ -1165,6 +1319,41 @@ mod tests {
     use std::collections::BTreeMap;
 
     /// A change that rounds to zero reads 0.0 with no sign; any other keeps its sign.
+    /// Only cases that left the range with the follower on the cam fail; one case with
+    /// outputs, or one that jumped first, is an answer.
+    #[test]
+    fn a_study_fails_only_when_every_case_failed_without_a_separation() {
+        let nw = |jump| NotWorkableCase {
+            group: "mass",
+            change_pct: -30,
+            cam: "actual",
+            jump,
+            reason: "the model left its valid range at cam angle 1 deg".into(),
+        };
+        let e = all_failed(&[], &[nw(false), nw(false)]).unwrap_err();
+        assert!(
+            format!("{e}").contains("no case is workable")
+                && format!("{e}").contains("mass -30 % on the actual cam"),
+            "{e}"
+        );
+        assert!(all_failed(&[], &[nw(false), nw(true)]).is_ok());
+        assert!(all_failed(&[], &[]).is_ok());
+        let case = Case {
+            group: "baseline",
+            change_pct: 0,
+            cam: "theoretical",
+            outputs: Outputs {
+                rms_displacement_in: 0.0,
+                rms_velocity_in_per_s: 0.0,
+                rms_acceleration_in_per_s2: 0.0,
+                rms_angular_velocity_rad_per_s: 0.0,
+                contact_stress_avg_psi: 0.0,
+                jump: false,
+            },
+        };
+        assert!(all_failed(&[case], &[nw(false)]).is_ok());
+    }
+
     #[test]
     fn a_change_that_rounds_to_zero_has_no_sign() {
         assert_eq!(signed_pct_1(-0.04), "0.0");

@@ -212,7 +212,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
             roller_tolerance: Some(roller),
             eccentricity_tolerance: Some(ecc),
             interval_deg: interval,
-            waviness_fpr: fpr,
+            waviness_fpr: fpr.into_iter().collect(),
             seed: args.seed,
             normal: args.normal,
             ..ActualArgs::default()

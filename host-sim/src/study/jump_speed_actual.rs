@@ -46,6 +46,8 @@ pub struct ActualOnsetReport {
     pub samples: usize,
     /// Master seed.
     pub seed: u64,
+    /// How the machined cams are made (method, normal deviates, tolerances, interval).
+    pub profile: crate::study::montecarlo::ProfileSettings,
     /// The scene's operating speed, rpm.
     pub operating_rpm: f64,
     /// Bisection resolution, rpm.
@@ -144,6 +146,10 @@ pub fn study(
     max_rpm: f64,
 ) -> Result<ActualOnsetReport> {
     let t0 = std::time::Instant::now();
+    // The interval chosen once for every sample.
+    let actual = &actual.resolve(&spec.design)?;
+    let interval = crate::actual::intervals_for(&spec.design, actual)?;
+    let profile = crate::study::montecarlo::ProfileSettings::of(actual, interval)?;
     let op = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let pool = super::pool(threads)?;
     // A progress bar on a terminal: the theoretical search and every sample's.
@@ -181,6 +187,7 @@ pub fn study(
     Ok(ActualOnsetReport {
         samples: onsets.len(),
         seed: actual.seed(),
+        profile,
         operating_rpm: op,
         resolution_rpm: resolution,
         max_rpm,

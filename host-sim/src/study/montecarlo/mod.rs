@@ -291,6 +291,23 @@ pub struct ProfileSettings {
     pub interval_source: String,
 }
 
+impl ProfileSettings {
+    /// How `actual`'s cams are made, with the interval chosen for them
+    /// ([`actual::intervals_for`]).
+    pub fn of(actual: &ActualArgs, interval: (usize, actual::IntervalSource)) -> Result<Self> {
+        let tol = actual.tolerances()?;
+        Ok(ProfileSettings {
+            method: value_name(&actual.profile_method),
+            normal: value_name(&actual.normal),
+            cam_tolerance_in: tol.cam,
+            roller_tolerance_in: tol.roller,
+            eccentricity_tolerance_in: tol.eccentricity,
+            intervals: interval.0,
+            interval_source: interval.1.label(),
+        })
+    }
+}
+
 /// The fewest full-model cams of a default two-level study.
 pub const MIN_FULL_SAMPLES: u64 = 30;
 
@@ -356,8 +373,8 @@ impl Study {
             "a study needs at least one revolution"
         );
         anyhow::ensure!(samples >= 1, "--samples must be at least 1");
-        let tol = actual.tolerances()?;
         let (intervals, source) = actual::intervals_for(&spec.design, actual)?;
+        let profile = ProfileSettings::of(actual, (intervals, source))?;
         let mut fixed = actual.clone();
         fixed.actual = true;
         fixed.resolved = Some((intervals, source));
@@ -367,15 +384,7 @@ impl Study {
             seed: actual.seed(),
             revolutions: spec.revolutions,
             scene: crate::scene::spec_text(&spec)?,
-            profile: ProfileSettings {
-                method: value_name(&actual.profile_method),
-                normal: value_name(&actual.normal),
-                cam_tolerance_in: tol.cam,
-                roller_tolerance_in: tol.roller,
-                eccentricity_tolerance_in: tol.eccentricity,
-                intervals,
-                interval_source: source.label(),
-            },
+            profile,
             two_level: None,
             one_model: None,
         };
