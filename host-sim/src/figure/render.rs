@@ -149,7 +149,7 @@ pub fn render(fig: &Figure) -> Result<(Vec<u8>, Vec<PixelArea>)> {
 }
 
 /// The (x, y) ranges a panel is drawn over: each axis's own, or its data's (series,
-/// bands and bars) with a margin; the y range raised by `legend_frac` of its height for
+/// bands, bars and marker lines) with a margin; the y range raised by `legend_frac` of its height for
 /// a legend box. A panel with no finite value on an axis is refused.
 pub fn ranges(p: &Panel, legend_frac: f64) -> Result<(Span, Span), FigureError> {
     let xs = p
@@ -157,14 +157,22 @@ pub fn ranges(p: &Panel, legend_frac: f64) -> Result<(Span, Span), FigureError> 
         .iter()
         .flat_map(|s| s.points.iter().map(|q| q.0))
         .chain(p.bands.iter().flat_map(|b| band_values(b, true)))
-        .chain(p.bars.iter().flat_map(|b| [b.x.0, b.x.1]));
+        .chain(p.bars.iter().flat_map(|b| [b.x.0, b.x.1]))
+        .chain(p.markers.iter().filter_map(|m| match m.at {
+            At::X(x) => Some(x),
+            At::Y(_) => None,
+        }));
     let x = axis_range(&p.x, xs, 0.0, &p.name())?;
     let ys = p
         .series
         .iter()
         .flat_map(|s| s.points.iter().map(|q| q.1))
         .chain(p.bands.iter().flat_map(|b| band_values(b, false)))
-        .chain(p.bars.iter().flat_map(|b| [b.y.0, b.y.1]));
+        .chain(p.bars.iter().flat_map(|b| [b.y.0, b.y.1]))
+        .chain(p.markers.iter().filter_map(|m| match m.at {
+            At::Y(y) => Some(y),
+            At::X(_) => None,
+        }));
     let y = axis_range(&p.y, ys, legend_frac, &p.name())?;
     Ok((x, y))
 }

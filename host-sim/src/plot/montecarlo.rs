@@ -112,6 +112,29 @@ pub fn jump_bars(stats: &StudyStats) -> Vec<ProbBar> {
         .collect()
 }
 
+/// The by-period histograms: each period's acceleration RMS, smallest contact force,
+/// largest torque and largest stress, over `bins` bins.
+fn period_panels(stats: &StudyStats, bins: usize) -> Vec<HistPanel> {
+    let mut panels = Vec::new();
+    for col in [
+        "rms_acceleration",
+        "contact_force_min",
+        "torque_max",
+        "contact_stress_max",
+    ] {
+        let c = COLUMNS.iter().position(|x| *x == col);
+        for p in &stats.periods {
+            if let Some(s) = c.and_then(|c| p.columns.get(c)) {
+                let (q, _, _) = quantity(col);
+                let jumped = c.and_then(|c| p.jumped_columns.get(c));
+                let caption = format!("{}: {q}", p.period);
+                panels.push(panel(caption, col, s, jumped, bins, stats.samples));
+            }
+        }
+    }
+    panels
+}
+
 /// Draws the plots of a study's statistics into `dir`.
 pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<()> {
     let n = stats.samples;
@@ -165,28 +188,7 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
     let title = format!("{n} actual cams, revolution {revolution}: histograms");
     let fig = histograms(&title, &legend_profiles, "cams", &panels, 4);
     crate::figure::draw(dir, PLOT_FILES[0], &fig, units)?;
-    let mut panels = Vec::new();
-    for col in [
-        "rms_acceleration",
-        "contact_force_min",
-        "torque_max",
-        "contact_stress_max",
-    ] {
-        let c = COLUMNS.iter().position(|x| *x == col);
-        for p in &stats.periods {
-            if let Some(s) = c.and_then(|c| p.columns.get(c)) {
-                let (q, _, _) = quantity(col);
-                panels.push(panel(
-                    format!("{}: {q}", p.period),
-                    col,
-                    s,
-                    c.and_then(|c| p.jumped_columns.get(c)),
-                    bins,
-                    n,
-                ));
-            }
-        }
-    }
+    let panels = period_panels(stats, bins);
     let title = format!("{n} actual cams, revolution {revolution}, by period: histograms");
     let fig = histograms(&title, &legend, "cams", &panels, stats.periods.len().max(1));
     crate::figure::draw(dir, PLOT_FILES[1], &fig, units)?;

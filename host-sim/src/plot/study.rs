@@ -1,6 +1,7 @@
-//! Plots of the studies (histograms, bar charts, curves), drawn with the run plots'
-//! embedded font: `montecarlo`, `compare`, `sensitivity` and `tolerance-study` draw with
-//! these.
+//! The drawing helpers `sensitivity` and `tolerance-study` still call directly (a PNG
+//! canvas, a legend row, a palette); every other command describes its figures as data
+//! for the one renderer, [`crate::figure`]. The axis scale in powers of 1000 is shared
+//! with it.
 use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 
