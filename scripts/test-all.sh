@@ -228,8 +228,10 @@ smoke design-actual design spring --actual --quick --json
 smoke design-speed design speed --quick --json
 jq -e '(.speeds_tried_rpm | length > 0) and (has("tried") | not)' "$studies/design-speed.out" >/dev/null || { echo "smoke: design speed's tried speeds do not name their unit (speeds_tried_rpm)" >&2; exit 1; }
 smoke design-tolerance design tolerance --quick --json
+jq -e 'all(.[]; (.tolerance_factors_tried | length > 0) and (has("tried") | not))' "$studies/design-tolerance.out" >/dev/null || { echo "smoke: design tolerance's tried factors do not name their unit (tolerance_factors_tried)" >&2; exit 1; }
 smoke design-preload design spring --preload --quick --json
 smoke design-waviness design tolerance --waviness --quick --json
+jq -e 'all(.[]; (.waviness_fprs_tried | length > 0) and (has("tried") | not))' "$studies/design-waviness.out" >/dev/null || { echo "smoke: design tolerance --waviness's tried FPRs do not name their unit" >&2; exit 1; }
 smoke design-tolerance-fprs design tolerance --waviness-fpr 17,57 --quick --json
 smoke sweep sweep --rpm 700:1000:4 --csv "$studies/sweep.csv" --plot "$studies/sweep" --json
 smoke sweep-actual sweep --rpm 850:950:3 --actual --samples 4 --threads 2 --json
