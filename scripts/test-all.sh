@@ -186,7 +186,7 @@ smoke montecarlo-plot-si montecarlo --samples 8 --plot "$studies/mc-si" --units 
 smoke montecarlo-si-text montecarlo --samples 8 --units si
 grep -qF '  rms_a, mm/s^2 ' "$studies/montecarlo-si-text.out" || { echo "smoke: montecarlo --units si prints no mm/s^2 column" >&2; exit 1; }
 smoke design-si-text design spring --quick --units si
-grep -q '^  spring to build: ' "$studies/design-si-text.out" && grep -q 'as a scene: \[design.spring\] wire_diameter_mm = ' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not give a spring to build in mm" >&2; exit 1; }
+grep -q '^  spring to build: ' "$studies/design-si-text.out" && grep -q '^      wire_diameter_mm = ' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not give a spring to build in mm" >&2; exit 1; }
 # [design.spring]: a spring given as a part (SI keys) runs, and the verdict judges its stress and solid height.
 printf '[design.spring]\nwire_diameter_mm = 6.3\nmean_diameter_mm = 63\nactive_coils = 3.25\nmaterial = "music-wire"\nfree_length_mm = 91.5\n' > "$studies/spring-part.toml"
 smoke run-spring-part run "$studies/spring-part.toml" --revolutions 2 --units si

@@ -667,3 +667,31 @@ fn design_tolerances_tried_values_name_their_unit() {
         assert_eq!(factors[1][0].as_f64().unwrap(), 0.2, "{row}");
     }
 }
+
+/// Issue 30's re-run: `design spring`'s "as a scene" lines are TOML a designer pastes in
+/// place of the spring rate: pasted under the reference scene they read back as that
+/// part (its rate the answer's part's, from the Shigley closed form the scene computes).
+#[test]
+fn design_springs_scene_lines_paste_into_a_scene() {
+    use camsim::report::Report;
+    let r = spring(&spring_args(false, 1)).unwrap();
+    let part = r.part.as_ref().unwrap();
+    let text = r.text();
+    let lines: String = text
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("as a scene"))
+        .skip(1)
+        .take_while(|l| l.starts_with("      "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert!(lines.trim_start().starts_with("[design.spring]"), "{text}");
+    let spec = camsim::scene::parse(&lines).unwrap();
+    let rate = spec.design.k_rs;
+    assert!(spec.spring.is_some());
+    // The printed sizes are rounded to 4 decimals: the rate (d^4/D^3) within 0.1 %.
+    assert!(
+        (rate / part.spring.rate_lb_per_in - 1.0).abs() < 1e-3,
+        "{rate} {:?}",
+        part.spring
+    );
+}

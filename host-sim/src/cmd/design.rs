@@ -1442,7 +1442,7 @@ fn part_lines(out: &mut String, p: &PartReport) {
     let k = units::key_suffix(units::LENGTH);
     let _ = writeln!(
         out,
-        "    as a scene: [design.spring] wire_diameter_{k} = {}, mean_diameter_{k} = {}, active_coils = {}, ends = \"{}\", material = \"{}\", free_length_{k} = {}",
+        "    as a scene (these lines in place of the spring rate):\n      [design.spring]\n      wire_diameter_{k} = {}\n      mean_diameter_{k} = {}\n      active_coils = {}\n      ends = \"{}\"\n      material = \"{}\"\n      free_length_{k} = {}",
         units::q(units::LENGTH, c.wire_diameter_in, 4),
         units::q(units::LENGTH, c.mean_diameter_in, 4),
         c.active_coils,
