@@ -189,7 +189,7 @@ smoke montecarlo-plot-si montecarlo --samples 8 --plot "$studies/mc-si" --units 
 smoke montecarlo-si-text montecarlo --samples 8 --units si
 grep -qF '  rms_a, mm/s^2 ' "$studies/montecarlo-si-text.out" || { echo "smoke: montecarlo --units si prints no mm/s^2 column" >&2; exit 1; }
 smoke design-si-text design spring --quick --units si
-grep -q '^  spring to build: ' "$studies/design-si-text.out" && grep -q 'as a scene: \[design.spring\] wire_diameter_mm = ' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not give a spring to build in mm" >&2; exit 1; }
+grep -q '^  spring to build: ' "$studies/design-si-text.out" && grep -q '^      wire_diameter_mm = ' "$studies/design-si-text.out" || { echo "smoke: design spring --units si does not give a spring to build in mm" >&2; exit 1; }
 # [design.spring]: a spring given as a part (SI keys) runs, and the verdict judges its stress and solid height.
 printf '[design.spring]\nwire_diameter_mm = 6.3\nmean_diameter_mm = 63\nactive_coils = 3.25\nmaterial = "music-wire"\nfree_length_mm = 91.5\n' > "$studies/spring-part.toml"
 smoke run-spring-part run "$studies/spring-part.toml" --revolutions 2 --units si
@@ -231,8 +231,10 @@ smoke design-actual design spring --actual --quick --json
 smoke design-speed design speed --quick --json
 jq -e '(.speeds_tried_rpm | length > 0) and (has("tried") | not)' "$studies/design-speed.out" >/dev/null || { echo "smoke: design speed's tried speeds do not name their unit (speeds_tried_rpm)" >&2; exit 1; }
 smoke design-tolerance design tolerance --quick --json
+jq -e 'all(.[]; (.tolerance_factors_tried | length > 0) and (has("tried") | not))' "$studies/design-tolerance.out" >/dev/null || { echo "smoke: design tolerance's tried factors do not name their unit (tolerance_factors_tried)" >&2; exit 1; }
 smoke design-preload design spring --preload --quick --json
 smoke design-waviness design tolerance --waviness --quick --json
+jq -e 'all(.[]; (.waviness_fprs_tried | length > 0) and (has("tried") | not))' "$studies/design-waviness.out" >/dev/null || { echo "smoke: design tolerance --waviness's tried FPRs do not name their unit" >&2; exit 1; }
 smoke design-tolerance-fprs design tolerance --waviness-fpr 17,57 --quick --json
 smoke sweep sweep --rpm 700:1000:4 --csv "$studies/sweep.csv" --plot "$studies/sweep" --json
 smoke sweep-actual sweep --rpm 850:950:3 --actual --samples 4 --threads 2 --json

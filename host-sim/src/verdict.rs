@@ -1028,7 +1028,7 @@ fn drive_text(d: &DriveVerdict, revolutions: [u32; 2]) -> String {
 pub fn swing_warning(d: &DriveVerdict) -> Option<String> {
     (d.swing_percent > d.swing_limit_percent).then(|| {
         format!(
-            "the cam speed swings {:.1} % from the nominal {:.1} rpm ({:.1} to {:.1} rpm; limit {:.0} %): the {} drive does not hold the speed the kinematic design assumes: give the drive ({} for this machine, or drive = \"constant-cam-speed\" for the kinematic answer)",
+            "the cam speed swings {:.1} % from the nominal {:.1} rpm ({:.1} to {:.1} rpm; limit {:.0} %): the {} drive does not hold the speed the kinematic design assumes: give the drive, {} for this machine, or drive = \"constant-cam-speed\" for the kinematic answer",
             d.swing_percent,
             d.nominal_rpm,
             d.min_cam_speed_rpm,

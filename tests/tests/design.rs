@@ -625,3 +625,73 @@ fn design_tolerance_table_rows_are_the_single_fpr_answers() {
         "{e}"
     );
 }
+
+/// Issue 30: "JSON arrays name their unit in their key". `design tolerance`'s values
+/// tried are factors on VI.1's tolerances, with --waviness waviness FPRs: each report's
+/// array is under the key that says so, and no bare `tried` is left; the FPRs are whole
+/// numbers and the factors the search's doubling from 0.1.
+#[test]
+fn design_tolerances_tried_values_name_their_unit() {
+    use camsim::cmd::design::What;
+    use camsim::report::Report;
+    let json = |extra: &[&str]| {
+        let mut argv = vec!["camsim", "design", "tolerance", "--quick", "--threads", "1"];
+        argv.extend_from_slice(extra);
+        let camsim::cli::Command::Design(a) = camsim::cli::parse_from(argv).unwrap().command else {
+            panic!("not design")
+        };
+        let What::Tolerance(t) = a.what else {
+            panic!("not tolerance")
+        };
+        let text = camsim::cmd::design::tolerance_table(&t)
+            .unwrap()
+            .json()
+            .unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let wavy = json(&["--waviness"]);
+    let rows = wavy.as_array().unwrap();
+    assert_eq!(rows.len(), 1);
+    assert!(rows[0].get("tried").is_none());
+    let fprs = rows[0]["waviness_fprs_tried"].as_array().unwrap();
+    assert!(!fprs.is_empty());
+    for f in fprs {
+        let x = f[0].as_f64().unwrap();
+        assert_eq!(x, x.round(), "{f}");
+    }
+    let tol = json(&["--waviness-fpr", "17"]);
+    for row in tol.as_array().unwrap() {
+        assert!(row.get("tried").is_none());
+        let factors = row["tolerance_factors_tried"].as_array().unwrap();
+        assert_eq!(factors[0][0].as_f64().unwrap(), 0.1, "{row}");
+        assert_eq!(factors[1][0].as_f64().unwrap(), 0.2, "{row}");
+    }
+}
+
+/// Issue 30's re-run: `design spring`'s "as a scene" lines are TOML a designer pastes in
+/// place of the spring rate: pasted under the reference scene they read back as that
+/// part (its rate the answer's part's, from the Shigley closed form the scene computes).
+#[test]
+fn design_springs_scene_lines_paste_into_a_scene() {
+    use camsim::report::Report;
+    let r = spring(&spring_args(false, 1)).unwrap();
+    let part = r.part.as_ref().unwrap();
+    let text = r.text();
+    let lines: String = text
+        .lines()
+        .skip_while(|l| !l.trim_start().starts_with("as a scene"))
+        .skip(1)
+        .take_while(|l| l.starts_with("      "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert!(lines.trim_start().starts_with("[design.spring]"), "{text}");
+    let spec = camsim::scene::parse(&lines).unwrap();
+    let rate = spec.design.k_rs;
+    assert!(spec.spring.is_some());
+    // The printed sizes are rounded to 4 decimals: the rate (d^4/D^3) within 0.1 %.
+    assert!(
+        (rate / part.spring.rate_lb_per_in - 1.0).abs() < 1e-3,
+        "{rate} {:?}",
+        part.spring
+    );
+}

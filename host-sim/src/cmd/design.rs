@@ -203,7 +203,8 @@ pub struct McSearchReport {
     pub seed: u64,
     /// The model that produced the answer.
     pub model: String,
-    /// Every value tried and whether it passed.
+    /// Every value tried and whether it passed (its JSON key names the unit:
+    /// [`Self::tried_key`]).
     pub tried: Vec<(f64, bool)>,
     /// Model runs (2 revolutions each).
     pub model_runs: u64,
@@ -488,18 +489,32 @@ fn search_headline(r: &McSearchReport, out: &mut String) {
     }
 }
 
-impl Report for McSearchReport {
-    /// `design speed`'s tried speeds under a key naming their unit (`speeds_tried_rpm`).
-    fn json(&self) -> serde_json::Result<String> {
+impl McSearchReport {
+    /// The JSON key of the values tried, naming their unit: `speeds_tried_rpm`,
+    /// `tolerance_factors_tried` (factors on VI.1's tolerances) or `waviness_fprs_tried`.
+    pub fn tried_key(&self) -> &'static str {
+        match self.search.as_str() {
+            "speed" => "speeds_tried_rpm",
+            "waviness" => "waviness_fprs_tried",
+            _ => "tolerance_factors_tried",
+        }
+    }
+
+    /// The report as JSON, the values tried under [`Self::tried_key`].
+    fn json_value(&self) -> serde_json::Result<serde_json::Value> {
         let mut v = serde_json::to_value(self)?;
-        if self.search == "speed" {
-            if let Some(o) = v.as_object_mut() {
-                if let Some(t) = o.remove("tried") {
-                    o.insert("speeds_tried_rpm".into(), t);
-                }
+        if let Some(o) = v.as_object_mut() {
+            if let Some(t) = o.remove("tried") {
+                o.insert(self.tried_key().into(), t);
             }
         }
-        crate::report::sorted_pretty_json(&v)
+        Ok(v)
+    }
+}
+
+impl Report for McSearchReport {
+    fn json(&self) -> serde_json::Result<String> {
+        crate::report::sorted_pretty_json(&self.json_value()?)
     }
     fn text(&self) -> String {
         use std::fmt::Write;
@@ -558,7 +573,12 @@ pub struct ToleranceTable(pub Vec<McSearchReport>);
 
 impl Report for ToleranceTable {
     fn json(&self) -> serde_json::Result<String> {
-        crate::report::sorted_pretty_json(self)
+        let rows = self
+            .0
+            .iter()
+            .map(McSearchReport::json_value)
+            .collect::<serde_json::Result<Vec<_>>>()?;
+        crate::report::sorted_pretty_json(&rows)
     }
     fn text(&self) -> String {
         use std::fmt::Write;
@@ -1403,7 +1423,7 @@ fn part_lines(out: &mut String, p: &PartReport) {
     let k = units::key_suffix(units::LENGTH);
     let _ = writeln!(
         out,
-        "    as a scene: [design.spring] wire_diameter_{k} = {}, mean_diameter_{k} = {}, active_coils = {}, ends = \"{}\", material = \"{}\", free_length_{k} = {}",
+        "    as a scene (these lines in place of the spring rate):\n      [design.spring]\n      wire_diameter_{k} = {}\n      mean_diameter_{k} = {}\n      active_coils = {}\n      ends = \"{}\"\n      material = \"{}\"\n      free_length_{k} = {}",
         units::q(units::LENGTH, c.wire_diameter_in, 4),
         units::q(units::LENGTH, c.mean_diameter_in, 4),
         c.active_coils,
