@@ -566,26 +566,7 @@ pub fn report_measured<T: Real>(
                 });
                 return None;
             };
-            let (timing_deg, timing_bits) = timing(&q.timing_deg, single);
-            Some(SampleRow {
-                reading: i,
-                rpm: Num::of(q.rpm),
-                force_margin_lb: Num::of(q.force_margin_lb),
-                speed_margin_rpm: q
-                    .speed_margin_rpm
-                    .is_finite()
-                    .then(|| Num::of(q.speed_margin_rpm)),
-                speed_margin_absent: (!q.speed_margin_rpm.is_finite())
-                    .then(|| format!("no jump onset up to the search limit of {CHIP_MAX_RPM} rpm")),
-                in_grid: q.in_grid,
-                alarm: s.alarm,
-                timing_deg,
-                bits: SampleBits {
-                    force_margin_lb: bits_of(q.force_margin_lb, single),
-                    speed_margin_rpm: bits_of(q.speed_margin_rpm, single),
-                    timing_deg: timing_bits,
-                },
-            })
+            Some(sample_row(i, q, s.alarm, single))
         })
         .collect();
     let s = chip_solver_settings::<f64>();
@@ -615,6 +596,43 @@ pub fn report_measured<T: Real>(
         faults,
         alarm_transitions,
     }
+}
+
+/// The report's row of vouched reading `reading`: its prediction `q`, the alarm after it, and
+/// the bits of its numbers. With no jump onset there is no speed margin: the field is absent
+/// and `speed_margin_absent` says why.
+fn sample_row<T: Real>(
+    reading: usize,
+    q: &SpeedPrediction<T>,
+    alarm: bool,
+    single: bool,
+) -> SampleRow {
+    let (timing_deg, timing_bits) = timing(&q.timing_deg, single);
+    let margin = q.speed_margin_rpm.is_finite();
+    SampleRow {
+        reading,
+        rpm: Num::of(q.rpm),
+        force_margin_lb: Num::of(q.force_margin_lb),
+        speed_margin_rpm: margin.then(|| Num::of(q.speed_margin_rpm)),
+        speed_margin_absent: (!margin)
+            .then(|| format!("no jump onset up to the search limit of {CHIP_MAX_RPM} rpm")),
+        in_grid: q.in_grid,
+        alarm,
+        timing_deg,
+        bits: SampleBits {
+            force_margin_lb: bits_of(q.force_margin_lb, single),
+            speed_margin_rpm: bits_of(q.speed_margin_rpm, single),
+            timing_deg: timing_bits,
+        },
+    }
+}
+
+/// A row's speed margin as the text prints it: rpm, or "none (no onset)" when it is absent.
+fn margin_text(s: &SampleRow) -> String {
+    s.speed_margin_rpm.map_or_else(
+        || "none (no onset)".to_string(),
+        |m| format!("{:>8.2} rpm", m.0),
+    )
 }
 
 /// The human-readable output.
@@ -678,10 +696,7 @@ pub fn render_text(r: &PredictReport) -> String {
     loop {
         let (line, alarm) = match (si.peek(), fi.peek()) {
             (Some(s), f) if f.is_none_or(|f| s.reading < f.reading) => {
-                let margin = s.speed_margin_rpm.map_or_else(
-                    || "none (no onset)".to_string(),
-                    |m| format!("{:>8.2} rpm", m.0),
-                );
+                let margin = margin_text(s);
                 let line = format!(
                     "speed {:>6.1} rpm: force margin {:>9} {lb}, speed margin {margin}, timing rise50 {:+.4} return50 {:+.4} deg",
                     s.rpm.0,
