@@ -97,41 +97,12 @@ pub struct MemoryBudget {
     pub ram: u64,
 }
 
-/// LENGTH of region `name` in a linker script's MEMORY block (`128K`, `1M` or bytes).
+/// The budget's region `name` (`FLASH`, `RAM`) by the one linker-script parser the
+/// firmware's build uses too ([`camsim_chip::memory_map`]: comments, hex, K/M, checked).
 fn region_length(text: &str, name: &str) -> Result<u64> {
-    for line in text.lines() {
-        let Some(rest) = line.trim_start().strip_prefix(name) else {
-            continue;
-        };
-        if !rest.trim_start().starts_with(':') {
-            continue;
-        }
-        let Some(i) = rest.find("LENGTH") else {
-            continue;
-        };
-        let v = rest[i + "LENGTH".len()..]
-            .trim_start()
-            .strip_prefix('=')
-            .map(str::trim)
-            .unwrap_or("");
-        let v: String = v
-            .chars()
-            .take_while(|c| c.is_ascii_alphanumeric())
-            .collect();
-        let (digits, scale) = match v.strip_suffix('K') {
-            Some(d) => (d, 1024),
-            None => match v.strip_suffix('M') {
-                Some(d) => (d, 1024 * 1024),
-                None => (v.as_str(), 1),
-            },
-        };
-        let n: u64 = digits
-            .parse()
-            .ok()
-            .with_context(|| format!("memory.x: LENGTH of {name} is `{v}`, not bytes, K or M"))?;
-        return Ok(n * scale);
-    }
-    bail!("memory.x: no LENGTH for region {name}")
+    camsim_chip::memory_map::region(text, name)
+        .map(|r| r.length)
+        .map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// Parses memory.x's FLASH and RAM lengths.

@@ -282,7 +282,8 @@ pub fn run(a: Args) -> Result<()> {
 /// Runs the checks named by the arguments (printing each line as it passes, without
 /// --json); the first failure is the error.
 pub fn report(a: &Args) -> Result<CheckReport> {
-    let budget = parse_memory_x(&read(&a.memory_x)?)?;
+    let budget = parse_memory_x(&read(&a.memory_x)?)
+        .map_err(|e| anyhow::anyhow!("--memory-x {}: {e}", a.memory_x.display()))?;
     let mut report = CheckReport {
         camsim_version: env!("CARGO_PKG_VERSION"),
         memory_x: a.memory_x.display().to_string(),
