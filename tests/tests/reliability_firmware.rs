@@ -135,3 +135,41 @@ fn an_overflowing_length_is_refused_not_wrapped() {
     let e = fits(&d, &[]);
     assert!(e.contains("no region RAM"), "{e}");
 }
+
+/// Defect 6: `llvm-size` output with a size in hex, a garbage size, a section listed
+/// twice or a known section missing counted as 0 or its last value on 6b065a3; each is
+/// refused naming the line.
+#[test]
+fn llvm_size_output_is_refused_line_by_line() {
+    let d = setup("llvm-size", BUDGET, SIZES);
+    assert_eq!(fits(&d, &[]), "OK");
+    let cases = [
+        // .text in hex (what `llvm-size -A -x` prints): 6b065a3 counted it as 0.
+        (SIZES.replace("76036", "0x12904"), "line 4"),
+        (SIZES.replace("17784", "lots"), "line 5"),
+        // .rodata listed twice (the second 0): 6b065a3 kept the last value.
+        (
+            SIZES.replace(".gnu.sgstubs             0", ".rodata                  0"),
+            "listed twice",
+        ),
+        // A section other than a known one where .text stands.
+        (SIZES.replace(".text ", ".txet "), "no .text section"),
+        (SIZES.replace("384976", "1"), "not the sum"),
+    ];
+    for (sizes, want) in cases {
+        fs::write(d.join("sizes.txt"), &sizes).unwrap();
+        let e = fits(&d, &[]);
+        assert!(e.contains(want) && e.contains("llvm-size"), "{want}: {e}");
+    }
+}
+
+/// Defect 6: section sizes whose sum passes 2^64 are an error, not a wrap (6b065a3 added
+/// .text 2^64 - 1000 and 1024 + ... into a small flash that fit the budget).
+#[test]
+fn section_sums_that_overflow_are_refused() {
+    let huge = (u64::MAX - 1000).to_string();
+    let sizes = SIZES.replace("76036", &huge);
+    let d = setup("overflow-sum", BUDGET, &sizes);
+    let e = fits(&d, &[]);
+    assert!(e.contains("past 2^64 - 1"), "{e}");
+}

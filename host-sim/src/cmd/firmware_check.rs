@@ -176,11 +176,11 @@ fn elf_sizes(r: &mut CheckReport, tool: &str, elf: &Path) -> Result<ElfSizes> {
     }
     let sizes = parse_llvm_size(&String::from_utf8_lossy(&out.stdout))
         .with_context(|| elf.display().to_string())?;
-    r.say(format!("  {}: {}", elf.display(), sizes.describe()));
+    r.say(format!("  {}: {}", elf.display(), sizes.describe()?));
     r.images.push(ImageSizes {
         elf: elf.display().to_string(),
-        flash_bytes: sizes.flash(),
-        ram_static_bytes: sizes.ram_static(),
+        flash_bytes: sizes.flash()?,
+        ram_static_bytes: sizes.ram_static()?,
         vector_table_bytes: sizes.vector_table,
         text_bytes: sizes.text,
         rodata_bytes: sizes.rodata,
