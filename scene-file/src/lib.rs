@@ -203,30 +203,84 @@ pub const MAX_SCENE_BYTES: u64 = 1_000_000;
 /// The most segments a program holds (core's `CamProgram` capacity).
 pub const PROGRAM_CAPACITY: usize = 8;
 
-/// Reads at most `max` bytes of UTF-8 text from `path`: `what` names the file in the
-/// refusals (`the scene file`), which are one line each: unreadable, larger than `max`,
-/// or not UTF-8 (with the line of the first invalid byte).
-pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
-    use std::io::Read;
+/// Opens `path` to read at most `max` bytes: a regular file larger than `max` is refused
+/// by its size before any byte is read; any other (a pipe, a device) is read through a
+/// limit, and a read past `max` fails with the same refusal. `what` names the file in the
+/// refusals (`the shard file`), one line each: unreadable, a directory, over the limit.
+pub fn open_limited(path: &Path, max: u64, what: &str) -> Result<LimitedRead, Error> {
     let name = path.display();
     // Only a regular file, a FIFO or a character device (a process substitution, a
     // pipe) is read; a directory is refused here rather than by an odd read error.
-    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+    let meta = std::fs::metadata(path);
+    if meta.as_ref().is_ok_and(|m| m.is_dir()) {
         return Err(Error::new(format!(
             "{name}: cannot read {what}: is a directory"
         )));
     }
+    if let Ok(m) = &meta {
+        if m.is_file() && m.len() > max {
+            return Err(Error::new(over_limit(path, what, max)));
+        }
+    }
     let file = std::fs::File::open(path)
         .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
-    let mut bytes = Vec::new();
-    file.take(max.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
-    if bytes.len() as u64 > max {
-        return Err(Error::new(format!(
-            "{name}: {what} is larger than its limit of {max} bytes (read no further)"
-        )));
+    Ok(LimitedRead {
+        file,
+        left: max,
+        refusal: over_limit(path, what, max),
+    })
+}
+
+/// The refusal of a file over its read limit.
+fn over_limit(path: &Path, what: &str, max: u64) -> String {
+    format!(
+        "{}: {what} is larger than its limit of {max} bytes (read no further)",
+        path.display()
+    )
+}
+
+/// A file read through [`open_limited`]'s limit: a read past it is an error
+/// ([`std::io::ErrorKind::FileTooLarge`]) whose text is the refusal.
+#[derive(Debug)]
+pub struct LimitedRead {
+    file: std::fs::File,
+    left: u64,
+    refusal: String,
+}
+
+impl std::io::Read for LimitedRead {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        // One byte past the limit is asked for, to tell "exactly the limit" from "more".
+        let want = buf
+            .len()
+            .min(usize::try_from(self.left.saturating_add(1)).unwrap_or(usize::MAX));
+        let n = self.file.read(buf.get_mut(..want).unwrap_or_default())?;
+        match self.left.checked_sub(n as u64) {
+            Some(left) => {
+                self.left = left;
+                Ok(n)
+            }
+            None => Err(std::io::Error::new(
+                std::io::ErrorKind::FileTooLarge,
+                self.refusal.clone(),
+            )),
+        }
     }
+}
+
+/// Reads at most `max` bytes of UTF-8 text from `path` ([`open_limited`]): `what` names
+/// the file in the refusals (`the scene file`), which are one line each: unreadable,
+/// larger than `max` (a regular file by its size, before reading), or not UTF-8 (with the
+/// line of the first invalid byte).
+pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
+    use std::io::Read;
+    let name = path.display();
+    let mut file = open_limited(path, max, what)?;
+    let mut bytes = Vec::new();
+    file.read_to_end(&mut bytes).map_err(|e| match e.kind() {
+        std::io::ErrorKind::FileTooLarge => Error::new(e.to_string()),
+        _ => Error::new(format!("{name}: cannot read {what}: {e}")),
+    })?;
     String::from_utf8(bytes).map_err(|e| {
         let good = e.utf8_error().valid_up_to();
         let line = e

@@ -173,3 +173,86 @@ fn section_sums_that_overflow_are_refused() {
     let e = fits(&d, &[]);
     assert!(e.contains("past 2^64 - 1"), "{e}");
 }
+
+/// Defect 14: a firmware log is read through the 16 MB limit of `predict --check-log`
+/// (6b065a3 read it whole: 270 MB of log, 270 MB of memory); the refusal names the file
+/// and the limit. The file is sparse: no 16 MB written.
+#[test]
+fn a_log_over_the_limit_is_refused_by_its_size() {
+    let d = setup("big-log", BUDGET, SIZES);
+    let log = d.join("boot_fault.log");
+    let f = fs::File::create(&log).unwrap();
+    f.set_len(camsim::cmd::predict::MAX_LOG_BYTES + 1).unwrap();
+    let e = outcome(&[
+        "firmware-check",
+        "--memory-x",
+        s(&d.join("memory.x")),
+        "--boot-fault",
+        s(&log),
+    ]);
+    assert!(
+        e.contains("boot_fault.log") && e.contains("larger than its limit of 16000000 bytes"),
+        "{e}"
+    );
+}
+
+/// Defect 14: `llvm-size` output past the same limit is refused (6b065a3 read it whole
+/// and, finding no section lines in it, passed the image as empty).
+#[test]
+fn llvm_size_output_over_the_limit_is_refused() {
+    let d = setup("big-output", BUDGET, SIZES);
+    let over = camsim::cmd::predict::MAX_LOG_BYTES + 1;
+    script(
+        &d,
+        "llvm-size",
+        &format!("head -c {over} /dev/zero | tr '\\0' x"),
+    );
+    let e = fits(&d, &[]);
+    assert!(e.contains("larger than the limit of 16000000 bytes"), "{e}");
+}
+
+/// Defects 6 and 11: a failing `llvm-size` is named with its exit status (6b065a3 ended
+/// the line in ": "), and one that never answers is killed after `--llvm-size-timeout`
+/// (6b065a3 hung with it).
+#[test]
+fn a_failing_or_hung_llvm_size_is_named() {
+    let d = setup("child", BUDGET, SIZES);
+    let e = outcome(&[
+        "firmware-check",
+        "--memory-x",
+        s(&d.join("memory.x")),
+        "--llvm-size",
+        "/bin/false",
+        "--fits",
+        s(&d.join("elf")),
+    ]);
+    assert!(
+        e.contains("--llvm-size /bin/false") && e.contains("exit status: 1") && !e.ends_with(": "),
+        "{e}"
+    );
+    script(&d, "llvm-size", "echo broken >&2; exit 3");
+    let e = fits(&d, &[]);
+    assert!(e.contains("exit status: 3): broken"), "{e}");
+    script(&d, "llvm-size", "exec sleep 30");
+    let e = fits(&d, &["--llvm-size-timeout", "1"]);
+    assert!(
+        e.contains("no answer in 1 s (--llvm-size-timeout): killed"),
+        "{e}"
+    );
+}
+
+/// Defect 14: `montecarlo merge` refuses a shard over its limit by its size, before
+/// reading it (6b065a3's limit was 1 GB and a 400 MB junk shard was read whole: 788 MB
+/// of memory). The file is sparse.
+#[test]
+fn a_shard_over_its_limit_is_refused_before_reading() {
+    let d = scratch("big-shard");
+    let shard = d.join("junk.json");
+    let f = fs::File::create(&shard).unwrap();
+    f.set_len(camsim::shard::MAX_SHARD_BYTES + 1).unwrap();
+    let e = outcome(&["montecarlo", "merge", s(&shard)]);
+    assert!(
+        e.contains("junk.json") && e.contains("larger than its limit of 256000000 bytes"),
+        "{e}"
+    );
+}
