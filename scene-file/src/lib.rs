@@ -1130,7 +1130,12 @@ fn toml_error(text: &str, e: &toml::de::Error, reading: &Reading) -> Error {
         return located(text, &in_user_units(&msg, reading));
     }
     let Some(span) = e.span() else {
-        return Error::new(msg);
+        return match deepest_line(text) {
+            Some((line, depth)) if msg.contains("recursion limit") => Error::new(format!(
+                "line {line}: nested {depth} levels deep, past the TOML reader's limit ({msg}; a scene file's deepest key, design.program.segment, is 3 levels)"
+            )),
+            _ => Error::new(msg),
+        };
     };
     let (line, col) = line_col(text, span.start);
     // A program longer than its capacity: the sequence's own message ("invalid length 9,
@@ -1152,9 +1157,34 @@ fn toml_error(text: &str, e: &toml::de::Error, reading: &Reading) -> Error {
         msg.push_str("; or `thesis`, or a [design.drive.motor] table");
     }
     Error::new(match Some(&path).filter(|k| !k.is_empty()) {
-        Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
+        Some(k) => format!("line {line}, column {col}: {}: {msg}", cut(k)),
         None => format!("line {line}, column {col}: {msg}"),
     })
+}
+
+/// At most this many characters of a key the user wrote are quoted in an error.
+const MAX_KEY_CHARS: usize = 200;
+
+/// `key` cut after [`MAX_KEY_CHARS`] characters, with "…" when cut.
+fn cut(key: &str) -> String {
+    match key.char_indices().nth(MAX_KEY_CHARS) {
+        Some((i, _)) => format!("{}…", key.get(..i).unwrap_or(key)),
+        None => key.to_string(),
+    }
+}
+
+/// The line (from 1) that nests deepest, and its depth: the `[` and `{` it opens plus the
+/// dots of its key or table header (`[a.a.a]` is 3). `None` for an empty text.
+fn deepest_line(text: &str) -> Option<(usize, usize)> {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let code = l.split('#').next().unwrap_or("");
+            let key = code.split('=').next().unwrap_or("");
+            let opened = code.chars().filter(|c| matches!(c, '[' | '{')).count();
+            (i + 1, opened + key.matches('.').count())
+        })
+        .max_by_key(|&(i, depth)| (depth, std::cmp::Reverse(i)))
 }
 
 /// Plain digits, or an exponent where they would run long (1e300), as core's errors.
@@ -1199,6 +1229,19 @@ fn did_you_mean(msg: &str, path: &str) -> Option<String> {
     let (name, rest) = rest.split_once('`')?;
     let expected = rest.split_once("expected")?.1;
     let table = path.rsplit_once('.').map_or("", |(t, _)| t);
+    // A key too long to be a misspelling: not compared, not echoed a second time (the
+    // line's path shows its start).
+    if name.chars().count() > MAX_KEY_CHARS {
+        let shown = if table.is_empty() {
+            "the file's top level".to_string()
+        } else {
+            format!("[{}]", cut(table))
+        };
+        return Some(format!(
+            "unknown field ({} characters long): not a key of {shown} (`camsim scene --default` writes every key)",
+            name.chars().count()
+        ));
+    }
     let norm: String = {
         // The table without indices (`design.program.segment`).
         let mut out = String::new();

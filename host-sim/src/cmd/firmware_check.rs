@@ -80,6 +80,9 @@ pub struct CheckReport {
     /// Whether to print each line as it comes (the text output).
     #[serde(skip)]
     print: bool,
+    /// The first failed write of a line to standard output (reported at the end).
+    #[serde(skip)]
+    write_error: Option<std::io::Error>,
 }
 
 /// One ELF's loaded sections (`llvm-size -A`), bytes.
@@ -154,8 +157,11 @@ fn memory_numbers(m: &camsim_chip::MemoryFields) -> MemoryNumbers {
 impl CheckReport {
     /// Records a line (and prints it at once without --json).
     fn say(&mut self, line: String) {
-        if self.print {
-            println!("{line}");
+        if self.print && self.write_error.is_none() {
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
+            let written = writeln!(out, "{line}").and_then(|()| out.flush());
+            self.write_error = written.err();
         }
         self.checks.push(line);
     }
@@ -397,6 +403,7 @@ pub fn report(a: &Args) -> Result<CheckReport> {
         budget: None,
         checks: Vec::new(),
         print: !a.json,
+        write_error: None,
     };
     let r = &mut report;
     r.say(format!(
@@ -424,6 +431,9 @@ pub fn report(a: &Args) -> Result<CheckReport> {
             "firmware-check: boot failure reported, alarm left asserted (LED0 low), stopped"
                 .to_string(),
         );
+    }
+    if let Some(e) = report.write_error.take() {
+        return Err(e).context("standard output: write failed");
     }
     Ok(report)
 }
