@@ -49,6 +49,7 @@ fn main() {
     if env::var_os("CARGO_FEATURE_STM32F446").is_some() {
         board_memory::write(&memory_x, &out.join("memory.x"), &board_memory::STM32F446);
     } else {
+        board_memory::check(&memory_x);
         fs::copy(&memory_x, out.join("memory.x"))
             .unwrap_or_else(|e| panic!("cannot copy {}: {e}", memory_x.display()));
     }

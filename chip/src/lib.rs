@@ -25,6 +25,7 @@ use camsim_core::{
 };
 
 mod log_line;
+pub mod memory_map;
 pub use log_line::{
     realtime_factor, BudgetLine, MemoryFields, ParityLine, ProductLine, ReactionLine,
     CHIP_CLOCK_HZ, CHIP_NOMINAL_RPM,

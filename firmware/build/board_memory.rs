@@ -3,8 +3,9 @@
 //! The root `memory.x` is the budget: its `FLASH` and `RAM` LENGTHs are what the
 //! firmware may use, at QEMU's origins. A real chip keeps those lengths at its own
 //! origins, so the same budget fails the link on both targets. Only the two LENGTHs are
-//! taken from the budget, verbatim (`128K`, `0x8000`, ...); a budget without them stops
-//! the build with a message naming the file and the missing region.
+//! taken from the budget, verbatim (`128K`, `0x8000`, ...), read by `camsim_chip::memory_map`
+//! (the parser `camsim firmware-check` uses); a budget without them, or with a value that
+//! parser refuses, stops the build with a message naming the file, the region and the rule.
 
 use std::fs;
 use std::path::Path;
@@ -32,8 +33,23 @@ pub const STM32F446: Board = Board {
     ram_bytes: 128 * 1024,
 };
 
+/// Checks that the budget at `budget` reads as `camsim firmware-check` reads it (FLASH
+/// and RAM with plain numbers); panics (fails the build) naming the file, the region and
+/// the rule otherwise, so an image never links against a budget the check cannot read.
+pub fn check(budget: &Path) {
+    let text = fs::read_to_string(budget)
+        .unwrap_or_else(|e| panic!("cannot read the memory budget {}: {e}", budget.display()));
+    for name in ["FLASH", "RAM"] {
+        if let Err(e) = camsim_chip::memory_map::region(&text, name) {
+            panic!("memory budget {}: {e}", budget.display());
+        }
+    }
+}
+
 /// Writes the board's memory.x to `out` from the budget at `budget`; panics (fails the
 /// build) with a clear message if the budget lacks a region's LENGTH or it does not fit.
+/// The budget is read by the one parser `camsim firmware-check` reads it with
+/// (`camsim_chip::memory_map`: comments, hex, K/M suffixes, checked arithmetic).
 pub fn write(budget: &Path, out: &Path, board: &Board) {
     let text = fs::read_to_string(budget)
         .unwrap_or_else(|e| panic!("cannot read the memory budget {}: {e}", budget.display()));
@@ -43,16 +59,13 @@ pub fn write(budget: &Path, out: &Path, board: &Board) {
             budget.display()
         )
     };
-    let flash = length_of(&text, "FLASH").unwrap_or_else(|e| fail(e));
-    let ram = length_of(&text, "RAM").unwrap_or_else(|e| fail(e));
-    let (flash_b, ram_b) = (
-        bytes(&flash).unwrap_or_else(|e| fail(e)),
-        bytes(&ram).unwrap_or_else(|e| fail(e)),
-    );
-    if flash_b > board.flash_bytes || ram_b > board.ram_bytes {
+    let region =
+        |name| camsim_chip::memory_map::region(&text, name).unwrap_or_else(|e| fail(e.to_string()));
+    let (flash, ram) = (region("FLASH"), region("RAM"));
+    if flash.length > board.flash_bytes || ram.length > board.ram_bytes {
         fail(format!(
-            "FLASH {flash} / RAM {ram} do not fit the {} ({} / {} bytes)",
-            board.name, board.flash_bytes, board.ram_bytes
+            "FLASH {} / RAM {} do not fit the {} ({} / {} bytes)",
+            flash.length_text, ram.length_text, board.name, board.flash_bytes, board.ram_bytes
         ));
     }
     let generated = format!(
@@ -68,72 +81,8 @@ MEMORY
         budget = budget.display(),
         fo = board.flash_origin,
         ro = board.ram_origin,
+        flash = flash.length_text,
+        ram = ram.length_text,
     );
     fs::write(out, generated).unwrap_or_else(|e| panic!("cannot write {}: {e}", out.display()));
-}
-
-/// The LENGTH of region `name` in the MEMORY block of a linker script (comments ignored).
-pub fn length_of(script: &str, name: &str) -> Result<String, String> {
-    let text = strip_comments(script);
-    let start = text.find("MEMORY").ok_or("no MEMORY block")?;
-    let rest = &text[start..];
-    let open = rest.find('{').ok_or("MEMORY has no '{'")?;
-    let close = rest.find('}').ok_or("MEMORY has no '}'")?;
-    let block = rest
-        .get(open + 1..close)
-        .ok_or("MEMORY block is malformed")?;
-    for line in block.lines() {
-        let Some((head, attrs)) = line.split_once(':') else {
-            continue;
-        };
-        // `NAME (rwx) :` -> NAME
-        let region = head.split('(').next().unwrap_or("").trim();
-        if region != name {
-            continue;
-        }
-        for part in attrs.split(',') {
-            if let Some((key, value)) = part.split_once('=') {
-                if key.trim() == "LENGTH" {
-                    let value = value.trim();
-                    if value.is_empty() {
-                        return Err(format!("region {name} has an empty LENGTH"));
-                    }
-                    return Ok(value.to_string());
-                }
-            }
-        }
-        return Err(format!("region {name} has no `LENGTH = ...`"));
-    }
-    Err(format!("no region {name} in its MEMORY block"))
-}
-
-/// Bytes of a LENGTH value: decimal or 0x hex, with an optional K or M suffix.
-pub fn bytes(value: &str) -> Result<u64, String> {
-    let v = value.trim();
-    let (num, mul) = match v.chars().last() {
-        Some('K' | 'k') => (&v[..v.len() - 1], 1024),
-        Some('M' | 'm') => (&v[..v.len() - 1], 1024 * 1024),
-        _ => (v, 1),
-    };
-    let n = if let Some(hex) = num.strip_prefix("0x").or_else(|| num.strip_prefix("0X")) {
-        u64::from_str_radix(hex, 16)
-    } else {
-        num.parse::<u64>()
-    }
-    .map_err(|_| format!("LENGTH `{value}` is not a number (decimal or 0x hex, optional K/M)"))?;
-    Ok(n * mul)
-}
-
-fn strip_comments(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    let mut rest = s;
-    while let Some(i) = rest.find("/*") {
-        out.push_str(&rest[..i]);
-        match rest[i + 2..].find("*/") {
-            Some(j) => rest = &rest[i + 2 + j + 2..],
-            None => return out,
-        }
-    }
-    out.push_str(rest);
-    out
 }

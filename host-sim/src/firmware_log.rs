@@ -97,41 +97,12 @@ pub struct MemoryBudget {
     pub ram: u64,
 }
 
-/// LENGTH of region `name` in a linker script's MEMORY block (`128K`, `1M` or bytes).
+/// The budget's region `name` (`FLASH`, `RAM`) by the one linker-script parser the
+/// firmware's build uses too ([`camsim_chip::memory_map`]: comments, hex, K/M, checked).
 fn region_length(text: &str, name: &str) -> Result<u64> {
-    for line in text.lines() {
-        let Some(rest) = line.trim_start().strip_prefix(name) else {
-            continue;
-        };
-        if !rest.trim_start().starts_with(':') {
-            continue;
-        }
-        let Some(i) = rest.find("LENGTH") else {
-            continue;
-        };
-        let v = rest[i + "LENGTH".len()..]
-            .trim_start()
-            .strip_prefix('=')
-            .map(str::trim)
-            .unwrap_or("");
-        let v: String = v
-            .chars()
-            .take_while(|c| c.is_ascii_alphanumeric())
-            .collect();
-        let (digits, scale) = match v.strip_suffix('K') {
-            Some(d) => (d, 1024),
-            None => match v.strip_suffix('M') {
-                Some(d) => (d, 1024 * 1024),
-                None => (v.as_str(), 1),
-            },
-        };
-        let n: u64 = digits
-            .parse()
-            .ok()
-            .with_context(|| format!("memory.x: LENGTH of {name} is `{v}`, not bytes, K or M"))?;
-        return Ok(n * scale);
-    }
-    bail!("memory.x: no LENGTH for region {name}")
+    camsim_chip::memory_map::region(text, name)
+        .map(|r| r.length)
+        .map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// Parses memory.x's FLASH and RAM lengths.
@@ -160,24 +131,63 @@ pub struct ElfSizes {
 }
 
 impl ElfSizes {
-    /// Flash, as the firmware counts it (firmware/src/memory.rs): the load image.
-    pub fn flash(&self) -> u64 {
-        self.vector_table + self.text + self.rodata + self.data
+    /// Flash, as the firmware counts it (firmware/src/memory.rs): the load image. A sum
+    /// past 64 bits is an error, never a wrap.
+    pub fn flash(&self) -> Result<u64> {
+        checked_sum(
+            "flash (.vector_table + .text + .rodata + .data)",
+            &[self.vector_table, self.text, self.rodata, self.data],
+        )
     }
 
-    /// Static RAM, as the firmware counts it.
-    pub fn ram_static(&self) -> u64 {
-        self.data + self.bss + self.uninit
+    /// Static RAM, as the firmware counts it (checked as [`ElfSizes::flash`]).
+    pub fn ram_static(&self) -> Result<u64> {
+        checked_sum(
+            "static RAM (.data + .bss + .uninit)",
+            &[self.data, self.bss, self.uninit],
+        )
     }
 
     /// The sums, section by section.
-    pub fn describe(&self) -> String {
-        format!(
+    pub fn describe(&self) -> Result<String> {
+        Ok(format!(
             "flash = .vector_table {} + .text {} + .rodata {} + .data {} = {}; static RAM = .data {} + .bss {} + .uninit {} = {}",
-            self.vector_table, self.text, self.rodata, self.data, self.flash(),
-            self.data, self.bss, self.uninit, self.ram_static()
-        )
+            self.vector_table, self.text, self.rodata, self.data, self.flash()?,
+            self.data, self.bss, self.uninit, self.ram_static()?
+        ))
     }
+
+    /// The known section `name`'s field, if it is one.
+    fn field_mut(&mut self, name: &str) -> Option<&mut u64> {
+        Some(match name {
+            ".vector_table" => &mut self.vector_table,
+            ".text" => &mut self.text,
+            ".rodata" => &mut self.rodata,
+            ".data" => &mut self.data,
+            ".bss" => &mut self.bss,
+            ".uninit" => &mut self.uninit,
+            _ => return None,
+        })
+    }
+}
+
+/// The sections firmware-check counts; `llvm-size -A` of a cortex-m-rt image lists each
+/// exactly once (an empty one with size 0).
+const KNOWN_SECTIONS: [&str; 6] = [
+    ".vector_table",
+    ".text",
+    ".rodata",
+    ".data",
+    ".bss",
+    ".uninit",
+];
+
+/// `what` as the sum of `parts`, or an error naming it when the sum passes 64 bits.
+fn checked_sum(what: &str, parts: &[u64]) -> Result<u64> {
+    parts
+        .iter()
+        .try_fold(0u64, |sum, p| sum.checked_add(*p))
+        .with_context(|| format!("{what}: the sections' sizes add up past 2^64 - 1 bytes"))
 }
 
 /// Sections that take neither flash nor RAM (debug info, defmt's table, symbols).
@@ -189,29 +199,116 @@ fn section_is_not_loaded(name: &str) -> bool {
         )
 }
 
-/// Parses `llvm-size -A` output. Any other non-empty section would take flash or RAM
-/// the firmware does not count: an error naming it.
+/// At most this many characters of an input line are quoted in an error.
+const QUOTE_CHARS: usize = 80;
+
+/// `line` quoted in an error, cut after [`QUOTE_CHARS`] characters.
+fn quote(line: &str) -> String {
+    let mut q: String = line.trim().chars().take(QUOTE_CHARS).collect();
+    if line.trim().chars().nth(QUOTE_CHARS).is_some() {
+        q.push('…');
+    }
+    format!("`{q}`")
+}
+
+/// A column of `llvm-size -A` (a decimal number of bytes), or an error naming the line.
+fn decimal(v: &str, what: &str, n: usize, line: &str) -> Result<u64> {
+    if !v.bytes().all(|b| b.is_ascii_digit()) {
+        bail!("llvm-size line {n} {}: its {what} `{v}` is not a decimal number (llvm-size -A prints bytes in decimal)", quote(line));
+    }
+    v.parse().ok().with_context(|| {
+        format!(
+            "llvm-size line {n} {}: its {what} `{v}` is past 2^64 - 1",
+            quote(line)
+        )
+    })
+}
+
+/// Parses `llvm-size -A` output: the `FILE  :` heading, the `section size addr` header,
+/// one `SECTION SIZE ADDR` line per section in decimal, and `Total SIZE`, the sum of
+/// them all. Refused, naming the line: any other line, a size that is not decimal, a
+/// section listed twice, a known section missing, a total that is not the sum (checked,
+/// never wrapped). Any other non-empty section would take flash or RAM the firmware does
+/// not count: an error naming it.
 pub fn parse_llvm_size(text: &str) -> Result<ElfSizes> {
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+    let heading = lines.next().map_or("", |(_, l)| l);
+    if !heading.trim_end().ends_with(':') {
+        bail!(
+            "llvm-size line 1 {}: not `llvm-size -A`'s `FILE  :` heading",
+            quote(heading)
+        );
+    }
+    let header = lines.next().map_or("", |(_, l)| l);
+    if header.split_whitespace().ne(["section", "size", "addr"]) {
+        bail!(
+            "llvm-size line 2 {}: not `llvm-size -A`'s `section size addr` header",
+            quote(header)
+        );
+    }
     let mut s = ElfSizes::default();
+    let mut seen = [None::<usize>; KNOWN_SECTIONS.len()];
+    let (mut sum, mut total) = (0u64, None);
     let mut unexpected = Vec::new();
-    for line in text.lines().skip(2) {
+    for (n, line) in lines {
         let cols: Vec<&str> = line.split_whitespace().collect();
-        let [name, size, _addr, ..] = cols[..] else {
-            continue;
+        let (name, size) = match cols[..] {
+            [] => continue,
+            ["Total", t] if total.is_none() => {
+                total = Some((decimal(t, "total", n, line)?, n));
+                continue;
+            }
+            [name, size, addr] if total.is_none() => {
+                decimal(addr, "address", n, line)?;
+                (name, decimal(size, "size", n, line)?)
+            }
+            _ => bail!(
+                "llvm-size line {n} {}: not a `SECTION SIZE ADDR` line before one `Total SIZE`",
+                quote(line)
+            ),
         };
-        let Ok(size) = size.parse::<u64>() else {
-            continue;
-        };
-        match name {
-            ".vector_table" => s.vector_table = size,
-            ".text" => s.text = size,
-            ".rodata" => s.rodata = size,
-            ".data" => s.data = size,
-            ".bss" => s.bss = size,
-            ".uninit" => s.uninit = size,
-            n if size > 0 && !section_is_not_loaded(n) => unexpected.push(n.to_string()),
-            _ => {}
+        sum = sum.checked_add(size).with_context(|| {
+            format!(
+                "llvm-size line {n} {}: the sizes add up past 2^64 - 1 bytes",
+                quote(line)
+            )
+        })?;
+        if let Some(i) = KNOWN_SECTIONS.iter().position(|k| *k == name) {
+            if let Some(first) = seen[i].replace(n) {
+                bail!(
+                    "llvm-size line {n} {}: section {name} is listed twice (first on line {first})",
+                    quote(line)
+                );
+            }
         }
+        match s.field_mut(name) {
+            Some(field) => *field = size,
+            None if size > 0 && !section_is_not_loaded(name) => unexpected.push(name.to_string()),
+            None => {}
+        }
+    }
+    check_sections(&seen, total, sum, &unexpected)?;
+    s.flash()?;
+    s.ram_static()?;
+    Ok(s)
+}
+
+/// The end of [`parse_llvm_size`]: every known section seen, the total the sum, no
+/// unexpected loaded section.
+fn check_sections(
+    seen: &[Option<usize>; KNOWN_SECTIONS.len()],
+    total: Option<(u64, usize)>,
+    sum: u64,
+    unexpected: &[String],
+) -> Result<()> {
+    if let Some((name, _)) = KNOWN_SECTIONS.iter().zip(seen).find(|(_, s)| s.is_none()) {
+        bail!("llvm-size lists no {name} section (a cortex-m-rt image has each of {}, an empty one as 0)", KNOWN_SECTIONS.join(" "));
+    }
+    let Some((total, n)) = total else {
+        bail!("llvm-size output has no `Total SIZE` line (cut short?)");
+    };
+    if total != sum {
+        bail!("llvm-size line {n}: Total {total} is not the sum of the sections listed, {sum} (output garbled?)");
     }
     if !unexpected.is_empty() {
         bail!(
@@ -219,7 +316,7 @@ pub fn parse_llvm_size(text: &str) -> Result<ElfSizes> {
             unexpected.join(" ")
         );
     }
-    Ok(s)
+    Ok(())
 }
 
 /// Checks an image's memory line against its ELF's sections and the budget; returns the
@@ -231,20 +328,19 @@ pub fn check_memory(m: &MemoryFields, elf: &ElfSizes, budget: &MemoryBudget) -> 
         u64::from(m.stack_peak_bytes),
         u64::from(m.ram_bytes),
     );
+    // The fields are u32, so their sum in u64 cannot wrap.
     if ram != ram_static + stack {
         bail!("ram_bytes {ram} != ram_static_bytes {ram_static} + stack_peak_bytes {stack}");
     }
     if stack == 0 {
         bail!("stack_peak_bytes is 0 (stack paint not working)");
     }
-    if elf.flash() != flash {
-        bail!("flash: llvm-size {} != firmware {flash}", elf.flash());
+    let (elf_flash, elf_ram) = (elf.flash()?, elf.ram_static()?);
+    if elf_flash != flash {
+        bail!("flash: llvm-size {elf_flash} != firmware {flash}");
     }
-    if elf.ram_static() != ram_static {
-        bail!(
-            "static RAM: llvm-size {} != firmware {ram_static}",
-            elf.ram_static()
-        );
+    if elf_ram != ram_static {
+        bail!("static RAM: llvm-size {elf_ram} != firmware {ram_static}");
     }
     check_fits(flash, ram, budget)?;
     Ok(format!(
@@ -270,11 +366,12 @@ fn check_fits(flash: u64, ram: u64, budget: &MemoryBudget) -> Result<()> {
 /// An image that is built but not run (the real-board build): its flash within FLASH
 /// and its static RAM below RAM (the stack needs some).
 pub fn check_elf_fits(elf: &ElfSizes, budget: &MemoryBudget) -> Result<()> {
-    check_fits(elf.flash(), elf.ram_static(), budget)?;
-    if elf.ram_static() >= budget.ram {
+    let ram_static = elf.ram_static()?;
+    check_fits(elf.flash()?, ram_static, budget)?;
+    if ram_static >= budget.ram {
         bail!(
             "static RAM {} B leaves no stack in {} B (memory.x)",
-            elf.ram_static(),
+            ram_static,
             budget.ram
         );
     }
@@ -441,7 +538,7 @@ mod tests {
 
     const MEMORY_X: &str = "/* FLASH : LENGTH = 1K in a comment */\nMEMORY\n{\n  FLASH : ORIGIN = 0x00000000, LENGTH = 128K\n  RAM   : ORIGIN = 0x20000000, LENGTH = 32K\n}\n";
 
-    const SIZES: &str = "predictor  :\nsection              size        addr\n.vector_table        1024           0\n.text               80000        1024\n.rodata              8900       81024\n.data                   0   536870912\n.bss                   24   536870912\n.uninit                 0   536870936\n.defmt                 12           0\n.debug_info         99999           0\n.comment              153           0\nTotal              190000\n";
+    const SIZES: &str = "predictor  :\nsection              size        addr\n.vector_table        1024           0\n.text               80000        1024\n.rodata              8900       81024\n.data                   0   536870912\n.bss                   24   536870912\n.uninit                 0   536870936\n.defmt                 12           0\n.debug_info         99999           0\n.comment              153           0\nTotal              190112\n";
 
     fn product_log(extra: &str) -> String {
         let mut log = String::from("0.000 INFO scene=reference profile=theoretical profile_knots=0; alarm asserted (LED0 low): booting\n");
@@ -476,11 +573,50 @@ mod tests {
     #[test]
     fn llvm_size_sums_and_unexpected_sections() {
         let s = parse_llvm_size(SIZES).unwrap();
-        assert_eq!(s.flash(), 1024 + 80000 + 8900);
-        assert_eq!(s.ram_static(), 24);
+        assert_eq!(s.flash().unwrap(), 1024 + 80000 + 8900);
+        assert_eq!(s.ram_static().unwrap(), 24);
         let bad = SIZES.replace(".comment ", ".ramfunc ");
         let e = parse_llvm_size(&bad).unwrap_err().to_string();
         assert!(e.contains(".ramfunc"), "{e}");
+    }
+
+    #[test]
+    fn llvm_size_lines_refused_by_their_number() {
+        let err = |text: &str| parse_llvm_size(text).unwrap_err().to_string();
+        // A size in hex, a garbage size, a section twice (its total adjusted), a known
+        // section renamed, a wrong total, a line of other columns: each names its line.
+        let e = err(&SIZES.replace("80000", "0x13880"));
+        assert!(
+            e.contains("line 4") && e.contains("`0x13880` is not a decimal"),
+            "{e}"
+        );
+        let e = err(&SIZES.replace("  8900 ", "  89e2 "));
+        assert!(e.contains("line 5") && e.contains("89e2"), "{e}");
+        let twice = SIZES.replace(".bss ", ".data").replace("190112", "190088");
+        let e = err(&twice);
+        assert!(
+            e.contains("line 7") && e.contains(".data is listed twice (first on line 6)"),
+            "{e}"
+        );
+        let e = err(&SIZES.replace(".uninit", ".uninot"));
+        assert!(e.contains("no .uninit section"), "{e}");
+        let e = err(&SIZES.replace("190112", "190111"));
+        assert!(e.contains("line 12") && e.contains("not the sum"), "{e}");
+        let e = err(&SIZES.replace(".defmt                 12", ".defmt 12 0 extra"));
+        assert!(e.contains("line 9"), "{e}");
+        let e = err("garbage\n");
+        assert!(e.contains("line 1"), "{e}");
+        // Sizes whose sum passes 2^64: refused, not wrapped.
+        let big = u64::MAX - 1000;
+        let e = err(&SIZES.replace("80000", &big.to_string()));
+        assert!(e.contains("past 2^64 - 1"), "{e}");
+        let s = ElfSizes {
+            text: u64::MAX,
+            rodata: 1,
+            ..ElfSizes::default()
+        };
+        assert!(s.flash().unwrap_err().to_string().contains("flash"));
+        assert_eq!(s.ram_static().unwrap(), 0);
     }
 
     #[test]

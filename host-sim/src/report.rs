@@ -381,10 +381,11 @@ pub fn ensure_physical<R: Serialize + ?Sized>(report: &R) -> Result<()> {
 /// Writes `text` to standard output and flushes it (an error, not a panic, when the
 /// reader has gone: the binary ends quietly on a closed pipe).
 pub fn out(text: &str) -> Result<()> {
+    use anyhow::Context as _;
     let mut out = std::io::stdout().lock();
-    out.write_all(text.as_bytes())?;
-    out.flush()?;
-    Ok(())
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .context("standard output: write failed")
 }
 
 /// Prints `report` to standard output, as JSON or as text, after checking that every

@@ -206,30 +206,84 @@ pub const MAX_SCENE_BYTES: u64 = 1_000_000;
 /// The most segments a program holds (core's `CamProgram` capacity).
 pub const PROGRAM_CAPACITY: usize = 8;
 
-/// Reads at most `max` bytes of UTF-8 text from `path`: `what` names the file in the
-/// refusals (`the scene file`), which are one line each: unreadable, larger than `max`,
-/// or not UTF-8 (with the line of the first invalid byte).
-pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
-    use std::io::Read;
+/// Opens `path` to read at most `max` bytes: a regular file larger than `max` is refused
+/// by its size before any byte is read; any other (a pipe, a device) is read through a
+/// limit, and a read past `max` fails with the same refusal. `what` names the file in the
+/// refusals (`the shard file`), one line each: unreadable, a directory, over the limit.
+pub fn open_limited(path: &Path, max: u64, what: &str) -> Result<LimitedRead, Error> {
     let name = path.display();
     // Only a regular file, a FIFO or a character device (a process substitution, a
     // pipe) is read; a directory is refused here rather than by an odd read error.
-    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+    let meta = std::fs::metadata(path);
+    if meta.as_ref().is_ok_and(|m| m.is_dir()) {
         return Err(Error::new(format!(
             "{name}: cannot read {what}: is a directory"
         )));
     }
+    if let Ok(m) = &meta {
+        if m.is_file() && m.len() > max {
+            return Err(Error::new(over_limit(path, what, max)));
+        }
+    }
     let file = std::fs::File::open(path)
         .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
-    let mut bytes = Vec::new();
-    file.take(max.saturating_add(1))
-        .read_to_end(&mut bytes)
-        .map_err(|e| Error::new(format!("{name}: cannot read {what}: {e}")))?;
-    if bytes.len() as u64 > max {
-        return Err(Error::new(format!(
-            "{name}: {what} is larger than its limit of {max} bytes (read no further)"
-        )));
+    Ok(LimitedRead {
+        file,
+        left: max,
+        refusal: over_limit(path, what, max),
+    })
+}
+
+/// The refusal of a file over its read limit.
+fn over_limit(path: &Path, what: &str, max: u64) -> String {
+    format!(
+        "{}: {what} is larger than its limit of {max} bytes (read no further)",
+        path.display()
+    )
+}
+
+/// A file read through [`open_limited`]'s limit: a read past it is an error
+/// ([`std::io::ErrorKind::FileTooLarge`]) whose text is the refusal.
+#[derive(Debug)]
+pub struct LimitedRead {
+    file: std::fs::File,
+    left: u64,
+    refusal: String,
+}
+
+impl std::io::Read for LimitedRead {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        // One byte past the limit is asked for, to tell "exactly the limit" from "more".
+        let want = buf
+            .len()
+            .min(usize::try_from(self.left.saturating_add(1)).unwrap_or(usize::MAX));
+        let n = self.file.read(buf.get_mut(..want).unwrap_or_default())?;
+        match self.left.checked_sub(n as u64) {
+            Some(left) => {
+                self.left = left;
+                Ok(n)
+            }
+            None => Err(std::io::Error::new(
+                std::io::ErrorKind::FileTooLarge,
+                self.refusal.clone(),
+            )),
+        }
     }
+}
+
+/// Reads at most `max` bytes of UTF-8 text from `path` ([`open_limited`]): `what` names
+/// the file in the refusals (`the scene file`), which are one line each: unreadable,
+/// larger than `max` (a regular file by its size, before reading), or not UTF-8 (with the
+/// line of the first invalid byte).
+pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Error> {
+    use std::io::Read;
+    let name = path.display();
+    let mut file = open_limited(path, max, what)?;
+    let mut bytes = Vec::new();
+    file.read_to_end(&mut bytes).map_err(|e| match e.kind() {
+        std::io::ErrorKind::FileTooLarge => Error::new(e.to_string()),
+        _ => Error::new(format!("{name}: cannot read {what}: {e}")),
+    })?;
     String::from_utf8(bytes).map_err(|e| {
         let good = e.utf8_error().valid_up_to();
         let line = e
@@ -1082,7 +1136,12 @@ fn toml_error(text: &str, e: &toml::de::Error, reading: &Reading) -> Error {
         return located(text, &in_user_units(&msg, reading));
     }
     let Some(span) = e.span() else {
-        return Error::new(msg);
+        return match deepest_line(text) {
+            Some((line, depth)) if msg.contains("recursion limit") => Error::new(format!(
+                "line {line}: nested {depth} levels deep, past the TOML reader's limit ({msg}; a scene file's deepest key, design.program.segment, is 3 levels)"
+            )),
+            _ => Error::new(msg),
+        };
     };
     let (line, col) = line_col(text, span.start);
     // A program longer than its capacity: the sequence's own message ("invalid length 9,
@@ -1104,9 +1163,34 @@ fn toml_error(text: &str, e: &toml::de::Error, reading: &Reading) -> Error {
         msg.push_str("; or `thesis`, or a [design.drive.motor] table");
     }
     Error::new(match Some(&path).filter(|k| !k.is_empty()) {
-        Some(k) => format!("line {line}, column {col}: {k}: {msg}"),
+        Some(k) => format!("line {line}, column {col}: {}: {msg}", cut(k)),
         None => format!("line {line}, column {col}: {msg}"),
     })
+}
+
+/// At most this many characters of a key the user wrote are quoted in an error.
+const MAX_KEY_CHARS: usize = 200;
+
+/// `key` cut after [`MAX_KEY_CHARS`] characters, with "…" when cut.
+fn cut(key: &str) -> String {
+    match key.char_indices().nth(MAX_KEY_CHARS) {
+        Some((i, _)) => format!("{}…", key.get(..i).unwrap_or(key)),
+        None => key.to_string(),
+    }
+}
+
+/// The line (from 1) that nests deepest, and its depth: the `[` and `{` it opens plus the
+/// dots of its key or table header (`[a.a.a]` is 3). `None` for an empty text.
+fn deepest_line(text: &str) -> Option<(usize, usize)> {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let code = l.split('#').next().unwrap_or("");
+            let key = code.split('=').next().unwrap_or("");
+            let opened = code.chars().filter(|c| matches!(c, '[' | '{')).count();
+            (i + 1, opened + key.matches('.').count())
+        })
+        .max_by_key(|&(i, depth)| (depth, std::cmp::Reverse(i)))
 }
 
 /// Plain digits, or an exponent where they would run long (1e300), as core's errors.
@@ -1151,6 +1235,19 @@ fn did_you_mean(msg: &str, path: &str) -> Option<String> {
     let (name, rest) = rest.split_once('`')?;
     let expected = rest.split_once("expected")?.1;
     let table = path.rsplit_once('.').map_or("", |(t, _)| t);
+    // A key too long to be a misspelling: not compared, not echoed a second time (the
+    // line's path shows its start).
+    if name.chars().count() > MAX_KEY_CHARS {
+        let shown = if table.is_empty() {
+            "the file's top level".to_string()
+        } else {
+            format!("[{}]", cut(table))
+        };
+        return Some(format!(
+            "unknown field ({} characters long): not a key of {shown} (`camsim scene --default` writes every key)",
+            name.chars().count()
+        ));
+    }
     let norm: String = {
         // The table without indices (`design.program.segment`).
         let mut out = String::new();

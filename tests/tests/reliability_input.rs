@@ -228,3 +228,57 @@ fn predict_refuses_a_timing_point_never_crossed() {
         "{e}"
     );
 }
+
+// Defect 11: an absurd --tolerance-factor is refused naming that option and its limit
+// (6b065a3 ran the search and reported `--waviness-fpr 8` and "the profiles with 4
+// points"): VI.1's largest tolerance, 0.001 in, times the factor must stay within the
+// tolerances' own limit of 0.1 in, so at most 100.
+#[test]
+fn an_absurd_tolerance_factor_is_refused_naming_it() {
+    let base = ["design", "tolerance", "--waviness", "--tolerance-factor"];
+    for bad in ["1e300", "100.5"] {
+        let argv = std::iter::once("camsim").chain(base).chain([bad]);
+        let e = cli::usage_message(&cli::parse_from(argv).unwrap_err());
+        assert!(
+            e.contains(&format!("'{bad}' for '--tolerance-factor")) && e.contains("at most 100"),
+            "{e}"
+        );
+    }
+    let argv = std::iter::once("camsim").chain(base).chain(["100"]);
+    assert!(cli::parse_from(argv).is_ok());
+}
+
+// Defect 11: a 10 000-deep TOML header is refused with its line (6b065a3: "recursion
+// limit" alone); a 900 kB unknown key is quoted once, cut (6b065a3 echoed it twice, a
+// 1.8 MB error line).
+#[test]
+fn deep_and_huge_keys_give_short_errors_with_a_line() {
+    let d = common::scratch("deep-keys");
+    let deep = d.join("deep.toml");
+    let header = vec!["a"; 10_000].join(".");
+    std::fs::write(&deep, format!("# a scene\n\n[{header}]\nx = 1\n")).unwrap();
+    let e = outcome(&["run", "--revolutions", "1", deep.to_str().unwrap()]);
+    assert!(
+        e.contains("deep.toml: line 3: nested 10000 levels deep") && e.len() < 400,
+        "{e}"
+    );
+    let long = d.join("long.toml");
+    let key = "k".repeat(900_000);
+    std::fs::write(&long, format!("{key} = 1\n")).unwrap();
+    let e = outcome(&["run", "--revolutions", "1", long.to_str().unwrap()]);
+    assert!(
+        e.len() < 600,
+        "{} bytes: {}",
+        e.len(),
+        &e[..600.min(e.len())]
+    );
+    assert!(
+        e.contains("line 1, column 1: ")
+            && e.contains(&format!(
+                "{}…: unknown field (900000 characters long)",
+                "k".repeat(200)
+            )),
+        "{e}"
+    );
+    assert_eq!(e.matches("kkkk").count(), 50, "the key quoted once: {e}");
+}

@@ -345,3 +345,36 @@ fn a_forced_run_plot_leaves_no_profile_plot_of_the_earlier_cam() {
     assert_eq!(written.len(), camsim::plot::FILES.len());
     fs::remove_dir_all(&d).unwrap();
 }
+
+// Defect 11: a command's failed write to standard output names standard output (6b065a3:
+// "No space left on device (os error 28)" alone), firmware-check's lines included
+// (6b065a3's println! there would panic).
+#[test]
+fn a_full_standard_output_is_named() {
+    let d = scratch("full-stdout");
+    let mx = d.join("memory.x");
+    fs::write(
+        &mx,
+        "MEMORY { FLASH : ORIGIN = 0, LENGTH = 128K\n RAM : ORIGIN = 0, LENGTH = 16K }\n",
+    )
+    .unwrap();
+    let log = d.join("boot.log");
+    fs::write(&log, "ERROR boot: table build failed: step budget exceeded\nERROR alarm asserted (LED0 low: true), stopped: boot failed\n").unwrap();
+    let fw = [
+        "firmware-check",
+        "--memory-x",
+        s(&mx),
+        "--boot-fault",
+        s(&log),
+    ];
+    for args in [&["scene", "--default"][..], &fw] {
+        let (code, err) = child(args, "full", &[]);
+        assert_eq!(code, 1, "{args:?}: {err}");
+        assert!(
+            err.contains("camsim: error: standard output: write failed: No space left on device"),
+            "{args:?}: {err}"
+        );
+        let (code, err) = child(args, "null", &[]);
+        assert_eq!(code, 0, "{args:?}: {err}");
+    }
+}

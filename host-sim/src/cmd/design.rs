@@ -78,7 +78,7 @@ pub struct McArgs {
     #[arg(long, conflicts_with = "waviness_fpr")]
     pub waviness: bool,
     /// With --waviness: the tolerances held, a factor on VI.1's (default 1).
-    #[arg(long, value_name = "FACTOR", allow_hyphen_values = true, value_parser = crate::args::positive_finite, requires = "waviness")]
+    #[arg(long, value_name = "FACTOR", allow_hyphen_values = true, value_parser = tolerance_factor, requires = "waviness")]
     pub tolerance_factor: Option<f64>,
     /// CI's quick mode: a coarse bracket and --p-max at least 0.1 (35 cams a step).
     #[arg(long)]
@@ -296,6 +296,23 @@ fn answer_of(
             }
         ),
     })
+}
+
+/// `--tolerance-factor`: positive, and VI.1's largest tolerance times it within the
+/// tolerance options' own limit ([`crate::args::MAX_TOLERANCE_IN`]): a larger factor
+/// asks for a different cam, not a tolerance (issue 33: `1e300` reached the profile
+/// builder and was reported as a waviness).
+fn tolerance_factor(s: &str) -> Result<f64, String> {
+    let r = camsim_core::Tolerances::<f64>::reference();
+    let largest = r.cam.max(r.roller).max(r.eccentricity);
+    let max = crate::args::MAX_TOLERANCE_IN / largest;
+    match crate::args::positive_finite(s)? {
+        x if x <= max => Ok(x),
+        _ => Err(format!(
+            "must be at most {max} (VI.1's largest tolerance, {largest} in, times {max} is the tolerances' limit of {} in: a larger error is a different cam)",
+            crate::args::MAX_TOLERANCE_IN
+        )),
+    }
 }
 
 /// The pass criterion of a search, in words.

@@ -3,7 +3,8 @@
 //! this). The checks themselves are [`crate::firmware_log`]'s.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use clap::ArgGroup;
@@ -47,6 +48,10 @@ pub struct Args {
     /// The `llvm-size` to run on the ELFs.
     #[arg(long, value_name = "TOOL", default_value = "llvm-size")]
     pub llvm_size: String,
+    /// Seconds one `llvm-size` run may take before it is killed and the check fails
+    /// (1 to 3600).
+    #[arg(long, value_name = "SECONDS", default_value_t = LLVM_SIZE_TIMEOUT_S, value_parser = clap::value_parser!(u64).range(1..=3600))]
+    pub llvm_size_timeout: u64,
     /// Print JSON (the budget and every check passed) instead of the lines, once all
     /// checks passed (a failure is the error line, as without --json).
     #[arg(long)]
@@ -75,6 +80,9 @@ pub struct CheckReport {
     /// Whether to print each line as it comes (the text output).
     #[serde(skip)]
     print: bool,
+    /// The first failed write of a line to standard output (reported at the end).
+    #[serde(skip)]
+    write_error: Option<std::io::Error>,
 }
 
 /// One ELF's loaded sections (`llvm-size -A`), bytes.
@@ -149,38 +157,139 @@ fn memory_numbers(m: &camsim_chip::MemoryFields) -> MemoryNumbers {
 impl CheckReport {
     /// Records a line (and prints it at once without --json).
     fn say(&mut self, line: String) {
-        if self.print {
-            println!("{line}");
+        if self.print && self.write_error.is_none() {
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
+            let written = writeln!(out, "{line}").and_then(|()| out.flush());
+            self.write_error = written.err();
         }
         self.checks.push(line);
     }
 }
 
-fn read(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))
+/// Default of `--llvm-size-timeout`: 60 s. `llvm-size -A` of a firmware ELF (about 1 MB)
+/// takes milliseconds; a minute leaves room for a loaded CI machine and still ends a tool
+/// that never answers (a wrong `--llvm-size`, a FIFO given as the ELF) instead of hanging
+/// camsim and the firmware CI with it.
+pub const LLVM_SIZE_TIMEOUT_S: u64 = 60;
+
+/// Most bytes of `llvm-size`'s standard error kept for a failure's message.
+const MAX_STDERR_BYTES: u64 = 64 * 1024;
+
+/// A log or linker script, read through the firmware log's limit
+/// ([`crate::cmd::predict::MAX_LOG_BYTES`], the same as `predict --check-log`).
+fn read(path: &Path, what: &str) -> Result<String> {
+    camsim_scene_file::read_text(path, crate::cmd::predict::MAX_LOG_BYTES, what)
+        .map_err(anyhow::Error::msg)
+}
+
+/// A child's output read on a thread: at most `max` bytes, and whether there was more
+/// (`over`, set as soon as the limit is passed).
+struct CappedRead {
+    thread: std::thread::JoinHandle<Vec<u8>>,
+    over: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+/// Starts reading at most `max` bytes of `from` on a thread.
+fn capped_reader(from: Option<impl std::io::Read + Send + 'static>, max: u64) -> CappedRead {
+    let over = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let flag = over.clone();
+    let thread = std::thread::spawn(move || {
+        use std::io::Read;
+        let mut bytes = Vec::new();
+        if let Some(from) = from {
+            let _ = from.take(max.saturating_add(1)).read_to_end(&mut bytes);
+        }
+        if bytes.len() as u64 > max {
+            flag.store(true, std::sync::atomic::Ordering::SeqCst);
+            bytes.truncate(usize::try_from(max).unwrap_or(usize::MAX));
+        }
+        bytes
+    });
+    CappedRead { thread, over }
+}
+
+impl CappedRead {
+    fn over(&self) -> bool {
+        self.over.load(std::sync::atomic::Ordering::SeqCst)
+    }
+
+    /// The bytes read and whether there was more, once the thread ends, waiting until
+    /// `deadline` at most (a child's child may hold the pipe open after the child exits).
+    fn join_by(self, deadline: Instant) -> Option<(Vec<u8>, bool)> {
+        while !self.thread.is_finished() {
+            if Instant::now() >= deadline {
+                return None;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let bytes = self.thread.join().ok()?;
+        Some((bytes, self.over.load(std::sync::atomic::Ordering::SeqCst)))
+    }
+}
+
+/// Runs `tool -A elf` within `timeout`, its standard output read through the log limit;
+/// its output, or why not (cannot run, over the limit, no answer in time: killed, failed
+/// with its exit status and standard error).
+fn run_llvm_size(tool: &str, elf: &Path, timeout: Duration) -> Result<String> {
+    let what = format!("--llvm-size {tool} -A {}", elf.display());
+    let mut child = Command::new(tool)
+        .arg("-A")
+        .arg(elf)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .with_context(|| format!("--llvm-size {tool}: cannot run it"))?;
+    let max = crate::cmd::predict::MAX_LOG_BYTES;
+    let out = capped_reader(child.stdout.take(), max);
+    let err = capped_reader(child.stderr.take(), MAX_STDERR_BYTES);
+    let deadline = Instant::now() + timeout;
+    let status = loop {
+        if let Some(status) = child.try_wait()? {
+            break status;
+        }
+        let over = out.over();
+        if over || Instant::now() >= deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            if over {
+                bail!("{what}: its output is larger than the limit of {max} bytes (killed, read no further)");
+            }
+            bail!(
+                "{what}: no answer in {} s (--llvm-size-timeout): killed",
+                timeout.as_secs()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let (stdout, over) = out.join_by(deadline).unwrap_or_default();
+    // Over the limit first: the child may have died of the pipe closed at the limit.
+    if over {
+        bail!("{what}: its output is larger than the limit of {max} bytes (read no further)");
+    }
+    if !status.success() {
+        let (stderr, _) = err.join_by(deadline).unwrap_or_default();
+        let stderr = String::from_utf8_lossy(&stderr);
+        let said = match stderr.trim() {
+            "" => "nothing on standard error".to_string(),
+            s => s.lines().next().unwrap_or(s).chars().take(200).collect(),
+        };
+        bail!("{what}: it failed ({status}): {said}");
+    }
+    Ok(String::from_utf8_lossy(&stdout).into_owned())
 }
 
 /// `llvm-size -A` of `elf`, parsed.
-fn elf_sizes(r: &mut CheckReport, tool: &str, elf: &Path) -> Result<ElfSizes> {
-    let out = Command::new(tool)
-        .arg("-A")
-        .arg(elf)
-        .output()
-        .with_context(|| format!("--llvm-size {tool}: cannot run it"))?;
-    if !out.status.success() {
-        bail!(
-            "{tool} -A {}: {}",
-            elf.display(),
-            String::from_utf8_lossy(&out.stderr).trim()
-        );
-    }
-    let sizes = parse_llvm_size(&String::from_utf8_lossy(&out.stdout))
-        .with_context(|| elf.display().to_string())?;
-    r.say(format!("  {}: {}", elf.display(), sizes.describe()));
+fn elf_sizes(r: &mut CheckReport, a: &Args, elf: &Path) -> Result<ElfSizes> {
+    let timeout = Duration::from_secs(a.llvm_size_timeout);
+    let out = run_llvm_size(&a.llvm_size, elf, timeout)?;
+    let sizes = parse_llvm_size(&out).with_context(|| elf.display().to_string())?;
+    r.say(format!("  {}: {}", elf.display(), sizes.describe()?));
     r.images.push(ImageSizes {
         elf: elf.display().to_string(),
-        flash_bytes: sizes.flash(),
-        ram_static_bytes: sizes.ram_static(),
+        flash_bytes: sizes.flash()?,
+        ram_static_bytes: sizes.ram_static()?,
         vector_table_bytes: sizes.vector_table,
         text_bytes: sizes.text,
         rodata_bytes: sizes.rodata,
@@ -206,14 +315,14 @@ fn product(
     elf: &Path,
     budget: &MemoryBudget,
 ) -> Result<()> {
-    let log = read(log_path)?;
+    let log = read(log_path, "the firmware log")?;
     let p = check_product_log(&log)?;
     r.say(format!(
         "firmware-check: cross-check {} with {} -A",
         elf.display(),
         a.llvm_size
     ));
-    let sizes = elf_sizes(r, &a.llvm_size, elf)?;
+    let sizes = elf_sizes(r, a, elf)?;
     r.say(format!("  {}", check_memory(&p.memory, &sizes, budget)?));
     r.say(format!(
         "firmware-check: fault reactions in {}",
@@ -244,7 +353,7 @@ fn budget_image(
     elf: &Path,
     budget: &MemoryBudget,
 ) -> Result<()> {
-    let log = read(log_path)?;
+    let log = read(log_path, "the firmware log")?;
     let line = last_memory_line(&log, "budget").context("no 'budget flash_bytes=..' line")?;
     let b = parse_budget(line)?;
     r.say(format!(
@@ -252,7 +361,7 @@ fn budget_image(
         elf.display(),
         a.llvm_size
     ));
-    let sizes = elf_sizes(r, &a.llvm_size, elf)?;
+    let sizes = elf_sizes(r, a, elf)?;
     r.say(format!("  {}", check_memory(&b.memory, &sizes, budget)?));
     check_budget(&b)?;
     if let Some(name) = &a.scene {
@@ -282,7 +391,8 @@ pub fn run(a: Args) -> Result<()> {
 /// Runs the checks named by the arguments (printing each line as it passes, without
 /// --json); the first failure is the error.
 pub fn report(a: &Args) -> Result<CheckReport> {
-    let budget = parse_memory_x(&read(&a.memory_x)?)?;
+    let budget = parse_memory_x(&read(&a.memory_x, "the linker script")?)
+        .map_err(|e| anyhow::anyhow!("--memory-x {}: {e}", a.memory_x.display()))?;
     let mut report = CheckReport {
         camsim_version: env!("CARGO_PKG_VERSION"),
         memory_x: a.memory_x.display().to_string(),
@@ -293,6 +403,7 @@ pub fn report(a: &Args) -> Result<CheckReport> {
         budget: None,
         checks: Vec::new(),
         print: !a.json,
+        write_error: None,
     };
     let r = &mut report;
     r.say(format!(
@@ -302,7 +413,7 @@ pub fn report(a: &Args) -> Result<CheckReport> {
         budget.ram
     ));
     for elf in &a.fits {
-        let sizes = elf_sizes(r, &a.llvm_size, elf)?;
+        let sizes = elf_sizes(r, a, elf)?;
         check_elf_fits(&sizes, &budget).with_context(|| elf.display().to_string())?;
     }
     if let Some(v) = &a.product {
@@ -314,11 +425,15 @@ pub fn report(a: &Args) -> Result<CheckReport> {
         budget_image(r, a, log, elf, &budget).with_context(|| log.display().to_string())?;
     }
     if let Some(log) = &a.boot_fault {
-        check_boot_fault(&read(log)?).with_context(|| log.display().to_string())?;
+        check_boot_fault(&read(log, "the firmware log")?)
+            .with_context(|| log.display().to_string())?;
         r.say(
             "firmware-check: boot failure reported, alarm left asserted (LED0 low), stopped"
                 .to_string(),
         );
+    }
+    if let Some(e) = report.write_error.take() {
+        return Err(e).context("standard output: write failed");
     }
     Ok(report)
 }

@@ -35,12 +35,19 @@ pub struct ShardFile {
     pub digest: String,
 }
 
-/// Reads one shard file.
+/// Reads one shard file: through [`crate::shard::MAX_SHARD_BYTES`]'s limit (a larger
+/// regular file is refused by its size before any byte is read) and parsed as it streams
+/// in, so a file that is not JSON is refused at its first bad byte, not after reading it
+/// whole.
 pub fn read_shard(path: &Path) -> Result<ShardFile> {
-    let text = camsim_scene_file::read_text(path, crate::shard::MAX_SHARD_BYTES, "the shard file")
-        .map_err(anyhow::Error::msg)?;
-    let value: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| anyhow!("{}: not JSON: {e}", path.display()))?;
+    let reader =
+        camsim_scene_file::open_limited(path, crate::shard::MAX_SHARD_BYTES, "the shard file")
+            .map_err(anyhow::Error::msg)?;
+    let value: serde_json::Value = serde_json::from_reader(std::io::BufReader::new(reader))
+        .map_err(|e| match e.io_error_kind() {
+            Some(std::io::ErrorKind::FileTooLarge) => anyhow!("{e}"),
+            _ => anyhow!("{}: not JSON: {e}", path.display()),
+        })?;
     if value.get("format").and_then(|f| f.as_str()) != Some(SHARD_FORMAT) {
         bail!(
             "{}: not a camsim montecarlo shard file (no \"format\": \"{SHARD_FORMAT}\")",
@@ -55,8 +62,9 @@ pub fn read_shard(path: &Path) -> Result<ShardFile> {
             version.map_or("missing".into(), |v| v.to_string())
         );
     }
-    // Parsed from the text (not the Value) so that every number reads back bit for bit.
-    let file: ShardFile = serde_json::from_str(&text)
+    // The Value's numbers are the text's, read with serde_json's float_roundtrip: every
+    // number reads back bit for bit.
+    let file: ShardFile = serde_json::from_value(value)
         .map_err(|e| anyhow!("{}: bad shard file: {e}", path.display()))?;
     crate::shard::verify(path, &file)?;
     Ok(file)
