@@ -243,10 +243,17 @@ impl Report for MonteCarloReport {
             );
             moments_table(&mut out, &period.columns);
         }
-        let _ = writeln!(out, "\nwhole revolution {}:", sm.revolution);
-        moments_table(&mut out, &sm.whole_revolution);
-        let _ = writeln!(out, "profiles:");
-        moments_table(&mut out, &sm.profile);
+        if sm.samples > 0 {
+            let _ = writeln!(out, "\nwhole revolution {}:", sm.revolution);
+            moments_table(&mut out, &sm.whole_revolution);
+            let _ = writeln!(out, "profiles:");
+            moments_table(&mut out, &sm.profile);
+        } else {
+            let _ = writeln!(
+                out,
+                "\nno statistics: every workable cam jumped and then left the model's valid range (docs/MODEL.md §3.20)"
+            );
+        }
         let _ = writeln!(
             out,
             "\njump anywhere in revolution {}: {}",
@@ -257,11 +264,13 @@ impl Report for MonteCarloReport {
         if let Some(t) = &self.two_level {
             two_level_text(&mut out, t);
         }
-        let _ = writeln!(
-            out,
-            "solver: {:.0} accepted steps per sample on average",
-            sm.steps.mean
-        );
+        if let Some(steps) = &sm.steps {
+            let _ = writeln!(
+                out,
+                "solver: {:.0} accepted steps per sample on average",
+                steps.mean
+            );
+        }
         if let Some(t) = &self.timing {
             let _ = writeln!(
                 out,
