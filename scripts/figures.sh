@@ -374,7 +374,7 @@ if want long tolerance-methods; then
     begin tolerance-methods "P(jump) and the tolerance under both profile methods" \
         "docs/MODEL.md §8.9: the reference design's P(jump) at 800 and 880 rpm at FPR 17 and 57, 400 cams each on the full model (--two-level 0, seed 1, VI.1's tolerances), with the per-cam method (the default: the roller radius and the axis offset one value a cam) and the thesis's (every error drawn at every point); then the loosest cam tolerance at P(jump) <= 0.01 at FPR 17, 39 and 57 under each. The section's run time is its last line."
     T0=$SECONDS
-    TM='^profile:|^jump anywhere|not workable|left|^run time'
+    TM='^profile:|^jump anywhere|not workable|left the model|^run time'
     for m in per-cam thesis; do
         for rpm in 800 880; do
             for f in 17 57; do
@@ -382,9 +382,11 @@ if want long tolerance-methods; then
             done
         done
     done
-    for m in per-cam thesis; do
-        show design tolerance --p-max 0.01 --waviness-fpr 17,39,57 --profile-method "$m"
-    done
+    show design tolerance --p-max 0.01 --waviness-fpr 17,39,57 --profile-method per-cam
+    # The thesis's method at FPR 57: nothing passes even at 0.1 x VI.1's cam tolerance (its
+    # eccentricity, drawn at every point, is waviness the cam tolerance does not scale).
+    show design tolerance --p-max 0.01 --waviness-fpr 17,39 --profile-method thesis
+    refused design tolerance --p-max 0.01 --waviness-fpr 57 --profile-method thesis
     printf 'section run time: %s s\n' "$((SECONDS - T0))" >>"$CURRENT"
     end
 fi

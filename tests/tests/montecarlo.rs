@@ -579,3 +579,73 @@ fn ranks_are_a_permutation_that_follows_the_values() {
     assert!(!by("cycloidal").flexibility.jump);
     assert!(by("cycloidal").flexibility.contact_force_min > 0.0);
 }
+
+/// The counting rule (docs/MODEL.md §3.20): a sample that leaves the model's valid range
+/// after the follower separated is a jump (in P(jump), without statistics); one that
+/// leaves it with the follower on the cam is not workable (excluded, counted). A study
+/// of not-workable samples alone fails; one whose workable samples all jumped and left
+/// reports P(jump) = 1.
+#[test]
+fn left_range_samples_are_jumps_or_not_workable() {
+    use camsim::cmd::montecarlo::StudyStats;
+    let mut s = StudyStats::default();
+    s.add_left_range(3, true, "thrown off");
+    s.add_left_range(1, false, "stalled");
+    s.add_left_range(2, false, "stalled again");
+    assert_eq!(
+        (s.left_range_jumps, s.not_workable, s.accounted()),
+        (1, 2, 3)
+    );
+    let sm = s.summary(2).unwrap();
+    assert_eq!((sm.jump.count, sm.samples), (1, 0));
+    assert_eq!(sm.jump.p, 1.0);
+    assert_eq!(sm.not_workable, 2);
+    assert_eq!(sm.not_workable_reason.as_deref(), Some("sample 1: stalled"));
+    assert!(sm.steps.is_none() && sm.periods.is_empty());
+    let mut nw = StudyStats::default();
+    nw.add_left_range(0, false, "stalled");
+    let e = nw.summary(2).unwrap_err().to_string();
+    assert!(
+        e.contains("no sample is workable") && e.contains("stalled"),
+        "{e}"
+    );
+}
+
+/// At 1300 rpm every cam jumps and is then thrown into the slide bearing: P(jump) = 1 in
+/// text and JSON, the study exits 0. At 1200 rpm five of six do, the sixth jumps with
+/// statistics: P(jump) = 6/6, one sample with statistics.
+#[test]
+fn a_study_whose_cams_jump_out_of_range_reports_p_jump_1_and_exits_0() {
+    let argv = |rpm: &'static str, n: &'static str| {
+        ["--samples", n, "--rpm", rpm, "--two-level", "0"].to_vec()
+    };
+    for (rpm, n, left, with_stats) in [("1300", 4u64, 4u64, 0u64), ("1200", 6, 5, 1)] {
+        let a = montecarlo_args(&argv(rpm, if n == 4 { "4" } else { "6" }));
+        let Outcome::Study(r) = execute(&a).unwrap() else {
+            panic!("not a study")
+        };
+        let sm = &r.summary;
+        assert_eq!((sm.jump.count, sm.jump.p), (n, 1.0), "{rpm}");
+        assert_eq!(
+            (sm.left_range_jumps, sm.samples, sm.not_workable),
+            (left, with_stats, 0)
+        );
+        let text = camsim::report::Report::text(r.as_ref());
+        assert!(
+            text.contains(&format!(
+                "jump anywhere in revolution 2: {n} of {n}, p = 1.0000"
+            )) && text.contains(&format!(
+                "of which {left} left the model's valid range after the follower separated"
+            )),
+            "{text}"
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&camsim::report::Report::json(r.as_ref()).unwrap()).unwrap();
+        assert_eq!(json["summary"]["jump"]["count"], n);
+        assert_eq!(json["summary"]["left_range_jumps"], left);
+        assert_eq!(json["summary"]["not_workable"], 0);
+    }
+    let mut cli = vec!["camsim", "montecarlo", "--json"];
+    cli.extend(argv("1300", "4"));
+    assert_eq!(camsim::cli::main_from(cli), 0);
+}

@@ -748,6 +748,45 @@ pub fn all_failed(cases: &[Case], not_workable: &[NotWorkableCase]) -> Result<()
     }
 }
 
+/// One case: `spec` with group `g` changed by `c` %, on the theoretical cam or (`actual`)
+/// on `dev`.
+fn run_case(
+    spec: &RunSpec,
+    dev: &Arc<sim::HostDeviation>,
+    g: Option<Group>,
+    c: i32,
+    actual: bool,
+) -> Result<CaseOutcome> {
+    let mut s = spec.clone();
+    if let Some(g) = g {
+        s.design = scaled(&spec.design, g, 1.0 + f64::from(c) / 100.0);
+        s.design
+            .validate()
+            .with_context(|| format!("the {} group changed by {c:+} %", g.name()))?;
+    }
+    if actual {
+        s.profile = Some(dev.clone());
+    }
+    let cam = if actual { "actual" } else { "theoretical" };
+    let group = g.map_or("baseline", Group::name);
+    let out = outputs_or_left_range(&s).with_context(|| format!("{cam} cam, {group} {c:+} %"))?;
+    Ok(match out {
+        Ok(outputs) => Ok(Case {
+            group,
+            change_pct: c,
+            cam,
+            outputs,
+        }),
+        Err(l) => Err(NotWorkableCase {
+            group,
+            change_pct: c,
+            cam,
+            jump: l.separated,
+            reason: l.reason,
+        }),
+    })
+}
+
 /// A case's outcome: its outputs, or how it left the model's valid range.
 type CaseOutcome = std::result::Result<Case, NotWorkableCase>;
 
@@ -786,37 +825,7 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
     let pool = crate::study::pool(threads)?;
     let results: Vec<Result<CaseOutcome>> = pool.install(|| {
         jobs.par_iter()
-            .map(|&(g, c, actual)| {
-                let mut s = spec.clone();
-                if let Some(g) = g {
-                    s.design = scaled(&spec.design, g, 1.0 + f64::from(c) / 100.0);
-                    s.design
-                        .validate()
-                        .with_context(|| format!("the {} group changed by {c:+} %", g.name()))?;
-                }
-                if actual {
-                    s.profile = Some(dev.clone());
-                }
-                let cam = if actual { "actual" } else { "theoretical" };
-                let group = g.map_or("baseline", Group::name);
-                let out = outputs_or_left_range(&s)
-                    .with_context(|| format!("{cam} cam, {group} {c:+} %"))?;
-                Ok(match out {
-                    Ok(outputs) => Ok(Case {
-                        group,
-                        change_pct: c,
-                        cam,
-                        outputs,
-                    }),
-                    Err(l) => Err(NotWorkableCase {
-                        group,
-                        change_pct: c,
-                        cam,
-                        jump: l.separated,
-                        reason: l.reason,
-                    }),
-                })
-            })
+            .map(|&(g, c, actual)| run_case(&spec, &dev, g, c, actual))
             .collect()
     });
     let (mut all, mut not_workable) = (Vec::new(), Vec::new());
@@ -923,6 +932,37 @@ fn fmt_value(i: usize, v: f64) -> String {
     format!("{v:.digits$}")
 }
 
+/// A cam's table rows of the cases that left the model's valid range, and a note when its
+/// baseline did (`has_baseline` false).
+fn left_range_rows(out: &mut String, cases: &[NotWorkableCase], cam: &str, has_baseline: bool) {
+    use std::fmt::Write;
+    for n in cases.iter().filter(|n| n.cam == cam) {
+        let change = format!("{:+}", n.change_pct);
+        let _ = writeln!(out, "  {:<10} {change:>5}%  {}", n.group, n.verdict());
+    }
+    if !has_baseline {
+        let _ = writeln!(
+            out,
+            "  (its baseline left the model's valid range: the changes are not computed against it)"
+        );
+    }
+}
+
+/// The cases that left the model's valid range, each with the core's reason.
+fn left_range_text(out: &mut String, cases: &[NotWorkableCase]) {
+    use std::fmt::Write;
+    if cases.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\nleft the model's valid range (docs/MODEL.md §3.20; after a separation the case is a jump, as in `camsim jump-speed`):"
+    );
+    for n in cases {
+        let _ = writeln!(out, "  {}: {}", n.name(), n.reason);
+    }
+}
+
 impl Report for SensitivityReport {
     fn text(&self) -> String {
         use std::fmt::Write;
@@ -963,12 +1003,6 @@ impl Report for SensitivityReport {
         for cam in ["theoretical", "actual"] {
             let b = self.baseline.iter().find(|c| c.cam == cam);
             let _ = writeln!(out, "\n{cam} cam");
-            if b.is_none() {
-                let _ = writeln!(
-                    out,
-                    "  (its baseline left the model's valid range: the changes are not computed against it)"
-                );
-            }
             let _ = write!(out, "  {:<10} {:>6}", "group", "change");
             for (i, (_, h, _)) in OUTPUTS.iter().enumerate() {
                 let _ = write!(out, " {:>19}", format!("{h} ({})", output_label(i)));
@@ -1001,25 +1035,9 @@ impl Report for SensitivityReport {
             for c in self.cases.iter().filter(|c| c.cam == cam) {
                 row(&mut out, c);
             }
-            for n in self.not_workable.iter().filter(|n| n.cam == cam) {
-                let _ = writeln!(
-                    out,
-                    "  {:<10} {:>5}%  {}",
-                    n.group,
-                    format!("{:+}", n.change_pct),
-                    n.verdict()
-                );
-            }
+            left_range_rows(&mut out, &self.not_workable, cam, b.is_some());
         }
-        if !self.not_workable.is_empty() {
-            let _ = writeln!(
-                out,
-                "\nleft the model's valid range (docs/MODEL.md §3.20; after a separation the case is a jump, as in `camsim jump-speed`):"
-            );
-            for n in &self.not_workable {
-                let _ = writeln!(out, "  {}: {}", n.name(), n.reason);
-            }
-        }
+        left_range_text(&mut out, &self.not_workable);
         if let Some(pk) = &self.per_key {
             let _ = writeln!(
                 out,
@@ -1058,27 +1076,71 @@ impl Report for SensitivityReport {
     }
 }
 
+/// The changes of the study's cases, ascending (those that left the range too).
+fn changes_of(r: &SensitivityReport) -> Vec<i32> {
+    let left = r.not_workable.iter().filter(|n| n.group != "baseline");
+    let mut v: Vec<i32> = r
+        .cases
+        .iter()
+        .map(|c| c.change_pct)
+        .chain(left.map(|n| n.change_pct))
+        .collect();
+    v.sort_unstable();
+    v.dedup();
+    v
+}
+
+/// The title of a cam's row of charts: the cam, and how its baseline ended.
+fn row_title(r: &SensitivityReport, cam: &str, base: Option<&Case>) -> String {
+    let p = &r.actual_profile;
+    let title = match cam {
+        "actual" => format!(
+            "actual cam (sample 0 of seed {}, {} intervals, FPR {}){}",
+            p.seed,
+            p.intervals,
+            p.fpr,
+            if base.is_some_and(|b| b.outputs.jump) {
+                ": the follower separates at the baseline already"
+            } else {
+                ""
+            }
+        ),
+        _ => "theoretical cam".to_string(),
+    };
+    match r
+        .not_workable
+        .iter()
+        .find(|n| n.cam == cam && n.group == "baseline")
+    {
+        Some(n) => format!("{title}: the baseline {}", n.verdict()),
+        None => title,
+    }
+}
+
+/// The marks of a cam's cases that left the model's valid range: (group index, change,
+/// text).
+fn marks(r: &SensitivityReport, cam: &str) -> Vec<(usize, i32, &'static str)> {
+    r.not_workable
+        .iter()
+        .filter(|n| n.cam == cam)
+        .filter_map(|n| {
+            let gi = Group::ALL.iter().position(|g| g.name() == n.group)?;
+            let mark = if n.jump {
+                " jump, then out of range "
+            } else {
+                " not workable "
+            };
+            Some((gi, n.change_pct, mark))
+        })
+        .collect()
+}
+
 fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
     use plotters::prelude::*;
     use plotters::style::text_anchor::{HPos, Pos, VPos};
     let file = PLOT_FILES[0];
     let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
-    let changes: Vec<i32> = {
-        let mut v: Vec<i32> = r
-            .cases
-            .iter()
-            .map(|c| c.change_pct)
-            .chain(
-                r.not_workable
-                    .iter()
-                    .filter(|n| n.group != "baseline")
-                    .map(|n| n.change_pct),
-            )
-            .collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
+    let changes = changes_of(r);
     // Colour by change: shades of blue for decreases, of red for increases.
     let colour = |c: i32| match c {
         c if c <= -30 => RGBColor(31, 90, 180),
@@ -1126,32 +1188,10 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                     .pos(Pos::new(HPos::Left, VPos::Center)),
             ))
             .map_err(|x| e(&x))?;
-        let p = &r.actual_profile;
         let rows = body.split_evenly((cams.len(), 1));
         for (cam, row) in cams.iter().zip(rows.iter()) {
             let base = r.baseline.iter().find(|c| c.cam == *cam);
-            let row_title = match *cam {
-                "actual" => format!(
-                    "actual cam (sample 0 of seed {}, {} intervals, FPR {}){}",
-                    p.seed,
-                    p.intervals,
-                    p.fpr,
-                    if base.is_some_and(|b| b.outputs.jump) {
-                        ": the follower separates at the baseline already"
-                    } else {
-                        ""
-                    }
-                ),
-                _ => "theoretical cam".to_string(),
-            };
-            let row_title = match r
-                .not_workable
-                .iter()
-                .find(|n| n.cam == *cam && n.group == "baseline")
-            {
-                Some(n) => format!("{row_title}: the baseline {}", n.verdict()),
-                None => row_title,
-            };
+            let row_title = row_title(r, cam, base);
             let row = row
                 .titled(&row_title, ("sans-serif", 19))
                 .map_err(|x| e(&x))?;
@@ -1283,27 +1323,16 @@ fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
                     .map_err(|x| e(&x))?;
                 // A case that left the model's valid range: no bar (no value), a mark.
                 chart
-                    .draw_series(
-                        r.not_workable
-                            .iter()
-                            .filter(|n| n.cam == *cam)
-                            .filter_map(|n| {
-                                let gi = Group::ALL.iter().position(|g| g.name() == n.group)?;
-                                let mark = if n.jump {
-                                    " jump, then out of range "
-                                } else {
-                                    " not workable "
-                                };
-                                Some(Text::new(
-                                    mark,
-                                    (0.0, top_of(gi, n.change_pct) - 0.5 * w),
-                                    ("sans-serif", 13)
-                                        .into_font()
-                                        .color(&RED)
-                                        .pos(Pos::new(HPos::Left, VPos::Center)),
-                                ))
-                            }),
-                    )
+                    .draw_series(marks(r, cam).into_iter().map(|(gi, c, mark)| {
+                        Text::new(
+                            mark,
+                            (0.0, top_of(gi, c) - 0.5 * w),
+                            ("sans-serif", 13)
+                                .into_font()
+                                .color(&RED)
+                                .pos(Pos::new(HPos::Left, VPos::Center)),
+                        )
+                    }))
                     .map_err(|x| e(&x))?;
             }
         }

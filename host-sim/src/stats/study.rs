@@ -84,8 +84,10 @@ pub struct Summary {
     pub jump: Probability,
     /// The profiles: waviness FPR and RMS lift deviation, in.
     pub profile: Columns,
-    /// Accepted solver steps per sample.
-    pub steps: Moments,
+    /// Accepted solver steps per sample (absent when no sample has statistics: every
+    /// one jumped and then left the model's valid range).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps: Option<Moments>,
     /// Samples counted as jumps because their run left the model's valid range after
     /// the follower separated (in `jump`, not in the statistics).
     pub left_range_jumps: u64,
@@ -302,8 +304,33 @@ impl StudyStats {
             .sum()
     }
 
+    /// The result of a study whose every workable sample jumped and then left the
+    /// model's valid range (docs/MODEL.md §3.20): P(jump) = 1 over them, no statistics.
+    fn jumps_only(&self, revolution: u32) -> Summary {
+        let l = self.left_range_jumps;
+        Summary {
+            samples: 0,
+            revolution,
+            periods: Vec::new(),
+            whole_revolution: Columns(Vec::new()),
+            jump: Probability::of(l, l),
+            profile: Columns(Vec::new()),
+            steps: None,
+            left_range_jumps: l,
+            not_workable: self.not_workable,
+            not_workable_reason: self
+                .first_not_workable
+                .as_ref()
+                .map(|(i, r)| format!("sample {i}: {r}")),
+        }
+    }
+
     /// The result of `revolution`'s statistics.
     pub fn summary(&self, revolution: u32) -> Result<Summary> {
+        // Only samples that left the range without a separation failed: jumps are answers.
+        if self.samples == 0 && self.left_range_jumps > 0 {
+            return Ok(self.jumps_only(revolution));
+        }
         if let (0, Some((i, why))) = (self.samples, &self.first_not_workable) {
             anyhow::bail!(
                 "no sample is workable: {} of {} left the model's valid range with the follower on the cam (sample {i}: {why})",
@@ -311,11 +338,6 @@ impl StudyStats {
                 self.accounted()
             );
         }
-        ensure!(
-            self.samples > 0 || self.left_range_jumps == 0,
-            "every one of the {} samples jumped and then left the model's valid range (docs/MODEL.md §3.20): P(jump) = 1, and no sample has statistics to report",
-            self.left_range_jumps
-        );
         ensure!(self.samples > 0, "no samples to summarize");
         let n = self.samples;
         let mut periods = Vec::new();
@@ -350,7 +372,7 @@ impl StudyStats {
                     self.rms_deviation_in.moments("rms_deviation_in")?,
                 ),
             ]),
-            steps: self.steps.moments("steps")?,
+            steps: Some(self.steps.moments("steps")?),
             left_range_jumps: self.left_range_jumps,
             not_workable: self.not_workable,
             not_workable_reason: self

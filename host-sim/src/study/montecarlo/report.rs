@@ -195,6 +195,22 @@ fn two_level_text(out: &mut String, t: &TwoLevelSummary) {
     );
 }
 
+/// The whole revolution's and the profiles' statistics, or why there are none.
+fn revolution_text(out: &mut String, sm: &Summary) {
+    use std::fmt::Write;
+    if sm.samples == 0 {
+        let _ = writeln!(
+            out,
+            "\nno statistics: every workable cam jumped and then left the model's valid range (docs/MODEL.md §3.20)"
+        );
+        return;
+    }
+    let _ = writeln!(out, "\nwhole revolution {}:", sm.revolution);
+    moments_table(out, &sm.whole_revolution);
+    let _ = writeln!(out, "profiles:");
+    moments_table(out, &sm.profile);
+}
+
 impl Report for MonteCarloReport {
     fn text(&self) -> String {
         use std::fmt::Write;
@@ -243,10 +259,7 @@ impl Report for MonteCarloReport {
             );
             moments_table(&mut out, &period.columns);
         }
-        let _ = writeln!(out, "\nwhole revolution {}:", sm.revolution);
-        moments_table(&mut out, &sm.whole_revolution);
-        let _ = writeln!(out, "profiles:");
-        moments_table(&mut out, &sm.profile);
+        revolution_text(&mut out, sm);
         let _ = writeln!(
             out,
             "\njump anywhere in revolution {}: {}",
@@ -257,11 +270,13 @@ impl Report for MonteCarloReport {
         if let Some(t) = &self.two_level {
             two_level_text(&mut out, t);
         }
-        let _ = writeln!(
-            out,
-            "solver: {:.0} accepted steps per sample on average",
-            sm.steps.mean
-        );
+        if let Some(steps) = &sm.steps {
+            let _ = writeln!(
+                out,
+                "solver: {:.0} accepted steps per sample on average",
+                steps.mean
+            );
+        }
         if let Some(t) = &self.timing {
             let _ = writeln!(
                 out,
