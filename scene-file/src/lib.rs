@@ -1226,6 +1226,44 @@ fn distance(a: &str, b: &str) -> usize {
     row.last().copied().unwrap_or(0)
 }
 
+/// A table path without its indices (`design.program.segment[2]` as `design.program.segment`).
+fn without_indices(table: &str) -> String {
+    let mut out = String::new();
+    let mut skip = false;
+    for c in table.chars() {
+        match c {
+            '[' => skip = true,
+            ']' => skip = false,
+            _ if !skip => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// The keys of table `norm` that serde's `expected` list names, each with its SI name
+/// where it has one, and the `[limits]` table's SI stress key.
+fn key_candidates(norm: &str, expected: &str) -> Vec<String> {
+    let mut candidates: Vec<String> = Vec::new();
+    for c in expected.split('`').skip(1).step_by(2) {
+        candidates.push(c.to_string());
+        if let Some(si) = units::si_name(norm, c) {
+            candidates.push(si);
+        }
+    }
+    if norm == "limits" {
+        candidates.push(format!(
+            "{}_{}",
+            units::ALLOWABLE_CONTACT_STRESS
+                .strip_suffix(units::STRESS.inch)
+                .and_then(|s| s.strip_suffix('_'))
+                .unwrap_or(""),
+            units::STRESS.si
+        ));
+    }
+    candidates
+}
+
 /// serde's "unknown field `x`, expected one of `a`, `b`, ..." (a line listing every key
 /// of the table) as "unknown field `x`: did you mean `a`?": the keys nearest by edit
 /// distance, SI names ([`units`]) included, or the keys that start with the name (a key
@@ -1248,37 +1286,8 @@ fn did_you_mean(msg: &str, path: &str) -> Option<String> {
             name.chars().count()
         ));
     }
-    let norm: String = {
-        // The table without indices (`design.program.segment`).
-        let mut out = String::new();
-        let mut skip = false;
-        for c in table.chars() {
-            match c {
-                '[' => skip = true,
-                ']' => skip = false,
-                _ if !skip => out.push(c),
-                _ => {}
-            }
-        }
-        out
-    };
-    let mut candidates: Vec<String> = Vec::new();
-    for c in expected.split('`').skip(1).step_by(2) {
-        candidates.push(c.to_string());
-        if let Some(si) = units::si_name(&norm, c) {
-            candidates.push(si);
-        }
-    }
-    if norm == "limits" {
-        candidates.push(format!(
-            "{}_{}",
-            units::ALLOWABLE_CONTACT_STRESS
-                .strip_suffix(units::STRESS.inch)
-                .and_then(|s| s.strip_suffix('_'))
-                .unwrap_or(""),
-            units::STRESS.si
-        ));
-    }
+    let norm = without_indices(table);
+    let candidates = key_candidates(&norm, expected);
     let lower = name.to_ascii_lowercase();
     let prefixed: Vec<&String> = candidates
         .iter()
