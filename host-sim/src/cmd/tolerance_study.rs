@@ -510,7 +510,7 @@ fn column_label(cells: &[Cell], cols: usize, j: usize) -> String {
             (a.min(x), b.max(x))
         });
     let got = if !lo.is_finite() {
-        String::new()
+        "none with statistics".to_string()
     } else if hi - lo < 0.05 {
         format!("{lo:.1}")
     } else {
@@ -638,9 +638,11 @@ fn draw(
         let root = root
             .titled(
                 &format!(
-                    "camsim tolerance-study: revolution 2, {samples} actual {} a cell (theoretical cam: sum of acceleration RMS {:.0} {ua}, {})",
+                    "camsim tolerance-study: revolution 2, {samples} actual {} a cell (theoretical cam: sum of acceleration RMS {}, {})",
                     if samples == 1 { "cam" } else { "cams" },
-                    fa * theoretical.acc_rms_sum_in_per_s2.unwrap_or(f64::NAN),
+                    theoretical
+                        .acc_rms_sum_in_per_s2
+                        .map_or("none (no statistics)".into(), |a| format!("{:.0} {ua}", fa * a)),
                     if theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
                 ),
                 ("sans-serif", 22),
