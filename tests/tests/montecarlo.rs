@@ -649,3 +649,56 @@ fn a_study_whose_cams_jump_out_of_range_reports_p_jump_1_and_exits_0() {
     cli.extend(argv("1300", "4"));
     assert_eq!(camsim::cli::main_from(cli), 0);
 }
+
+/// The same rule under the two-level estimate (the default: at 6 samples every cam is on
+/// both models). At 1300 and 1200 rpm every cam jumps on both models, most of them then
+/// leave the range: no error, P(jump) = 1 on the reduced model and as the full model's
+/// estimate (reduced 1 + correction 0), no disagreement; a cam that left the reduced
+/// model's range is a pair without statistics; the counts in text and JSON; exit 0.
+#[test]
+fn a_two_level_study_whose_cams_jump_out_of_range_reports_p_jump_1() {
+    for rpm in ["1300", "1200"] {
+        let a = montecarlo_args(&["--samples", "6", "--rpm", rpm]);
+        let Outcome::Study(r) = execute(&a).unwrap() else {
+            panic!("not a study")
+        };
+        let (sm, t) = (&r.summary, r.two_level.as_ref().expect("two-level"));
+        assert_eq!((sm.jump.count, sm.jump.p), (6, 1.0), "{rpm}");
+        assert!(sm.left_range_jumps > 0 && sm.not_workable == 0, "{rpm}");
+        assert_eq!((t.samples, t.full_samples, t.full_not_workable), (6, 6, 0));
+        assert_eq!(
+            (t.jump.value, t.jump.reduced, t.jump.correction),
+            (1.0, 1.0, 0.0)
+        );
+        assert_eq!(
+            (t.disagreements.full_only, t.disagreements.reduced_only),
+            (0, 0)
+        );
+        assert_eq!(t.subsample_full_jump.count, 6);
+        assert!(t.jump_only_pairs >= sm.left_range_jumps, "{rpm}");
+        let text = camsim::report::Report::text(r.as_ref());
+        assert!(
+            text.contains(&format!(
+                "of which {} left a model's valid range after the follower separated",
+                t.jump_only_pairs
+            )) && text.contains("full-model jump anywhere: p = 1.0000"),
+            "{text}"
+        );
+        let json: serde_json::Value =
+            serde_json::from_str(&camsim::report::Report::json(r.as_ref()).unwrap()).unwrap();
+        assert_eq!(json["two_level"]["jump"]["value"], 1.0);
+        assert_eq!(json["two_level"]["jump_only_pairs"], t.jump_only_pairs);
+        assert_eq!(json["two_level"]["full_not_workable"], 0);
+        assert_eq!(json["summary"]["left_range_jumps"], sm.left_range_jumps);
+    }
+    let cli = [
+        "camsim",
+        "montecarlo",
+        "--json",
+        "--samples",
+        "6",
+        "--rpm",
+        "1300",
+    ];
+    assert_eq!(camsim::cli::main_from(cli.to_vec()), 0);
+}

@@ -121,3 +121,61 @@ fn sensitivity_reports_cases_that_leave_the_range_and_goes_on() {
     assert_eq!(main_from(argv.copied()), 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A tolerance-study cell by the counting rule (docs/MODEL.md §3.20): cams that all left
+/// the range with the follower on the cam make the cell not workable, with the first
+/// cam's reason and the count; one cam that jumped and left makes it workable.
+#[test]
+fn a_tolerance_cell_of_unworkable_cams_is_not_workable_with_its_reason() {
+    use camsim::cmd::montecarlo::StudyStats;
+    use camsim::cmd::tolerance_study::cell_summary;
+    let mut s = StudyStats::default();
+    s.add_left_range(1, false, "stalled");
+    s.add_left_range(0, false, "stalled first");
+    let (sm, why) = cell_summary(&s, 2).unwrap();
+    assert_eq!(why.as_deref(), Some("sample 0: stalled first"));
+    assert_eq!((sm.samples, sm.not_workable, sm.jump.count), (0, 2, 0));
+    s.add_left_range(2, true, "thrown off");
+    let (sm, why) = cell_summary(&s, 2).unwrap();
+    assert_eq!(why, None);
+    assert_eq!((sm.jump.count, sm.jump.p, sm.not_workable), (1, 1.0, 2));
+}
+
+/// At 1300 rpm the theoretical cam and every cell's cam (--quick: one a cell) jump and
+/// are then thrown off the cam: the study goes on and exits 0, every cell reports
+/// P(jump) = 1 of 1 counted as a left-range jump, no acceleration statistics, in text
+/// and JSON.
+#[test]
+fn tolerance_study_cells_that_jump_out_of_range_report_p_jump_1() {
+    use camsim::cmd::tolerance_study;
+    let args = ["tolerance-study", "--quick", "--rpm", "1300"];
+    let argv = ["camsim"].iter().chain(&args).chain(&["--json"]);
+    assert_eq!(main_from(argv.copied()), 0);
+    let Command::ToleranceStudy(a) = parse_from(["camsim"].iter().chain(&args).copied())
+        .unwrap()
+        .command
+    else {
+        panic!("not tolerance-study")
+    };
+    let r = tolerance_study::report(&a).unwrap();
+    assert_eq!(r.cells.len(), 9);
+    for c in std::iter::once(&r.theoretical).chain(&r.cells) {
+        let s = &c.summary;
+        assert_eq!((s.jump.count, s.jump.p, s.left_range_jumps), (1, 1.0, 1));
+        assert_eq!((s.samples, c.acc_rms_sum_in_per_s2), (0, None));
+        assert!(c.not_workable.is_none());
+    }
+    let text = camsim::report::Report::text(&r);
+    assert_eq!(
+        text.matches("no statistics: every cam jumped and then left the model's valid range")
+            .count(),
+        10,
+        "{text}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&camsim::report::Report::json(&r).unwrap()).unwrap();
+    let cell = &json["cells"][0];
+    assert!(cell.get("acc_rms_sum_in_per_s2").is_none() && cell.get("not_workable").is_none());
+    assert_eq!(cell["summary"]["left_range_jumps"], 1);
+    assert_eq!(cell["summary"]["jump"]["p"], 1.0);
+}

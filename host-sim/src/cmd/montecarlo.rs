@@ -139,7 +139,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
     };
     let (summary, two_level_summary) = if args.shard.is_none() {
         let t = match &two_level {
-            Some(t) => Some(t.summary(&stats)?),
+            Some(t) => t.summary(&stats)?,
             None => None,
         };
         (Some(stats.summary(study.revolution())?), t)
@@ -246,7 +246,7 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
     let revolution = measured_revolution(study.revolutions);
     let summary = stats.summary(revolution)?;
     let two_level = match &study.two_level {
-        Some(_) => Some(tally.two_level.summary(&stats)?),
+        Some(_) => tally.two_level.summary(&stats)?,
         None => None,
     };
     if let Some(t) = plot_target {

@@ -21,7 +21,7 @@ use crate::args::OutputArgs;
 use crate::output::AtomicDir;
 use crate::report::Report;
 use crate::sim::RunSpec;
-use crate::study::montecarlo::{self, Moments, Study, Summary};
+use crate::study::montecarlo::{self, Columns, Moments, Probability, Study, StudyStats, Summary};
 use crate::units;
 use camsim_scene_file::units::Unit;
 
@@ -98,8 +98,14 @@ pub struct Cell {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fpr: Option<f64>,
     /// Revolution 2's acceleration RMS summed over the periods, mean over the cams,
-    /// in/s².
-    pub acc_rms_sum_in_per_s2: f64,
+    /// in/s² (absent when no cam has statistics: each left the model's valid range).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub acc_rms_sum_in_per_s2: Option<f64>,
+    /// Why the cell is not workable: every cam left the model's valid range with the
+    /// follower on the cam (docs/MODEL.md §3.20; the first cam's reason). A cell whose
+    /// cams jumped and then left it is workable: P(jump) = 1.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_workable: Option<String>,
     /// The cell's Monte Carlo result (revolution 2).
     pub summary: Summary,
 }
@@ -221,14 +227,9 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
         let n = if theoretical { 1 } else { samples };
         let study = Study::from_spec(spec.clone(), &actual, n)?;
         // Samples that leave the model's range are counted (jumps or not workable).
-        let summary = study
-            .run_stats(montecarlo::Shard::WHOLE, threads, false)?
-            .summary(study.revolution())?;
-        let acc = summary
-            .whole_revolution
-            .get("acc_rms_sum")
-            .map(|m| m.mean)
-            .ok_or_else(|| anyhow::anyhow!("the study has no acceleration RMS"))?;
+        let stats = study.run_stats(montecarlo::Shard::WHOLE, threads, false)?;
+        let (summary, not_workable) = cell_summary(&stats, study.revolution())?;
+        let acc = summary.whole_revolution.get("acc_rms_sum").map(|m| m.mean);
         Ok(Cell {
             cam_tolerance_in: cam,
             roller_tolerance_in: roller,
@@ -241,6 +242,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
                 summary.profile.get("fpr").map(|m| m.mean)
             },
             acc_rms_sum_in_per_s2: acc,
+            not_workable,
             summary,
         })
     };
@@ -261,6 +263,7 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
         }
     }
     bar.finish_and_clear();
+    some_cell_workable(&theoretical, &cells)?;
     if let Some(t) = plot_target {
         let mut dir = t.open()?;
         draw(&mut dir, &theoretical, &cells, axis.len(), samples)?;
@@ -278,6 +281,86 @@ pub fn report(args: &Args) -> Result<ToleranceReport> {
         cells,
         wall_s: t0.elapsed().as_secs_f64(),
     })
+}
+
+/// A grid cell's colour (0 to 1, NaN: none) and text: P(jump) (`jump`) or the
+/// acceleration RMS sum (`t_acc` its colour, `fa` its unit's factor).
+fn grid_cell(c: &Cell, jump: bool, t_acc: f64, fa: f64) -> (f64, String) {
+    let p = &c.summary.jump;
+    match (&c.not_workable, jump, c.acc_rms_sum_in_per_s2) {
+        (Some(_), _, _) => (f64::NAN, "not workable".into()),
+        (None, true, _) => (p.p, format!("{:.2} [{:.2}, {:.2}]", p.p, p.lo95, p.hi95)),
+        (None, false, None) => (f64::NAN, "no statistics".into()),
+        (None, false, Some(a)) => (t_acc, format!("{:.0}", fa * a)),
+    }
+}
+
+/// Fails when no cell is workable (every cam of every cell left the model's valid range
+/// with the follower on the cam), with the theoretical cam's reason.
+fn some_cell_workable(theoretical: &Cell, cells: &[Cell]) -> Result<()> {
+    let all = std::iter::once(theoretical).chain(cells);
+    if let Some(why) = all
+        .map(|c| c.not_workable.as_ref())
+        .collect::<Option<Vec<_>>>()
+    {
+        anyhow::bail!(
+            "no cell is workable: in every one each cam left the model's valid range with the follower on the cam (theoretical cam: {})",
+            why.first().map_or("", |w| w.as_str())
+        );
+    }
+    Ok(())
+}
+
+/// A cell's statistics, and why it is not workable when every cam left the model's
+/// valid range with the follower on the cam (then an empty summary with the count).
+pub fn cell_summary(stats: &StudyStats, revolution: u32) -> Result<(Summary, Option<String>)> {
+    if stats.samples + stats.left_range_jumps > 0 {
+        return Ok((stats.summary(revolution)?, None));
+    }
+    let why = stats
+        .first_not_workable
+        .as_ref()
+        .map_or("no cam ran".to_string(), |(i, r)| {
+            format!("sample {i}: {r}")
+        });
+    let summary = Summary {
+        samples: 0,
+        revolution,
+        periods: Vec::new(),
+        whole_revolution: Columns(Vec::new()),
+        jump: Probability::of(0, 0),
+        profile: Columns(Vec::new()),
+        steps: None,
+        left_range_jumps: 0,
+        not_workable: stats.not_workable,
+        not_workable_reason: Some(why.clone()),
+    };
+    Ok((summary, Some(why)))
+}
+
+/// A cell's profiles: the waviness achieved and the RMS lift deviation (none when no
+/// cam has statistics).
+fn profile_text(c: &Cell) -> String {
+    let p = &c.summary.profile;
+    match (p.get("fpr"), p.get("rms_deviation_in")) {
+        (Some(f), Some(d)) => format!(
+            ": FPR {:.1} (sd {:.1}), rms lift deviation {:.3e} {}",
+            f.mean,
+            f.sd,
+            units::value(units::LENGTH, d.mean),
+            units::symbol(units::LENGTH)
+        ),
+        _ => String::new(),
+    }
+}
+
+/// A cell's acceleration RMS sum in the report's unit, or why it has none.
+fn acc_text(c: &Cell) -> String {
+    match (&c.not_workable, c.acc_rms_sum_in_per_s2) {
+        (Some(_), _) => "not workable".into(),
+        (None, None) => "no statistics".into(),
+        (None, Some(a)) => units::q(units::ACCELERATION, a, 0).to_string(),
+    }
 }
 
 /// Runs the command.
@@ -303,6 +386,24 @@ fn cell_text(out: &mut String, title: &str, c: &Cell) {
     use std::fmt::Write;
     let s = &c.summary;
     let _ = writeln!(out, "{title}");
+    if let Some(why) = &c.not_workable {
+        let _ = writeln!(
+            out,
+            "  not workable: each of its {} cams left the model's valid range with the follower on the cam (docs/MODEL.md §3.20; first: {why})",
+            s.not_workable
+        );
+        return;
+    }
+    if s.samples == 0 {
+        let _ = writeln!(
+            out,
+            "  jump anywhere {} of {}: p = {} (95 % Wilson interval); no statistics: every cam jumped and then left the model's valid range (docs/MODEL.md §3.20)",
+            s.jump.count,
+            s.left_range_jumps,
+            s.jump.text(3)
+        );
+        return;
+    }
     let _ = write!(out, "  {:<11}", "period");
     for (_, h, _, _) in TABLE {
         let _ = write!(out, " {:>10}", h);
@@ -331,9 +432,16 @@ fn cell_text(out: &mut String, title: &str, c: &Cell) {
         units::label(units::ACCELERATION, "in/s2"),
         units::value(units::ACCELERATION, acc.map_or(0.0, |m| m.sd)),
         s.jump.count,
-        s.samples,
+        s.samples + s.left_range_jumps,
         s.jump.text(3)
     );
+    if s.left_range_jumps + s.not_workable > 0 {
+        let _ = writeln!(
+            out,
+            "  left the model's valid range: {} cams after the follower separated (jumps, without statistics), {} with the follower on the cam (not workable, excluded)",
+            s.left_range_jumps, s.not_workable
+        );
+    }
 }
 
 impl Report for ToleranceReport {
@@ -367,26 +475,18 @@ impl Report for ToleranceReport {
             &self.theoretical,
         );
         for c in &self.cells {
-            let fpr = c.fpr_moments();
             let _ = writeln!(out);
             cell_text(
                 &mut out,
                 &format!(
-                    "cam ±{} {lu}, roller ±{} {lu}, eccentricity ±{} {lu}, {}interval {:.4} deg: FPR {:.1} (sd {:.1}), rms lift deviation {:.3e} {lu}",
+                    "cam ±{} {lu}, roller ±{} {lu}, eccentricity ±{} {lu}, {}interval {:.4} deg{}",
                     units::given(units::LENGTH, c.cam_tolerance_in),
                     units::given(units::LENGTH, c.roller_tolerance_in),
                     units::given(units::LENGTH, c.eccentricity_tolerance_in),
-                    c.target_fpr.map_or(String::new(), |f| format!("waviness asked FPR {f}, ")),
+                    c.target_fpr
+                        .map_or(String::new(), |f| format!("waviness asked FPR {f}, ")),
                     c.interval_deg.unwrap_or(0.0),
-                    fpr.map_or(0.0, |m| m.mean),
-                    fpr.map_or(0.0, |m| m.sd),
-                    units::value(
-                        units::LENGTH,
-                        c.summary
-                            .profile
-                            .get("rms_deviation_in")
-                            .map_or(0.0, |m| m.mean)
-                    ),
+                    profile_text(c),
                     lu = units::symbol(units::LENGTH)
                 ),
                 c,
@@ -410,7 +510,7 @@ fn column_label(cells: &[Cell], cols: usize, j: usize) -> String {
             (a.min(x), b.max(x))
         });
     let got = if !lo.is_finite() {
-        String::new()
+        "none with statistics".to_string()
     } else if hi - lo < 0.05 {
         format!("{lo:.1}")
     } else {
@@ -437,7 +537,7 @@ fn grid_text(out: &mut String, r: &ToleranceReport) {
          (theoretical cam: {}, {}); columns: waviness asked (FPR achieved, mean)",
         r.samples_per_cell,
         units::label(units::ACCELERATION, "in/s2"),
-        units::q(units::ACCELERATION, r.theoretical.acc_rms_sum_in_per_s2, 0),
+        acc_text(&r.theoretical),
         if r.theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
     );
     let _ = write!(out, "{:<28}", "cam / roller tolerance");
@@ -461,11 +561,10 @@ fn grid_text(out: &mut String, r: &ToleranceReport) {
             let _ = write!(
                 out,
                 " {:>32}",
-                format!(
-                    "{}; {}",
-                    c.summary.jump.text(2),
-                    units::q(units::ACCELERATION, c.acc_rms_sum_in_per_s2, 0)
-                )
+                match c.not_workable {
+                    Some(_) => "not workable".to_string(),
+                    None => format!("{}; {}", c.summary.jump.text(2), acc_text(c)),
+                }
             );
         }
         let _ = writeln!(out);
@@ -512,7 +611,10 @@ fn draw(
     let (fa, ua) = crate::units::axis(crate::units::ACCELERATION);
     let acc: Vec<f64> = cells
         .iter()
-        .map(|c| c.acc_rms_sum_in_per_s2.max(1e-9).log10())
+        .map(|c| {
+            c.acc_rms_sum_in_per_s2
+                .map_or(f64::NAN, |a| a.max(1e-9).log10())
+        })
         .collect();
     let (amin, amax) = acc
         .iter()
@@ -536,9 +638,11 @@ fn draw(
         let root = root
             .titled(
                 &format!(
-                    "camsim tolerance-study: revolution 2, {samples} actual {} a cell (theoretical cam: sum of acceleration RMS {:.0} {ua}, {})",
+                    "camsim tolerance-study: revolution 2, {samples} actual {} a cell (theoretical cam: sum of acceleration RMS {}, {})",
                     if samples == 1 { "cam" } else { "cams" },
-                    fa * theoretical.acc_rms_sum_in_per_s2,
+                    theoretical
+                        .acc_rms_sum_in_per_s2
+                        .map_or("none (no statistics)".into(), |a| format!("{:.0} {ua}", fa * a)),
                     if theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
                 ),
                 ("sans-serif", 22),
@@ -573,17 +677,12 @@ fn draw(
                 .map_err(|x| e(&x))?;
             for (i, c) in cells.iter().enumerate() {
                 let (col, row) = (i % cols, rows - 1 - i / cols);
-                let (t, label) = if k == 0 {
-                    let p = &c.summary.jump;
-                    (p.p, format!("{:.2} [{:.2}, {:.2}]", p.p, p.lo95, p.hi95))
+                let t_acc = if amax > amin {
+                    (acc[i] - amin) / (amax - amin)
                 } else {
-                    let t = if amax > amin {
-                        (acc[i] - amin) / (amax - amin)
-                    } else {
-                        0.5
-                    };
-                    (t, format!("{:.0}", fa * c.acc_rms_sum_in_per_s2))
+                    0.5
                 };
+                let (t, label) = grid_cell(c, k == 0, t_acc, fa);
                 let (x0, y0) = (col as f64, row as f64);
                 let corners = [(x0, y0), (x0 + 1.0, y0 + 1.0)];
                 chart
@@ -637,6 +736,15 @@ fn tolerance_label(c: &Cell) -> String {
 
 /// A point with its interval: (low, middle, high).
 type Whisker = (f64, f64, f64);
+
+/// A cell's P(jump) with its interval (none for a cell that is not workable).
+fn jump_whisker(c: &Cell) -> Whisker {
+    let p = &c.summary.jump;
+    match c.not_workable {
+        Some(_) => (f64::NAN, f64::NAN, f64::NAN),
+        None => (p.lo95, p.p, p.hi95),
+    }
+}
 
 /// P(jump) with its 95 % Wilson interval, and the 5th, 50th and 95th percentiles of the
 /// smallest contact force and of the largest contact stress in revolution 2, against the
@@ -699,14 +807,7 @@ fn draw_response(
             let (title, desc, pts, theo): (String, String, Vec<Vec<Whisker>>, f64) = if k == 0 {
                 let pts = rows
                     .iter()
-                    .map(|r| {
-                        r.iter()
-                            .map(|c| {
-                                let p = &c.summary.jump;
-                                (p.lo95, p.p, p.hi95)
-                            })
-                            .collect()
-                    })
+                    .map(|r| r.iter().map(jump_whisker).collect())
                     .collect();
                 (
                     if samples < 2 {

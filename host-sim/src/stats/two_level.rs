@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 use crate::stats::stream::Stream;
 use crate::stats::study::{revolution_value, StudyStats, REVOLUTION_COLUMNS};
 use crate::stats::{Probability, Z95};
-use crate::study::montecarlo::SampleRecord;
+use crate::study::montecarlo::{Outcome, SampleRecord};
 
 /// A full-model statistic estimated on two levels.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -165,9 +165,55 @@ pub struct TwoLevelStats {
     pub period_jumps: Vec<Disagreements>,
     /// Full − reduced of the [`REVOLUTION_COLUMNS`], in order.
     pub whole_revolution: Vec<Stream>,
+    /// The pairs without statistics (docs/MODEL.md §3.20).
+    #[serde(default)]
+    pub jump_only: JumpOnlyPairs,
+}
+
+/// Subsample pairs in which a model's run left its valid range after the follower
+/// separated (a jump on that model, docs/MODEL.md §3.20): both jump verdicts are known
+/// (in [`TwoLevelStats::jump`]), neither period nor column statistics.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JumpOnlyPairs {
+    /// Such pairs.
+    pub pairs: u64,
+    /// Of them, the pairs whose full model jumped.
+    pub full_jumps: u64,
 }
 
 impl TwoLevelStats {
+    /// Adds one cam's pair of outcomes, its reduced model workable (a record, or a jump
+    /// that left the range): a full-model run that left the range with the follower on
+    /// the cam is not workable (counted in `full`, no pair); a run that left it after a
+    /// separation is a jump on its model (a [`JumpOnlyPairs`] pair).
+    pub fn add_outcomes(&mut self, index: u64, reduced: &Outcome, full: &Outcome) -> Result<()> {
+        match (reduced, full) {
+            (Ok(r), Ok(f)) => return self.add(r, f),
+            (_, Err(l)) if !l.separated => {
+                self.full
+                    .add_left_range(index, false, &format!("on the full model: {}", l.reason));
+                return Ok(());
+            }
+            (Err(l), _) => ensure!(
+                l.separated,
+                "sample {index}: not workable on the reduced model, so not a pair"
+            ),
+            (Ok(_), Err(_)) => {}
+        }
+        let verdict = |o: &Outcome| o.as_ref().map_or(true, SampleRecord::jump);
+        let (f, r) = (verdict(full), verdict(reduced));
+        self.jump.add(f, r);
+        self.jump_only.pairs += 1;
+        self.jump_only.full_jumps += u64::from(f);
+        Ok(())
+    }
+
+    /// The subsample's pairs with both jump verdicts (with statistics or not).
+    pub fn pairs(&self) -> u64 {
+        self.full.samples + self.jump_only.pairs
+    }
+
     /// Adds one cam's pair of records (the same cam on both models).
     pub fn add(&mut self, reduced: &SampleRecord, full: &SampleRecord) -> Result<()> {
         ensure!(
@@ -205,20 +251,23 @@ impl TwoLevelStats {
 
     /// Adds another set of pairs (of the same study).
     pub fn merge(&mut self, other: &TwoLevelStats) -> Result<()> {
-        if other.full.samples == 0 {
-            return Ok(());
-        }
-        if self.full.samples == 0 {
-            *self = other.clone();
-            return Ok(());
-        }
+        self.jump_only.pairs += other.jump_only.pairs;
+        self.jump_only.full_jumps += other.jump_only.full_jumps;
+        self.jump.merge(&other.jump);
         self.full.merge(&other.full)?;
+        if other.period_jumps.is_empty() {
+            return Ok(());
+        }
+        if self.period_jumps.is_empty() {
+            self.period_jumps.clone_from(&other.period_jumps);
+            self.whole_revolution.clone_from(&other.whole_revolution);
+            return Ok(());
+        }
         ensure!(
             self.period_jumps.len() == other.period_jumps.len()
                 && self.whole_revolution.len() == other.whole_revolution.len(),
             "the full-model subsamples have different periods"
         );
-        self.jump.merge(&other.jump);
         for (a, b) in self.period_jumps.iter_mut().zip(&other.period_jumps) {
             a.merge(b);
         }
@@ -232,9 +281,25 @@ impl TwoLevelStats {
         Ok(())
     }
 
-    /// The sanity checks of a subsample read from a file of `n` pairs.
+    /// The sanity checks of a file's subsample of `n` cams (a cam not workable on the
+    /// reduced model has no pair: at most `n` are held).
     pub fn check(&self, n: u64) -> Result<()> {
-        self.full.check(n)?;
+        let held = self.full.accounted() + self.jump_only.pairs;
+        ensure!(
+            held <= n && self.jump_only.full_jumps <= self.jump_only.pairs,
+            "{held} cams ({} jumps of {} without statistics) in a subsample of {n}",
+            self.jump_only.full_jumps,
+            self.jump_only.pairs
+        );
+        self.full.check(self.full.accounted())?;
+        ensure!(
+            self.jump.full_only + self.jump.reduced_only <= self.pairs(),
+            "{} + {} disagreements in {} pairs",
+            self.jump.full_only,
+            self.jump.reduced_only,
+            self.pairs()
+        );
+        let n = self.full.samples;
         if n == 0 {
             return Ok(());
         }
@@ -243,7 +308,7 @@ impl TwoLevelStats {
                 && self.whole_revolution.len() == REVOLUTION_COLUMNS.len(),
             "the full-model subsample does not have the study's columns"
         );
-        for d in std::iter::once(&self.jump).chain(&self.period_jumps) {
+        for d in &self.period_jumps {
             ensure!(
                 d.full_only + d.reduced_only <= n,
                 "{} + {} disagreements in {n} pairs",
@@ -263,18 +328,54 @@ impl TwoLevelStats {
     }
 
     /// The full model's estimates, with `reduced` the reduced model's statistics of the
-    /// study's N cams.
-    pub fn summary(&self, reduced: &StudyStats) -> Result<TwoLevelSummary> {
-        let (big_n, n) = (reduced.samples, self.full.samples);
-        let p01 = Some((0.0, 1.0));
+    /// study's N cams: P(jump) over the pairs with both verdicts (a jump that left the
+    /// range is a jump, docs/MODEL.md §3.20), the periods and columns over the pairs
+    /// with statistics. `None` when fewer than 2 pairs have verdicts (the full model
+    /// left its range with the follower on the cam on the rest of the subsample).
+    pub fn summary(&self, reduced: &StudyStats) -> Result<Option<TwoLevelSummary>> {
+        let (big_n, n) = (reduced.samples + reduced.left_range_jumps, self.pairs());
+        if n < 2 {
+            return Ok(None);
+        }
+        let full_jumps = self.full.jumps + self.jump_only.full_jumps;
         let jump = estimate(
-            reduced.jumps as f64 / big_n as f64,
+            (reduced.jumps + reduced.left_range_jumps) as f64 / big_n as f64,
             big_n,
             n,
             (self.jump.mean_var(n).0, self.jump.adjusted_var(n)),
-            indicator_var_adjusted(self.full.jumps, n),
-            p01,
+            indicator_var_adjusted(full_jumps, n),
+            Some((0.0, 1.0)),
         )?;
+        let (periods, whole_revolution) = match self.full.samples {
+            0 | 1 => (Vec::new(), Vec::new()),
+            _ => self.with_statistics(reduced)?,
+        };
+        Ok(Some(TwoLevelSummary {
+            estimator: ESTIMATOR,
+            samples: big_n,
+            full_samples: n,
+            jump,
+            disagreements: self.jump,
+            subsample_full_jump: Probability::of(full_jumps, n),
+            jump_only_pairs: self.jump_only.pairs,
+            full_not_workable: self.full.not_workable,
+            full_not_workable_reason: self
+                .full
+                .first_not_workable
+                .as_ref()
+                .map(|(i, r)| format!("sample {i}: {r}")),
+            periods,
+            whole_revolution,
+        }))
+    }
+
+    /// The period and column estimates over the pairs with statistics (at least 2).
+    fn with_statistics(
+        &self,
+        reduced: &StudyStats,
+    ) -> Result<(Vec<PeriodEstimate>, Vec<ColumnEstimate>)> {
+        let (big_n, n) = (reduced.samples, self.full.samples);
+        let p01 = Some((0.0, 1.0));
         let mut periods = Vec::new();
         for ((d, f), r) in self
             .period_jumps
@@ -315,16 +416,7 @@ impl TwoLevelStats {
                 mean: e,
             });
         }
-        Ok(TwoLevelSummary {
-            estimator: ESTIMATOR,
-            samples: big_n,
-            full_samples: n,
-            jump,
-            disagreements: self.jump,
-            subsample_full_jump: Probability::of(self.full.jumps, n),
-            periods,
-            whole_revolution,
-        })
+        Ok((periods, whole_revolution))
     }
 }
 
@@ -365,6 +457,15 @@ pub struct TwoLevelSummary {
     pub disagreements: Disagreements,
     /// The full model's own P(jump) on the n cams alone (Wilson), for comparison.
     pub subsample_full_jump: Probability,
+    /// Of the n pairs, those without statistics: a model's run left its valid range
+    /// after the follower separated (docs/MODEL.md §3.20).
+    pub jump_only_pairs: u64,
+    /// Subsample cams that left the full model's valid range with the follower on the
+    /// cam: not workable on the full model, no pair.
+    pub full_not_workable: u64,
+    /// The first of them, with its reason.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub full_not_workable_reason: Option<String>,
     /// P(jump) per period.
     pub periods: Vec<PeriodEstimate>,
     /// Means of the whole-revolution columns.
@@ -437,7 +538,7 @@ mod tests {
             }
         }
         two.check(n).unwrap();
-        two.summary(&reduced).unwrap()
+        two.summary(&reduced).unwrap().unwrap()
     }
 
     #[test]
@@ -455,7 +556,7 @@ mod tests {
             reduced.add(&r).unwrap();
             two.add(&r, &f).unwrap();
         }
-        let s = two.summary(&reduced).unwrap();
+        let s = two.summary(&reduced).unwrap().unwrap();
         let p = f_jumps as f64 / 50.0;
         assert!((s.jump.value - p).abs() < 1e-12, "{} vs {p}", s.jump.value);
         // (Agresti-Coull's p̃ in the variance of a probability.)
@@ -579,9 +680,74 @@ mod tests {
         }
         b.merge(&a).unwrap();
         let (x, y) = (
-            whole.summary(&reduced).unwrap(),
-            b.summary(&reduced).unwrap(),
+            whole.summary(&reduced).unwrap().unwrap(),
+            b.summary(&reduced).unwrap().unwrap(),
         );
         assert_eq!(format!("{x:?}"), format!("{y:?}"));
+    }
+
+    /// The counting rule of docs/MODEL.md §3.20 on the pairs: a run that left the range
+    /// after a separation is a jump on its model (a pair without statistics), one that
+    /// left it on the full model with the follower on the cam has no pair. Five cams:
+    /// 0 reduced left after separating, full on the cam without a jump (reduced only);
+    /// 1 reduced jumps, full left after separating (agree); 2 full not workable;
+    /// 3 and 4 record pairs (neither jumps, both jump). Reduced: 3 jumps of 5 workable
+    /// (0.6); pairs 0, 1, 3, 4: correction (0 − 1)/4, estimate 0.35; full 2 of 4.
+    #[test]
+    fn cams_that_leave_the_range_are_jumps_or_no_pair() {
+        use crate::study::montecarlo::LeftRange;
+        let left = |separated| {
+            Err(LeftRange {
+                separated,
+                reason: "left".into(),
+            })
+        };
+        let cams: Vec<(Outcome, Outcome)> = vec![
+            (left(true), Ok(record(0, false, 1.0))),
+            (Ok(record(1, true, 1.0)), left(true)),
+            (Ok(record(2, false, 1.0)), left(false)),
+            (Ok(record(3, false, 1.0)), Ok(record(3, false, 2.0))),
+            (Ok(record(4, true, 3.0)), Ok(record(4, true, 5.0))),
+        ];
+        let (mut reduced, mut whole) = (StudyStats::default(), TwoLevelStats::default());
+        let (mut a, mut b) = (TwoLevelStats::default(), TwoLevelStats::default());
+        for (i, (r, f)) in (0u64..).zip(&cams) {
+            match r {
+                Ok(rec) => reduced.add(rec).unwrap(),
+                Err(l) => reduced.add_left_range(i, l.separated, &l.reason),
+            }
+            whole.add_outcomes(i, r, f).unwrap();
+            if i < 2 { &mut a } else { &mut b }
+                .add_outcomes(i, r, f)
+                .unwrap();
+        }
+        whole.check(5).unwrap();
+        assert_eq!((whole.pairs(), whole.jump_only.pairs), (4, 2));
+        assert_eq!((whole.jump.full_only, whole.jump.reduced_only), (0, 1));
+        let s = whole.summary(&reduced).unwrap().unwrap();
+        assert_eq!((s.samples, s.full_samples, s.jump_only_pairs), (5, 4, 2));
+        assert_eq!((s.jump.reduced, s.jump.correction), (0.6, -0.25));
+        assert!((s.jump.value - 0.35).abs() < 1e-15, "{}", s.jump.value);
+        assert_eq!((s.subsample_full_jump.count, s.full_not_workable), (2, 1));
+        assert_eq!(
+            s.full_not_workable_reason.as_deref(),
+            Some("sample 2: on the full model: left")
+        );
+        // The periods and means over the record pairs 3 and 4 (reduced: cams 1-4).
+        let acc = s
+            .whole_revolution
+            .iter()
+            .find(|c| c.column == "acc_rms_sum")
+            .unwrap();
+        assert_eq!((acc.mean.reduced, acc.mean.correction), (1.5, 1.5));
+        assert_eq!(s.periods.len(), 1);
+        b.merge(&a).unwrap();
+        let m = b.summary(&reduced).unwrap().unwrap();
+        assert_eq!(format!("{m:?}"), format!("{s:?}"));
+        // One pair with verdicts: no estimate.
+        let mut one = TwoLevelStats::default();
+        let (r, f) = &cams[0];
+        one.add_outcomes(0, r, f).unwrap();
+        assert!(one.summary(&reduced).unwrap().is_none());
     }
 }

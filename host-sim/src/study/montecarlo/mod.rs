@@ -347,6 +347,20 @@ impl Tally {
         self.stats.merge(&other.stats)?;
         self.two_level.merge(&other.two_level)
     }
+
+    /// Adds cam `index`'s outcome on the first model and, in the subsample, on the full.
+    fn add(&mut self, index: u64, rec: &Outcome, full: Option<Outcome>) -> Result<()> {
+        if let Some(f) = &full {
+            self.two_level.add_outcomes(index, rec, f)?;
+        }
+        match rec {
+            Ok(r) => self.stats.add(r),
+            Err(l) => {
+                self.stats.add_left_range(index, l.separated, &l.reason);
+                Ok(())
+            }
+        }
+    }
 }
 
 impl Study {
@@ -465,22 +479,23 @@ impl Study {
     }
 
     /// Runs sample `index` on the first model and, if it is in a two-level study's
-    /// subsample, on the full model too (the same actual cam). A subsample cam that
-    /// leaves the model's valid range on either model is an error (its pair is needed).
-    pub fn pair(&self, index: u64) -> Result<(Outcome, Option<SampleRecord>)> {
+    /// subsample and workable there, on the full model too (the same actual cam). A run
+    /// that leaves a model's valid range is an outcome, not an error (the counting rule
+    /// of docs/MODEL.md §3.20 applies to both models).
+    pub fn pair(&self, index: u64) -> Result<(Outcome, Option<Outcome>)> {
         let (dev, stats) = actual::build_profile(&self.spec.design, &self.actual, index)?;
         let dev = Arc::new(dev);
         let first = self.reduced.as_ref().unwrap_or(&self.spec);
         let rec = self.record(first, &dev, &stats, index)?;
-        if index >= self.full_samples() {
+        // A cam not workable on the first model is out of the study: no pair.
+        let not_workable = matches!(&rec, Err(l) if !l.separated);
+        if index >= self.full_samples() || not_workable {
             return Ok((rec, None));
         }
-        let rec = rec.map_err(|l| anyhow!(l.reason))?;
         let full = self
             .record(&self.spec, &dev, &stats, index)
-            .and_then(|f| f.map_err(|l| anyhow!(l.reason)))
             .map_err(|e| e.context("on the full model"))?;
-        Ok((Ok(rec), Some(full)))
+        Ok((rec, Some(full)))
     }
 
     /// The record of sample `index`'s cam `dev` simulated on `spec`.
@@ -642,17 +657,7 @@ impl Study {
                         if stop.load(Ordering::Relaxed) {
                             return (acc, err);
                         }
-                        let r = self.pair(i).and_then(|(rec, full)| match (rec, full) {
-                            (Ok(rec), Some(f)) => {
-                                acc.stats.add(&rec)?;
-                                acc.two_level.add(&rec, &f)
-                            }
-                            (Ok(rec), None) => acc.stats.add(&rec),
-                            (Err(l), _) => {
-                                acc.stats.add_left_range(i, l.separated, &l.reason);
-                                Ok(())
-                            }
-                        });
+                        let r = self.pair(i).and_then(|(rec, full)| acc.add(i, &rec, full));
                         bar.inc(1);
                         lines.inc();
                         match r {
@@ -681,7 +686,10 @@ impl Study {
         }
         anyhow::ensure!(
             tally.stats.accounted() == count
-                && tally.two_level.full.samples == shard.len(self.full_samples()),
+                && tally
+                    .two_level
+                    .check(shard.len(self.full_samples()))
+                    .is_ok(),
             "a sample failed"
         );
         Ok(tally)

@@ -166,14 +166,17 @@ fn two_level_text(out: &mut String, t: &TwoLevelSummary) {
         d.reduced_only,
         probability_text(&t.subsample_full_jump, t.full_samples)
     );
+    two_level_left_range_text(out, t);
     for p in &t.periods {
         let _ = writeln!(out, "  {}: jump {}", p.period, estimate_text(&p.jump));
     }
-    let _ = writeln!(
-        out,
-        "  {:<17} {:>11} {:>11} {:>11} {:>11} {:>11}",
-        "mean", "estimate", "lo95", "hi95", "reduced", "correction"
-    );
+    if !t.whole_revolution.is_empty() {
+        let _ = writeln!(
+            out,
+            "  {:<17} {:>11} {:>11} {:>11} {:>11} {:>11}",
+            "mean", "estimate", "lo95", "hi95", "reduced", "correction"
+        );
+    }
     for c in &t.whole_revolution {
         let v = |x: f64| column_unit(&c.column).map_or(x, |unit| crate::units::value(unit, x));
         let m = &c.mean;
@@ -193,6 +196,40 @@ fn two_level_text(out: &mut String, t: &TwoLevelSummary) {
         "  full-model jump anywhere: {}",
         estimate_text(&t.jump)
     );
+}
+
+/// A two-level study's full-model estimate, or why it has none.
+fn full_model_text(out: &mut String, r: &MonteCarloReport) {
+    use std::fmt::Write;
+    match (&r.two_level, &r.study.two_level) {
+        (Some(t), _) => two_level_text(out, t),
+        (None, Some(_)) => {
+            let _ = writeln!(
+                out,
+                "\nfull model, two-level estimate: none, fewer than 2 of the subsample's cams are workable on the full model (the tables are the reduced model's)"
+            );
+        }
+        (None, None) => {}
+    }
+}
+
+/// The subsample cams that left a model's valid range (docs/MODEL.md §3.20).
+fn two_level_left_range_text(out: &mut String, t: &TwoLevelSummary) {
+    use std::fmt::Write;
+    if t.jump_only_pairs > 0 {
+        let _ = writeln!(
+            out,
+            "  of which {} left a model's valid range after the follower separated: counted as jumps there, in P(jump) only (the periods and means are over the other pairs)",
+            t.jump_only_pairs
+        );
+    }
+    if let Some(why) = &t.full_not_workable_reason {
+        let _ = writeln!(
+            out,
+            "  not workable on the full model: {} cams left its valid range with the follower on the cam and have no pair (first: {why})",
+            t.full_not_workable
+        );
+    }
 }
 
 /// The whole revolution's and the profiles' statistics, or why there are none.
@@ -267,9 +304,7 @@ impl Report for MonteCarloReport {
             probability_text(&sm.jump, sm.samples + sm.left_range_jumps)
         );
         left_range_text(&mut out, sm);
-        if let Some(t) = &self.two_level {
-            two_level_text(&mut out, t);
-        }
+        full_model_text(&mut out, self);
         if let Some(steps) = &sm.steps {
             let _ = writeln!(
                 out,
