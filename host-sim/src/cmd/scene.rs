@@ -230,7 +230,7 @@ const TEMPLATE: &[Line] = &[
     ),
 ];
 
-/// `scene --new`'s template in `units` ([`TEMPLATE`]).
+/// `scene --new`'s template in `units` (`TEMPLATE`).
 pub fn new_template(units: Units) -> String {
     let flag = match units {
         Units::Inch => "",
