@@ -168,7 +168,7 @@ fn firmware_check_json_reports_the_budget_and_the_checks() {
 
 /// `firmware-check --fits ... --json` gives each ELF's sections as numbers (not only inside the
 /// check lines): a stand-in `llvm-size` prints known sections, and the report's sums are the
-/// sums of those.
+/// sums of those (its `Total` the sum of every section listed, as llvm-size prints it).
 #[cfg(unix)]
 #[test]
 fn firmware_check_json_gives_each_images_sections_as_numbers() {
@@ -179,7 +179,7 @@ fn firmware_check_json_gives_each_images_sections_as_numbers() {
     let tool = d.join("fake-llvm-size");
     std::fs::write(
         &tool,
-        "#!/bin/sh\nprintf 'x  :\\nsection size addr\\n.vector_table 1024 0\\n.text 80000 1024\\n.rodata 8900 81024\\n.data 16 536870912\\n.bss 24 536870928\\n.uninit 8 536870952\\n.debug_info 99999 0\\n'\n",
+        "#!/bin/sh\nprintf 'x  :\\nsection size addr\\n.vector_table 1024 0\\n.text 80000 1024\\n.rodata 8900 81024\\n.data 16 536870912\\n.bss 24 536870928\\n.uninit 8 536870952\\n.debug_info 99999 0\\nTotal 189971\\n'\n",
     )
     .unwrap();
     std::fs::set_permissions(&tool, std::fs::Permissions::from_mode(0o755)).unwrap();
