@@ -329,3 +329,41 @@ fn an_si_scene_writes_si_csv_headers_and_drawings() {
         "the DXF's note is not in mm"
     );
 }
+
+#[test]
+fn an_si_scene_sweeps_and_designs_in_si() {
+    let _lock = units_lock();
+    let dir = scenes("units-scene-study");
+    let si = dir.join("si.toml").display().to_string();
+    let out = |name: &str| dir.join(name).display().to_string();
+    // sweep --csv: the columns named in N and mm; under --units inch in lb.
+    let sweep = |csv: &str, extra: &[&str]| {
+        let mut a = argv(&["sweep", &si, "--rpm", "100:300:2", "--csv", csv]);
+        a.extend_from_slice(extra);
+        let code = cli::main_from(a);
+        units::set(Units::Inch);
+        assert_eq!(code, 0);
+        header(Path::new(csv))
+    };
+    let h = sweep(&out("sweep-si.csv"), &[]);
+    assert!(h.starts_with("rpm,jump,min_contact_force_n,"), "{h}");
+    let h = sweep(&out("sweep-in.csv"), &["--units", "inch"]);
+    assert!(h.starts_with("rpm,jump,min_contact_force_lb,"), "{h}");
+    // design spring: the answer in N/mm and the scene's preload length in mm.
+    let c = cli::parse_from(argv(&["design", "spring", &si, "--quick"])).unwrap();
+    units::set(c.units);
+    let Command::Design(a) = c.command else {
+        panic!("not design")
+    };
+    let camsim::cmd::design::What::Spring(s) = a.what else {
+        panic!("not design spring")
+    };
+    let text = camsim::cmd::design::spring(&s).unwrap().text();
+    units::set(Units::Inch);
+    let first = text.lines().next().unwrap_or("");
+    assert!(
+        first.starts_with("camsim design spring: ")
+            && first.contains(" N/mm at preload length 25 mm"),
+        "{first}"
+    );
+}
