@@ -146,6 +146,9 @@ grep -q '^  spring:    35.00 N/mm' "$studies/run-si-unit.out" && grep -q 'preloa
 smoke scene-si scene --default --units si
 "$C" scene --check "$studies/scene-si.out" > /dev/null
 grep -q '^base_radius_mm = 38.1 ' "$studies/scene-si.out" || { echo "smoke: scene --units si does not write base_radius_mm" >&2; exit 1; }
+# A scene in SI keys without --units answers in SI (its units line in mm and N).
+smoke run-si-scene run "$studies/scene-new-si.out" --revolutions 1
+grep -q '^units: mm, N, ' "$studies/run-si-scene.out" || { echo "smoke: run of an SI scene without --units does not answer in mm and N" >&2; exit 1; }
 smoke bench-si bench --quick --repeat 1 --units si --plot "$studies/bench-si"
 for f in error_vs_evals.png error_vs_time.png error_vs_cpu_time.png; do
     test -s "$studies/bench-si/$f" || { echo "smoke: bench --plot wrote no $f" >&2; exit 1; }

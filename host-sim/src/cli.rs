@@ -17,17 +17,25 @@ pub struct Cli {
     /// The command.
     #[command(subcommand)]
     pub command: Command,
-    /// Units of the output: inch (in, lb, psi; the default) or si (mm, N, MPa); with si a
-    /// length, rate, force or stress option needs its unit (see `camsim --help`).
+    /// Units of the output: inch (in, lb, psi) or si (mm, N, MPa); default: si for a scene
+    /// file written in SI keys, else inch; with si a length, rate, force or stress option
+    /// needs its unit (see `camsim --help`).
     #[arg(
-        long,
+        id = "units",
+        long = "units",
         global = true,
         value_enum,
         value_name = "FAMILY",
-        default_value = "inch",
         hide_possible_values = true
     )]
+    pub units_option: Option<crate::units::Units>,
+    /// The output's unit family, decided once by [`parse_from`] from `--units` and the
+    /// scene file ([`crate::units::decide`]).
+    #[arg(skip)]
     pub units: crate::units::Units,
+    /// What decided [`Cli::units`].
+    #[arg(skip)]
+    pub units_from: crate::units::UnitsFrom,
 }
 
 /// The subcommands.
@@ -81,15 +89,20 @@ pub enum Command {
 /// `--units`, explained once (the end of `camsim --help`; each command's help gives
 /// one line).
 pub const UNITS_HELP: &str = "Units (--units inch|si, on every command):
-  inch (the thesis's: in, lb, psi, lb in; the default; `in` also reads) or si (mm, N,
-  MPa, N m, N/mm, kg; `mm` also reads). The family converts every --json key (each names
-  its unit), every command's tables, the scene file of `scene` (SI keys), the --csv of
-  run and sweep and the plots; firmware-check prints bytes, instructions and rpm only,
-  the same in either. The options with a length, spring rate, force or stress
+  inch (the thesis's: in, lb, psi, lb in; `in` also reads) or si (mm, N, MPa, N m,
+  N/mm, kg; `mm` also reads). Without --units, a command that reads a scene file
+  answers in the file's family: si when every key with a unit in it is an SI one
+  (base_radius_mm, spring_rate_n_per_mm), inch when its keys are inch, mix the two
+  or have no unit; inch without a scene (scene --check lists an SI file in SI always).
+  The family converts every --json key (each names its unit), every command's tables,
+  the scene file of `scene` (SI keys), the --csv of run and sweep, profile's drawing
+  and CSVs, and the plots; firmware-check prints bytes, instructions and rpm only, the
+  same in either. The options with a length, spring rate, force or stress
   (--spring-rate, --preload-length, --atol, the tolerances, contact's --force, run's
   --allowable-stress, profile's --cutter-radius and --chord-error, design spring's
   --resolution) take a value with its unit in either family (17.5N/mm, 12.7mm, 1034MPa);
-  a bare number is the inch family's, and with si it is refused (give the unit).";
+  a bare number is the inch family's, and with si (from --units or from the scene) it
+  is refused: give the unit, or --units inch.";
 
 /// What `camsim scenes` prints to standard error before it runs `models`.
 pub const SCENES_RENAMED: &str =
@@ -101,9 +114,44 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
+    parse_matches(args).map(|(cli, _)| cli)
+}
+
+/// [`parse_from`] with the matches clap made (for [`bare_in`]'s walk).
+fn parse_matches<I, T>(args: I) -> std::result::Result<(Cli, clap::ArgMatches), clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
     use clap::FromArgMatches;
     let matches = command().try_get_matches_from(args)?;
-    Cli::from_arg_matches(&matches)
+    let mut cli = Cli::from_arg_matches(&matches)?;
+    let scene = scene_given(&command(), &matches);
+    (cli.units, cli.units_from) = crate::units::decide(cli.units_option, scene.as_deref());
+    Ok((cli, matches))
+}
+
+/// The scene file a command line gives: the first argument named `SCENE` (every
+/// command's positional scene file, `predict --scene`) given a value, in the command or
+/// the subcommand it runs.
+fn scene_given(cmd: &clap::Command, m: &clap::ArgMatches) -> Option<std::path::PathBuf> {
+    for arg in cmd.get_arguments() {
+        // The name the usage shows: the value name, else the id (`[SCENE]`).
+        let shown = match arg.get_value_names().and_then(|n| n.first()) {
+            Some(n) => n.as_str().to_string(),
+            None => arg.get_id().as_str().to_uppercase(),
+        };
+        let is_scene = shown == "SCENE";
+        let id = arg.get_id().as_str();
+        if !is_scene || m.value_source(id) != Some(clap::parser::ValueSource::CommandLine) {
+            continue;
+        }
+        if let Some(v) = m.get_raw(id).into_iter().flatten().next() {
+            return Some(v.into());
+        }
+    }
+    let (name, sub) = m.subcommand()?;
+    scene_given(cmd.find_subcommand(name)?, sub)
 }
 
 /// The command tree as clap builds it (its commands, options and help), every option
@@ -241,20 +289,41 @@ fn report_error(line: &str) {
     let _ = writeln!(std::io::stderr().lock(), "{line}");
 }
 
-/// Under `--units si`, the first option that takes an inch-family quantity (its value
-/// name `IN`, `LB_PER_IN`, `LB` or `PSI`) and was given a bare number: the message refusing it.
-/// A bare number there is inch (as the option's help says), which a command line in SI
-/// would not mean; with its unit (`17.5N/mm`, `100lb/in`) it is read either way.
+/// Under an SI output (`--units si`, or a scene in SI keys without `--units`), the first
+/// option that takes an inch-family quantity (its value name `IN`, `LB_PER_IN`, `LB` or
+/// `PSI`) and was given a bare number: the message refusing it. A bare number there is
+/// inch (as the option's help says), which a command line in SI would not mean; with its
+/// unit (`17.5N/mm`, `100lb/in`) it is read either way.
 pub fn bare_inch_number(args: &[OsString]) -> Option<String> {
-    if parse_from(args).ok()?.units != crate::units::Units::Si {
-        return None;
-    }
-    let cmd = command();
-    let matches = cmd.clone().try_get_matches_from(args).ok()?;
-    bare_in(&cmd, &matches)
+    let (cli, matches) = parse_matches(args).ok()?;
+    bare_number_refusal(&cli, &matches)
 }
 
-fn bare_in(cmd: &clap::Command, m: &clap::ArgMatches) -> Option<String> {
+/// [`bare_inch_number`] for a parsed command line.
+fn bare_number_refusal(cli: &Cli, matches: &clap::ArgMatches) -> Option<String> {
+    use crate::units::{Units, UnitsFrom};
+    if cli.units != Units::Si {
+        return None;
+    }
+    let (option, value, unit) = bare_in(&command(), matches)?;
+    let (si, inch) = (unit.si_symbol, unit.inch_symbol);
+    Some(match &cli.units_from {
+        UnitsFrom::Scene(p) => format!(
+            "--{option} {value}: give its unit, {value}{si} or {value}{inch}: the output is SI because the scene file {} is written in SI keys (or give --units inch, where a bare number is {inch}, this option's unit)",
+            p.display()
+        ),
+        _ => format!(
+            "--{option} {value}: with --units si give its unit, {value}{si} or {value}{inch} (a bare number is {inch}, this option's unit)"
+        ),
+    })
+}
+
+/// The first option with an inch-family value name given a bare number: its long name,
+/// the value and its unit.
+fn bare_in(
+    cmd: &clap::Command,
+    m: &clap::ArgMatches,
+) -> Option<(String, String, camsim_scene_file::units::Unit)> {
     use camsim_scene_file::units::{LENGTH, STIFFNESS};
     for arg in cmd.get_arguments() {
         let unit = match arg
@@ -276,11 +345,7 @@ fn bare_in(cmd: &clap::Command, m: &clap::ArgMatches) -> Option<String> {
         for raw in m.get_raw(id).into_iter().flatten() {
             let v = raw.to_string_lossy();
             if crate::args::unit_of(&v).is_none() {
-                return Some(format!(
-                    "--{long} {v}: with --units si give its unit, {v}{si} or {v}{inch} (a bare number is {inch}, this option's unit)",
-                    si = unit.si_symbol,
-                    inch = unit.inch_symbol
-                ));
+                return Some((long.to_string(), v.into_owned(), unit));
             }
         }
     }
@@ -371,8 +436,8 @@ fn main_on_worker(args: &[OsString]) -> u8 {
 
 /// Parses and runs one command line; the exit status.
 fn run_command_line(args: &[OsString]) -> u8 {
-    let cli = match parse_from(args) {
-        Ok(c) if c.units == crate::units::Units::Si => match bare_inch_number(args) {
+    let cli = match parse_matches(args) {
+        Ok((c, matches)) => match bare_number_refusal(&c, &matches) {
             Some(line) => {
                 report_error(&format!(
                     "camsim: error: {} (see camsim --help)",
@@ -382,7 +447,6 @@ fn run_command_line(args: &[OsString]) -> u8 {
             }
             None => c,
         },
-        Ok(c) => c,
         Err(e) => {
             // --help and --version are not errors.
             if !e.use_stderr() {

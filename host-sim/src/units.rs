@@ -1,6 +1,15 @@
 //! The units of the printed results: the thesis's inch family (the default) or SI,
 //! `--units inch|si` on every command.
 //!
+//! The family is decided once, as the command line is parsed ([`decide`], called by
+//! `cli::parse_from` before any command runs): `--units` when the command line gives it;
+//! otherwise the family of the scene file the command reads, SI when every key with a
+//! unit in it is an SI one (`base_radius_mm`, `spring_rate_n_per_mm`), inch for an inch
+//! scene, for one that mixes the two families or has no key with a unit, and without a
+//! scene. `cli::execute` then [`set`]s it; the formatting helpers below read it
+//! ([`current`]). Under SI, whichever decided it, a bare number on an option whose
+//! bare number is inch (`--cutter-radius 10`) is refused (`cli::bare_inch_number`).
+//!
 //! Every numeric JSON key carries its unit. The reports are structs whose fields are in
 //! the inch family; [`json`] rewrites a report's JSON once, by one table: a key that
 //! already ends in an inch-family unit (`_lb_per_in`, `_psi`, `_in`, ...) keeps it in
@@ -229,6 +238,40 @@ pub fn decimals(unit: Unit, inch_decimals: usize) -> usize {
             let shift = unit.si_per_inch.log10().round() as i64;
             (inch_decimals as i64 - shift).max(0) as usize
         }
+    }
+}
+
+/// What decided the output's unit family ([`decide`]).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum UnitsFrom {
+    /// `--units` on the command line.
+    Option,
+    /// The scene file (its path as given), written in SI keys, without `--units`.
+    Scene(std::path::PathBuf),
+    /// Neither: the inch family (no scene file, or one not all in SI keys).
+    #[default]
+    Default,
+}
+
+/// The output's unit family for a command line that gives `option` (`--units`) and
+/// reads the scene file `scene`: `option` if given, else SI for a scene written in SI
+/// keys ([`crate::scene::file_family`]), else inch. A scene that cannot be read or
+/// parsed decides nothing here (inch): the command's own reading reports it. Only a
+/// regular file is read here: a pipe (`run <(...)`) is read once, by the command.
+pub fn decide(option: Option<Units>, scene: Option<&std::path::Path>) -> (Units, UnitsFrom) {
+    if let Some(u) = option {
+        return (u, UnitsFrom::Option);
+    }
+    let regular = |p: &std::path::Path| std::fs::metadata(p).is_ok_and(|m| m.is_file());
+    let si = scene.filter(|p| regular(p)).is_some_and(|p| {
+        camsim_scene_file::read_text(p, camsim_scene_file::MAX_SCENE_BYTES, "the scene file")
+            .ok()
+            .and_then(|text| crate::scene::file_family(&text).ok().flatten())
+            == Some(Units::Si)
+    });
+    match (si, scene) {
+        (true, Some(p)) => (Units::Si, UnitsFrom::Scene(p.to_path_buf())),
+        _ => (Units::Inch, UnitsFrom::Default),
     }
 }
 
