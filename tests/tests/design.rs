@@ -605,6 +605,7 @@ fn design_tolerance_table_rows_are_the_single_fpr_answers() {
     let table = tolerance_table(&args(vec![17, 57])).unwrap();
     assert_eq!(table.0.len(), 2);
     for (row, f) in table.0.iter().zip([17u32, 57]) {
+        let row = row.answer().unwrap();
         let single = mc_search(&args(vec![f]), false).unwrap();
         assert_eq!(row.waviness_fpr, Some(f));
         assert_eq!(

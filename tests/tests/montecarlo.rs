@@ -241,6 +241,20 @@ fn two_level_is_the_same_for_any_threads_and_shards() {
     assert_eq!(json(&one), json(&two));
     let t = one.two_level.as_ref().unwrap();
     assert_eq!((t.samples, t.full_samples), (6, 3));
+    // The text names the subsample's cams, 0-2, the same after any merge of shards.
+    let header = |r: &montecarlo::MonteCarloReport| {
+        let text = camsim::report::Report::text(r);
+        assert!(text.contains("(3 cams on both)"), "{text}");
+        let h = text
+            .lines()
+            .find(|l| l.starts_with("full model, two-level"));
+        h.unwrap_or_default().to_string()
+    };
+    assert!(
+        header(&one).ends_with("cams 0-2 on the full model too"),
+        "{}",
+        header(&one)
+    );
     assert_eq!(
         t.jump.value,
         (t.jump.reduced + t.jump.correction).clamp(0.0, 1.0)
@@ -265,6 +279,7 @@ fn two_level_is_the_same_for_any_threads_and_shards() {
         }
         let merged = merge(&files, &OutputArgs::default()).unwrap();
         assert_eq!(json(&merged), json(&one), "{ways}-way");
+        assert_eq!(header(&merged), header(&one), "{ways}-way");
     }
     // A one-model shard does not merge with a two-level one.
     let plain = tmp("plain-1of2.json");

@@ -14,7 +14,7 @@
 
 use std::time::Instant;
 
-use anyhow::{bail, Result};
+use anyhow::{anyhow, bail, Result};
 use camsim_core::{Onset, OnsetSearch, Start};
 use serde::Serialize;
 
@@ -224,7 +224,7 @@ pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
     };
     args.actual.refuse_actual_flag(command)?;
     let fpr = args.actual.fpr()?;
-    mc_search_at(args, speed, fpr)
+    mc_search_at(args, speed, fpr)?.map_err(|n| anyhow!("{}", n.error_line()))
 }
 
 /// `design tolerance`: the loosest cam tolerance for each FPR of --waviness-fpr (the
@@ -243,7 +243,9 @@ pub fn tolerance_table(args: &McArgs) -> Result<ToleranceTable> {
         )));
     }
     if args.waviness {
-        return Ok(ToleranceTable(vec![mc_search(args, false)?]));
+        return Ok(ToleranceTable(vec![ToleranceRow::Answer(mc_search(
+            args, false,
+        )?)]));
     }
     let fprs = if a.waviness_fpr.is_empty() {
         vec![crate::actual::DEFAULT_FPR]
@@ -252,8 +254,21 @@ pub fn tolerance_table(args: &McArgs) -> Result<ToleranceTable> {
     };
     let rows = fprs
         .iter()
-        .map(|&f| mc_search_at(args, false, Some(f)).map_err(|e| e.context(format!("FPR {f}"))))
+        .map(|&f| {
+            let r =
+                mc_search_at(args, false, Some(f)).map_err(|e| e.context(format!("FPR {f}")))?;
+            Ok(r.map_or_else(ToleranceRow::NothingPasses, ToleranceRow::Answer))
+        })
         .collect::<Result<Vec<_>>>()?;
+    // The command fails only when no FPR has an answer.
+    if let Some(n) = rows
+        .iter()
+        .map(ToleranceRow::nothing_passes)
+        .collect::<Option<Vec<_>>>()
+    {
+        let why: Vec<String> = n.iter().map(|n| n.error_line()).collect();
+        bail!("{}", why.join("; "));
+    }
     Ok(ToleranceTable(rows))
 }
 
@@ -363,8 +378,13 @@ fn step_cams(args: &McArgs, speed: bool, fpr: Option<u32>, x: f64) -> ActualArgs
     actual
 }
 
-/// One Monte Carlo search at the waviness `fpr` (None: the default).
-fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearchReport> {
+/// One Monte Carlo search at the waviness `fpr` (None: the default); a tolerance search
+/// in which nothing passes, even the smallest tolerance, is its [`NothingPasses`].
+fn mc_search_at(
+    args: &McArgs,
+    speed: bool,
+    fpr: Option<u32>,
+) -> Result<std::result::Result<McSearchReport, NothingPasses>> {
     let t0 = Instant::now();
     anyhow::ensure!(
         !(speed && args.waviness),
@@ -381,7 +401,7 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     let nthreads = threads(args.threads);
     let mut runs = 0u64;
     let mut tried: Vec<(f64, bool)> = Vec::new();
-    let mut passed: Vec<(f64, Probability)> = Vec::new();
+    let mut probs: Vec<(f64, Probability)> = Vec::new();
     let (start, max, resolution) = search_range(speed, waviness, args.quick);
     let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
     let steps = search_steps(start, max, resolution);
@@ -399,13 +419,24 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
             .map_err(|e| e.context(format!("at {x}")))?;
         let ok = p.hi95 <= p_max;
         tried.push((x, ok));
-        if ok {
-            passed.push((x, p));
-        }
+        probs.push((x, p));
         Ok(!ok)
     })?;
+    let p_at = |v: f64| probs.iter().find(|(x, _)| *x == v).map(|(_, p)| *p);
+    if let (Onset::AtStart(x), false, false) = (onset, speed, waviness) {
+        let cams = at(x);
+        let log = SearchLog {
+            profile: ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?,
+            criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
+            model: describe(&mc),
+            tried,
+            model_runs: runs,
+            wall_s: t0.elapsed().as_secs_f64(),
+        };
+        return Ok(Err(NothingPasses::new(args, fpr, (x, p_at(x)), n, log)));
+    }
     let (answer, failing) = answer_of(onset, speed, waviness, p_max)?;
-    let p_jump = passed.iter().find(|(x, _)| *x == answer).map(|(_, p)| *p);
+    let p_jump = p_at(answer);
     let cams = at(answer);
     let profile = ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?;
     let theoretical_onset_rpm = if speed {
@@ -415,27 +446,11 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
     } else {
         None
     };
+    let (search, unit) = search_labels(speed, waviness);
     let report = McSearchReport {
-        search: if speed {
-            "speed"
-        } else if waviness {
-            "waviness"
-        } else {
-            "tolerance"
-        }
-        .into(),
+        search: search.into(),
         answer,
-        unit: if speed {
-            "rpm".into()
-        } else if waviness {
-            "FPR".into()
-        } else {
-            format!(
-                "factor on VI.1's cam tolerance ({} {})",
-                units::given(units::LENGTH, 0.0005),
-                units::symbol(units::LENGTH)
-            )
-        },
+        unit,
         tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
@@ -460,7 +475,164 @@ fn mc_search_at(args: &McArgs, speed: bool, fpr: Option<u32>) -> Result<McSearch
         wall_s: t0.elapsed().as_secs_f64(),
     };
     crate::report::ensure_finite(&report)?;
-    Ok(report)
+    Ok(Ok(report))
+}
+
+/// A search's name and its answer's unit.
+fn search_labels(speed: bool, waviness: bool) -> (&'static str, String) {
+    if speed {
+        ("speed", "rpm".into())
+    } else if waviness {
+        ("waviness", "FPR".into())
+    } else {
+        let unit = format!(
+            "factor on VI.1's cam tolerance ({} {})",
+            units::given(units::LENGTH, 0.0005),
+            units::symbol(units::LENGTH)
+        );
+        ("tolerance", unit)
+    }
+}
+
+/// What a search that found nothing passing ran, for its report.
+struct SearchLog {
+    profile: ProfileSettings,
+    criterion: String,
+    model: String,
+    tried: Vec<(f64, bool)>,
+    model_runs: u64,
+    wall_s: f64,
+}
+
+/// A `design tolerance` FPR at which nothing passes: P(jump)'s upper bound is above
+/// --p-max already at the search's smallest cam tolerance (a row of the table, not the
+/// command's failure while another FPR has an answer).
+#[derive(Clone, Debug, Serialize)]
+pub struct NothingPasses {
+    /// `tolerance`.
+    pub search: String,
+    /// The cams' waviness, FPR.
+    pub waviness_fpr: u32,
+    /// Why, in words: P(jump) at the smallest tolerance against --p-max.
+    pub nothing_passes: String,
+    /// The smallest factor on VI.1's cam tolerance tried (the search's first).
+    pub smallest_factor_tried: f64,
+    /// The cam profile tolerance there, ± in.
+    pub smallest_cam_tolerance_in: f64,
+    /// The roller tolerance (held), ± in.
+    pub roller_tolerance_in: f64,
+    /// The eccentricity tolerance (held), ± in.
+    pub eccentricity_tolerance_in: f64,
+    /// P(jump) at the smallest tolerance with its 95 % Wilson interval.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p_jump: Option<Probability>,
+    /// The criterion.
+    pub criterion: String,
+    /// Actual cams a step.
+    pub samples: u64,
+    /// Master seed.
+    pub seed: u64,
+    /// The model.
+    pub model: String,
+    /// Every factor tried and whether it passed.
+    pub tolerance_factors_tried: Vec<(f64, bool)>,
+    /// Model runs (2 revolutions each).
+    pub model_runs: u64,
+    /// Wall time, s.
+    pub wall_s: f64,
+}
+
+impl NothingPasses {
+    fn new(
+        args: &McArgs,
+        fpr: Option<u32>,
+        (x, p): (f64, Option<Probability>),
+        n: u64,
+        log: SearchLog,
+    ) -> Self {
+        let lu = units::symbol(units::LENGTH);
+        let cam = units::q(units::LENGTH, log.profile.cam_tolerance_in, 5);
+        let why = match p {
+            Some(p) => format!(
+                "P(jump) there {} of {n}, upper 95 % bound {:.3} above --p-max {}",
+                p.count, p.hi95, args.p_max
+            ),
+            None => format!("P(jump) there is above --p-max {}", args.p_max),
+        };
+        NothingPasses {
+            search: "tolerance".into(),
+            waviness_fpr: fpr.unwrap_or(crate::actual::DEFAULT_FPR),
+            nothing_passes: format!(
+                "nothing passes down to ±{cam} {lu} ({x} x VI.1's cam tolerance): {why}"
+            ),
+            smallest_factor_tried: x,
+            smallest_cam_tolerance_in: log.profile.cam_tolerance_in,
+            roller_tolerance_in: log.profile.roller_tolerance_in,
+            eccentricity_tolerance_in: log.profile.eccentricity_tolerance_in,
+            p_jump: p,
+            criterion: log.criterion,
+            samples: n,
+            seed: args.actual.seed(),
+            model: log.model,
+            tolerance_factors_tried: log.tried,
+            model_runs: log.model_runs,
+            wall_s: log.wall_s,
+        }
+    }
+
+    /// The row as the command's one-line error: `FPR 57: nothing passes down to ...`.
+    pub fn error_line(&self) -> String {
+        format!("FPR {}: {}", self.waviness_fpr, self.nothing_passes)
+    }
+}
+
+/// A row of `design tolerance`'s table: the search's answer, or nothing passes.
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum ToleranceRow {
+    /// The loosest passing cam tolerance.
+    Answer(McSearchReport),
+    /// Nothing passes at this FPR.
+    NothingPasses(NothingPasses),
+}
+
+impl ToleranceRow {
+    /// The answer, if the row has one.
+    pub fn answer(&self) -> Option<&McSearchReport> {
+        match self {
+            ToleranceRow::Answer(r) => Some(r),
+            ToleranceRow::NothingPasses(_) => None,
+        }
+    }
+
+    fn model_runs(&self) -> u64 {
+        self.answer().map_or_else(
+            || self.nothing_passes().map_or(0, |n| n.model_runs),
+            |r| r.model_runs,
+        )
+    }
+
+    fn wall_s(&self) -> f64 {
+        self.answer().map_or_else(
+            || self.nothing_passes().map_or(0.0, |n| n.wall_s),
+            |r| r.wall_s,
+        )
+    }
+
+    /// Why nothing passes, if so.
+    pub fn nothing_passes(&self) -> Option<&NothingPasses> {
+        match self {
+            ToleranceRow::Answer(_) => None,
+            ToleranceRow::NothingPasses(n) => Some(n),
+        }
+    }
+
+    fn json_value(&self) -> serde_json::Result<serde_json::Value> {
+        match self {
+            ToleranceRow::Answer(r) => r.json_value(),
+            ToleranceRow::NothingPasses(n) => serde_json::to_value(n),
+        }
+    }
 }
 
 /// The first lines of a search's text: its answer in the user's words.
@@ -586,22 +758,23 @@ impl Report for McSearchReport {
 /// `design tolerance`'s answers, one a waviness (JSON: an array of the searches).
 #[derive(Clone, Debug, Serialize)]
 #[serde(transparent)]
-pub struct ToleranceTable(pub Vec<McSearchReport>);
+pub struct ToleranceTable(pub Vec<ToleranceRow>);
 
 impl Report for ToleranceTable {
     fn json(&self) -> serde_json::Result<String> {
         let rows = self
             .0
             .iter()
-            .map(McSearchReport::json_value)
+            .map(ToleranceRow::json_value)
             .collect::<serde_json::Result<Vec<_>>>()?;
         crate::report::sorted_pretty_json(&rows)
     }
     fn text(&self) -> String {
         use std::fmt::Write;
-        let rows = &self.0;
-        if rows.len() == 1 || rows.iter().any(|r| r.search != "tolerance") {
-            return rows.iter().map(Report::text).collect();
+        let answers: Vec<&McSearchReport> =
+            self.0.iter().filter_map(ToleranceRow::answer).collect();
+        if self.0.len() == 1 || answers.iter().any(|r| r.search != "tolerance") {
+            return answers.iter().map(|r| r.text()).collect();
         }
         let lu = units::symbol(units::LENGTH);
         let mut out = String::new();
@@ -618,7 +791,14 @@ impl Report for ToleranceTable {
             "P(jump) there",
             "fails at"
         );
-        for r in rows {
+        for row in &self.0 {
+            let r = match row {
+                ToleranceRow::Answer(r) => r,
+                ToleranceRow::NothingPasses(n) => {
+                    let _ = writeln!(out, "  {:>5}  {}", n.waviness_fpr, n.nothing_passes);
+                    continue;
+                }
+            };
             let p = r.p_jump.map_or_else(|| "-".to_string(), |p| p.text(3));
             let fails = r
                 .failing
@@ -633,7 +813,7 @@ impl Report for ToleranceTable {
                 fails
             );
         }
-        if let Some(r) = rows.first() {
+        if let Some(r) = answers.first() {
             let _ = writeln!(
                 out,
                 "  held: roller ±{} {lu}, eccentricity ±{} {lu}",
@@ -645,8 +825,8 @@ impl Report for ToleranceTable {
             let _ = writeln!(out, "  criterion: {criterion}");
             let _ = writeln!(out, "  model: {}", r.model);
         }
-        let runs: u64 = rows.iter().map(|r| r.model_runs).sum();
-        let wall: f64 = rows.iter().map(|r| r.wall_s).sum();
+        let runs: u64 = self.0.iter().map(ToleranceRow::model_runs).sum();
+        let wall: f64 = self.0.iter().map(ToleranceRow::wall_s).sum();
         let _ = writeln!(out, "  {runs} model runs of 2 revolutions, {wall:.1} s");
         out
     }

@@ -494,8 +494,38 @@ pub struct KeyElasticity {
     /// Its value in the scene.
     pub value: f64,
     /// d ln(output) / d ln(key) of each output of [`OUTPUTS`] (absent where an output is
-    /// 0 on either side).
+    /// 0 on either side, and all absent when the key is not workable).
     pub elasticity: Elasticities,
+    /// Why the key has no elasticities: a perturbed design left the model's valid range
+    /// (docs/MODEL.md §3.20).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_workable: Option<KeyNotWorkable>,
+}
+
+/// A key whose perturbed design left the model's valid range (docs/MODEL.md §3.20), or
+/// that the design check refused (the same bounds on the static design): no elasticity.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct KeyNotWorkable {
+    /// The factor on the key's value (1 ± [`KEY_STEP`]).
+    pub factor: f64,
+    /// Whether the follower had separated first (a jump at that design, whose outputs
+    /// are unknown).
+    pub jump: bool,
+    /// The core's error (the quantity, its value, the bound, the cam angle; or the key,
+    /// its value and the rule).
+    pub reason: String,
+}
+
+impl KeyNotWorkable {
+    /// The row's text: `not workable at x0.99: reason`.
+    pub fn text(&self) -> String {
+        let what = if self.jump {
+            "jumps, then the model left its valid range"
+        } else {
+            "not workable"
+        };
+        format!("{what} at x{}: {}", self.factor, self.reason)
+    }
 }
 
 /// d ln(output) / d ln(key) for each output (absent where not defined).
@@ -596,6 +626,10 @@ pub struct PerKey {
 /// What one `--per-key` job computes: the outputs and the onset at one perturbed design.
 pub type KeyPoint = (Outputs, Option<f64>);
 
+/// One `--per-key` job's outcome: its [`KeyPoint`], or how the design left the model's
+/// valid range.
+pub type KeyOutcome = std::result::Result<KeyPoint, LeftRange>;
+
 /// `--per-key` on the theoretical cam of `spec`: [`per_key_with`] with the study's
 /// outputs and the jump-onset speed to `resolution` rpm.
 pub fn per_key(spec: &RunSpec, resolution: f64, threads: usize, progress: bool) -> Result<PerKey> {
@@ -603,7 +637,19 @@ pub fn per_key(spec: &RunSpec, resolution: f64, threads: usize, progress: bool) 
     let keys = per_key_with(&spec.design, threads, progress, |d| {
         let mut s = spec.clone();
         s.design = d.clone();
-        Ok((outputs(&s)?, onset_rpm(&s, resolution)?))
+        let out = match outputs_or_left_range(&s)? {
+            Ok(out) => out,
+            Err(l) => return Ok(Err(l)),
+        };
+        match onset_rpm(&s, resolution) {
+            Ok(onset) => Ok(Ok((out, onset))),
+            // The search met a speed where the run left the range on the cam.
+            Err(e) if crate::study::sweep::out_of_model(&e) => Ok(Err(LeftRange {
+                separated: false,
+                reason: format!("in the onset search: {}", e.root_cause()),
+            })),
+            Err(e) => Err(e),
+        }
     })?;
     Ok(PerKey {
         step: KEY_STEP,
@@ -614,14 +660,17 @@ pub fn per_key(spec: &RunSpec, resolution: f64, threads: usize, progress: bool) 
 }
 
 /// Every key of [`per_key_keys`] at ±[`KEY_STEP`] ([`key_scaled`]), `eval` (the outputs
-/// and the onset of a design) on each, in parallel on `threads` threads and collected by
-/// key, so the result does not depend on the thread count; the elasticities ranked by the
-/// onset's magnitude (keys without one last), ties by the largest of the others.
+/// and the onset of a design, or how it left the model's valid range) on each, in
+/// parallel on `threads` threads and collected by key, so the result does not depend on
+/// the thread count; the elasticities ranked by the onset's magnitude (keys without one
+/// last), ties by the largest of the others. A key whose perturbed design left the range,
+/// or is refused by the design check, has none, with its reason ([`KeyNotWorkable`]);
+/// the study fails only when no key has one.
 pub fn per_key_with(
     design: &Design<f64>,
     threads: usize,
     progress: bool,
-    eval: impl Fn(&Design<f64>) -> Result<KeyPoint> + Sync,
+    eval: impl Fn(&Design<f64>) -> Result<KeyOutcome> + Sync,
 ) -> Result<Vec<KeyElasticity>> {
     let keys = per_key_keys(design)?;
     let jobs: Vec<(usize, f64)> = (0..keys.len())
@@ -633,13 +682,10 @@ pub fn per_key_with(
         progress,
         "{elapsed_precise} [{bar:40}] {pos}/{len} perturbed designs, eta {eta}",
     );
-    let results: Vec<Result<KeyPoint>> = pool.install(|| {
+    let results: Vec<Result<KeyOutcome>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(i, f)| {
-                let (name, _, _) = keys[i];
-                let r = key_scaled(design, name, f)
-                    .and_then(|d| eval(&d))
-                    .with_context(|| format!("key {name} times {f}"));
+                let r = key_job(design, keys[i].0, f, &eval);
                 bar.inc(1);
                 r
             })
@@ -653,28 +699,104 @@ pub fn per_key_with(
     let mut out: Vec<KeyElasticity> = keys
         .iter()
         .zip(points.chunks_exact(2))
-        .map(|(&(name, what, value), pm)| {
-            let (p, m) = (&pm[0], &pm[1]);
-            let e = |a: f64, b: f64| elasticity(a, b, KEY_STEP);
-            let (pv, mv) = (p.0.values(), m.0.values());
-            KeyElasticity {
-                key: name,
-                description: what,
-                value,
-                elasticity: Elasticities {
-                    rms_displacement_in: e(pv[0], mv[0]),
-                    rms_velocity_in_per_s: e(pv[1], mv[1]),
-                    rms_acceleration_in_per_s2: e(pv[2], mv[2]),
-                    rms_angular_velocity_rad_per_s: e(pv[3], mv[3]),
-                    contact_stress_avg_psi: e(pv[4], mv[4]),
-                    jump_onset_rpm: match (p.1, m.1) {
-                        (Some(a), Some(b)) => e(a, b),
-                        _ => None,
-                    },
-                },
-            }
-        })
+        .map(|(&(name, what, value), pm)| key_row(name, what, value, &pm[0], &pm[1]))
         .collect();
+    rank_keys(&mut out);
+    if let Some(n) = out
+        .iter()
+        .map(|k| k.not_workable.as_ref())
+        .collect::<Option<Vec<_>>>()
+    {
+        let first = out.first().map_or(String::new(), |k| k.key.to_string());
+        anyhow::bail!(
+            "no key is workable: at every key's ±{} % the model left its valid range (first: {first} {})",
+            KEY_STEP * 100.0,
+            n.first().map_or(String::new(), |n| n.text())
+        );
+    }
+    Ok(out)
+}
+
+/// One `--per-key` job: `eval` at `name` times `factor`. A factor the design check
+/// refuses (a bound of docs/MODEL.md §3.20 on the static design, as the cantilever's
+/// length) is an outcome with its reason, as a run that left the range.
+fn key_job(
+    design: &Design<f64>,
+    name: &str,
+    factor: f64,
+    eval: &(impl Fn(&Design<f64>) -> Result<KeyOutcome> + Sync),
+) -> Result<KeyOutcome> {
+    let refused = |e: &anyhow::Error| {
+        e.chain().any(|c| {
+            matches!(
+                c.downcast_ref::<camsim_core::Error>(),
+                Some(camsim_core::Error::InvalidParameter { .. })
+            )
+        })
+    };
+    match key_scaled(design, name, factor) {
+        Ok(d) => eval(&d).with_context(|| format!("key {name} times {factor}")),
+        Err(e) if refused(&e) => Ok(Err(LeftRange {
+            separated: false,
+            reason: format!("the design check refuses it: {}", e.root_cause()),
+        })),
+        Err(e) => Err(e),
+    }
+}
+
+/// A key's row from its +/− outcomes: the elasticities, or none and why.
+fn key_row(
+    key: &'static str,
+    description: &'static str,
+    value: f64,
+    plus: &KeyOutcome,
+    minus: &KeyOutcome,
+) -> KeyElasticity {
+    let (p, m) = match (plus, minus) {
+        (Ok(p), Ok(m)) => (p, m),
+        (Err(l), _) | (_, Err(l)) => {
+            let factor = if plus.is_err() {
+                1.0 + KEY_STEP
+            } else {
+                1.0 - KEY_STEP
+            };
+            return KeyElasticity {
+                key,
+                description,
+                value,
+                elasticity: Elasticities::default(),
+                not_workable: Some(KeyNotWorkable {
+                    factor,
+                    jump: l.separated,
+                    reason: l.reason.clone(),
+                }),
+            };
+        }
+    };
+    let e = |a: f64, b: f64| elasticity(a, b, KEY_STEP);
+    let (pv, mv) = (p.0.values(), m.0.values());
+    KeyElasticity {
+        key,
+        description,
+        value,
+        elasticity: Elasticities {
+            rms_displacement_in: e(pv[0], mv[0]),
+            rms_velocity_in_per_s: e(pv[1], mv[1]),
+            rms_acceleration_in_per_s2: e(pv[2], mv[2]),
+            rms_angular_velocity_rad_per_s: e(pv[3], mv[3]),
+            contact_stress_avg_psi: e(pv[4], mv[4]),
+            jump_onset_rpm: match (p.1, m.1) {
+                (Some(a), Some(b)) => e(a, b),
+                _ => None,
+            },
+        },
+        not_workable: None,
+    }
+}
+
+/// Ranks the keys by |elasticity of the onset| (keys without one last), ties by the
+/// largest |elasticity| of the others; the not-workable keys (none) last, in key order.
+fn rank_keys(out: &mut [KeyElasticity]) {
     let onset = |k: &KeyElasticity| k.elasticity.jump_onset_rpm.map_or(-1.0, f64::abs);
     let rest = |k: &KeyElasticity| {
         k.elasticity.values()[..5]
@@ -683,11 +805,11 @@ pub fn per_key_with(
             .fold(0.0f64, |a, b| a.max(b.abs()))
     };
     out.sort_by(|a, b| {
-        onset(b)
-            .total_cmp(&onset(a))
+        (a.not_workable.is_some())
+            .cmp(&b.not_workable.is_some())
+            .then(onset(b).total_cmp(&onset(a)))
             .then(rest(b).total_cmp(&rest(a)))
     });
-    Ok(out)
 }
 
 /// What `camsim sensitivity` prints.
@@ -1057,6 +1179,10 @@ impl Report for SensitivityReport {
                 // The key under its name in the output's family (an elasticity is the
                 // same in either).
                 let key = crate::units::key_in(k.key, crate::units::current()).0;
+                if let Some(n) = &k.not_workable {
+                    let _ = writeln!(out, "  {:>4} {key:<42} {}", "-", n.text());
+                    continue;
+                }
                 let _ = write!(out, "  {:>4} {:<42}", i + 1, key);
                 for v in k.elasticity.values() {
                     match v {
@@ -1614,7 +1740,7 @@ mod tests {
     /// follows the onset's magnitude.
     #[test]
     fn per_key_recovers_the_exponents_of_a_power_law_model_and_ranks_by_the_onset() {
-        let eval = |d: &Design<f64>| -> Result<KeyPoint> {
+        let eval = |d: &Design<f64>| -> Result<KeyOutcome> {
             let out = Outputs {
                 rms_displacement_in: d.k_rs.powf(0.5) * d.m_l.powf(-2.0),
                 rms_velocity_in_per_s: d.rho.powf(1.5),
@@ -1626,7 +1752,7 @@ mod tests {
             // No onset when the roller is light (a key without one ranks last).
             let onset =
                 (d.m_r >= 0.00013).then(|| 900.0 * (d.k_rs / d.rho).sqrt() * d.e1.powf(0.1));
-            Ok((out, onset))
+            Ok(Ok((out, onset)))
         };
         let d = Design::<f64>::reference();
         let one = per_key_with(&d, 1, false, eval).unwrap();
@@ -1653,10 +1779,100 @@ mod tests {
         let top: Vec<&str> = one.iter().take(3).map(|k| k.key).collect();
         assert_eq!(top, [key::RHO, key::K_RS, key::E1]);
         // A failing evaluation names the key.
-        let e = per_key_with(&d, 1, false, |_| -> Result<KeyPoint> {
+        let e = per_key_with(&d, 1, false, |_| -> Result<KeyOutcome> {
             anyhow::bail!("boom")
         })
         .unwrap_err();
         assert!(format!("{e:#}").contains("times 1.01: boom"), "{e:#}");
+    }
+
+    /// A key whose perturbed design leaves the model's valid range (docs/MODEL.md
+    /// §3.20) has no elasticity and says why, at which factor and whether it jumped
+    /// first; so does one the design check refuses at −1 % (a cantilever 1.885 in long
+    /// clears the roller at full lift by 0.01 in, 0.99 of it by −0.009 in); they rank
+    /// last; the others keep their exponents; only a study of no workable key fails.
+    #[test]
+    fn per_key_reports_keys_that_leave_the_range_and_goes_on() {
+        let mut d = Design::<f64>::reference();
+        d.e2 = d.program.max_lift() + d.geometry.roller_radius + 0.01;
+        d.validate().unwrap();
+        let (k_s2, m_l) = (d.k_s2, d.m_l);
+        let eval = |d: &Design<f64>| -> Result<KeyOutcome> {
+            if d.k_s2 < k_s2 {
+                return Ok(Err(LeftRange {
+                    separated: false,
+                    reason: "twist beyond its bound".into(),
+                }));
+            }
+            if d.m_l > m_l {
+                return Ok(Err(LeftRange {
+                    separated: true,
+                    reason: "thrown off".into(),
+                }));
+            }
+            let out = Outputs {
+                rms_displacement_in: d.k_rs.powf(0.5),
+                rms_velocity_in_per_s: 1.0,
+                rms_acceleration_in_per_s2: 1.0,
+                rms_angular_velocity_rad_per_s: 1.0,
+                contact_stress_avg_psi: 1.0,
+                jump: false,
+            };
+            Ok(Ok((out, Some(900.0 * d.rho.powf(-0.5)))))
+        };
+        let keys = per_key_with(&d, 2, false, eval).unwrap();
+        assert_eq!(keys.len(), per_key_keys(&d).unwrap().len());
+        let row = |k: &str| keys.iter().find(|x| x.key == k).unwrap();
+        let nw = |k: &str| row(k).not_workable.clone().unwrap();
+        assert_eq!((nw(key::K_S2).factor, nw(key::K_S2).jump), (0.99, false));
+        assert_eq!(nw(key::K_S2).reason, "twist beyond its bound");
+        assert_eq!((nw(key::M_L).factor, nw(key::M_L).jump), (1.01, true));
+        let e2 = nw(key::E2);
+        assert_eq!((e2.factor, e2.jump), (0.99, false));
+        assert!(
+            e2.reason.contains("design check refuses") && e2.reason.contains(key::E2),
+            "{}",
+            e2.reason
+        );
+        assert_eq!(
+            nw(key::K_S2).text(),
+            "not workable at x0.99: twist beyond its bound"
+        );
+        assert!(nw(key::M_L)
+            .text()
+            .starts_with("jumps, then the model left"));
+        for k in [key::K_S2, key::M_L, key::E2] {
+            assert_eq!(row(k).elasticity, Elasticities::default(), "{k}");
+        }
+        let n = keys.len();
+        let mut last: Vec<&str> = keys[n - 3..].iter().map(|k| k.key).collect();
+        last.sort_unstable();
+        let mut want = [key::K_S2, key::M_L, key::E2];
+        want.sort_unstable();
+        assert_eq!(last, want);
+        assert!((row(key::K_RS).elasticity.rms_displacement_in.unwrap() - 0.5).abs() < 1e-9);
+        assert!((row(key::RHO).elasticity.jump_onset_rpm.unwrap() + 0.5).abs() < 1e-9);
+        assert_eq!(keys[0].key, key::RHO);
+        // JSON: no elasticity numbers, the reason beside them.
+        let j = serde_json::to_value(row(key::K_S2)).unwrap();
+        assert_eq!(j["elasticity"], serde_json::json!({}));
+        assert_eq!(j["not_workable"]["reason"], "twist beyond its bound");
+        assert!(serde_json::to_value(row(key::K_RS))
+            .unwrap()
+            .get("not_workable")
+            .is_none());
+        // Every key out of range: the study fails, naming why.
+        let e = per_key_with(&d, 1, false, |_| -> Result<KeyOutcome> {
+            Ok(Err(LeftRange {
+                separated: false,
+                reason: "stalled".into(),
+            }))
+        })
+        .unwrap_err();
+        let msg = format!("{e:#}");
+        assert!(
+            msg.contains("no key is workable") && msg.contains("stalled"),
+            "{msg}"
+        );
     }
 }

@@ -449,7 +449,8 @@ pub struct TwoLevelSummary {
     pub estimator: &'static str,
     /// N: cams on the reduced model.
     pub samples: u64,
-    /// n: of them, cams on the full model too.
+    /// n: the pairs, the subsample's cams with verdicts on both models (the subsample,
+    /// cams 0 to `--two-level` − 1, less those not workable on either model).
     pub full_samples: u64,
     /// P(jump anywhere in the revolution) on the full model.
     pub jump: Estimate,

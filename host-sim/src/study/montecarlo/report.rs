@@ -148,14 +148,32 @@ fn estimate_text(e: &Estimate) -> String {
     )
 }
 
-/// The full model's estimate of a two-level study, in words.
-fn two_level_text(out: &mut String, t: &TwoLevelSummary) {
+/// The header of a two-level estimate: the subsample is the study's cams 0 to
+/// `subsample` − 1 (the same cams whatever the shards ran), of which `pairs` have both
+/// verdicts (the rest were not workable on a model).
+pub fn two_level_header(estimator: &str, subsample: u64, pairs: u64) -> String {
+    let cams = match subsample {
+        1 => "cam 0".to_string(),
+        n => format!("cams 0-{}", n.saturating_sub(1)),
+    };
+    let paired = if pairs == subsample {
+        String::new()
+    } else {
+        format!(" ({pairs} of them workable on both models: the pairs)")
+    };
+    format!(
+        "\nfull model, two-level estimate ({estimator}): every cam on the reduced model, {cams} on the full model too{paired}"
+    )
+}
+
+/// The full model's estimate of a two-level study, in words; `subsample` the cams
+/// asked to run on the full model too.
+fn two_level_text(out: &mut String, t: &TwoLevelSummary, subsample: u64) {
     use std::fmt::Write;
     let _ = writeln!(
         out,
-        "\nfull model, two-level estimate ({}): every cam on the reduced model, cams 0-{} on the full model too",
-        t.estimator,
-        t.full_samples - 1
+        "{}",
+        two_level_header(t.estimator, subsample, t.full_samples)
     );
     let d = &t.disagreements;
     let _ = writeln!(
@@ -202,7 +220,10 @@ fn two_level_text(out: &mut String, t: &TwoLevelSummary) {
 fn full_model_text(out: &mut String, r: &MonteCarloReport) {
     use std::fmt::Write;
     match (&r.two_level, &r.study.two_level) {
-        (Some(t), _) => two_level_text(out, t),
+        (Some(t), Some(s)) => {
+            two_level_text(out, t, s.full_samples.min(r.study.samples));
+        }
+        (Some(t), None) => two_level_text(out, t, t.full_samples),
         (None, Some(_)) => {
             let _ = writeln!(
                 out,
@@ -277,7 +298,7 @@ impl Report for MonteCarloReport {
             let _ = writeln!(
                 out,
                 "two-level: the tables are the reduced model's (quasi-static cantilever, vertical, rtol 1e-4) on every cam; the full model's estimate follows them ({} cams on both)",
-                t.full_samples
+                t.full_samples.min(s.samples)
             );
         }
         if let Some(why) = &s.one_model {
@@ -340,5 +361,22 @@ fn left_range_text(out: &mut String, sm: &Summary) {
             "not workable: {} samples left the model's valid range with the follower on the cam and are excluded from every statistic (first: {why})",
             sm.not_workable
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::two_level_header;
+
+    /// The header names the subsample's cams (0 to --two-level − 1), not the pairs: with
+    /// 1000 cams asked and 997 paired it says cams 0-999 and 997 pairs.
+    #[test]
+    fn the_two_level_header_counts_the_subsamples_cams() {
+        let h = two_level_header("e", 1000, 997);
+        assert!(h.contains(", cams 0-999 on the full model too ("), "{h}");
+        assert!(h.contains("(997 of them workable on both models"), "{h}");
+        let h = two_level_header("e", 3, 3);
+        assert!(h.ends_with("cams 0-2 on the full model too"), "{h}");
+        assert!(two_level_header("e", 1, 1).ends_with("cam 0 on the full model too"));
     }
 }
