@@ -995,3 +995,38 @@ fn si_command_lines_give_the_unit_of_a_dimensional_option() {
         0
     );
 }
+
+/// Issue 30: the verdict's hints name the scene key of the output's unit family first:
+/// under `--units si` `design.spring.free_length_mm or _in` and
+/// `limits.allowable_contact_stress_mpa (or _psi)`, in inch the other way round; no hint
+/// under SI puts an inch key first.
+#[test]
+fn verdict_hints_give_the_output_familys_key_first() {
+    let _lock = units_lock();
+    let (inch, si) = (run_text(Units::Inch), run_text(Units::Si));
+    for (text, keys, not) in [
+        (
+            &si,
+            [
+                "design.spring.free_length_mm or _in",
+                "limits.allowable_contact_stress_mpa (or _psi)",
+            ],
+            ["free_length_in or", "allowable_contact_stress_psi (or"],
+        ),
+        (
+            &inch,
+            [
+                "design.spring.free_length_in or _mm",
+                "limits.allowable_contact_stress_psi (or _mpa)",
+            ],
+            ["free_length_mm or", "allowable_contact_stress_mpa (or"],
+        ),
+    ] {
+        for k in keys {
+            assert!(text.contains(k), "{k:?} missing:\n{text}");
+        }
+        for k in not {
+            assert!(!text.contains(k), "{k:?} present:\n{text}");
+        }
+    }
+}
