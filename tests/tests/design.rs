@@ -764,6 +764,7 @@ fn design_tolerances_tried_values_name_their_unit() {
 /// Issue 30's re-run: `design spring`'s "as a scene" lines are TOML a designer pastes in
 /// place of the spring rate: pasted under the reference scene they read back as that
 /// part (its rate the answer's part's, from the Shigley closed form the scene computes).
+/// The headline's rate is that part's own, the search's least rate beside it.
 #[test]
 fn design_springs_scene_lines_paste_into_a_scene() {
     use camsim::report::Report;
@@ -778,6 +779,20 @@ fn design_springs_scene_lines_paste_into_a_scene() {
         .map(|l| format!("{l}\n"))
         .collect();
     assert!(lines.trim_start().starts_with("[design.spring]"), "{text}");
+    let head = text.lines().next().unwrap();
+    let want = format!(
+        "camsim design spring: {:.1} lb/in at preload length",
+        part.spring.rate_lb_per_in
+    );
+    let found = format!(
+        "; the least rate the search found: {:.1} lb/in",
+        r.spring_rate_lb_per_in
+    );
+    assert!(head.starts_with(&want) && head.ends_with(&found), "{head}");
+    assert!(
+        text.contains(&format!("; rate {:.1} lb/in,", part.spring.rate_lb_per_in)),
+        "{text}"
+    );
     let spec = camsim::scene::parse(&lines).unwrap();
     let rate = spec.design.k_rs;
     assert!(spec.spring.is_some());

@@ -433,16 +433,17 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     let (inch, si) = (study_text(&ds, Units::Inch), study_text(&ds, Units::Si));
     let lines = |t: &str| -> Vec<Vec<String>> { t.lines().take(6).map(numbers).collect() };
     let (li, ls) = (lines(&inch), lines(&si));
-    // camsim design spring: K at preload length L (preload F; coils, weight, surge).
+    // camsim design spring: K at preload length L (preload F; coils, weight, surge); the
+    // least rate the search found: K.
     let k = LBF_N / IN_MM;
     let lb_kg = 0.453_592_37;
-    let head = [k, IN_MM, LBF_N, 1.0, lb_kg, 1.0];
-    assert_eq!((li[0].len(), ls[0].len()), (6, 6), "{inch}{si}");
+    let head = [k, IN_MM, LBF_N, 1.0, lb_kg, 1.0, k];
+    assert_eq!((li[0].len(), ls[0].len()), (7, 7), "{inch}{si}");
     for (f, (x, y)) in head.iter().zip(li[0].iter().zip(&ls[0])) {
         agrees(x, y, *f, "design spring's answer");
     }
     assert!(
-        ls[0].len() == 6 && si.contains(" N/mm at preload length 12.7 mm"),
+        ls[0].len() == 7 && si.contains(" N/mm at preload length 12.7 mm"),
         "{si}"
     );
     // bracket: fails at K, passes at K (width K).
