@@ -47,6 +47,8 @@ fuzz_target!(|data: &[u8]| {
                     let expected = CheckedScene {
                         spring: None,
                         motor_table: false,
+                        // A written scene names its drive.
+                        drive_given: true,
                         ..scene
                     };
                     assert_eq!(back, expected, "read back differently:\n{written}")

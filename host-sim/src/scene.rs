@@ -42,6 +42,7 @@ pub fn run_spec(scene: CheckedScene) -> RunSpec {
         limits: scene.limits,
         spring: scene.spring,
         motor_table: scene.motor_table,
+        drive_given: scene.drive_given,
     }
 }
 
@@ -400,15 +401,46 @@ pub fn listing(text: &str, spec: &RunSpec, units: crate::units::Units) -> Result
         origins.from_file.iter().any(|(p, _, _)| *p == path)
             || origins.derived.iter().any(|(p, _, _)| *p == path)
     };
+    let unused = |p: &str| {
+        spec.design.drive == camsim_core::DriveLaw::ConstantCamSpeed
+            && NOT_USED_AT_CONSTANT_CAM_SPEED.contains(&p)
+    };
     for (g, name) in GROUPS.iter().enumerate() {
-        let mut group = values.iter().filter(|(p, _)| group_of(p) == g && !set(p));
-        let Some(first) = group.next() else {
-            continue;
-        };
-        let _ = writeln!(out, "#   {name}:");
-        for (p, v) in std::iter::once(first).chain(group) {
+        let group: Vec<_> = values
+            .iter()
+            .filter(|(p, _)| group_of(p) == g && !set(p) && !unused(p))
+            .collect();
+        if !group.is_empty() {
+            let _ = writeln!(out, "#   {name}:");
+        }
+        for (p, v) in group {
             let _ = writeln!(out, "#     {}", in_family(p, v, units));
         }
     }
+    let idle: Vec<_> = values.iter().filter(|(p, _)| unused(p)).collect();
+    if !idle.is_empty() {
+        let _ = writeln!(
+            out,
+            "# not used (constant-speed drive: the cam turns at exactly the nominal speed, so the motor, shafts and coupling do not enter the run):"
+        );
+    }
+    for (p, v) in idle {
+        let _ = writeln!(out, "#     {}", in_family(p, v, units));
+    }
     Ok(out)
 }
+
+/// The drive's values a constant-cam-speed run does not use (docs/MODEL.md §5.17: the
+/// model drops the motor, coupling and cam rotations). The cam's drag C_cc stays: the
+/// ideal drive supplies it, so it is in the drive torque and power the run reports.
+const NOT_USED_AT_CONSTANT_CAM_SPEED: [&str; 9] = [
+    key::I_M,
+    key::I_CP,
+    key::I_C,
+    key::C_MB,
+    key::C_S1,
+    key::C_S2,
+    key::K_S1,
+    key::K_S2,
+    key::COUPLING_BACKLASH,
+];

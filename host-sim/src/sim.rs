@@ -63,6 +63,10 @@ pub struct RunSpec {
     /// The scene gave its drive as a `[design.drive.motor]` table: the drive's messages
     /// name that table.
     pub motor_table: bool,
+    /// The drive is given (the reference design's, the thesis's measured machine, or one
+    /// the scene names); false when a scene names none and inherits it: the verdict then
+    /// warns on a cam-speed swing past the limit (docs/MODEL.md §5.17).
+    pub drive_given: bool,
 }
 
 impl RunSpec {
@@ -80,6 +84,7 @@ impl RunSpec {
             limits: camsim_scene_file::Limits::default(),
             spring: None,
             motor_table: false,
+            drive_given: true,
         }
     }
 }

@@ -315,9 +315,13 @@ pub struct DriveVerdict {
     pub max_cam_speed_rpm: f64,
     /// The larger of the two deviations from nominal, percent.
     pub swing_percent: f64,
-    /// The swing accepted without a warning, percent
+    /// The swing a constant-speed design assumes, percent
     /// ([`camsim_core::CAM_SPEED_SWING_LIMIT`]).
     pub swing_limit_percent: f64,
+    /// The drive is given (the reference's, or one the scene names): a swing past the
+    /// limit is then part of the result, not a warning. False when a scene names no
+    /// drive and inherits the thesis's (docs/MODEL.md §5.17).
+    pub given: bool,
 }
 
 /// The drive verdict of `spec` from the cam speeds `watch` saw.
@@ -349,8 +353,10 @@ pub fn drive(spec: &crate::sim::RunSpec, watch: &Watch) -> DriveVerdict {
                 crate::units::symbol(crate::units::TORQUE),
                 if spec.motor_table {
                     "the scene's [design.drive.motor]; what it does not give, the thesis's"
-                } else {
+                } else if spec.drive_given {
                     "the thesis's motor unless [design.drive.regulated] or [design.drive.motor] says otherwise"
+                } else {
+                    "inherited: the scene names no drive, so it is the thesis's motor"
                 }
             ),
         ),
@@ -363,6 +369,7 @@ pub fn drive(spec: &crate::sim::RunSpec, watch: &Watch) -> DriveVerdict {
         max_cam_speed_rpm: rad_per_s_to_rpm(hi),
         swing_percent: 100.0 * ((w0 - lo).max(hi - w0) / w0),
         swing_limit_percent: 100.0 * camsim_core::CAM_SPEED_SWING_LIMIT,
+        given: spec.drive_given,
     }
 }
 
@@ -716,15 +723,26 @@ pub fn spring_part_warnings(spring: &SpringVerdict) -> Vec<String> {
     }
     if spring.solid() == Some(true) {
         w.push(format!(
-            "the spring is solid at full compression: free length {} {lu} less the compression {} {lu} is not above the solid height {} {lu} (design.spring.free_length_in or _mm: at least {} {lu})",
+            "the spring is solid at full compression: free length {} {lu} less the compression {} {lu} is not above the solid height {} {lu} ({}: at least {} {lu})",
             u::q(u::LENGTH, spring.free_length_in.unwrap_or(f64::NAN), 3),
             u::q(u::LENGTH, spring.full_compression_in, 3),
             u::q(u::LENGTH, spring.solid_height_in, 3),
+            key_hint("design.spring.free_length", u::LENGTH),
             u::q(u::LENGTH, spring.least_free_length_in, 3),
             lu = u::symbol(u::LENGTH)
         ));
     }
     w
+}
+
+/// A scene key a hint names, in the output's unit family first and the other family's
+/// suffix after it: `design.spring.free_length_mm or _in` under `--units si`.
+pub fn key_hint(stem: &str, unit: camsim_scene_file::units::Unit) -> String {
+    let (first, other) = match crate::units::current() {
+        crate::units::Units::Inch => (unit.inch, unit.si),
+        crate::units::Units::Si => (unit.si, unit.inch),
+    };
+    format!("{stem}_{first} or _{other}")
 }
 
 /// The verdict's spring lines: rate, mass, coils and surge; the part (given, or assumed
@@ -783,7 +801,8 @@ fn spring_lines(out: &mut String, s: &SpringVerdict) {
             }
         ),
         None => format!(
-            "free length not given (design.spring.free_length_in or _mm): at least {} {lu}",
+            "free length not given ({}): at least {} {lu}",
+            key_hint("design.spring.free_length", u::LENGTH),
             u::q(u::LENGTH, s.least_free_length_in, 3)
         ),
     };
@@ -1008,10 +1027,19 @@ fn mass_text(m: &MassVerdict) -> String {
     )
 }
 
-/// The verdict's drive line.
+/// The verdict's drive line. A given drive's swing past the limit is stated there, as
+/// part of the result (an inherited drive's is a warning: [`swing_warning`]).
 fn drive_text(d: &DriveVerdict, revolutions: [u32; 2]) -> String {
+    let limit = if d.given && d.swing_percent > d.swing_limit_percent {
+        format!(
+            "over the {:.0} % a constant-speed design assumes; the drive is given, so the result includes its speed variation",
+            d.swing_limit_percent
+        )
+    } else {
+        format!("limit {:.0} %", d.swing_limit_percent)
+    };
     format!(
-        "  drive:     {}: {}; cam speed {:.1} to {:.1} rpm over revolutions {}-{}, {:.2} % from the nominal {:.1} rpm (limit {:.0} %)",
+        "  drive:     {}: {}; cam speed {:.1} to {:.1} rpm over revolutions {}-{}, {:.2} % from the nominal {:.1} rpm ({limit})",
         d.drive,
         d.description,
         d.min_cam_speed_rpm,
@@ -1020,26 +1048,20 @@ fn drive_text(d: &DriveVerdict, revolutions: [u32; 2]) -> String {
         revolutions[1],
         d.swing_percent,
         d.nominal_rpm,
-        d.swing_limit_percent
     )
 }
 
-/// The warning on a cam speed that swings past the limit, if it does.
+/// The warning on a cam speed that swings past the limit with a drive the scene did not
+/// name (inherited from the reference), if it does.
 pub fn swing_warning(d: &DriveVerdict) -> Option<String> {
-    (d.swing_percent > d.swing_limit_percent).then(|| {
+    (!d.given && d.swing_percent > d.swing_limit_percent).then(|| {
         format!(
-            "the cam speed swings {:.1} % from the nominal {:.1} rpm ({:.1} to {:.1} rpm; limit {:.0} %): the {} drive does not hold the speed the kinematic design assumes: give the drive, {} for this machine, or drive = \"constant-cam-speed\" for the kinematic answer",
+            "the cam speed swings {:.1} % from the nominal {:.1} rpm ({:.1} to {:.1} rpm; limit {:.0} %): the scene names no drive, so it inherits the thesis's regulated motor (tuned for 800 rpm), which does not hold the speed the kinematic design assumes: name the drive: a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit) for this machine, drive = \"thesis\" to keep this one, or drive = \"constant-cam-speed\" for the kinematic answer",
             d.swing_percent,
             d.nominal_rpm,
             d.min_cam_speed_rpm,
             d.max_cam_speed_rpm,
             d.swing_limit_percent,
-            d.drive,
-            if d.drive == "motor" {
-                "the [design.drive.motor] table's inertia, shaft_stiffness, gain and torque_limit"
-            } else {
-                "a [design.drive.motor] table (inertia, shaft_stiffness, gain, torque_limit) or [design.drive.regulated] k_p and t_max"
-            }
         )
     })
 }

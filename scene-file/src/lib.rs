@@ -148,6 +148,10 @@ pub struct CheckedScene {
     /// The file gave its drive as a `[design.drive.motor]` table (the regulated drive
     /// with the motor's values), so messages about the drive name that table.
     pub motor_table: bool,
+    /// The file names its drive (`drive = ...`, a `[design.drive.*]` table); false when it
+    /// names none and the design inherits the thesis's regulated motor (docs/MODEL.md
+    /// §5.17: the verdict then warns on a cam-speed swing past the limit).
+    pub drive_given: bool,
 }
 
 /// Why a scene file was refused: one line (the file, where it can be told the line and
@@ -796,8 +800,13 @@ pub fn parse(text: &str) -> Result<CheckedScene, Error> {
         }
     }
     let motor_table = reading.motor.is_some();
+    let drive_given = reading.sets("design.drive");
     file.check()
-        .map(|c| CheckedScene { motor_table, ..c })
+        .map(|c| CheckedScene {
+            motor_table,
+            drive_given,
+            ..c
+        })
         .map_err(|e| {
             located(
                 text,
@@ -1476,6 +1485,8 @@ impl SceneFile {
             follower,
             limits: self.limits,
             motor_table: false,
+            // The file as a struct holds its design's drive.
+            drive_given: true,
         })
     }
 }

@@ -433,16 +433,17 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     let (inch, si) = (study_text(&ds, Units::Inch), study_text(&ds, Units::Si));
     let lines = |t: &str| -> Vec<Vec<String>> { t.lines().take(6).map(numbers).collect() };
     let (li, ls) = (lines(&inch), lines(&si));
-    // camsim design spring: K at preload length L (preload F; coils, weight, surge).
+    // camsim design spring: K at preload length L (preload F; coils, weight, surge); the
+    // least rate the search found: K.
     let k = LBF_N / IN_MM;
     let lb_kg = 0.453_592_37;
-    let head = [k, IN_MM, LBF_N, 1.0, lb_kg, 1.0];
-    assert_eq!((li[0].len(), ls[0].len()), (6, 6), "{inch}{si}");
+    let head = [k, IN_MM, LBF_N, 1.0, lb_kg, 1.0, k];
+    assert_eq!((li[0].len(), ls[0].len()), (7, 7), "{inch}{si}");
     for (f, (x, y)) in head.iter().zip(li[0].iter().zip(&ls[0])) {
         agrees(x, y, *f, "design spring's answer");
     }
     assert!(
-        ls[0].len() == 6 && si.contains(" N/mm at preload length 12.7 mm"),
+        ls[0].len() == 7 && si.contains(" N/mm at preload length 12.7 mm"),
         "{si}"
     );
     // bracket: fails at K, passes at K (width K).
@@ -994,4 +995,39 @@ fn si_command_lines_give_the_unit_of_a_dimensional_option() {
         main(&["camsim", "--units", "si", "contact", "--force", "222.41N", "--json"]),
         0
     );
+}
+
+/// Issue 30: the verdict's hints name the scene key of the output's unit family first:
+/// under `--units si` `design.spring.free_length_mm or _in` and
+/// `limits.allowable_contact_stress_mpa (or _psi)`, in inch the other way round; no hint
+/// under SI puts an inch key first.
+#[test]
+fn verdict_hints_give_the_output_familys_key_first() {
+    let _lock = units_lock();
+    let (inch, si) = (run_text(Units::Inch), run_text(Units::Si));
+    for (text, keys, not) in [
+        (
+            &si,
+            [
+                "design.spring.free_length_mm or _in",
+                "limits.allowable_contact_stress_mpa (or _psi)",
+            ],
+            ["free_length_in or", "allowable_contact_stress_psi (or"],
+        ),
+        (
+            &inch,
+            [
+                "design.spring.free_length_in or _mm",
+                "limits.allowable_contact_stress_psi (or _mpa)",
+            ],
+            ["free_length_mm or", "allowable_contact_stress_mpa (or"],
+        ),
+    ] {
+        for k in keys {
+            assert!(text.contains(k), "{k:?} missing:\n{text}");
+        }
+        for k in not {
+            assert!(!text.contains(k), "{k:?} present:\n{text}");
+        }
+    }
 }

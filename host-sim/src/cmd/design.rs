@@ -1226,157 +1226,201 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     let mut spec = spec_from(&args.scene)?;
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
-    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let preload = args.preload;
-    let (start, max, resolution) = spring_search_range(args)?;
-    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
-    let mut tried: Vec<(f64, bool)> = Vec::new();
-    let mut runs: u64 = 0;
-    // The spring with the searched value: its rate (its mass following it), or its
-    // preload length at the rate held.
-    let with_rate = |base: &RunSpec, x: f64| -> Result<RunSpec> {
-        let mut s = base.clone();
-        if preload {
-            s.design.delta_rs = x;
-        } else {
-            s.design.set_spring_rate(x)?;
-        }
-        s.design
-            .validate()
-            .map_err(|e| camsim_scene_file::refusal("design", e))?;
-        Ok(s)
-    };
-    let what = if preload {
-        "preload length"
-    } else {
-        "spring rate"
-    };
-    let unit = if preload { "in" } else { "lb/in" };
+    let range = spring_search_range(args)?;
     args.actual.ensure_actual_if_options()?;
     let mut report = if args.actual.actual {
-        let mc = crate::study::montecarlo::monte_carlo_model(&spec);
-        let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
-        let actual = args.actual.resolve(&mc.design)?;
-        let nthreads = threads(args.threads);
-        let steps = search_steps(start, max, resolution);
-        check_search_time(&with_rate(&mc, start)?, &actual, n, steps, nthreads)?;
-        let mut last_p: Option<(f64, Probability)> = None;
-        let onset = search.find(|k| -> Result<bool> {
-            let p = p_jump_on_actual_cams(&with_rate(&mc, k)?, &actual, n, nthreads, &mut runs)
-                .map_err(|e| e.context(format!("{what} {k} {unit}")))?;
-            let ok = p.hi95 <= p_max;
-            if ok {
-                last_p = Some((k, p));
-            }
-            tried.push((k, ok));
-            Ok(ok)
-        })?;
-        let (rate, below) = answer(onset, max, preload, "P(jump) above --p-max")?;
-        let (part, _) = choose_part(&with_rate(&spec, rate)?, None, &mut runs)?;
-        let p = last_p.filter(|(k, _)| *k == rate).map(|(_, p)| p);
-        SpringReport {
-            searched: what.into(),
-            spring_rate_lb_per_in: rate,
-            failing_rate_lb_per_in: below,
-            bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
-            failing_preload_length_in: None,
-            preload_bracket_in: None,
-            preload_lb: 0.0,
-            preload_length_in: spec.design.delta_rs,
-            spring_mass_lb: 0.0,
-            active_coils: 0.0,
-            surge_hz: 0.0,
-            operating_rpm: op_rpm,
-            criterion: format!(
-                "upper 95 % Wilson bound of P(jump) in revolution 2 at {op_rpm:.1} rpm over {n} actual cams (seed {}) at most {}",
-                actual.seed(), p_max
-            ),
-            checked_at_rpm: None,
-            jump_onset_rpm: None,
-            jump_onset_bracket_rpm: None,
-            p_jump: p,
-            samples: Some(n),
-            seed: Some(actual.seed()),
-            profile: Some(ProfileSettings::of(&actual, intervals_for(&mc.design, &actual)?)?),
-            model: describe(&mc),
-            tried,
-            part: Some(part),
-            model_runs: runs,
-            wall_s: 0.0,
-        }
+        spring_on_actual_cams(args, &spec, range)?
     } else {
-        let at_rpm = op_rpm * (1.0 + args.margin / 100.0);
-        camsim_core::key::SPEED_RPM
-            .check(camsim_core::key::RPM, at_rpm)
-            .map_err(|e| anyhow::anyhow!("--margin {}: {e}", args.margin))?;
-        let onset = search.find(|k| -> Result<bool> {
-            let s = with_rate(&spec, k)?;
-            runs += 1;
-            let ok = !sim::jumps_at(&s, at_rpm)?;
-            tried.push((k, ok));
-            Ok(ok)
-        })?;
-        let (rate, below) = answer(onset, max, preload, "separates")?;
-        let at = |x: f64| with_rate(&spec, x); // the spring to build, contact with its own mass
-        let (part, chosen) = choose_part_holding_contact(&at, rate, what, at_rpm, &mut runs)?;
-        // The chosen spring's own jump onset: the margin it really has.
-        let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
-        runs += u64::from(js.simulations);
-        SpringReport {
-            searched: what.into(),
-            spring_rate_lb_per_in: rate,
-            failing_rate_lb_per_in: below,
-            bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
-            failing_preload_length_in: None,
-            preload_bracket_in: None,
-            preload_lb: 0.0,
-            preload_length_in: spec.design.delta_rs,
-            spring_mass_lb: 0.0,
-            active_coils: 0.0,
-            surge_hz: 0.0,
-            operating_rpm: op_rpm,
-            criterion: format!(
-                "steady-state contact (revolution 2, static start) at {at_rpm:.1} rpm = {op_rpm:.1} rpm + {} %, theoretical cam",
-                args.margin
-            ),
-            checked_at_rpm: Some(at_rpm),
-            jump_onset_rpm: js.jump_rpm,
-            jump_onset_bracket_rpm: js.jump_rpm.map(|j| j - js.no_jump_rpm),
-            p_jump: None,
-            samples: None,
-            seed: None,
-            profile: None,
-            model: describe(&spec),
-            tried,
-            part: Some(part),
-            model_runs: runs,
-            wall_s: 0.0,
-        }
+        spring_on_theoretical_cam(args, &spec, range)?
     };
-    if preload {
+    if args.preload {
         answer_is_preload_length(&mut report, spec.design.k_rs);
     }
-    let answer_value = if preload {
+    spring_of_answer(&mut report, &spec, args.preload)?;
+    report.wall_s = t0.elapsed().as_secs_f64();
+    crate::report::ensure_finite(&report)?;
+    Ok(report)
+}
+
+/// What the search varies (`spring rate`, or `preload length` with --preload) and its unit.
+fn searched(preload: bool) -> (&'static str, &'static str) {
+    if preload {
+        ("preload length", "in")
+    } else {
+        ("spring rate", "lb/in")
+    }
+}
+
+/// `base` with the searched value `x`: its rate (its mass following it by the wire model),
+/// or its preload length at the rate held; validated.
+fn with_value(base: &RunSpec, x: f64, preload: bool) -> Result<RunSpec> {
+    let mut s = base.clone();
+    if preload {
+        s.design.delta_rs = x;
+    } else {
+        s.design.set_spring_rate(x)?;
+    }
+    s.design
+        .validate()
+        .map_err(|e| camsim_scene_file::refusal("design", e))?;
+    Ok(s)
+}
+
+/// The report of a search's answer `(value, failing value below it)` on `spec` under
+/// `criterion`; the spring's own numbers are [`spring_of_answer`]'s.
+fn answered(
+    preload: bool,
+    (rate, below): (f64, Option<f64>),
+    spec: &RunSpec,
+    criterion: String,
+) -> SpringReport {
+    SpringReport {
+        searched: searched(preload).0.into(),
+        spring_rate_lb_per_in: rate,
+        failing_rate_lb_per_in: below,
+        bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
+        failing_preload_length_in: None,
+        preload_bracket_in: None,
+        preload_lb: 0.0,
+        preload_length_in: spec.design.delta_rs,
+        spring_mass_lb: 0.0,
+        active_coils: 0.0,
+        surge_hz: 0.0,
+        operating_rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
+        criterion,
+        checked_at_rpm: None,
+        jump_onset_rpm: None,
+        jump_onset_bracket_rpm: None,
+        p_jump: None,
+        samples: None,
+        seed: None,
+        profile: None,
+        model: describe(spec),
+        tried: Vec::new(),
+        part: None,
+        model_runs: 0,
+        wall_s: 0.0,
+    }
+}
+
+/// `design spring --actual`: the search on P(jump) over the same actual cams at every
+/// value, then the part at the answer (judged at the rate found).
+fn spring_on_actual_cams(
+    args: &SpringArgs,
+    spec: &RunSpec,
+    (start, max, resolution): (f64, f64, f64),
+) -> Result<SpringReport> {
+    let (what, unit) = searched(args.preload);
+    let mc = crate::study::montecarlo::monte_carlo_model(spec);
+    let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
+    let actual = args.actual.resolve(&mc.design)?;
+    let nthreads = threads(args.threads);
+    let steps = search_steps(start, max, resolution);
+    check_search_time(
+        &with_value(&mc, start, args.preload)?,
+        &actual,
+        n,
+        steps,
+        nthreads,
+    )?;
+    let (mut tried, mut runs, mut last_p) = (Vec::new(), 0, None);
+    let onset = OnsetSearch::new(start, Some(2.0), max, resolution)?.find(|k| -> Result<bool> {
+        let s = with_value(&mc, k, args.preload)?;
+        let p = p_jump_on_actual_cams(&s, &actual, n, nthreads, &mut runs)
+            .map_err(|e| e.context(format!("{what} {k} {unit}")))?;
+        let ok = p.hi95 <= p_max;
+        if ok {
+            last_p = Some((k, p));
+        }
+        tried.push((k, ok));
+        Ok(ok)
+    })?;
+    let ans = answer(onset, max, args.preload, "P(jump) above --p-max")?;
+    let (part, _) = choose_part(&with_value(spec, ans.0, args.preload)?, None, &mut runs)?;
+    let criterion = format!(
+        "upper 95 % Wilson bound of P(jump) in revolution 2 at {:.1} rpm over {n} actual cams (seed {}) at most {p_max}",
+        camsim_core::rad_per_s_to_rpm(spec.design.omega0),
+        actual.seed()
+    );
+    Ok(SpringReport {
+        p_jump: last_p.filter(|(k, _)| *k == ans.0).map(|(_, p)| p),
+        samples: Some(n),
+        seed: Some(actual.seed()),
+        profile: Some(ProfileSettings::of(
+            &actual,
+            intervals_for(&mc.design, &actual)?,
+        )?),
+        model: describe(&mc),
+        tried,
+        part: Some(part),
+        model_runs: runs,
+        ..answered(args.preload, ans, spec, criterion)
+    })
+}
+
+/// `design spring` on the theoretical cam: the search on steady-state contact at the
+/// margin's speed, the part that holds it with its own rate and mass, and that part's own
+/// jump onset (the margin it really has).
+fn spring_on_theoretical_cam(
+    args: &SpringArgs,
+    spec: &RunSpec,
+    (start, max, resolution): (f64, f64, f64),
+) -> Result<SpringReport> {
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
+    let at_rpm = op_rpm * (1.0 + args.margin / 100.0);
+    camsim_core::key::SPEED_RPM
+        .check(camsim_core::key::RPM, at_rpm)
+        .map_err(|e| anyhow::anyhow!("--margin {}: {e}", args.margin))?;
+    let (mut tried, mut runs) = (Vec::new(), 0);
+    let onset = OnsetSearch::new(start, Some(2.0), max, resolution)?.find(|k| -> Result<bool> {
+        let s = with_value(spec, k, args.preload)?;
+        runs += 1;
+        let ok = !sim::jumps_at(&s, at_rpm)?;
+        tried.push((k, ok));
+        Ok(ok)
+    })?;
+    let ans = answer(onset, max, args.preload, "separates")?;
+    let at = |x: f64| with_value(spec, x, args.preload); // contact with its own mass
+    let what = searched(args.preload).0;
+    let (part, chosen) = choose_part_holding_contact(&at, ans.0, what, at_rpm, &mut runs)?;
+    let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
+    runs += u64::from(js.simulations);
+    let criterion = format!(
+        "steady-state contact (revolution 2, static start) at {at_rpm:.1} rpm = {op_rpm:.1} rpm + {} %, theoretical cam",
+        args.margin
+    );
+    Ok(SpringReport {
+        checked_at_rpm: Some(at_rpm),
+        jump_onset_rpm: js.jump_rpm,
+        jump_onset_bracket_rpm: js.jump_rpm.map(|j| j - js.no_jump_rpm),
+        tried,
+        part: Some(part),
+        model_runs: runs,
+        ..answered(args.preload, ans, spec, criterion)
+    })
+}
+
+/// The answer's spring into `report`: the part's own rate, mass, coils and surge (the wire
+/// model's at the answer without a part), and its preload.
+fn spring_of_answer(report: &mut SpringReport, spec: &RunSpec, preload: bool) -> Result<()> {
+    let value = if preload {
         report.preload_length_in
     } else {
         report.spring_rate_lb_per_in
     };
-    let mut chosen = with_rate(&spec, answer_value)?;
+    let mut chosen = with_value(spec, value, preload)?;
     let hs = chosen.design.spring()?;
     report.spring_mass_lb = hs.mass * camsim_core::GRAVITY_IN_PER_S2;
     report.active_coils = hs.active_coils;
     report.surge_hz = hs.surge_hz;
     if let Some(p) = &report.part {
-        // The part's own rate, mass, coils and surge.
         chosen.design.k_rs = p.spring.rate_lb_per_in;
         report.spring_mass_lb = p.spring.mass_lb;
         report.active_coils = p.spring.active_coils;
         report.surge_hz = p.spring.surge_hz;
     }
     report.preload_lb = chosen.design.preload()?;
-    report.wall_s = t0.elapsed().as_secs_f64();
-    crate::report::ensure_finite(&report)?;
-    Ok(report)
+    Ok(())
 }
 
 /// The passing value (rate or preload length) and the failing one below it from the
@@ -1476,80 +1520,88 @@ impl Report for SpringReport {
     }
 }
 
-/// The first lines of the spring search's text: the answer and its bracket.
+/// The first lines of the spring search's text: the answer and its bracket. The rate it
+/// gives is the built spring's own (its wire, coil and coils: the `[design.spring]` lines
+/// below), beside the least rate the search found.
 fn spring_headline(r: &SpringReport, out: &mut String) {
     use std::fmt::Write;
+    let ku = units::symbol(units::STIFFNESS);
+    let rate = r
+        .part
+        .as_ref()
+        .map_or(r.spring_rate_lb_per_in, |p| p.spring.rate_lb_per_in);
     if r.searched == "preload length" {
         let _ = writeln!(
             out,
-            "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+            "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} {}",
             units::q(units::LENGTH, r.preload_length_in, 3),
-            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
-            units::q(units::FORCE, r.preload_lb, 2),
-            r.active_coils,
-            units::q(units::WEIGHT, r.spring_mass_lb, 4),
-            r.surge_hz,
+            units::q(units::STIFFNESS, rate, 1),
+            spring_summary(r),
             lu = units::symbol(units::LENGTH),
-            ku = units::symbol(units::STIFFNESS),
-            fu = units::symbol(units::FORCE),
-            wu = units::symbol(units::WEIGHT)
         );
-        match (r.failing_preload_length_in, r.preload_bracket_in) {
-            (Some(b), Some(w)) => {
-                let _ = writeln!(
-                    out,
-                    "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
-                    units::q(units::LENGTH, b, 3),
-                    units::q(units::LENGTH, r.preload_length_in, 3),
-                    units::q(units::LENGTH, w, 3),
-                    lu = units::symbol(units::LENGTH)
-                );
-            }
-            _ => {
-                let _ = writeln!(
-                    out,
-                    "  searched: the preload length; the first length tried passes: any length up to it may do"
-                );
-            }
-        }
-    } else {
-        let _ = writeln!(
+        preload_bracket_line(r, out);
+        return;
+    }
+    let found = match &r.part {
+        Some(_) => format!(
+            "; the least rate the search found: {} {ku}",
+            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1)
+        ),
+        None => String::new(),
+    };
+    let _ = writeln!(
+        out,
+        "camsim design spring: {} {ku} at preload length {} {} {}{found}",
+        units::q(units::STIFFNESS, rate, 1),
+        units::given(units::LENGTH, r.preload_length_in),
+        units::symbol(units::LENGTH),
+        spring_summary(r),
+    );
+    let _ = match r.failing_rate_lb_per_in {
+        Some(b) => writeln!(
             out,
-            "camsim design spring: {} {ku} at preload length {} {lu} (preload {} {fu}; {:.2} active coils, {} {wu}, surge {:.0} Hz)",
+            "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
+            units::q(units::STIFFNESS, b, 1),
             units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
-            units::given(units::LENGTH, r.preload_length_in),
-            units::q(units::FORCE, r.preload_lb, 2),
-            r.active_coils,
-            units::q(units::WEIGHT, r.spring_mass_lb, 4),
-            r.surge_hz,
-            lu = units::symbol(units::LENGTH),
-            ku = units::symbol(units::STIFFNESS),
-            fu = units::symbol(units::FORCE),
-            wu = units::symbol(units::WEIGHT)
-        );
-    }
-    match r
-        .failing_rate_lb_per_in
-        .filter(|_| r.searched != "preload length")
-    {
-        Some(b) => {
-            let _ = writeln!(
-                out,
-                "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
-                units::q(units::STIFFNESS, b, 1),
-                units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
-                units::q(units::STIFFNESS, r.bracket_lb_per_in, 2),
-                ku = units::symbol(units::STIFFNESS)
-            );
-        }
-        None if r.searched != "preload length" => {
-            let _ = writeln!(
-                out,
-                "  the first rate tried passes: any rate up to it may do"
-            );
-        }
-        None => {}
-    }
+            units::q(units::STIFFNESS, r.bracket_lb_per_in, 2),
+        ),
+        None => writeln!(
+            out,
+            "  the first rate tried passes: any rate up to it may do"
+        ),
+    };
+}
+
+/// The answer's spring in brackets: its preload, coils, mass and surge.
+fn spring_summary(r: &SpringReport) -> String {
+    format!(
+        "(preload {} {}; {:.2} active coils, {} {}, surge {:.0} Hz)",
+        units::q(units::FORCE, r.preload_lb, 2),
+        units::symbol(units::FORCE),
+        r.active_coils,
+        units::q(units::WEIGHT, r.spring_mass_lb, 4),
+        units::symbol(units::WEIGHT),
+        r.surge_hz,
+    )
+}
+
+/// The preload search's bracket line.
+fn preload_bracket_line(r: &SpringReport, out: &mut String) {
+    use std::fmt::Write;
+    let lu = units::symbol(units::LENGTH);
+    let _ = match (r.failing_preload_length_in, r.preload_bracket_in) {
+        (Some(b), Some(w)) => writeln!(
+            out,
+            "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
+            units::q(units::LENGTH, b, 3),
+            units::q(units::LENGTH, r.preload_length_in, 3),
+            units::q(units::LENGTH, w, 3),
+        ),
+        _ => writeln!(
+            out,
+            "  searched: the preload length; the first length tried passes: any length up to it may do"
+        ),
+    };
 }
 
 /// The binding rule as the part's text gives it: `binding` at `percent` of its limit; or,
