@@ -796,10 +796,18 @@ fn design_springs_scene_lines_paste_into_a_scene() {
     );
     let spec = camsim::scene::parse(&lines).unwrap();
     let rate = spec.design.k_rs;
-    assert!(spec.spring.is_some());
-    // The printed sizes are rounded to 4 decimals: the rate (d^4/D^3) within 0.1 %.
+    let read = spec.spring.as_ref().unwrap().coil;
+    // The diameters are printed to 6 significant digits (relative error at most 5e-6
+    // each), so the part read back is the part printed: each diameter within 5e-6 and
+    // the rate (d^4/D^3) within 4*5e-6 + 3*5e-6 = 3.5e-5.
+    for (got, want) in [
+        (read.wire_diameter, part.spring.wire_diameter_in),
+        (read.mean_diameter, part.spring.mean_diameter_in),
+    ] {
+        assert!((got / want - 1.0).abs() <= 5e-6, "{got} {want}");
+    }
     assert!(
-        (rate / part.spring.rate_lb_per_in - 1.0).abs() < 1e-3,
+        (rate / part.spring.rate_lb_per_in - 1.0).abs() < 3.5e-5,
         "{rate} {:?}",
         part.spring
     );

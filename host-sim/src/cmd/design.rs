@@ -1673,13 +1673,22 @@ fn part_lines(out: &mut String, p: &PartReport) {
     let _ = writeln!(
         out,
         "    as a scene (these lines in place of the spring rate):\n      [design.spring]\n      wire_diameter_{k} = {}\n      mean_diameter_{k} = {}\n      active_coils = {}\n      ends = \"{}\"\n      material = \"{}\"\n      free_length_{k} = {}",
-        units::q(units::LENGTH, c.wire_diameter_in, 4),
-        units::q(units::LENGTH, c.mean_diameter_in, 4),
+        scene_length(c.wire_diameter_in),
+        scene_length(c.mean_diameter_in),
         c.active_coils,
         p.ends,
         p.material,
         units::q(units::LENGTH, c.free_length_in, 4)
     );
+}
+
+/// A wire or coil diameter for the scene lines, to 6 significant digits in the output's
+/// family: the standard wires are millimetre sizes, so an inch scene needs more than 4
+/// decimals for the part it reads back to be the part printed (5.6 mm is 0.220472 in;
+/// 0.2205 in would read back as a 0.221 in wire).
+fn scene_length(inch: f64) -> f64 {
+    let v = units::value(units::LENGTH, inch);
+    format!("{v:.5e}").parse().unwrap_or(v)
 }
 
 /// Runs the command.
