@@ -200,9 +200,22 @@ fn design_spring_preload_brackets_the_criterion() {
     let r = spring(&a).unwrap();
     assert_eq!(r.searched, "preload length");
     assert_eq!(r.spring_rate_lb_per_in, 100.0);
-    let (pass, fail) = (r.preload_length_in, r.failing_preload_length_in.unwrap());
+    let fail = r.failing_preload_length_in.unwrap();
+    let pass = fail + r.preload_bracket_in.unwrap();
     assert!(fail < pass && pass - fail <= 0.1 + 1e-12, "{fail} {pass}");
-    assert_eq!(r.preload_bracket_in, Some(pass - fail));
+    // The part is built at the length reported (raised from the length found only when
+    // its own mass asked for more), and its scene lines carry that length.
+    let part = r.part.as_ref().unwrap();
+    assert_eq!(r.preload_length_in, part.preload_length_in);
+    assert!(part.preload_length_in >= pass, "{part:?}");
+    assert!(
+        camsim::report::Report::text(&r).contains(&format!(
+            "and in [design]: spring_preload_length_in = {:.4}",
+            part.preload_length_in
+        )),
+        "{}",
+        camsim::report::Report::text(&r)
+    );
     let mut spec = camsim::cmd::run::spec_from(&SceneArgs::default()).unwrap();
     spec.solver.start = camsim_core::Start::Static;
     spec.revolutions = 2;

@@ -1010,6 +1010,9 @@ pub struct PartReport {
     /// Whether contact was checked with this spring's own rate and mass (a simulation);
     /// with --actual it is judged at the rate found, with the wire model's mass.
     pub contact_checked: bool,
+    /// The preload length the part is built and judged at, in: the scene's, or with
+    /// --preload the length found (raised with the part when its own mass asked for more).
+    pub preload_length_in: f64,
 }
 
 /// The candidates' contact checks a search runs at most before it gives up.
@@ -1071,6 +1074,7 @@ fn choose_part(
             binding_percent: 100.0 * use_,
             rejected,
             contact_checked: at_rpm.is_some(),
+            preload_length_in: s.design.delta_rs,
         },
         s,
     ))
@@ -1415,6 +1419,8 @@ fn spring_of_answer(report: &mut SpringReport, spec: &RunSpec, preload: bool) ->
     report.surge_hz = hs.surge_hz;
     if let Some(p) = &report.part {
         chosen.design.k_rs = p.spring.rate_lb_per_in;
+        chosen.design.delta_rs = p.preload_length_in;
+        report.preload_length_in = p.preload_length_in;
         report.spring_mass_lb = p.spring.mass_lb;
         report.active_coils = p.spring.active_coils;
         report.surge_hz = p.spring.surge_hz;
@@ -1475,6 +1481,14 @@ impl Report for SpringReport {
         }
         if let Some(p) = &self.part {
             part_lines(&mut out, p);
+            if self.searched == "preload length" {
+                let _ = writeln!(
+                    out,
+                    "    and in [design]: spring_preload_length_{} = {}",
+                    units::key_suffix(units::LENGTH),
+                    units::q(units::LENGTH, p.preload_length_in, 4)
+                );
+            }
         }
         let _ = writeln!(out, "  model: {}", self.model);
         let tried: Vec<String> = self
@@ -1594,7 +1608,7 @@ fn preload_bracket_line(r: &SpringReport, out: &mut String) {
             out,
             "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
             units::q(units::LENGTH, b, 3),
-            units::q(units::LENGTH, r.preload_length_in, 3),
+            units::q(units::LENGTH, b + w, 3),
             units::q(units::LENGTH, w, 3),
         ),
         _ => writeln!(
@@ -1745,6 +1759,7 @@ mod tests {
             binding_percent: 99.0,
             rejected: Rejections::default(),
             contact_checked: true,
+            preload_length_in: 0.5,
         };
         let t = binding_text(&p);
         assert!(
