@@ -13,6 +13,7 @@ pub(crate) mod imaginary;
 #[cfg(feature = "pairs")]
 pub(crate) mod pair;
 pub(crate) mod rk4;
+pub(crate) mod spectral_radius;
 pub(crate) mod step_size;
 pub(crate) mod system;
 

@@ -21,7 +21,8 @@
 //! single step is the [`Stepper`] the controller is built for.
 
 use crate::{
-    initial_step, spectral_radius, EnglandConfig, InitialStep, OdeSystem, Real, Result, StepControl,
+    spectral_radius, EnglandConfig, Error, InitialStep, OdeSystem, Real, Result, StepControl,
+    Tolerance,
 };
 
 /// A rejected step of at least this fraction of the stiffness cap counts as rejected at
@@ -313,6 +314,80 @@ impl<T: Real, const N: usize> StepController<T, N> {
         self.h = (h * fac).max(h_min);
         self.retry = true;
     }
+}
+
+/// Hairer's starting step (Hairer, Nørsett & Wanner, *Solving ODEs I*, II.4) for a method
+/// of order `order` (England: 4), from `f0 = f(t0, y0)` and one explicit Euler step
+/// (one right-hand-side evaluation, counted in `evals`):
+///
+/// 1. `d0 = ‖y0‖`, `d1 = ‖f0‖` (max norm weighted by `atol_i + rtol |y0_i|`; components
+///    with a zero weight are left out);
+/// 2. `h0 = 0.01 d0/d1`, or `1e-6` if either is below `1e-5`;
+/// 3. `d2 = ‖f(t0 + h0, y0 + h0 f0) - f0‖ / h0`;
+/// 4. `h1 = (0.01 / max(d1, d2))^(1/(order+1))`, or `max(1e-6, 1e-3 h0)` if that maximum
+///    is below `1e-15`;
+/// 5. `h = min(100 h0, h1, h_max)`.
+#[allow(clippy::too_many_arguments)]
+pub fn initial_step<T: Real, const N: usize, S: OdeSystem<T, N>>(
+    sys: &S,
+    t0: T,
+    y0: &[T; N],
+    f0: &[T; N],
+    tol: &Tolerance<T, N>,
+    order: u32,
+    h_max: T,
+    evals: &mut u32,
+) -> Result<T> {
+    let mut d0 = T::ZERO;
+    let mut d1 = T::ZERO;
+    for (i, (y, f)) in y0.iter().zip(f0.iter()).enumerate() {
+        let sc = tol.scale(i, *y);
+        if sc > T::ZERO {
+            d0 = d0.max(y.abs() / sc);
+            d1 = d1.max(f.abs() / sc);
+        }
+    }
+    let small = T::from_f64(1e-5);
+    let mut h0 = if d0 < small || d1 < small {
+        T::from_f64(1e-6)
+    } else {
+        T::from_f64(0.01) * d0 / d1
+    };
+    if h_max.is_finite() && h_max > T::ZERO {
+        h0 = h0.min(h_max);
+    }
+    let mut y1 = [T::ZERO; N];
+    for ((a, y), f) in y1.iter_mut().zip(y0.iter()).zip(f0.iter()) {
+        *a = *y + h0 * *f;
+    }
+    let mut f1 = [T::ZERO; N];
+    sys.rhs(t0 + h0, &y1, &mut f1);
+    *evals = evals.saturating_add(1);
+    let mut d2 = T::ZERO;
+    for (i, ((a, b), y)) in f1.iter().zip(f0.iter()).zip(y0.iter()).enumerate() {
+        if !a.is_finite() {
+            return Err(Error::NonFinite {
+                t: (t0 + h0).to_f64(),
+                component: i,
+            });
+        }
+        let sc = tol.scale(i, *y);
+        if sc > T::ZERO {
+            d2 = d2.max((*a - *b).abs() / sc);
+        }
+    }
+    d2 /= h0;
+    let m = d1.max(d2);
+    let h1 = if m <= T::from_f64(1e-15) {
+        (h0 * T::from_f64(1e-3)).max(T::from_f64(1e-6))
+    } else {
+        (T::from_f64(0.01) / m).powf(T::ONE / T::from_usize(order as usize + 1))
+    };
+    let mut h = (T::from_f64(100.0) * h0).min(h1);
+    if h_max.is_finite() && h_max > T::ZERO {
+        h = h.min(h_max);
+    }
+    Ok(h)
 }
 
 #[cfg(test)]
