@@ -66,8 +66,7 @@ pub use model::scene::{
 
 mod solve;
 pub use solve::controller::{
-    Controller, InitialStep, PerUnitStep, PiController, StepControl, StepRule, StiffnessCap,
-    SCALED_CAP_FULL_RTOL,
+    PerUnitStep, PiSettings, StepControl, StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
 };
 pub use solve::dense::Dense;
 #[cfg(feature = "pairs")]

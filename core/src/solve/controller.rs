@@ -1,12 +1,19 @@
-//! Step-size control for [`England`](crate::England), selectable through [`StepControl`]:
-//! the original rule ([`Controller::Classic`], the default), Gustafsson's PI controller
-//! with Hairer's settings ([`PiController`]), Hairer's starting step
-//! ([`initial_step`](crate::initial_step)) and a cap on the step from an estimate of the spectral radius of
-//! the Jacobian ([`StiffnessCap`], [`spectral_radius`]).
+//! The settings of step-size control, as data: [`StepControl`], the one type a solver is
+//! given, and the named choices a run makes of it ([`StepRule`]: `thesis`, `scaled-cap`,
+//! `pi-scaled-cap`). Its parts:
 //!
-//! These are the rules as data; the state they move and the one cycle that applies them
-//! (prepare, propose, judge, accept or reject), for England and the embedded pairs alike,
-//! are the crate's `StepController` (`solve/step_size.rs`).
+//! - the factor rule: England's own (the thesis's, `pi: None`) or Gustafsson's PI with
+//!   Hairer's settings ([`PiSettings`]);
+//! - the first step: `EnglandConfig::h_init`, or Hairer's starting step
+//!   ([`initial_step`](crate::initial_step)) with `hairer_start`;
+//! - an optional cap on the step from an estimate of the spectral radius of the Jacobian
+//!   ([`StiffnessCap`], [`spectral_radius`](crate::spectral_radius)), tolerance-scaled or
+//!   not;
+//! - an optional judge of the error per unit step instead of per step ([`PerUnitStep`]).
+//!
+//! The state these rules move and the one cycle that applies them (prepare, propose,
+//! judge, accept or reject), for England and the embedded pairs alike, are the crate's
+//! `StepController` (`solve/step_size.rs`). The settings hold no state.
 //!
 //! Why a cap: an explicit method on a problem whose fastest mode carries no accuracy
 //! information (a stiff, almost undamped mode of tiny amplitude) is held by *stability*,
@@ -23,22 +30,164 @@
 
 use crate::{Error, Real, Result};
 
-/// Proportional-integral step-size controller (Gustafsson 1991), as in Hairer's DOPRI5:
-/// after an accepted step with error ratio `err` (≤ 1, the previous accepted one
-/// `err_prev`), the next step is
+/// Step-size control of [`England`](crate::England) (and, built by them, of the embedded
+/// pairs) beyond [`EnglandConfig`](crate::EnglandConfig): pass it to
+/// [`England::with_control`](crate::England::with_control).
+/// [`StepControl::classic`] (the default, what [`England::new`](crate::England::new) uses)
+/// reproduces the original solver bit for bit. A simulation's control is chosen by
+/// [`StepRule`] ([`SolverSettings::step_control`](crate::SolverSettings::step_control)),
+/// whose default is the tolerance-scaled cap, not this.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepControl<T> {
+    /// The factor rule. `None` (the default): England's own rule,
+    /// `h · clamp(0.9 err^(-1/5), 0.2, 5)` after an accepted step (no growth right after a
+    /// rejection), `h · clamp(0.9 err^(-1/5), 0.2, 1)` after a rejected one. `Some`: the
+    /// PI rule with these settings ([`PiSettings`]).
+    pub pi: Option<PiSettings<T>>,
+    /// The first step. `false` (the default): `EnglandConfig::h_init`. `true`: Hairer's
+    /// algorithm ([`initial_step`](crate::initial_step)) at the first step after the solver
+    /// is built or [`England::reset`](crate::England::reset), clamped to `[h_min, h_max]`
+    /// and to the stiffness cap; it costs one extra right-hand-side evaluation.
+    pub hairer_start: bool,
+    /// Optional cap from the stiffest eigenvalue ([`StiffnessCap`]).
+    pub stiffness_cap: Option<StiffnessCap<T>>,
+    /// Optional error-per-unit-step control ([`PerUnitStep`]); `None` (the default):
+    /// error per step.
+    pub per_unit_step: Option<PerUnitStep<T>>,
+}
+
+impl<T: Real> StepControl<T> {
+    /// The original control: England's rule from `h_init`, no cap.
+    pub fn classic() -> Self {
+        Self::default()
+    }
+
+    /// PI control with Hairer's settings, Hairer's starting step and the default
+    /// stiffness cap: the fewest rejections on a problem held by stability.
+    pub fn pi_capped() -> Self {
+        Self {
+            pi: Some(PiSettings::hairer()),
+            hairer_start: true,
+            stiffness_cap: Some(StiffnessCap::new()),
+            per_unit_step: None,
+        }
+    }
+
+    /// England's rule from `h_init` with the default stiffness cap. The classic rule aims
+    /// at an error ratio of about 0.59 (`0.9^5`) where Hairer's PI settings aim at about
+    /// 0.17 (`0.9^(1/(alpha - beta))`), so at the same tolerance this takes fewer, larger
+    /// steps than [`StepControl::pi_capped`] wherever accuracy, not the cap, sets the step.
+    pub fn classic_capped() -> Self {
+        Self {
+            stiffness_cap: Some(StiffnessCap::new()),
+            ..Self::classic()
+        }
+    }
+
+    /// Checks the settings (names the offending field).
+    pub fn validate(&self) -> Result<()> {
+        if let Some(pi) = &self.pi {
+            pi.validate()?;
+        }
+        if let Some(cap) = &self.stiffness_cap {
+            cap.validate()?;
+        }
+        if let Some(p) = &self.per_unit_step {
+            p.validate()?;
+        }
+        Ok(())
+    }
+}
+
+/// The `rtol_full` of [`StiffnessCap::tolerance_scaled`] the bench, the convergence
+/// harness and the tests use: 1e-5. Chosen once, not derived from the model: the loosest
+/// tolerance of issue 22's ladder (1e-5 to 1e-8), where England's error still followed
+/// `rtol`; every tolerance at or above it (the chip's 1e-2 to 1e-4) keeps the full cap and
+/// its results bit for bit. On the reference design 1e-4 converges too, at more cost
+/// (docs/BENCHMARKS.md). The host's default run uses it ([`StepRule::ScaledCap`]).
+pub const SCALED_CAP_FULL_RTOL: f64 = 1e-5;
+
+/// The step control a run uses ([`SolverSettings::step_control`](crate::SolverSettings::step_control),
+/// scene key `[solver] step_control`, option `--step-control`): the three controls of
+/// England's method that a run can choose, by the name a scene file gives them
+/// (docs/MODEL.md §3.16).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "kebab-case")
+)]
+pub enum StepRule {
+    /// `"thesis"`: England's own rule, uncapped ([`StepControl::classic`]), the thesis's
+    /// solver bit for bit. Below rtol 1e-6 its error on the cam model stops following the
+    /// tolerance where stability holds the step (issue 22, docs/BENCHMARKS.md). The chip's
+    /// choice (`camsim_chip::chip_solver_settings`).
+    Thesis,
+    /// `"scaled-cap"` (the host's default): England's rule with the stiffness cap
+    /// ([`StiffnessCap`]) scaled by the tolerance below rtol [`SCALED_CAP_FULL_RTOL`], so
+    /// the error follows the tolerance (docs/MODEL.md §3.16, measured in
+    /// docs/BENCHMARKS.md).
+    #[default]
+    ScaledCap,
+    /// `"pi-scaled-cap"`: the PI controller with Hairer's settings and starting step and
+    /// the same tolerance-scaled cap ([`StepControl::pi_capped`]): fewer rejections, more
+    /// evaluations at the same tolerance.
+    PiScaledCap,
+}
+
+impl StepRule {
+    /// Every rule, in the order the documentation lists them.
+    pub const ALL: [StepRule; 3] = [StepRule::Thesis, StepRule::ScaledCap, StepRule::PiScaledCap];
+
+    /// The scene file's name of the rule (`"thesis"`, `"scaled-cap"`, `"pi-scaled-cap"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            StepRule::Thesis => "thesis",
+            StepRule::ScaledCap => "scaled-cap",
+            StepRule::PiScaledCap => "pi-scaled-cap",
+        }
+    }
+
+    /// The rule of a scene-file name ([`StepRule::name`]), `None` for any other.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|r| r.name() == name)
+    }
+
+    /// The [`StepControl`] England runs with under this rule.
+    pub fn control<T: Real>(self) -> StepControl<T> {
+        let cap = Some(StiffnessCap::tolerance_scaled(T::from_f64(
+            SCALED_CAP_FULL_RTOL,
+        )));
+        match self {
+            StepRule::Thesis => StepControl::classic(),
+            StepRule::ScaledCap => StepControl {
+                stiffness_cap: cap,
+                ..StepControl::classic_capped()
+            },
+            StepRule::PiScaledCap => StepControl {
+                stiffness_cap: cap,
+                ..StepControl::pi_capped()
+            },
+        }
+    }
+}
+
+/// The settings of the proportional-integral step-size rule (Gustafsson 1991), as in
+/// Hairer's DOPRI5: after an accepted step with error ratio `err` (≤ 1, the previous
+/// accepted one `err_prev`, 1 before the first), the next step is
 ///
 /// `h_new = h · clamp(safety · err^(-alpha) · err_prev^(beta), fac_min, fac_max)`
 ///
 /// with no increase right after a rejection, and after a rejected step
-/// `h_new = h · max(fac_min, safety · err^(-alpha))`. Errors are floored at `err_floor`
-/// (a zero error would otherwise give an infinite factor).
+/// `h_new = h · clamp(safety · err^(-alpha), fac_min, 1)`. Errors are floored at
+/// `err_floor` (a zero error would otherwise give an infinite factor).
 ///
 /// For an error estimate of order `k` (local error ∝ `h^k`; England's `E` has `k = 5`)
 /// Hairer-Nørsett-Wanner I (II.4) and Hairer-Wanner II (IV.2) recommend
-/// `alpha = 0.7/k`, `beta = 0.4/k` ([`PiController::hairer`]); `beta = 0` is the
-/// classic (integral) controller with exponent `alpha`.
+/// `alpha = 0.7/k`, `beta = 0.4/k` ([`PiSettings::hairer`]); `beta = 0` is the
+/// classic (integral) rule with exponent `alpha`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PiController<T> {
+pub struct PiSettings<T> {
     /// Exponent of the current error ratio (`0.7/5`).
     pub alpha: T,
     /// Exponent of the previous accepted error ratio (`0.4/5`).
@@ -51,11 +200,9 @@ pub struct PiController<T> {
     pub fac_max: T,
     /// Floor of an error ratio (1e-4).
     pub err_floor: T,
-    /// Error ratio of the last accepted step (1 before the first: "on target").
-    err_prev: T,
 }
 
-impl<T: Real> PiController<T> {
+impl<T: Real> PiSettings<T> {
     /// Hairer's settings for an error estimate with local error ∝ `h^5` (England's `E`,
     /// DOPRI5's): `alpha = 0.7/5`, `beta = 0.4/5`, safety 0.9, factors in `[0.2, 10]`.
     pub fn hairer() -> Self {
@@ -68,7 +215,7 @@ impl<T: Real> PiController<T> {
         )
     }
 
-    /// A controller with the given exponents, safety factor and factor bounds (error
+    /// The settings with the given exponents, safety factor and factor bounds (error
     /// floor 1e-4); checked when the solver is built.
     pub fn new(alpha: T, beta: T, safety: T, fac_min: T, fac_max: T) -> Self {
         Self {
@@ -78,7 +225,6 @@ impl<T: Real> PiController<T> {
             fac_min,
             fac_max,
             err_floor: T::from_f64(1e-4),
-            err_prev: T::ONE,
         }
     }
 
@@ -111,142 +257,12 @@ impl<T: Real> PiController<T> {
         }
         Ok(())
     }
-
-    /// Forgets the previous error (the next accepted step is controlled as the first).
-    pub fn reset(&mut self) {
-        self.err_prev = T::ONE;
-    }
-
-    /// The error ratio of the last accepted step (floored), 1 before the first.
-    pub fn previous_error(&self) -> T {
-        self.err_prev
-    }
-
-    /// Factor for the next step after an accepted step with error ratio `err`
-    /// (`after_rejection`: the step was a retry, so the factor is at most 1).
-    pub fn accept(&mut self, err: T, after_rejection: bool) -> T {
-        self.accept_raw(err, after_rejection).0
-    }
-
-    /// `(clamped factor, factor before the [fac_min, fac_max] clamp)`; both at most 1
-    /// after a rejection. Remembers `err`.
-    pub(crate) fn accept_raw(&mut self, err: T, after_rejection: bool) -> (T, T) {
-        let e = err.max(self.err_floor);
-        let mut raw = self.safety * e.powf(-self.alpha) * self.err_prev.powf(self.beta);
-        self.err_prev = e;
-        if after_rejection {
-            raw = raw.min(T::ONE);
-        }
-        let cap = if after_rejection {
-            T::ONE
-        } else {
-            self.fac_max
-        };
-        (raw.clamp(self.fac_min, cap), raw)
-    }
-
-    /// Factor (below 1) for the retry of a step rejected with error ratio `err > 1`.
-    pub fn reject(&mut self, err: T) -> T {
-        // err > 1 (or +inf, giving fac_min); the floor only guards a misuse with err = 0.
-        let e = err.max(self.err_floor);
-        (self.safety * e.powf(-self.alpha)).clamp(self.fac_min, T::ONE)
-    }
 }
 
-impl<T: Real> Default for PiController<T> {
+impl<T: Real> Default for PiSettings<T> {
     fn default() -> Self {
         Self::hairer()
     }
-}
-
-/// The step-size rule of [`England`](crate::England).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub enum Controller<T> {
-    /// England's original rule (the default, unchanged): `h · clamp(0.9 err^(-1/5), 0.2, 5)`
-    /// after an accepted step (no growth right after a rejection),
-    /// `h · clamp(0.9 err^(-1/5), 0.2, 1)` after a rejected one.
-    #[default]
-    Classic,
-    /// Proportional-integral control.
-    Pi(PiController<T>),
-}
-
-/// England's original rule ([`Controller::Classic`]): safety factor 0.9.
-const CLASSIC_SAFETY: f64 = 0.9;
-/// England's original rule: exponent `-1/5` of the error ratio (local error ∝ `h^5`).
-const CLASSIC_EXPONENT: f64 = -0.2;
-/// England's original rule: smallest step-size factor.
-const CLASSIC_FAC_MIN: f64 = 0.2;
-/// England's original rule: largest step-size factor.
-const CLASSIC_FAC_MAX: f64 = 5.0;
-
-impl<T: Real> Controller<T> {
-    /// England's raw factor `0.9 err^(-1/5)` (`T::MAX` for a zero error; 0 for `+inf`).
-    fn classic_raw(err: T) -> T {
-        if err > T::ZERO {
-            T::from_f64(CLASSIC_SAFETY) * err.powf(T::from_f64(CLASSIC_EXPONENT))
-        } else {
-            T::MAX
-        }
-    }
-
-    /// Factor for the next step after an accepted step with error ratio `err`
-    /// (`after_rejection`: the step was a retry, so the factor is at most 1).
-    pub fn accept(&mut self, err: T, after_rejection: bool) -> T {
-        self.accept_raw(err, after_rejection).0
-    }
-
-    /// `(clamped factor, factor before the clamp)`, both at most 1 after a rejection
-    /// (the second tells a step shortened to meet an end time whether the planned size
-    /// would have passed).
-    pub(crate) fn accept_raw(&mut self, err: T, after_rejection: bool) -> (T, T) {
-        match self {
-            Controller::Classic => {
-                let raw = Self::classic_raw(err);
-                let cap = if after_rejection {
-                    T::ONE
-                } else {
-                    T::from_f64(CLASSIC_FAC_MAX)
-                };
-                let unbounded = if after_rejection {
-                    raw.min(T::ONE)
-                } else {
-                    raw
-                };
-                (raw.clamp(T::from_f64(CLASSIC_FAC_MIN), cap), unbounded)
-            }
-            Controller::Pi(pi) => pi.accept_raw(err, after_rejection),
-        }
-    }
-
-    /// Factor (at most 1) for the retry of a step rejected with error ratio `err > 1`.
-    pub fn reject(&mut self, err: T) -> T {
-        match self {
-            Controller::Classic => {
-                Self::classic_raw(err).clamp(T::from_f64(CLASSIC_FAC_MIN), T::ONE)
-            }
-            Controller::Pi(pi) => pi.reject(err),
-        }
-    }
-
-    /// Forgets the history (a PI controller's previous error; nothing for the classic rule).
-    pub fn reset(&mut self) {
-        if let Controller::Pi(pi) = self {
-            pi.reset();
-        }
-    }
-}
-
-/// How [`England`](crate::England) chooses its first step.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum InitialStep {
-    /// `EnglandConfig::h_init` (the default).
-    #[default]
-    Given,
-    /// Hairer's algorithm ([`initial_step`](crate::initial_step)) at the first step after the solver is built or
-    /// [`England::reset`](crate::England::reset), clamped to `[h_min, h_max]` and to the
-    /// stiffness cap; costs one extra right-hand-side evaluation.
-    Hairer,
 }
 
 /// A cap on the double step from the spectral radius `ρ` of the Jacobian `∂f/∂y`:
@@ -412,98 +428,6 @@ impl<T: Real> Default for StiffnessCap<T> {
     }
 }
 
-/// The `rtol_full` of [`StiffnessCap::tolerance_scaled`] the bench, the convergence
-/// harness and the tests use: 1e-5. Chosen once, not derived from the model: the loosest
-/// tolerance of issue 22's ladder (1e-5 to 1e-8), where England's error still followed
-/// `rtol`; every tolerance at or above it (the chip's 1e-2 to 1e-4) keeps the full cap and
-/// its results bit for bit. On the reference design 1e-4 converges too, at more cost
-/// (docs/BENCHMARKS.md). The host's default run uses it ([`StepRule::ScaledCap`]).
-pub const SCALED_CAP_FULL_RTOL: f64 = 1e-5;
-
-/// The step control a run uses ([`SolverSettings::step_control`](crate::SolverSettings::step_control),
-/// scene key `[solver] step_control`, option `--step-control`): the three controls of
-/// England's method that a run can choose, by the name a scene file gives them
-/// (docs/MODEL.md §3.16).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(rename_all = "kebab-case")
-)]
-pub enum StepRule {
-    /// `"thesis"`: England's own rule, uncapped ([`StepControl::classic`]), the thesis's
-    /// solver bit for bit. Below rtol 1e-6 its error on the cam model stops following the
-    /// tolerance where stability holds the step (issue 22, docs/BENCHMARKS.md). The chip's
-    /// choice (`camsim_chip::chip_solver_settings`).
-    Thesis,
-    /// `"scaled-cap"` (the host's default): England's rule with the stiffness cap
-    /// ([`StiffnessCap`]) scaled by the tolerance below rtol [`SCALED_CAP_FULL_RTOL`], so
-    /// the error follows the tolerance (docs/MODEL.md §3.16, measured in
-    /// docs/BENCHMARKS.md).
-    #[default]
-    ScaledCap,
-    /// `"pi-scaled-cap"`: the PI controller with Hairer's settings and starting step and
-    /// the same tolerance-scaled cap ([`StepControl::pi_capped`]): fewer rejections, more
-    /// evaluations at the same tolerance.
-    PiScaledCap,
-}
-
-impl StepRule {
-    /// Every rule, in the order the documentation lists them.
-    pub const ALL: [StepRule; 3] = [StepRule::Thesis, StepRule::ScaledCap, StepRule::PiScaledCap];
-
-    /// The scene file's name of the rule (`"thesis"`, `"scaled-cap"`, `"pi-scaled-cap"`).
-    pub fn name(self) -> &'static str {
-        match self {
-            StepRule::Thesis => "thesis",
-            StepRule::ScaledCap => "scaled-cap",
-            StepRule::PiScaledCap => "pi-scaled-cap",
-        }
-    }
-
-    /// The rule of a scene-file name ([`StepRule::name`]), `None` for any other.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|r| r.name() == name)
-    }
-
-    /// The [`StepControl`] England runs with under this rule.
-    pub fn control<T: Real>(self) -> StepControl<T> {
-        let cap = Some(StiffnessCap::tolerance_scaled(T::from_f64(
-            SCALED_CAP_FULL_RTOL,
-        )));
-        match self {
-            StepRule::Thesis => StepControl::classic(),
-            StepRule::ScaledCap => StepControl {
-                stiffness_cap: cap,
-                ..StepControl::classic_capped()
-            },
-            StepRule::PiScaledCap => StepControl {
-                stiffness_cap: cap,
-                ..StepControl::pi_capped()
-            },
-        }
-    }
-}
-
-/// Step-size control of [`England`](crate::England) beyond [`EnglandConfig`](crate::EnglandConfig):
-/// pass it to [`England::with_control`](crate::England::with_control).
-/// [`StepControl::classic`] (the default, what [`England::new`](crate::England::new) uses)
-/// reproduces the original solver bit for bit. A simulation's control is chosen by
-/// [`StepRule`] ([`SolverSettings::step_control`](crate::SolverSettings::step_control)),
-/// whose default is the tolerance-scaled cap, not this.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StepControl<T> {
-    /// Step-size rule.
-    pub controller: Controller<T>,
-    /// First step.
-    pub initial_step: InitialStep,
-    /// Optional cap from the stiffest eigenvalue.
-    pub stiffness_cap: Option<StiffnessCap<T>>,
-    /// Optional error-per-unit-step control ([`PerUnitStep`]); `None` (the default):
-    /// error per step.
-    pub per_unit_step: Option<PerUnitStep<T>>,
-}
-
 /// Error per unit step: a double step `h` shorter than the reference step `h_ref` is
 /// accepted only when its error ratio is at most `h / h_ref` (the ratio the step-size rule
 /// sees is `err · h_ref / h`), so the local error allowed per unit of time is the same
@@ -575,48 +499,5 @@ impl<T: Real> PerUnitStep<T> {
         } else {
             err
         }
-    }
-}
-
-impl<T: Real> StepControl<T> {
-    /// The original control: England's rule from `h_init`, no cap.
-    pub fn classic() -> Self {
-        Self::default()
-    }
-
-    /// PI control with Hairer's settings, Hairer's starting step and the default
-    /// stiffness cap: the fewest rejections on a problem held by stability.
-    pub fn pi_capped() -> Self {
-        Self {
-            controller: Controller::Pi(PiController::hairer()),
-            initial_step: InitialStep::Hairer,
-            stiffness_cap: Some(StiffnessCap::new()),
-            per_unit_step: None,
-        }
-    }
-
-    /// England's rule from `h_init` with the default stiffness cap. The classic rule aims
-    /// at an error ratio of about 0.59 (`0.9^5`) where Hairer's PI settings aim at about
-    /// 0.17 (`0.9^(1/(alpha - beta))`), so at the same tolerance this takes fewer, larger
-    /// steps than [`StepControl::pi_capped`] wherever accuracy, not the cap, sets the step.
-    pub fn classic_capped() -> Self {
-        Self {
-            stiffness_cap: Some(StiffnessCap::new()),
-            ..Self::classic()
-        }
-    }
-
-    /// Checks the settings.
-    pub fn validate(&self) -> Result<()> {
-        if let Controller::Pi(pi) = &self.controller {
-            pi.validate()?;
-        }
-        if let Some(cap) = &self.stiffness_cap {
-            cap.validate()?;
-        }
-        if let Some(p) = &self.per_unit_step {
-            p.validate()?;
-        }
-        Ok(())
     }
 }
