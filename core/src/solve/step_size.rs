@@ -340,9 +340,8 @@ impl<T: Real, const N: usize> StepController<T, N> {
                 T::from_f64(CLASSIC_FAC_MAX),
             ),
             Some(pi) => {
-                let e = err.max(pi.err_floor);
-                let raw = pi.safety * e.powf(-pi.alpha) * self.err_prev.powf(pi.beta);
-                self.err_prev = e;
+                let raw = pi_factor(pi, err) * self.err_prev.powf(pi.beta);
+                self.err_prev = err.max(pi.err_floor);
                 (raw, pi.fac_min, pi.fac_max)
             }
         };
@@ -373,7 +372,8 @@ fn classic_factor<T: Real>(err: T) -> T {
     }
 }
 
-/// The PI rule's raw factor without its memory, `safety · max(err, err_floor)^(-alpha)`.
+/// The PI rule's raw factor without its memory, `safety · max(err, err_floor)^(-alpha)`
+/// (after an accepted step it is multiplied by `err_prev^beta`).
 fn pi_factor<T: Real>(pi: &PiSettings<T>, err: T) -> T {
     pi.safety * err.max(pi.err_floor).powf(-pi.alpha)
 }
