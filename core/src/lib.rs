@@ -65,10 +65,6 @@ pub use model::scene::{
 };
 
 mod solve;
-pub use solve::controller::{
-    initial_step, spectral_radius, Controller, InitialStep, PerUnitStep, PiController, StepControl,
-    StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
-};
 pub use solve::dense::Dense;
 #[cfg(feature = "pairs")]
 pub use solve::dormand_prince::{DormandPrince, DORMAND_PRINCE, DP_IMAGINARY_BOUNDARY, DP_STAGES};
@@ -79,6 +75,11 @@ pub use solve::imaginary::{hermite, merson_pi, Merson, IMAGINARY_BOUNDARY, MERSO
 #[cfg(feature = "pairs")]
 pub use solve::pair::{Pair, PairTableau};
 pub use solve::rk4::{rk4_integrate, rk4_step, rk4_step_from};
+pub use solve::spectral_radius::spectral_radius;
+pub use solve::step_control::{
+    PerUnitStep, PiSettings, StepControl, StepRule, StiffnessCap, SCALED_CAP_FULL_RTOL,
+};
+pub use solve::step_size::initial_step;
 pub use solve::system::{OdeSystem, Tolerance};
 
 mod run;

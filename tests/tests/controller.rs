@@ -1,7 +1,8 @@
 //! England's opt-in step-size control (`StepControl`): PI controller, Hairer's starting
 //! step, the stiffness cap and its power-iteration spectral radius, against quantities
-//! derived independently (RK4's stability boundary, exact solutions, known spectra,
-//! the PI controller's fixed point), plus the order of RK4 and of England's error estimate.
+//! derived independently (RK4's stability boundary, exact solutions, known spectra), plus
+//! the order of RK4 and of England's error estimate. The PI rule's fixed point and bounds
+//! are camsim-core's `solve::step_size` unit tests.
 //!
 //! The measured numbers quoted in comments come from
 //! `cargo test -p camsim-tests --test controller -- --nocapture`.
@@ -12,9 +13,8 @@
 use core::ops::ControlFlow;
 
 use camsim_core::{
-    initial_step, rk4_integrate, rk4_step, spectral_radius, Controller, England, EnglandConfig,
-    Error, InitialStep, OdeSystem, PerUnitStep, PiController, Real, SolverStats, StepControl,
-    StiffnessCap, Tolerance,
+    initial_step, rk4_integrate, rk4_step, spectral_radius, England, EnglandConfig, Error,
+    OdeSystem, PerUnitStep, PiSettings, Real, SolverStats, StepControl, StiffnessCap, Tolerance,
 };
 
 mod common;
@@ -35,7 +35,7 @@ fn config<T: Real, const N: usize>(tol: f64, h_init: f64, h_max: f64) -> England
 
 fn pi_only<T: Real>() -> StepControl<T> {
     StepControl {
-        controller: Controller::Pi(PiController::hairer()),
+        pi: Some(PiSettings::hairer()),
         ..StepControl::classic()
     }
 }
@@ -210,8 +210,8 @@ fn a_spectral_radius_from_the_system_replaces_the_power_iteration() {
     let mut sys = TwoMode::new(1.0, 1e4, 0.3);
     sys.knows_rho = true;
     let control = StepControl {
-        controller: Controller::Pi(PiController::hairer()),
-        initial_step: InitialStep::Given,
+        pi: Some(PiSettings::hairer()),
+        hairer_start: false,
         stiffness_cap: Some(StiffnessCap {
             max_iterations: 0,
             ..StiffnessCap::new()
@@ -752,7 +752,7 @@ fn hairers_starting_step_is_within_a_small_factor_below_the_ideal() {
 #[test]
 fn hairers_starting_step_replaces_h_init_once() {
     let control = StepControl {
-        initial_step: InitialStep::Hairer,
+        hairer_start: true,
         ..StepControl::classic()
     };
     let y0 = kepler_start(0.6);
@@ -784,45 +784,8 @@ fn hairers_starting_step_replaces_h_init_once() {
     assert_eq!(y3, y);
 }
 
-// ------------------------------------------------------------ the PI controller itself
-
-#[test]
-fn pi_controller_settles_where_its_factor_is_one() {
-    // With err = C h^5 the accepted steps settle where safety · e^(-alpha) · e^(beta) = 1,
-    // i.e. e* = safety^(1/(alpha - beta)) = 0.9^(1/0.06) = 0.1725 for Hairer's settings.
-    let mut pi = PiController::<f64>::hairer();
-    assert!((pi.alpha - 0.14).abs() < 1e-15 && (pi.beta - 0.08).abs() < 1e-15);
-    let c = 3.0e4;
-    let mut h = 0.01;
-    let mut err = 0.0;
-    for _ in 0..400 {
-        err = c * h.powi(5);
-        assert!(err <= 1.0);
-        h *= pi.accept(err, false);
-    }
-    let target = 0.9f64.powf(1.0 / (0.14 - 0.08));
-    assert!((err / target - 1.0).abs() < 1e-6, "{err} vs {target}");
-    assert_eq!(pi.previous_error(), err);
-
-    // The error floor 1e-4 bounds growth from a zero error to 0.9 · 1e4^0.14 = 3.27 (then
-    // 0.9 · 1e4^0.06 = 1.57 per step); a lower floor meets fac_max; no increase right after
-    // a rejection.
-    let mut pi = PiController::<f64>::hairer();
-    assert!((pi.accept(0.0, false) - 0.9 * 1e4f64.powf(0.14)).abs() < 1e-12);
-    assert!((pi.accept(0.0, false) - 0.9 * 1e4f64.powf(0.06)).abs() < 1e-12);
-    assert_eq!(pi.accept(1e-8, true), 1.0);
-    let mut pi = PiController::<f64>::hairer();
-    pi.err_floor = 1e-12;
-    assert_eq!(pi.accept(0.0, false), 10.0);
-    let mut pi = PiController::<f64>::hairer();
-    assert_eq!(pi.reject(f64::INFINITY), 0.2);
-    assert!((pi.reject(1.5) - 0.9 * 1.5f64.powf(-0.14)).abs() < 1e-15);
-    assert_eq!(
-        pi.previous_error(),
-        1.0,
-        "a rejection leaves the memory alone"
-    );
-}
+// ------------------------------------------------------------ the PI rule's settings
+// (the rule itself, its fixed point and bounds: camsim-core's solve::step_size tests)
 
 #[test]
 fn bad_step_control_names_the_field() {
@@ -831,11 +794,11 @@ fn bad_step_control_names_the_field() {
             Err(Error::InvalidParameter { field, .. }) => field,
             other => panic!("{other:?}"),
         };
-    let pi = |f: fn(&mut PiController<f64>)| {
-        let mut p = PiController::hairer();
+    let pi = |f: fn(&mut PiSettings<f64>)| {
+        let mut p = PiSettings::hairer();
         f(&mut p);
         StepControl {
-            controller: Controller::Pi(p),
+            pi: Some(p),
             ..StepControl::classic()
         }
     };

@@ -585,9 +585,9 @@ impl<T: Real, const N: usize> England<T, N> {
     }
 
     /// Forgets the controller's history: the next step tries `h_init` (or Hairer's
-    /// starting step, with [`InitialStep::Hairer`](crate::InitialStep::Hairer)) and the counters (and so the step
-    /// budget) restart from zero; a PI controller forgets its previous error and the
-    /// stiffness cap starts over from a fresh estimate.
+    /// starting step, with [`StepControl::hairer_start`]) and the counters (and so the step
+    /// budget) restart from zero; a PI rule forgets its previous error and the stiffness
+    /// cap starts over from a fresh estimate.
     pub fn reset(&mut self) {
         self.step.reset(self.config.h_init);
         self.stats = SolverStats::default();

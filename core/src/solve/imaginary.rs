@@ -34,7 +34,7 @@
 //!
 //! Step-size control: `err = max_i |y1_i - ŷ1_i| / (atol_i + rtol · max(|y0_i|, |y1_i|))`
 //! (England's norm, docs/MODEL.md §3.16), accepted if `err <= 1`. The next step is set by
-//! Hairer's PI controller ([`PiController`]) with the exponents for an estimate of local
+//! Hairer's PI controller ([`PiSettings`]) with the exponents for an estimate of local
 //! order 4 (`alpha = 0.7/4`, `beta = 0.4/4`; safety 0.9, factors in `[0.2, 10]`, no
 //! growth right after a rejection: the PI-capped England's settings with 5 replaced by 4),
 //! clamped to `[h_min, h_max]`. Optionally ([`Merson::with_cap`](crate::Pair::with_cap)) the step is also capped
@@ -43,7 +43,7 @@
 //! loose tolerances the step sits just inside the stability limit instead of being found
 //! there by rejections.
 
-use crate::{EnglandConfig, Pair, PairTableau, PiController, Real, Result, StiffnessCap};
+use crate::{EnglandConfig, Pair, PairTableau, PiSettings, Real, Result, StiffnessCap};
 
 /// Stages of the pair.
 pub const STAGES: usize = 5;
@@ -70,9 +70,9 @@ pub const MERSON: PairTableau<STAGES> = PairTableau {
 /// Merson's imaginary-axis stability boundary, `|hλ|` (√12).
 pub const IMAGINARY_BOUNDARY: f64 = 3.464_101_615_137_754_6;
 
-/// Hairer's PI controller for an estimate of local order 4 (see the module documentation).
-pub fn merson_pi<T: Real>() -> PiController<T> {
-    MERSON.controller()
+/// Hairer's PI settings for an estimate of local order 4 (see the module documentation).
+pub fn merson_pi<T: Real>() -> PiSettings<T> {
+    MERSON.pi_settings()
 }
 
 /// Merson's adaptive pair for `N` equations ([`Pair`] with [`MERSON`]).

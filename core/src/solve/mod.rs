@@ -2,7 +2,6 @@
 //! dense output and events, the classic RK4, and embedded pairs as data
 //! (Merson's 4(3) for the imaginary axis, Dormand-Prince's 5(4) for accuracy-limited runs).
 
-pub(crate) mod controller;
 pub(crate) mod dense;
 #[cfg(feature = "pairs")]
 pub(crate) mod dormand_prince;
@@ -13,6 +12,8 @@ pub(crate) mod imaginary;
 #[cfg(feature = "pairs")]
 pub(crate) mod pair;
 pub(crate) mod rk4;
+pub(crate) mod spectral_radius;
+pub(crate) mod step_control;
 pub(crate) mod step_size;
 pub(crate) mod system;
 

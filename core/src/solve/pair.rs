@@ -25,8 +25,8 @@ use core::ops::ControlFlow;
 use crate::solve::england::{first_non_finite, Sampler};
 use crate::solve::step_size::{StepController, Stepper};
 use crate::{
-    Controller, Dense, EnglandConfig, Error, InitialStep, OdeSystem, PiController, Real, Result,
-    SolverStats, StepControl, StiffnessCap,
+    Dense, EnglandConfig, Error, OdeSystem, PiSettings, Real, Result, SolverStats, StepControl,
+    StiffnessCap,
 };
 
 /// An explicit embedded Runge-Kutta pair of `S` stages as data.
@@ -54,10 +54,10 @@ pub struct PairTableau<const S: usize> {
 }
 
 impl<const S: usize> PairTableau<S> {
-    /// Hairer's PI controller with this pair's exponents: safety 0.9, factors in
-    /// `[0.2, 10]`, no growth right after a rejection.
-    pub fn controller<T: Real>(&self) -> PiController<T> {
-        PiController::new(
+    /// Hairer's PI settings with this pair's exponents: safety 0.9, factors in
+    /// `[0.2, 10]` (no growth right after a rejection).
+    pub fn pi_settings<T: Real>(&self) -> PiSettings<T> {
+        PiSettings::new(
             T::from_f64(self.pi.0),
             T::from_f64(self.pi.1),
             T::from_f64(0.9),
@@ -160,8 +160,8 @@ impl<T: Real, const N: usize, const S: usize> Pair<T, N, S> {
     /// exponents and the stiffness cap if any, from the configured first step.
     fn step_controller(&self) -> StepController<T, N> {
         let rule = StepControl {
-            controller: Controller::Pi(self.tab.controller::<T>()),
-            initial_step: InitialStep::Given,
+            pi: Some(self.tab.pi_settings::<T>()),
+            hairer_start: false,
             stiffness_cap: self.cap,
             per_unit_step: None,
         };

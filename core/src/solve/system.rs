@@ -42,4 +42,10 @@ impl<T: Real, const N: usize> Tolerance<T, N> {
     pub fn per_component(rtol: T, atol: [T; N]) -> Self {
         Self { rtol, atol }
     }
+
+    /// Weighted-norm scale of component `i` at value `yi`: `atol_i + rtol · |yi|`.
+    #[inline]
+    pub(crate) fn scale(&self, i: usize, yi: T) -> T {
+        self.atol.get(i).copied().unwrap_or(T::ZERO) + self.rtol * yi.abs()
+    }
 }
