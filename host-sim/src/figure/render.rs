@@ -12,12 +12,26 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{
-    At, Axis, Band, Dash, Entry, Figure, FigureError, Legend, Mark, Panel, Scale, Series, Shape,
-    Stroke, Style, Swatch, Ticks,
+    At, Axis, Band, Dash, Entry, Figure, FigureError, HAlign, Legend, Mark, Panel, Scale, Series,
+    Shape, Stroke, Style, Swatch, Ticks, VAlign,
 };
 use crate::output::AtomicDir;
-use crate::plot::FONT;
 use crate::units::Units;
+
+/// DejaVu Sans (Bitstream Vera licence, see `host-sim/assets/DejaVuSans-LICENSE.txt`).
+static FONT_TTF: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+/// The family name the embedded font is registered under.
+const FONT: &str = "sans-serif";
+
+/// Registers the embedded font with plotters once per process (the growth example
+/// draws with it too).
+pub fn ensure_font() -> Result<()> {
+    static OK: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *OK
+        .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_TTF).is_ok());
+    anyhow::ensure!(ok, "the embedded DejaVu Sans font could not be parsed");
+    Ok(())
+}
 
 /// A colour (red, green, blue).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,6 +68,8 @@ pub mod palette {
     pub const CYAN: Colour = Colour(23, 190, 207);
     /// Black.
     pub const BLACK: Colour = Colour(0, 0, 0);
+    /// White (text on a dark fill).
+    pub const WHITE: Colour = Colour(255, 255, 255);
     /// Light orange.
     pub const LIGHT_ORANGE: Colour = Colour(255, 187, 120);
     /// Light red: a jump's shading.
@@ -90,6 +106,8 @@ const AXIS_FONT: u32 = 17;
 const CAPTION_FONT: u32 = 17;
 const LEGEND_FONT: u32 = 16;
 const NOTE_FONT: u32 = 14;
+/// The font size of a row's title (a row of panels about one thing).
+const ROW_TITLE_FONT: u32 = 19;
 /// Margins around a panel, pixels.
 const MARGIN: u32 = 8;
 const MARGIN_RIGHT: u32 = 24;
@@ -133,7 +151,7 @@ pub type PixelArea = (Range<i32>, Range<i32>);
 /// Draws a figure (already in its units) into an RGB buffer; returns it and each
 /// panel's plotting area. Every panel's ranges are checked before anything is drawn.
 pub fn render(fig: &Figure) -> Result<(Vec<u8>, Vec<PixelArea>)> {
-    crate::plot::ensure_font()?;
+    ensure_font()?;
     for p in &fig.panels {
         ranges(p, 0.0)?;
     }
@@ -350,7 +368,17 @@ impl ValueFormatter<f64> for Coord {
 }
 
 /// A tick's label on axis `a` spanning `lo..hi`.
-fn tick_label(a: &Axis, v: f64, (lo, hi): (f64, f64)) -> String {
+fn tick_label(a: &Axis, v: f64, span: (f64, f64)) -> String {
+    let t = unsigned_tick_label(a, v, span);
+    if a.signed && v > 0.0 && !t.is_empty() && t != "0" {
+        format!("+{t}")
+    } else {
+        t
+    }
+}
+
+/// A tick's label without a sign on positive values.
+fn unsigned_tick_label(a: &Axis, v: f64, (lo, hi): (f64, f64)) -> String {
     if !a.labelled {
         return String::new();
     }
@@ -425,7 +453,7 @@ fn draw_figure<DB: DrawingBackend>(
     ))?;
     let (strip, body) = rest.split_vertically(strip_height(fig));
     draw_strip(&strip, fig)?;
-    let cells = grid(&body, fig);
+    let cells = grid(&body, fig)?;
     // One y label width for every panel, so panels over one another line up.
     let y_area = fig
         .panels
@@ -455,8 +483,9 @@ fn strip_height(fig: &Figure) -> u32 {
     (STRIP_ROW * rows as i32 + 14 + if s.note.is_some() { STRIP_ROW } else { 0 }) as u32
 }
 
-/// The panels' areas: `fig.columns` a row, the rows' heights by `fig.row_weights`.
-fn grid<DB: DrawingBackend>(body: &Area<DB>, fig: &Figure) -> Vec<Area<DB>> {
+/// The panels' areas: `fig.columns` a row, the rows' heights by `fig.row_weights`,
+/// each row under its title (`fig.row_titles`) if it has one.
+fn grid<DB: DrawingBackend>(body: &Area<DB>, fig: &Figure) -> DrawResult<Vec<Area<DB>>, DB> {
     let cols = fig.columns.max(1);
     let rows = fig.panels.len().div_ceil(cols).max(1);
     let weights: Vec<u32> = (0..rows)
@@ -474,9 +503,13 @@ fn grid<DB: DrawingBackend>(body: &Area<DB>, fig: &Figure) -> Vec<Area<DB>> {
             rest = bottom;
             top
         };
+        let row = match fig.row_titles.get(r) {
+            Some(t) => row.titled(t, (FONT, ROW_TITLE_FONT))?,
+            None => row,
+        };
         out.extend(row.split_evenly((1, cols)));
     }
-    out
+    Ok(out)
 }
 
 /// The figure's legend strip: entries in columns from [`STRIP_LEFT`] (or one centred
@@ -692,10 +725,17 @@ fn draw_panel<DB: DrawingBackend>(
     draw_mesh(&mut chart, p, xr, yr)?;
     draw_bands(&mut chart, p, xr, yr)?;
     for b in &p.bars {
+        let corners = [(b.x.0, b.y.0), (b.x.1, b.y.1)];
         chart.draw_series(std::iter::once(Rectangle::new(
-            [(b.x.0, b.y.0), (b.x.1, b.y.1)],
+            corners,
             b.colour.rgb().filled(),
         )))?;
+        if let Some(edge) = b.edge {
+            chart.draw_series(std::iter::once(Rectangle::new(
+                corners,
+                edge.rgb().stroke_width(1),
+            )))?;
+        }
     }
     draw_markers(&mut chart, p, xr, yr)?;
     let (px, py) = chart.plotting_area().get_pixel_range();
@@ -970,11 +1010,19 @@ fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 fn draw_notes<DB: DrawingBackend>(chart: &Chart<'_, DB>, p: &Panel) -> DrawResult<(), DB> {
     let area = chart.plotting_area().strip_coord_spec();
     let (bx, by) = area.get_base_pixel();
-    let font = (FONT, NOTE_FONT).into_font().color(&BLACK);
     for n in &p.notes {
         let (x, y) = chart.plotting_area().map_coordinate(&n.at);
-        let h = if n.centred { HPos::Center } else { HPos::Left };
-        let v = if n.above { VPos::Bottom } else { VPos::Top };
+        let h = match n.h {
+            HAlign::Left => HPos::Left,
+            HAlign::Centre => HPos::Center,
+            HAlign::Right => HPos::Right,
+        };
+        let v = match n.v {
+            VAlign::Above => VPos::Bottom,
+            VAlign::Middle => VPos::Center,
+            VAlign::Below => VPos::Top,
+        };
+        let font = (FONT, NOTE_FONT).into_font().color(&n.colour.rgb());
         area.draw(&Text::new(
             n.text.as_str(),
             (x - bx, y - by),

@@ -134,6 +134,7 @@ fn large_values_read_in_thousands() {
         x: (110_000.0, 120_000.0),
         y: (0.0, 3.0),
         colour: palette::BLUE,
+        edge: None,
     });
     let fig = Figure::new("t", (300, 200), vec![p]).in_units(Units::Inch);
     assert_eq!(fig.panels[0].x.label(), "stress (1000 psi)");
