@@ -452,6 +452,17 @@ pub struct Strip {
     pub note: Option<String>,
 }
 
+impl Strip {
+    /// A strip of `entries` in one centred row.
+    pub fn row(entries: Vec<Entry>) -> Self {
+        Self {
+            entries,
+            columns: 0,
+            note: None,
+        }
+    }
+}
+
 /// One PNG: a title, a legend strip, panels in a grid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Figure {

@@ -131,6 +131,20 @@ const Y_LABEL_MIN: u32 = 100;
 const PAD: f64 = 0.05;
 /// The narrowest a span (a jump) is drawn, pixels.
 const MIN_SPAN_PX: f64 = 3.0;
+/// A dash pattern: pixels on, pixels off.
+type Pattern = (u32, u32);
+
+/// Each dash's pattern on a line and on a legend swatch; none: solid.
+fn dash_pattern(d: Dash, swatch: bool) -> Option<Pattern> {
+    const PATTERNS: [(Dash, Pattern, Pattern); 2] = [
+        (Dash::Dashed, (10, 6), (7, 5)),
+        (Dash::Dotted, (2, 5), (2, 4)),
+    ];
+    PATTERNS
+        .iter()
+        .find(|p| p.0 == d)
+        .map(|&(_, line, sw)| if swatch { sw } else { line })
+}
 /// Light grid lines between two labelled ticks of a linear axis.
 const MINOR_PER_MAJOR: f64 = 5.0;
 
@@ -170,29 +184,32 @@ pub fn render(fig: &Figure) -> Result<(Vec<u8>, Vec<PixelArea>)> {
 /// bands, bars and marker lines) with a margin; the y range raised by `legend_frac` of its height for
 /// a legend box. A panel with no finite value on an axis is refused.
 pub fn ranges(p: &Panel, legend_frac: f64) -> Result<(Span, Span), FigureError> {
-    let xs = p
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter().map(|q| q.0))
-        .chain(p.bands.iter().flat_map(|b| band_values(b, true)))
-        .chain(p.bars.iter().flat_map(|b| [b.x.0, b.x.1]))
-        .chain(p.markers.iter().filter_map(|m| match m.at {
-            At::X(x) => Some(x),
-            At::Y(_) => None,
-        }));
-    let x = axis_range(&p.x, xs, 0.0, &p.name())?;
-    let ys = p
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter().map(|q| q.1))
-        .chain(p.bands.iter().flat_map(|b| band_values(b, false)))
-        .chain(p.bars.iter().flat_map(|b| [b.y.0, b.y.1]))
-        .chain(p.markers.iter().filter_map(|m| match m.at {
-            At::Y(y) => Some(y),
-            At::X(_) => None,
-        }));
-    let y = axis_range(&p.y, ys, legend_frac, &p.name())?;
+    let x = axis_range(&p.x, values(p, true).into_iter(), 0.0, &p.name())?;
+    let y = axis_range(&p.y, values(p, false).into_iter(), legend_frac, &p.name())?;
     Ok((x, y))
+}
+
+/// Every value of `p` on its x axis (`x`) or its y axis: its series', bands', bars' and
+/// marker lines'.
+fn values(p: &Panel, x: bool) -> Vec<f64> {
+    let pick = |q: (f64, f64)| if x { q.0 } else { q.1 };
+    let series = p
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|q| pick(*q)));
+    let bars = p.bars.iter().flat_map(|b| {
+        let (lo, hi) = if x { b.x } else { b.y };
+        [lo, hi]
+    });
+    let markers = p.markers.iter().filter_map(|m| match (m.at, x) {
+        (At::X(v), true) | (At::Y(v), false) => Some(v),
+        _ => None,
+    });
+    series
+        .chain(p.bands.iter().flat_map(|b| band_values(b, x)))
+        .chain(bars)
+        .chain(markers)
+        .collect()
 }
 
 /// A band's x (`x`) or y values.
@@ -368,7 +385,7 @@ impl ValueFormatter<f64> for Coord {
 }
 
 /// A tick's label on axis `a` spanning `lo..hi`.
-fn tick_label(a: &Axis, v: f64, span: (f64, f64)) -> String {
+pub(super) fn tick_label(a: &Axis, v: f64, span: (f64, f64)) -> String {
     let t = unsigned_tick_label(a, v, span);
     if a.signed && v > 0.0 && !t.is_empty() && t != "0" {
         format!("+{t}")
@@ -591,10 +608,9 @@ fn draw_swatch<DB: DrawingBackend>(
         Swatch::Line(stroke, mark) => {
             let style = stroke.colour.rgb().stroke_width(stroke.width.max(2));
             let seg = vec![(x, y), (x + SWATCH_W, y)];
-            match stroke.dash {
-                Dash::Solid => area.draw(&PathElement::new(seg, style))?,
-                Dash::Dashed => area.draw(&DashedPathElement::new(seg, 7, 5, style))?,
-                Dash::Dotted => area.draw(&DashedPathElement::new(seg, 2, 4, style))?,
+            match dash_pattern(stroke.dash, true) {
+                None => area.draw(&PathElement::new(seg, style))?,
+                Some((on, off)) => area.draw(&DashedPathElement::new(seg, on, off, style))?,
             }
             if let Some(m) = mark {
                 draw_mark_px(area, m, stroke.colour, mid)?;
@@ -840,8 +856,7 @@ fn draw_bands<DB: DrawingBackend>(
     xr: (f64, f64),
     yr: (f64, f64),
 ) -> DrawResult<(), DB> {
-    let (px, _) = chart.plotting_area().get_pixel_range();
-    let per_px = (xr.1 - xr.0) / f64::from((px.end - px.start).max(1));
+    let per_px = x_per_pixel(chart, xr);
     for (c, alpha, a, b) in spans(p, MIN_SPAN_PX * per_px) {
         let fill = c.rgb().mix(alpha).filled();
         chart.draw_series(std::iter::once(Rectangle::new(
@@ -880,6 +895,12 @@ fn draw_bands<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The x span of one pixel column of the plotting area.
+fn x_per_pixel<DB: DrawingBackend>(chart: &Chart<'_, DB>, xr: (f64, f64)) -> f64 {
+    let (px, _) = chart.plotting_area().get_pixel_range();
+    (xr.1 - xr.0) / f64::from((px.end - px.start).max(1))
+}
+
 /// `a..c` widened about its middle to at least `min`.
 fn widen(a: f64, c: f64, min: f64) -> (f64, f64) {
     if c - a >= min {
@@ -914,8 +935,7 @@ fn draw_markers<DB: DrawingBackend>(
     yr: (f64, f64),
 ) -> DrawResult<(), DB> {
     let font = (FONT, NOTE_FONT + 1).into_font().color(&NOTE_GREY);
-    let (px, _) = chart.plotting_area().get_pixel_range();
-    let per_px = (xr.1 - xr.0) / f64::from((px.end - px.start).max(1));
+    let per_px = x_per_pixel(chart, xr);
     for m in &p.markers {
         let (line, text_at) = match m.at {
             At::X(x) => (vec![(x, yr.0), (x, yr.1)], (x + 4.0 * per_px, yr.1)),
@@ -939,19 +959,16 @@ fn draw_line<DB: DrawingBackend>(
     s: Stroke,
 ) -> DrawResult<(), DB> {
     let style = s.colour.rgb().stroke_width(s.width);
-    match s.dash {
-        Dash::Solid if s.width <= 1 => chart.draw_series(LineSeries::new(run, style)).map(|_| ()),
-        Dash::Solid => chart
+    match dash_pattern(s.dash, false) {
+        None if s.width <= 1 => chart.draw_series(LineSeries::new(run, style)).map(|_| ()),
+        None => chart
             .draw_series(run.windows(2).filter_map(|w| match w {
                 [a, b] => Some(PathElement::new(vec![*a, *b], style)),
                 _ => None,
             }))
             .map(|_| ()),
-        Dash::Dashed => chart
-            .draw_series(DashedLineSeries::new(run, 10, 6, style))
-            .map(|_| ()),
-        Dash::Dotted => chart
-            .draw_series(DashedLineSeries::new(run, 2, 5, style))
+        Some((on, off)) => chart
+            .draw_series(DashedLineSeries::new(run, on, off, style))
             .map(|_| ()),
     }
 }

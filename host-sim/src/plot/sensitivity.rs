@@ -72,11 +72,7 @@ pub fn figure(r: &SensitivityReport) -> Figure {
         swatch: Swatch::Blank,
         text: "\"jump\": the follower separates in that case".into(),
     });
-    fig.strip = Strip {
-        entries,
-        columns: 0,
-        note: None,
-    };
+    fig.strip = Strip::row(entries);
     fig
 }
 

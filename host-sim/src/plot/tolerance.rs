@@ -273,11 +273,7 @@ pub fn response(theoretical: &Cell, cells: &[Cell], cols: usize, samples: u64) -
         swatch: Swatch::Line(Stroke::dashed(MID_GREY, 2), None),
         text: "theoretical cam (dashed)".into(),
     });
-    fig.strip = Strip {
-        entries,
-        columns: 0,
-        note: None,
-    };
+    fig.strip = Strip::row(entries);
     fig
 }
 
