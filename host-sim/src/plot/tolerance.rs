@@ -79,7 +79,8 @@ pub fn grid(theoretical: &Cell, cells: &[Cell], cols: usize, samples: u64) -> Fi
         "P(jump) in revolution 2 [95 % Wilson interval]".to_string(),
         format!("sum over the periods of the acceleration RMS deviation, {ua} (colour: log scale)"),
     ];
-    let t_acc = acc_colours(cells);
+    let acc: Vec<Option<f64>> = cells.iter().map(|c| c.acc_rms_sum_in_per_s2).collect();
+    let t_acc = acc_colours(&acc);
     let panels = captions
         .into_iter()
         .enumerate()
@@ -108,15 +109,12 @@ pub fn grid(theoretical: &Cell, cells: &[Cell], cols: usize, samples: u64) -> Fi
     fig
 }
 
-/// Each cell's acceleration RMS on a log colour scale from the grid's least (0) to its
-/// largest (1); 0.5 when they are one value, NaN for a cell without one.
-fn acc_colours(cells: &[Cell]) -> Vec<f64> {
-    let acc: Vec<f64> = cells
+/// Each cell's acceleration RMS (`acc`, none: no statistics) on a log colour scale from
+/// the grid's least (0) to its largest (1); 0.5 when they are one value, NaN for none.
+fn acc_colours(acc: &[Option<f64>]) -> Vec<f64> {
+    let acc: Vec<f64> = acc
         .iter()
-        .map(|c| {
-            c.acc_rms_sum_in_per_s2
-                .map_or(f64::NAN, |a| a.max(1e-9).log10())
-        })
+        .map(|a| a.map_or(f64::NAN, |a| a.max(1e-9).log10()))
         .collect();
     let (amin, amax) = acc
         .iter()
@@ -348,4 +346,22 @@ fn has_finite_y(p: &Panel) -> bool {
             At::X(_) => None,
         }))
         .any(f64::is_finite)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::acc_colours;
+
+    /// The colour scale is logarithmic: 10, 100 and 1000 sit at 0, 1/2 and 1; a cell
+    /// without statistics has no colour; one value alone sits in the middle.
+    #[test]
+    fn the_acceleration_colours_are_on_a_log_scale() {
+        let t = acc_colours(&[Some(100.0), Some(10.0), None, Some(1000.0)]);
+        assert!(
+            (t[0] - 0.5).abs() < 1e-12 && t[1] == 0.0 && t[3] == 1.0,
+            "{t:?}"
+        );
+        assert!(t[2].is_nan());
+        assert_eq!(acc_colours(&[Some(5.0), Some(5.0)]), vec![0.5, 0.5]);
+    }
 }
