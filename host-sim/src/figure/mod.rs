@@ -245,6 +245,8 @@ pub struct Note {
     pub v: VAlign,
     /// Its colour.
     pub colour: Colour,
+    /// Whether it is written large (a heat map's cell value, read from afar).
+    pub large: bool,
 }
 
 impl Note {
@@ -256,6 +258,7 @@ impl Note {
             h,
             v,
             colour: palette::BLACK,
+            large: false,
         }
     }
 }

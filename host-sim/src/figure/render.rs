@@ -106,6 +106,8 @@ const AXIS_FONT: u32 = 17;
 const CAPTION_FONT: u32 = 17;
 const LEGEND_FONT: u32 = 16;
 const NOTE_FONT: u32 = 14;
+/// The font size of a large note (a heat map's cell value).
+const LARGE_NOTE_FONT: u32 = 20;
 /// The font size of a row's title (a row of panels about one thing).
 const ROW_TITLE_FONT: u32 = 19;
 /// Margins around a panel, pixels.
@@ -1039,7 +1041,8 @@ fn draw_notes<DB: DrawingBackend>(chart: &Chart<'_, DB>, p: &Panel) -> DrawResul
             VAlign::Middle => VPos::Center,
             VAlign::Below => VPos::Top,
         };
-        let font = (FONT, NOTE_FONT).into_font().color(&n.colour.rgb());
+        let size = if n.large { LARGE_NOTE_FONT } else { NOTE_FONT };
+        let font = (FONT, size).into_font().color(&n.colour.rgb());
         area.draw(&Text::new(
             n.text.as_str(),
             (x - bx, y - by),

@@ -99,6 +99,7 @@ pub fn grid(theoretical: &Cell, cells: &[Cell], cols: usize, samples: u64) -> Fi
                 });
                 let mut n = Note::new((col, row), label, HAlign::Centre, VAlign::Middle);
                 n.colour = if t > DARK_CELL { WHITE } else { BLACK };
+                n.large = true;
                 p.notes.push(n);
             }
             p
