@@ -181,7 +181,7 @@ fn run() -> Result<()> {
         bail!("usage: growth_plot GROWTH.csv OUT.png");
     };
     let rows = read(Path::new(csv))?;
-    camsim::plot::ensure_font()?;
+    camsim::figure::render::ensure_font()?;
     let blue = RGBColor(31, 119, 180);
     let orange = RGBColor(255, 127, 14);
     let revs = series(&rows, "revolutions", None);

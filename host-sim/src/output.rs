@@ -841,7 +841,7 @@ impl AtomicDir {
     }
 
     /// Where to write the declared file `name`: an (empty, already created) temporary
-    /// inside DIR, for writers that want a path (plotters, image encoders). The same
+    /// inside DIR, for writers that want a path (the PNG encoder). The same
     /// name gives the same path. An undeclared name is an error.
     pub fn path(&mut self, name: &str) -> Result<PathBuf> {
         if let Some((p, _)) = self.temps.get(name) {

@@ -11,13 +11,10 @@
 //! embedded in the binary (no system fonts needed).
 
 use std::ops::Range;
-use std::sync::OnceLock;
 
 use anyhow::{anyhow, Result};
 use camsim_core::{JumpInterval, Sample};
 use camsim_scene_file::units::Unit;
-use plotters::coord::Shift;
-use plotters::prelude::*;
 
 use crate::figure::palette::{BLUE, DARK_GREY, GREEN, LIGHT_GREY, LIGHT_RED, ORANGE, RED};
 use crate::figure::{
@@ -29,8 +26,9 @@ use crate::sim::HostDeviation;
 pub mod charts;
 pub mod compare;
 pub mod montecarlo;
-pub mod study;
+pub mod sensitivity;
 pub mod sweep;
+pub mod tolerance;
 
 /// Writes an RGB buffer of `size` pixels as the PNG `file` into the directory output
 /// `out` (to the file's temporary: the caller commits `out`). Every plot is saved here.
@@ -46,11 +44,6 @@ pub fn save_png(out: &mut AtomicDir, file: &str, rgb: &[u8], size: (u32, u32)) -
     )
     .map_err(|e| anyhow!("cannot write plot {}: {e}", out.dir().join(file).display()))
 }
-
-/// DejaVu Sans (Bitstream Vera licence, see `host-sim/assets/DejaVuSans-LICENSE.txt`).
-static FONT_TTF: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
-/// The family name the embedded font is registered under.
-pub(crate) const FONT: &str = "sans-serif";
 
 /// Size of a single-panel plot, pixels.
 pub const PLOT_SIZE: (u32, u32) = (1200, 600);
@@ -69,15 +62,6 @@ const JUMP_FILL: Colour = LIGHT_RED;
 const JUMP_ALPHA: f64 = 0.45;
 const REV_LINE: Colour = DARK_GREY;
 const PERIOD_LINE: Colour = LIGHT_GREY;
-
-/// Registers the embedded font with plotters once per process (the study plots use it too).
-pub fn ensure_font() -> Result<()> {
-    static OK: OnceLock<bool> = OnceLock::new();
-    let ok = *OK
-        .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_TTF).is_ok());
-    anyhow::ensure!(ok, "the embedded DejaVu Sans font could not be parsed");
-    Ok(())
-}
 
 /// What the plots need from each sample of a run: one column per quantity, in the
 /// units of the plots (angles in degrees).
@@ -542,31 +526,10 @@ pub fn decimate(
     runs
 }
 
-/// A figure's title: `text` in `size` px, centred across `area`, its top `top` px down.
-pub(crate) fn draw_title<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    text: &str,
-    size: u32,
-    top: i32,
-) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    let (w, _) = area.dim_in_pixel();
-    area.draw(&Text::new(
-        text,
-        (w as i32 / 2, top),
-        (FONT, size)
-            .into_font()
-            .color(&BLACK)
-            .pos(plotters::style::text_anchor::Pos::new(
-                plotters::style::text_anchor::HPos::Center,
-                plotters::style::text_anchor::VPos::Top,
-            )),
-    ))
-}
-
 /// A log axis's key points: `m · 10^k` for each mantissa `m` (1 ≤ m < 10) of `mantissas`,
 /// within `[lo, hi]` (a part in 10⁹ either way, for ends computed with `powf`), ascending.
-/// Given to plotters (`with_key_points`), they replace its own log key points, which
-/// repeat a decade's end (a label drawn twice reads bold).
+/// The renderer's log axes tick at these (a decade's end once: a label drawn twice
+/// reads bold).
 pub fn log_key_points(lo: f64, hi: f64, mantissas: &[f64]) -> Vec<f64> {
     let mut v = Vec::new();
     if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi >= lo) {
@@ -595,7 +558,7 @@ pub(crate) fn fmt_tick(v: f64, span: f64) -> String {
     if mag < 1e-3 || v.abs().max(span.abs()) >= 1e6 {
         return format!("{v:.2e}");
     }
-    // The tick step plotters picks for 8 labels: the smallest 1, 2 or 5 x 10^k >= span / 8.
+    // The tick step for about 8 labels: the smallest 1, 2 or 5 x 10^k >= span / 8.
     let rough = span.abs() / 8.0;
     let decimals = if rough > 0.0 {
         let p = 10f64.powf(rough.log10().floor());

@@ -27,8 +27,7 @@ use serde::Serialize;
 
 use crate::actual::{self, ActualArgs, ProfileStats};
 use crate::args::OutputArgs;
-use crate::output::{AtomicDir, Plan};
-use crate::plot::study as plots;
+use crate::output::Plan;
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 use crate::study::montecarlo::LeftRange;
@@ -264,15 +263,6 @@ pub const OUTPUTS: [(&str, &str, &str); 5] = [
     ("rms_acceleration_in_per_s2", "rms a", "in/s2"),
     ("rms_angular_velocity_rad_per_s", "rms w_cam", "rad/s"),
     ("contact_stress_avg_psi", "avg stress", "psi"),
-];
-
-/// The plot's title of each output, in [`OUTPUTS`]' order.
-const PLOT_TITLES: [&str; 5] = [
-    "RMS load displacement deviation",
-    "RMS load velocity deviation",
-    "RMS load acceleration deviation",
-    "RMS cam speed deviation",
-    "average contact stress",
 ];
 
 impl Outputs {
@@ -983,7 +973,8 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
     if let Some(t) = plot_target {
         crate::report::ensure_finite(&report)?;
         let mut dir = t.open()?;
-        draw(&mut dir, &report)?;
+        let fig = crate::plot::sensitivity::figure(&report);
+        crate::figure::draw(&mut dir, PLOT_FILES[0], &fig, crate::units::current())?;
         dir.commit()?;
     }
     Ok(report)
@@ -1006,7 +997,7 @@ fn signed_pct_1(d: f64) -> String {
 }
 
 /// The change of `v` from `base`, % (None when the baseline is 0).
-fn pct(v: f64, base: f64) -> Option<f64> {
+pub(crate) fn pct(v: f64, base: f64) -> Option<f64> {
     (base != 0.0).then(|| 100.0 * (v / base - 1.0))
 }
 
@@ -1014,7 +1005,7 @@ fn pct(v: f64, base: f64) -> Option<f64> {
 /// significant digits, in plain notation from 0.001 up.
 /// The unit of output `i` of [`OUTPUTS`] (`None`: the cam speed's rad/s, the same in
 /// either family).
-fn output_unit(i: usize) -> Option<camsim_scene_file::units::Unit> {
+pub(crate) fn output_unit(i: usize) -> Option<camsim_scene_file::units::Unit> {
     use crate::units::{ACCELERATION, LENGTH, SPEED, STRESS};
     match i {
         0 => Some(LENGTH),
@@ -1034,7 +1025,7 @@ fn output_label(i: usize) -> &'static str {
 
 /// Output `i`'s value `v` (inch family) in the output's family: four significant
 /// digits; the stress to the psi in inch (to 0.01 MPa in SI).
-fn fmt_value(i: usize, v: f64) -> String {
+pub(crate) fn fmt_value(i: usize, v: f64) -> String {
     let unit = output_unit(i);
     let v = unit.map_or(v, |u| crate::units::value(u, v));
     if i == 4 {
@@ -1200,271 +1191,6 @@ impl Report for SensitivityReport {
         let _ = writeln!(out, "\nrun time: {:.1} s", self.wall_s);
         out
     }
-}
-
-/// The changes of the study's cases, ascending (those that left the range too).
-fn changes_of(r: &SensitivityReport) -> Vec<i32> {
-    let left = r.not_workable.iter().filter(|n| n.group != "baseline");
-    let mut v: Vec<i32> = r
-        .cases
-        .iter()
-        .map(|c| c.change_pct)
-        .chain(left.map(|n| n.change_pct))
-        .collect();
-    v.sort_unstable();
-    v.dedup();
-    v
-}
-
-/// The title of a cam's row of charts: the cam, and how its baseline ended.
-fn row_title(r: &SensitivityReport, cam: &str, base: Option<&Case>) -> String {
-    let p = &r.actual_profile;
-    let title = match cam {
-        "actual" => format!(
-            "actual cam (sample 0 of seed {}, {} intervals, FPR {}){}",
-            p.seed,
-            p.intervals,
-            p.fpr,
-            if base.is_some_and(|b| b.outputs.jump) {
-                ": the follower separates at the baseline already"
-            } else {
-                ""
-            }
-        ),
-        _ => "theoretical cam".to_string(),
-    };
-    match r
-        .not_workable
-        .iter()
-        .find(|n| n.cam == cam && n.group == "baseline")
-    {
-        Some(n) => format!("{title}: the baseline {}", n.verdict()),
-        None => title,
-    }
-}
-
-/// The marks of a cam's cases that left the model's valid range: (group index, change,
-/// text).
-fn marks(r: &SensitivityReport, cam: &str) -> Vec<(usize, i32, &'static str)> {
-    r.not_workable
-        .iter()
-        .filter(|n| n.cam == cam)
-        .filter_map(|n| {
-            let gi = Group::ALL.iter().position(|g| g.name() == n.group)?;
-            let mark = if n.jump {
-                " jump, then out of range "
-            } else {
-                " not workable "
-            };
-            Some((gi, n.change_pct, mark))
-        })
-        .collect()
-}
-
-fn draw(dir: &mut AtomicDir, r: &SensitivityReport) -> Result<()> {
-    use plotters::prelude::*;
-    use plotters::style::text_anchor::{HPos, Pos, VPos};
-    let file = PLOT_FILES[0];
-    let e = |x: &dyn std::fmt::Display| anyhow!("cannot draw plot {file}: {x}");
-    let changes = changes_of(r);
-    // Colour by change: shades of blue for decreases, of red for increases.
-    let colour = |c: i32| match c {
-        c if c <= -30 => RGBColor(31, 90, 180),
-        c if c < 0 => RGBColor(140, 180, 230),
-        c if c < 30 => RGBColor(240, 160, 150),
-        _ => RGBColor(200, 40, 40),
-    };
-    let cams = ["theoretical", "actual"];
-    plots::png(dir, file, (2000, 1000), |root| {
-        let root = root
-            .titled(
-                &format!(
-                    "camsim sensitivity (VI.4.3): change of each revolution-{} output from the baseline, %, when a group changes (at {:.0} rpm)",
-                    r.revolution, r.rpm
-                ),
-                ("sans-serif", 24),
-            )
-            .map_err(|x| e(&x))?;
-        let (legend, body) = root.split_vertically(40);
-        // The legend: one swatch per change, on its own strip above the charts.
-        let mut x = 420;
-        for &c in &changes {
-            legend
-                .draw(&Rectangle::new([(x, 10), (x + 30, 30)], colour(c).filled()))
-                .map_err(|x| e(&x))?;
-            legend
-                .draw(&Text::new(
-                    format!("group changed by {c:+} %"),
-                    (x + 38, 20),
-                    ("sans-serif", 16)
-                        .into_font()
-                        .into_text_style(&legend)
-                        .pos(Pos::new(HPos::Left, VPos::Center)),
-                ))
-                .map_err(|x| e(&x))?;
-            x += 240;
-        }
-        legend
-            .draw(&Text::new(
-                "\"jump\": the follower separates in that case",
-                (x + 20, 20),
-                ("sans-serif", 16)
-                    .into_font()
-                    .into_text_style(&legend)
-                    .pos(Pos::new(HPos::Left, VPos::Center)),
-            ))
-            .map_err(|x| e(&x))?;
-        let rows = body.split_evenly((cams.len(), 1));
-        for (cam, row) in cams.iter().zip(rows.iter()) {
-            let base = r.baseline.iter().find(|c| c.cam == *cam);
-            let row_title = row_title(r, cam, base);
-            let row = row
-                .titled(&row_title, ("sans-serif", 19))
-                .map_err(|x| e(&x))?;
-            let areas = row.split_evenly((1, OUTPUTS.len()));
-            for (oi, title) in PLOT_TITLES.iter().enumerate() {
-                // The unit as the run plots' axes write it (mm/s², N·m).
-                let unit = output_unit(oi).map_or_else(
-                    || OUTPUTS.get(oi).map_or("", |o| o.2).to_string(),
-                    |u| crate::units::axis(u).1,
-                );
-                let Some(area) = areas.get(oi) else {
-                    continue;
-                };
-                // (group index, change, % change of the output, separated)
-                let bars: Vec<(usize, i32, f64, bool)> = Group::ALL
-                    .iter()
-                    .enumerate()
-                    .flat_map(|(gi, g)| {
-                        r.cases
-                            .iter()
-                            .filter(move |c| c.cam == *cam && c.group == g.name())
-                            .filter_map(move |c| {
-                                let b = base?.outputs.values()[oi];
-                                Some((
-                                    gi,
-                                    c.change_pct,
-                                    pct(c.outputs.values()[oi], b)?,
-                                    c.outputs.jump,
-                                ))
-                            })
-                    })
-                    .collect();
-                // Room beyond the longest bar for its "jump" mark.
-                let m = bars.iter().map(|b| b.2.abs()).fold(1.0f64, f64::max) * 1.25;
-                let base_jumps = base.is_some_and(|b| b.outputs.jump);
-                // The axis is the change, %, of the baseline's value (in its unit).
-                let x_desc = base.map_or("change from the baseline, %".to_string(), |b| {
-                    format!(
-                        "change, % of the baseline {} {unit}",
-                        fmt_value(oi, b.outputs.values()[oi])
-                    )
-                });
-                let groups = Group::ALL.len() as f64;
-                let mut chart = ChartBuilder::on(area)
-                    .caption(*title, ("sans-serif", 16))
-                    .margin(8)
-                    .x_label_area_size(40)
-                    .y_label_area_size(80)
-                    .build_cartesian_2d(-m..m, 0.0..groups)
-                    .map_err(|x| e(&x))?;
-                // Group gi's band is [gi, gi + 1]; its name sits at the band's middle.
-                chart
-                    .configure_mesh()
-                    .disable_y_mesh()
-                    .light_line_style(WHITE)
-                    .y_labels(2 * Group::ALL.len() + 1)
-                    .y_label_formatter(&|y| {
-                        let k = y - 0.5;
-                        if (k - k.round()).abs() < 1e-9 {
-                            Group::ALL
-                                .get(k.round() as usize)
-                                .map(|g| g.name().to_string())
-                                .unwrap_or_default()
-                        } else {
-                            String::new()
-                        }
-                    })
-                    .x_labels(7)
-                    .x_desc(x_desc.as_str())
-                    .x_label_formatter(&|x| {
-                        // A signed change; the zero line is 0, not +0 or -0.
-                        let t = format!("{x:+.0}");
-                        if t == "+0" || t == "-0" {
-                            "0".to_string()
-                        } else {
-                            t
-                        }
-                    })
-                    .label_style(("sans-serif", 14))
-                    .axis_desc_style(("sans-serif", 14))
-                    .draw()
-                    .map_err(|x| e(&x))?;
-                // Separators between the groups and the zero line.
-                chart
-                    .draw_series((1..Group::ALL.len()).map(|g| {
-                        PathElement::new(
-                            vec![(-m, g as f64), (m, g as f64)],
-                            BLACK.mix(0.2).stroke_width(1),
-                        )
-                    }))
-                    .map_err(|x| e(&x))?;
-                chart
-                    .draw_series(std::iter::once(PathElement::new(
-                        vec![(0.0, 0.0), (0.0, groups)],
-                        BLACK.stroke_width(1),
-                    )))
-                    .map_err(|x| e(&x))?;
-                // Within a group's band, one bar per change, the largest decrease on top.
-                let n = changes.len().max(1) as f64;
-                let w = 0.8 / n;
-                let top_of = |gi: usize, c: i32| {
-                    let k = changes.iter().position(|x| *x == c).unwrap_or(0) as f64;
-                    gi as f64 + 0.9 - k * w
-                };
-                chart
-                    .draw_series(bars.iter().map(|&(gi, c, d, _)| {
-                        let top = top_of(gi, c);
-                        Rectangle::new(
-                            [(0.0, top - 0.1 * w), (d, top - 0.9 * w)],
-                            colour(c).filled(),
-                        )
-                    }))
-                    .map_err(|x| e(&x))?;
-                // A case that separates where the baseline does not: marked at its bar.
-                chart
-                    .draw_series(bars.iter().filter(|b| b.3 && !base_jumps).map(
-                        |&(gi, c, d, _)| {
-                            let h = if d >= 0.0 { HPos::Left } else { HPos::Right };
-                            Text::new(
-                                " jump ",
-                                (d, top_of(gi, c) - 0.5 * w),
-                                ("sans-serif", 13)
-                                    .into_font()
-                                    .color(&BLACK)
-                                    .pos(Pos::new(h, VPos::Center)),
-                            )
-                        },
-                    ))
-                    .map_err(|x| e(&x))?;
-                // A case that left the model's valid range: no bar (no value), a mark.
-                chart
-                    .draw_series(marks(r, cam).into_iter().map(|(gi, c, mark)| {
-                        Text::new(
-                            mark,
-                            (0.0, top_of(gi, c) - 0.5 * w),
-                            ("sans-serif", 13)
-                                .into_font()
-                                .color(&RED)
-                                .pos(Pos::new(HPos::Left, VPos::Center)),
-                        )
-                    }))
-                    .map_err(|x| e(&x))?;
-            }
-        }
-        Ok(())
-    })?;
-    Ok(())
 }
 
 #[cfg(test)]

@@ -183,6 +183,8 @@ pub struct Bar {
     pub y: (f64, f64),
     /// Its colour.
     pub colour: Colour,
+    /// Its outline (a heat map's cell), or none.
+    pub edge: Option<Colour>,
 }
 
 /// Where a marker line lies.
@@ -208,17 +210,57 @@ pub struct Marker {
     pub label: Option<String>,
 }
 
-/// A text in data coordinates: its anchor point, its text and its alignment.
+/// Where a note's text stands across its anchor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HAlign {
+    /// Its left edge at the anchor.
+    Left,
+    /// Centred on the anchor.
+    Centre,
+    /// Its right edge at the anchor.
+    Right,
+}
+
+/// Where a note's text stands up and down from its anchor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VAlign {
+    /// Above the anchor (its bottom at it).
+    Above,
+    /// Centred on the anchor.
+    Middle,
+    /// Below the anchor (its top at it).
+    Below,
+}
+
+/// A text in data coordinates: its anchor point, its text, its alignment and colour.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Note {
     /// The anchor (x, y).
     pub at: (f64, f64),
     /// The text.
     pub text: String,
-    /// Horizontal alignment on the anchor: left edge (`false`) or centre (`true`).
-    pub centred: bool,
-    /// Vertical: the text above the anchor (`true`) or below it (`false`).
-    pub above: bool,
+    /// Horizontal alignment on the anchor.
+    pub h: HAlign,
+    /// Vertical alignment on the anchor.
+    pub v: VAlign,
+    /// Its colour.
+    pub colour: Colour,
+    /// Whether it is written large (a heat map's cell value, read from afar).
+    pub large: bool,
+}
+
+impl Note {
+    /// Black `text` at `at`, aligned `h` and `v`.
+    pub fn new(at: (f64, f64), text: impl Into<String>, h: HAlign, v: VAlign) -> Self {
+        Self {
+            at,
+            text: text.into(),
+            h,
+            v,
+            colour: palette::BLACK,
+            large: false,
+        }
+    }
 }
 
 /// The ticks of an axis.
@@ -268,6 +310,8 @@ pub struct Axis {
     pub ticks: Ticks,
     /// Whether its tick labels and title are drawn (the upper panels of a shared x axis: not).
     pub labelled: bool,
+    /// Whether a positive tick label carries its sign ("+20", a change).
+    pub signed: bool,
 }
 
 impl Axis {
@@ -290,6 +334,7 @@ impl Axis {
             scale: Scale::Linear,
             ticks: Ticks::Auto(8),
             labelled: true,
+            signed: false,
         }
     }
     /// This axis over `lo..hi`.
@@ -410,6 +455,17 @@ pub struct Strip {
     pub note: Option<String>,
 }
 
+impl Strip {
+    /// A strip of `entries` in one centred row.
+    pub fn row(entries: Vec<Entry>) -> Self {
+        Self {
+            entries,
+            columns: 0,
+            note: None,
+        }
+    }
+}
+
 /// One PNG: a title, a legend strip, panels in a grid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Figure {
@@ -423,6 +479,8 @@ pub struct Figure {
     pub columns: usize,
     /// The rows' relative heights (empty: equal).
     pub row_weights: Vec<u32>,
+    /// A title over each row of panels (empty: none).
+    pub row_titles: Vec<String>,
     /// Its panels, row by row.
     pub panels: Vec<Panel>,
 }
@@ -436,6 +494,7 @@ impl Figure {
             strip: Strip::default(),
             columns: 1,
             row_weights: Vec::new(),
+            row_titles: Vec::new(),
             panels,
         }
     }
@@ -491,7 +550,7 @@ fn thousands(a: &mut Axis, values: impl Iterator<Item = f64>) -> f64 {
             .filter(|v| v.is_finite())
             .fold((0.0f64, 0.0f64), |(l, h), v| (l.min(v), h.max(v)))
     });
-    let (scale, name) = crate::plot::study::axis_scale(lo, hi);
+    let (scale, name) = axis_scale(lo, hi);
     if name.is_empty() {
         return 1.0;
     }
@@ -501,6 +560,36 @@ fn thousands(a: &mut Axis, values: impl Iterator<Item = f64>) -> f64 {
         format!("{name} {}", a.unit)
     };
     1.0 / scale
+}
+
+/// The power of ten (a power of 1000) that shows `lo..hi` in plain numbers between
+/// about 0.1 and 1000, and its name for the axis title ("1000", "0.001"; "" for 1).
+pub fn axis_scale(lo: f64, hi: f64) -> (f64, &'static str) {
+    let m = lo.abs().max(hi.abs());
+    const SCALES: [(f64, &str); 6] = [
+        (1e9, "10^9"),
+        (1e6, "10^6"),
+        (1e3, "1000"),
+        (1e-3, "0.001"),
+        (1e-6, "10^-6"),
+        (1e-9, "10^-9"),
+    ];
+    if !m.is_finite() || m == 0.0 || (0.1..1e4).contains(&m) {
+        return (1.0, "");
+    }
+    if m >= 1e4 {
+        SCALES
+            .iter()
+            .find(|(s, _)| *s >= 1.0 && m / s >= 10.0)
+            .copied()
+            .unwrap_or((1.0, ""))
+    } else {
+        SCALES
+            .iter()
+            .find(|(s, _)| *s < 1.0 && m / s >= 0.1)
+            .copied()
+            .unwrap_or((1.0, ""))
+    }
 }
 
 /// Multiplies every x coordinate of `p` by `fx` and every y by `fy`.

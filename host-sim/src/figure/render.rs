@@ -12,12 +12,26 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{
-    At, Axis, Band, Dash, Entry, Figure, FigureError, Legend, Mark, Panel, Scale, Series, Shape,
-    Stroke, Style, Swatch, Ticks,
+    At, Axis, Band, Dash, Entry, Figure, FigureError, HAlign, Legend, Mark, Panel, Scale, Series,
+    Shape, Stroke, Style, Swatch, Ticks, VAlign,
 };
 use crate::output::AtomicDir;
-use crate::plot::FONT;
 use crate::units::Units;
+
+/// DejaVu Sans (Bitstream Vera licence, see `host-sim/assets/DejaVuSans-LICENSE.txt`).
+static FONT_TTF: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+/// The family name the embedded font is registered under.
+const FONT: &str = "sans-serif";
+
+/// Registers the embedded font with plotters once per process (the growth example
+/// draws with it too).
+pub fn ensure_font() -> Result<()> {
+    static OK: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *OK
+        .get_or_init(|| plotters::style::register_font(FONT, FontStyle::Normal, FONT_TTF).is_ok());
+    anyhow::ensure!(ok, "the embedded DejaVu Sans font could not be parsed");
+    Ok(())
+}
 
 /// A colour (red, green, blue).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,6 +68,8 @@ pub mod palette {
     pub const CYAN: Colour = Colour(23, 190, 207);
     /// Black.
     pub const BLACK: Colour = Colour(0, 0, 0);
+    /// White (text on a dark fill).
+    pub const WHITE: Colour = Colour(255, 255, 255);
     /// Light orange.
     pub const LIGHT_ORANGE: Colour = Colour(255, 187, 120);
     /// Light red: a jump's shading.
@@ -90,6 +106,10 @@ const AXIS_FONT: u32 = 17;
 const CAPTION_FONT: u32 = 17;
 const LEGEND_FONT: u32 = 16;
 const NOTE_FONT: u32 = 14;
+/// The font size of a large note (a heat map's cell value).
+const LARGE_NOTE_FONT: u32 = 20;
+/// The font size of a row's title (a row of panels about one thing).
+const ROW_TITLE_FONT: u32 = 19;
 /// Margins around a panel, pixels.
 const MARGIN: u32 = 8;
 const MARGIN_RIGHT: u32 = 24;
@@ -113,6 +133,20 @@ const Y_LABEL_MIN: u32 = 100;
 const PAD: f64 = 0.05;
 /// The narrowest a span (a jump) is drawn, pixels.
 const MIN_SPAN_PX: f64 = 3.0;
+/// A dash pattern: pixels on, pixels off.
+type Pattern = (u32, u32);
+
+/// Each dash's pattern on a line and on a legend swatch; none: solid.
+fn dash_pattern(d: Dash, swatch: bool) -> Option<Pattern> {
+    const PATTERNS: [(Dash, Pattern, Pattern); 2] = [
+        (Dash::Dashed, (10, 6), (7, 5)),
+        (Dash::Dotted, (2, 5), (2, 4)),
+    ];
+    PATTERNS
+        .iter()
+        .find(|p| p.0 == d)
+        .map(|&(_, line, sw)| if swatch { sw } else { line })
+}
 /// Light grid lines between two labelled ticks of a linear axis.
 const MINOR_PER_MAJOR: f64 = 5.0;
 
@@ -133,7 +167,7 @@ pub type PixelArea = (Range<i32>, Range<i32>);
 /// Draws a figure (already in its units) into an RGB buffer; returns it and each
 /// panel's plotting area. Every panel's ranges are checked before anything is drawn.
 pub fn render(fig: &Figure) -> Result<(Vec<u8>, Vec<PixelArea>)> {
-    crate::plot::ensure_font()?;
+    ensure_font()?;
     for p in &fig.panels {
         ranges(p, 0.0)?;
     }
@@ -152,29 +186,32 @@ pub fn render(fig: &Figure) -> Result<(Vec<u8>, Vec<PixelArea>)> {
 /// bands, bars and marker lines) with a margin; the y range raised by `legend_frac` of its height for
 /// a legend box. A panel with no finite value on an axis is refused.
 pub fn ranges(p: &Panel, legend_frac: f64) -> Result<(Span, Span), FigureError> {
-    let xs = p
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter().map(|q| q.0))
-        .chain(p.bands.iter().flat_map(|b| band_values(b, true)))
-        .chain(p.bars.iter().flat_map(|b| [b.x.0, b.x.1]))
-        .chain(p.markers.iter().filter_map(|m| match m.at {
-            At::X(x) => Some(x),
-            At::Y(_) => None,
-        }));
-    let x = axis_range(&p.x, xs, 0.0, &p.name())?;
-    let ys = p
-        .series
-        .iter()
-        .flat_map(|s| s.points.iter().map(|q| q.1))
-        .chain(p.bands.iter().flat_map(|b| band_values(b, false)))
-        .chain(p.bars.iter().flat_map(|b| [b.y.0, b.y.1]))
-        .chain(p.markers.iter().filter_map(|m| match m.at {
-            At::Y(y) => Some(y),
-            At::X(_) => None,
-        }));
-    let y = axis_range(&p.y, ys, legend_frac, &p.name())?;
+    let x = axis_range(&p.x, values(p, true).into_iter(), 0.0, &p.name())?;
+    let y = axis_range(&p.y, values(p, false).into_iter(), legend_frac, &p.name())?;
     Ok((x, y))
+}
+
+/// Every value of `p` on its x axis (`x`) or its y axis: its series', bands', bars' and
+/// marker lines'.
+fn values(p: &Panel, x: bool) -> Vec<f64> {
+    let pick = |q: (f64, f64)| if x { q.0 } else { q.1 };
+    let series = p
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|q| pick(*q)));
+    let bars = p.bars.iter().flat_map(|b| {
+        let (lo, hi) = if x { b.x } else { b.y };
+        [lo, hi]
+    });
+    let markers = p.markers.iter().filter_map(|m| match (m.at, x) {
+        (At::X(v), true) | (At::Y(v), false) => Some(v),
+        _ => None,
+    });
+    series
+        .chain(p.bands.iter().flat_map(|b| band_values(b, x)))
+        .chain(bars)
+        .chain(markers)
+        .collect()
 }
 
 /// A band's x (`x`) or y values.
@@ -350,7 +387,17 @@ impl ValueFormatter<f64> for Coord {
 }
 
 /// A tick's label on axis `a` spanning `lo..hi`.
-fn tick_label(a: &Axis, v: f64, (lo, hi): (f64, f64)) -> String {
+pub(super) fn tick_label(a: &Axis, v: f64, span: (f64, f64)) -> String {
+    let t = unsigned_tick_label(a, v, span);
+    if a.signed && v > 0.0 && !t.is_empty() && t != "0" {
+        format!("+{t}")
+    } else {
+        t
+    }
+}
+
+/// A tick's label without a sign on positive values.
+fn unsigned_tick_label(a: &Axis, v: f64, (lo, hi): (f64, f64)) -> String {
     if !a.labelled {
         return String::new();
     }
@@ -425,7 +472,7 @@ fn draw_figure<DB: DrawingBackend>(
     ))?;
     let (strip, body) = rest.split_vertically(strip_height(fig));
     draw_strip(&strip, fig)?;
-    let cells = grid(&body, fig);
+    let cells = grid(&body, fig)?;
     // One y label width for every panel, so panels over one another line up.
     let y_area = fig
         .panels
@@ -455,8 +502,9 @@ fn strip_height(fig: &Figure) -> u32 {
     (STRIP_ROW * rows as i32 + 14 + if s.note.is_some() { STRIP_ROW } else { 0 }) as u32
 }
 
-/// The panels' areas: `fig.columns` a row, the rows' heights by `fig.row_weights`.
-fn grid<DB: DrawingBackend>(body: &Area<DB>, fig: &Figure) -> Vec<Area<DB>> {
+/// The panels' areas: `fig.columns` a row, the rows' heights by `fig.row_weights`,
+/// each row under its title (`fig.row_titles`) if it has one.
+fn grid<DB: DrawingBackend>(body: &Area<DB>, fig: &Figure) -> DrawResult<Vec<Area<DB>>, DB> {
     let cols = fig.columns.max(1);
     let rows = fig.panels.len().div_ceil(cols).max(1);
     let weights: Vec<u32> = (0..rows)
@@ -474,9 +522,13 @@ fn grid<DB: DrawingBackend>(body: &Area<DB>, fig: &Figure) -> Vec<Area<DB>> {
             rest = bottom;
             top
         };
+        let row = match fig.row_titles.get(r) {
+            Some(t) => row.titled(t, (FONT, ROW_TITLE_FONT))?,
+            None => row,
+        };
         out.extend(row.split_evenly((1, cols)));
     }
-    out
+    Ok(out)
 }
 
 /// The figure's legend strip: entries in columns from [`STRIP_LEFT`] (or one centred
@@ -558,10 +610,9 @@ fn draw_swatch<DB: DrawingBackend>(
         Swatch::Line(stroke, mark) => {
             let style = stroke.colour.rgb().stroke_width(stroke.width.max(2));
             let seg = vec![(x, y), (x + SWATCH_W, y)];
-            match stroke.dash {
-                Dash::Solid => area.draw(&PathElement::new(seg, style))?,
-                Dash::Dashed => area.draw(&DashedPathElement::new(seg, 7, 5, style))?,
-                Dash::Dotted => area.draw(&DashedPathElement::new(seg, 2, 4, style))?,
+            match dash_pattern(stroke.dash, true) {
+                None => area.draw(&PathElement::new(seg, style))?,
+                Some((on, off)) => area.draw(&DashedPathElement::new(seg, on, off, style))?,
             }
             if let Some(m) = mark {
                 draw_mark_px(area, m, stroke.colour, mid)?;
@@ -692,10 +743,17 @@ fn draw_panel<DB: DrawingBackend>(
     draw_mesh(&mut chart, p, xr, yr)?;
     draw_bands(&mut chart, p, xr, yr)?;
     for b in &p.bars {
+        let corners = [(b.x.0, b.y.0), (b.x.1, b.y.1)];
         chart.draw_series(std::iter::once(Rectangle::new(
-            [(b.x.0, b.y.0), (b.x.1, b.y.1)],
+            corners,
             b.colour.rgb().filled(),
         )))?;
+        if let Some(edge) = b.edge {
+            chart.draw_series(std::iter::once(Rectangle::new(
+                corners,
+                edge.rgb().stroke_width(1),
+            )))?;
+        }
     }
     draw_markers(&mut chart, p, xr, yr)?;
     let (px, py) = chart.plotting_area().get_pixel_range();
@@ -800,8 +858,7 @@ fn draw_bands<DB: DrawingBackend>(
     xr: (f64, f64),
     yr: (f64, f64),
 ) -> DrawResult<(), DB> {
-    let (px, _) = chart.plotting_area().get_pixel_range();
-    let per_px = (xr.1 - xr.0) / f64::from((px.end - px.start).max(1));
+    let per_px = x_per_pixel(chart, xr);
     for (c, alpha, a, b) in spans(p, MIN_SPAN_PX * per_px) {
         let fill = c.rgb().mix(alpha).filled();
         chart.draw_series(std::iter::once(Rectangle::new(
@@ -840,6 +897,12 @@ fn draw_bands<DB: DrawingBackend>(
     Ok(())
 }
 
+/// The x span of one pixel column of the plotting area.
+fn x_per_pixel<DB: DrawingBackend>(chart: &Chart<'_, DB>, xr: (f64, f64)) -> f64 {
+    let (px, _) = chart.plotting_area().get_pixel_range();
+    (xr.1 - xr.0) / f64::from((px.end - px.start).max(1))
+}
+
 /// `a..c` widened about its middle to at least `min`.
 fn widen(a: f64, c: f64, min: f64) -> (f64, f64) {
     if c - a >= min {
@@ -874,8 +937,7 @@ fn draw_markers<DB: DrawingBackend>(
     yr: (f64, f64),
 ) -> DrawResult<(), DB> {
     let font = (FONT, NOTE_FONT + 1).into_font().color(&NOTE_GREY);
-    let (px, _) = chart.plotting_area().get_pixel_range();
-    let per_px = (xr.1 - xr.0) / f64::from((px.end - px.start).max(1));
+    let per_px = x_per_pixel(chart, xr);
     for m in &p.markers {
         let (line, text_at) = match m.at {
             At::X(x) => (vec![(x, yr.0), (x, yr.1)], (x + 4.0 * per_px, yr.1)),
@@ -899,19 +961,16 @@ fn draw_line<DB: DrawingBackend>(
     s: Stroke,
 ) -> DrawResult<(), DB> {
     let style = s.colour.rgb().stroke_width(s.width);
-    match s.dash {
-        Dash::Solid if s.width <= 1 => chart.draw_series(LineSeries::new(run, style)).map(|_| ()),
-        Dash::Solid => chart
+    match dash_pattern(s.dash, false) {
+        None if s.width <= 1 => chart.draw_series(LineSeries::new(run, style)).map(|_| ()),
+        None => chart
             .draw_series(run.windows(2).filter_map(|w| match w {
                 [a, b] => Some(PathElement::new(vec![*a, *b], style)),
                 _ => None,
             }))
             .map(|_| ()),
-        Dash::Dashed => chart
-            .draw_series(DashedLineSeries::new(run, 10, 6, style))
-            .map(|_| ()),
-        Dash::Dotted => chart
-            .draw_series(DashedLineSeries::new(run, 2, 5, style))
+        Some((on, off)) => chart
+            .draw_series(DashedLineSeries::new(run, on, off, style))
             .map(|_| ()),
     }
 }
@@ -970,11 +1029,20 @@ fn staircase(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 fn draw_notes<DB: DrawingBackend>(chart: &Chart<'_, DB>, p: &Panel) -> DrawResult<(), DB> {
     let area = chart.plotting_area().strip_coord_spec();
     let (bx, by) = area.get_base_pixel();
-    let font = (FONT, NOTE_FONT).into_font().color(&BLACK);
     for n in &p.notes {
         let (x, y) = chart.plotting_area().map_coordinate(&n.at);
-        let h = if n.centred { HPos::Center } else { HPos::Left };
-        let v = if n.above { VPos::Bottom } else { VPos::Top };
+        let h = match n.h {
+            HAlign::Left => HPos::Left,
+            HAlign::Centre => HPos::Center,
+            HAlign::Right => HPos::Right,
+        };
+        let v = match n.v {
+            VAlign::Above => VPos::Bottom,
+            VAlign::Middle => VPos::Center,
+            VAlign::Below => VPos::Top,
+        };
+        let size = if n.large { LARGE_NOTE_FONT } else { NOTE_FONT };
+        let font = (FONT, size).into_font().color(&n.colour.rgb());
         area.draw(&Text::new(
             n.text.as_str(),
             (x - bx, y - by),

@@ -1,4 +1,4 @@
-//! The figure layer's data: ranges, refusals and units, without pixels.
+//! The figure layer: its data (ranges, refusals, units) and a few of the renderer's pixels.
 
 use super::render::ranges;
 use super::*;
@@ -134,8 +134,98 @@ fn large_values_read_in_thousands() {
         x: (110_000.0, 120_000.0),
         y: (0.0, 3.0),
         colour: palette::BLUE,
+        edge: None,
     });
     let fig = Figure::new("t", (300, 200), vec![p]).in_units(Units::Inch);
     assert_eq!(fig.panels[0].x.label(), "stress (1000 psi)");
     assert_eq!(fig.panels[0].bars[0].x, (110.0, 120.0));
+}
+
+/// A marker line widens only its own axis, a bar both: a vertical line at x = 10 and a
+/// horizontal one at y = -4 beside a bar over x -2..1, y 0..3 give x -2..10 and y -4..3,
+/// each with its 5 % margin.
+#[test]
+fn markers_widen_their_own_axis_and_bars_both() {
+    let mut p = Panel::new(Axis::plain("x", ""), Axis::plain("y", ""));
+    p.bars.push(Bar {
+        x: (-2.0, 1.0),
+        y: (0.0, 3.0),
+        colour: palette::BLUE,
+        edge: None,
+    });
+    for at in [At::X(10.0), At::Y(-4.0)] {
+        p.markers.push(Marker {
+            at,
+            stroke: None,
+            text: None,
+            label: None,
+        });
+    }
+    let ((x0, x1), (y0, y1)) = ranges(&p, 0.0).unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+    assert!(close(x0, -2.0 - 0.6) && close(x1, 10.0 + 0.6), "{x0} {x1}");
+    assert!(close(y0, -4.0 - 0.35) && close(y1, 3.0 + 0.35), "{y0} {y1}");
+}
+
+/// A signed axis (a change) writes a rise with its sign, a fall with its minus and zero
+/// bare; an unsigned one writes a rise bare.
+#[test]
+fn a_signed_axis_writes_the_sign_of_a_rise() {
+    let mut a = Axis::plain("change", "%");
+    let span = (-40.0, 40.0);
+    assert_eq!(super::render::tick_label(&a, 20.0, span), "20");
+    a.signed = true;
+    let t = |v| super::render::tick_label(&a, v, span);
+    assert_eq!(
+        (t(20.0), t(-20.0), t(0.0)),
+        ("+20".into(), "-20".into(), "0".into())
+    );
+}
+
+/// One panel a row, two rows: the rows' titles push each row's plotting area down and
+/// the figure keeps its size.
+#[test]
+fn row_titles_take_room_above_their_rows() {
+    let panels = vec![
+        panel(vec![(0.0, 1.0), (1.0, 2.0)]),
+        panel(vec![(0.0, 1.0), (1.0, 2.0)]),
+    ];
+    let plain = Figure::new("t", (400, 400), panels);
+    let mut titled = plain.clone();
+    titled.row_titles = vec!["first".into(), "second".into()];
+    let (buf, without) = super::render::render(&plain).unwrap();
+    let (buf2, with) = super::render::render(&titled).unwrap();
+    assert_eq!(buf.len(), buf2.len());
+    for (a, b) in without.iter().zip(&with) {
+        assert!(b.1.start > a.1.start, "{:?} {:?}", a.1, b.1);
+    }
+}
+
+/// A heat map's cell is outlined: a white bar with a black edge over the middle half of
+/// the plotting area leaves black pixels on its left edge, a bar without one leaves none.
+#[test]
+fn a_cell_with_an_edge_is_outlined() {
+    let black_at_left_edge = |edge: Option<Colour>| {
+        let mut p = Panel::new(
+            Axis::plain("x", "").range(0.0, 4.0),
+            Axis::plain("y", "").range(0.0, 4.0),
+        );
+        p.bars.push(Bar {
+            x: (1.0, 3.0),
+            y: (1.0, 3.0),
+            colour: palette::ORANGE,
+            edge,
+        });
+        let fig = Figure::new("t", (400, 400), vec![p]);
+        let (buf, areas) = super::render::render(&fig).unwrap();
+        let (px, py) = areas[0].clone();
+        let x = px.start + (px.end - px.start) / 4;
+        let y = (py.start + py.end) / 2;
+        (x - 1..=x + 1).any(|x| {
+            let i = 3 * (y as usize * 400 + x as usize);
+            buf[i..i + 3] == [0, 0, 0]
+        })
+    };
+    assert!(black_at_left_edge(Some(palette::BLACK)));
+    assert!(!black_at_left_edge(None));
 }

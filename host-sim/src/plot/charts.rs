@@ -6,8 +6,8 @@ use camsim_scene_file::units::Unit;
 
 use crate::figure::palette::{BLUE, GREY, RED};
 use crate::figure::{
-    Axis, Band, Bar, Colour, Entry, Figure, Mark, Note, Panel, Series, Shape, Strip, Style, Swatch,
-    Ticks,
+    Axis, Band, Bar, Colour, Entry, Figure, HAlign, Mark, Note, Panel, Series, Shape, Strip, Style,
+    Swatch, Ticks, VAlign,
 };
 
 /// Colour of the samples that kept contact.
@@ -111,6 +111,7 @@ fn histogram(h: &HistPanel, count: &str) -> Panel {
                 x,
                 y: (0.0, held),
                 colour: h.colour,
+                edge: None,
             });
         }
         if jumped > 0.0 {
@@ -118,6 +119,7 @@ fn histogram(h: &HistPanel, count: &str) -> Panel {
                 x,
                 y: (held, held + jumped),
                 colour: JUMPED,
+                edge: None,
             });
         }
     }
@@ -180,12 +182,8 @@ pub fn probabilities(title: &str, y_title: &str, n: u64, bars: &[ProbBar]) -> Fi
             b.p.lo95 - 0.02 * top
         };
         let text = format!("{} of {n}: {}", b.p.count, b.p.text(3));
-        p.notes.push(Note {
-            at: (at(i), y),
-            text,
-            centred: true,
-            above,
-        });
+        let v = if above { VAlign::Above } else { VAlign::Below };
+        p.notes.push(Note::new((at(i), y), text, HAlign::Centre, v));
     }
     Figure::new(title, (260 * bars.len().max(2) as u32 + 160, 620), vec![p])
 }

@@ -4,7 +4,9 @@
 
 use crate::cmd::compare::{rank_axis, LawStudy, NotWorkable, Trace, HEADERS};
 use crate::figure::palette::{BLUE, MID_GREY, RED};
-use crate::figure::{Axis, Bar, Entry, Figure, Note, Panel, Series, Strip, Stroke, Swatch, Ticks};
+use crate::figure::{
+    Axis, Bar, Entry, Figure, HAlign, Note, Panel, Series, Strip, Stroke, Swatch, Ticks, VAlign,
+};
 use crate::units::{ACCELERATION, FORCE};
 
 /// Panels a row in rankings.png.
@@ -68,16 +70,17 @@ fn rank_panel(laws: &[LawStudy], col: &str, head: &str) -> Panel {
             x: (0.0, v),
             y: (y - BAR_HALF, y + BAR_HALF),
             colour,
+            edge: None,
         });
         if col == "contact_force_min" && v <= 0.0 {
             // A law that jumps has no bar here: say so.
             let unit = crate::units::axis(FORCE).1;
-            p.notes.push(Note {
-                at: (0.02 * (hi + pad), y + 0.25),
-                text: format!("0 {unit}: contact lost"),
-                centred: false,
-                above: false,
-            });
+            p.notes.push(Note::new(
+                (0.02 * (hi + pad), y + 0.25),
+                format!("0 {unit}: contact lost"),
+                HAlign::Left,
+                VAlign::Below,
+            ));
         }
     }
     p

@@ -36,21 +36,54 @@ struct Quantity {
     spread: Vec<Option<Spread>>,
 }
 
+/// A quantity's value on the theoretical cam at one speed.
+type Theory = fn(&Response) -> Option<f64>;
+/// A quantity's spread over the actual cams at one speed.
+type Actual = fn(&ActualPoint) -> Option<Spread>;
+
+/// The sweep's quantities before P(jump): title, unit, the theoretical cam's value and
+/// the actual cams' spread.
+const QUANTITIES: [(&str, Unit, Theory, Actual); 5] = [
+    (
+        "smallest contact force",
+        FORCE,
+        |t| Some(t.min_contact_force_lb),
+        |a| a.min_contact_force_lb,
+    ),
+    (
+        "largest contact force",
+        FORCE,
+        |t| t.peak_contact_force_lb,
+        |a| a.peak_contact_force_lb,
+    ),
+    (
+        "RMS accel. deviation",
+        ACCELERATION,
+        |t| t.rms_acceleration_deviation_in_per_s2,
+        |a| a.rms_acceleration_deviation_in_per_s2,
+    ),
+    (
+        "peak cam torque",
+        TORQUE,
+        |t| t.peak_cam_torque_lb_in,
+        |a| a.peak_cam_torque_lb_in,
+    ),
+    (
+        "peak contact stress",
+        STRESS,
+        |t| t.peak_contact_stress_psi,
+        |a| a.peak_contact_stress_psi,
+    ),
+];
+
 /// The sweep's quantities, P(jump) last.
 fn quantities(r: &SweepReport) -> Vec<Quantity> {
-    let th =
-        |f: fn(&Response) -> Option<f64>| r.theoretical.iter().map(|p| f(&p.response)).collect();
-    let spread = |f: fn(&ActualPoint) -> Option<Spread>| -> Vec<Option<Spread>> {
+    let th = |f: Theory| r.theoretical.iter().map(|p| f(&p.response)).collect();
+    let spread = |f: Actual| -> Vec<Option<Spread>> {
         r.actual
             .as_ref()
             .map(|a| a.points.iter().map(f).collect())
             .unwrap_or_default()
-    };
-    let q = |title, unit, theory, spread| Quantity {
-        title,
-        unit: Some(unit),
-        theory,
-        spread,
     };
     let p_jump = r.actual.as_ref().map(|a| {
         a.points
@@ -65,44 +98,22 @@ fn quantities(r: &SweepReport) -> Vec<Quantity> {
             })
             .collect()
     });
-    vec![
-        q(
-            "smallest contact force",
-            FORCE,
-            th(|t| Some(t.min_contact_force_lb)),
-            spread(|a| a.min_contact_force_lb),
-        ),
-        q(
-            "largest contact force",
-            FORCE,
-            th(|t| t.peak_contact_force_lb),
-            spread(|a| a.peak_contact_force_lb),
-        ),
-        q(
-            "RMS accel. deviation",
-            ACCELERATION,
-            th(|t| t.rms_acceleration_deviation_in_per_s2),
-            spread(|a| a.rms_acceleration_deviation_in_per_s2),
-        ),
-        q(
-            "peak cam torque",
-            TORQUE,
-            th(|t| t.peak_cam_torque_lb_in),
-            spread(|a| a.peak_cam_torque_lb_in),
-        ),
-        q(
-            "peak contact stress",
-            STRESS,
-            th(|t| t.peak_contact_stress_psi),
-            spread(|a| a.peak_contact_stress_psi),
-        ),
-        Quantity {
-            title: "P(jump)",
-            unit: None,
-            theory: th(|t| Some(if t.jump { 1.0 } else { 0.0 })),
-            spread: p_jump.unwrap_or_default(),
-        },
-    ]
+    let mut v: Vec<Quantity> = QUANTITIES
+        .iter()
+        .map(|&(title, unit, theory, actual)| Quantity {
+            title,
+            unit: Some(unit),
+            theory: th(theory),
+            spread: spread(actual),
+        })
+        .collect();
+    v.push(Quantity {
+        title: "P(jump)",
+        unit: None,
+        theory: th(|t| Some(if t.jump { 1.0 } else { 0.0 })),
+        spread: p_jump.unwrap_or_default(),
+    });
+    v
 }
 
 /// The sweep's figure.
