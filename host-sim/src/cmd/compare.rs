@@ -271,16 +271,21 @@ fn with_law(base: &RunSpec, law: MotionLaw) -> Result<RunSpec> {
     Ok(spec)
 }
 
-/// The measures of one run's revolutions 1 and 2.
-fn cam_study(spec: &RunSpec, rows: &[PeriodRow], steps: u32) -> Result<CamStudy> {
-    let names = sim::period_names(&spec.design);
-    let kinds: Vec<SegmentKind> = spec
-        .design
+/// The kind of each segment of the program (rise, return or dwell), in the order of its
+/// periods.
+fn segment_kinds(spec: &RunSpec) -> Vec<SegmentKind> {
+    spec.design
         .program
         .segments()
         .iter()
         .map(|s| s.kind)
-        .collect();
+        .collect()
+}
+
+/// The measures of one run's revolutions 1 and 2.
+fn cam_study(spec: &RunSpec, rows: &[PeriodRow], steps: u32) -> Result<CamStudy> {
+    let names = sim::period_names(&spec.design);
+    let kinds = segment_kinds(spec);
     let row = |rev: u32, k: usize| {
         rows.iter()
             .filter(|r| r.revolution == rev)
@@ -491,13 +496,7 @@ fn law_study(
     profile: ProfileStats,
 ) -> Result<LawStudy> {
     let names = sim::period_names(&base.design);
-    let kinds: Vec<SegmentKind> = base
-        .design
-        .program
-        .segments()
-        .iter()
-        .map(|s| s.kind)
-        .collect();
+    let kinds = segment_kinds(base);
     let jump_in = |rise: bool| {
         cam.per_period.iter().zip(&kinds).any(|(p, k)| {
             p.jump
@@ -618,6 +617,21 @@ impl Report for CompareReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
+        self.write_heading(&mut out);
+        self.write_acceleration(&mut out);
+        self.write_inertial(&mut out);
+        self.write_ranks(&mut out);
+        not_workable_text(&mut out, &self.not_workable);
+        let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
+        out
+    }
+}
+
+impl CompareReport {
+    /// The first lines: the study (speed, model, cycles), the actual cam it drew and the
+    /// units of the tables.
+    fn write_heading(&self, out: &mut String) {
+        use std::fmt::Write;
         let _ = writeln!(
             out,
             "camsim compare: every motion law for rise and return at {:.1} rpm, {} model; cycle I = revolution 1 \
@@ -653,6 +667,12 @@ impl Report for CompareReport {
             units::symbol(units::FORCE),
             units::symbol(units::STRESS)
         );
+    }
+
+    /// The acceleration RMS of each law's periods, cycles I and II, on the theoretical
+    /// cam and on the actual one, with its sensitivity, shock index and jumps.
+    fn write_acceleration(&self, out: &mut String) {
+        use std::fmt::Write;
         let periods: Vec<String> = self
             .laws
             .first()
@@ -706,7 +726,11 @@ impl Report for CompareReport {
             }
             let _ = writeln!(out);
         }
-        self.write_inertial(&mut out);
+    }
+
+    /// The ranks of each law on every measure and overall, best first, with its jumps.
+    fn write_ranks(&self, out: &mut String) {
+        use std::fmt::Write;
         let _ = writeln!(
             out,
             "ranks (1 = best; S_tol and the jumps on the actual cam, the rest on the theoretical cam; Fc_min larger is better;\n\
@@ -731,13 +755,7 @@ impl Report for CompareReport {
                 format!("{}/{}", yn(l.jump_rise), yn(l.jump_return))
             );
         }
-        not_workable_text(&mut out, &self.not_workable);
-        let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
-        out
     }
-}
-
-impl CompareReport {
     /// The inertial responses' tables, cycle II, on the theoretical and the actual cam.
     fn write_inertial(&self, out: &mut String) {
         use std::fmt::Write;
