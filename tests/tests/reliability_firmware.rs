@@ -10,7 +10,6 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-
 mod common;
 use common::{outcome, s, scratch};
 
