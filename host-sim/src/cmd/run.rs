@@ -12,7 +12,7 @@ use crate::args::{self, megabytes, OutputArgs};
 pub use crate::args::{spec_from, SceneArgs};
 use crate::csv::{self, CsvOut};
 use crate::measured::{MeasuredProfile, MeasuredStats};
-use crate::output::Plan;
+use crate::output::{FileTarget, Plan};
 use crate::plot;
 use crate::report::{sorted_pretty_json, Report};
 use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
@@ -306,6 +306,29 @@ fn input_plan(args: &Args) -> Plan {
     plan
 }
 
+/// `--csv`'s target, refused before the run when its rows (on the cam-angle `grid`, else
+/// estimated from the solver's steps) would pass `--max-csv-mb`.
+fn csv_target(
+    plan: &mut Plan,
+    args: &Args,
+    spec: &RunSpec,
+    grid: Option<&camsim_core::AngleGrid<f64>>,
+) -> Result<Option<FileTarget>> {
+    let Some(p) = &args.csv else {
+        return Ok(None);
+    };
+    let bytes = match grid {
+        Some(g) => csv::rows_bytes(csv::grid_rows(spec, g)),
+        None => csv::estimated_bytes(spec),
+    };
+    let limit = args.max_csv_mb.saturating_mul(1_000_000);
+    Ok(Some(plan.file("--csv", p)?.limit(
+        bytes,
+        limit,
+        "--max-csv-mb N",
+    )?))
+}
+
 pub fn report(args: &Args) -> Result<RunReport> {
     let mut spec = spec_from(&args.scene)?;
     if let Some(n) = args.revolutions {
@@ -318,17 +341,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
         false => Some(camsim_core::AngleGrid::new(args.csv_every_deg)?),
         true => None,
     };
-    let csv_target = match &args.csv {
-        Some(p) => Some(plan.file("--csv", p)?.limit(
-            match &grid {
-                Some(g) => csv::rows_bytes(csv::grid_rows(&spec, g)),
-                None => csv::estimated_bytes(&spec),
-            },
-            args.max_csv_mb.saturating_mul(1_000_000),
-            "--max-csv-mb N",
-        )?),
-        None => None,
-    };
+    let csv_target = csv_target(&mut plan, args, &spec, grid.as_ref())?;
     let plot_target = match &args.output.plot {
         Some(dir) if spec.profile.is_some() => {
             Some(plan.dir("--plot", dir, &plot::FILES_WITH_PROFILE)?)
