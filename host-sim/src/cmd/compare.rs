@@ -408,58 +408,8 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         .iter()
         .map(|&l| with_law(&base, l).map(|s| (l, s)))
         .collect::<Result<_>>()?;
-    // Every (law, cam) pair, in order: law 0 theoretical, law 0 actual, law 1 ...
-    let jobs: Vec<(usize, bool)> = (0..specs.len())
-        .flat_map(|i| [(i, false), (i, true)])
-        .collect();
-    let pool = crate::study::pool(crate::study::montecarlo::threads(args.threads))?;
-    let bar = crate::study_limits::progress_bar(
-        jobs.len() as u64,
-        true,
-        "{elapsed_precise} [{bar:40}] {pos}/{len} runs (every law, theoretical and actual), eta {eta}",
-    );
-    let results: Vec<Job> = pool.install(|| {
-        jobs.par_iter()
-            .map(|&(i, is_actual)| {
-                let (law, spec) = &specs[i];
-                let run = || -> Job {
-                    if !is_actual {
-                        return Ok((simulate(spec)?, None));
-                    }
-                    let (dev, stats) = actual::build_profile(&spec.design, &actual_args, 0)?;
-                    let mut s = spec.clone();
-                    s.profile = Some(Arc::new(dev));
-                    Ok((simulate(&s)?, Some(stats)))
-                };
-                let r = run().with_context(|| {
-                    format!(
-                        "{} on the {} cam",
-                        law.name(),
-                        if is_actual { "actual" } else { "theoretical" }
-                    )
-                });
-                bar.inc(1);
-                r
-            })
-            .collect()
-    });
-    bar.finish_and_clear();
-    let mut it = results.into_iter();
-    let mut laws = Vec::new();
-    let mut not_workable = Vec::new();
-    for (law, _) in &specs {
-        let flex = it.next().ok_or_else(|| anyhow!("missing run"))?;
-        let cam = it.next().ok_or_else(|| anyhow!("missing run"))?;
-        let ((flex, _), (cam, profile)) = match workable(law.name(), flex, cam)? {
-            Ok(pair) => pair,
-            Err(n) => {
-                not_workable.push(n);
-                continue;
-            }
-        };
-        let profile = profile.ok_or_else(|| anyhow!("missing profile"))?;
-        laws.push(law_study(&base, *law, flex, cam, profile)?);
-    }
+    let results = run_every_law(&specs, &actual_args, args.threads)?;
+    let (mut laws, not_workable) = law_studies(&base, &specs, results)?;
     anyhow::ensure!(
         !laws.is_empty(),
         "no law is workable: every law's run left the model's valid range (first: {} on the {} cam: {})",
@@ -484,6 +434,78 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         interval_source,
         wall_s: t0.elapsed().as_secs_f64(),
     })
+}
+
+/// Every law's run on the theoretical and on the actual cam (sample 0 of `actual_args`),
+/// in parallel on `threads`, in order: law 0 theoretical, law 0 actual, law 1 ...
+fn run_every_law(
+    specs: &[(MotionLaw, RunSpec)],
+    actual_args: &ActualArgs,
+    threads: Option<u32>,
+) -> Result<Vec<Job>> {
+    // Every (law, cam) pair, in order: law 0 theoretical, law 0 actual, law 1 ...
+    let jobs: Vec<(usize, bool)> = (0..specs.len())
+        .flat_map(|i| [(i, false), (i, true)])
+        .collect();
+    let pool = crate::study::pool(crate::study::montecarlo::threads(threads))?;
+    let bar = crate::study_limits::progress_bar(
+        jobs.len() as u64,
+        true,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} runs (every law, theoretical and actual), eta {eta}",
+    );
+    let results: Vec<Job> = pool.install(|| {
+        jobs.par_iter()
+            .map(|&(i, is_actual)| {
+                let (law, spec) = &specs[i];
+                let run = || -> Job {
+                    if !is_actual {
+                        return Ok((simulate(spec)?, None));
+                    }
+                    let (dev, stats) = actual::build_profile(&spec.design, actual_args, 0)?;
+                    let mut s = spec.clone();
+                    s.profile = Some(Arc::new(dev));
+                    Ok((simulate(&s)?, Some(stats)))
+                };
+                let r = run().with_context(|| {
+                    format!(
+                        "{} on the {} cam",
+                        law.name(),
+                        if is_actual { "actual" } else { "theoretical" }
+                    )
+                });
+                bar.inc(1);
+                r
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    Ok(results)
+}
+
+/// The studies of the workable laws, and the laws whose run on either cam left the
+/// model's valid range, from the runs in [`run_every_law`]'s order.
+fn law_studies(
+    base: &RunSpec,
+    specs: &[(MotionLaw, RunSpec)],
+    results: Vec<Job>,
+) -> Result<(Vec<LawStudy>, Vec<NotWorkable>)> {
+    let mut it = results.into_iter();
+    let mut laws = Vec::new();
+    let mut not_workable = Vec::new();
+    for (law, _) in specs {
+        let flex = it.next().ok_or_else(|| anyhow!("missing run"))?;
+        let cam = it.next().ok_or_else(|| anyhow!("missing run"))?;
+        let ((flex, _), (cam, profile)) = match workable(law.name(), flex, cam)? {
+            Ok(pair) => pair,
+            Err(n) => {
+                not_workable.push(n);
+                continue;
+            }
+        };
+        let profile = profile.ok_or_else(|| anyhow!("missing profile"))?;
+        laws.push(law_study(base, *law, flex, cam, profile)?);
+    }
+    Ok((laws, not_workable))
 }
 
 /// One workable law's study: its runs on the theoretical and the actual cam, the
