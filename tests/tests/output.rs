@@ -19,6 +19,14 @@ use common::{listing, scratch};
 
 const ENV_TARGET: &str = "CAMSIM_OUTPUT_CHILD_TARGET";
 const ENV_MODE: &str = "CAMSIM_OUTPUT_CHILD_MODE";
+/// The arguments that start this test binary in its child mode.
+const CHILD: [&str; 5] = [
+    "child_writer",
+    "--exact",
+    "--ignored",
+    "--nocapture",
+    "--test-threads=1",
+];
 
 /// The child mode: does nothing unless the parent test set the environment.
 #[test]
@@ -113,13 +121,7 @@ fn kill_mid_write(target: &Path, mode: &str, signal: &str) -> (Option<i32>, Path
 fn start_writer(target: &Path, mode: &str) -> (std::process::Child, PathBuf) {
     let exe = std::env::current_exe().unwrap();
     let mut child = Command::new(exe)
-        .args([
-            "child_writer",
-            "--exact",
-            "--ignored",
-            "--nocapture",
-            "--test-threads=1",
-        ])
+        .args(CHILD)
         .env(ENV_TARGET, target)
         .env(ENV_MODE, mode)
         .stdout(Stdio::piped())
@@ -171,17 +173,23 @@ fn kill_and_wait(mut child: std::process::Child, signal: &str) -> Option<i32> {
     code
 }
 
+/// Kills a writer of a new `out.csv` with `signal` mid-write: it exits with `code` (128 +
+/// the signal) and leaves no temporary, no target and nothing else in its directory.
+fn signal_mid_write_leaves_nothing(signal: &str, code: i32) {
+    let d = scratch(&format!("sig-{signal}"));
+    let target = d.join("out.csv");
+    let (got, tmp) = kill_mid_write(&target, "new", signal);
+    assert_eq!(got, Some(code), "SIG{signal}");
+    assert_eq!(tmp.parent(), Some(d.as_path()), "SIG{signal}");
+    assert!(!tmp.exists(), "SIG{signal}");
+    assert!(!target.exists(), "SIG{signal}");
+    assert!(listing(&d).is_empty(), "SIG{signal}: {:?}", listing(&d));
+    fs::remove_dir_all(&d).unwrap();
+}
+
 #[test]
 fn sigint_mid_write_leaves_no_target_and_no_temporary() {
-    let d = scratch("int");
-    let target = d.join("out.csv");
-    let (code, tmp) = kill_mid_write(&target, "new", "INT");
-    assert_eq!(code, Some(130));
-    assert_eq!(tmp.parent(), Some(d.as_path()));
-    assert!(!tmp.exists());
-    assert!(!target.exists());
-    assert!(listing(&d).is_empty(), "{:?}", listing(&d));
-    fs::remove_dir_all(&d).unwrap();
+    signal_mid_write_leaves_nothing("INT", 130);
 }
 
 #[test]
@@ -215,13 +223,7 @@ fn sigint_mid_plot_removes_the_partial_files_and_the_new_directory() {
 #[test]
 fn sighup_and_sigquit_mid_write_leave_no_temporary() {
     for (sig, code) in [("HUP", 129), ("QUIT", 131)] {
-        let d = scratch(&format!("sig-{sig}"));
-        let target = d.join("out.csv");
-        let (got, tmp) = kill_mid_write(&target, "new", sig);
-        assert_eq!(got, Some(code), "SIG{sig}");
-        assert!(!tmp.exists(), "SIG{sig}");
-        assert!(listing(&d).is_empty(), "SIG{sig}: {:?}", listing(&d));
-        fs::remove_dir_all(&d).unwrap();
+        signal_mid_write_leaves_nothing(sig, code);
     }
 }
 
@@ -236,13 +238,7 @@ fn the_user_and_timer_signals_mid_write_leave_no_temporary() {
         ("VTALRM", 154),
         ("PROF", 155),
     ] {
-        let d = scratch(&format!("sig-{sig}"));
-        let target = d.join("out.csv");
-        let (got, tmp) = kill_mid_write(&target, "new", sig);
-        assert_eq!(got, Some(code), "SIG{sig}");
-        assert!(!tmp.exists(), "SIG{sig}");
-        assert!(listing(&d).is_empty(), "SIG{sig}: {:?}", listing(&d));
-        fs::remove_dir_all(&d).unwrap();
+        signal_mid_write_leaves_nothing(sig, code);
     }
 }
 
@@ -258,13 +254,7 @@ fn a_clean_up_in_another_pid_namespace_leaves_a_live_temporary() {
     let out = Command::new("unshare")
         .args(["--pid", "--fork", "--mount-proc"])
         .arg(&exe)
-        .args([
-            "child_writer",
-            "--exact",
-            "--ignored",
-            "--nocapture",
-            "--test-threads=1",
-        ])
+        .args(CHILD)
         .env(ENV_TARGET, &d)
         .env(ENV_MODE, "cleanup")
         .stderr(Stdio::null())

@@ -4,30 +4,13 @@
 //! refusal's line.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use camsim::cli;
 
 mod common;
-use common::{scratch, CHEAP};
-
-/// Parses and runs a command line; the refusal's one line (as the binary prints it
-/// after `camsim: error: `), or "OK".
-fn outcome(args: &[&str]) -> String {
-    let argv = std::iter::once("camsim").chain(args.iter().copied());
-    match cli::parse_from(argv) {
-        Err(e) => format!("usage: {}", cli::usage_message(&e)),
-        Ok(c) => match cli::execute(c) {
-            Ok(()) => "OK".into(),
-            Err(e) => cli::error_line(&e),
-        },
-    }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use common::{outcome, s, scratch, CHEAP};
 
 // Point 1 and 4: no write into anything but a regular file; no hang on a FIFO.
 #[test]

@@ -10,27 +10,8 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use camsim::cli;
-
 mod common;
-use common::scratch;
-
-/// Parses and runs a command line; the refusal's one line (as the binary prints it
-/// after `camsim: error: `), or "OK".
-fn outcome(args: &[&str]) -> String {
-    let argv = std::iter::once("camsim").chain(args.iter().copied());
-    match cli::parse_from(argv) {
-        Err(e) => format!("usage: {}", cli::usage_message(&e)),
-        Ok(c) => match cli::execute(c) {
-            Ok(()) => "OK".into(),
-            Err(e) => cli::error_line(&e),
-        },
-    }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use common::{outcome, s, scratch};
 
 /// `llvm-size -A` of an image as the tool prints it (the QEMU image's loaded sections:
 /// flash 1024 + 76036 + 17784 + 0 = 94844 B, static RAM 0 + 24 + 0 = 24 B).

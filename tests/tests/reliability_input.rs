@@ -6,19 +6,7 @@
 use camsim::cli;
 
 mod common;
-
-/// Parses and runs a command line; the refusal's one line (as the binary prints it
-/// after `camsim: error: `), or "OK".
-fn outcome(args: &[&str]) -> String {
-    let argv = std::iter::once("camsim").chain(args.iter().copied());
-    match cli::parse_from(argv) {
-        Err(e) => format!("usage: {}", cli::usage_message(&e)),
-        Ok(c) => match cli::execute(c) {
-            Ok(()) => "OK".into(),
-            Err(e) => cli::error_line(&e),
-        },
-    }
-}
+use common::outcome;
 
 /// The refusal of a bare number under `--units si`, if any.
 fn si_bare(args: &[&str]) -> Option<String> {

@@ -17,24 +17,7 @@ use std::process::{Command, Stdio};
 use camsim::cli;
 
 mod common;
-use common::{listing, scratch};
-
-/// Parses and runs a command line; the refusal's one line (as the binary prints it
-/// after `camsim: error: `), or "OK".
-fn outcome(args: &[&str]) -> String {
-    let argv = std::iter::once("camsim").chain(args.iter().copied());
-    match cli::parse_from(argv) {
-        Err(e) => format!("usage: {}", cli::usage_message(&e)),
-        Ok(c) => match cli::execute(c) {
-            Ok(()) => "OK".into(),
-            Err(e) => cli::error_line(&e),
-        },
-    }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use common::{listing, outcome, s, scratch};
 
 const ENV_ARGS: &str = "CAMSIM_RELIO_CHILD_ARGS";
 const ENV_STDOUT: &str = "CAMSIM_RELIO_CHILD_STDOUT";

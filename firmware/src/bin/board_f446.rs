@@ -19,7 +19,7 @@
 #![no_std]
 #![no_main]
 
-use camsim_chip::ChipMonitor;
+use camsim_chip::{ChipMonitor, ChipStep};
 use camsim_core::{CaptureTimer, SpeedReading};
 use camsim_firmware::board::f446::{drive_alarm_safe_from_fault, IndexCapture, TICK_HZ};
 use camsim_firmware::exit_failure;
@@ -65,14 +65,7 @@ fn main() -> ! {
     let Some(dp) = pac::Peripherals::take() else {
         fail("device peripherals already taken")
     };
-    // Why the last reset happened (a watchdog reset means the loop had stalled).
-    let csr = dp.RCC.csr().read();
-    let (by_watchdog, by_pin, by_power) = (
-        csr.wdgrstf().bit_is_set(),
-        csr.padrstf().bit_is_set(),
-        csr.porrstf().bit_is_set(),
-    );
-    dp.RCC.csr().modify(|_, w| w.rmvf().set_bit());
+    let reset = ResetCause::read_and_clear(&dp.RCC);
 
     let mut rcc = dp.RCC.constrain();
     let gpioa = dp.GPIOA.split(&mut rcc);
@@ -90,26 +83,88 @@ fn main() -> ! {
     );
     let mut capture = IndexCapture::new(dp.TIM2, gpioa.pa0, &mut rcc);
     let tick_hz = capture.tick_hz();
-
-    let sections = Sections::get();
-    defmt::info!(
-        "board=nucleo-f446re sysclk_hz={=u32} tick_hz={=u32} capture=PA0 (TIM2_CH1, falling edge) alarm=PA5 (LD2 lit: speed vouched, margin fine; dark: alarm asserted, the safe state)",
-        rcc.clocks.sysclk().raw(),
-        tick_hz
-    );
-    defmt::info!(
-        "reset watchdog={=bool} pin={=bool} power={=bool}; flash_bytes={=u32} ram_static_bytes={=u32}",
-        by_watchdog,
-        by_pin,
-        by_power,
-        sections.flash_bytes(),
-        sections.ram_static_bytes()
-    );
+    log_board(rcc.clocks.sysclk().raw(), tick_hz, &reset);
     if tick_hz != TICK_HZ {
         fail("TIM2 does not tick at 1 MHz (clock configuration)")
     }
 
-    // Boot: the prediction table over the scene's speed grid (the alarm stays asserted).
+    let predictor = boot_predictor(&mut capture);
+    let mut monitor = match ChipMonitor::<f32>::new(tick_hz) {
+        Ok(m) => m,
+        Err(e) => {
+            defmt::error!("speed monitor configuration: {=str}", error_name(&e));
+            fail("invalid speed monitor configuration")
+        }
+    };
+    // The monitor starts with the alarm asserted, until a vouched margin releases it.
+    log_config(&monitor);
+    defmt::info!("boot done: stack_peak_bytes={=u32}", stack_peak_bytes());
+
+    let mut watchdog = IndependentWatchdog::new(dp.IWDG);
+    watchdog.start(WATCHDOG_MS.millis());
+    defmt::info!(
+        "watchdog {=u32} ms; waiting for index pulses (alarm asserted: acquiring)",
+        WATCHDOG_MS
+    );
+
+    let mut last = LastReading::new(capture.now());
+    loop {
+        watchdog.feed();
+        let Some(step) = monitor.step(&predictor.table, &mut capture) else {
+            last.status_if_due(capture.now(), out.is_asserted());
+            continue;
+        };
+        last.record(&monitor, &step);
+        // The HAL's GPIO writes cannot fail (Infallible).
+        let Ok(changed) = out.set_asserted(step.alarm);
+        if changed {
+            log_alarm_change(ALARM_PIN, &step);
+        }
+    }
+}
+
+/// Why the last reset happened (a watchdog reset means the loop had stalled).
+struct ResetCause {
+    watchdog: bool,
+    pin: bool,
+    power: bool,
+}
+
+impl ResetCause {
+    /// Reads RCC's reset flags, then clears them (so the next boot reads its own).
+    fn read_and_clear(rcc: &pac::RCC) -> Self {
+        let csr = rcc.csr().read();
+        let cause = ResetCause {
+            watchdog: csr.wdgrstf().bit_is_set(),
+            pin: csr.padrstf().bit_is_set(),
+            power: csr.porrstf().bit_is_set(),
+        };
+        rcc.csr().modify(|_, w| w.rmvf().set_bit());
+        cause
+    }
+}
+
+/// The board's lines: clock, pins, the last reset's cause and the image's sizes.
+fn log_board(sysclk_hz: u32, tick_hz: u32, reset: &ResetCause) {
+    let sections = Sections::get();
+    defmt::info!(
+        "board=nucleo-f446re sysclk_hz={=u32} tick_hz={=u32} capture=PA0 (TIM2_CH1, falling edge) alarm=PA5 (LD2 lit: speed vouched, margin fine; dark: alarm asserted, the safe state)",
+        sysclk_hz,
+        tick_hz
+    );
+    defmt::info!(
+        "reset watchdog={=bool} pin={=bool} power={=bool}; flash_bytes={=u32} ram_static_bytes={=u32}",
+        reset.watchdog,
+        reset.pin,
+        reset.power,
+        sections.flash_bytes(),
+        sections.ram_static_bytes()
+    );
+}
+
+/// Boot: the prediction table over the scene's speed grid (the alarm stays asserted),
+/// logged row by row with the jump onset and the boot time; a failure stops here.
+fn boot_predictor(capture: &mut IndexCapture) -> Predictor {
     defmt::info!(
         "scene={=str}; alarm asserted (PA5 low): booting, building the prediction table",
         SCENE_NAME
@@ -136,49 +191,51 @@ fn main() -> ! {
         Some(j) => defmt::info!("jump_onset_rpm={=f32} boot_ms={=u32}", j, boot_ms),
         None => defmt::info!("jump_onset_rpm=none boot_ms={=u32}", boot_ms),
     }
+    predictor
+}
 
-    let mut monitor = match ChipMonitor::<f32>::new(tick_hz) {
-        Ok(m) => m,
-        Err(e) => {
-            defmt::error!("speed monitor configuration: {=str}", error_name(&e));
-            fail("invalid speed monitor configuration")
+/// What the status line repeats between readings: the last reading's kind, speed and
+/// margin, the count of each kind, and when the last status line was logged (ticks).
+struct LastReading {
+    kind: &'static str,
+    rpm: f32,
+    margin: f32,
+    counts: Counts,
+    status_at: u32,
+}
+
+impl LastReading {
+    /// Acquiring, nothing read yet, at tick `now`.
+    fn new(now: u32) -> Self {
+        LastReading {
+            kind: "acquiring",
+            rpm: f32::NAN,
+            margin: f32::NAN,
+            counts: Counts::default(),
+            status_at: now,
         }
-    };
-    // The monitor starts with the alarm asserted, until a vouched margin releases it.
-    log_config(&monitor);
-    defmt::info!("boot done: stack_peak_bytes={=u32}", stack_peak_bytes());
+    }
 
-    let mut watchdog = IndependentWatchdog::new(dp.IWDG);
-    watchdog.start(WATCHDOG_MS.millis());
-    defmt::info!(
-        "watchdog {=u32} ms; waiting for index pulses (alarm asserted: acquiring)",
-        WATCHDOG_MS
-    );
+    /// A status line when [`STATUS_TICKS`] have passed since the last one (`now`, ticks).
+    fn status_if_due(&mut self, now: u32, alarm: bool) {
+        if now.wrapping_sub(self.status_at) >= STATUS_TICKS {
+            self.status_at = now;
+            defmt::info!(
+                "status rpm={=f32} speed_margin_rpm={=f32} alarm={=bool} last={=str} counts={} stack_peak_bytes={=u32}",
+                self.rpm, self.margin, alarm, self.kind, self.counts, stack_peak_bytes()
+            );
+        }
+    }
 
-    let mut last_kind = "acquiring";
-    let mut counts = Counts::default();
-    let mut last_rpm = f32::NAN;
-    let mut last_margin = f32::NAN;
-    let mut last_status = capture.now();
-    loop {
-        watchdog.feed();
-        let Some(step) = monitor.step(&predictor.table, &mut capture) else {
-            let now = capture.now();
-            if now.wrapping_sub(last_status) >= STATUS_TICKS {
-                last_status = now;
-                defmt::info!(
-                    "status rpm={=f32} speed_margin_rpm={=f32} alarm={=bool} last={=str} counts={} stack_peak_bytes={=u32}",
-                    last_rpm, last_margin, out.is_asserted(), last_kind, counts, stack_peak_bytes()
-                );
-            }
-            continue;
-        };
-        counts.add(&step.reading);
+    /// Counts a step's reading and logs it: a prediction at debug level, any other
+    /// reading as a fault (a steady speed outside the range once, not every revolution).
+    fn record(&mut self, monitor: &ChipMonitor<f32>, step: &ChipStep<f32>) {
+        self.counts.add(&step.reading);
         let kind = step.reading.kind();
         match (step.prediction, step.reading) {
             (Some(p), _) => {
-                last_rpm = p.rpm;
-                last_margin = p.speed_margin_rpm;
+                self.rpm = p.rpm;
+                self.margin = p.speed_margin_rpm;
                 defmt::debug!(
                     "rpm={=f32} speed_margin_rpm={=f32} force_margin_lb={=f32}",
                     p.rpm,
@@ -187,25 +244,18 @@ fn main() -> ! {
                 );
             }
             (None, r) => {
-                last_margin = f32::NAN;
-                last_rpm = match r {
+                self.margin = f32::NAN;
+                self.rpm = match r {
                     SpeedReading::OutOfRange(rpm) => rpm,
                     SpeedReading::Lost => f32::NAN,
-                    _ => last_rpm,
+                    _ => self.rpm,
                 };
-                // A steady speed outside the range is reported once, not every revolution.
-                if !(kind == "out_of_range" && last_kind == kind) {
-                    log_fault(&monitor, &r);
+                if !(kind == "out_of_range" && self.kind == kind) {
+                    log_fault(monitor, &r);
                 }
             }
         }
-        last_kind = kind;
-
-        // The HAL's GPIO writes cannot fail (Infallible).
-        let Ok(changed) = out.set_asserted(step.alarm);
-        if changed {
-            log_alarm_change(ALARM_PIN, &step);
-        }
+        self.kind = kind;
     }
 }
 

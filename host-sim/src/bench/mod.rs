@@ -881,13 +881,9 @@ pub struct ChipInfo {
 
 /// The comparison on the chip's scene: its own reference (the model differs from the full
 /// one), then every method over the ladders in f64 and f32.
-#[allow(clippy::too_many_arguments)]
 fn chip_scene(
     opts: &Options,
-    rtols: &[f64],
-    rtols32: &[f64],
-    rk4: &[f64],
-    rk4_32: &[f64],
+    ladders: &Ladders,
     runs: &mut Vec<RunRow>,
     failed: &mut Vec<FailedRun>,
 ) -> Result<ChipInfo> {
@@ -913,14 +909,23 @@ fn chip_scene(
     .context("the chip scene's stability analysis")?;
     let refs = ReferenceSamples { samples: r, agree };
     sweep::<f64, ChipScene, CHIP_STATES>(
-        CHIP_SCENE, "f64", "libm", rtols, rk4, opts, &refs, &limits, runs, failed,
+        CHIP_SCENE,
+        "f64",
+        "libm",
+        ladders.rtols,
+        ladders.rk4,
+        opts,
+        &refs,
+        &limits,
+        runs,
+        failed,
     )?;
     sweep::<f32, ChipScene, CHIP_STATES>(
         CHIP_SCENE,
         "f32",
         f32_math(),
-        rtols32,
-        rk4_32,
+        ladders.rtols32,
+        ladders.rk4_32,
         opts,
         &refs,
         &limits,
@@ -932,6 +937,36 @@ fn chip_scene(
         agree_acc_rms: agree.0,
         stability: limits,
     })
+}
+
+/// The tolerance ladders of one bench (`--quick` or full): f64 and f32 rtols, and the
+/// fixed steps as factors of RK4's fewest steps per revolution.
+struct Ladders {
+    rtols: &'static [f64],
+    rtols32: &'static [f64],
+    rk4: &'static [f64],
+    rk4_32: &'static [f64],
+}
+
+impl Ladders {
+    /// The `--quick` ladders or the full ones.
+    fn of(quick: bool) -> Self {
+        if quick {
+            Ladders {
+                rtols: &QUICK_RTOLS,
+                rtols32: &QUICK_RTOLS_F32,
+                rk4: &QUICK_RK4_FACTORS,
+                rk4_32: &QUICK_RK4_FACTORS_F32,
+            }
+        } else {
+            Ladders {
+                rtols: &FULL_RTOLS,
+                rtols32: &FULL_RTOLS_F32,
+                rk4: &FULL_RK4_FACTORS,
+                rk4_32: &FULL_RK4_FACTORS_F32,
+            }
+        }
+    }
 }
 
 /// Runs the bench.
@@ -958,24 +993,7 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
     let confirm = measure_run(Method::Dopri5, &model, &ref_settings, 1, false)
         .context("the confirming reference run")?;
     let r = &reference.samples;
-    let mut info = ReferenceInfo {
-        method: Method::England.name().into(),
-        rtol: REFERENCE_RTOL,
-        atol_in: atol_for(REFERENCE_RTOL),
-        steps: reference.work.accepted,
-        rhs_evals: reference.work.evals,
-        confirm_method: Method::Dopri5.name().into(),
-        confirm_rtol: REFERENCE_RTOL,
-        agree_disp_rms: Samples::rms_diff(&confirm.samples.disp, &r.disp),
-        agree_acc_rms: Samples::rms_diff(&confirm.samples.acc, &r.acc),
-        agree_force_min_lb: (confirm.samples.force_min() - r.force_min()).abs(),
-        signal_disp_rms: Samples::rms(&r.disp),
-        signal_acc_rms: Samples::rms(&r.acc),
-        force_min_lb: r.force_min(),
-        jump_onset_rpm: None,
-        confirm_jump_onset_rpm: None,
-    };
-
+    let mut info = reference_info(&reference, &confirm);
     let limits = stability::analyse(
         &model,
         &settings::<f64>(1e-6),
@@ -989,91 +1007,15 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
         samples: r,
         agree: (info.agree_acc_rms, info.agree_disp_rms),
     };
-    let mut runs = Vec::new();
-    let mut failed = Vec::new();
-    let (rtols, rtols32, rk4, rk4_32): (&[f64], &[f64], &[f64], &[f64]) = if opts.quick {
-        (
-            &QUICK_RTOLS,
-            &QUICK_RTOLS_F32,
-            &QUICK_RK4_FACTORS,
-            &QUICK_RK4_FACTORS_F32,
-        )
-    } else {
-        (
-            &FULL_RTOLS,
-            &FULL_RTOLS_F32,
-            &FULL_RK4_FACTORS,
-            &FULL_RK4_FACTORS_F32,
-        )
-    };
-    sweep::<f64, RegulatedFull, { RegulatedFull::N }>(
-        "full_11dof",
-        "f64",
-        "libm",
-        rtols,
-        rk4,
-        opts,
-        &refs,
-        &limits,
-        &mut runs,
-        &mut failed,
-    )?;
-    sweep::<f32, RegulatedFull, { RegulatedFull::N }>(
-        "full_11dof",
-        "f32",
-        f32_math(),
-        rtols32,
-        rk4_32,
-        opts,
-        &refs,
-        &limits,
-        &mut runs,
-        &mut failed,
-    )?;
+    let ladders = Ladders::of(opts.quick);
+    let (mut runs, mut failed) = (Vec::new(), Vec::new());
+    full_scene(opts, &ladders, &refs, &limits, &mut runs, &mut failed)?;
     if !opts.quick {
         reduced_scenes(opts, &refs, &mut runs, &mut failed)?;
     }
-    let chip = chip_scene(opts, rtols, rtols32, rk4, rk4_32, &mut runs, &mut failed)?;
-
+    let chip = chip_scene(opts, &ladders, &mut runs, &mut failed)?;
     if opts.onset {
-        let onset = jump_onset::<f64>(Method::England, REFERENCE_RTOL)
-            .context("the reference's jump onset")?;
-        info.jump_onset_rpm = Some(onset);
-        info.confirm_jump_onset_rpm = jump_onset::<f64>(Method::Dopri5, REFERENCE_RTOL).ok();
-        for run in runs
-            .iter_mut()
-            .filter(|r| r.scene == "full_11dof" && r.precision == "f64")
-        {
-            let method = match run.method.as_str() {
-                "england" => Method::England,
-                "england_scaled_cap" => Method::EnglandScaledCap,
-                "england_pi_capped" => Method::EnglandPiCapped,
-                "dopri5_ode_solvers" => Method::Dopri5,
-                "merson_4_3" => Method::Merson { capped: false },
-                "merson_4_3_capped" => Method::Merson { capped: true },
-                _ => match run.fixed_steps_per_rev {
-                    Some(n) => Method::Rk4 { steps_per_rev: n },
-                    None => continue,
-                },
-            };
-            let wanted = if method.adaptive() {
-                ONSET_RTOLS
-                    .iter()
-                    .any(|r| (r / run.rtol - 1.0).abs() < 1e-9)
-            } else {
-                ONSET_RK4_FACTORS.iter().any(|f| {
-                    let n = (limits.rk4_fixed_steps_per_rev * f / 100.0).ceil() * 100.0;
-                    Some(n as u32) == run.fixed_steps_per_rev
-                })
-            };
-            if !wanted {
-                continue;
-            }
-            if let Ok(o) = jump_onset::<f64>(method, run.rtol.max(1e-16)) {
-                run.jump_onset_rpm = Some(o);
-                run.jump_onset_err_rpm = Some((o - onset).abs());
-            }
-        }
+        jump_onsets(&limits, &mut info, &mut runs)?;
     }
 
     let mut equal_error = equal_error(&runs, "full_11dof", "f64");
@@ -1097,6 +1039,125 @@ pub fn measure(opts: &Options) -> Result<BenchReport> {
         equal_error,
         memory: Memory::of_this_build(),
     })
+}
+
+/// The reference run against its confirming run by a different method, and its signals
+/// (the jump onsets are measured later, when asked for).
+fn reference_info(reference: &Measured, confirm: &Measured) -> ReferenceInfo {
+    let r = &reference.samples;
+    ReferenceInfo {
+        method: Method::England.name().into(),
+        rtol: REFERENCE_RTOL,
+        atol_in: atol_for(REFERENCE_RTOL),
+        steps: reference.work.accepted,
+        rhs_evals: reference.work.evals,
+        confirm_method: Method::Dopri5.name().into(),
+        confirm_rtol: REFERENCE_RTOL,
+        agree_disp_rms: Samples::rms_diff(&confirm.samples.disp, &r.disp),
+        agree_acc_rms: Samples::rms_diff(&confirm.samples.acc, &r.acc),
+        agree_force_min_lb: (confirm.samples.force_min() - r.force_min()).abs(),
+        signal_disp_rms: Samples::rms(&r.disp),
+        signal_acc_rms: Samples::rms(&r.acc),
+        force_min_lb: r.force_min(),
+        jump_onset_rpm: None,
+        confirm_jump_onset_rpm: None,
+    }
+}
+
+/// The full 11-DOF scene's runs: every method over the ladders in f64, then in f32.
+fn full_scene(
+    opts: &Options,
+    ladders: &Ladders,
+    refs: &ReferenceSamples<'_>,
+    limits: &StabilityLimit,
+    runs: &mut Vec<RunRow>,
+    failed: &mut Vec<FailedRun>,
+) -> Result<()> {
+    sweep::<f64, RegulatedFull, { RegulatedFull::N }>(
+        "full_11dof",
+        "f64",
+        "libm",
+        ladders.rtols,
+        ladders.rk4,
+        opts,
+        refs,
+        limits,
+        runs,
+        failed,
+    )?;
+    sweep::<f32, RegulatedFull, { RegulatedFull::N }>(
+        "full_11dof",
+        "f32",
+        f32_math(),
+        ladders.rtols32,
+        ladders.rk4_32,
+        opts,
+        refs,
+        limits,
+        runs,
+        failed,
+    )
+}
+
+/// The reference's jump onset (and its confirming method's), then the onset and its error
+/// of each full-scene f64 run on the onset ladders ([`ONSET_RTOLS`], [`ONSET_RK4_FACTORS`]);
+/// a run whose onset search fails keeps none.
+fn jump_onsets(
+    limits: &StabilityLimit,
+    info: &mut ReferenceInfo,
+    runs: &mut [RunRow],
+) -> Result<()> {
+    let onset =
+        jump_onset::<f64>(Method::England, REFERENCE_RTOL).context("the reference's jump onset")?;
+    info.jump_onset_rpm = Some(onset);
+    info.confirm_jump_onset_rpm = jump_onset::<f64>(Method::Dopri5, REFERENCE_RTOL).ok();
+    for run in runs
+        .iter_mut()
+        .filter(|r| r.scene == "full_11dof" && r.precision == "f64")
+    {
+        let Some(method) = method_of(run) else {
+            continue;
+        };
+        if !on_onset_ladder(method, run, limits) {
+            continue;
+        }
+        if let Ok(o) = jump_onset::<f64>(method, run.rtol.max(1e-16)) {
+            run.jump_onset_rpm = Some(o);
+            run.jump_onset_err_rpm = Some((o - onset).abs());
+        }
+    }
+    Ok(())
+}
+
+/// The method of a full-scene run, from its name (RK4 from its fixed step); None for one
+/// the onset search does not take (Rosenbrock's).
+fn method_of(run: &RunRow) -> Option<Method> {
+    Some(match run.method.as_str() {
+        "england" => Method::England,
+        "england_scaled_cap" => Method::EnglandScaledCap,
+        "england_pi_capped" => Method::EnglandPiCapped,
+        "dopri5_ode_solvers" => Method::Dopri5,
+        "merson_4_3" => Method::Merson { capped: false },
+        "merson_4_3_capped" => Method::Merson { capped: true },
+        _ => Method::Rk4 {
+            steps_per_rev: run.fixed_steps_per_rev?,
+        },
+    })
+}
+
+/// Whether the run is on the onset ladders: its rtol one of [`ONSET_RTOLS`], or its fixed
+/// step one of [`ONSET_RK4_FACTORS`] times RK4's fewest steps (rounded up to hundreds).
+fn on_onset_ladder(method: Method, run: &RunRow, limits: &StabilityLimit) -> bool {
+    if method.adaptive() {
+        ONSET_RTOLS
+            .iter()
+            .any(|r| (r / run.rtol - 1.0).abs() < 1e-9)
+    } else {
+        ONSET_RK4_FACTORS.iter().any(|f| {
+            let n = (limits.rk4_fixed_steps_per_rev * f / 100.0).ceil() * 100.0;
+            Some(n as u32) == run.fixed_steps_per_rev
+        })
+    }
 }
 
 #[cfg(test)]

@@ -271,16 +271,21 @@ fn with_law(base: &RunSpec, law: MotionLaw) -> Result<RunSpec> {
     Ok(spec)
 }
 
-/// The measures of one run's revolutions 1 and 2.
-fn cam_study(spec: &RunSpec, rows: &[PeriodRow], steps: u32) -> Result<CamStudy> {
-    let names = sim::period_names(&spec.design);
-    let kinds: Vec<SegmentKind> = spec
-        .design
+/// The kind of each segment of the program (rise, return or dwell), in the order of its
+/// periods.
+fn segment_kinds(spec: &RunSpec) -> Vec<SegmentKind> {
+    spec.design
         .program
         .segments()
         .iter()
         .map(|s| s.kind)
-        .collect();
+        .collect()
+}
+
+/// The measures of one run's revolutions 1 and 2.
+fn cam_study(spec: &RunSpec, rows: &[PeriodRow], steps: u32) -> Result<CamStudy> {
+    let names = sim::period_names(&spec.design);
+    let kinds = segment_kinds(spec);
     let row = |rev: u32, k: usize| {
         rows.iter()
             .filter(|r| r.revolution == rev)
@@ -403,58 +408,8 @@ pub fn report(args: &Args) -> Result<CompareReport> {
         .iter()
         .map(|&l| with_law(&base, l).map(|s| (l, s)))
         .collect::<Result<_>>()?;
-    // Every (law, cam) pair, in order: law 0 theoretical, law 0 actual, law 1 ...
-    let jobs: Vec<(usize, bool)> = (0..specs.len())
-        .flat_map(|i| [(i, false), (i, true)])
-        .collect();
-    let pool = crate::study::pool(crate::study::montecarlo::threads(args.threads))?;
-    let bar = crate::study_limits::progress_bar(
-        jobs.len() as u64,
-        true,
-        "{elapsed_precise} [{bar:40}] {pos}/{len} runs (every law, theoretical and actual), eta {eta}",
-    );
-    let results: Vec<Job> = pool.install(|| {
-        jobs.par_iter()
-            .map(|&(i, is_actual)| {
-                let (law, spec) = &specs[i];
-                let run = || -> Job {
-                    if !is_actual {
-                        return Ok((simulate(spec)?, None));
-                    }
-                    let (dev, stats) = actual::build_profile(&spec.design, &actual_args, 0)?;
-                    let mut s = spec.clone();
-                    s.profile = Some(Arc::new(dev));
-                    Ok((simulate(&s)?, Some(stats)))
-                };
-                let r = run().with_context(|| {
-                    format!(
-                        "{} on the {} cam",
-                        law.name(),
-                        if is_actual { "actual" } else { "theoretical" }
-                    )
-                });
-                bar.inc(1);
-                r
-            })
-            .collect()
-    });
-    bar.finish_and_clear();
-    let mut it = results.into_iter();
-    let mut laws = Vec::new();
-    let mut not_workable = Vec::new();
-    for (law, _) in &specs {
-        let flex = it.next().ok_or_else(|| anyhow!("missing run"))?;
-        let cam = it.next().ok_or_else(|| anyhow!("missing run"))?;
-        let ((flex, _), (cam, profile)) = match workable(law.name(), flex, cam)? {
-            Ok(pair) => pair,
-            Err(n) => {
-                not_workable.push(n);
-                continue;
-            }
-        };
-        let profile = profile.ok_or_else(|| anyhow!("missing profile"))?;
-        laws.push(law_study(&base, *law, flex, cam, profile)?);
-    }
+    let results = run_every_law(&specs, &actual_args, args.threads)?;
+    let (mut laws, not_workable) = law_studies(&base, &specs, results)?;
     anyhow::ensure!(
         !laws.is_empty(),
         "no law is workable: every law's run left the model's valid range (first: {} on the {} cam: {})",
@@ -481,6 +436,78 @@ pub fn report(args: &Args) -> Result<CompareReport> {
     })
 }
 
+/// Every law's run on the theoretical and on the actual cam (sample 0 of `actual_args`),
+/// in parallel on `threads`, in order: law 0 theoretical, law 0 actual, law 1 ...
+fn run_every_law(
+    specs: &[(MotionLaw, RunSpec)],
+    actual_args: &ActualArgs,
+    threads: Option<u32>,
+) -> Result<Vec<Job>> {
+    // Every (law, cam) pair, in order: law 0 theoretical, law 0 actual, law 1 ...
+    let jobs: Vec<(usize, bool)> = (0..specs.len())
+        .flat_map(|i| [(i, false), (i, true)])
+        .collect();
+    let pool = crate::study::pool(crate::study::montecarlo::threads(threads))?;
+    let bar = crate::study_limits::progress_bar(
+        jobs.len() as u64,
+        true,
+        "{elapsed_precise} [{bar:40}] {pos}/{len} runs (every law, theoretical and actual), eta {eta}",
+    );
+    let results: Vec<Job> = pool.install(|| {
+        jobs.par_iter()
+            .map(|&(i, is_actual)| {
+                let (law, spec) = &specs[i];
+                let run = || -> Job {
+                    if !is_actual {
+                        return Ok((simulate(spec)?, None));
+                    }
+                    let (dev, stats) = actual::build_profile(&spec.design, actual_args, 0)?;
+                    let mut s = spec.clone();
+                    s.profile = Some(Arc::new(dev));
+                    Ok((simulate(&s)?, Some(stats)))
+                };
+                let r = run().with_context(|| {
+                    format!(
+                        "{} on the {} cam",
+                        law.name(),
+                        if is_actual { "actual" } else { "theoretical" }
+                    )
+                });
+                bar.inc(1);
+                r
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    Ok(results)
+}
+
+/// The studies of the workable laws, and the laws whose run on either cam left the
+/// model's valid range, from the runs in [`run_every_law`]'s order.
+fn law_studies(
+    base: &RunSpec,
+    specs: &[(MotionLaw, RunSpec)],
+    results: Vec<Job>,
+) -> Result<(Vec<LawStudy>, Vec<NotWorkable>)> {
+    let mut it = results.into_iter();
+    let mut laws = Vec::new();
+    let mut not_workable = Vec::new();
+    for (law, _) in specs {
+        let flex = it.next().ok_or_else(|| anyhow!("missing run"))?;
+        let cam = it.next().ok_or_else(|| anyhow!("missing run"))?;
+        let ((flex, _), (cam, profile)) = match workable(law.name(), flex, cam)? {
+            Ok(pair) => pair,
+            Err(n) => {
+                not_workable.push(n);
+                continue;
+            }
+        };
+        let profile = profile.ok_or_else(|| anyhow!("missing profile"))?;
+        laws.push(law_study(base, *law, flex, cam, profile)?);
+    }
+    Ok((laws, not_workable))
+}
+
 /// One workable law's study: its runs on the theoretical and the actual cam, the
 /// periods it jumps in, and the values it is ranked by.
 fn law_study(
@@ -491,13 +518,7 @@ fn law_study(
     profile: ProfileStats,
 ) -> Result<LawStudy> {
     let names = sim::period_names(&base.design);
-    let kinds: Vec<SegmentKind> = base
-        .design
-        .program
-        .segments()
-        .iter()
-        .map(|s| s.kind)
-        .collect();
+    let kinds = segment_kinds(base);
     let jump_in = |rise: bool| {
         cam.per_period.iter().zip(&kinds).any(|(p, k)| {
             p.jump
@@ -618,6 +639,21 @@ impl Report for CompareReport {
     fn text(&self) -> String {
         use std::fmt::Write;
         let mut out = String::new();
+        self.write_heading(&mut out);
+        self.write_acceleration(&mut out);
+        self.write_inertial(&mut out);
+        self.write_ranks(&mut out);
+        not_workable_text(&mut out, &self.not_workable);
+        let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
+        out
+    }
+}
+
+impl CompareReport {
+    /// The first lines: the study (speed, model, cycles), the actual cam it drew and the
+    /// units of the tables.
+    fn write_heading(&self, out: &mut String) {
+        use std::fmt::Write;
         let _ = writeln!(
             out,
             "camsim compare: every motion law for rise and return at {:.1} rpm, {} model; cycle I = revolution 1 \
@@ -653,6 +689,12 @@ impl Report for CompareReport {
             units::symbol(units::FORCE),
             units::symbol(units::STRESS)
         );
+    }
+
+    /// The acceleration RMS of each law's periods, cycles I and II, on the theoretical
+    /// cam and on the actual one, with its sensitivity, shock index and jumps.
+    fn write_acceleration(&self, out: &mut String) {
+        use std::fmt::Write;
         let periods: Vec<String> = self
             .laws
             .first()
@@ -706,7 +748,11 @@ impl Report for CompareReport {
             }
             let _ = writeln!(out);
         }
-        self.write_inertial(&mut out);
+    }
+
+    /// The ranks of each law on every measure and overall, best first, with its jumps.
+    fn write_ranks(&self, out: &mut String) {
+        use std::fmt::Write;
         let _ = writeln!(
             out,
             "ranks (1 = best; S_tol and the jumps on the actual cam, the rest on the theoretical cam; Fc_min larger is better;\n\
@@ -731,13 +777,7 @@ impl Report for CompareReport {
                 format!("{}/{}", yn(l.jump_rise), yn(l.jump_return))
             );
         }
-        not_workable_text(&mut out, &self.not_workable);
-        let _ = writeln!(out, "\nrun time: {:.2} s", self.wall_s);
-        out
     }
-}
-
-impl CompareReport {
     /// The inertial responses' tables, cycle II, on the theoretical and the actual cam.
     fn write_inertial(&self, out: &mut String) {
         use std::fmt::Write;

@@ -637,9 +637,17 @@ fn margin_text(s: &SampleRow) -> String {
 
 /// The human-readable output.
 pub fn render_text(r: &PredictReport) -> String {
+    let mut out = String::new();
+    write_table(r, &mut out);
+    write_readings(r, &mut out);
+    out
+}
+
+/// The scene, the prediction table (force and timing errors by speed), its jump onset
+/// and the interpolation checks, forces in the output's family (`--units`).
+fn write_table(r: &PredictReport, out: &mut String) {
     use crate::units::{q, symbol, FORCE};
     use std::fmt::Write;
-    let mut out = String::new();
     // Forces in the output's family (`--units`), 4 decimals of a pound.
     let lb = symbol(FORCE);
     let force = |v: f64| q(FORCE, v, 4);
@@ -690,49 +698,25 @@ pub fn render_text(r: &PredictReport) -> String {
             c.rpm.0, force(c.interp_force_lb.0), force(c.direct_force_lb.0), force(c.abs_err_force_lb), c.max_abs_err_timing_deg
         );
     }
-    // Every reading in order: the vouched ones with their prediction, the others named.
+}
+
+/// Every reading in order: the vouched ones with their prediction, the others named;
+/// each with the alarm after it, marked where it turns on or off.
+fn write_readings(r: &PredictReport, out: &mut String) {
+    use std::fmt::Write;
     let mut prev = true;
     let (mut si, mut fi) = (r.samples.iter().peekable(), r.faults.iter().peekable());
     loop {
         let (line, alarm) = match (si.peek(), fi.peek()) {
             (Some(s), f) if f.is_none_or(|f| s.reading < f.reading) => {
-                let margin = margin_text(s);
-                let line = format!(
-                    "speed {:>6.1} rpm: force margin {:>9} {lb}, speed margin {margin}, timing rise50 {:+.4} return50 {:+.4} deg",
-                    s.rpm.0,
-                    force(s.force_margin_lb.0),
-                    s.timing_deg[1].0,
-                    s.timing_deg[4].0,
-                );
-                let a = s.alarm;
+                let a = (sample_text(s), s.alarm);
                 si.next();
-                (line, a)
+                a
             }
             (_, Some(f)) => {
-                let what = match f.kind {
-                    "out_of_range" => format!(
-                        "speed {:.1} rpm outside the table's grid: not extrapolated",
-                        f.rpm.map_or(f64::NAN, |n| n.0)
-                    ),
-                    "too_short" => format!(
-                        "pulse rejected: {} ticks, faster than the machine's limit (noise or bounce)",
-                        f.period_ticks.unwrap_or(0)
-                    ),
-                    "bounce" => format!(
-                        "pulse rejected: {} ticks, a bounce",
-                        f.period_ticks.unwrap_or(0)
-                    ),
-                    "step" => format!(
-                        "period rejected: {} ticks, a missed pulse or a step",
-                        f.period_ticks.unwrap_or(0)
-                    ),
-                    "lost" => "speed lost: no index pulse".to_string(),
-                    "acquiring" => "acquiring the speed".to_string(),
-                    other => other.to_string(),
-                };
-                let a = f.alarm;
+                let a = (fault_text(f), f.alarm);
                 fi.next();
-                (what, a)
+                a
             }
             (None, None) => break,
             // Unreachable: the first arm takes a sample whenever no fault is left.
@@ -750,7 +734,46 @@ pub fn render_text(r: &PredictReport) -> String {
             if alarm { "on" } else { "off" }
         );
     }
-    out
+}
+
+/// A vouched reading: its speed, the force and speed margins and the timing errors at
+/// half rise and half return.
+fn sample_text(s: &SampleRow) -> String {
+    use crate::units::{q, symbol, FORCE};
+    format!(
+        "speed {:>6.1} rpm: force margin {:>9} {}, speed margin {}, timing rise50 {:+.4} return50 {:+.4} deg",
+        s.rpm.0,
+        q(FORCE, s.force_margin_lb.0, 4),
+        symbol(FORCE),
+        margin_text(s),
+        s.timing_deg[1].0,
+        s.timing_deg[4].0,
+    )
+}
+
+/// Any other reading, named for the machine's operator.
+fn fault_text(f: &FaultRow) -> String {
+    match f.kind {
+        "out_of_range" => format!(
+            "speed {:.1} rpm outside the table's grid: not extrapolated",
+            f.rpm.map_or(f64::NAN, |n| n.0)
+        ),
+        "too_short" => format!(
+            "pulse rejected: {} ticks, faster than the machine's limit (noise or bounce)",
+            f.period_ticks.unwrap_or(0)
+        ),
+        "bounce" => format!(
+            "pulse rejected: {} ticks, a bounce",
+            f.period_ticks.unwrap_or(0)
+        ),
+        "step" => format!(
+            "period rejected: {} ticks, a missed pulse or a step",
+            f.period_ticks.unwrap_or(0)
+        ),
+        "lost" => "speed lost: no index pulse".to_string(),
+        "acquiring" => "acquiring the speed".to_string(),
+        other => other.to_string(),
+    }
 }
 
 /// Most bytes of a `--check-log` file read: 16 MB. The host checks 74 parity lines of

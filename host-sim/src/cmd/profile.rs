@@ -23,7 +23,7 @@ use serde::Serialize;
 use crate::actual::{ActualArgs, ProfileStats};
 use crate::args::{positive_length, spec_from, OutputArgs, SceneArgs};
 use crate::export::{self, CurvePoint, Layer, Units};
-use crate::output::Plan;
+use crate::output::{AtomicDir, Plan};
 use crate::report::Report;
 use crate::sim::HostDeviation;
 
@@ -537,6 +537,10 @@ fn surface_curvature(
     (convex, concave, undercut)
 }
 
+/// A sampled curve: its name, its offset from the pitch curve (in) and its points in the
+/// drawing's unit.
+type Curve = (&'static str, f64, Vec<CurvePoint>);
+
 /// Computes the drawing and writes what `args` asks for.
 pub fn report(args: &Args) -> Result<ProfileReport> {
     let spec = spec_from(&args.scene)?;
@@ -555,12 +559,42 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
     // The options are read in inch (their parser converts a value given in mm).
     let bound = args.chord_error.unwrap_or(DEFAULT_CHORD_ERROR_IN) * scale;
     let g = design.geometry;
-    let rr = g.roller_radius;
-    let cutter_in = args.cutter_radius;
-
     let (convex, concave, undercut) = surface_curvature(&cam, &g);
+    let warnings = machining_warnings(args, concave, undercut);
+    let curves = sampled_curves(&cam, bound, scale, args.cutter_radius)?;
+    let mut report = ProfileReport {
+        units: args.units,
+        cam: if actual.is_some() {
+            "actual"
+        } else {
+            "theoretical"
+        },
+        chord_error_bound: bound,
+        base_radius: g.base_radius * scale,
+        roller_radius: g.roller_radius * scale,
+        cutter_radius: args.cutter_radius.map(|c| c * scale),
+        min_convex_surface_radius: convex.map(|r| r * scale),
+        min_concave_surface_radius: concave.map(|r| r * scale),
+        warnings,
+        curves: curve_reports(&cam, &curves, scale),
+        every_deg: args.every_deg,
+        actual: actual.as_ref().map(|a| a.1.clone()),
+        files: Vec::new(),
+    };
+    // Nothing is written for a result with a non-finite number.
+    crate::report::ensure_finite(&report)?;
+    let stats = actual.as_ref().map(|a| &a.1);
+    report.files = write_outputs(args, &cam, &curves, stats, bound)?;
+    Ok(report)
+}
+
+/// What the shop must know before cutting: a cutter larger than the smallest concave
+/// surface radius (`concave`, in) gouges; an undercut (at cam angle `undercut`, deg) cannot
+/// be followed by the roller.
+fn machining_warnings(args: &Args, concave: Option<f64>, undercut: Option<f64>) -> Vec<String> {
+    let scale = args.units.per_inch();
     let mut warnings = Vec::new();
-    if let (Some(c), Some(r)) = (cutter_in, concave) {
+    if let (Some(c), Some(r)) = (args.cutter_radius, concave) {
         if c > r {
             warnings.push(format!(
                 "the cutter radius {:.6} {u} is larger than the smallest concave surface radius {:.6} {u}: \
@@ -576,6 +610,13 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
             "the cam is undercut near cam angle {a:.2} deg: the pitch curve's radius of curvature is below the roller radius"
         ));
     }
+    warnings
+}
+
+/// The surface, the pitch curve and (with a cutter radius `cutter_in`, in) the cutter's
+/// centre path, each sampled to within `bound` (drawing unit, `scale` per inch).
+fn sampled_curves(cam: &Cam, bound: f64, scale: f64, cutter_in: Option<f64>) -> Result<Vec<Curve>> {
+    let rr = cam.geometry().roller_radius;
     let sample = |d: f64| {
         export::adaptive(
             |t| cam.offset(t, d, scale),
@@ -588,7 +629,12 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
     if let Some(c) = cutter_in {
         curves.push(("cutter", c - rr, sample(c - rr)?));
     }
-    let curve_reports: Vec<CurveReport> = curves
+    Ok(curves)
+}
+
+/// Each curve's points, largest chordal error (measured inside every chord) and perimeter.
+fn curve_reports(cam: &Cam, curves: &[Curve], scale: f64) -> Vec<CurveReport> {
+    curves
         .iter()
         .map(|(name, d, pts)| CurveReport {
             name,
@@ -600,37 +646,25 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
             ),
             perimeter: perimeter(pts),
         })
-        .collect();
+        .collect()
+}
 
-    let mut report = ProfileReport {
-        units: args.units,
-        cam: if actual.is_some() {
-            "actual"
-        } else {
-            "theoretical"
-        },
-        chord_error_bound: bound,
-        base_radius: g.base_radius * scale,
-        roller_radius: rr * scale,
-        cutter_radius: args.cutter_radius.map(|c| c * scale),
-        min_convex_surface_radius: convex.map(|r| r * scale),
-        min_concave_surface_radius: concave.map(|r| r * scale),
-        warnings,
-        curves: curve_reports,
-        every_deg: args.every_deg,
-        actual: actual.as_ref().map(|a| a.1.clone()),
-        files: Vec::new(),
-    };
-    // Nothing is written for a result with a non-finite number.
-    crate::report::ensure_finite(&report)?;
-
+/// Writes `--out`'s drawing and `--plot`'s SVAJ diagram (both checked before either is
+/// written); the paths written.
+fn write_outputs(
+    args: &Args,
+    cam: &Cam,
+    curves: &[Curve],
+    stats: Option<&ProfileStats>,
+    bound: f64,
+) -> Result<Vec<String>> {
     let mut files = Vec::new();
     let mut plan = Plan::new(args.output.force);
     if let Some(p) = &args.scene.scene {
         plan.input("scene file", p);
     }
     let mut names = vec![SURFACE_RADIUS_FILE, SURFACE_FILE, PITCH_FILE, DXF_FILE];
-    if cutter_in.is_some() {
+    if args.cutter_radius.is_some() {
         names.push(CUTTER_FILE);
     }
     let out_target = match &args.out {
@@ -644,50 +678,70 @@ pub fn report(args: &Args) -> Result<ProfileReport> {
     };
     if let Some(t) = out_target {
         let mut out = t.open()?;
-        let what = match &actual {
-            Some((_, s)) => format!(
-                "a simulated machined cam (camsim profile --actual, seed {}, sample {})",
-                s.seed, s.sample
-            ),
-            None => "the theoretical cam".to_string(),
-        };
-        let step = match args.every_deg {
-            Some(d) => Step::Every(d),
-            None => Step::Chordal(bound),
-        };
-        for (file, text) in csv_files(&cam, &curves, step, args.units, &what, scale)? {
-            out.write(file, text.as_bytes())?;
-        }
-        let note = conventions(args.units);
-        let layers: Vec<Layer> = curves
-            .iter()
-            .map(|(name, _, pts)| Layer {
-                name: match *name {
-                    "surface" => "SURFACE",
-                    "pitch" => "PITCH",
-                    _ => "CUTTER",
-                },
-                color: match *name {
-                    "surface" => 7,
-                    "pitch" => 1,
-                    _ => 5,
-                },
-                points: pts,
-            })
-            .collect();
-        out.write(DXF_FILE, export::dxf(&layers, args.units, &note).as_bytes())?;
+        write_drawing(&mut out, args, cam, curves, stats, bound)?;
         let done = out.commit()?;
         files.extend(done.written.iter().map(|p| p.display().to_string()));
     }
     if let Some(t) = plot_target {
         let mut out = t.open()?;
-        crate::plot::draw_svaj(&mut out, design, SVAJ_FILE)?;
+        crate::plot::draw_svaj(&mut out, cam.design, SVAJ_FILE)?;
         let dir = out.dir().to_path_buf();
         out.commit()?;
         files.push(dir.join(SVAJ_FILE).display().to_string());
     }
-    report.files = files;
-    Ok(report)
+    Ok(files)
+}
+
+/// The drawing into `out`: the curves' CSV files (spaced by `--every-deg`, else by the
+/// chordal `bound`) and the DXF, each saying which cam it draws.
+fn write_drawing(
+    out: &mut AtomicDir,
+    args: &Args,
+    cam: &Cam,
+    curves: &[Curve],
+    stats: Option<&ProfileStats>,
+    bound: f64,
+) -> Result<()> {
+    let what = match stats {
+        Some(s) => format!(
+            "a simulated machined cam (camsim profile --actual, seed {}, sample {})",
+            s.seed, s.sample
+        ),
+        None => "the theoretical cam".to_string(),
+    };
+    let step = match args.every_deg {
+        Some(d) => Step::Every(d),
+        None => Step::Chordal(bound),
+    };
+    let scale = args.units.per_inch();
+    for (file, text) in csv_files(cam, curves, step, args.units, &what, scale)? {
+        out.write(file, text.as_bytes())?;
+    }
+    let note = conventions(args.units);
+    out.write(
+        DXF_FILE,
+        export::dxf(&dxf_layers(curves), args.units, &note).as_bytes(),
+    )
+}
+
+/// The DXF's layers: the surface (white), the pitch curve (red) and the cutter path (blue).
+fn dxf_layers(curves: &[Curve]) -> Vec<Layer<'_>> {
+    curves
+        .iter()
+        .map(|(name, _, pts)| Layer {
+            name: match *name {
+                "surface" => "SURFACE",
+                "pitch" => "PITCH",
+                _ => "CUTTER",
+            },
+            color: match *name {
+                "surface" => 7,
+                "pitch" => 1,
+                _ => 5,
+            },
+            points: pts,
+        })
+        .collect()
 }
 
 /// Runs the command.

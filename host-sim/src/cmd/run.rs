@@ -12,7 +12,7 @@ use crate::args::{self, megabytes, OutputArgs};
 pub use crate::args::{spec_from, SceneArgs};
 use crate::csv::{self, CsvOut};
 use crate::measured::{MeasuredProfile, MeasuredStats};
-use crate::output::Plan;
+use crate::output::{FileTarget, Plan};
 use crate::plot;
 use crate::report::{sorted_pretty_json, Report};
 use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
@@ -306,6 +306,29 @@ fn input_plan(args: &Args) -> Plan {
     plan
 }
 
+/// `--csv`'s target, refused before the run when its rows (on the cam-angle `grid`, else
+/// estimated from the solver's steps) would pass `--max-csv-mb`.
+fn csv_target(
+    plan: &mut Plan,
+    args: &Args,
+    spec: &RunSpec,
+    grid: Option<&camsim_core::AngleGrid<f64>>,
+) -> Result<Option<FileTarget>> {
+    let Some(p) = &args.csv else {
+        return Ok(None);
+    };
+    let bytes = match grid {
+        Some(g) => csv::rows_bytes(csv::grid_rows(spec, g)),
+        None => csv::estimated_bytes(spec),
+    };
+    let limit = args.max_csv_mb.saturating_mul(1_000_000);
+    Ok(Some(plan.file("--csv", p)?.limit(
+        bytes,
+        limit,
+        "--max-csv-mb N",
+    )?))
+}
+
 pub fn report(args: &Args) -> Result<RunReport> {
     let mut spec = spec_from(&args.scene)?;
     if let Some(n) = args.revolutions {
@@ -318,17 +341,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
         false => Some(camsim_core::AngleGrid::new(args.csv_every_deg)?),
         true => None,
     };
-    let csv_target = match &args.csv {
-        Some(p) => Some(plan.file("--csv", p)?.limit(
-            match &grid {
-                Some(g) => csv::rows_bytes(csv::grid_rows(&spec, g)),
-                None => csv::estimated_bytes(&spec),
-            },
-            args.max_csv_mb.saturating_mul(1_000_000),
-            "--max-csv-mb N",
-        )?),
-        None => None,
-    };
+    let csv_target = csv_target(&mut plan, args, &spec, grid.as_ref())?;
     let plot_target = match &args.output.plot {
         Some(dir) if spec.profile.is_some() => {
             Some(plan.dir("--plot", dir, &plot::FILES_WITH_PROFILE)?)
@@ -503,8 +516,96 @@ impl Report for RunReport {
     }
 
     fn text(&self) -> String {
-        use std::fmt::Write;
         let mut out = String::new();
+        self.write_heading(&mut out);
+        if let Some(p) = &self.profile {
+            p.write_lines(&mut out);
+        }
+        self.write_periods(&mut out);
+        self.write_jumps(&mut out);
+        self.write_steady_state(&mut out);
+        self.write_solver(&mut out);
+        out
+    }
+}
+
+impl ProfileReport {
+    /// The actual or measured cam's lines: what it is, its lift deviation and (measured)
+    /// its waviness.
+    fn write_lines(&self, out: &mut String) {
+        use std::fmt::Write;
+        match self {
+            ProfileReport::Actual(p) => write_actual_cam(p, out),
+            ProfileReport::Measured(p) => {
+                let _ = writeln!(
+                    out,
+                    "measured cam: column {}, {} points, {} deviation knots",
+                    p.column.name(),
+                    p.points,
+                    p.deviation_knots
+                );
+            }
+        }
+        let _ = writeln!(out, "{}", self.deviation_line());
+        if let ProfileReport::Measured(p) = self {
+            let w = crate::measured::MeasuredWaviness::of(p);
+            let _ = writeln!(out, "{}", w.line());
+        }
+    }
+
+    /// The lift deviation's line: RMS, mean and largest |e|, RMS of d²e/dθ², and the FPR.
+    fn deviation_line(&self) -> String {
+        use crate::units::{symbol, value, LENGTH, LENGTH_PER_RAD2};
+        let (rms, mean, max, curv, fpr) = match self {
+            ProfileReport::Actual(p) => (
+                p.rms_deviation_in,
+                p.mean_deviation_in,
+                p.max_abs_deviation_in,
+                p.rms_curvature_in_per_rad2,
+                p.fpr,
+            ),
+            ProfileReport::Measured(p) => (
+                p.rms_deviation_in,
+                p.mean_deviation_in,
+                p.max_abs_deviation_in,
+                p.rms_curvature_in_per_rad2,
+                p.fpr,
+            ),
+        };
+        let (l, lu) = (|x| value(LENGTH, x), symbol(LENGTH));
+        format!(
+            "  lift deviation: rms {:.3e} {lu}, mean {:.3e} {lu}, max |e| {:.3e} {lu}, rms d2e/dtheta2 {:.3e} {}; FPR {fpr}",
+            l(rms), l(mean), l(max), value(LENGTH_PER_RAD2, curv), symbol(LENGTH_PER_RAD2)
+        )
+    }
+}
+
+/// An actual cam's lines: how it was drawn (method, seed, tolerances, intervals) and,
+/// for the envelope method, the roller and the rotation centre it was cut with.
+fn write_actual_cam(p: &ProfileStats, out: &mut String) {
+    use crate::units::{given, symbol, value, LENGTH};
+    use std::fmt::Write;
+    let lu = symbol(LENGTH);
+    let _ = writeln!(
+        out,
+        "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} {lu}, roller {} {lu}, eccentricity {} {lu}; {} points every {:.4} deg ({})",
+        p.method.name(), p.seed, p.sample, p.normal.name(), given(LENGTH, p.cam_tolerance_in),
+        given(LENGTH, p.roller_tolerance_in), given(LENGTH, p.eccentricity_tolerance_in),
+        p.intervals, p.interval_deg, p.interval_source.label(),
+    );
+    if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
+        let _ = writeln!(
+            out,
+            "  envelope: roller radius {} {lu}, rotation centre offset ({:.2e}, {:.2e}) {lu}, {} deviation knots",
+            crate::units::q(LENGTH, r, 6), value(LENGTH, c[0]), value(LENGTH, c[1]), p.deviation_knots
+        );
+    }
+}
+
+impl RunReport {
+    /// The first line (revolutions, speed, model, preload) and the verdict.
+    fn write_heading(&self, out: &mut String) {
+        use std::fmt::Write;
         let _ = writeln!(
             out,
             "camsim run: {} revolutions at {:.1} rpm, {} DOF model, preload F_p = {} {}",
@@ -517,69 +618,12 @@ impl Report for RunReport {
         if let Some(v) = &self.verdict {
             let _ = writeln!(out, "{}", crate::verdict::text(v));
         }
-        let deviation = |rms: f64, mean: f64, max: f64, curv: f64, fpr: usize| {
-            use crate::units::{symbol, value, LENGTH, LENGTH_PER_RAD2};
-            let (l, lu) = (|x| value(LENGTH, x), symbol(LENGTH));
-            format!(
-                "  lift deviation: rms {:.3e} {lu}, mean {:.3e} {lu}, max |e| {:.3e} {lu}, rms d2e/dtheta2 {:.3e} {}; FPR {fpr}",
-                l(rms), l(mean), l(max), value(LENGTH_PER_RAD2, curv), symbol(LENGTH_PER_RAD2)
-            )
-        };
-        match &self.profile {
-            Some(ProfileReport::Actual(p)) => {
-                use crate::units::{given, symbol, value, LENGTH};
-                let lu = symbol(LENGTH);
-                let _ = writeln!(
-                    out,
-                    "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} {lu}, roller {} {lu}, eccentricity {} {lu}; {} points every {:.4} deg ({})",
-                    p.method.name(), p.seed, p.sample, p.normal.name(), given(LENGTH, p.cam_tolerance_in),
-                    given(LENGTH, p.roller_tolerance_in), given(LENGTH, p.eccentricity_tolerance_in),
-                    p.intervals, p.interval_deg, p.interval_source.label(),
-                );
-                if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
-                    let _ = writeln!(
-                        out,
-                        "  envelope: roller radius {} {lu}, rotation centre offset ({:.2e}, {:.2e}) {lu}, {} deviation knots",
-                        crate::units::q(LENGTH, r, 6), value(LENGTH, c[0]), value(LENGTH, c[1]), p.deviation_knots
-                    );
-                }
-                let _ = writeln!(
-                    out,
-                    "{}",
-                    deviation(
-                        p.rms_deviation_in,
-                        p.mean_deviation_in,
-                        p.max_abs_deviation_in,
-                        p.rms_curvature_in_per_rad2,
-                        p.fpr
-                    )
-                );
-            }
-            Some(ProfileReport::Measured(p)) => {
-                let _ = writeln!(
-                    out,
-                    "measured cam: column {}, {} points, {} deviation knots",
-                    p.column.name(),
-                    p.points,
-                    p.deviation_knots
-                );
-                let _ = writeln!(
-                    out,
-                    "{}",
-                    deviation(
-                        p.rms_deviation_in,
-                        p.mean_deviation_in,
-                        p.max_abs_deviation_in,
-                        p.rms_curvature_in_per_rad2,
-                        p.fpr
-                    )
-                );
-                let w = crate::measured::MeasuredWaviness::of(p);
-                let _ = writeln!(out, "{}", w.line());
-            }
-            None => {}
-        }
+    }
+
+    /// The units line, then each revolution's per-period table, then a blank line.
+    fn write_periods(&self, out: &mut String) {
         use crate::units::{self as u, q};
+        use std::fmt::Write;
         let _ = writeln!(
             out,
             "units: {}, {}, s; torque {}; stress {}; AORD = mean (omega - omega0)/omega0",
@@ -618,7 +662,12 @@ impl Report for RunReport {
             );
         }
         let _ = writeln!(out);
-        self.write_jumps(&mut out);
+    }
+
+    /// The steady-state line: the verdict's when it judged one, else the comparison of
+    /// the last two revolutions (none with one revolution).
+    fn write_steady_state(&self, out: &mut String) {
+        use std::fmt::Write;
         match (&self.verdict, &self.steady_state) {
             (
                 Some(crate::verdict::Verdict {
@@ -637,6 +686,11 @@ impl Report for RunReport {
             }
             _ => {}
         }
+    }
+
+    /// The solver's line (method, tolerances, work), the run time and the files written.
+    fn write_solver(&self, out: &mut String) {
+        use std::fmt::Write;
         let _ = writeln!(
             out,
             "solver: {} adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
@@ -646,7 +700,6 @@ impl Report for RunReport {
         for f in &self.files {
             let _ = writeln!(out, "wrote {f}");
         }
-        out
     }
 }
 

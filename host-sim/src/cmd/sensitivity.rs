@@ -1152,44 +1152,51 @@ impl Report for SensitivityReport {
         }
         left_range_text(&mut out, &self.not_workable);
         if let Some(pk) = &self.per_key {
-            let _ = writeln!(
-                out,
-                "\nelasticity d ln(output) / d ln(key), central differences at ±{} % on the theoretical cam; \
-                 jump onset {} (static start, resolution {} rpm); ranked by |onset elasticity|",
-                pk.step * 100.0,
-                pk.baseline_jump_onset_rpm
-                    .map_or("none up to 10 000 rpm".to_string(), |r| format!("{r:.2} rpm")),
-                pk.onset_resolution_rpm
-            );
-            let _ = write!(out, "  {:>4} {:<42}", "rank", "key");
-            for (_, h, _) in OUTPUTS {
-                let _ = write!(out, " {h:>10}");
-            }
-            let _ = writeln!(out, " {:>10}", "onset");
-            for (i, k) in pk.keys.iter().enumerate() {
-                // The key under its name in the output's family (an elasticity is the
-                // same in either).
-                let key = crate::units::key_in(k.key, crate::units::current()).0;
-                if let Some(n) = &k.not_workable {
-                    let _ = writeln!(out, "  {:>4} {key:<42} {}", "-", n.text());
-                    continue;
-                }
-                let _ = write!(out, "  {:>4} {:<42}", i + 1, key);
-                for v in k.elasticity.values() {
-                    match v {
-                        Some(v) => {
-                            let _ = write!(out, " {v:>10.4}");
-                        }
-                        None => {
-                            let _ = write!(out, " {:>10}", "-");
-                        }
-                    }
-                }
-                let _ = writeln!(out);
-            }
+            per_key_table(&mut out, pk);
         }
         let _ = writeln!(out, "\nrun time: {:.1} s", self.wall_s);
         out
+    }
+}
+
+/// `--per-key`'s table: each key's elasticities, ranked, a not-workable key on a line of
+/// its own.
+fn per_key_table(out: &mut String, pk: &PerKey) {
+    use std::fmt::Write;
+    let _ = writeln!(
+            out,
+            "\nelasticity d ln(output) / d ln(key), central differences at ±{} % on the theoretical cam; \
+             jump onset {} (static start, resolution {} rpm); ranked by |onset elasticity|",
+            pk.step * 100.0,
+            pk.baseline_jump_onset_rpm
+                .map_or("none up to 10 000 rpm".to_string(), |r| format!("{r:.2} rpm")),
+            pk.onset_resolution_rpm
+        );
+    let _ = write!(out, "  {:>4} {:<42}", "rank", "key");
+    for (_, h, _) in OUTPUTS {
+        let _ = write!(out, " {h:>10}");
+    }
+    let _ = writeln!(out, " {:>10}", "onset");
+    for (i, k) in pk.keys.iter().enumerate() {
+        // The key under its name in the output's family (an elasticity is the
+        // same in either).
+        let key = crate::units::key_in(k.key, crate::units::current()).0;
+        if let Some(n) = &k.not_workable {
+            let _ = writeln!(out, "  {:>4} {key:<42} {}", "-", n.text());
+            continue;
+        }
+        let _ = write!(out, "  {:>4} {:<42}", i + 1, key);
+        for v in k.elasticity.values() {
+            match v {
+                Some(v) => {
+                    let _ = write!(out, " {v:>10.4}");
+                }
+                None => {
+                    let _ = write!(out, " {:>10}", "-");
+                }
+            }
+        }
+        let _ = writeln!(out);
     }
 }
 
@@ -1517,13 +1524,20 @@ mod tests {
     /// first; so does one the design check refuses at −1 % (a cantilever 1.885 in long
     /// clears the roller at full lift by 0.01 in, 0.99 of it by −0.009 in); they rank
     /// last; the others keep their exponents; only a study of no workable key fails.
-    #[test]
-    fn per_key_reports_keys_that_leave_the_range_and_goes_on() {
+    /// The reference with a cantilever 0.01 in longer than the roller's reach at full lift.
+    fn design_at_the_edge() -> Design<f64> {
         let mut d = Design::<f64>::reference();
         d.e2 = d.program.max_lift() + d.geometry.roller_radius + 0.01;
         d.validate().unwrap();
-        let (k_s2, m_l) = (d.k_s2, d.m_l);
-        let eval = |d: &Design<f64>| -> Result<KeyOutcome> {
+        d
+    }
+
+    /// A stand-in study of known exponents: a softer k_s2 than `base`'s leaves the range,
+    /// a heavier load jumps and then leaves it; the others give rms y ∝ k_rs^0.5 and an
+    /// onset ∝ rho^-0.5.
+    fn stand_in(base: &Design<f64>, d: &Design<f64>) -> Result<KeyOutcome> {
+        let (k_s2, m_l) = (base.k_s2, base.m_l);
+        {
             if d.k_s2 < k_s2 {
                 return Ok(Err(LeftRange {
                     separated: false,
@@ -1545,8 +1559,13 @@ mod tests {
                 jump: false,
             };
             Ok(Ok((out, Some(900.0 * d.rho.powf(-0.5)))))
-        };
-        let keys = per_key_with(&d, 2, false, eval).unwrap();
+        }
+    }
+
+    #[test]
+    fn per_key_reports_keys_that_leave_the_range_and_goes_on() {
+        let d = design_at_the_edge();
+        let keys = per_key_with(&d, 2, false, |x| stand_in(&d, x)).unwrap();
         assert_eq!(keys.len(), per_key_keys(&d).unwrap().len());
         let row = |k: &str| keys.iter().find(|x| x.key == k).unwrap();
         let nw = |k: &str| row(k).not_workable.clone().unwrap();
@@ -1587,7 +1606,12 @@ mod tests {
             .unwrap()
             .get("not_workable")
             .is_none());
-        // Every key out of range: the study fails, naming why.
+    }
+
+    /// Every key out of range: the study fails, naming why.
+    #[test]
+    fn per_key_with_no_workable_key_fails_naming_why() {
+        let d = design_at_the_edge();
         let e = per_key_with(&d, 1, false, |_| -> Result<KeyOutcome> {
             Ok(Err(LeftRange {
                 separated: false,

@@ -44,3 +44,23 @@ pub const CHEAP: [&str; 6] = [
     "--seed",
     "7",
 ];
+
+/// Parses and runs a command line as the binary does (through `camsim::cli`): the
+/// refusal's one line (as the binary prints it after `camsim: error: `), `usage: ...` for
+/// one the parser refuses, or "OK".
+pub fn outcome(args: &[&str]) -> String {
+    use camsim::cli;
+    let argv = std::iter::once("camsim").chain(args.iter().copied());
+    match cli::parse_from(argv) {
+        Err(e) => format!("usage: {}", cli::usage_message(&e)),
+        Ok(c) => match cli::execute(c) {
+            Ok(()) => "OK".into(),
+            Err(e) => cli::error_line(&e),
+        },
+    }
+}
+
+/// A path as a command-line argument (the tests' scratch paths are UTF-8).
+pub fn s(p: &std::path::Path) -> &str {
+    p.to_str().unwrap()
+}
