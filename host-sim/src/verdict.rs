@@ -747,7 +747,7 @@ pub fn key_hint(stem: &str, unit: camsim_scene_file::units::Unit) -> String {
 
 /// The verdict's spring lines: rate, mass, coils and surge; the part (given, or assumed
 /// from the rate); stress at full compression and the solid-height check.
-fn spring_lines(out: &mut String, s: &SpringVerdict) {
+pub fn spring_lines(out: &mut String, s: &SpringVerdict) {
     use crate::units as u;
     use std::fmt::Write;
     let (lu, su) = (u::symbol(u::LENGTH), u::symbol(u::STRESS));
@@ -776,12 +776,19 @@ fn spring_lines(out: &mut String, s: &SpringVerdict) {
     } else {
         let _ = writeln!(
             out,
-            "             assumed from the rate (no [design.spring]): {part}; stress and solid height not judged"
+            "             assumed from the rate (no [design.spring]): {part}"
         );
     }
+    // An assumed wire's stress and solid height are shown, not judged: say so on their
+    // lines, beside the numbers a reader would otherwise take as a verdict.
+    let assumed = if s.given {
+        ""
+    } else {
+        " (the assumed wire's: not judged; give [design.spring], or camsim design spring for one)"
+    };
     let _ = writeln!(
         out,
-        "             at full compression {} {lu} ({} {}): shear stress {} {su} (Wahl), {:.0} % of the allowable {} {su}",
+        "             at full compression {} {lu} ({} {}): shear stress {} {su} (Wahl), {:.0} % of the allowable {} {su}{assumed}",
         u::q(u::LENGTH, s.full_compression_in, 3),
         u::q(u::FORCE, s.full_compression_force_lb, 1),
         u::symbol(u::FORCE),
@@ -808,8 +815,9 @@ fn spring_lines(out: &mut String, s: &SpringVerdict) {
     };
     let _ = writeln!(
         out,
-        "             solid height {} {lu}; {solid}",
-        u::q(u::LENGTH, s.solid_height_in, 3)
+        "             solid height {} {lu}{}; {solid}",
+        u::q(u::LENGTH, s.solid_height_in, 3),
+        if s.given { "" } else { " (the assumed wire's)" }
     );
 }
 

@@ -655,6 +655,23 @@ fn the_spring_part_is_judged_on_stress_and_solid_height() {
     assert!(spring_part_warnings(&v).is_empty());
     assert_eq!(v.free_length_in, None);
     assert!((v.least_free_length_in - (1.05 + 2.0)).abs() < 1e-12);
+    // Its text says so on the lines that hold the stress and the solid height, and a
+    // given part's text does not.
+    let text = |v: &camsim::verdict::SpringVerdict| {
+        let mut out = String::new();
+        camsim::verdict::spring_lines(&mut out, v);
+        out
+    };
+    let assumed = text(&v);
+    let stress = assumed.lines().find(|l| l.contains("(Wahl)")).unwrap();
+    assert!(stress.ends_with("(the assumed wire's: not judged; give [design.spring], or camsim design spring for one)"), "{assumed}");
+    let solid = assumed
+        .lines()
+        .find(|l| l.contains("solid height"))
+        .unwrap();
+    assert!(solid.contains("(the assumed wire's)"), "{assumed}");
+    let given = text(&spring_verdict(&spec.design, spec.spring.as_ref()).unwrap());
+    assert!(!given.contains("assumed"), "{given}");
 }
 
 /// Issue 30: a stiffer speed regulator holds the cam speed closer: on the reference design
