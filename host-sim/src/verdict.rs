@@ -900,10 +900,34 @@ pub fn at_text(a: &At) -> String {
 
 /// The verdict block as text.
 pub fn text(v: &Verdict) -> String {
-    use crate::units as u;
     use std::fmt::Write;
     let mut out = String::new();
     let c = &v.contact;
+    contact_lines(&mut out, c);
+    let _ = writeln!(out, "{}", geometry_text(&v.geometry));
+    loads_lines(&mut out, &v.loads);
+    spring_lines(&mut out, &v.spring);
+    let _ = writeln!(out, "{}", mass_text(&v.mass));
+    let _ = writeln!(out, "{}", drive_text(&v.drive, c.revolutions));
+    let _ = writeln!(out, "{}", margin_text(v.jump_margin.as_ref()));
+    if let Some(st) = &v.steady {
+        let _ = writeln!(out, "  steady:    {}", st.summary);
+    }
+    if v.warnings.is_empty() {
+        let _ = writeln!(out, "  warnings:  none");
+    } else {
+        for w in &v.warnings {
+            let _ = writeln!(out, "  WARNING:   {w}");
+        }
+    }
+    out
+}
+
+/// The verdict's heading and contact lines: whether contact holds and its smallest force,
+/// or where the follower leaves the cam; the start transient's separations, not judged.
+fn contact_lines(out: &mut String, c: &ContactVerdict) {
+    use crate::units as u;
+    use std::fmt::Write;
     let _ = writeln!(
         out,
         "VERDICT (revolutions {}-{})",
@@ -942,9 +966,13 @@ pub fn text(v: &Verdict) -> String {
             c.start_transient_separations
         );
     }
-    let g = &v.geometry;
-    let _ = writeln!(
-        out,
+}
+
+/// The verdict's geometry line: the largest pressure angle and the pitch curve's smallest
+/// radius with its undercut margin.
+fn geometry_text(g: &GeometryVerdict) -> String {
+    use crate::units as u;
+    format!(
         "  geometry:  largest pressure angle {:.2} deg at cam angle {:.1} deg (limit {:.0} deg); smallest pitch-curve radius {} {lu} at {:.1} deg, undercut margin {} {lu}",
         g.max_pressure_angle_deg,
         g.max_pressure_angle_at_deg,
@@ -953,8 +981,14 @@ pub fn text(v: &Verdict) -> String {
         g.min_pitch_radius_at_deg,
         u::q(u::LENGTH, g.undercut_margin_in, 4),
         lu = u::symbol(u::LENGTH)
-    );
-    let l = &v.loads;
+    )
+}
+
+/// The verdict's loads lines: the peak cam torque and motor power, and the peak contact
+/// stress against the allowable.
+fn loads_lines(out: &mut String, l: &LoadsVerdict) {
+    use crate::units as u;
+    use std::fmt::Write;
     let _ = writeln!(
         out,
         "  loads:     peak cam torque {} {} at {}; peak motor power {} at {}",
@@ -980,44 +1014,25 @@ pub fn text(v: &Verdict) -> String {
         l.allowable_source,
         su = u::symbol(u::STRESS)
     );
-    spring_lines(&mut out, &v.spring);
-    let _ = writeln!(out, "{}", mass_text(&v.mass));
-    let _ = writeln!(out, "{}", drive_text(&v.drive, c.revolutions));
-    match &v.jump_margin {
-        Some(m) => match (m.jump_onset_rpm, m.margin_percent) {
-            (Some(j), Some(p)) => {
-                let _ = writeln!(
-                    out,
-                    "  margin:    jump onset {j:.1} rpm (contact holds at {:.1} rpm; bracket {:.1} rpm), {p:+.1} % over the operating speed; {} simulations",
-                    m.holds_at_rpm, m.bracket_rpm, m.simulations
-                );
-            }
-            _ => {
-                let _ = writeln!(
-                    out,
-                    "  margin:    no jump up to {:.0} rpm; {} simulations",
-                    m.holds_at_rpm, m.simulations
-                );
-            }
-        },
-        None => {
-            let _ = writeln!(
-                out,
-                "  margin:    not computed (--margin: a search of about 15 two-revolution runs)"
-            );
-        }
+}
+
+/// The verdict's margin line: the jump onset's margin over the operating speed, no jump up
+/// to the search's limit, or not computed (`None`: no `--margin`).
+fn margin_text(m: Option<&MarginVerdict>) -> String {
+    let Some(m) = m else {
+        return "  margin:    not computed (--margin: a search of about 15 two-revolution runs)"
+            .to_string();
+    };
+    match (m.jump_onset_rpm, m.margin_percent) {
+        (Some(j), Some(p)) => format!(
+            "  margin:    jump onset {j:.1} rpm (contact holds at {:.1} rpm; bracket {:.1} rpm), {p:+.1} % over the operating speed; {} simulations",
+            m.holds_at_rpm, m.bracket_rpm, m.simulations
+        ),
+        _ => format!(
+            "  margin:    no jump up to {:.0} rpm; {} simulations",
+            m.holds_at_rpm, m.simulations
+        ),
     }
-    if let Some(st) = &v.steady {
-        let _ = writeln!(out, "  steady:    {}", st.summary);
-    }
-    if v.warnings.is_empty() {
-        let _ = writeln!(out, "  warnings:  none");
-    } else {
-        for w in &v.warnings {
-            let _ = writeln!(out, "  WARNING:   {w}");
-        }
-    }
-    out
 }
 
 /// The verdict's mass line.

@@ -414,6 +414,16 @@ pub fn describe(spec: &RunSpec) -> String {
     )
 }
 
+/// The actual cams of a sweep: their model, the study's settings and every cam's profile.
+struct ActualCams {
+    /// The Monte Carlo model of the design searches.
+    model: RunSpec,
+    /// The study's settings (seed, tolerances, interval).
+    settings: crate::study::montecarlo::StudySettings,
+    /// Every cam, built once and ridden at every speed.
+    profiles: Vec<Arc<HostDeviation>>,
+}
+
 /// Runs the sweep.
 pub fn run(sw: &Sweep) -> Result<SweepReport> {
     let t0 = Instant::now();
@@ -428,29 +438,83 @@ pub fn run(sw: &Sweep) -> Result<SweepReport> {
         .stack_size(16 << 20)
         .build()
         .context("cannot start the worker threads")?;
-    // The actual cams: the Monte Carlo model of the design searches, the interval chosen
-    // once, every cam built once and ridden at every speed.
     let actual = match &sw.actual {
-        Some((args, n)) => {
-            let mc = crate::study::montecarlo::monte_carlo_model(&spec);
-            let study = crate::study::montecarlo::Study::from_spec(mc.clone(), args, *n)?;
-            let profiles: Vec<Result<Arc<HostDeviation>>> = pool.install(|| {
-                (0..*n)
-                    .into_par_iter()
-                    .map(|i| {
-                        crate::actual::build_profile(&mc.design, &study.actual, i)
-                            .map(|(d, _)| Arc::new(d))
-                            .with_context(|| format!("actual cam {i}"))
-                    })
-                    .collect()
-            });
-            let profiles = profiles.into_iter().collect::<Result<Vec<_>>>()?;
-            Some((mc, study.settings, profiles))
-        }
+        Some((args, n)) => Some(actual_cams(&spec, args, *n, &pool)?),
         None => None,
     };
-    let per_speed = actual.as_ref().map_or(0, |a| a.2.len());
+    let per_speed = actual.as_ref().map_or(0, |a| a.profiles.len());
     // Jobs: every speed's theoretical run, then every (speed, cam).
+    let total = nspeeds * (1 + per_speed);
+    let responses = respond_all(sw, &pool, &spec, &speeds, actual.as_ref(), op_rpm)?;
+    let theoretical: Vec<TheoryPoint> = speeds
+        .iter()
+        .zip(&responses)
+        .map(|(&rpm, &response)| TheoryPoint { rpm, response })
+        .collect();
+    let theoretical_onset = grid_onset(
+        &theoretical
+            .iter()
+            .map(|p| (p.rpm, p.response.jump))
+            .collect::<Vec<_>>(),
+    );
+    let rest = responses.get(nspeeds..).unwrap_or(&[]);
+    let report = SweepReport {
+        grid: sw.grid,
+        step_rpm: sw.grid.step_rpm(),
+        operating_rpm: op_rpm,
+        model: describe(&spec),
+        theoretical,
+        theoretical_onset,
+        actual: actual.map(|a| actual_sweep(a, &speeds, rest)),
+        model_runs: total as u64,
+        threads: sw.threads.max(1),
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    crate::report::ensure_finite(&report)?;
+    Ok(report)
+}
+
+/// The actual cams: the Monte Carlo model of the design searches, the interval chosen
+/// once, every one of the `n` cams built once (on `pool`) to be ridden at every speed.
+fn actual_cams(
+    spec: &RunSpec,
+    args: &ActualArgs,
+    n: u64,
+    pool: &rayon::ThreadPool,
+) -> Result<ActualCams> {
+    let mc = crate::study::montecarlo::monte_carlo_model(spec);
+    let study = crate::study::montecarlo::Study::from_spec(mc.clone(), args, n)?;
+    let profiles: Vec<Result<Arc<HostDeviation>>> = pool.install(|| {
+        (0..n)
+            .into_par_iter()
+            .map(|i| {
+                crate::actual::build_profile(&mc.design, &study.actual, i)
+                    .map(|(d, _)| Arc::new(d))
+                    .with_context(|| format!("actual cam {i}"))
+            })
+            .collect()
+    });
+    let profiles = profiles.into_iter().collect::<Result<Vec<_>>>()?;
+    Ok(ActualCams {
+        model: mc,
+        settings: study.settings,
+        profiles,
+    })
+}
+
+/// Every run of the sweep on `pool`, in job order: every speed's theoretical run of `spec`,
+/// then every (speed, actual cam). The first failure stops the runs not yet started and is
+/// returned.
+fn respond_all(
+    sw: &Sweep,
+    pool: &rayon::ThreadPool,
+    spec: &RunSpec,
+    speeds: &[f64],
+    actual: Option<&ActualCams>,
+    op_rpm: f64,
+) -> Result<Vec<Response>> {
+    let nspeeds = speeds.len();
+    let per_speed = actual.map_or(0, |a| a.profiles.len());
     let total = nspeeds * (1 + per_speed);
     let bar = crate::study_limits::progress_bar(
         total as u64,
@@ -467,19 +531,12 @@ pub fn run(sw: &Sweep) -> Result<SweepReport> {
                 }
                 let r = if j < nspeeds {
                     let rpm = speeds.get(j).copied().unwrap_or(op_rpm);
-                    respond(&spec, rpm, false).context("the theoretical cam")
+                    respond(spec, rpm, false).context("the theoretical cam")
                 } else {
                     let k = (j - nspeeds) / per_speed.max(1);
                     let i = (j - nspeeds) % per_speed.max(1);
                     let rpm = speeds.get(k).copied().unwrap_or(op_rpm);
-                    match &actual {
-                        Some((mc, _, profiles)) => {
-                            let mut s = mc.clone();
-                            s.profile = profiles.get(i).cloned();
-                            respond(&s, rpm, true).with_context(|| format!("actual cam {i}"))
-                        }
-                        None => Err(anyhow::anyhow!("no actual cams")),
-                    }
+                    respond_actual(actual, i, rpm)
                 };
                 if r.is_err() {
                     stop.store(true, Ordering::Relaxed);
@@ -497,56 +554,44 @@ pub fn run(sw: &Sweep) -> Result<SweepReport> {
             None => anyhow::bail!("a run failed"),
         }
     }
-    let theoretical: Vec<TheoryPoint> = speeds
+    Ok(responses)
+}
+
+/// The response of actual cam `i` at `rpm`.
+fn respond_actual(actual: Option<&ActualCams>, i: usize, rpm: f64) -> Result<Response> {
+    match actual {
+        Some(a) => {
+            let mut s = a.model.clone();
+            s.profile = a.profiles.get(i).cloned();
+            respond(&s, rpm, true).with_context(|| format!("actual cam {i}"))
+        }
+        None => Err(anyhow::anyhow!("no actual cams")),
+    }
+}
+
+/// The actual cams' report: at every speed of `speeds`, the distribution over its cams'
+/// `responses` (the cams' runs of every speed in turn), and the first speed any cam jumps.
+fn actual_sweep(a: ActualCams, speeds: &[f64], responses: &[Response]) -> ActualSweep {
+    let per_speed = a.profiles.len();
+    let points: Vec<ActualPoint> = speeds
         .iter()
-        .zip(&responses)
-        .map(|(&rpm, &response)| TheoryPoint { rpm, response })
+        .zip(responses.chunks(per_speed.max(1)))
+        .map(|(&rpm, rs)| ActualPoint::of(rpm, rs))
         .collect();
-    let theoretical_onset = grid_onset(
-        &theoretical
+    let first_jump = grid_onset(
+        &points
             .iter()
-            .map(|p| (p.rpm, p.response.jump))
+            .map(|p| (p.rpm, p.p_jump.count > 0))
             .collect::<Vec<_>>(),
     );
-    let actual = match actual {
-        Some((mc, settings, _)) => {
-            let rest = responses.get(nspeeds..).unwrap_or(&[]);
-            let points: Vec<ActualPoint> = speeds
-                .iter()
-                .zip(rest.chunks(per_speed.max(1)))
-                .map(|(&rpm, rs)| ActualPoint::of(rpm, rs))
-                .collect();
-            let first_jump = grid_onset(
-                &points
-                    .iter()
-                    .map(|p| (p.rpm, p.p_jump.count > 0))
-                    .collect::<Vec<_>>(),
-            );
-            Some(ActualSweep {
-                samples: per_speed as u64,
-                seed: settings.seed,
-                profile: settings.profile,
-                model: describe(&mc),
-                points,
-                first_jump,
-            })
-        }
-        None => None,
-    };
-    let report = SweepReport {
-        grid: sw.grid,
-        step_rpm: sw.grid.step_rpm(),
-        operating_rpm: op_rpm,
-        model: describe(&spec),
-        theoretical,
-        theoretical_onset,
-        actual,
-        model_runs: total as u64,
-        threads: sw.threads.max(1),
-        wall_s: t0.elapsed().as_secs_f64(),
-    };
-    crate::report::ensure_finite(&report)?;
-    Ok(report)
+    ActualSweep {
+        samples: per_speed as u64,
+        seed: a.settings.seed,
+        profile: a.settings.profile,
+        model: describe(&a.model),
+        points,
+        first_jump,
+    }
 }
 
 /// `v` (in `unit`'s inch member, printed with `prec` decimals in inch) in the output's
@@ -605,121 +650,9 @@ impl Report for SweepReport {
             self.grid.points, self.grid.from_rpm, self.grid.to_rpm, self.step_rpm, self.operating_rpm
         );
         let _ = writeln!(out, "\ntheoretical cam ({}):", self.model);
-        let (f, acc, t) = (
-            units::symbol(units::FORCE),
-            unit_label(units::ACCELERATION, "in/s2"),
-            units::symbol(units::TORQUE),
-        );
-        let _ = writeln!(
-            out,
-            "  {:>8}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
-            "rpm",
-            "contact",
-            format!("Fc min {f}"),
-            format!("Fc max {f}"),
-            format!("a rms {acc}"),
-            format!("T peak {t}"),
-            format!("stress {}", units::symbol(units::STRESS)),
-            format!("power {}", units::symbol(units::POWER))
-        );
-        for p in &self.theoretical {
-            let r = &p.response;
-            let _ = writeln!(
-                out,
-                "  {:>8.1}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
-                p.rpm,
-                if r.jump { "JUMPS" } else { "holds" },
-                units::q(units::FORCE, r.min_contact_force_lb, 2),
-                opt(units::FORCE, r.peak_contact_force_lb, 2),
-                opt(
-                    units::ACCELERATION,
-                    r.rms_acceleration_deviation_in_per_s2,
-                    1
-                ),
-                opt(units::TORQUE, r.peak_cam_torque_lb_in, 2),
-                opt(units::STRESS, r.peak_contact_stress_psi, 0),
-                opt(units::POWER, r.peak_drive_power_hp, 3)
-            );
-        }
-        match &self.theoretical_onset {
-            Some(o) => {
-                let _ = writeln!(
-                    out,
-                    "  jump onset {}",
-                    onset_text(o, self.step_rpm, "camsim jump-speed")
-                );
-            }
-            None => {
-                let _ = writeln!(out, "  contact holds at every speed of the grid");
-            }
-        }
-        if self.theoretical.iter().any(|p| p.response.left_model_range) {
-            let _ = writeln!(
-                out,
-                "  (-: the run left the model's valid range after the follower left the cam)"
-            );
-        }
+        theory_lines(&mut out, self);
         if let Some(a) = &self.actual {
-            let pr = &a.profile;
-            let _ = writeln!(
-                out,
-                "\n{} actual cams a speed, the same at every speed (seed {}; cam ±{} {lu}, roller ±{} {lu}, eccentricity ±{} {lu}; {} profile, {}) on the {}:",
-                a.samples,
-                a.seed,
-                units::given(units::LENGTH, pr.cam_tolerance_in),
-                units::given(units::LENGTH, pr.roller_tolerance_in),
-                units::given(units::LENGTH, pr.eccentricity_tolerance_in),
-                pr.method,
-                pr.interval_source,
-                a.model,
-                lu = units::symbol(units::LENGTH)
-            );
-            let _ = writeln!(
-                out,
-                "  median [5 %, 95 %] over the cams; P(jump) with its 95 % Wilson interval"
-            );
-            let _ = writeln!(
-                out,
-                "  {:>8}  {:<24} {:<26} {:<26} T peak {t}",
-                "rpm",
-                "P(jump)",
-                format!("Fc min {f}"),
-                format!("a rms {acc}")
-            );
-            for p in &a.points {
-                let _ = writeln!(
-                    out,
-                    "  {:>8.1}  {:<24} {:<26} {:<26} {}",
-                    p.rpm,
-                    p.p_jump.text(3),
-                    band_text(units::FORCE, p.min_contact_force_lb.as_ref(), 2),
-                    band_text(
-                        units::ACCELERATION,
-                        p.rms_acceleration_deviation_in_per_s2.as_ref(),
-                        0
-                    ),
-                    band_text(units::TORQUE, p.peak_cam_torque_lb_in.as_ref(), 1)
-                );
-            }
-            match &a.first_jump {
-                Some(o) => {
-                    let _ = writeln!(
-                        out,
-                        "  first actual cam jumps {}",
-                        onset_text(o, self.step_rpm, "camsim jump-speed --actual")
-                    );
-                }
-                None => {
-                    let _ = writeln!(out, "  no actual cam jumps on the grid");
-                }
-            }
-            let lost: u64 = a.points.iter().map(|p| p.left_model_range).sum();
-            if lost > 0 {
-                let _ = writeln!(
-                    out,
-                    "  {lost} runs left the model's valid range: counted as jumps, left out of the bands"
-                );
-            }
+            actual_lines(&mut out, a, self.step_rpm);
         }
         let _ = writeln!(
             out,
@@ -727,6 +660,143 @@ impl Report for SweepReport {
             self.model_runs, self.threads, self.wall_s
         );
         out
+    }
+}
+
+/// The text's force, acceleration and torque column units.
+fn column_units() -> (&'static str, &'static str, &'static str) {
+    (
+        units::symbol(units::FORCE),
+        unit_label(units::ACCELERATION, "in/s2"),
+        units::symbol(units::TORQUE),
+    )
+}
+
+/// The theoretical cam's table: a row per speed (contact, forces, vibration, torque, stress,
+/// power) and its jump onset on the grid.
+fn theory_lines(out: &mut String, r: &SweepReport) {
+    use std::fmt::Write;
+    let (f, acc, t) = column_units();
+    let _ = writeln!(
+        out,
+        "  {:>8}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
+        "rpm",
+        "contact",
+        format!("Fc min {f}"),
+        format!("Fc max {f}"),
+        format!("a rms {acc}"),
+        format!("T peak {t}"),
+        format!("stress {}", units::symbol(units::STRESS)),
+        format!("power {}", units::symbol(units::POWER))
+    );
+    for p in &r.theoretical {
+        let _ = writeln!(out, "{}", theory_row(p));
+    }
+    match &r.theoretical_onset {
+        Some(o) => {
+            let _ = writeln!(
+                out,
+                "  jump onset {}",
+                onset_text(o, r.step_rpm, "camsim jump-speed")
+            );
+        }
+        None => {
+            let _ = writeln!(out, "  contact holds at every speed of the grid");
+        }
+    }
+    if r.theoretical.iter().any(|p| p.response.left_model_range) {
+        let _ = writeln!(
+            out,
+            "  (-: the run left the model's valid range after the follower left the cam)"
+        );
+    }
+}
+
+/// The theoretical cam's row of one speed.
+fn theory_row(p: &TheoryPoint) -> String {
+    let r = &p.response;
+    format!(
+        "  {:>8.1}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
+        p.rpm,
+        if r.jump { "JUMPS" } else { "holds" },
+        units::q(units::FORCE, r.min_contact_force_lb, 2),
+        opt(units::FORCE, r.peak_contact_force_lb, 2),
+        opt(
+            units::ACCELERATION,
+            r.rms_acceleration_deviation_in_per_s2,
+            1
+        ),
+        opt(units::TORQUE, r.peak_cam_torque_lb_in, 2),
+        opt(units::STRESS, r.peak_contact_stress_psi, 0),
+        opt(units::POWER, r.peak_drive_power_hp, 3)
+    )
+}
+
+/// The actual cams' table: how they are made, a row per speed (P(jump) and the bands of
+/// force, vibration and torque), the first speed any cam jumps (on a grid of `step` rpm)
+/// and the runs that left the model's valid range.
+fn actual_lines(out: &mut String, a: &ActualSweep, step: f64) {
+    use std::fmt::Write;
+    let (f, acc, t) = column_units();
+    let pr = &a.profile;
+    let _ = writeln!(
+        out,
+        "\n{} actual cams a speed, the same at every speed (seed {}; cam ±{} {lu}, roller ±{} {lu}, eccentricity ±{} {lu}; {} profile, {}) on the {}:",
+        a.samples,
+        a.seed,
+        units::given(units::LENGTH, pr.cam_tolerance_in),
+        units::given(units::LENGTH, pr.roller_tolerance_in),
+        units::given(units::LENGTH, pr.eccentricity_tolerance_in),
+        pr.method,
+        pr.interval_source,
+        a.model,
+        lu = units::symbol(units::LENGTH)
+    );
+    let _ = writeln!(
+        out,
+        "  median [5 %, 95 %] over the cams; P(jump) with its 95 % Wilson interval"
+    );
+    let _ = writeln!(
+        out,
+        "  {:>8}  {:<24} {:<26} {:<26} T peak {t}",
+        "rpm",
+        "P(jump)",
+        format!("Fc min {f}"),
+        format!("a rms {acc}")
+    );
+    for p in &a.points {
+        let _ = writeln!(
+            out,
+            "  {:>8.1}  {:<24} {:<26} {:<26} {}",
+            p.rpm,
+            p.p_jump.text(3),
+            band_text(units::FORCE, p.min_contact_force_lb.as_ref(), 2),
+            band_text(
+                units::ACCELERATION,
+                p.rms_acceleration_deviation_in_per_s2.as_ref(),
+                0
+            ),
+            band_text(units::TORQUE, p.peak_cam_torque_lb_in.as_ref(), 1)
+        );
+    }
+    match &a.first_jump {
+        Some(o) => {
+            let _ = writeln!(
+                out,
+                "  first actual cam jumps {}",
+                onset_text(o, step, "camsim jump-speed --actual")
+            );
+        }
+        None => {
+            let _ = writeln!(out, "  no actual cam jumps on the grid");
+        }
+    }
+    let lost: u64 = a.points.iter().map(|p| p.left_model_range).sum();
+    if lost > 0 {
+        let _ = writeln!(
+            out,
+            "  {lost} runs left the model's valid range: counted as jumps, left out of the bands"
+        );
     }
 }
 
