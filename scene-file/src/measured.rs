@@ -240,10 +240,8 @@ pub fn parse(text: &str) -> Result<Measured, ParseError> {
 pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseError> {
     let max_points = max_points.min(MAX_POINTS);
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut column = None;
-    let mut unit = Unit::Inch;
-    let (mut angles, mut values, mut lines) = (Vec::new(), Vec::new(), Vec::new());
-    let mut closed = false;
+    let mut header = None;
+    let mut rows = Rows::default();
     let mut last_line = 0;
     for (i, raw) in text.split('\n').enumerate() {
         let line = i + 1;
@@ -253,35 +251,8 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
             continue;
         }
         let fields: Vec<&str> = content.split(',').map(str::trim).collect();
-        let Some(col) = column else {
-            column = Some(match fields.as_slice() {
-                [a, b] if a.eq_ignore_ascii_case("angle_deg") => {
-                    let b = b.to_ascii_lowercase();
-                    let (name, u) = match b.rsplit_once('_') {
-                        Some((n, "in")) => (n, Unit::Inch),
-                        Some((n, "mm")) => (n, Unit::Millimetre),
-                        _ => ("", Unit::Inch),
-                    };
-                    unit = u;
-                    match name {
-                        "deviation" => Column::Deviation,
-                        "lift" => Column::Lift,
-                        "radius" => Column::Radius,
-                        _ => {
-                            return Err(err(
-                                line,
-                                format!("the header must be {HEADERS}, found {}", quoted(content)),
-                            ))
-                        }
-                    }
-                }
-                _ => {
-                    return Err(err(
-                        line,
-                        format!("the header must be {HEADERS}, found {}", quoted(content)),
-                    ))
-                }
-            });
+        let Some((col, unit)) = header else {
+            header = Some(column_of_header(line, content, &fields)?);
             continue;
         };
         let [a, v] = fields.as_slice() else {
@@ -290,38 +261,115 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
                 format!("expected 2 comma-separated values, found {}", fields.len()),
             ));
         };
-        if closed {
+        if rows.closed {
             return Err(err(
                 line,
                 "a row after the closing row (first angle + 360 deg) is past one revolution",
             ));
         }
         let angle = number(line, "angle_deg", a)?;
-        let header = col.header(unit);
-        let value = number(line, &header, v)?;
-        if col == Column::Radius && value <= 0.0 {
-            return Err(err(
-                line,
-                format!("{header} must be positive, found {value}"),
-            ));
-        }
-        let (lo, hi, why) = col.plausible();
-        let (lo, hi) = (lo * unit.per_inch(), hi * unit.per_inch());
-        if !(lo..=hi).contains(&value) {
-            return Err(err(
-                line,
-                format!(
-                    "{header} {} must lie in [{}, {}] {} ({why})",
-                    short(value),
-                    short(lo),
-                    short(hi),
-                    unit.name()
-                ),
-            ));
-        }
-        // Kept in inches.
-        let value = value / unit.per_inch();
-        match (angles.first(), angles.last(), lines.last()) {
+        let value = value_in_inches(line, col, unit, v)?;
+        rows.push(line, angle, value, max_points)?;
+    }
+    let Some((column, unit)) = header else {
+        return Err(err(
+            last_line.max(1),
+            format!("no header: the file must start with {HEADERS}"),
+        ));
+    };
+    rows.check_revolution(last_line)?;
+    Ok(Measured {
+        column,
+        unit,
+        angles_deg: rows.angles,
+        values_in: rows.values,
+    })
+}
+
+/// The second column and the unit a header line names (`angle_deg,lift_mm`).
+fn column_of_header(
+    line: usize,
+    content: &str,
+    fields: &[&str],
+) -> Result<(Column, Unit), ParseError> {
+    let refused = || {
+        err(
+            line,
+            format!("the header must be {HEADERS}, found {}", quoted(content)),
+        )
+    };
+    let [a, b] = fields else {
+        return Err(refused());
+    };
+    if !a.eq_ignore_ascii_case("angle_deg") {
+        return Err(refused());
+    }
+    let b = b.to_ascii_lowercase();
+    let (name, unit) = match b.rsplit_once('_') {
+        Some((n, "in")) => (n, Unit::Inch),
+        Some((n, "mm")) => (n, Unit::Millimetre),
+        _ => ("", Unit::Inch),
+    };
+    let column = match name {
+        "deviation" => Column::Deviation,
+        "lift" => Column::Lift,
+        "radius" => Column::Radius,
+        _ => return Err(refused()),
+    };
+    Ok((column, unit))
+}
+
+/// A row's second-column field, checked (finite, a positive radius, plausible in the
+/// file's unit) and converted to inches.
+fn value_in_inches(line: usize, col: Column, unit: Unit, field: &str) -> Result<f64, ParseError> {
+    let header = col.header(unit);
+    let value = number(line, &header, field)?;
+    if col == Column::Radius && value <= 0.0 {
+        return Err(err(
+            line,
+            format!("{header} must be positive, found {value}"),
+        ));
+    }
+    let (lo, hi, why) = col.plausible();
+    let (lo, hi) = (lo * unit.per_inch(), hi * unit.per_inch());
+    if !(lo..=hi).contains(&value) {
+        return Err(err(
+            line,
+            format!(
+                "{header} {} must lie in [{}, {}] {} ({why})",
+                short(value),
+                short(lo),
+                short(hi),
+                unit.name()
+            ),
+        ));
+    }
+    // Kept in inches.
+    Ok(value / unit.per_inch())
+}
+
+/// The rows of one revolution read so far: angles (deg), values (in), their lines, and
+/// whether a closing row (first angle + 360 deg) has been read.
+#[derive(Default)]
+struct Rows {
+    angles: Vec<f64>,
+    values: Vec<f64>,
+    lines: Vec<usize>,
+    closed: bool,
+}
+
+impl Rows {
+    /// Adds a row at `line`: its angle must increase and stay within one revolution of
+    /// the first; a row at exactly first + 360 deg must repeat the first value and
+    /// closes the revolution (it is not kept).
+    fn push(
+        &mut self,
+        line: usize,
+        angle: f64,
+        value: f64,
+        max_points: usize,
+    ) -> Result<(), ParseError> {
+        match (self.angles.first(), self.angles.last(), self.lines.last()) {
             (Some(&first), Some(&prev), Some(&prev_line)) => {
                 if angle <= prev {
                     return Err(err(
@@ -333,7 +381,7 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
                 }
                 let end = first + 360.0;
                 if (angle - end).abs() <= 1e-9 * end {
-                    let v0 = values.first().copied().unwrap_or(value);
+                    let v0 = self.values.first().copied().unwrap_or(value);
                     if (value - v0).abs() > 1e-9 {
                         return Err(err(
                             line,
@@ -342,8 +390,8 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
                             ),
                         ));
                     }
-                    closed = true;
-                    continue;
+                    self.closed = true;
+                    return Ok(());
                 }
                 if angle > end {
                     return Err(err(
@@ -361,33 +409,36 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
                 }
             }
         }
-        if angles.len() >= max_points {
+        if self.angles.len() >= max_points {
             return Err(err(
                 line,
                 format!("more than {max_points} rows in a revolution"),
             ));
         }
-        angles.push(angle);
-        values.push(value);
-        lines.push(line);
+        self.angles.push(angle);
+        self.values.push(value);
+        self.lines.push(line);
+        Ok(())
     }
-    let Some(column) = column else {
-        return Err(err(
-            last_line.max(1),
-            format!("no header: the file must start with {HEADERS}"),
-        ));
-    };
-    let at = lines.last().copied().unwrap_or(last_line.max(1));
-    if angles.len() < 4 {
-        return Err(err(
-            at,
-            format!(
-                "at least 4 rows a revolution are needed, found {}",
-                angles.len()
-            ),
-        ));
-    }
-    if !closed {
+
+    /// At least 4 rows, and (unless closed) a last row whose gap back to first + 360 deg
+    /// is at most 1.5 times the largest step; an error names the last row's line (or
+    /// `last_line`, the file's last, when there is none).
+    fn check_revolution(&self, last_line: usize) -> Result<(), ParseError> {
+        let angles = &self.angles;
+        let at = self.lines.last().copied().unwrap_or(last_line.max(1));
+        if angles.len() < 4 {
+            return Err(err(
+                at,
+                format!(
+                    "at least 4 rows a revolution are needed, found {}",
+                    angles.len()
+                ),
+            ));
+        }
+        if self.closed {
+            return Ok(());
+        }
         let (first, last) = (
             angles.first().copied().unwrap_or(0.0),
             angles.last().copied().unwrap_or(0.0),
@@ -406,13 +457,8 @@ pub fn parse_limited(text: &str, max_points: usize) -> Result<Measured, ParseErr
                 ),
             ));
         }
+        Ok(())
     }
-    Ok(Measured {
-        column,
-        unit,
-        angles_deg: angles,
-        values_in: values,
-    })
 }
 
 /// Most bytes of a measured file read (3 600 rows of long numbers fit many times over).

@@ -26,10 +26,11 @@ use camsim_chip::{
     ReactionLine, ScriptedPulseTrain, CHIP_CHECK_RPM, CHIP_CLOCK_HZ,
 };
 use camsim_core::{CaptureTimer, SpeedPrediction, SteadyState};
-use camsim_firmware::board::qemu::{alarm_output, boot_or_stop, stop_safe, ALARM_PIN};
+use camsim_firmware::board::qemu::{alarm_output, boot_or_stop, stop_safe, AlarmOutput, ALARM_PIN};
 use camsim_firmware::memory::{paint_stack, MemoryReport};
 use camsim_firmware::monitor::{error_name, log_alarm_change, log_config, log_fault, Counts};
 use camsim_firmware::timing::InstrCounter;
+use camsim_firmware::workload::Predictor;
 use camsim_firmware::{exit_failure, exit_success};
 use cortex_m_rt::entry;
 
@@ -70,29 +71,8 @@ fn log_non_vouched(i: u32, monitor: &ChipMonitor<f32>, step: &ChipStep<f32>, led
     defmt::info!("{}", reaction);
 }
 
-#[entry]
-fn main() -> ! {
-    // First: paint the free stack so the peak can be read back at the end.
-    paint_stack();
-
-    // The alarm output before anything else, asserted (LED0 low, the safe state).
-    let Some(mut out) = alarm_output() else {
-        defmt::error!("alarm pin already taken");
-        exit_failure()
-    };
-    let Some(cp) = cortex_m::Peripherals::take() else {
-        stop_safe(&mut out, "core peripherals already taken")
-    };
-    let mut counter = InstrCounter::start(cp.SYST);
-    counter.calibrate();
-
-    // Boot: the prediction table over the scene's speed grid (the alarm stays asserted).
-    let (predictor, boot_instr) = boot_or_stop(&counter, &mut out, &chip_solver_settings());
-    let boot_ms = boot_instr * 1000 / STATED_CLOCK_HZ;
-    defmt::info!(
-        "boot_instr={=u64} (~{=u64} ms at {=u64} MHz assuming ~1 instruction per cycle; a real M4F needs more cycles than instructions)",
-        boot_instr, boot_ms, STATED_CLOCK_HZ / 1_000_000
-    );
+/// Logs the boot table (a row per grid speed) and its jump onset.
+fn log_table(predictor: &Predictor) {
     let table = &predictor.table;
     for (i, (rpm, s)) in table.rpm.iter().zip(table.at.iter()).enumerate() {
         log_table_row(i, *rpm, s);
@@ -107,8 +87,11 @@ fn main() -> ! {
             defmt::info!("{}", ParityLine::jump(None));
         }
     }
+}
 
-    // How accurate the interpolation is: direct simulations between grid points.
+/// How accurate the interpolation is: direct simulations between grid points, logged
+/// with their instruction count.
+fn check_interpolation(predictor: &Predictor, counter: &InstrCounter) {
     let ((), check_instr) = counter.measure(|| {
         for rpm in CHIP_CHECK_RPM.map(|r| r as f32) {
             let p = predictor.predict(rpm);
@@ -130,14 +113,18 @@ fn main() -> ! {
         }
     });
     defmt::info!("interp_check_instr={=u64}", check_instr);
+}
 
-    // The speed monitor on the scripted machine's index pulses (its faults included).
+/// The speed monitor on the scripted machine's index pulses (its faults included): each
+/// reading logged with its reaction on `out`, then the summary line. Returns the most
+/// instructions a reading took.
+fn run_monitor(predictor: &Predictor, counter: &InstrCounter, out: &mut AlarmOutput) -> u64 {
     let mut train = ScriptedPulseTrain::chip();
     let mut monitor = match ChipMonitor::<f32>::new(train.tick_hz()) {
         Ok(m) => m,
         Err(e) => {
             defmt::error!("speed monitor configuration: {=str}", error_name(&e));
-            stop_safe(&mut out, "invalid speed monitor configuration")
+            stop_safe(out, "invalid speed monitor configuration")
         }
     };
     log_config(&monitor);
@@ -179,6 +166,37 @@ fn main() -> ! {
         ALARM_PIN,
         if low { "low" } else { "high" }
     );
+    max_instr
+}
+
+#[entry]
+fn main() -> ! {
+    // First: paint the free stack so the peak can be read back at the end.
+    paint_stack();
+
+    // The alarm output before anything else, asserted (LED0 low, the safe state).
+    let Some(mut out) = alarm_output() else {
+        defmt::error!("alarm pin already taken");
+        exit_failure()
+    };
+    let Some(cp) = cortex_m::Peripherals::take() else {
+        stop_safe(&mut out, "core peripherals already taken")
+    };
+    let mut counter = InstrCounter::start(cp.SYST);
+    counter.calibrate();
+
+    // Boot: the prediction table over the scene's speed grid (the alarm stays asserted).
+    let (predictor, boot_instr) = boot_or_stop(&counter, &mut out, &chip_solver_settings());
+    let boot_ms = boot_instr * 1000 / STATED_CLOCK_HZ;
+    defmt::info!(
+        "boot_instr={=u64} (~{=u64} ms at {=u64} MHz assuming ~1 instruction per cycle; a real M4F needs more cycles than instructions)",
+        boot_instr, boot_ms, STATED_CLOCK_HZ / 1_000_000
+    );
+    log_table(&predictor);
+
+    check_interpolation(&predictor, &counter);
+
+    let max_instr = run_monitor(&predictor, &counter, &mut out);
 
     // Memory of this image: static sections from the linker, stack from the paint.
     let mem = MemoryReport::measure();

@@ -319,13 +319,7 @@ where
     if observer(t0, y, &f0).is_break() {
         return Ok(stats);
     }
-    let scale: [T; N] = {
-        let mut s = cfg.atol;
-        for v in s.iter_mut() {
-            *v /= cfg.rtol.max(T::EPSILON);
-        }
-        s
-    };
+    let scale = jacobian_scale(cfg);
     let mut t = t0;
     let mut h = cfg.h_init;
     let mut since_jac = cfg.jac_every; // a Jacobian at the first step
@@ -348,16 +342,8 @@ where
         let last = t + h >= t_end;
         let h_try = if last { t_end - t } else { h };
         st.step(sys, t, y, &f0, h_try, &mut y1, &mut err)?;
-        let mut ratio = T::ZERO;
-        for i in 0..N {
-            let sc = cfg.atol[i] + cfg.rtol * y[i].abs().max(y1[i].abs());
-            ratio = ratio.max(err[i].abs() / sc);
-        }
-        let fac = if ratio > T::ZERO {
-            T::from_f64(0.9) * ratio.powf(T::from_f64(-1.0 / 3.0))
-        } else {
-            T::from_f64(5.0)
-        };
+        let ratio = error_ratio(cfg, y, &y1, &err);
+        let fac = step_factor(ratio);
         if ratio <= T::ONE {
             stats.accepted += 1;
             since_jac += 1;
@@ -385,6 +371,40 @@ where
         }
     }
     Ok(stats)
+}
+
+/// The Jacobian's perturbation scale of each component: `atol_i / rtol`.
+fn jacobian_scale<T: Real, const N: usize>(cfg: &Config<T, N>) -> [T; N] {
+    let mut s = cfg.atol;
+    for v in s.iter_mut() {
+        *v /= cfg.rtol.max(T::EPSILON);
+    }
+    s
+}
+
+/// The step's error over its tolerance, largest component (at most 1: accepted).
+fn error_ratio<T: Real, const N: usize>(
+    cfg: &Config<T, N>,
+    y: &[T; N],
+    y1: &[T; N],
+    err: &[T; N],
+) -> T {
+    let mut ratio = T::ZERO;
+    for i in 0..N {
+        let sc = cfg.atol[i] + cfg.rtol * y[i].abs().max(y1[i].abs());
+        ratio = ratio.max(err[i].abs() / sc);
+    }
+    ratio
+}
+
+/// The next step over this one for an error `ratio` (third order: `0.9 ratio^(-1/3)`;
+/// 5 at a zero error), before its clamps.
+fn step_factor<T: Real>(ratio: T) -> T {
+    if ratio > T::ZERO {
+        T::from_f64(0.9) * ratio.powf(T::from_f64(-1.0 / 3.0))
+    } else {
+        T::from_f64(5.0)
+    }
 }
 
 #[cfg(test)]

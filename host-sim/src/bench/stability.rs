@@ -191,16 +191,8 @@ pub fn analyse<S: Scene, const N: usize>(
         n >= 2,
         "too few reference samples for the stability analysis"
     );
-    let mut sum_england = 0.0;
-    let mut sum_rk4 = 0.0;
-    let mut sum_dopri = 0.0;
-    let mut sum_merson = 0.0;
-    let mut h_rk4_min = f64::INFINITY;
-    let (mut rho_min, mut rho_max) = (f64::INFINITY, 0.0f64);
-    let mut stiffest = Complex::new(0.0, 0.0);
-    let mut ratios = Vec::new();
+    let mut tally = Tally::default();
     let mut v = [0.0; N];
-    let mut points = 0;
     let mut k = 0;
     while k < n {
         let next = (k + stride).min(n - 1);
@@ -211,33 +203,9 @@ pub fn analyse<S: Scene, const N: usize>(
         } else {
             t[k] - t[k - stride.min(k)]
         };
-        let mut y = [0.0; N];
-        for (a, b) in y.iter_mut().zip(&states[k]) {
-            *a = *b;
-        }
-        let mut scale = [0.0; N];
-        for ((s, yi), ty) in scale.iter_mut().zip(y.iter()).zip(&typical) {
-            *s = yi.abs().max(*ty);
-        }
-        let eig = eigenvalues(scaled_jacobian(model, t[k], &y, &scale))?;
-        let top = eig
-            .iter()
-            .copied()
-            .max_by(|a, b| a.norm().total_cmp(&b.norm()))
-            .unwrap_or_default();
-        let rho = top.norm();
-        rho_min = rho_min.min(rho);
-        if rho > rho_max {
-            rho_max = rho;
-            stiffest = top;
-        }
-        let h_rk4 = Scheme::Rk4.step_limit(&eig);
-        let h_dopri = Scheme::Dopri5.step_limit(&eig);
-        h_rk4_min = h_rk4_min.min(h_rk4);
-        sum_rk4 += dt / h_rk4;
-        sum_england += dt / (2.0 * h_rk4);
-        sum_dopri += dt / h_dopri;
-        sum_merson += dt / Scheme::Merson.step_limit(&eig);
+        let y = state_at::<N>(&states[k]);
+        let eig = eigenvalues_at(model, t[k], &y, &typical)?;
+        let rho = tally.add(&eig, dt);
         let mut f = [0.0; N];
         model.rhs(t[k], &y, &mut f);
         let mut evals = 0;
@@ -252,8 +220,7 @@ pub fn analyse<S: Scene, const N: usize>(
             1e-3,
             &mut evals,
         )?;
-        ratios.push(p / rho);
-        points += 1;
+        tally.ratios.push(p / rho);
         if next == k {
             break;
         }
@@ -262,33 +229,124 @@ pub fn analyse<S: Scene, const N: usize>(
     let revolution_time = t[n - 1] - t[0];
     // The sums cover t[0]..t[n-1] plus the last point's share: per revolution.
     let covered = revolution_time + (t[n - 1] - t[n - 1 - stride.min(n - 1)]);
-    let per_rev = 2.0 * std::f64::consts::PI / model.design().omega0 / covered;
-    ratios.sort_by(f64::total_cmp);
-    let dir = if stiffest.norm() > 0.0 {
-        stiffest / stiffest.norm()
-    } else {
-        Complex::new(0.0, 1.0)
-    };
-    Ok(StabilityLimit {
-        points,
-        rho_min,
-        rho_max,
-        stiffest_damping_ratio: -stiffest.re / stiffest.norm(),
-        stiffest_eigenvalue: [stiffest.re, stiffest.im],
-        england_double_steps_per_rev: sum_england * per_rev,
-        rk4_steps_per_rev: sum_rk4 * per_rev,
-        rk4_fixed_steps_per_rev: 2.0 * std::f64::consts::PI / model.design().omega0 / h_rk4_min,
-        dopri5_steps_per_rev: sum_dopri * per_rev,
-        merson_steps_per_rev: sum_merson * per_rev,
-        merson_imaginary_boundary: Scheme::Merson.ray_limit(Complex::new(0.0, 1.0)),
-        rk4_imaginary_boundary: Scheme::Rk4.ray_limit(Complex::new(0.0, 1.0)),
-        dopri5_imaginary_boundary: Scheme::Dopri5.ray_limit(Complex::new(0.0, 1.0)),
-        rk4_boundary_at_stiffest: Scheme::Rk4.ray_limit(dir),
-        dopri5_boundary_at_stiffest: Scheme::Dopri5.ray_limit(dir),
-        power_over_eig_min: ratios.first().copied().unwrap_or(f64::NAN),
-        power_over_eig_median: ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
-        power_over_eig_max: ratios.last().copied().unwrap_or(f64::NAN),
-    })
+    let period = 2.0 * std::f64::consts::PI / model.design().omega0;
+    Ok(tally.limit(period, period / covered))
+}
+
+/// A reference sample's state as the model's array (missing components 0).
+fn state_at<const N: usize>(state: &[f64]) -> [f64; N] {
+    let mut y = [0.0; N];
+    for (a, b) in y.iter_mut().zip(state) {
+        *a = *b;
+    }
+    y
+}
+
+/// The eigenvalues of the model's Jacobian at `(t, y)`, in coordinates scaled by each
+/// component's magnitude (at least `typical`).
+fn eigenvalues_at<S: Scene, const N: usize>(
+    model: &CamModel<f64, S, N>,
+    t: f64,
+    y: &[f64; N],
+    typical: &[f64],
+) -> Result<Vec<Complex<f64>>> {
+    let mut scale = [0.0; N];
+    for ((s, yi), ty) in scale.iter_mut().zip(y.iter()).zip(typical) {
+        *s = yi.abs().max(*ty);
+    }
+    eigenvalues(scaled_jacobian(model, t, y, &scale))
+}
+
+/// The running sums and extremes of the analysed points.
+struct Tally {
+    sum_england: f64,
+    sum_rk4: f64,
+    sum_dopri: f64,
+    sum_merson: f64,
+    h_rk4_min: f64,
+    rho_min: f64,
+    rho_max: f64,
+    stiffest: Complex<f64>,
+    /// Power-iteration estimate over ρ at each point.
+    ratios: Vec<f64>,
+    points: usize,
+}
+
+impl Default for Tally {
+    fn default() -> Self {
+        Tally {
+            sum_england: 0.0,
+            sum_rk4: 0.0,
+            sum_dopri: 0.0,
+            sum_merson: 0.0,
+            h_rk4_min: f64::INFINITY,
+            rho_min: f64::INFINITY,
+            rho_max: 0.0,
+            stiffest: Complex::new(0.0, 0.0),
+            ratios: Vec::new(),
+            points: 0,
+        }
+    }
+}
+
+impl Tally {
+    /// Counts a point with eigenvalues `eig` standing for `dt` seconds: its spectral
+    /// radius (returned) and each method's steps over `dt` at its limit.
+    fn add(&mut self, eig: &[Complex<f64>], dt: f64) -> f64 {
+        let top = eig
+            .iter()
+            .copied()
+            .max_by(|a, b| a.norm().total_cmp(&b.norm()))
+            .unwrap_or_default();
+        let rho = top.norm();
+        self.rho_min = self.rho_min.min(rho);
+        if rho > self.rho_max {
+            self.rho_max = rho;
+            self.stiffest = top;
+        }
+        let h_rk4 = Scheme::Rk4.step_limit(eig);
+        let h_dopri = Scheme::Dopri5.step_limit(eig);
+        self.h_rk4_min = self.h_rk4_min.min(h_rk4);
+        self.sum_rk4 += dt / h_rk4;
+        self.sum_england += dt / (2.0 * h_rk4);
+        self.sum_dopri += dt / h_dopri;
+        self.sum_merson += dt / Scheme::Merson.step_limit(eig);
+        self.points += 1;
+        rho
+    }
+
+    /// The analysis: the sums scaled by `per_rev` (a revolution's `period`, s, over the
+    /// time they cover), the fixed step's count over a revolution, the boundaries.
+    fn limit(mut self, period: f64, per_rev: f64) -> StabilityLimit {
+        let stiffest = self.stiffest;
+        let ratios = &mut self.ratios;
+        ratios.sort_by(f64::total_cmp);
+        let dir = if stiffest.norm() > 0.0 {
+            stiffest / stiffest.norm()
+        } else {
+            Complex::new(0.0, 1.0)
+        };
+        StabilityLimit {
+            points: self.points,
+            rho_min: self.rho_min,
+            rho_max: self.rho_max,
+            stiffest_damping_ratio: -stiffest.re / stiffest.norm(),
+            stiffest_eigenvalue: [stiffest.re, stiffest.im],
+            england_double_steps_per_rev: self.sum_england * per_rev,
+            rk4_steps_per_rev: self.sum_rk4 * per_rev,
+            rk4_fixed_steps_per_rev: period / self.h_rk4_min,
+            dopri5_steps_per_rev: self.sum_dopri * per_rev,
+            merson_steps_per_rev: self.sum_merson * per_rev,
+            merson_imaginary_boundary: Scheme::Merson.ray_limit(Complex::new(0.0, 1.0)),
+            rk4_imaginary_boundary: Scheme::Rk4.ray_limit(Complex::new(0.0, 1.0)),
+            dopri5_imaginary_boundary: Scheme::Dopri5.ray_limit(Complex::new(0.0, 1.0)),
+            rk4_boundary_at_stiffest: Scheme::Rk4.ray_limit(dir),
+            dopri5_boundary_at_stiffest: Scheme::Dopri5.ray_limit(dir),
+            power_over_eig_min: ratios.first().copied().unwrap_or(f64::NAN),
+            power_over_eig_median: ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN),
+            power_over_eig_max: ratios.last().copied().unwrap_or(f64::NAN),
+        }
+    }
 }
 
 #[cfg(test)]

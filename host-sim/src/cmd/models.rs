@@ -194,14 +194,9 @@ fn sampled<S: Scene, const N: usize>(
     Ok((sampler.samples, work))
 }
 
-fn row<S: Scene, const N: usize>(
-    follower: FollowerModel,
-    rtol: f64,
-    truth: &Truth,
-    rpm: f64,
-    repeat: usize,
-) -> Result<SceneRow> {
-    let name = if S::QUASI_STATIC.is_empty() {
+/// A scene's name in the table: `full`, `vertical` or its follower model's.
+fn scene_name<S: Scene>(follower: FollowerModel) -> &'static str {
+    if S::QUASI_STATIC.is_empty() {
         if S::DOFS == camsim_core::DofSet::ALL {
             "full"
         } else {
@@ -209,12 +204,19 @@ fn row<S: Scene, const N: usize>(
         }
     } else {
         follower.name()
-    };
-    let settings = scene_settings(rtol);
-    let design = design_at(rpm)?;
-    let model = CamModel::<f64, S, N>::new(design.clone())?;
-    let (samples, work) = sampled(&model, &settings).with_context(|| name.to_string())?;
-    let stab = stability::analyse(&model, &settings, &samples.t, &samples.states, 4)?;
+    }
+}
+
+/// The steady state of `repeat` timed runs of 2 revolutions of `model` (checked equal to
+/// `steady_state`'s, the chip's pipeline) and their times, ms.
+fn timed_steady_state<S: Scene, const N: usize>(
+    model: &CamModel<f64, S, N>,
+    design: &Design<f64>,
+    settings: &SolverSettings<f64>,
+    rpm: f64,
+    repeat: usize,
+    name: &str,
+) -> Result<(SteadyState<f64>, Vec<f64>)> {
     let mut times = Vec::new();
     let mut steady = None;
     let points = timing_points(&design.program);
@@ -223,7 +225,7 @@ fn row<S: Scene, const N: usize>(
         // what `steady_state` runs after building it.
         let mut obs = SteadyStateObserver::new(2, points);
         let t0 = Instant::now();
-        simulate(&model, &settings, 2, &mut obs)?;
+        simulate(model, settings, 2, &mut obs)?;
         times.push(t0.elapsed().as_secs_f64() * 1e3);
         steady = Some(obs.result);
     }
@@ -231,14 +233,31 @@ fn row<S: Scene, const N: usize>(
     anyhow::ensure!(
         steady
             == Some(steady_state::<f64, S, N, _>(
-                &design,
+                design,
                 TheoreticalLift,
                 rpm,
-                &settings
+                settings
             )?),
         "{name}: the timed runs differ from steady_state"
     );
-    let steady = steady.context("no timed run")?;
+    Ok((steady.context("no timed run")?, times))
+}
+
+/// One row of the table: scene `S` with `follower` at `rtol`, against `truth`.
+fn row<S: Scene, const N: usize>(
+    follower: FollowerModel,
+    rtol: f64,
+    truth: &Truth,
+    rpm: f64,
+    repeat: usize,
+) -> Result<SceneRow> {
+    let name = scene_name::<S>(follower);
+    let settings = scene_settings(rtol);
+    let design = design_at(rpm)?;
+    let model = CamModel::<f64, S, N>::new(design.clone())?;
+    let (samples, work) = sampled(&model, &settings).with_context(|| name.to_string())?;
+    let stab = stability::analyse(&model, &settings, &samples.t, &samples.states, 4)?;
+    let (steady, mut times) = timed_steady_state(&model, &design, &settings, rpm, repeat, name)?;
     let onset_rpm = onset::<S, N>(&settings, truth.resolution)?;
     let model_onset_rpm = onset::<S, N>(&scene_settings(CONVERGED_RTOL), truth.resolution)?;
     let r = &truth.reference;
@@ -286,6 +305,69 @@ fn row<S: Scene, const N: usize>(
     })
 }
 
+/// The full model (the reference's scene) and its state count.
+type Full = RegulatedFull;
+const NF: usize = <RegulatedFull as Scene>::N;
+
+/// The reference: the full model's run, steady state and onset at [`REFERENCE_RTOL`].
+fn reference_truth(rpm: f64, resolution: f64) -> Result<Truth> {
+    let tight = scene_settings(REFERENCE_RTOL);
+    let design = design_at(rpm)?;
+    let model = CamModel::<f64, Full, NF>::new(design.clone())?;
+    let (samples, _) = sampled(&model, &tight).context("the reference run")?;
+    let steady = steady_state::<f64, Full, NF, _>(&design, TheoreticalLift, rpm, &tight)?;
+    let onset_rpm = onset::<Full, NF>(&tight, resolution)?;
+    Ok(Truth {
+        reference: SceneReference {
+            rtol: REFERENCE_RTOL,
+            onset_rpm,
+            fmin_lb: steady.min_contact_force,
+            timing_deg: steady.timing_deg,
+            acc_rms: Samples::rms(&samples.acc),
+        },
+        samples,
+        steady,
+        resolution,
+    })
+}
+
+/// The row of the vertical regulated scene with `follower`'s model (camsim-core's
+/// SceneId).
+fn follower_row(
+    follower: FollowerModel,
+    rtol: f64,
+    truth: &Truth,
+    rpm: f64,
+    repeat: usize,
+) -> Result<SceneRow> {
+    struct Row<'a> {
+        follower: FollowerModel,
+        rtol: f64,
+        truth: &'a Truth,
+        rpm: f64,
+        repeat: usize,
+    }
+    impl SceneVisitor for Row<'_> {
+        type Output = Result<SceneRow>;
+        fn visit<S: Scene, const N: usize>(self) -> Self::Output {
+            row::<S, N>(self.follower, self.rtol, self.truth, self.rpm, self.repeat)
+        }
+    }
+    let id = SceneId::find(
+        DriveKind::Regulated,
+        DofSet::VERTICAL,
+        follower.quasi_static(),
+    )
+    .with_context(|| format!("no vertical regulated scene for {}", follower.name()))?;
+    id.visit(Row {
+        follower,
+        rtol,
+        truth,
+        rpm,
+        repeat,
+    })
+}
+
 /// Measures every scene, with a progress bar on a terminal (`progress`).
 pub fn measure(rpm: f64, quick: bool, progress: bool) -> Result<ScenesReport> {
     let start = Instant::now();
@@ -297,27 +379,8 @@ pub fn measure(rpm: f64, quick: bool, progress: bool) -> Result<ScenesReport> {
     );
     let resolution = if quick { 0.5 } else { 0.05 };
     let repeat = if quick { 3 } else { 11 };
-    type Full = RegulatedFull;
-    const NF: usize = <RegulatedFull as Scene>::N;
-    let tight = scene_settings(REFERENCE_RTOL);
-    let design = design_at(rpm)?;
-    let model = CamModel::<f64, Full, NF>::new(design.clone())?;
-    let (samples, _) = sampled(&model, &tight).context("the reference run")?;
-    let steady = steady_state::<f64, Full, NF, _>(&design, TheoreticalLift, rpm, &tight)?;
-    let onset_rpm = onset::<Full, NF>(&tight, resolution)?;
+    let truth = reference_truth(rpm, resolution)?;
     bar.inc(1);
-    let truth = Truth {
-        reference: SceneReference {
-            rtol: REFERENCE_RTOL,
-            onset_rpm,
-            fmin_lb: steady.min_contact_force,
-            timing_deg: steady.timing_deg,
-            acc_rms: Samples::rms(&samples.acc),
-        },
-        samples,
-        steady,
-        resolution,
-    };
     let mut rows = Vec::new();
     for rtol in ROW_RTOLS {
         rows.push(row::<Full, NF>(
@@ -328,34 +391,8 @@ pub fn measure(rpm: f64, quick: bool, progress: bool) -> Result<ScenesReport> {
             repeat,
         )?);
         bar.inc(1);
-        // The vertical regulated scene with each follower model (camsim-core's SceneId).
-        struct Row<'a> {
-            follower: FollowerModel,
-            rtol: f64,
-            truth: &'a Truth,
-            rpm: f64,
-            repeat: usize,
-        }
-        impl SceneVisitor for Row<'_> {
-            type Output = Result<SceneRow>;
-            fn visit<S: Scene, const N: usize>(self) -> Self::Output {
-                row::<S, N>(self.follower, self.rtol, self.truth, self.rpm, self.repeat)
-            }
-        }
         for follower in FollowerModel::ALL {
-            let id = SceneId::find(
-                DriveKind::Regulated,
-                DofSet::VERTICAL,
-                follower.quasi_static(),
-            )
-            .with_context(|| format!("no vertical regulated scene for {}", follower.name()))?;
-            rows.push(id.visit(Row {
-                follower,
-                rtol,
-                truth: &truth,
-                rpm,
-                repeat,
-            })?);
+            rows.push(follower_row(follower, rtol, &truth, rpm, repeat)?);
             bar.inc(1);
         }
     }
@@ -402,6 +439,25 @@ impl Report for ScenesReport {
     }
 
     fn text(&self) -> String {
+        let acc = crate::units::axis(crate::units::ACCELERATION).1;
+        let mut s = self.heading();
+        self.error_table(&mut s);
+        self.verdict_table(&mut s);
+        let _ = writeln!(
+            s,
+            "model/solver: size_of in f64, bytes; steps/r: accepted double steps per revolution; limit/r: the fewest the scene's\n\
+             Jacobian eigenvalues allow England (stiffest: largest spectral radius, 1/s); ms/2rev: the 2 revolutions of one\n\
+             steady-state evaluation (the chip's pipeline; the model built beforehand), median; onset%: at the row's rtol; model%: the scene converged (rtol 1e-6), the model's own\n\
+             error; the onset verdict needs both; acc err: RMS over revolution 2 every 0.5°, {acc}; {:.1} s in all",
+            self.seconds
+        );
+        s
+    }
+}
+
+impl ScenesReport {
+    /// What was run, and the reference's values.
+    fn heading(&self) -> String {
         use crate::units::{axis, q, symbol, value, ACCELERATION, FORCE, LENGTH};
         let mut s = String::new();
         let r = &self.reference;
@@ -422,6 +478,12 @@ impl Report for ScenesReport {
             q(FORCE, r.fmin_lb, 3),
             value(ACCELERATION, r.acc_rms)
         );
+        s
+    }
+
+    /// Each row's cost and its errors against the reference.
+    fn error_table(&self, s: &mut String) {
+        use crate::units::{q, value, ACCELERATION, FORCE};
         let _ = writeln!(
             s,
             "{:<24} {:>5} {:>4} {:>3} {:>6} {:>6} {:>7} {:>5} {:>8} {:>7} {:>9} {:>7} {:>8} {:>8} {:>8} {:>8} {:>9} {:>8}",
@@ -452,6 +514,12 @@ impl Report for ScenesReport {
                 value(ACCELERATION, w.acc_rms_err)
             );
         }
+    }
+
+    /// Which rows are accurate enough, and their f32 bytes.
+    fn verdict_table(&self, s: &mut String) {
+        use crate::units::{symbol, value, FORCE};
+        let lb = symbol(FORCE);
         let _ = writeln!(
             s,
             "\naccurate enough for (onset within {:.0} %, Fmin within {} {lb}, timing within {}°, acceleration RMS error within {:.0} % of the signal):",
@@ -478,14 +546,5 @@ impl Report for ScenesReport {
                 w.model_f32_bytes + w.solver_f32_bytes
             );
         }
-        let _ = writeln!(
-            s,
-            "model/solver: size_of in f64, bytes; steps/r: accepted double steps per revolution; limit/r: the fewest the scene's\n\
-             Jacobian eigenvalues allow England (stiffest: largest spectral radius, 1/s); ms/2rev: the 2 revolutions of one\n\
-             steady-state evaluation (the chip's pipeline; the model built beforehand), median; onset%: at the row's rtol; model%: the scene converged (rtol 1e-6), the model's own\n\
-             error; the onset verdict needs both; acc err: RMS over revolution 2 every 0.5°, {acc}; {:.1} s in all",
-            self.seconds
-        );
-        s
     }
 }

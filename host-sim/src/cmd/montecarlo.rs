@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::{bail, Result};
 
 pub use crate::args::{OutputArgs, StudyArgs};
-use crate::output::Plan;
+use crate::output::{AtomicFile, DirTarget, Plan};
 use crate::plot::montecarlo::{draw, PLOT_FILES};
 pub use crate::study::montecarlo::{
     default_full_samples, measured_revolution, parse_shard, read_shard, summarize, threads,
@@ -97,29 +97,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
     args.study.actual.refuse_actual_flag("montecarlo")?;
     let study = levels(Study::new(&args.study)?, args)?;
     let shard = args.shard.unwrap_or(Shard::WHOLE);
-    let out = &args.output;
-    // Every output checked before any sample runs.
-    let mut plan = Plan::new(out.force);
-    if let Some(p) = &args.study.scene.scene {
-        plan.input("scene file", p);
-    }
-    let out_target = match &args.out {
-        Some(p) => Some(plan.file("--out", p)?),
-        None => None,
-    };
-    let plot_target = match (&out.plot, args.shard) {
-        (Some(_), Some(_)) => {
-            bail!("--plot draws a whole study: give it to `merge`, not to a shard")
-        }
-        (Some(dir), None) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
-        (None, _) => None,
-    };
-    // The output's temporary exists before the first sample: a name the file system
-    // refuses fails now, not after the whole study.
-    let mut out_file = match out_target {
-        Some(t) => Some(t.open()?),
-        None => None,
-    };
+    let (mut out_file, plot_target) = outputs(args)?;
     let threads = threads(args.threads);
     first_sample_time(&study, shard, threads, args.allow_long)?;
     let t0 = Instant::now();
@@ -130,13 +108,7 @@ pub fn execute(args: &Args) -> Result<Outcome> {
         .two_level
         .is_some()
         .then_some(tally.two_level);
-    let wall_s = t0.elapsed().as_secs_f64();
-    let timing = Timing {
-        threads,
-        wall_s,
-        samples_per_s: stats.accounted() as f64 / wall_s,
-        samples_per_s_per_thread: stats.accounted() as f64 / wall_s / threads as f64,
-    };
+    let timing = timing(threads, t0.elapsed().as_secs_f64(), stats.accounted());
     let (summary, two_level_summary) = if args.shard.is_none() {
         let t = match &two_level {
             Some(t) => t.summary(&stats)?,
@@ -174,6 +146,45 @@ pub fn execute(args: &Args) -> Result<Outcome> {
             out: args.out.clone().unwrap_or_default(),
             timing,
         })),
+    }
+}
+
+/// Every output checked before any sample runs: the `--out` file, its temporary already
+/// open (a name the file system refuses fails now, not after the whole study), and the
+/// `--plot` directory.
+fn outputs(args: &Args) -> Result<(Option<AtomicFile>, Option<DirTarget>)> {
+    let out = &args.output;
+    let mut plan = Plan::new(out.force);
+    if let Some(p) = &args.study.scene.scene {
+        plan.input("scene file", p);
+    }
+    let out_target = match &args.out {
+        Some(p) => Some(plan.file("--out", p)?),
+        None => None,
+    };
+    let plot_target = match (&out.plot, args.shard) {
+        (Some(_), Some(_)) => {
+            bail!("--plot draws a whole study: give it to `merge`, not to a shard")
+        }
+        (Some(dir), None) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
+        (None, _) => None,
+    };
+    // The output's temporary exists before the first sample: a name the file system
+    // refuses fails now, not after the whole study.
+    let out_file = match out_target {
+        Some(t) => Some(t.open()?),
+        None => None,
+    };
+    Ok((out_file, plot_target))
+}
+
+/// The study's speed: `samples` accounted in `wall_s` seconds on `threads` threads.
+fn timing(threads: usize, wall_s: f64, samples: u64) -> Timing {
+    Timing {
+        threads,
+        wall_s,
+        samples_per_s: samples as f64 / wall_s,
+        samples_per_s_per_thread: samples as f64 / wall_s / threads as f64,
     }
 }
 
