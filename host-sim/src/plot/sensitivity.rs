@@ -4,13 +4,13 @@
 //! does not is marked "jump", a case that left the model's valid range is named instead
 //! of its bar.
 
-use crate::cmd::sensitivity::{
-    fmt_value, output_unit, pct, Case, Group, SensitivityReport, OUTPUTS,
-};
 use crate::figure::palette::{BLACK, RED};
 use crate::figure::{
     At, Axis, Bar, Colour, Entry, Figure, HAlign, Marker, Note, Panel, Strip, Stroke, Swatch,
     Ticks, VAlign,
+};
+use crate::study::sensitivity::{
+    fmt_value, output_unit, pct, Case, Group, SensitivityReport, OUTPUTS,
 };
 
 /// Size of the plot, pixels.

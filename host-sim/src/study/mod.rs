@@ -6,6 +6,7 @@ pub mod contact;
 pub mod jump_speed;
 pub mod jump_speed_actual;
 pub mod montecarlo;
+pub mod sensitivity;
 pub mod sweep;
 
 /// A local pool of `threads` worker threads (at least one) for a study's independent runs,
