@@ -921,7 +921,7 @@ pub fn samples_for(p: f64) -> u64 {
 pub struct SpringReport {
     /// What the search varied: `spring rate` (at the preload length) or `preload length`
     /// (at the rate, with --preload).
-    pub searched: String,
+    pub searched: Searched,
     /// The smallest rate found that passes, lb/in (with --preload: the rate held).
     pub spring_rate_lb_per_in: f64,
     /// The largest rate tried that fails, lb/in (absent: the first rate tried passed).
@@ -1213,17 +1213,6 @@ fn spring_search_range(args: &SpringArgs) -> Result<(f64, f64, f64)> {
     })
 }
 
-/// Moves a preload search's answer (held in the rate's fields) to the preload length's;
-/// the rate is the scene's `k_rs`.
-fn answer_is_preload_length(report: &mut SpringReport, k_rs: f64) {
-    let length = report.spring_rate_lb_per_in;
-    report.failing_preload_length_in = report.failing_rate_lb_per_in.take();
-    report.preload_bracket_in = Some(report.bracket_lb_per_in);
-    report.bracket_lb_per_in = 0.0;
-    report.spring_rate_lb_per_in = k_rs;
-    report.preload_length_in = length;
-}
-
 /// The spring search.
 pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     let t0 = Instant::now();
@@ -1232,27 +1221,75 @@ pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
     spec.revolutions = 2;
     let range = spring_search_range(args)?;
     args.actual.ensure_actual_if_options()?;
-    let mut report = if args.actual.actual {
-        spring_on_actual_cams(args, &spec, range)?
+    let report = if args.actual.actual {
+        spring_on_actual_cams(args, &spec, range, t0)?
     } else {
-        spring_on_theoretical_cam(args, &spec, range)?
+        spring_on_theoretical_cam(args, &spec, range, t0)?
     };
-    if args.preload {
-        answer_is_preload_length(&mut report, spec.design.k_rs);
-    }
-    spring_of_answer(&mut report, &spec, args.preload)?;
-    report.wall_s = t0.elapsed().as_secs_f64();
     crate::report::ensure_finite(&report)?;
     Ok(report)
 }
 
-/// What the search varies (`spring rate`, or `preload length` with --preload) and its unit.
-fn searched(preload: bool) -> (&'static str, &'static str) {
-    if preload {
-        ("preload length", "in")
-    } else {
-        ("spring rate", "lb/in")
+/// What `design spring` varies: the rate (at the preload length), or with --preload the
+/// preload length (at the rate held).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Searched {
+    /// The spring rate, lb/in.
+    #[serde(rename = "spring rate")]
+    Rate,
+    /// The preload length δ_rs, in.
+    #[serde(rename = "preload length")]
+    PreloadLength,
+}
+
+impl Searched {
+    fn of(preload: bool) -> Self {
+        if preload {
+            Searched::PreloadLength
+        } else {
+            Searched::Rate
+        }
     }
+
+    /// Its name and unit: `spring rate` lb/in or `preload length` in.
+    fn words(self) -> (&'static str, &'static str) {
+        match self {
+            Searched::PreloadLength => ("preload length", "in"),
+            Searched::Rate => ("spring rate", "lb/in"),
+        }
+    }
+}
+
+impl PartialEq<&str> for Searched {
+    fn eq(&self, other: &&str) -> bool {
+        self.words().0 == *other
+    }
+}
+
+/// A spring search's answer: the passing value of what it searched (lb/in or in) and the
+/// failing value below it (absent: the first value tried passed).
+#[derive(Clone, Copy, Debug)]
+struct Answer {
+    searched: Searched,
+    value: f64,
+    failing: Option<f64>,
+}
+
+impl Answer {
+    /// The bracket width, in the answer's unit (0 when the first value tried passed).
+    fn bracket(self) -> f64 {
+        self.failing.map_or(0.0, |b| self.value - b)
+    }
+}
+
+/// What a spring search found, before the answer's spring is worked out.
+struct Found {
+    answer: Answer,
+    criterion: String,
+    model: String,
+    tried: Vec<(f64, bool)>,
+    part: PartReport,
+    model_runs: u64,
 }
 
 /// `base` with the searched value `x`: its rate (its mass following it by the wire model),
@@ -1270,26 +1307,41 @@ fn with_value(base: &RunSpec, x: f64, preload: bool) -> Result<RunSpec> {
     Ok(s)
 }
 
-/// The report of a search's answer `(value, failing value below it)` on `spec` under
-/// `criterion`; the spring's own numbers are [`spring_of_answer`]'s.
-fn answered(
-    preload: bool,
-    (rate, below): (f64, Option<f64>),
-    spec: &RunSpec,
-    criterion: String,
-) -> SpringReport {
-    SpringReport {
-        searched: searched(preload).0.into(),
+/// The report of a search's answer on `spec` (the rate or the preload length in their own
+/// fields, the other held at the scene's), with the answer's spring ([`spring_of_answer`]);
+/// what only one criterion gives is absent.
+fn answered(found: Found, spec: &RunSpec, t0: Instant) -> Result<SpringReport> {
+    let Found {
+        answer,
+        criterion,
+        model,
+        tried,
+        part,
+        model_runs,
+    } = found;
+    let spring = spring_of_answer(spec, answer, &part)?;
+    let (rate, failing_rate, bracket, failing_length, length_bracket) = match answer.searched {
+        Searched::Rate => (answer.value, answer.failing, answer.bracket(), None, None),
+        Searched::PreloadLength => (
+            spec.design.k_rs,
+            None,
+            0.0,
+            answer.failing,
+            Some(answer.bracket()),
+        ),
+    };
+    Ok(SpringReport {
+        searched: answer.searched,
         spring_rate_lb_per_in: rate,
-        failing_rate_lb_per_in: below,
-        bracket_lb_per_in: below.map_or(0.0, |b| rate - b),
-        failing_preload_length_in: None,
-        preload_bracket_in: None,
-        preload_lb: 0.0,
-        preload_length_in: spec.design.delta_rs,
-        spring_mass_lb: 0.0,
-        active_coils: 0.0,
-        surge_hz: 0.0,
+        failing_rate_lb_per_in: failing_rate,
+        bracket_lb_per_in: bracket,
+        failing_preload_length_in: failing_length,
+        preload_bracket_in: length_bracket,
+        preload_lb: spring.preload_lb,
+        preload_length_in: spring.preload_length_in,
+        spring_mass_lb: spring.mass_lb,
+        active_coils: spring.active_coils,
+        surge_hz: spring.surge_hz,
         operating_rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
         criterion,
         checked_at_rpm: None,
@@ -1299,12 +1351,12 @@ fn answered(
         samples: None,
         seed: None,
         profile: None,
-        model: describe(spec),
-        tried: Vec::new(),
-        part: None,
-        model_runs: 0,
-        wall_s: 0.0,
-    }
+        model,
+        tried,
+        part: Some(part),
+        model_runs,
+        wall_s: t0.elapsed().as_secs_f64(),
+    })
 }
 
 /// `design spring --actual`: the search on P(jump) over the same actual cams at every
@@ -1313,8 +1365,9 @@ fn spring_on_actual_cams(
     args: &SpringArgs,
     spec: &RunSpec,
     (start, max, resolution): (f64, f64, f64),
+    t0: Instant,
 ) -> Result<SpringReport> {
-    let (what, unit) = searched(args.preload);
+    let (what, unit) = Searched::of(args.preload).words();
     let mc = crate::study::montecarlo::monte_carlo_model(spec);
     let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
     let actual = args.actual.resolve(&mc.design)?;
@@ -1340,25 +1393,32 @@ fn spring_on_actual_cams(
         Ok(ok)
     })?;
     let ans = answer(onset, max, args.preload, "P(jump) above --p-max")?;
-    let (part, _) = choose_part(&with_value(spec, ans.0, args.preload)?, None, &mut runs)?;
+    let (part, _) = choose_part(&with_value(spec, ans.value, args.preload)?, None, &mut runs)?;
     let criterion = format!(
         "upper 95 % Wilson bound of P(jump) in revolution 2 at {:.1} rpm over {n} actual cams (seed {}) at most {p_max}",
         camsim_core::rad_per_s_to_rpm(spec.design.omega0),
         actual.seed()
     );
     Ok(SpringReport {
-        p_jump: last_p.filter(|(k, _)| *k == ans.0).map(|(_, p)| p),
+        p_jump: last_p.filter(|(k, _)| *k == ans.value).map(|(_, p)| p),
         samples: Some(n),
         seed: Some(actual.seed()),
         profile: Some(ProfileSettings::of(
             &actual,
             intervals_for(&mc.design, &actual)?,
         )?),
-        model: describe(&mc),
-        tried,
-        part: Some(part),
-        model_runs: runs,
-        ..answered(args.preload, ans, spec, criterion)
+        ..answered(
+            Found {
+                answer: ans,
+                criterion,
+                model: describe(&mc),
+                tried,
+                part,
+                model_runs: runs,
+            },
+            spec,
+            t0,
+        )?
     })
 }
 
@@ -1369,6 +1429,7 @@ fn spring_on_theoretical_cam(
     args: &SpringArgs,
     spec: &RunSpec,
     (start, max, resolution): (f64, f64, f64),
+    t0: Instant,
 ) -> Result<SpringReport> {
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
     let at_rpm = op_rpm * (1.0 + args.margin / 100.0);
@@ -1385,8 +1446,8 @@ fn spring_on_theoretical_cam(
     })?;
     let ans = answer(onset, max, args.preload, "separates")?;
     let at = |x: f64| with_value(spec, x, args.preload); // contact with its own mass
-    let what = searched(args.preload).0;
-    let (part, chosen) = choose_part_holding_contact(&at, ans.0, what, at_rpm, &mut runs)?;
+    let what = ans.searched.words().0;
+    let (part, chosen) = choose_part_holding_contact(&at, ans.value, what, at_rpm, &mut runs)?;
     let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
     runs += u64::from(js.simulations);
     let criterion = format!(
@@ -1397,44 +1458,65 @@ fn spring_on_theoretical_cam(
         checked_at_rpm: Some(at_rpm),
         jump_onset_rpm: js.jump_rpm,
         jump_onset_bracket_rpm: js.jump_rpm.map(|j| j - js.no_jump_rpm),
-        tried,
-        part: Some(part),
-        model_runs: runs,
-        ..answered(args.preload, ans, spec, criterion)
+        ..answered(
+            Found {
+                answer: ans,
+                criterion,
+                model: describe(spec),
+                tried,
+                part,
+                model_runs: runs,
+            },
+            spec,
+            t0,
+        )?
     })
 }
 
-/// The answer's spring into `report`: the part's own rate, mass, coils and surge (the wire
-/// model's at the answer without a part), and its preload.
-fn spring_of_answer(report: &mut SpringReport, spec: &RunSpec, preload: bool) -> Result<()> {
-    let value = if preload {
-        report.preload_length_in
-    } else {
-        report.spring_rate_lb_per_in
-    };
-    let mut chosen = with_value(spec, value, preload)?;
-    let hs = chosen.design.spring()?;
-    report.spring_mass_lb = hs.mass * camsim_core::GRAVITY_IN_PER_S2;
-    report.active_coils = hs.active_coils;
-    report.surge_hz = hs.surge_hz;
-    if let Some(p) = &report.part {
-        chosen.design.k_rs = p.spring.rate_lb_per_in;
-        chosen.design.delta_rs = p.preload_length_in;
-        report.preload_length_in = p.preload_length_in;
-        report.spring_mass_lb = p.spring.mass_lb;
-        report.active_coils = p.spring.active_coils;
-        report.surge_hz = p.spring.surge_hz;
-    }
-    report.preload_lb = chosen.design.preload()?;
-    Ok(())
+/// The spring of a search's answer: its preload, and the part's own preload length, mass,
+/// coils and surge.
+struct AnswerSpring {
+    preload_lb: f64,
+    preload_length_in: f64,
+    mass_lb: f64,
+    active_coils: f64,
+    surge_hz: f64,
+}
+
+/// The answer's spring: `spec` at the answer (validated), built as `part` (its own rate and
+/// preload length), and its preload.
+fn spring_of_answer(spec: &RunSpec, answer: Answer, part: &PartReport) -> Result<AnswerSpring> {
+    let mut chosen = with_value(
+        spec,
+        answer.value,
+        answer.searched == Searched::PreloadLength,
+    )?;
+    chosen.design.k_rs = part.spring.rate_lb_per_in;
+    chosen.design.delta_rs = part.preload_length_in;
+    Ok(AnswerSpring {
+        preload_lb: chosen.design.preload()?,
+        preload_length_in: part.preload_length_in,
+        mass_lb: part.spring.mass_lb,
+        active_coils: part.spring.active_coils,
+        surge_hz: part.spring.surge_hz,
+    })
 }
 
 /// The passing value (rate or preload length) and the failing one below it from the
 /// search's outcome.
-fn answer(onset: Onset<f64>, max: f64, preload: bool, fails: &str) -> Result<(f64, Option<f64>)> {
+fn answer(onset: Onset<f64>, max: f64, preload: bool, fails: &str) -> Result<Answer> {
+    let searched = Searched::of(preload);
     match onset {
-        Onset::AtStart(k) => Ok((k, None)),
-        Onset::Bracketed { below, at } => Ok((at, Some(below))),
+        Onset::AtStart(k) => Ok(Answer {
+            searched,
+            value: k,
+            failing: None,
+        }),
+        Onset::Bracketed { below, at } => Ok(Answer {
+            searched,
+            value: at,
+            failing: Some(below),
+        }),
         Onset::Beyond(_) if preload => bail!(
             "no preload length up to --max-preload-length {max} in passes (the follower {fails} at every length tried): a stiffer spring, a gentler program or a lower speed"
         ),
@@ -1448,7 +1530,7 @@ impl Report for SpringReport {
     fn json(&self) -> serde_json::Result<String> {
         // The tried values under a key that names their unit (`--units` converts it).
         let mut v = serde_json::to_value(self)?;
-        let key = if self.searched == "preload length" {
+        let key = if self.searched == Searched::PreloadLength {
             "preload_lengths_tried_in"
         } else {
             "rates_tried_lb_per_in"
@@ -1481,7 +1563,7 @@ impl Report for SpringReport {
         }
         if let Some(p) = &self.part {
             part_lines(&mut out, p);
-            if self.searched == "preload length" {
+            if self.searched == Searched::PreloadLength {
                 let _ = writeln!(
                     out,
                     "    and in [design]: spring_preload_length_{} = {}",
@@ -1495,7 +1577,7 @@ impl Report for SpringReport {
             .tried
             .iter()
             .map(|(k, ok)| {
-                if self.searched == "preload length" {
+                if self.searched == Searched::PreloadLength {
                     format!(
                         "{}{}",
                         units::q(units::LENGTH, *k, 3),
@@ -1510,7 +1592,7 @@ impl Report for SpringReport {
                 }
             })
             .collect();
-        if self.searched == "preload length" {
+        if self.searched == Searched::PreloadLength {
             let _ = writeln!(
                 out,
                 "  preload lengths tried ({}, + passes): {}",
@@ -1544,7 +1626,7 @@ fn spring_headline(r: &SpringReport, out: &mut String) {
         .part
         .as_ref()
         .map_or(r.spring_rate_lb_per_in, |p| p.spring.rate_lb_per_in);
-    if r.searched == "preload length" {
+    if r.searched == Searched::PreloadLength {
         let _ = writeln!(
             out,
             "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} {}",
