@@ -1,0 +1,417 @@
+//! `design speed` (and each search of `design tolerance`): core's [`OnsetSearch`] over a
+//! speed, a cam-tolerance factor or a waviness for the first value whose upper Wilson
+//! bound of P(jump) on actual cams exceeds the limit.
+
+use std::time::Instant;
+
+use anyhow::{anyhow, bail, Result};
+use camsim_core::{Onset, OnsetSearch, Start};
+use serde::Serialize;
+
+use super::tolerance::{NothingPasses, SearchLog};
+use super::{
+    check_search_time, describe, p_jump_on_actual_cams, p_max_and_samples, search_steps, McSpec,
+};
+use crate::actual::{intervals_for, ActualArgs};
+use crate::args::spec_from;
+use crate::report::Report;
+use crate::stats::Probability;
+use crate::study::montecarlo::{threads, ProfileSettings};
+use crate::units;
+
+/// What a Monte Carlo design search found.
+#[derive(Clone, Debug, Serialize)]
+pub struct McSearchReport {
+    /// `speed` or `tolerance`.
+    pub search: String,
+    /// The answer: the highest passing speed (rpm) or the loosest passing tolerance factor.
+    pub answer: f64,
+    /// Its unit: `rpm`, `factor on VI.1's tolerances` or `FPR`.
+    pub unit: String,
+    /// With `design tolerance --waviness`: the factor on VI.1's tolerances held.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance_factor: Option<f64>,
+    /// The nearest value tried that fails (absent: none failed up to the search's limit).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failing: Option<f64>,
+    /// Width of the final bracket, in the answer's unit.
+    pub bracket: f64,
+    /// With `design tolerance`: the cam profile tolerance at the answer, ± in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cam_tolerance_in: Option<f64>,
+    /// With `design tolerance`: the roller tolerance (held), ± in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub roller_tolerance_in: Option<f64>,
+    /// With `design tolerance`: the eccentricity tolerance (held), ± in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eccentricity_tolerance_in: Option<f64>,
+    /// With `design tolerance` (not --waviness): the cams' waviness, FPR.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub waviness_fpr: Option<u32>,
+    /// How the actual cams at the answer are made (their method, normal deviates,
+    /// tolerances and interval).
+    pub profile: ProfileSettings,
+    /// With `design speed`: the theoretical cam's jump onset (full model), rpm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub theoretical_onset_rpm: Option<f64>,
+    /// The operating speed, rpm.
+    pub operating_rpm: f64,
+    /// P(jump) at the answer with its 95 % Wilson interval.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p_jump: Option<Probability>,
+    /// The criterion.
+    pub criterion: String,
+    /// Actual cams a step.
+    pub samples: u64,
+    /// Master seed.
+    pub seed: u64,
+    /// The model that produced the answer.
+    pub model: String,
+    /// Every value tried and whether it passed (its JSON key names the unit:
+    /// [`Self::tried_key`]).
+    pub tried: Vec<(f64, bool)>,
+    /// Model runs (2 revolutions each).
+    pub model_runs: u64,
+    /// Wall time, s.
+    pub wall_s: f64,
+}
+
+/// `design speed` and `design tolerance`: core's [`OnsetSearch`] for the first value
+/// (rising speed, rising tolerance) at which the upper Wilson bound exceeds --p-max; the
+/// answer is the largest value tried below it that passes. P(jump) is assumed to rise
+/// with the speed and the tolerance (the report says so).
+pub fn mc_search(args: &McSpec, speed: bool) -> Result<McSearchReport> {
+    let command = if speed {
+        "design speed"
+    } else {
+        "design tolerance"
+    };
+    args.actual.refuse_actual_flag(command)?;
+    let fpr = args.actual.fpr()?;
+    mc_search_at(args, speed, fpr)?.map_err(|n| anyhow!("{}", n.error_line()))
+}
+
+/// (start, max, resolution) of the search over the value that makes it fail (growth 2).
+fn search_range(speed: bool, waviness: bool, quick: bool) -> (f64, f64, f64) {
+    if speed {
+        (
+            100.0,
+            crate::study::jump_speed::MAX_RPM,
+            if quick { 100.0 } else { 5.0 },
+        )
+    } else if waviness {
+        // FPR: from 8 doubling to the finest waviness the profile can be given (720
+        // points a revolution, about FPR 570), to one wave.
+        (8.0, 512.0, if quick { 16.0 } else { 1.0 })
+    } else {
+        (0.1, 20.0, if quick { 0.5 } else { 0.05 })
+    }
+}
+
+/// The search's answer (the last passing value) and the first failing one, if bracketed.
+fn answer_of(
+    onset: Onset<f64>,
+    speed: bool,
+    waviness: bool,
+    p_max: f64,
+) -> Result<(f64, Option<f64>)> {
+    Ok(match onset {
+        Onset::Bracketed { below, at } if waviness => (below.round(), Some(at.round())),
+        Onset::Bracketed { below, at } => (below, Some(at)),
+        Onset::Beyond(m) => (m, None),
+        Onset::AtStart(x) => bail!(
+            "P(jump) is above --p-max {p_max} already at the search's first value {x} ({}): nothing passes",
+            if speed {
+                "rpm"
+            } else if waviness {
+                "FPR: a tighter --tolerance-factor"
+            } else {
+                "times VI.1's tolerances"
+            }
+        ),
+    })
+}
+
+/// The pass criterion of a search, in words.
+fn criterion(
+    args: &McSpec,
+    speed: bool,
+    fpr: Option<u32>,
+    n: u64,
+    p_max: f64,
+    op_rpm: f64,
+) -> String {
+    let (waviness, factor) = (args.waviness, args.tolerance_factor.unwrap_or(1.0));
+    format!(
+        "upper 95 % Wilson bound of P(jump) in revolution 2 over {n} actual cams (seed {}, waviness {}) at most {p_max}{}; P(jump) assumed to rise with the {}",
+        args.actual.seed(),
+        if waviness {
+            format!("searched, tolerances {factor} x VI.1's")
+        } else {
+            fpr
+                .map_or_else(|| "FPR 17 (default)".to_string(), |f| format!("FPR {f}"))
+        },
+        if speed { String::new() } else { format!(" at {op_rpm:.1} rpm") },
+        if speed {
+            "speed"
+        } else if waviness {
+            "FPR (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+        } else {
+            "tolerance"
+        }
+    )
+}
+
+/// The actual cams of a search's step at `x` (its speed, cam-tolerance factor or FPR):
+/// the options given, at the waviness `fpr`, the searched tolerance or FPR set.
+fn step_cams(args: &McSpec, speed: bool, fpr: Option<u32>, x: f64) -> ActualArgs {
+    let reference = camsim_core::Tolerances::<f64>::reference();
+    let mut actual = args.actual.at_fpr(fpr);
+    actual.actual = true;
+    let roller = args.actual.roller_tolerance;
+    if args.waviness {
+        let factor = args.tolerance_factor.unwrap_or(1.0);
+        actual.waviness_fpr = vec![x.round() as u32];
+        actual.cam_tolerance = Some(reference.cam * factor);
+        actual.roller_tolerance = Some(roller.unwrap_or(reference.roller * factor));
+    } else if !speed {
+        actual.cam_tolerance = Some(reference.cam * x);
+    }
+    actual
+}
+
+/// One Monte Carlo search at the waviness `fpr` (None: the default); a tolerance search
+/// in which nothing passes, even the smallest tolerance, is its [`NothingPasses`].
+pub(crate) fn mc_search_at(
+    args: &McSpec,
+    speed: bool,
+    fpr: Option<u32>,
+) -> Result<std::result::Result<McSearchReport, NothingPasses>> {
+    let t0 = Instant::now();
+    anyhow::ensure!(
+        !(speed && args.waviness),
+        "--waviness: only `design tolerance` searches the waviness"
+    );
+    let waviness = args.waviness;
+    let factor = args.tolerance_factor.unwrap_or(1.0);
+    let mut spec = spec_from(&args.scene)?;
+    spec.solver.start = Start::Static;
+    spec.revolutions = 2;
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
+    let mc = crate::study::montecarlo::monte_carlo_model(&spec);
+    let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
+    let nthreads = threads(args.threads);
+    let mut runs = 0u64;
+    let mut tried: Vec<(f64, bool)> = Vec::new();
+    let mut probs: Vec<(f64, Probability)> = Vec::new();
+    let (start, max, resolution) = search_range(speed, waviness, args.quick);
+    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
+    let steps = search_steps(start, max, resolution);
+    let at = |x: f64| step_cams(args, speed, fpr, x);
+    check_search_time(&mc, &at(start), n, steps, nthreads)?;
+    let onset = search.find(|x| -> Result<bool> {
+        let mut s = mc.clone();
+        // A waviness is a whole number of waves.
+        let x = if waviness { x.round() } else { x };
+        if speed {
+            s.design.set_speed_rpm(x)?;
+        }
+        let actual = at(x);
+        let p = p_jump_on_actual_cams(&s, &actual, n, nthreads, &mut runs)
+            .map_err(|e| e.context(format!("at {x}")))?;
+        let ok = p.hi95 <= p_max;
+        tried.push((x, ok));
+        probs.push((x, p));
+        Ok(!ok)
+    })?;
+    let p_at = |v: f64| probs.iter().find(|(x, _)| *x == v).map(|(_, p)| *p);
+    if let (Onset::AtStart(x), false, false) = (onset, speed, waviness) {
+        let cams = at(x);
+        let log = SearchLog {
+            profile: ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?,
+            criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
+            model: describe(&mc),
+            tried,
+            model_runs: runs,
+            wall_s: t0.elapsed().as_secs_f64(),
+        };
+        return Ok(Err(NothingPasses::new(args, fpr, (x, p_at(x)), n, log)));
+    }
+    let (answer, failing) = answer_of(onset, speed, waviness, p_max)?;
+    let p_jump = p_at(answer);
+    let cams = at(answer);
+    let profile = ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?;
+    let theoretical_onset_rpm = if speed {
+        let js = crate::study::jump_speed::find(&spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
+        runs += u64::from(js.simulations);
+        js.jump_rpm
+    } else {
+        None
+    };
+    let (search, unit) = search_labels(speed, waviness);
+    let report = McSearchReport {
+        search: search.into(),
+        answer,
+        unit,
+        tolerance_factor: waviness.then_some(factor),
+        failing,
+        bracket: failing.map_or(0.0, |f| f - answer),
+        cam_tolerance_in: (!speed).then_some(profile.cam_tolerance_in),
+        roller_tolerance_in: (!speed).then_some(profile.roller_tolerance_in),
+        eccentricity_tolerance_in: (!speed).then_some(profile.eccentricity_tolerance_in),
+        waviness_fpr: if waviness {
+            None
+        } else {
+            Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR))
+        },
+        theoretical_onset_rpm,
+        operating_rpm: op_rpm,
+        p_jump,
+        criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
+        samples: n,
+        seed: args.actual.seed(),
+        profile,
+        model: describe(&mc),
+        tried,
+        model_runs: runs,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    crate::report::ensure_finite(&report)?;
+    Ok(Ok(report))
+}
+
+/// A search's name and its answer's unit.
+fn search_labels(speed: bool, waviness: bool) -> (&'static str, String) {
+    if speed {
+        ("speed", "rpm".into())
+    } else if waviness {
+        ("waviness", "FPR".into())
+    } else {
+        let unit = format!(
+            "factor on VI.1's cam tolerance ({} {})",
+            units::given(units::LENGTH, 0.0005),
+            units::symbol(units::LENGTH)
+        );
+        ("tolerance", unit)
+    }
+}
+
+/// The first lines of a search's text: its answer in the user's words.
+fn search_headline(r: &McSearchReport, out: &mut String) {
+    use std::fmt::Write;
+    if r.search == "speed" {
+        let _ = writeln!(
+            out,
+            "camsim design speed: {:.1} rpm on actual cams",
+            r.answer
+        );
+        if let Some(t) = r.theoretical_onset_rpm {
+            let _ = writeln!(
+                out,
+                "  theoretical cam's jump onset: {t:.1} rpm (full model)"
+            );
+        }
+    } else if r.search == "waviness" {
+        let _ = writeln!(
+            out,
+            "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
+            r.answer,
+            r.tolerance_factor.unwrap_or(1.0),
+            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            lu = units::symbol(units::LENGTH)
+        );
+        let _ = writeln!(
+            out,
+            "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
+            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            r.answer,
+            r.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
+            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            units::q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+            lu = units::symbol(units::LENGTH)
+        );
+    }
+}
+
+impl McSearchReport {
+    /// The JSON key of the values tried, naming their unit: `speeds_tried_rpm`,
+    /// `tolerance_factors_tried` (factors on VI.1's tolerances) or `waviness_fprs_tried`.
+    pub fn tried_key(&self) -> &'static str {
+        match self.search.as_str() {
+            "speed" => "speeds_tried_rpm",
+            "waviness" => "waviness_fprs_tried",
+            _ => "tolerance_factors_tried",
+        }
+    }
+
+    /// The report as JSON, the values tried under [`Self::tried_key`].
+    pub(crate) fn json_value(&self) -> serde_json::Result<serde_json::Value> {
+        let mut v = serde_json::to_value(self)?;
+        if let Some(o) = v.as_object_mut() {
+            if let Some(t) = o.remove("tried") {
+                o.insert(self.tried_key().into(), t);
+            }
+        }
+        Ok(v)
+    }
+}
+
+impl Report for McSearchReport {
+    fn json(&self) -> serde_json::Result<String> {
+        crate::report::sorted_pretty_json(&self.json_value()?)
+    }
+    fn text(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        search_headline(self, &mut out);
+        let d = if self.search == "waviness" { 0 } else { 4 };
+        match self.failing {
+            Some(f) => {
+                let _ = writeln!(
+                    out,
+                    "  bracket: passes at {:.d$}, fails at {f:.d$} (width {:.d$} {})",
+                    self.answer, self.bracket, self.unit
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    out,
+                    "  nothing failed up to the search's limit {:.4}",
+                    self.answer
+                );
+            }
+        }
+        if let Some(p) = &self.p_jump {
+            let _ = writeln!(
+                out,
+                "  P(jump) at the answer: {} of {}: {} (95 % Wilson)",
+                p.count,
+                self.samples,
+                p.text(4)
+            );
+        }
+        let _ = writeln!(out, "  criterion: {}", self.criterion);
+        let _ = writeln!(out, "  model: {}", self.model);
+        let tried: Vec<String> = self
+            .tried
+            .iter()
+            .map(|(x, ok)| {
+                let d = if self.search == "waviness" { 0 } else { 3 };
+                format!("{x:.d$}{}", if *ok { "+" } else { "-" })
+            })
+            .collect();
+        let _ = writeln!(out, "  values tried (+ passes): {}", tried.join(" "));
+        let _ = writeln!(
+            out,
+            "  {} model runs of 2 revolutions, {:.1} s",
+            self.model_runs, self.wall_s
+        );
+        out
+    }
+}
