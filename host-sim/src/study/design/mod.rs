@@ -1,6 +1,6 @@
 //! `camsim design`'s searches: what must be built, found by search on the model.
 //!
-//! [`spring`]: the smallest return-spring rate (or with a preload search, the shortest
+//! [`mod@spring`]: the smallest return-spring rate (or with a preload search, the shortest
 //! preload length) that holds contact with a margin on the theoretical cam, or keeps
 //! P(jump) on actual cams at most a limit. [`speed`]: the highest cam speed whose P(jump)
 //! on actual cams is at most the limit. [`tolerance`]: the loosest cam tolerance (or the

@@ -11,7 +11,7 @@
 //! theoretical response, the RMS of the cam's angular-velocity deviation from ω0, the
 //! time-averaged contact stress, and whether the follower separated.
 //!
-//! `--per-key` ([`per_key`]): d ln(output) / d ln(key) by central differences at ±1 %
+//! `--per-key` ([`per_key()`]): d ln(output) / d ln(key) by central differences at ±1 %
 //! of every numeric design key ([`key_scaled`]) on the five outputs (theoretical cam)
 //! and on the jump-onset speed ([`crate::study::jump_speed::find`]), ranked by the
 //! onset's.
@@ -65,7 +65,7 @@ pub struct Spec {
     pub actual: ActualArgs,
     /// `--quick`: changes of ±30 % only ([`QUICK_CHANGES_PCT`]) and a 1 rpm onset resolution.
     pub quick: bool,
-    /// Also every design key's elasticity ([`per_key`]).
+    /// Also every design key's elasticity ([`per_key()`]).
     pub per_key: bool,
     /// Worker threads (the result does not depend on them).
     pub threads: usize,

@@ -42,7 +42,7 @@ pub struct KeyElasticity {
     pub description: &'static str,
     /// Its value in the scene.
     pub value: f64,
-    /// d ln(output) / d ln(key) of each output of [`OUTPUTS`] (absent where an output is
+    /// d ln(output) / d ln(key) of each output of [`OUTPUTS`](super::OUTPUTS) (absent where an output is
     /// 0 on either side, and all absent when the key is not workable).
     pub elasticity: Elasticities,
     /// Why the key has no elasticities: a perturbed design left the model's valid range
@@ -101,7 +101,7 @@ pub struct Elasticities {
 }
 
 impl Elasticities {
-    /// The six, in [`OUTPUTS`]' order and the onset last.
+    /// The six, in [`OUTPUTS`](super::OUTPUTS)' order and the onset last.
     pub fn values(&self) -> [Option<f64>; 6] {
         [
             self.rms_displacement_in,
