@@ -250,19 +250,6 @@ const GROUPS: [&str; 5] = [
 
 /// The group (index into [`GROUPS`]) of a design key (relative to `[design]`).
 fn group_of(rel: &str) -> usize {
-    let drive = [
-        key::I_M,
-        key::I_CP,
-        key::I_C,
-        key::C_MB,
-        key::C_S1,
-        key::C_S2,
-        key::C_CC,
-        key::K_S1,
-        key::K_S2,
-        key::COUPLING_BACKLASH,
-        key::OMEGA0,
-    ];
     let rod = [
         key::E1,
         key::E2,
@@ -278,7 +265,10 @@ fn group_of(rel: &str) -> usize {
         key::K_HS,
         key::C_HS,
     ];
-    if rel.starts_with("drive") || drive.contains(&rel) {
+    // The drive: what a constant-cam-speed run drops, and the cam's drag and speed.
+    let drive =
+        NOT_USED_AT_CONSTANT_CAM_SPEED.contains(&rel) || [key::C_CC, key::OMEGA0].contains(&rel);
+    if rel.starts_with("drive") || drive {
         0
     } else if rel.contains("mass") {
         3
