@@ -187,32 +187,32 @@ pub fn execute(cli: Cli) -> Result<()> {
     crate::units::set(cli.units);
     let units = cli.units;
     match cli.command {
-        Command::Laws(a) => cmd::laws::run(a),
-        Command::Modal(a) => cmd::modal::run(a),
-        Command::Contact(a) => cmd::contact::run(a),
-        Command::Run(a) => cmd::run::run(a),
-        Command::JumpSpeed(a) => cmd::jump_speed::run(a),
-        Command::Scene(a) => cmd::scene::run(a),
-        Command::Bench(a) => cmd::bench::run(a),
-        Command::Models(a) => cmd::models::run(a),
+        Command::Laws(a) => cmd::laws::run(a, units),
+        Command::Modal(a) => cmd::modal::run(a, units),
+        Command::Contact(a) => cmd::contact::run(a, units),
+        Command::Run(a) => cmd::run::run(a, units),
+        Command::JumpSpeed(a) => cmd::jump_speed::run(a, units),
+        Command::Scene(a) => cmd::scene::run(a, units),
+        Command::Bench(a) => cmd::bench::run(a, units),
+        Command::Models(a) => cmd::models::run(a, units),
         Command::Scenes(a) => {
             report_error(SCENES_RENAMED);
-            cmd::models::run(a)
+            cmd::models::run(a, units)
         }
-        Command::Predict(a) => cmd::predict::run(a),
-        Command::FirmwareCheck(a) => cmd::firmware_check::run(a),
-        Command::Montecarlo(a) => cmd::montecarlo::run(a),
+        Command::Predict(a) => cmd::predict::run(a, units),
+        Command::FirmwareCheck(a) => cmd::firmware_check::run(a, units),
+        Command::Montecarlo(a) => cmd::montecarlo::run(a, units),
         Command::Profile(mut a) => {
             // The drawing's length unit is the output's.
             a.units = units.into();
-            cmd::profile::run(a)
+            cmd::profile::run(a, units)
         }
-        Command::Compare(a) => cmd::compare::run(a),
-        Command::ToleranceStudy(a) => cmd::tolerance_study::run(a),
-        Command::Sensitivity(a) => cmd::sensitivity::run(a),
-        Command::Waviness(a) => cmd::waviness::run(a),
-        Command::Sweep(a) => cmd::sweep::run(a),
-        Command::Design(a) => cmd::design::run(a),
+        Command::Compare(a) => cmd::compare::run(a, units),
+        Command::ToleranceStudy(a) => cmd::tolerance_study::run(a, units),
+        Command::Sensitivity(a) => cmd::sensitivity::run(a, units),
+        Command::Waviness(a) => cmd::waviness::run(a, units),
+        Command::Sweep(a) => cmd::sweep::run(a, units),
+        Command::Design(a) => cmd::design::run(a, units),
     }
 }
 

@@ -10,8 +10,9 @@ use serde::Serialize;
 /// as the human-readable text. Fields a report keeps only for the text are
 /// `#[serde(skip)]`.
 pub trait Report: Serialize {
-    /// The text the command prints without `--json` (ending with a newline).
-    fn text(&self) -> String;
+    /// The text the command prints without `--json` (ending with a newline), every
+    /// dimensional number in `units`.
+    fn text(&self, units: crate::units::Units) -> String;
 
     /// The JSON the command prints with `--json` (pretty unless a command says
     /// otherwise).
@@ -390,16 +391,16 @@ pub fn out(text: &str) -> Result<()> {
 
 /// Prints `report` to standard output, as JSON or as text, after checking that every
 /// number in it is finite ([`ensure_finite`]) and its contact stresses and forces are
-/// physical ([`ensure_physical`]).
-pub fn print<R: Report>(report: &R, json: bool) -> Result<()> {
+/// physical ([`ensure_physical`]), every dimensional number in `units`.
+pub fn print<R: Report>(report: &R, json: bool, units: crate::units::Units) -> Result<()> {
     ensure_finite(report)?;
     ensure_physical(report)?;
     if json {
         // Every numeric key with its unit, in the family --units chose.
-        let text = crate::units::json(&report.json()?, crate::units::current())?;
+        let text = crate::units::json(&report.json()?, units)?;
         out(&format!("{text}\n"))
     } else {
-        out(&report.text())
+        out(&report.text(units))
     }
 }
 

@@ -168,77 +168,127 @@ impl std::fmt::Display for Quantity {
     }
 }
 
-/// `inch_value` (in `unit`'s inch member) printed with `inch_decimals` in inch: in the
-/// output's family, with [`decimals`].
-pub fn q(unit: Unit, inch_value: f64, inch_decimals: usize) -> Quantity {
-    Quantity {
-        value: value(unit, inch_value),
-        decimals: decimals(unit, inch_decimals),
-    }
-}
-
-/// A value the user gave (a tolerance, a step), in the output's family and rounded to 12
-/// significant digits, for `{}` or `{:e}`: 0.0005 in prints as `0.0127` mm, not
-/// `0.012700000000000001`.
-pub fn given(unit: Unit, inch_value: f64) -> f64 {
-    let v = value(unit, inch_value);
-    format!("{v:.11e}").parse().unwrap_or(v)
-}
-
-/// `inch_value` (in `unit`'s inch member) in the output's family.
-pub fn value(unit: Unit, inch_value: f64) -> f64 {
-    match current() {
-        Units::Inch => inch_value,
-        Units::Si => inch_value * unit.si_per_inch,
-    }
-}
-
-/// A table's unit label: the inch table's own text in inch (`in/s2`, kept byte for
-/// byte), `unit`'s symbol in SI (`mm/s^2`).
-pub fn label(unit: Unit, inch: &'static str) -> &'static str {
-    match current() {
-        Units::Inch => inch,
-        Units::Si => unit.si_symbol,
-    }
-}
-
-/// A value given in the output's family (an option read in the units of `--units`, as
-/// `--allowable-stress`), in `unit`'s inch member: the inverse of [`value`].
-pub fn inch_value(unit: Unit, value: f64) -> f64 {
-    match current() {
-        Units::Inch => value,
-        Units::Si => value / unit.si_per_inch,
-    }
-}
-
-/// `unit`'s key suffix in the output's family (`psi` or `mpa`).
-pub fn key_suffix(unit: Unit) -> &'static str {
-    match current() {
-        Units::Inch => unit.inch,
-        Units::Si => unit.si,
-    }
-}
-
-/// `unit`'s symbol in the output's family (`lb/in` or `N/mm`).
-pub fn symbol(unit: Unit) -> &'static str {
-    match current() {
-        Units::Inch => unit.inch_symbol,
-        Units::Si => unit.si_symbol,
-    }
-}
-
-/// The decimals a number printed with `inch_decimals` in inch takes in the output's
-/// family: the same resolution to within a factor of 3, `inch_decimals - round(log10
-/// factor)` (a length: 4 decimals of an inch, 0.0001 in = 0.00254 mm, are 3 of a mm; a
-/// force: 2 of a pound, 1 of a newton; a stress: 0 of a psi, 2 of a MPa).
-pub fn decimals(unit: Unit, inch_decimals: usize) -> usize {
-    match current() {
-        Units::Inch => inch_decimals,
-        Units::Si => {
-            let shift = unit.si_per_inch.log10().round() as i64;
-            (inch_decimals as i64 - shift).max(0) as usize
+impl Units {
+    /// `inch_value` (in `unit`'s inch member) printed with `inch_decimals` in inch: in
+    /// this family, with [`Units::decimals`].
+    pub fn q(self, unit: Unit, inch_value: f64, inch_decimals: usize) -> Quantity {
+        Quantity {
+            value: self.value(unit, inch_value),
+            decimals: self.decimals(unit, inch_decimals),
         }
     }
+
+    /// A value the user gave (a tolerance, a step), in this family and rounded to 12
+    /// significant digits, for `{}` or `{:e}`: 0.0005 in prints as `0.0127` mm, not
+    /// `0.012700000000000001`.
+    pub fn given(self, unit: Unit, inch_value: f64) -> f64 {
+        let v = self.value(unit, inch_value);
+        format!("{v:.11e}").parse().unwrap_or(v)
+    }
+
+    /// `inch_value` (in `unit`'s inch member) in this family.
+    pub fn value(self, unit: Unit, inch_value: f64) -> f64 {
+        match self {
+            Units::Inch => inch_value,
+            Units::Si => inch_value * unit.si_per_inch,
+        }
+    }
+
+    /// A table's unit label: the inch table's own text in inch (`in/s2`, kept byte for
+    /// byte), `unit`'s symbol in SI (`mm/s^2`).
+    pub fn label(self, unit: Unit, inch: &'static str) -> &'static str {
+        match self {
+            Units::Inch => inch,
+            Units::Si => unit.si_symbol,
+        }
+    }
+
+    /// A value given in this family (an option read in the units of `--units`, as
+    /// `--allowable-stress`), in `unit`'s inch member: the inverse of [`Units::value`].
+    pub fn inch_value(self, unit: Unit, value: f64) -> f64 {
+        match self {
+            Units::Inch => value,
+            Units::Si => value / unit.si_per_inch,
+        }
+    }
+
+    /// `unit`'s key suffix in this family (`psi` or `mpa`).
+    pub fn key_suffix(self, unit: Unit) -> &'static str {
+        match self {
+            Units::Inch => unit.inch,
+            Units::Si => unit.si,
+        }
+    }
+
+    /// `unit`'s symbol in this family (`lb/in` or `N/mm`).
+    pub fn symbol(self, unit: Unit) -> &'static str {
+        match self {
+            Units::Inch => unit.inch_symbol,
+            Units::Si => unit.si_symbol,
+        }
+    }
+
+    /// The decimals a number printed with `inch_decimals` in inch takes in this family:
+    /// the same resolution to within a factor of 3, `inch_decimals - round(log10
+    /// factor)` (a length: 4 decimals of an inch, 0.0001 in = 0.00254 mm, are 3 of a mm;
+    /// a force: 2 of a pound, 1 of a newton; a stress: 0 of a psi, 2 of a MPa).
+    pub fn decimals(self, unit: Unit, inch_decimals: usize) -> usize {
+        match self {
+            Units::Inch => inch_decimals,
+            Units::Si => {
+                let shift = unit.si_per_inch.log10().round() as i64;
+                (inch_decimals as i64 - shift).max(0) as usize
+            }
+        }
+    }
+
+    /// A plot axis's scale for quantity `u` ([`axis_in`]).
+    pub fn axis(self, u: Unit) -> (f64, String) {
+        axis_in(u, self)
+    }
+}
+
+// The free functions below read the process-wide family ([`current`]); they remain
+// while the commands move to an explicit `Units` value (the methods above).
+
+/// [`Units::q`] in the process-wide family.
+pub fn q(unit: Unit, inch_value: f64, inch_decimals: usize) -> Quantity {
+    current().q(unit, inch_value, inch_decimals)
+}
+
+/// [`Units::given`] in the process-wide family.
+pub fn given(unit: Unit, inch_value: f64) -> f64 {
+    current().given(unit, inch_value)
+}
+
+/// [`Units::value`] in the process-wide family.
+pub fn value(unit: Unit, inch_value: f64) -> f64 {
+    current().value(unit, inch_value)
+}
+
+/// [`Units::label`] in the process-wide family.
+pub fn label(unit: Unit, inch: &'static str) -> &'static str {
+    current().label(unit, inch)
+}
+
+/// [`Units::inch_value`] in the process-wide family.
+pub fn inch_value(unit: Unit, value: f64) -> f64 {
+    current().inch_value(unit, value)
+}
+
+/// [`Units::key_suffix`] in the process-wide family.
+pub fn key_suffix(unit: Unit) -> &'static str {
+    current().key_suffix(unit)
+}
+
+/// [`Units::symbol`] in the process-wide family.
+pub fn symbol(unit: Unit) -> &'static str {
+    current().symbol(unit)
+}
+
+/// [`Units::decimals`] in the process-wide family.
+pub fn decimals(unit: Unit, inch_decimals: usize) -> usize {
+    current().decimals(unit, inch_decimals)
 }
 
 /// What decided the output's unit family ([`decide`]).

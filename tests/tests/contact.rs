@@ -189,11 +189,14 @@ fn bad_force_is_refused_with_one_line_naming_the_flag() {
         other => panic!("{other:?}"),
     }
     one_line(
-        contact::run(Args {
-            scene: None,
-            force: -7.0,
-            json: false,
-        })
+        contact::run(
+            Args {
+                scene: None,
+                force: -7.0,
+                json: false,
+            },
+            camsim::units::Units::Inch,
+        )
         .unwrap_err(),
     );
     let _: ContactReport = compute(5.0).unwrap();

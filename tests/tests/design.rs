@@ -209,12 +209,12 @@ fn design_spring_preload_brackets_the_criterion() {
     assert_eq!(r.preload_length_in, part.preload_length_in);
     assert!(part.preload_length_in >= pass, "{part:?}");
     assert!(
-        camsim::report::Report::text(&r).contains(&format!(
+        camsim::report::Report::text(&r, camsim::units::Units::Inch).contains(&format!(
             "and in [design]: spring_preload_length_in = {:.4}",
             part.preload_length_in
         )),
         "{}",
-        camsim::report::Report::text(&r)
+        camsim::report::Report::text(&r, camsim::units::Units::Inch)
     );
     let mut spec = camsim::cmd::run::spec_from(&SceneArgs::default()).unwrap();
     spec.solver.start = camsim_core::Start::Static;
@@ -801,7 +801,7 @@ fn design_springs_scene_lines_paste_into_a_scene() {
     use camsim::report::Report;
     let r = spring(&spring_args(false, 1)).unwrap();
     let part = r.part.as_ref().unwrap();
-    let text = r.text();
+    let text = r.text(camsim::units::current());
     let lines: String = text
         .lines()
         .skip_while(|l| !l.trim_start().starts_with("as a scene"))

@@ -243,7 +243,7 @@ fn two_level_is_the_same_for_any_threads_and_shards() {
     assert_eq!((t.samples, t.full_samples), (6, 3));
     // The text names the subsample's cams, 0-2, the same after any merge of shards.
     let header = |r: &montecarlo::MonteCarloReport| {
-        let text = camsim::report::Report::text(r);
+        let text = camsim::report::Report::text(r, camsim::units::Units::Inch);
         assert!(text.contains("(3 cams on both)"), "{text}");
         let h = text
             .lines()
@@ -645,7 +645,7 @@ fn a_study_whose_cams_jump_out_of_range_reports_p_jump_1_and_exits_0() {
             (sm.left_range_jumps, sm.samples, sm.not_workable),
             (left, with_stats, 0)
         );
-        let text = camsim::report::Report::text(r.as_ref());
+        let text = camsim::report::Report::text(r.as_ref(), camsim::units::Units::Inch);
         assert!(
             text.contains(&format!(
                 "jump anywhere in revolution 2: {n} of {n}, p = 1.0000"
@@ -691,7 +691,7 @@ fn a_two_level_study_whose_cams_jump_out_of_range_reports_p_jump_1() {
         );
         assert_eq!(t.subsample_full_jump.count, 6);
         assert!(t.jump_only_pairs >= sm.left_range_jumps, "{rpm}");
-        let text = camsim::report::Report::text(r.as_ref());
+        let text = camsim::report::Report::text(r.as_ref(), camsim::units::Units::Inch);
         assert!(
             text.contains(&format!(
                 "of which {} left a model's valid range after the follower separated",

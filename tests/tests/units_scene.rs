@@ -222,7 +222,7 @@ fn run_outputs(args: &[&str]) -> (String, String) {
     };
     let r = run::report(&a).unwrap();
     let json = units::json(&r.json().unwrap(), units::current()).unwrap();
-    let text = r.text();
+    let text = r.text(camsim::units::current());
     units::set(Units::Inch);
     // The run time is the clock's, not the model's.
     let timeless = |s: String| -> String {
@@ -358,7 +358,9 @@ fn an_si_scene_sweeps_and_designs_in_si() {
     let camsim::cmd::design::What::Spring(s) = a.what else {
         panic!("not design spring")
     };
-    let text = camsim::cmd::design::spring(&s).unwrap().text();
+    let text = camsim::cmd::design::spring(&s)
+        .unwrap()
+        .text(camsim::units::current());
     units::set(Units::Inch);
     let first = text.lines().next().unwrap_or("");
     assert!(

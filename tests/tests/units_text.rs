@@ -49,7 +49,7 @@ fn run_text(units: Units) -> String {
     let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
         panic!("not run")
     };
-    let text = run::report(&a).unwrap().text();
+    let text = run::report(&a).unwrap().text(camsim::units::current());
     units::set(Units::Inch);
     text
 }
@@ -158,16 +158,24 @@ fn study_text(argv: &[&str], units: Units) -> String {
         .collect();
     let text = match cli::parse_from(all).unwrap().command {
         Command::Montecarlo(a) => match montecarlo::execute(&a).unwrap() {
-            montecarlo::Outcome::Study(r) => r.text(),
-            montecarlo::Outcome::Shard(r) => r.text(),
+            montecarlo::Outcome::Study(r) => r.text(camsim::units::current()),
+            montecarlo::Outcome::Shard(r) => r.text(camsim::units::current()),
         },
-        Command::Compare(a) => compare::report(&a).unwrap().text(),
-        Command::ToleranceStudy(a) => tolerance_study::report(&a).unwrap().text(),
-        Command::Sensitivity(a) => sensitivity::report(&a).unwrap().text(),
+        Command::Compare(a) => compare::report(&a).unwrap().text(camsim::units::current()),
+        Command::ToleranceStudy(a) => tolerance_study::report(&a)
+            .unwrap()
+            .text(camsim::units::current()),
+        Command::Sensitivity(a) => sensitivity::report(&a)
+            .unwrap()
+            .text(camsim::units::current()),
         Command::Design(a) => match a.what {
-            design::What::Spring(s) => design::spring(&s).unwrap().text(),
-            design::What::Speed(m) => design::mc_search(&m, true).unwrap().text(),
-            design::What::Tolerance(m) => design::mc_search(&m, false).unwrap().text(),
+            design::What::Spring(s) => design::spring(&s).unwrap().text(camsim::units::current()),
+            design::What::Speed(m) => design::mc_search(&m, true)
+                .unwrap()
+                .text(camsim::units::current()),
+            design::What::Tolerance(m) => design::mc_search(&m, false)
+                .unwrap()
+                .text(camsim::units::current()),
         },
         _ => panic!("not a study: {argv:?}"),
     };
@@ -373,7 +381,10 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     // --- every other converted text: no inch unit left.
     units::set(Units::Si);
     let texts = [
-        ("laws", camsim::cmd::laws::report().text()),
+        (
+            "laws",
+            camsim::cmd::laws::report().text(camsim::units::current()),
+        ),
         (
             "modal",
             camsim::cmd::modal::render_table(&camsim::cmd::modal::analyse().unwrap()),
@@ -388,7 +399,7 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
         assert_eq!(inch_label(&text), None, "{name}");
     }
     // ... which in inch do name inch units.
-    assert!(inch_label(&camsim::cmd::laws::report().text()).is_some());
+    assert!(inch_label(&camsim::cmd::laws::report().text(camsim::units::current())).is_some());
 
     // --- montecarlo: every statistic of every table, 4 cams.
     let mc = [
@@ -496,7 +507,7 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
         let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
             panic!("not run")
         };
-        let text = run::report(&a).unwrap().text();
+        let text = run::report(&a).unwrap().text(camsim::units::current());
         units::set(Units::Inch);
         text.lines()
             .find(|l| l.contains("of the allowable"))
@@ -629,7 +640,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         json: false,
     })
     .unwrap();
-    let (inch, si) = both(|| camsim::report::Report::text(&w));
+    let (inch, si) = both(|| camsim::report::Report::text(&w, camsim::units::current()));
     // VI.1's tolerances, 0.0005, 0.0001 and 0.001 in, in mm.
     assert!(
         si.contains("(cam ±0.0127, roller ±0.00254, eccentricity ±0.0254 mm)"),
@@ -703,7 +714,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         ],
         seconds: 5.0,
     };
-    let (inch, si) = both(|| camsim::report::Report::text(&m));
+    let (inch, si) = both(|| camsim::report::Report::text(&m, camsim::units::current()));
     // 36.891 lb, 1 lb, 6543.6 in/s², 1e-8 in.
     assert!(si.contains("smallest contact force 164.10 N"), "{si}");
     assert!(si.contains("Fmin within 4.45 N"), "{si}");
@@ -744,7 +755,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         progress: false,
     })
     .unwrap();
-    let (inch, si) = both(|| camsim::report::Report::text(&b));
+    let (inch, si) = both(|| camsim::report::Report::text(&b, camsim::units::current()));
     let line = |t: &str, key: &str| -> Vec<String> {
         t.lines()
             .find(|l| l.contains(key))
@@ -871,8 +882,12 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     let Command::FirmwareCheck(a) = cli::parse_from(fw).unwrap().command else {
         panic!("not firmware-check")
     };
-    let (inch, si) =
-        both(|| camsim::report::Report::text(&camsim::cmd::firmware_check::report(&a).unwrap()));
+    let (inch, si) = both(|| {
+        camsim::report::Report::text(
+            &camsim::cmd::firmware_check::report(&a).unwrap(),
+            camsim::units::current(),
+        )
+    });
     assert_eq!(inch, si);
     assert!(si.contains("flash 262144 B, RAM 65536 B"), "{si}");
     assert_eq!(main(&fw), 0);

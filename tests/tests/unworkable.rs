@@ -39,7 +39,7 @@ fn compare_seed_4_ranks_the_workable_laws_and_names_straight_line() {
     let mut overall: Vec<usize> = r.laws.iter().map(|l| l.ranks.overall).collect();
     overall.sort_unstable();
     assert_eq!(overall, (1..laws).collect::<Vec<_>>(), "ranks 1..11");
-    let text = camsim::report::Report::text(&r);
+    let text = camsim::report::Report::text(&r, camsim::units::Units::Inch);
     assert!(text.contains("not workable"), "{text}");
     assert!(
         text.lines()
@@ -104,7 +104,7 @@ fn sensitivity_reports_cases_that_leave_the_range_and_goes_on() {
         assert!(n.jump, "{n:?}");
         assert!(n.reason.contains("left its valid range"), "{}", n.reason);
     }
-    let text = camsim::report::Report::text(&r);
+    let text = camsim::report::Report::text(&r, camsim::units::Units::Inch);
     assert!(
         text.contains("jumps, then the model left its valid range")
             && text.contains("baseline on the actual cam: the model left its valid range")
@@ -165,7 +165,7 @@ fn tolerance_study_cells_that_jump_out_of_range_report_p_jump_1() {
         assert_eq!((s.samples, c.acc_rms_sum_in_per_s2), (0, None));
         assert!(c.not_workable.is_none());
     }
-    let text = camsim::report::Report::text(&r);
+    let text = camsim::report::Report::text(&r, camsim::units::Units::Inch);
     assert_eq!(
         text.matches("no statistics: every cam jumped and then left the model's valid range")
             .count(),
@@ -234,7 +234,7 @@ fn sensitivity_per_key_reports_a_key_that_leaves_the_range_and_goes_on() {
             k.key
         );
     }
-    let text = camsim::report::Report::text(&r);
+    let text = camsim::report::Report::text(&r, camsim::units::Units::Inch);
     assert!(
         text.lines().any(|l| l.contains("e2_in")
             && l.contains("not workable at x0.99: the design check refuses it")),
@@ -285,7 +285,7 @@ fn design_tolerance_reports_an_fpr_where_nothing_passes_and_goes_on() {
     assert_eq!(n.smallest_cam_tolerance_in, 0.0005 * 0.1);
     assert!(n.p_jump.unwrap().hi95 > 0.5);
     assert_eq!(n.tolerance_factors_tried, vec![(0.1, false)]);
-    let text = table.text();
+    let text = table.text(camsim::units::current());
     let row = text
         .lines()
         .find(|l| l.trim_start().starts_with("57"))

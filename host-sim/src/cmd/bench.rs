@@ -38,7 +38,7 @@ pub struct Args {
 
 /// Runs the command: the plot directory is checked before anything runs, written to
 /// temporaries and committed when every plot was drawn.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     let mut plan = Plan::new(args.output.force);
     let plot_target = match &args.output.plot {
         Some(dir) => Some(plan.dir("--plot", dir, &bench::plot::FILES)?),
@@ -58,7 +58,7 @@ pub fn run(args: Args) -> Result<()> {
         bench::plot::draw_all(&mut out, &report)?;
         out.commit()?;
     }
-    crate::report::print(&report, args.output.json)
+    crate::report::print(&report, args.output.json, units)
 }
 
 /// `x` in 3 significant digits, scientific.
@@ -94,7 +94,7 @@ impl Report for BenchReport {
         sorted_pretty_json(self)
     }
 
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         let mut s = String::new();
         heading(self, &mut s);
         reference(&self.reference, &mut s);

@@ -618,8 +618,8 @@ pub fn fill_ranks(laws: &mut [LawStudy]) {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.output.json)
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
+    crate::report::print(&report(&args)?, args.output.json, units)
 }
 
 /// Column headers of the ranking table.
@@ -636,7 +636,7 @@ pub(crate) const HEADERS: [(&str, &str); 9] = [
 ];
 
 impl Report for CompareReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         self.write_heading(&mut out);

@@ -57,13 +57,13 @@ pub fn render_table(r: &ContactReport) -> String {
 }
 
 impl Report for ContactReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         render_table(self) + "\n"
     }
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> anyhow::Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> anyhow::Result<()> {
     let report = match &args.scene {
         Some(p) => {
             let d = crate::scene::load(p)?.design;
@@ -76,5 +76,5 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         None => compute(args.force)?,
     };
-    crate::report::print(&report, args.json)
+    crate::report::print(&report, args.json, units)
 }

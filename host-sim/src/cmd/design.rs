@@ -147,19 +147,19 @@ fn margin_percent(s: &str) -> Result<f64, String> {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     match args.what {
         What::Spring(a) => {
             let r = spring(&a)?;
-            crate::report::print(&r, a.json)
+            crate::report::print(&r, a.json, units)
         }
         What::Speed(a) => {
             let r = mc_search(&a, true)?;
-            crate::report::print(&r, a.json)
+            crate::report::print(&r, a.json, units)
         }
         What::Tolerance(a) => {
             let r = tolerance_table(&a)?;
-            crate::report::print(&r, a.json)
+            crate::report::print(&r, a.json, units)
         }
     }
 }

@@ -380,10 +380,10 @@ fn budget_image(
 
 /// Runs the command: the checks, their lines as they pass (or with --json the report at
 /// the end).
-pub fn run(a: Args) -> Result<()> {
+pub fn run(a: Args, units: crate::units::Units) -> Result<()> {
     let report = report(&a)?;
     if a.json {
-        crate::report::print(&report, true)?;
+        crate::report::print(&report, true, units)?;
     }
     Ok(())
 }
@@ -439,7 +439,7 @@ pub fn report(a: &Args) -> Result<CheckReport> {
 }
 
 impl crate::report::Report for CheckReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         self.checks.iter().map(|l| format!("{l}\n")).collect()
     }
 }

@@ -124,7 +124,7 @@ pub fn render_text(r: &JumpSpeedReport) -> String {
 }
 
 impl Report for JumpSpeedReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         render_text(self)
     }
     fn json(&self) -> serde_json::Result<String> {
@@ -133,7 +133,7 @@ impl Report for JumpSpeedReport {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     let mut scene = args.scene.clone();
     scene.start.get_or_insert(crate::args::StartArg::Static);
     let spec = spec_from(&scene)?;
@@ -148,7 +148,7 @@ pub fn run(args: Args) -> Result<()> {
             args.resolution,
             args.max_rpm,
         )?;
-        return crate::report::print(&report, args.json);
+        return crate::report::print(&report, args.json, units);
     }
     args.actual.ensure_actual_if_options()?;
     let given: Vec<String> = [("--samples", args.samples), ("--threads", args.threads)]
@@ -166,5 +166,5 @@ pub fn run(args: Args) -> Result<()> {
     let r = find(&spec, args.resolution, args.max_rpm)?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     let report = JumpSpeedReport::new(&r, op_rpm, args.resolution, wall_ms);
-    crate::report::print(&report, args.json)
+    crate::report::print(&report, args.json, units)
 }

@@ -165,7 +165,7 @@ impl Report for LawsReport {
         serde_json::to_string(self)
     }
 
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let rows = &self.laws;
         let mut s = String::new();
@@ -221,12 +221,12 @@ impl Report for LawsReport {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> anyhow::Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> anyhow::Result<()> {
     if let Some(d) = &args.output.plot {
         let mut plan = crate::output::Plan::new(args.output.force);
         let mut dir = plan.dir("--plot", d, &PLOT_FILES)?.open()?;
         crate::figure::draw(&mut dir, PLOT_FILES[0], &figure(), crate::units::current())?;
         dir.commit()?;
     }
-    crate::report::print(&report(), args.output.json)
+    crate::report::print(&report(), args.output.json, units)
 }

@@ -307,7 +307,7 @@ pub fn render_table(r: &ModalReport) -> String {
 }
 
 impl Report for ModalReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         render_table(self)
     }
     /// The struct's JSON with the modal stiffness and mass under keys that carry their
@@ -339,10 +339,10 @@ impl Report for ModalReport {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> anyhow::Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> anyhow::Result<()> {
     let report = match &args.scene {
         Some(p) => analyse_with(parameters(&crate::scene::load(p)?.design))?,
         None => analyse()?,
     };
-    crate::report::print(&report, args.json)
+    crate::report::print(&report, args.json, units)
 }

@@ -407,9 +407,9 @@ pub fn measure(rpm: f64, quick: bool, progress: bool) -> Result<ScenesReport> {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     let report = measure(args.rpm, args.quick, true)?;
-    crate::report::print(&report, args.json)
+    crate::report::print(&report, args.json, units)
 }
 
 /// A stated value in at most 3 significant digits: `1` lb, `4.45` N.
@@ -438,7 +438,7 @@ impl Report for ScenesReport {
         sorted_pretty_json(self)
     }
 
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         let acc = crate::units::axis(crate::units::ACCELERATION).1;
         let mut s = self.heading();
         self.error_table(&mut s);

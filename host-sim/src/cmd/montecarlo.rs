@@ -274,13 +274,13 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     let json = match &args.merge {
         Some(Sub::Merge(m)) => m.output.json,
         None => args.output.json,
     };
     match execute(&args)? {
-        Outcome::Study(r) => crate::report::print(r.as_ref(), json),
-        Outcome::Shard(r) => crate::report::print(&r, json),
+        Outcome::Study(r) => crate::report::print(r.as_ref(), json, units),
+        Outcome::Shard(r) => crate::report::print(&r, json, units),
     }
 }

@@ -805,7 +805,7 @@ fn fault_text(f: &FaultRow) -> String {
 pub const MAX_LOG_BYTES: u64 = 16_000_000;
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     if args.check_log.is_some() && !args.single {
         bail!("--check-log compares the firmware's f32 bits: add --f32");
     }
@@ -853,7 +853,7 @@ pub fn run(args: Args) -> Result<()> {
     };
     ensure_reached(&report)?;
     crate::report::ensure_finite(&report)?;
-    crate::report::print(&report, args.json)
+    crate::report::print(&report, args.json, units)
 }
 
 /// The six timing points of a row, in the order of `timing_deg`.
@@ -884,7 +884,7 @@ fn ensure_reached(r: &PredictReport) -> Result<()> {
 }
 
 impl crate::report::Report for PredictReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         render_text(self)
     }
     fn json(&self) -> serde_json::Result<String> {

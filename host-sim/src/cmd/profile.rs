@@ -208,7 +208,7 @@ impl Report for ProfileReport {
         serde_json::to_string_pretty(&suffix(serde_json::to_value(self)?, self.units.name()))
     }
 
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let u = self.units.name();
         let mut s = String::new();
@@ -745,6 +745,6 @@ fn dxf_layers(curves: &[Curve]) -> Vec<Layer<'_>> {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.output.json)
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
+    crate::report::print(&report(&args)?, args.output.json, units)
 }

@@ -490,8 +490,8 @@ fn verdict(
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.output.json)
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
+    crate::report::print(&report(&args)?, args.output.json, units)
 }
 
 /// The separations of one period of one revolution, as the text report sums them up.
@@ -515,7 +515,7 @@ impl Report for RunReport {
         sorted_pretty_json(self)
     }
 
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         let mut out = String::new();
         self.write_heading(&mut out);
         if let Some(p) = &self.profile {

@@ -35,8 +35,8 @@ pub struct Args {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    crate::report::out(&output(&args, crate::units::current())?)
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
+    crate::report::out(&output(&args, units)?)
 }
 
 /// What the command prints, `units` being `--units`.

@@ -100,6 +100,6 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.output.json)
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
+    crate::report::print(&report(&args)?, args.output.json, units)
 }

@@ -102,7 +102,7 @@ pub fn sweep_of(args: &Args) -> Result<Sweep> {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     let sw = sweep_of(&args)?;
     // Every output checked before any run.
     let mut plan = Plan::new(args.output.force);
@@ -140,5 +140,5 @@ pub fn run(args: Args) -> Result<()> {
     if let Some(p) = plot.take() {
         p.commit()?;
     }
-    crate::report::print(&report, args.output.json)
+    crate::report::print(&report, args.output.json, units)
 }

@@ -354,8 +354,8 @@ fn acc_text(c: &Cell) -> String {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
-    crate::report::print(&report(&args)?, args.output.json)
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
+    crate::report::print(&report(&args)?, args.output.json, units)
 }
 
 /// The columns of the per-cell table: (column, header, unit, decimals in inch; `None`:
@@ -435,7 +435,7 @@ fn cell_text(out: &mut String, title: &str, c: &Cell) {
 }
 
 impl Report for ToleranceReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         let _ = writeln!(

@@ -169,11 +169,11 @@ pub fn report(args: &Args) -> Result<WavinessReport> {
 }
 
 /// Runs the command.
-pub fn run(args: Args) -> Result<()> {
+pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     if let Some(path) = &args.measured {
-        return crate::report::print(&measured(path)?, args.json);
+        return crate::report::print(&measured(path)?, args.json, units);
     }
-    crate::report::print(&report(&args)?, args.json)
+    crate::report::print(&report(&args)?, args.json, units)
 }
 
 /// `--measured FILE`: the revolution's waviness on the reference design.
@@ -186,7 +186,7 @@ pub fn measured(path: &std::path::Path) -> Result<MeasuredWaviness> {
 }
 
 impl Report for MeasuredWaviness {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         format!("{}\n", self.line())
     }
 }
@@ -202,7 +202,7 @@ fn range(v: &[usize]) -> String {
 }
 
 impl Report for WavinessReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use crate::units::{given, q, symbol, LENGTH};
         use std::fmt::Write;
         let mut out = String::new();

@@ -93,7 +93,7 @@ pub struct ActualOnsetReport {
 }
 
 impl Report for ActualOnsetReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let mut s = String::new();
         let f = |x: Option<f64>| x.map_or("none".to_string(), |v| format!("{v:.1}"));

@@ -641,7 +641,7 @@ impl Report for SweepReport {
     fn json(&self) -> serde_json::Result<String> {
         crate::report::sorted_pretty_json(self)
     }
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         let _ = writeln!(

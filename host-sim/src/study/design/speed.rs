@@ -366,7 +366,7 @@ impl Report for McSearchReport {
     fn json(&self) -> serde_json::Result<String> {
         crate::report::sorted_pretty_json(&self.json_value()?)
     }
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         search_headline(self, &mut out);

@@ -682,7 +682,7 @@ impl Report for SpringReport {
         }
         crate::report::sorted_pretty_json(&v)
     }
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         spring_headline(self, &mut out);

@@ -212,12 +212,12 @@ impl Report for ToleranceTable {
             .collect::<serde_json::Result<Vec<_>>>()?;
         crate::report::sorted_pretty_json(&rows)
     }
-    fn text(&self) -> String {
+    fn text(&self, units: crate::units::Units) -> String {
         use std::fmt::Write;
         let answers: Vec<&McSearchReport> =
             self.0.iter().filter_map(ToleranceRow::answer).collect();
         if self.0.len() == 1 || answers.iter().any(|r| r.search != "tolerance") {
-            return answers.iter().map(|r| r.text()).collect();
+            return answers.iter().map(|r| r.text(units)).collect();
         }
         let lu = units::symbol(units::LENGTH);
         let mut out = String::new();

@@ -51,7 +51,7 @@ pub struct ShardReport {
 }
 
 impl Report for ShardReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         format!(
             "camsim montecarlo: shard {} ({} samples) written to {} in {:.1} s on {} threads\n",
             self.shard,
@@ -270,7 +270,7 @@ fn revolution_text(out: &mut String, sm: &Summary) {
 }
 
 impl Report for MonteCarloReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let s = &self.study;
         let sm = &self.summary;

@@ -98,7 +98,7 @@ fn left_range_text(out: &mut String, cases: &[NotWorkableCase]) {
 }
 
 impl Report for SensitivityReport {
-    fn text(&self) -> String {
+    fn text(&self, _units: crate::units::Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         let p = &self.actual_profile;
