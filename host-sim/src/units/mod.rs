@@ -28,6 +28,13 @@
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
+pub mod measure;
+
+pub use measure::{
+    Acceleration, Force, Jerk, Kind, Length, LengthPerRad, LengthPerRad2, Mass, Measure, Power,
+    Speed, Stiffness, Stress, Torque, Weight,
+};
+
 use camsim_scene_file::units::{self as su, Unit, MM_PER_IN, N_PER_LBF};
 
 /// The unit family of the output.
@@ -392,13 +399,18 @@ fn scale(v: &mut serde_json::Value, factor: f64) {
     }
 }
 
-/// `value` with every key in `units` (see the module's account).
+/// `value` with every key in `units` (see the module's account): a [`Measure`]'s marker
+/// object becomes its number in `units` and its key takes the unit's suffix
+/// ([`measure::key`]); a plain number is converted by its key's name ([`key_in`]).
 pub fn convert(value: serde_json::Value, units: Units) -> serde_json::Value {
     use serde_json::Value;
     match value {
         Value::Object(o) => Value::Object(
             o.into_iter()
                 .map(|(k, v)| {
+                    if let Some(unit) = measure::measured(&v) {
+                        return (measure::key(&k, unit, units), measure::unmark(v, units));
+                    }
                     let (key, factor) = key_in(&k, units);
                     let mut v = convert(v, units);
                     if key != k {

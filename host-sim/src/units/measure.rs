@@ -1,0 +1,272 @@
+//! A report's dimensional number with its quantity: a [`Measure`] holds the value in the
+//! inch family and knows its unit by its type ([`Length`], [`Force`], [`Stress`], ...),
+//! so the text ([`Units::show`]), the JSON ([`super::convert`]) and the plots
+//! ([`Measure::inch`] with [`Units::axis`] of [`Kind::UNIT`]) convert it from the one
+//! table of units, and a field cannot stay in the wrong unit unnoticed: its key gets its
+//! unit from its type, not from its name.
+//!
+//! In JSON a measure serializes as a marker object, `{"$unit": "in", "value": 1.25}`,
+//! which [`super::convert`] replaces by the number in the output's family, naming the
+//! key with the family's suffix (`base_radius` or `base_radius_in` becomes
+//! `base_radius_in` or `base_radius_mm`). A report is never printed with a marker in it.
+//!
+//! ```
+//! use camsim::units::{Length, Units};
+//! let r = Length::inch(2.0);
+//! assert_eq!(Units::Si.of(r), 50.8);
+//! assert_eq!(format!("{}", Units::Si.show(r, 4)), "50.800");
+//! ```
+
+use std::marker::PhantomData;
+
+use serde::ser::{Serialize, SerializeStruct, Serializer};
+
+use super::{Quantity, Unit, Units};
+
+/// The key of a measure's marker object in JSON; its value names the unit by both
+/// families' suffixes, `lb|kg` (a weight) apart from `lb|n` (a force).
+pub const MARKER: &str = "$unit";
+
+/// The marker's name for `unit`: `inch|si`.
+fn marker(unit: Unit) -> String {
+    format!("{}|{}", unit.inch, unit.si)
+}
+
+/// Every unit a measure may have (the kinds below).
+const UNITS: [Unit; 13] = [
+    super::LENGTH,
+    super::SPEED,
+    super::ACCELERATION,
+    super::JERK,
+    super::FORCE,
+    super::WEIGHT,
+    super::MASS,
+    super::STRESS,
+    super::TORQUE,
+    super::STIFFNESS,
+    super::POWER,
+    super::LENGTH_PER_RAD,
+    super::LENGTH_PER_RAD2,
+];
+
+/// The unit and inch value of a marker object, if `v` is one.
+fn marked(v: &serde_json::Value) -> Option<(Unit, f64)> {
+    let o = v.as_object().filter(|o| o.len() == 2)?;
+    let name = o.get(MARKER)?.as_str()?;
+    let unit = UNITS.into_iter().find(|u| marker(*u) == name)?;
+    Some((unit, o.get("value")?.as_f64()?))
+}
+
+/// The unit of `v` if it is a measure, or a non-empty array of measures of one unit.
+pub fn measured(v: &serde_json::Value) -> Option<Unit> {
+    match v {
+        serde_json::Value::Array(a) => {
+            let first = measured(a.first()?)?;
+            a.iter()
+                .all(|x| measured(x) == Some(first))
+                .then_some(first)
+        }
+        v => marked(v).map(|(u, _)| u),
+    }
+}
+
+/// `v` (a measure or an array of them, [`measured`]) with every marker replaced by its
+/// number in `units`.
+pub fn unmark(v: serde_json::Value, units: Units) -> serde_json::Value {
+    match v {
+        serde_json::Value::Array(a) => {
+            serde_json::Value::Array(a.into_iter().map(|x| unmark(x, units)).collect())
+        }
+        v => match marked(&v) {
+            Some((unit, inch)) => serde_json::Number::from_f64(units.value(unit, inch))
+                .map_or(serde_json::Value::Null, serde_json::Value::Number),
+            None => v,
+        },
+    }
+}
+
+/// A measure's key in `units`: `key` without the inch suffix of `unit` (if it ends in
+/// it), with the family's suffix (`base_radius_in` and `base_radius` become
+/// `base_radius_mm` in SI, `base_radius_in` in inch).
+pub fn key(key: &str, unit: Unit, units: Units) -> String {
+    let stem = key
+        .strip_suffix(unit.inch)
+        .and_then(|s| s.strip_suffix('_'))
+        .unwrap_or(key);
+    format!("{stem}_{}", units.key_suffix(unit))
+}
+
+/// A quantity: its unit in both families.
+pub trait Kind: Copy + std::fmt::Debug + Default + PartialEq {
+    /// The quantity's unit (both families' suffixes, symbols and the factor).
+    const UNIT: Unit;
+}
+
+/// A report's dimensional value, held in the inch family, of quantity `K`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
+pub struct Measure<K: Kind> {
+    inch: f64,
+    kind: PhantomData<K>,
+}
+
+impl<K: Kind> Measure<K> {
+    /// The measure whose inch-family value is `inch`.
+    pub const fn inch(inch: f64) -> Self {
+        Self {
+            inch,
+            kind: PhantomData,
+        }
+    }
+
+    /// The value in the inch family (the model's own units).
+    pub const fn in_inch(self) -> f64 {
+        self.inch
+    }
+
+    /// The quantity's unit.
+    pub const fn unit(self) -> Unit {
+        K::UNIT
+    }
+}
+
+impl<K: Kind> From<f64> for Measure<K> {
+    fn from(inch: f64) -> Self {
+        Self::inch(inch)
+    }
+}
+
+impl<K: Kind> Serialize for Measure<K> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_struct("Measure", 2)?;
+        m.serialize_field(MARKER, &marker(K::UNIT))?;
+        m.serialize_field("value", &self.inch)?;
+        m.end()
+    }
+}
+
+impl Units {
+    /// `m` in this family.
+    pub fn of<K: Kind>(self, m: Measure<K>) -> f64 {
+        self.value(K::UNIT, m.inch)
+    }
+
+    /// `m` for the text, printed with `inch_decimals` in inch ([`Units::q`]).
+    pub fn show<K: Kind>(self, m: Measure<K>, inch_decimals: usize) -> Quantity {
+        self.q(K::UNIT, m.inch, inch_decimals)
+    }
+
+    /// `m`'s unit as the text writes it in this family (`lb/in`, `N/mm`).
+    pub fn unit_of<K: Kind>(self, _m: Measure<K>) -> &'static str {
+        self.symbol(K::UNIT)
+    }
+}
+
+macro_rules! kinds {
+    ($($(#[$doc:meta])* $kind:ident, $alias:ident = $unit:expr;)*) => {
+        /// The quantities a report carries (the marker types of [`Measure`]).
+        pub mod kind {
+            use super::{Kind, Unit};
+            $(
+                $(#[$doc])*
+                #[derive(Clone, Copy, Debug, Default, PartialEq)]
+                pub struct $kind;
+                impl Kind for $kind {
+                    const UNIT: Unit = $unit;
+                }
+            )*
+        }
+        $(
+            $(#[$doc])*
+            pub type $alias = Measure<kind::$kind>;
+        )*
+    };
+}
+
+kinds! {
+    /// A length: in, mm.
+    Length, Length = crate::units::LENGTH;
+    /// A follower speed: in/s, mm/s.
+    Speed, Speed = crate::units::SPEED;
+    /// An acceleration: in/s², mm/s².
+    Acceleration, Acceleration = crate::units::ACCELERATION;
+    /// A jerk: in/s³, mm/s³.
+    Jerk, Jerk = crate::units::JERK;
+    /// A force: lb, N.
+    Force, Force = crate::units::FORCE;
+    /// A weight given as a mass (a spring's): lb, kg.
+    Weight, Weight = crate::units::WEIGHT;
+    /// A mass in the model's units: lb s²/in, kg.
+    Mass, Mass = crate::units::MASS;
+    /// A stress: psi, MPa.
+    Stress, Stress = crate::units::STRESS;
+    /// A torque: lb in, N m.
+    Torque, Torque = crate::units::TORQUE;
+    /// A translational stiffness (a spring rate): lb/in, N/mm.
+    Stiffness, Stiffness = crate::units::STIFFNESS;
+    /// A power: hp, kW.
+    Power, Power = crate::units::POWER;
+    /// A profile's slope in cam angle: in/rad, mm/rad.
+    LengthPerRad, LengthPerRad = crate::units::LENGTH_PER_RAD;
+    /// A profile's second derivative in cam angle: in/rad², mm/rad².
+    LengthPerRad2, LengthPerRad2 = crate::units::LENGTH_PER_RAD2;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_measure_converts_by_its_kind() {
+        let f = Force::inch(100.0);
+        assert_eq!(Units::Inch.of(f), 100.0);
+        assert_eq!(Units::Si.of(f), 100.0 * crate::units::FORCE.si_per_inch);
+        assert_eq!(Units::Si.unit_of(f), "N");
+        assert_eq!(format!("{}", Units::Inch.show(f, 2)), "100.00");
+        assert_eq!(format!("{}", Units::Si.show(f, 2)), "444.8");
+    }
+
+    #[test]
+    fn a_measure_serializes_as_its_marker() {
+        let v = serde_json::to_value(Stress::inch(150_000.0)).unwrap();
+        assert_eq!(
+            v,
+            serde_json::json!({"$unit": "psi|mpa", "value": 150_000.0})
+        );
+    }
+
+    #[derive(serde::Serialize)]
+    struct R {
+        radius_in: Length,
+        contact_force_min: Force,
+        mass: Weight,
+        lifts: Vec<Length>,
+        plain_in: f64,
+    }
+
+    #[test]
+    fn a_report_converts_by_its_fields_types() {
+        let r = R {
+            radius_in: Length::inch(2.0),
+            contact_force_min: Force::inch(10.0),
+            mass: Weight::inch(1.0),
+            lifts: vec![Length::inch(1.0), Length::inch(0.5)],
+            plain_in: 1.0,
+        };
+        let text = serde_json::to_string(&r).unwrap();
+        let inch = crate::units::json(&text, Units::Inch).unwrap();
+        assert_eq!(
+            inch,
+            r#"{"contact_force_min_lb":10.0,"lifts_in":[1.0,0.5],"mass_lb":1.0,"plain_in":1.0,"radius_in":2.0}"#
+        );
+        let si: serde_json::Value =
+            serde_json::from_str(&crate::units::json(&text, Units::Si).unwrap()).unwrap();
+        assert_eq!(si["radius_mm"], 50.8);
+        assert_eq!(
+            si["contact_force_min_n"],
+            10.0 * crate::units::FORCE.si_per_inch
+        );
+        assert_eq!(si["mass_kg"], 0.453_592_37);
+        assert_eq!(si["lifts_mm"][1], 12.7);
+        assert_eq!(si["plain_mm"], 25.4);
+    }
+}
