@@ -550,7 +550,8 @@ fn ranks_are_a_permutation_that_follows_the_values() {
     }
     for l in &r.laws {
         // The columns are what §9 defines, recomputed from the per-period values.
-        let sum = |p: &[compare::LawPeriod]| p.iter().map(|p| p.acc_rms_cycle2).sum::<f64>();
+        let sum =
+            |p: &[compare::LawPeriod]| p.iter().map(|p| p.acc_rms_cycle2.in_inch()).sum::<f64>();
         let f = &l.flexibility;
         assert_eq!(f.sensitivity, sum(&f.per_period));
         assert_eq!(l.actual.cam.sensitivity, sum(&l.actual.cam.per_period));
@@ -562,13 +563,16 @@ fn ranks_are_a_permutation_that_follows_the_values() {
             .per_period
             .iter()
             .filter(|p| p.period == "rise" || p.period == "return")
-            .map(|p| (p.acc_rms_cycle1 - p.acc_rms_cycle2) / p.acc_rms_cycle1)
+            .map(|p| {
+                let (one, two) = (p.acc_rms_cycle1.in_inch(), p.acc_rms_cycle2.in_inch());
+                (one - two) / one
+            })
             .sum();
         assert_eq!(f.shock_index, shock);
         let fmin = f
             .per_period
             .iter()
-            .map(|p| p.contact_force_min)
+            .map(|p| p.contact_force_min.in_inch())
             .fold(f64::INFINITY, f64::min);
         assert_eq!(l.values.contact_force_min, fmin);
         assert_eq!(l.values.sensitivity_to_flexibility, f.sensitivity);
@@ -592,7 +596,7 @@ fn ranks_are_a_permutation_that_follows_the_values() {
     let by = |name: &str| r.laws.iter().find(|l| l.name == name).unwrap();
     assert!(by("straight-line").flexibility.jump);
     assert!(!by("cycloidal").flexibility.jump);
-    assert!(by("cycloidal").flexibility.contact_force_min > 0.0);
+    assert!(by("cycloidal").flexibility.contact_force_min.in_inch() > 0.0);
 }
 
 /// The counting rule (docs/MODEL.md §3.20): a sample that leaves the model's valid range

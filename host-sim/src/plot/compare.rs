@@ -2,20 +2,54 @@
 //! column (rankings.png), and revolution 2 of the best laws on the theoretical cam and
 //! on one actual cam (responses.png).
 
-use crate::cmd::compare::{rank_axis, LawStudy, NotWorkable, Trace, HEADERS};
 use crate::figure::palette::{BLUE, MID_GREY, RED};
 use crate::figure::{
     Axis, Bar, Entry, Figure, HAlign, Note, Panel, Series, Strip, Stroke, Swatch, Ticks, VAlign,
 };
-use crate::units::{ACCELERATION, FORCE};
+use crate::study::compare::{LawStudy, LawTraces, NotWorkable, HEADERS};
+use crate::units::{Units, ACCELERATION, FORCE, STRESS, TORQUE};
+use camsim_scene_file::units::Unit;
 
 /// Panels a row in rankings.png.
 const RANK_COLUMNS: usize = 3;
 /// A bar's half height, of the distance between two laws.
 const BAR_HALF: f64 = 0.38;
 
-/// The rankings: one bar chart a ranked column, the laws' values, the best bar in red.
-pub fn rankings(laws: &[LawStudy], not_workable: &[NotWorkable]) -> Figure {
+/// A ranked column's quantity and unit on a plot axis (`None`: dimensionless), and
+/// which way is better.
+fn rank_axis(col: &str) -> (&'static str, Option<Unit>, &'static str) {
+    match col {
+        "sensitivity_to_flexibility" => (
+            "Σ acceleration RMS, theoretical cam",
+            Some(ACCELERATION),
+            "smaller is better",
+        ),
+        "sensitivity_to_tolerance" => (
+            "Σ acceleration RMS, actual − theoretical",
+            Some(ACCELERATION),
+            "smaller is better",
+        ),
+        "shock_index" => ("Σ (RMS_I − RMS_II) / RMS_I", None, "smaller is better"),
+        "torque_avg" => (
+            "average torque over the rise",
+            Some(TORQUE),
+            "smaller is better",
+        ),
+        "torque_max" => ("largest |torque|", Some(TORQUE), "smaller is better"),
+        "contact_force_min" => ("smallest contact force", Some(FORCE), "larger is better"),
+        "contact_force_max" => ("largest contact force", Some(FORCE), "smaller is better"),
+        "contact_stress_max" => ("largest contact stress", Some(STRESS), "smaller is better"),
+        _ => (
+            "sum of the ranks",
+            None,
+            "holding contact first, then smaller",
+        ),
+    }
+}
+
+/// The rankings: one bar chart a ranked column, the laws' values, the best bar in red
+/// (the note of a lost contact in `units`).
+pub fn rankings(laws: &[LawStudy], not_workable: &[NotWorkable], units: Units) -> Figure {
     let mut title =
         "Every workable law's value in each ranked column, revolution 2 (rank 1 in red)"
             .to_string();
@@ -29,7 +63,7 @@ pub fn rankings(laws: &[LawStudy], not_workable: &[NotWorkable]) -> Figure {
     let rows = HEADERS.len().div_ceil(RANK_COLUMNS);
     let panels = HEADERS
         .iter()
-        .map(|(col, head)| rank_panel(laws, col, head))
+        .map(|(col, head)| rank_panel(laws, col, head, units))
         .collect();
     let mut fig = Figure::new(title, (1500, 420 * rows as u32 + 50), panels);
     fig.columns = RANK_COLUMNS;
@@ -37,7 +71,7 @@ pub fn rankings(laws: &[LawStudy], not_workable: &[NotWorkable]) -> Figure {
 }
 
 /// One ranked column's bar chart.
-fn rank_panel(laws: &[LawStudy], col: &str, head: &str) -> Panel {
+fn rank_panel(laws: &[LawStudy], col: &str, head: &str, units: Units) -> Panel {
     let (what, unit, better) = rank_axis(col);
     let v: Vec<f64> = laws
         .iter()
@@ -74,7 +108,7 @@ fn rank_panel(laws: &[LawStudy], col: &str, head: &str) -> Panel {
         });
         if col == "contact_force_min" && v <= 0.0 {
             // A law that jumps has no bar here: say so.
-            let unit = crate::units::axis(FORCE).1;
+            let unit = units.axis(FORCE).1;
             p.notes.push(Note::new(
                 (0.02 * (hi + pad), y + 0.25),
                 format!("0 {unit}: contact lost"),
@@ -89,7 +123,7 @@ fn rank_panel(laws: &[LawStudy], col: &str, head: &str) -> Panel {
 /// The responses: a row a law, its theoretical cam (grey) under its actual cam
 /// (colour); the acceleration deviation on the left, the contact force on the right,
 /// each column on one scale so the laws compare.
-pub fn responses(traces: &[(String, Trace, Trace)]) -> Figure {
+pub fn responses(traces: &[LawTraces]) -> Figure {
     let rows = traces.len().max(1);
     let range = |acc: bool| {
         let (lo, hi) = traces
@@ -132,12 +166,7 @@ pub fn responses(traces: &[(String, Trace, Trace)]) -> Figure {
 }
 
 /// One law's acceleration deviation (`acc`) or contact force against cam angle.
-fn response_panel(
-    t: &(String, Trace, Trace),
-    acc: bool,
-    (lo, hi): (f64, f64),
-    last: bool,
-) -> Panel {
+fn response_panel(t: &LawTraces, acc: bool, (lo, hi): (f64, f64), last: bool) -> Panel {
     let major = (0..=12).map(|k| 30.0 * f64::from(k)).collect();
     let minor = (0..=24).map(|k| 15.0 * f64::from(k)).collect();
     let x = Axis::plain(

@@ -2,6 +2,7 @@
 //! command-line parsing (the thin `cmd` module of each parses, prints and writes files).
 
 pub mod coil_spring;
+pub mod compare;
 pub mod contact;
 pub mod design;
 pub mod jump_speed;
