@@ -17,8 +17,10 @@
 //!   the impact history (chaotic under a change of step sequence).
 
 use camsim::cmd::predict::{
-    check_parity, compute, parity_lines, render_text, report, Num, Prediction, REFERENCE_SCENE,
+    check_parity, compute, parity_lines, render_text, Num, PredictReport, Prediction,
+    REFERENCE_SCENE,
 };
+use camsim::units::Units;
 use camsim_chip::{
     CHIP_ALARM_OFF_MARGIN_RPM, CHIP_ALARM_ON_MARGIN_RPM, CHIP_GRID_RPM, CHIP_MAX_RPM,
     CHIP_RESOLUTION_RPM, CHIP_TICK_HZ,
@@ -218,7 +220,7 @@ fn interpolation_is_exact_on_the_grid() {
 fn report_names_its_scene_and_feeds_text_and_json() {
     let p = compute::<f32>(None, None).unwrap();
     for design in [REFERENCE_SCENE, "scenes/stable-4567-rise.toml"] {
-        let r = report(&p, true, design);
+        let r = PredictReport::of(&p, true, design, None);
         let v = serde_json::to_value(&r).unwrap();
         let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
         keys.sort_unstable();
@@ -251,7 +253,7 @@ fn report_names_its_scene_and_feeds_text_and_json() {
         );
         // The text is the same report: header naming the scene, then the table rows, the
         // jump line, the checks and one line per reading.
-        let text = render_text(&r);
+        let text = render_text(&r, Units::Inch);
         let first = text.lines().next().unwrap();
         let name = if design == REFERENCE_SCENE {
             "reference design"
@@ -358,7 +360,7 @@ fn with_no_jump_onset_the_speed_margin_is_absent_with_its_reason() {
     d.validate().unwrap();
     let p = compute::<f64>(Some(&d), None).unwrap();
     assert_eq!(p.table.jump_rpm, None);
-    let r = report(&p, false, "stiff");
+    let r = PredictReport::of(&p, false, "stiff", None);
     assert!(camsim::report::non_finite(&r).unwrap().is_none());
     let v = serde_json::to_value(&r).unwrap();
     let samples = v["samples"].as_array().unwrap();
@@ -371,7 +373,7 @@ fn with_no_jump_onset_the_speed_margin_is_absent_with_its_reason() {
         assert!(s.get("speed_margin_rpm").is_none(), "{s}");
         assert_eq!(s["speed_margin_absent"], reason.as_str());
     }
-    let text = render_text(&r);
+    let text = render_text(&r, Units::Inch);
     assert!(!text.contains("inf"), "{text}");
     assert!(text.contains("speed margin none (no onset)"), "{text}");
     assert!(text.contains(&format!("jump onset: none up to {} rpm", CHIP_MAX_RPM)));

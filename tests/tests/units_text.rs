@@ -621,14 +621,14 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
 
     // --- predict, f64 and f32 (the chip's): one computation, printed in both families.
     let p = predict::compute::<f64>(None, None).unwrap();
-    let r = predict::report(&p, false, predict::REFERENCE_SCENE);
-    let (inch, si) = both(|| predict::render_text(&r));
+    let r = predict::PredictReport::of(&p, false, predict::REFERENCE_SCENE, None);
+    let (inch, si) = (r.text(Units::Inch), r.text(Units::Si));
     // 10 rows, 3 interpolation checks x 3 forces, every vouched reading.
     let n = predict_agrees(&inch, &si);
     assert!(n >= 10 + 9 + 10, "{n}");
     let p = predict::compute::<f32>(None, None).unwrap();
-    let r = predict::report(&p, true, predict::REFERENCE_SCENE);
-    let (inch, si) = both(|| predict::render_text(&r));
+    let r = predict::PredictReport::of(&p, true, predict::REFERENCE_SCENE, None);
+    let (inch, si) = (r.text(Units::Inch), r.text(Units::Si));
     predict_agrees(&inch, &si);
     // A force that rounds to zero (950 rpm jumps) prints 0, never -0.
     assert!(!si.contains("-0.000 "), "{si}");

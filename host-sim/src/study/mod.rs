@@ -8,6 +8,7 @@ pub mod design;
 pub mod jump_speed;
 pub mod jump_speed_actual;
 pub mod montecarlo;
+pub mod predict;
 pub mod sensitivity;
 pub mod sweep;
 
