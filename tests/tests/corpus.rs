@@ -212,7 +212,7 @@ fn run_cli(command: Command, option: &str) -> Result<Outcome, String> {
     match command {
         Command::Run(mut a) => {
             a.revolutions = Some(1);
-            match camsim::cmd::run::report(&a) {
+            match camsim::cmd::run::report(&a, camsim::units::Units::Inch) {
                 Ok(r) => {
                     ensure_finite(&r).map_err(|e| format!("{e:#}"))?;
                     Ok(Outcome::Finite)

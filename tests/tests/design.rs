@@ -28,7 +28,7 @@ fn spring_args(actual: bool, threads: u32) -> SpringArgs {
 /// table's, and the pressure angle is the closed form tan φ = y' / (R_a + y) at its angle.
 #[test]
 fn verdict_agrees_with_the_table_and_the_geometry() {
-    let r = report(&RunArgs::default()).unwrap();
+    let r = report(&RunArgs::default(), camsim::units::Units::Inch).unwrap();
     let v = r.verdict.as_ref().unwrap();
     let judged = r.per_period.iter().filter(|p| p.revolution >= 2);
     let fmin = judged
@@ -56,7 +56,7 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
         ..Default::default()
     };
     a.verdict.pressure_angle_limit = Some(phi - 1.0);
-    let r = report(&a).unwrap();
+    let r = report(&a, camsim::units::Units::Inch).unwrap();
     let w = &r.verdict.unwrap().warnings;
     assert!(
         w.iter().any(|w| w.contains("--pressure-angle-limit")),
@@ -99,7 +99,7 @@ fn design_spring_theoretical_brackets_the_criterion() {
     assert!(v.surge_hz >= 13.0 * 800.0 / 60.0, "{}", v.surge_hz);
     assert!(v.shear_stress_psi <= v.allowable_shear_psi);
     assert_eq!(v.solid(), Some(false));
-    assert!(camsim::verdict::spring_part_warnings(&v).is_empty());
+    assert!(camsim::verdict::spring_part_warnings(&v, camsim::units::Units::Inch).is_empty());
     let mut s = spec.clone();
     s.design = built.design.clone();
     assert!(!camsim::sim::jumps_at(&s, 920.0).unwrap());
@@ -244,7 +244,10 @@ fn run_scene(path: &std::path::Path) -> camsim::verdict::Verdict {
         ..Default::default()
     };
     a.scene.scene = Some(path.to_path_buf());
-    report(&a).unwrap().verdict.unwrap()
+    report(&a, camsim::units::Units::Inch)
+        .unwrap()
+        .verdict
+        .unwrap()
 }
 
 /// Issue 30: the verdict's mass line is the model's translating mass by its parts (the
@@ -254,10 +257,13 @@ fn run_scene(path: &std::path::Path) -> camsim::verdict::Verdict {
 /// thesis's machine): its swing past 2 % is stated on the drive line, not warned.
 #[test]
 fn verdict_prints_the_moving_mass_and_the_drive_swing() {
-    let r = report(&RunArgs {
-        revolutions: Some(2),
-        ..Default::default()
-    })
+    let r = report(
+        &RunArgs {
+            revolutions: Some(2),
+            ..Default::default()
+        },
+        camsim::units::Units::Inch,
+    )
     .unwrap();
     let v = r.verdict.unwrap();
     let d = camsim_core::Design::<f64>::reference();
@@ -285,7 +291,7 @@ fn verdict_prints_the_moving_mass_and_the_drive_swing() {
     assert_eq!(dr.swing_limit_percent, 2.0);
     assert!(swing > 2.0 && dr.given, "{dr:?}");
     assert!(v.warnings.is_empty(), "{:?}", v.warnings);
-    let text = camsim::verdict::text(&v);
+    let text = camsim::verdict::text(&v, camsim::units::Units::Inch);
     let line = text.lines().find(|l| l.contains("drive:")).unwrap();
     assert!(
         line.contains(&format!("{:.2} % from the nominal 800.0 rpm", swing))
@@ -306,7 +312,7 @@ fn verdict_prints_the_moving_mass_and_the_drive_swing() {
         "{:?}",
         v.warnings
     );
-    let text = camsim::verdict::text(&v);
+    let text = camsim::verdict::text(&v, camsim::units::Units::Inch);
     assert!(
         text.contains("0.00 % from the nominal 800.0 rpm (limit 2 %)"),
         "{text}"
@@ -342,9 +348,9 @@ fn an_inherited_drive_warns_on_its_swing_and_a_named_one_does_not() {
         "{w}"
     );
     assert!(n.warnings.is_empty(), "{:?}", n.warnings);
-    let text = camsim::verdict::text(&n);
+    let text = camsim::verdict::text(&n, camsim::units::Units::Inch);
     assert!(text.contains("the drive is given"), "{text}");
-    let text = camsim::verdict::text(&i);
+    let text = camsim::verdict::text(&i, camsim::units::Units::Inch);
     assert!(
         text.contains("inherited: the scene names no drive"),
         "{text}"
@@ -631,14 +637,17 @@ fn the_spring_part_is_judged_on_stress_and_solid_height() {
     // 4 in free, 2 in of compression: 2.0 in at full lift, above the solid 1.6 in; the
     // stress (about 197 kpsi) is over chrome-silicon's 0.5 * 202 / 0.2^0.108 = 119 kpsi.
     assert_eq!(v.solid(), Some(false));
-    let w = spring_part_warnings(&v);
+    let w = spring_part_warnings(&v, camsim::units::Units::Inch);
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(w[0].starts_with("spring shear stress"), "{w:?}");
     // 3.5 in free: 1.5 in at full lift, below the solid 1.6 in.
     let spec = scene(3.5, 0.2);
     let v = spring_verdict(&spec.design, spec.spring.as_ref()).unwrap();
     assert_eq!(v.solid(), Some(true));
-    assert_eq!(spring_part_warnings(&v).len(), 2);
+    assert_eq!(
+        spring_part_warnings(&v, camsim::units::Units::Inch).len(),
+        2
+    );
     // A thicker wire at the same coil: k grows as d^4, the stress as K_W F / d^3; with
     // 0.3 in wire (C = 4) the 6-coil spring is solid at 2.4 in, so 5 in free passes that.
     let spec = scene(5.0, 0.3);
@@ -652,14 +661,14 @@ fn the_spring_part_is_judged_on_stress_and_solid_height() {
     let reference = camsim::sim::RunSpec::reference();
     let v = spring_verdict(&reference.design, None).unwrap();
     assert!(!v.given);
-    assert!(spring_part_warnings(&v).is_empty());
+    assert!(spring_part_warnings(&v, camsim::units::Units::Inch).is_empty());
     assert_eq!(v.free_length_in, None);
     assert!((v.least_free_length_in - (1.05 + 2.0)).abs() < 1e-12);
     // Its text says so on the lines that hold the stress and the solid height, and a
     // given part's text does not.
     let text = |v: &camsim::verdict::SpringVerdict| {
         let mut out = String::new();
-        camsim::verdict::spring_lines(&mut out, v);
+        camsim::verdict::spring_lines(&mut out, v, camsim::units::Units::Inch);
         out
     };
     let assumed = text(&v);

@@ -16,6 +16,7 @@ use crate::output::{FileTarget, Plan};
 use crate::plot;
 use crate::report::{sorted_pretty_json, Report};
 use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
+use crate::units::Units;
 pub use crate::verdict::JumpRow;
 
 /// The default of `--csv-every-deg`: a row every half degree of cam angle.
@@ -101,7 +102,11 @@ pub struct VerdictArgs {
 
 impl VerdictArgs {
     /// The limits asked for, the scene's (`[limits]`, or the defaults) otherwise.
-    pub fn limits(&self, scene: &camsim_scene_file::Limits) -> crate::verdict::Limits {
+    pub fn limits(
+        &self,
+        scene: &camsim_scene_file::Limits,
+        units: Units,
+    ) -> crate::verdict::Limits {
         crate::verdict::Limits {
             // The option is read in psi (its parser converts a value given in MPa).
             allowable_contact_stress_psi: self
@@ -117,7 +122,7 @@ impl VerdictArgs {
             {
                 "the scene's [limits]"
             } else {
-                crate::verdict::allowable_source()
+                crate::verdict::allowable_source(units)
             },
         }
     }
@@ -329,7 +334,7 @@ fn csv_target(
     )?))
 }
 
-pub fn report(args: &Args) -> Result<RunReport> {
+pub fn report(args: &Args, units: Units) -> Result<RunReport> {
     let mut spec = spec_from(&args.scene)?;
     if let Some(n) = args.revolutions {
         spec.revolutions = n;
@@ -352,7 +357,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
         None => None,
     };
     let mut csv_out = match csv_target {
-        Some(t) => Some(CsvOut::new(t.open()?)),
+        Some(t) => Some(CsvOut::new(t.open()?, units)),
         None => None,
     };
     let mut plot_data = plot_target.as_ref().map(|_| plot::PlotData::default());
@@ -373,9 +378,9 @@ pub fn report(args: &Args) -> Result<RunReport> {
     let plots = match (plot_target, plot_data) {
         (Some(t), Some(data)) => {
             let mut out = t.open()?;
-            plot::draw_all(&mut out, &data, &result.stats.jumps())?;
+            plot::draw_all(&mut out, &data, &result.stats.jumps(), units)?;
             if let Some(dev) = &spec.profile {
-                plot::draw_profile(&mut out, &data, dev)?;
+                plot::draw_profile(&mut out, &data, dev, units)?;
             }
             Some(out)
         }
@@ -386,7 +391,7 @@ pub fn report(args: &Args) -> Result<RunReport> {
     let mut report = RunReport::new(&spec, &result);
     report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
     report.profile = profile_report;
-    report.verdict = Some(verdict(&spec, &report, &watch, &args.verdict)?);
+    report.verdict = Some(verdict(&spec, &report, &watch, &args.verdict, units)?);
     report.scene_file = args.scene.scene.as_ref().map(|p| p.display().to_string());
     report.scene = Some(crate::scene::spec_text(&spec)?);
     crate::report::ensure_finite(&report)?;
@@ -443,9 +448,10 @@ fn verdict(
     report: &RunReport,
     watch: &crate::verdict::Watch,
     args: &VerdictArgs,
+    units: Units,
 ) -> Result<crate::verdict::Verdict> {
     use crate::verdict as v;
-    let limits = args.limits(&spec.limits);
+    let limits = args.limits(&spec.limits, units);
     let contact = v::contact(
         &spec.design,
         &report.jumps,
@@ -471,10 +477,21 @@ fn verdict(
     } else {
         None
     };
-    let steady = v::steady(&report.per_period, &sim::steady_checks(&report.per_period));
-    let mut warnings = v::warnings(&contact, &geometry, &loads, &spring, jump_margin.as_ref());
+    let steady = v::steady(
+        &report.per_period,
+        &sim::steady_checks(&report.per_period),
+        units,
+    );
+    let mut warnings = v::warnings(
+        &contact,
+        &geometry,
+        &loads,
+        &spring,
+        jump_margin.as_ref(),
+        units,
+    );
     let mass = v::mass(&spec.design);
-    let drive = v::drive(spec, watch);
+    let drive = v::drive(spec, watch, units);
     warnings.extend(v::swing_warning(&drive));
     Ok(v::Verdict {
         contact,
@@ -490,8 +507,8 @@ fn verdict(
 }
 
 /// Runs the command.
-pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
-    crate::report::print(&report(&args)?, args.output.json, units)
+pub fn run(args: Args, units: Units) -> Result<()> {
+    crate::report::print(&report(&args, units)?, args.output.json, units)
 }
 
 /// The separations of one period of one revolution, as the text report sums them up.
@@ -515,16 +532,16 @@ impl Report for RunReport {
         sorted_pretty_json(self)
     }
 
-    fn text(&self, _units: crate::units::Units) -> String {
+    fn text(&self, units: Units) -> String {
         let mut out = String::new();
-        self.write_heading(&mut out);
+        self.write_heading(&mut out, units);
         if let Some(p) = &self.profile {
-            p.write_lines(&mut out);
+            p.write_lines(&mut out, units);
         }
-        self.write_periods(&mut out);
+        self.write_periods(&mut out, units);
         self.write_jumps(&mut out);
         self.write_steady_state(&mut out);
-        self.write_solver(&mut out);
+        self.write_solver(&mut out, units);
         out
     }
 }
@@ -532,10 +549,10 @@ impl Report for RunReport {
 impl ProfileReport {
     /// The actual or measured cam's lines: what it is, its lift deviation and (measured)
     /// its waviness.
-    fn write_lines(&self, out: &mut String) {
+    fn write_lines(&self, out: &mut String, units: Units) {
         use std::fmt::Write;
         match self {
-            ProfileReport::Actual(p) => write_actual_cam(p, out),
+            ProfileReport::Actual(p) => write_actual_cam(p, out, units),
             ProfileReport::Measured(p) => {
                 let _ = writeln!(
                     out,
@@ -546,7 +563,7 @@ impl ProfileReport {
                 );
             }
         }
-        let _ = writeln!(out, "{}", self.deviation_line());
+        let _ = writeln!(out, "{}", self.deviation_line(units));
         if let ProfileReport::Measured(p) = self {
             let w = crate::measured::MeasuredWaviness::of(p);
             let _ = writeln!(out, "{}", w.line());
@@ -554,8 +571,8 @@ impl ProfileReport {
     }
 
     /// The lift deviation's line: RMS, mean and largest |e|, RMS of d²e/dθ², and the FPR.
-    fn deviation_line(&self) -> String {
-        use crate::units::{symbol, value, LENGTH, LENGTH_PER_RAD2};
+    fn deviation_line(&self, units: Units) -> String {
+        use crate::units::{LENGTH, LENGTH_PER_RAD2};
         let (rms, mean, max, curv, fpr) = match self {
             ProfileReport::Actual(p) => (
                 p.rms_deviation_in,
@@ -572,39 +589,39 @@ impl ProfileReport {
                 p.fpr,
             ),
         };
-        let (l, lu) = (|x| value(LENGTH, x), symbol(LENGTH));
+        let (l, lu) = (|x| units.value(LENGTH, x), units.symbol(LENGTH));
         format!(
             "  lift deviation: rms {:.3e} {lu}, mean {:.3e} {lu}, max |e| {:.3e} {lu}, rms d2e/dtheta2 {:.3e} {}; FPR {fpr}",
-            l(rms), l(mean), l(max), value(LENGTH_PER_RAD2, curv), symbol(LENGTH_PER_RAD2)
+            l(rms), l(mean), l(max), units.value(LENGTH_PER_RAD2, curv), units.symbol(LENGTH_PER_RAD2)
         )
     }
 }
 
 /// An actual cam's lines: how it was drawn (method, seed, tolerances, intervals) and,
 /// for the envelope method, the roller and the rotation centre it was cut with.
-fn write_actual_cam(p: &ProfileStats, out: &mut String) {
-    use crate::units::{given, symbol, value, LENGTH};
+fn write_actual_cam(p: &ProfileStats, out: &mut String, units: Units) {
+    use crate::units::LENGTH;
     use std::fmt::Write;
-    let lu = symbol(LENGTH);
+    let lu = units.symbol(LENGTH);
     let _ = writeln!(
         out,
         "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} {lu}, roller {} {lu}, eccentricity {} {lu}; {} points every {:.4} deg ({})",
-        p.method.name(), p.seed, p.sample, p.normal.name(), given(LENGTH, p.cam_tolerance_in),
-        given(LENGTH, p.roller_tolerance_in), given(LENGTH, p.eccentricity_tolerance_in),
+        p.method.name(), p.seed, p.sample, p.normal.name(), units.given(LENGTH, p.cam_tolerance_in),
+        units.given(LENGTH, p.roller_tolerance_in), units.given(LENGTH, p.eccentricity_tolerance_in),
         p.intervals, p.interval_deg, p.interval_source.label(),
     );
     if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
         let _ = writeln!(
             out,
             "  envelope: roller radius {} {lu}, rotation centre offset ({:.2e}, {:.2e}) {lu}, {} deviation knots",
-            crate::units::q(LENGTH, r, 6), value(LENGTH, c[0]), value(LENGTH, c[1]), p.deviation_knots
+            units.q(LENGTH, r, 6), units.value(LENGTH, c[0]), units.value(LENGTH, c[1]), p.deviation_knots
         );
     }
 }
 
 impl RunReport {
     /// The first line (revolutions, speed, model, preload) and the verdict.
-    fn write_heading(&self, out: &mut String) {
+    fn write_heading(&self, out: &mut String, units: Units) {
         use std::fmt::Write;
         let _ = writeln!(
             out,
@@ -612,25 +629,26 @@ impl RunReport {
             self.revolutions,
             self.rpm,
             self.dofs,
-            crate::units::q(crate::units::FORCE, self.preload_lb, 3),
-            crate::units::symbol(crate::units::FORCE)
+            units.q(crate::units::FORCE, self.preload_lb, 3),
+            units.symbol(crate::units::FORCE)
         );
         if let Some(v) = &self.verdict {
-            let _ = writeln!(out, "{}", crate::verdict::text(v));
+            let _ = writeln!(out, "{}", crate::verdict::text(v, units));
         }
     }
 
     /// The units line, then each revolution's per-period table, then a blank line.
-    fn write_periods(&self, out: &mut String) {
-        use crate::units::{self as u, q};
+    fn write_periods(&self, out: &mut String, units: Units) {
+        use crate::units as u;
+        let q = |unit, x, d| units.q(unit, x, d);
         use std::fmt::Write;
         let _ = writeln!(
             out,
             "units: {}, {}, s; torque {}; stress {}; AORD = mean (omega - omega0)/omega0",
-            u::symbol(u::LENGTH),
-            u::symbol(u::FORCE),
-            u::symbol(u::TORQUE),
-            u::symbol(u::STRESS)
+            units.symbol(u::LENGTH),
+            units.symbol(u::FORCE),
+            units.symbol(u::TORQUE),
+            units.symbol(u::STRESS)
         );
         let mut last_rev = 0;
         for r in &self.per_period {
@@ -654,8 +672,8 @@ impl RunReport {
             let _ = writeln!(
                 out,
                 "{:<11} {:>10.3e} {:>10.3e} {:>10.3e} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}",
-                r.period, u::value(u::LENGTH, r.rms_displacement), u::value(u::SPEED, r.rms_velocity),
-                u::value(u::ACCELERATION, r.rms_acceleration), t(r.torque_avg), t(r.torque_max),
+                r.period, units.value(u::LENGTH, r.rms_displacement), units.value(u::SPEED, r.rms_velocity),
+                units.value(u::ACCELERATION, r.rms_acceleration), t(r.torque_avg), t(r.torque_max),
                 t(r.torque_min), f(r.contact_force_min), f(r.contact_force_max), f(r.contact_force_avg),
                 q(u::STRESS, r.contact_stress_max, 0),
                 r.aord_motor, r.aord_coupling, r.aord_cam, if r.jump { "yes" } else { "no" }
@@ -689,12 +707,12 @@ impl RunReport {
     }
 
     /// The solver's line (method, tolerances, work), the run time and the files written.
-    fn write_solver(&self, out: &mut String) {
+    fn write_solver(&self, out: &mut String, units: Units) {
         use std::fmt::Write;
         let _ = writeln!(
             out,
             "solver: {} adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
-            method_title(self.method), self.rtol, crate::units::given(crate::units::LENGTH, self.atol_in), crate::units::symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
+            method_title(self.method), self.rtol, units.given(crate::units::LENGTH, self.atol_in), units.symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
         );
         let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
         for f in &self.files {
