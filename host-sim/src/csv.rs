@@ -372,6 +372,29 @@ impl CsvOut {
     }
 }
 
+/// `--csv`'s rows: on the solver's samples (`--csv-every-step`) or on the cam-angle grid.
+pub struct CsvRows {
+    /// The CSV (None: no `--csv`).
+    pub csv: Option<CsvOut>,
+    /// One row per solver sample instead of one per grid point.
+    pub every_step: bool,
+}
+
+impl camsim_core::Observer<f64> for CsvRows {
+    fn observe(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
+        match self.csv.as_mut().filter(|_| self.every_step) {
+            Some(c) => c.row(s),
+            None => ControlFlow::Continue(()),
+        }
+    }
+    fn observe_grid(&mut self, s: &Sample<f64>, _: camsim_core::GridPointKind) -> ControlFlow<()> {
+        match self.csv.as_mut().filter(|_| !self.every_step) {
+            Some(c) => c.row(s),
+            None => ControlFlow::Continue(()),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -760,6 +760,22 @@ pub fn draw_all(
     Ok(())
 }
 
+/// Draws a run's figures ([`FILES`]) and, for an actual or measured cam, its profile's
+/// ([`PROFILE_FILE`]) into `out`, returned for the caller to commit.
+pub fn draw_run(
+    mut out: AtomicDir,
+    data: &PlotData,
+    jumps: &[JumpInterval<f64>],
+    profile: Option<&HostDeviation>,
+    units: Units,
+) -> Result<AtomicDir> {
+    draw_all(&mut out, data, jumps, units)?;
+    if let Some(dev) = profile {
+        draw_profile(&mut out, data, dev, units)?;
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,6 +7,7 @@ pub mod design;
 pub mod jump_speed;
 pub mod jump_speed_actual;
 pub mod montecarlo;
+pub mod run;
 pub mod sensitivity;
 pub mod sweep;
 
