@@ -10,7 +10,7 @@ use camsim_scene_file::spring::SpringPart;
 use serde::Serialize;
 
 use crate::sim::{PeriodRow, SteadyCheck};
-use crate::units::Units;
+use crate::units::{Force, Length, Power, Stiffness, Stress, Torque, Units, Weight};
 
 /// One horsepower, lb·in/s.
 pub const HP_LB_IN_PER_S: f64 = 6600.0;
@@ -163,7 +163,7 @@ pub struct ContactVerdict {
     /// Separations in revolution 1 before the judged ones (the start transient).
     pub start_transient_separations: usize,
     /// Smallest contact force while in contact, lb.
-    pub min_contact_force_lb: f64,
+    pub min_contact_force_lb: Force,
     /// Where.
     pub min_contact_force_at: At,
     /// The period of the smallest contact force.
@@ -180,33 +180,33 @@ pub struct GeometryVerdict {
     /// The limit judged against, degrees.
     pub pressure_angle_limit_deg: f64,
     /// Smallest radius of curvature of the pitch curve where it is convex, in.
-    pub min_pitch_radius_in: f64,
+    pub min_pitch_radius_in: Length,
     /// Cam angle where, degrees.
     pub min_pitch_radius_at_deg: f64,
     /// Undercut margin: that radius minus the roller radius (the cam surface's smallest
     /// convex radius), in; at or below 0 the roller cannot cut the profile.
-    pub undercut_margin_in: f64,
+    pub undercut_margin_in: Length,
 }
 
 /// Forces and power.
 #[derive(Clone, Debug, Serialize)]
 pub struct LoadsVerdict {
     /// Largest |output torque on the cam| T_o, lb·in (signed).
-    pub peak_cam_torque_lb_in: f64,
+    pub peak_cam_torque_lb_in: Torque,
     /// Where.
     pub peak_cam_torque_at: At,
     /// Largest motor power T_i ω_m, hp.
-    pub peak_motor_power_hp: f64,
+    pub peak_motor_power_hp: Power,
     /// The same, W.
     pub peak_motor_power_w: f64,
     /// Where.
     pub peak_motor_power_at: At,
     /// Largest Hertz contact stress, psi.
-    pub peak_contact_stress_psi: f64,
+    pub peak_contact_stress_psi: Stress,
     /// Where.
     pub peak_contact_stress_at: At,
     /// The allowable, psi.
-    pub allowable_contact_stress_psi: f64,
+    pub allowable_contact_stress_psi: Stress,
     /// Where the default allowable comes from.
     pub allowable_source: &'static str,
     /// Peak stress over the allowable.
@@ -218,9 +218,9 @@ pub struct LoadsVerdict {
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringVerdict {
     /// Rate, lb/in.
-    pub rate_lb_per_in: f64,
+    pub rate_lb_per_in: Stiffness,
     /// Mass the model uses, lb (weight).
-    pub mass_lb: f64,
+    pub mass_lb: Weight,
     /// Whether the part is the scene's (`[design.spring]`) or assumed from the rate.
     pub given: bool,
     /// The wire: a named wire's title, or `explicit material values`.
@@ -228,9 +228,9 @@ pub struct SpringVerdict {
     /// End type.
     pub ends: &'static str,
     /// Wire diameter d, in.
-    pub wire_diameter_in: f64,
+    pub wire_diameter_in: Length,
     /// Mean coil diameter D, in.
-    pub mean_diameter_in: f64,
+    pub mean_diameter_in: Length,
     /// Active coils.
     pub active_coils: f64,
     /// Total coils.
@@ -244,28 +244,29 @@ pub struct SpringVerdict {
     /// The least harmonic ratio accepted without a warning.
     pub least_harmonic: f64,
     /// Spring force at full compression (assembly compression plus the largest lift), lb.
-    pub full_compression_force_lb: f64,
+    pub full_compression_force_lb: Force,
     /// Wahl-corrected shear stress at that force, psi.
-    pub shear_stress_psi: f64,
+    pub shear_stress_psi: Stress,
     /// The allowable shear stress, psi.
-    pub allowable_shear_psi: f64,
+    pub allowable_shear_psi: Stress,
     /// Solid height, in.
-    pub solid_height_in: f64,
+    pub solid_height_in: Length,
     /// Compression at full lift (assembly compression plus the largest lift), in.
-    pub full_compression_in: f64,
+    pub full_compression_in: Length,
     /// Free length, in (absent: not given).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub free_length_in: Option<f64>,
+    pub free_length_in: Option<Length>,
     /// The least free length that is not solid at full compression: solid height plus
     /// the full compression, in.
-    pub least_free_length_in: f64,
+    pub least_free_length_in: Length,
 }
 
 impl SpringVerdict {
     /// Whether the spring is solid (or beyond) at full compression: only with a free length.
     pub fn solid(&self) -> Option<bool> {
-        self.free_length_in
-            .map(|l| l - self.full_compression_in <= self.solid_height_in)
+        self.free_length_in.map(|l| {
+            l.in_inch() - self.full_compression_in.in_inch() <= self.solid_height_in.in_inch()
+        })
     }
 }
 
@@ -275,15 +276,15 @@ impl SpringVerdict {
 #[derive(Clone, Debug, Serialize)]
 pub struct MassVerdict {
     /// The whole translating mass.
-    pub moving_mass_lb: f64,
+    pub moving_mass_lb: Weight,
     /// M_l, the load.
-    pub load_mass_lb: f64,
+    pub load_mass_lb: Weight,
     /// ρ A (e1 + e2), the follower rod.
-    pub rod_mass_lb: f64,
+    pub rod_mass_lb: Weight,
     /// M_r, the roller.
-    pub roller_mass_lb: f64,
+    pub roller_mass_lb: Weight,
     /// A third of the return spring.
-    pub spring_share_mass_lb: f64,
+    pub spring_share_mass_lb: Weight,
 }
 
 /// Standard gravity, in/s² (a pound-mass is 1/g lb·s²/in).
@@ -293,11 +294,11 @@ const G: f64 = camsim_scene_file::units::G_IN_PER_S2;
 pub fn mass(design: &Design<f64>) -> MassVerdict {
     let m = design.moving_mass();
     MassVerdict {
-        moving_mass_lb: m.total() * G,
-        load_mass_lb: m.load * G,
-        rod_mass_lb: m.rod * G,
-        roller_mass_lb: m.roller * G,
-        spring_share_mass_lb: m.spring_share * G,
+        moving_mass_lb: Weight::inch(m.total() * G),
+        load_mass_lb: Weight::inch(m.load * G),
+        rod_mass_lb: Weight::inch(m.rod * G),
+        roller_mass_lb: Weight::inch(m.roller * G),
+        spring_share_mass_lb: Weight::inch(m.spring_share * G),
     }
 }
 
@@ -470,9 +471,9 @@ pub fn geometry(design: &Design<f64>, limits: &Limits) -> Result<GeometryVerdict
         max_pressure_angle_deg: peak.value.to_degrees(),
         max_pressure_angle_at_deg: peak.at.rem_euclid(std::f64::consts::TAU).to_degrees(),
         pressure_angle_limit_deg: limits.pressure_angle_limit_deg,
-        min_pitch_radius_in: pitch,
+        min_pitch_radius_in: Length::inch(pitch),
         min_pitch_radius_at_deg: u.min_convex_at.to_degrees(),
-        undercut_margin_in: u.min_convex_surface_radius,
+        undercut_margin_in: Length::inch(u.min_convex_surface_radius),
     })
 }
 
@@ -502,26 +503,26 @@ pub fn spring(design: &Design<f64>, part: Option<&SpringPart>) -> Result<SpringV
         None => HelicalSpring::of_rate(design.k_rs)?.surge_hz,
     };
     Ok(SpringVerdict {
-        rate_lb_per_in: design.k_rs,
-        mass_lb: design.m_spring * camsim_core::GRAVITY_IN_PER_S2,
+        rate_lb_per_in: Stiffness::inch(design.k_rs),
+        mass_lb: Weight::inch(design.m_spring * camsim_core::GRAVITY_IN_PER_S2),
         given,
         material: material.to_string(),
         ends: coil.ends.name(),
-        wire_diameter_in: coil.wire_diameter,
-        mean_diameter_in: coil.mean_diameter,
+        wire_diameter_in: Length::inch(coil.wire_diameter),
+        mean_diameter_in: Length::inch(coil.mean_diameter),
         active_coils: coil.active_coils,
         total_coils: coil.total_coils(),
         surge_hz,
         cam_hz,
         surge_harmonic: surge_hz / cam_hz,
         least_harmonic: camsim_core::SURGE_HARMONIC_MARGIN,
-        full_compression_force_lb: force,
-        shear_stress_psi: coil.shear_stress(force),
-        allowable_shear_psi: coil.material.allowable_shear,
-        solid_height_in: coil.solid_height(),
-        full_compression_in: compression,
-        free_length_in: free_length,
-        least_free_length_in: coil.solid_height() + compression,
+        full_compression_force_lb: Force::inch(force),
+        shear_stress_psi: Stress::inch(coil.shear_stress(force)),
+        allowable_shear_psi: Stress::inch(coil.material.allowable_shear),
+        solid_height_in: Length::inch(coil.solid_height()),
+        full_compression_in: Length::inch(compression),
+        free_length_in: free_length.map(Length::inch),
+        least_free_length_in: Length::inch(coil.solid_height() + compression),
     })
 }
 
@@ -714,23 +715,23 @@ pub fn spring_part_warnings(spring: &SpringVerdict, units: Units) -> Vec<String>
         return w;
     }
     let su = units.symbol(u::STRESS);
-    if spring.shear_stress_psi > spring.allowable_shear_psi {
+    if spring.shear_stress_psi.in_inch() > spring.allowable_shear_psi.in_inch() {
         w.push(format!(
             "spring shear stress {} {su} at full compression ({} {fu}) exceeds the allowable {} {su} (design.spring): a thicker wire, a smaller coil or a softer spring",
-            units.q(u::STRESS, spring.shear_stress_psi, 0),
-            units.q(u::FORCE, spring.full_compression_force_lb, 1),
-            units.q(u::STRESS, spring.allowable_shear_psi, 0),
+            units.show(spring.shear_stress_psi, 0),
+            units.show(spring.full_compression_force_lb, 1),
+            units.show(spring.allowable_shear_psi, 0),
             fu = units.symbol(u::FORCE)
         ));
     }
     if spring.solid() == Some(true) {
         w.push(format!(
             "the spring is solid at full compression: free length {} {lu} less the compression {} {lu} is not above the solid height {} {lu} ({}: at least {} {lu})",
-            units.q(u::LENGTH, spring.free_length_in.unwrap_or(f64::NAN), 3),
-            units.q(u::LENGTH, spring.full_compression_in, 3),
-            units.q(u::LENGTH, spring.solid_height_in, 3),
+            units.q(u::LENGTH, spring.free_length_in.map_or(f64::NAN, Length::in_inch), 3),
+            units.show(spring.full_compression_in, 3),
+            units.show(spring.solid_height_in, 3),
             key_hint("design.spring.free_length", u::LENGTH, units),
-            units.q(u::LENGTH, spring.least_free_length_in, 3),
+            units.show(spring.least_free_length_in, 3),
             lu = units.symbol(u::LENGTH)
         ));
     }
@@ -756,10 +757,10 @@ pub fn spring_lines(out: &mut String, s: &SpringVerdict, units: Units) {
     let _ = writeln!(
         out,
         "  spring:    {} {}, {:.2} active coils, {} {}; surge {:.0} Hz = {:.1} x the cam's {:.2} Hz",
-        units.q(u::STIFFNESS, s.rate_lb_per_in, 1),
+        units.show(s.rate_lb_per_in, 1),
         units.symbol(u::STIFFNESS),
         s.active_coils,
-        units.q(u::WEIGHT, s.mass_lb, 4),
+        units.show(s.mass_lb, 4),
         units.symbol(u::WEIGHT),
         s.surge_hz,
         s.surge_harmonic,
@@ -767,8 +768,8 @@ pub fn spring_lines(out: &mut String, s: &SpringVerdict, units: Units) {
     );
     let part = format!(
         "wire {} {lu}, mean coil {} {lu}, {:.2} total coils, {} ends, {}",
-        units.q(u::LENGTH, s.wire_diameter_in, 3),
-        units.q(u::LENGTH, s.mean_diameter_in, 3),
+        units.show(s.wire_diameter_in, 3),
+        units.show(s.mean_diameter_in, 3),
         s.total_coils,
         s.ends,
         s.material
@@ -791,18 +792,18 @@ pub fn spring_lines(out: &mut String, s: &SpringVerdict, units: Units) {
     let _ = writeln!(
         out,
         "             at full compression {} {lu} ({} {}): shear stress {} {su} (Wahl), {:.0} % of the allowable {} {su}{assumed}",
-        units.q(u::LENGTH, s.full_compression_in, 3),
-        units.q(u::FORCE, s.full_compression_force_lb, 1),
+        units.show(s.full_compression_in, 3),
+        units.show(s.full_compression_force_lb, 1),
         units.symbol(u::FORCE),
-        units.q(u::STRESS, s.shear_stress_psi, 0),
-        100.0 * s.shear_stress_psi / s.allowable_shear_psi,
-        units.q(u::STRESS, s.allowable_shear_psi, 0)
+        units.show(s.shear_stress_psi, 0),
+        100.0 * s.shear_stress_psi.in_inch() / s.allowable_shear_psi.in_inch(),
+        units.show(s.allowable_shear_psi, 0)
     );
     let solid = match s.free_length_in {
         Some(l) => format!(
             "free length {} {lu}: {} {lu} at full compression, {}",
-            units.q(u::LENGTH, l, 3),
-            units.q(u::LENGTH, l - s.full_compression_in, 3),
+            units.show(l, 3),
+            units.q(u::LENGTH, l.in_inch() - s.full_compression_in.in_inch(), 3),
             if s.solid() == Some(true) {
                 "SOLID"
             } else {
@@ -812,13 +813,13 @@ pub fn spring_lines(out: &mut String, s: &SpringVerdict, units: Units) {
         None => format!(
             "free length not given ({}): at least {} {lu}",
             key_hint("design.spring.free_length", u::LENGTH, units),
-            units.q(u::LENGTH, s.least_free_length_in, 3)
+            units.show(s.least_free_length_in, 3)
         ),
     };
     let _ = writeln!(
         out,
         "             solid height {} {lu}{}; {solid}",
-        units.q(u::LENGTH, s.solid_height_in, 3),
+        units.show(s.solid_height_in, 3),
         if s.given { "" } else { " (the assumed wire's)" }
     );
 }
@@ -851,10 +852,10 @@ pub fn warnings(
             geometry.pressure_angle_limit_deg
         ));
     }
-    if geometry.undercut_margin_in <= 0.0 {
+    if geometry.undercut_margin_in.in_inch() <= 0.0 {
         w.push(format!(
             "undercut: the pitch curve's radius {} {} at {:.1} deg is below the roller radius",
-            units.q(u::LENGTH, geometry.min_pitch_radius_in, 4),
+            units.show(geometry.min_pitch_radius_in, 4),
             units.symbol(u::LENGTH),
             geometry.min_pitch_radius_at_deg
         ));
@@ -862,8 +863,8 @@ pub fn warnings(
     if loads.stress_ratio > 1.0 {
         w.push(format!(
             "contact stress {} {su} exceeds the allowable {} {su} by {:.1} % (limits.allowable_contact_stress_{}, --allowable-stress)",
-            units.q(u::STRESS, loads.peak_contact_stress_psi, 0),
-            units.q(u::STRESS, loads.allowable_contact_stress_psi, 0),
+            units.show(loads.peak_contact_stress_psi, 0),
+            units.show(loads.allowable_contact_stress_psi, 0),
             100.0 * (loads.stress_ratio - 1.0),
             units.key_suffix(u::STRESS),
             su = units.symbol(u::STRESS)
@@ -940,7 +941,7 @@ fn contact_lines(out: &mut String, c: &ContactVerdict, units: Units) {
         let _ = writeln!(
             out,
             "  contact:   HOLDS; smallest contact force {} {} at {} ({})",
-            units.q(u::FORCE, c.min_contact_force_lb, 2),
+            units.show(c.min_contact_force_lb, 2),
             units.symbol(u::FORCE),
             at_text(&c.min_contact_force_at),
             c.min_contact_force_period
@@ -950,7 +951,7 @@ fn contact_lines(out: &mut String, c: &ContactVerdict, units: Units) {
             out,
             "  contact:   the follower LEAVES the cam ({:.2} deg of cam angle off it); smallest force in contact {} {} at {}",
             c.off_cam_deg,
-            units.q(u::FORCE, c.min_contact_force_lb, 2),
+            units.show(c.min_contact_force_lb, 2),
             units.symbol(u::FORCE),
             at_text(&c.min_contact_force_at)
         );
@@ -980,9 +981,9 @@ fn geometry_text(g: &GeometryVerdict, units: Units) -> String {
         g.max_pressure_angle_deg,
         g.max_pressure_angle_at_deg,
         g.pressure_angle_limit_deg,
-        units.q(u::LENGTH, g.min_pitch_radius_in, 4),
+        units.show(g.min_pitch_radius_in, 4),
         g.min_pitch_radius_at_deg,
-        units.q(u::LENGTH, g.undercut_margin_in, 4),
+        units.show(g.undercut_margin_in, 4),
         lu = units.symbol(u::LENGTH)
     )
 }
@@ -995,13 +996,14 @@ fn loads_lines(out: &mut String, l: &LoadsVerdict, units: Units) {
     let _ = writeln!(
         out,
         "  loads:     peak cam torque {} {} at {}; peak motor power {} at {}",
-        units.q(u::TORQUE, l.peak_cam_torque_lb_in, 1),
+        units.show(l.peak_cam_torque_lb_in, 1),
         units.symbol(u::TORQUE),
         at_text(&l.peak_cam_torque_at),
         match units {
             u::Units::Inch => format!(
                 "{:.3} hp ({:.0} W)",
-                l.peak_motor_power_hp, l.peak_motor_power_w
+                l.peak_motor_power_hp.in_inch(),
+                l.peak_motor_power_w
             ),
             u::Units::Si => format!("{:.3} kW", l.peak_motor_power_w / 1000.0),
         },
@@ -1010,10 +1012,10 @@ fn loads_lines(out: &mut String, l: &LoadsVerdict, units: Units) {
     let _ = writeln!(
         out,
         "             peak contact stress {} {su} at {}: {:.0} % of the allowable {} {su} ({})",
-        units.q(u::STRESS, l.peak_contact_stress_psi, 0),
+        units.show(l.peak_contact_stress_psi, 0),
         at_text(&l.peak_contact_stress_at),
         100.0 * l.stress_ratio,
-        units.q(u::STRESS, l.allowable_contact_stress_psi, 0),
+        units.show(l.allowable_contact_stress_psi, 0),
         l.allowable_source,
         su = units.symbol(u::STRESS)
     );
@@ -1041,7 +1043,7 @@ fn margin_text(m: Option<&MarginVerdict>) -> String {
 /// The verdict's mass line.
 fn mass_text(m: &MassVerdict, units: Units) -> String {
     use crate::units as u;
-    let q = |x: f64| units.q(u::WEIGHT, x, 4);
+    let q = |x: Weight| units.show(x, 4);
     format!(
         "  mass:      moving {} {w} = load {} + rod rho*A*(e1+e2) {} + roller {} + a third of the spring {}",
         q(m.moving_mass_lb),
@@ -1139,7 +1141,7 @@ pub fn contact(
         separations,
         off_cam_deg: off,
         start_transient_separations: transient,
-        min_contact_force_lb: f,
+        min_contact_force_lb: Force::inch(f),
         min_contact_force_at: at,
         min_contact_force_period: periods.get(seg).copied().unwrap_or("?").to_string(),
     })
@@ -1152,14 +1154,14 @@ pub fn loads(watch: &Watch, limits: &Limits) -> Result<LoadsVerdict> {
     let (p, p_at) = watch.peak_power.ok_or_else(missing)?;
     let (s, s_at) = watch.peak_stress.ok_or_else(missing)?;
     Ok(LoadsVerdict {
-        peak_cam_torque_lb_in: t,
+        peak_cam_torque_lb_in: Torque::inch(t),
         peak_cam_torque_at: t_at,
-        peak_motor_power_hp: p / HP_LB_IN_PER_S,
+        peak_motor_power_hp: Power::inch(p / HP_LB_IN_PER_S),
         peak_motor_power_w: p * W_PER_LB_IN_PER_S,
         peak_motor_power_at: p_at,
-        peak_contact_stress_psi: s,
+        peak_contact_stress_psi: Stress::inch(s),
         peak_contact_stress_at: s_at,
-        allowable_contact_stress_psi: limits.allowable_contact_stress_psi,
+        allowable_contact_stress_psi: Stress::inch(limits.allowable_contact_stress_psi),
         allowable_source: limits.allowable_source,
         stress_ratio: s / limits.allowable_contact_stress_psi,
     })

@@ -7,6 +7,7 @@ use serde::Serialize;
 use crate::actual::ProfileStats;
 use crate::measured::MeasuredStats;
 use crate::sim::{self, PeriodRow, RunSpec, SteadyCheck};
+use crate::units::{Force, Length};
 pub use crate::verdict::JumpRow;
 
 /// What an actual or measured cam's profile is (the JSON `profile`).
@@ -71,7 +72,7 @@ pub struct RunReport {
     /// Wall-clock time of the simulation, ms.
     pub wall_ms: f64,
     /// The preload F_p, lb.
-    pub preload_lb: f64,
+    pub preload_lb: Force,
     /// Cam speed ω0, rpm.
     pub rpm: f64,
     /// Revolutions simulated.
@@ -87,7 +88,7 @@ pub struct RunReport {
     pub method: &'static str,
     /// Solver absolute tolerance, in (text only).
     #[serde(skip)]
-    pub atol_in: f64,
+    pub atol_in: Length,
     /// The name of each period of the program (text only).
     #[serde(skip)]
     pub periods: Vec<&'static str>,
@@ -127,13 +128,13 @@ impl RunReport {
             jumps_dropped: result.stats.jumps_dropped,
             steady_state,
             wall_ms: result.wall_ms,
-            preload_lb: result.preload,
+            preload_lb: Force::inch(result.preload),
             rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
             revolutions: spec.revolutions,
             dofs: result.scene.dofs,
             rtol: spec.solver.rtol,
             method: spec.solver.method.resolve(spec.solver.rtol).name(),
-            atol_in: spec.solver.atol,
+            atol_in: Length::inch(spec.solver.atol),
             periods: sim::period_names(&spec.design),
             files: Vec::new(),
         }

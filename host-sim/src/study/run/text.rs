@@ -125,8 +125,8 @@ impl RunReport {
             self.revolutions,
             self.rpm,
             self.dofs,
-            units.q(crate::units::FORCE, self.preload_lb, 3),
-            units.symbol(crate::units::FORCE)
+            units.show(self.preload_lb, 3),
+            units.unit_of(self.preload_lb)
         );
         if let Some(v) = &self.verdict {
             let _ = writeln!(out, "{}", crate::verdict::text(v, units));
@@ -208,7 +208,7 @@ impl RunReport {
         let _ = writeln!(
             out,
             "solver: {} adaptive RK, rtol {:e}, atol {:e} {}: {} steps, {} rejected, {} rhs evaluations",
-            method_title(self.method), self.rtol, units.given(crate::units::LENGTH, self.atol_in), units.symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
+            method_title(self.method), self.rtol, units.given(crate::units::LENGTH, self.atol_in.in_inch()), units.symbol(crate::units::LENGTH), self.steps, self.rejected_steps, self.rhs_evals
         );
         let _ = writeln!(out, "run time: {:.1} ms", self.wall_ms);
         for f in &self.files {
