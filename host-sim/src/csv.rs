@@ -11,6 +11,7 @@ use serde::{Serialize, Serializer};
 
 use crate::output::AtomicFile;
 use crate::sim::RunSpec;
+use crate::units::Units;
 
 /// The CSV header: [`CsvRow`]'s field names, units in the names.
 pub const HEADER: &str =
@@ -22,12 +23,12 @@ a_y1_in_s2,a_x1_in_s2,a_y2_in_s2,a_x2_in_s2,a_y3_in_s2,a_x3_in_s2,a_y4_in_s2,a_y
 lift_in,pressure_angle_deg,k_h_lb_in,surface_radius_in,contact_force_lb,in_contact,\
 torque_out_lb_in,torque_drive_lb_in,contact_stress_psi,theory_y_in,theory_v_in_s,theory_a_in_s2";
 
-/// The header in the output's family ([`crate::units::current`]): [`HEADER`] in inch;
+/// The header in the output's family `units`: [`HEADER`] in inch;
 /// in SI every dimensional column with its SI unit, named as the JSON's keys are
 /// (`y1_mm`, `v_y1_mm_per_s`, `a_y1_mm_per_s2`, `k_h_n_per_mm`, `torque_out_n_m`,
 /// `contact_force_n`, `contact_stress_mpa`).
-pub fn header() -> String {
-    if crate::units::current() == crate::units::Units::Inch {
+pub fn header(units: Units) -> String {
+    if units == Units::Inch {
         return HEADER.to_string();
     }
     HEADER
@@ -183,12 +184,14 @@ pub struct CsvRow {
     pub theory_a_in_s2: Sci,
 }
 
-impl From<&Sample<f64>> for CsvRow {
-    fn from(s: &Sample<f64>) -> Self {
+impl CsvRow {
+    /// The row of sample `s`, its values in `units`.
+    pub fn of(s: &Sample<f64>, units: Units) -> Self {
         use TransDof::*;
         let p = &s.point;
         // In the output's family (the inch value itself in inch).
-        use crate::units::{self as u, value};
+        use crate::units as u;
+        let value = |unit, x| units.value(unit, x);
         let pos = |d| Sci(value(u::LENGTH, p.position(d)));
         let vel = |d| Sci(value(u::SPEED, p.velocity(d)));
         let acc = |d| Sci(value(u::ACCELERATION, p.acceleration(d)));
@@ -307,17 +310,20 @@ pub struct CsvOut {
     out: csv::Writer<AtomicFile>,
     err: Option<csv::Error>,
     header: bool,
+    units: Units,
 }
 
 impl CsvOut {
-    /// Starts the CSV in `file` (the header is written with the first row).
-    pub fn new(file: AtomicFile) -> Self {
+    /// Starts the CSV in `file`, its values in `units` (the header is written with the
+    /// first row).
+    pub fn new(file: AtomicFile, units: Units) -> Self {
         Self {
             out: csv::WriterBuilder::new()
                 .has_headers(false)
                 .from_writer(file),
             err: None,
             header: false,
+            units,
         }
     }
 
@@ -330,12 +336,12 @@ impl CsvOut {
         if !self.header {
             // The header in the output's family (the rows' values are converted alike).
             self.header = true;
-            if let Err(e) = self.out.write_record(header().split(',')) {
+            if let Err(e) = self.out.write_record(header(self.units).split(',')) {
                 self.err = Some(e);
                 return ControlFlow::Break(());
             }
         }
-        match self.out.serialize(CsvRow::from(s)) {
+        match self.out.serialize(CsvRow::of(s, self.units)) {
             Ok(()) => ControlFlow::Continue(()),
             Err(e) => {
                 self.err = Some(e);
@@ -366,13 +372,36 @@ impl CsvOut {
     }
 }
 
+/// `--csv`'s rows: on the solver's samples (`--csv-every-step`) or on the cam-angle grid.
+pub struct CsvRows {
+    /// The CSV (None: no `--csv`).
+    pub csv: Option<CsvOut>,
+    /// One row per solver sample instead of one per grid point.
+    pub every_step: bool,
+}
+
+impl camsim_core::Observer<f64> for CsvRows {
+    fn observe(&mut self, s: &Sample<f64>) -> ControlFlow<()> {
+        match self.csv.as_mut().filter(|_| self.every_step) {
+            Some(c) => c.row(s),
+            None => ControlFlow::Continue(()),
+        }
+    }
+    fn observe_grid(&mut self, s: &Sample<f64>, _: camsim_core::GridPointKind) -> ControlFlow<()> {
+        match self.csv.as_mut().filter(|_| !self.every_step) {
+            Some(c) => c.row(s),
+            None => ControlFlow::Continue(()),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn the_row_fields_are_the_documented_header() {
-        let row = CsvRow::from(&Sample::<f64>::default());
+        let row = CsvRow::of(&Sample::<f64>::default(), Units::Inch);
         let mut w = csv::Writer::from_writer(Vec::new());
         w.serialize(row).unwrap();
         let text = String::from_utf8(w.into_inner().unwrap()).unwrap();

@@ -16,6 +16,8 @@ use anyhow::{anyhow, Result};
 use camsim_core::{JumpInterval, Sample};
 use camsim_scene_file::units::Unit;
 
+use crate::units::Units;
+
 use crate::figure::palette::{BLUE, DARK_GREY, GREEN, LIGHT_GREY, LIGHT_RED, ORANGE, RED};
 use crate::figure::{
     self, At, Axis, Band, Colour, Figure, Legend, Marker, Panel, Series, Shape, Ticks,
@@ -648,19 +650,19 @@ fn profile_figure(dev: &HostDeviation, periods: Vec<f64>) -> Figure {
 
 /// Draws the profile deviation plot ([`PROFILE_FILE`]) into `out`; `data` gives the
 /// period starts of the run's first revolution.
-pub fn draw_profile(out: &mut AtomicDir, data: &PlotData, dev: &HostDeviation) -> Result<()> {
+pub fn draw_profile(
+    out: &mut AtomicDir,
+    data: &PlotData,
+    dev: &HostDeviation,
+    units: Units,
+) -> Result<()> {
     let periods = data
         .period_starts_deg
         .iter()
         .copied()
         .filter(|p| *p > 0.0 && *p < 360.0)
         .collect();
-    figure::draw(
-        out,
-        PROFILE_FILE,
-        &profile_figure(dev, periods),
-        crate::units::current(),
-    )
+    figure::draw(out, PROFILE_FILE, &profile_figure(dev, periods), units)
 }
 
 /// Points of the SVAJ plot over one revolution (0.05°).
@@ -738,18 +740,40 @@ pub fn draw_svaj(
     out: &mut AtomicDir,
     design: &camsim_core::Design<f64>,
     file: &'static str,
+    units: Units,
 ) -> Result<()> {
-    figure::draw(out, file, &svaj_figure(design), crate::units::current())
+    figure::draw(out, file, &svaj_figure(design), units)
 }
 
 /// Draws every plot of a run ([`FILES`]) as PNG into the directory output `out` (each
 /// file to its temporary: the caller commits `out`).
-pub fn draw_all(out: &mut AtomicDir, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Result<()> {
+pub fn draw_all(
+    out: &mut AtomicDir,
+    data: &PlotData,
+    jumps: &[JumpInterval<f64>],
+    units: Units,
+) -> Result<()> {
     let axis = AngleAxis::new(data, jumps);
     for (file, fig) in figures(data, &axis) {
-        figure::draw(out, file, &fig, crate::units::current())?;
+        figure::draw(out, file, &fig, units)?;
     }
     Ok(())
+}
+
+/// Draws a run's figures ([`FILES`]) and, for an actual or measured cam, its profile's
+/// ([`PROFILE_FILE`]) into `out`, returned for the caller to commit.
+pub fn draw_run(
+    mut out: AtomicDir,
+    data: &PlotData,
+    jumps: &[JumpInterval<f64>],
+    profile: Option<&HostDeviation>,
+    units: Units,
+) -> Result<AtomicDir> {
+    draw_all(&mut out, data, jumps, units)?;
+    if let Some(dev) = profile {
+        draw_profile(&mut out, data, dev, units)?;
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -780,7 +804,7 @@ mod tests {
     /// What `camsim run --plot DIR --force` does with the plots.
     fn write_all(dir: &Path, data: &PlotData, jumps: &[JumpInterval<f64>]) -> Result<()> {
         let mut out = Plan::new(true).dir("--plot", dir, &FILES)?.open()?;
-        draw_all(&mut out, data, jumps)?;
+        draw_all(&mut out, data, jumps, Units::Inch)?;
         out.commit().map(|_| ())
     }
 

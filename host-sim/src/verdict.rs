@@ -10,6 +10,7 @@ use camsim_scene_file::spring::SpringPart;
 use serde::Serialize;
 
 use crate::sim::{PeriodRow, SteadyCheck};
+use crate::units::{Force, Length, Power, Stiffness, Stress, Torque, Units, Weight};
 
 /// One horsepower, lb·in/s.
 pub const HP_LB_IN_PER_S: f64 = 6600.0;
@@ -28,12 +29,13 @@ pub struct Limits {
     pub allowable_source: &'static str,
 }
 
-impl Default for Limits {
-    fn default() -> Self {
+impl Limits {
+    /// The reference limits, their source named in the output's family `units`.
+    pub fn reference(units: Units) -> Self {
         Limits {
             allowable_contact_stress_psi: camsim_core::ALLOWABLE_CONTACT_STRESS_PSI,
             pressure_angle_limit_deg: camsim_core::PRESSURE_ANGLE_LIMIT_DEG,
-            allowable_source: allowable_source(),
+            allowable_source: allowable_source(units),
         }
     }
 }
@@ -161,7 +163,7 @@ pub struct ContactVerdict {
     /// Separations in revolution 1 before the judged ones (the start transient).
     pub start_transient_separations: usize,
     /// Smallest contact force while in contact, lb.
-    pub min_contact_force_lb: f64,
+    pub min_contact_force_lb: Force,
     /// Where.
     pub min_contact_force_at: At,
     /// The period of the smallest contact force.
@@ -178,33 +180,33 @@ pub struct GeometryVerdict {
     /// The limit judged against, degrees.
     pub pressure_angle_limit_deg: f64,
     /// Smallest radius of curvature of the pitch curve where it is convex, in.
-    pub min_pitch_radius_in: f64,
+    pub min_pitch_radius_in: Length,
     /// Cam angle where, degrees.
     pub min_pitch_radius_at_deg: f64,
     /// Undercut margin: that radius minus the roller radius (the cam surface's smallest
     /// convex radius), in; at or below 0 the roller cannot cut the profile.
-    pub undercut_margin_in: f64,
+    pub undercut_margin_in: Length,
 }
 
 /// Forces and power.
 #[derive(Clone, Debug, Serialize)]
 pub struct LoadsVerdict {
     /// Largest |output torque on the cam| T_o, lb·in (signed).
-    pub peak_cam_torque_lb_in: f64,
+    pub peak_cam_torque_lb_in: Torque,
     /// Where.
     pub peak_cam_torque_at: At,
     /// Largest motor power T_i ω_m, hp.
-    pub peak_motor_power_hp: f64,
+    pub peak_motor_power_hp: Power,
     /// The same, W.
     pub peak_motor_power_w: f64,
     /// Where.
     pub peak_motor_power_at: At,
     /// Largest Hertz contact stress, psi.
-    pub peak_contact_stress_psi: f64,
+    pub peak_contact_stress_psi: Stress,
     /// Where.
     pub peak_contact_stress_at: At,
     /// The allowable, psi.
-    pub allowable_contact_stress_psi: f64,
+    pub allowable_contact_stress_psi: Stress,
     /// Where the default allowable comes from.
     pub allowable_source: &'static str,
     /// Peak stress over the allowable.
@@ -216,9 +218,9 @@ pub struct LoadsVerdict {
 #[derive(Clone, Debug, Serialize)]
 pub struct SpringVerdict {
     /// Rate, lb/in.
-    pub rate_lb_per_in: f64,
+    pub rate_lb_per_in: Stiffness,
     /// Mass the model uses, lb (weight).
-    pub mass_lb: f64,
+    pub mass_lb: Weight,
     /// Whether the part is the scene's (`[design.spring]`) or assumed from the rate.
     pub given: bool,
     /// The wire: a named wire's title, or `explicit material values`.
@@ -226,9 +228,9 @@ pub struct SpringVerdict {
     /// End type.
     pub ends: &'static str,
     /// Wire diameter d, in.
-    pub wire_diameter_in: f64,
+    pub wire_diameter_in: Length,
     /// Mean coil diameter D, in.
-    pub mean_diameter_in: f64,
+    pub mean_diameter_in: Length,
     /// Active coils.
     pub active_coils: f64,
     /// Total coils.
@@ -242,28 +244,29 @@ pub struct SpringVerdict {
     /// The least harmonic ratio accepted without a warning.
     pub least_harmonic: f64,
     /// Spring force at full compression (assembly compression plus the largest lift), lb.
-    pub full_compression_force_lb: f64,
+    pub full_compression_force_lb: Force,
     /// Wahl-corrected shear stress at that force, psi.
-    pub shear_stress_psi: f64,
+    pub shear_stress_psi: Stress,
     /// The allowable shear stress, psi.
-    pub allowable_shear_psi: f64,
+    pub allowable_shear_psi: Stress,
     /// Solid height, in.
-    pub solid_height_in: f64,
+    pub solid_height_in: Length,
     /// Compression at full lift (assembly compression plus the largest lift), in.
-    pub full_compression_in: f64,
+    pub full_compression_in: Length,
     /// Free length, in (absent: not given).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub free_length_in: Option<f64>,
+    pub free_length_in: Option<Length>,
     /// The least free length that is not solid at full compression: solid height plus
     /// the full compression, in.
-    pub least_free_length_in: f64,
+    pub least_free_length_in: Length,
 }
 
 impl SpringVerdict {
     /// Whether the spring is solid (or beyond) at full compression: only with a free length.
     pub fn solid(&self) -> Option<bool> {
-        self.free_length_in
-            .map(|l| l - self.full_compression_in <= self.solid_height_in)
+        self.free_length_in.map(|l| {
+            l.in_inch() - self.full_compression_in.in_inch() <= self.solid_height_in.in_inch()
+        })
     }
 }
 
@@ -273,15 +276,15 @@ impl SpringVerdict {
 #[derive(Clone, Debug, Serialize)]
 pub struct MassVerdict {
     /// The whole translating mass.
-    pub moving_mass_lb: f64,
+    pub moving_mass_lb: Weight,
     /// M_l, the load.
-    pub load_mass_lb: f64,
+    pub load_mass_lb: Weight,
     /// ρ A (e1 + e2), the follower rod.
-    pub rod_mass_lb: f64,
+    pub rod_mass_lb: Weight,
     /// M_r, the roller.
-    pub roller_mass_lb: f64,
+    pub roller_mass_lb: Weight,
     /// A third of the return spring.
-    pub spring_share_mass_lb: f64,
+    pub spring_share_mass_lb: Weight,
 }
 
 /// Standard gravity, in/s² (a pound-mass is 1/g lb·s²/in).
@@ -291,11 +294,11 @@ const G: f64 = camsim_scene_file::units::G_IN_PER_S2;
 pub fn mass(design: &Design<f64>) -> MassVerdict {
     let m = design.moving_mass();
     MassVerdict {
-        moving_mass_lb: m.total() * G,
-        load_mass_lb: m.load * G,
-        rod_mass_lb: m.rod * G,
-        roller_mass_lb: m.roller * G,
-        spring_share_mass_lb: m.spring_share * G,
+        moving_mass_lb: Weight::inch(m.total() * G),
+        load_mass_lb: Weight::inch(m.load * G),
+        rod_mass_lb: Weight::inch(m.rod * G),
+        roller_mass_lb: Weight::inch(m.roller * G),
+        spring_share_mass_lb: Weight::inch(m.spring_share * G),
     }
 }
 
@@ -325,7 +328,7 @@ pub struct DriveVerdict {
 }
 
 /// The drive verdict of `spec` from the cam speeds `watch` saw.
-pub fn drive(spec: &crate::sim::RunSpec, watch: &Watch) -> DriveVerdict {
+pub fn drive(spec: &crate::sim::RunSpec, watch: &Watch, units: Units) -> DriveVerdict {
     use camsim_core::{rad_per_s_to_rpm, DriveLaw};
     let design = &spec.design;
     let w0 = design.omega0;
@@ -347,10 +350,10 @@ pub fn drive(spec: &crate::sim::RunSpec, watch: &Watch) -> DriveVerdict {
             },
             format!(
                 "speed-regulated motor, gain {} {}, torque limit {} {} ({})",
-                crate::units::q(camsim_scene_file::units::GAIN, k_p, 1),
-                crate::units::symbol(camsim_scene_file::units::GAIN),
-                crate::units::q(crate::units::TORQUE, t_max, 1),
-                crate::units::symbol(crate::units::TORQUE),
+                units.q(camsim_scene_file::units::GAIN, k_p, 1),
+                units.symbol(camsim_scene_file::units::GAIN),
+                units.q(crate::units::TORQUE, t_max, 1),
+                units.symbol(crate::units::TORQUE),
                 if spec.motor_table {
                     "the scene's [design.drive.motor]; what it does not give, the thesis's"
                 } else if spec.drive_given {
@@ -434,8 +437,8 @@ pub const ALLOWABLE_SOURCE_SI: &str = "through-hardened steel, 400 HB, 1e8 cycle
 
 /// The source of the default allowable contact stress in the output's family
 /// (`--units`).
-pub fn allowable_source() -> &'static str {
-    match crate::units::current() {
+pub fn allowable_source(units: Units) -> &'static str {
+    match units {
         crate::units::Units::Inch => ALLOWABLE_SOURCE,
         crate::units::Units::Si => ALLOWABLE_SOURCE_SI,
     }
@@ -468,9 +471,9 @@ pub fn geometry(design: &Design<f64>, limits: &Limits) -> Result<GeometryVerdict
         max_pressure_angle_deg: peak.value.to_degrees(),
         max_pressure_angle_at_deg: peak.at.rem_euclid(std::f64::consts::TAU).to_degrees(),
         pressure_angle_limit_deg: limits.pressure_angle_limit_deg,
-        min_pitch_radius_in: pitch,
+        min_pitch_radius_in: Length::inch(pitch),
         min_pitch_radius_at_deg: u.min_convex_at.to_degrees(),
-        undercut_margin_in: u.min_convex_surface_radius,
+        undercut_margin_in: Length::inch(u.min_convex_surface_radius),
     })
 }
 
@@ -500,26 +503,26 @@ pub fn spring(design: &Design<f64>, part: Option<&SpringPart>) -> Result<SpringV
         None => HelicalSpring::of_rate(design.k_rs)?.surge_hz,
     };
     Ok(SpringVerdict {
-        rate_lb_per_in: design.k_rs,
-        mass_lb: design.m_spring * camsim_core::GRAVITY_IN_PER_S2,
+        rate_lb_per_in: Stiffness::inch(design.k_rs),
+        mass_lb: Weight::inch(design.m_spring * camsim_core::GRAVITY_IN_PER_S2),
         given,
         material: material.to_string(),
         ends: coil.ends.name(),
-        wire_diameter_in: coil.wire_diameter,
-        mean_diameter_in: coil.mean_diameter,
+        wire_diameter_in: Length::inch(coil.wire_diameter),
+        mean_diameter_in: Length::inch(coil.mean_diameter),
         active_coils: coil.active_coils,
         total_coils: coil.total_coils(),
         surge_hz,
         cam_hz,
         surge_harmonic: surge_hz / cam_hz,
         least_harmonic: camsim_core::SURGE_HARMONIC_MARGIN,
-        full_compression_force_lb: force,
-        shear_stress_psi: coil.shear_stress(force),
-        allowable_shear_psi: coil.material.allowable_shear,
-        solid_height_in: coil.solid_height(),
-        full_compression_in: compression,
-        free_length_in: free_length,
-        least_free_length_in: coil.solid_height() + compression,
+        full_compression_force_lb: Force::inch(force),
+        shear_stress_psi: Stress::inch(coil.shear_stress(force)),
+        allowable_shear_psi: Stress::inch(coil.material.allowable_shear),
+        solid_height_in: Length::inch(coil.solid_height()),
+        full_compression_in: Length::inch(compression),
+        free_length_in: free_length.map(Length::inch),
+        least_free_length_in: Length::inch(coil.solid_height() + compression),
     })
 }
 
@@ -533,12 +536,12 @@ pub fn spring(design: &Design<f64>, part: Option<&SpringPart>) -> Result<SpringV
 /// the change before it `d1` and the last `d2`, a change that shrinks by `q = d2/d1` a
 /// revolution leaves `d2 q / (1 - q)` to come. Separations in the last revolution make every
 /// revolution different: not settled, and said so.
-pub fn steady(rows: &[PeriodRow], checks: &[SteadyCheck]) -> Option<SteadyVerdict> {
+pub fn steady(rows: &[PeriodRow], checks: &[SteadyCheck], units: Units) -> Option<SteadyVerdict> {
     let last = checks.last()?;
     let rev = last.compared[1];
     let jumps_last = rows.iter().any(|r| r.revolution == rev && r.jump);
     let d2 = last.max_rel_change;
-    let what = describe(rows, last);
+    let what = describe(rows, last, units);
     if jumps_last {
         return Some(SteadyVerdict {
             settled: false,
@@ -645,7 +648,7 @@ fn change_of(rows: &[PeriodRow], pair: [u32; 2], statistic: &str) -> Option<f64>
 
 /// "the low dwell's acceleration deviation RMS went from 202 to 218 in/s^2 between
 /// revolutions 2 and 3 (3.3 % of its largest value in any period)".
-fn describe(rows: &[PeriodRow], c: &SteadyCheck) -> String {
+fn describe(rows: &[PeriodRow], c: &SteadyCheck, units: Units) -> String {
     let Some((period, stat)) = c.statistic.split_once('.') else {
         return format!(
             "revolutions {} and {} agree (largest change {:.2} %)",
@@ -659,9 +662,9 @@ fn describe(rows: &[PeriodRow], c: &SteadyCheck) -> String {
         rows.iter()
             .find(|r| r.revolution == rev && r.period == period)
             .and_then(|r| value_of(r, stat))
-            .map(|x| unit.map_or(x, |u| crate::units::value(u, x)))
+            .map(|x| unit.map_or(x, |u| units.value(u, x)))
     };
-    let unit = unit.map_or("", crate::units::symbol);
+    let unit = unit.map_or("", |u| units.symbol(u));
     match (get(c.compared[0]), get(c.compared[1])) {
         (Some(a), Some(b)) => format!(
             "the largest change from revolution {} to {} is the {} of the {} period, {} to {} {unit} ({:.2} % of its largest value in any period)",
@@ -705,31 +708,31 @@ fn short(v: f64) -> String {
 /// compression over its allowable, the free length too short for full compression. An
 /// assumed spring (a rate without `[design.spring]`) is not judged on them: its wire is
 /// the model's assumption, not the designer's part.
-pub fn spring_part_warnings(spring: &SpringVerdict) -> Vec<String> {
+pub fn spring_part_warnings(spring: &SpringVerdict, units: Units) -> Vec<String> {
     use crate::units as u;
     let mut w = Vec::new();
     if !spring.given {
         return w;
     }
-    let su = u::symbol(u::STRESS);
-    if spring.shear_stress_psi > spring.allowable_shear_psi {
+    let su = units.symbol(u::STRESS);
+    if spring.shear_stress_psi.in_inch() > spring.allowable_shear_psi.in_inch() {
         w.push(format!(
             "spring shear stress {} {su} at full compression ({} {fu}) exceeds the allowable {} {su} (design.spring): a thicker wire, a smaller coil or a softer spring",
-            u::q(u::STRESS, spring.shear_stress_psi, 0),
-            u::q(u::FORCE, spring.full_compression_force_lb, 1),
-            u::q(u::STRESS, spring.allowable_shear_psi, 0),
-            fu = u::symbol(u::FORCE)
+            units.show(spring.shear_stress_psi, 0),
+            units.show(spring.full_compression_force_lb, 1),
+            units.show(spring.allowable_shear_psi, 0),
+            fu = units.symbol(u::FORCE)
         ));
     }
     if spring.solid() == Some(true) {
         w.push(format!(
             "the spring is solid at full compression: free length {} {lu} less the compression {} {lu} is not above the solid height {} {lu} ({}: at least {} {lu})",
-            u::q(u::LENGTH, spring.free_length_in.unwrap_or(f64::NAN), 3),
-            u::q(u::LENGTH, spring.full_compression_in, 3),
-            u::q(u::LENGTH, spring.solid_height_in, 3),
-            key_hint("design.spring.free_length", u::LENGTH),
-            u::q(u::LENGTH, spring.least_free_length_in, 3),
-            lu = u::symbol(u::LENGTH)
+            units.q(u::LENGTH, spring.free_length_in.map_or(f64::NAN, Length::in_inch), 3),
+            units.show(spring.full_compression_in, 3),
+            units.show(spring.solid_height_in, 3),
+            key_hint("design.spring.free_length", u::LENGTH, units),
+            units.show(spring.least_free_length_in, 3),
+            lu = units.symbol(u::LENGTH)
         ));
     }
     w
@@ -737,8 +740,8 @@ pub fn spring_part_warnings(spring: &SpringVerdict) -> Vec<String> {
 
 /// A scene key a hint names, in the output's unit family first and the other family's
 /// suffix after it: `design.spring.free_length_mm or _in` under `--units si`.
-pub fn key_hint(stem: &str, unit: camsim_scene_file::units::Unit) -> String {
-    let (first, other) = match crate::units::current() {
+pub fn key_hint(stem: &str, unit: camsim_scene_file::units::Unit, units: Units) -> String {
+    let (first, other) = match units {
         crate::units::Units::Inch => (unit.inch, unit.si),
         crate::units::Units::Si => (unit.si, unit.inch),
     };
@@ -747,26 +750,26 @@ pub fn key_hint(stem: &str, unit: camsim_scene_file::units::Unit) -> String {
 
 /// The verdict's spring lines: rate, mass, coils and surge; the part (given, or assumed
 /// from the rate); stress at full compression and the solid-height check.
-pub fn spring_lines(out: &mut String, s: &SpringVerdict) {
+pub fn spring_lines(out: &mut String, s: &SpringVerdict, units: Units) {
     use crate::units as u;
     use std::fmt::Write;
-    let (lu, su) = (u::symbol(u::LENGTH), u::symbol(u::STRESS));
+    let (lu, su) = (units.symbol(u::LENGTH), units.symbol(u::STRESS));
     let _ = writeln!(
         out,
         "  spring:    {} {}, {:.2} active coils, {} {}; surge {:.0} Hz = {:.1} x the cam's {:.2} Hz",
-        u::q(u::STIFFNESS, s.rate_lb_per_in, 1),
-        u::symbol(u::STIFFNESS),
+        units.show(s.rate_lb_per_in, 1),
+        units.symbol(u::STIFFNESS),
         s.active_coils,
-        u::q(u::WEIGHT, s.mass_lb, 4),
-        u::symbol(u::WEIGHT),
+        units.show(s.mass_lb, 4),
+        units.symbol(u::WEIGHT),
         s.surge_hz,
         s.surge_harmonic,
         s.cam_hz
     );
     let part = format!(
         "wire {} {lu}, mean coil {} {lu}, {:.2} total coils, {} ends, {}",
-        u::q(u::LENGTH, s.wire_diameter_in, 3),
-        u::q(u::LENGTH, s.mean_diameter_in, 3),
+        units.show(s.wire_diameter_in, 3),
+        units.show(s.mean_diameter_in, 3),
         s.total_coils,
         s.ends,
         s.material
@@ -789,18 +792,18 @@ pub fn spring_lines(out: &mut String, s: &SpringVerdict) {
     let _ = writeln!(
         out,
         "             at full compression {} {lu} ({} {}): shear stress {} {su} (Wahl), {:.0} % of the allowable {} {su}{assumed}",
-        u::q(u::LENGTH, s.full_compression_in, 3),
-        u::q(u::FORCE, s.full_compression_force_lb, 1),
-        u::symbol(u::FORCE),
-        u::q(u::STRESS, s.shear_stress_psi, 0),
-        100.0 * s.shear_stress_psi / s.allowable_shear_psi,
-        u::q(u::STRESS, s.allowable_shear_psi, 0)
+        units.show(s.full_compression_in, 3),
+        units.show(s.full_compression_force_lb, 1),
+        units.symbol(u::FORCE),
+        units.show(s.shear_stress_psi, 0),
+        100.0 * s.shear_stress_psi.in_inch() / s.allowable_shear_psi.in_inch(),
+        units.show(s.allowable_shear_psi, 0)
     );
     let solid = match s.free_length_in {
         Some(l) => format!(
             "free length {} {lu}: {} {lu} at full compression, {}",
-            u::q(u::LENGTH, l, 3),
-            u::q(u::LENGTH, l - s.full_compression_in, 3),
+            units.show(l, 3),
+            units.q(u::LENGTH, l.in_inch() - s.full_compression_in.in_inch(), 3),
             if s.solid() == Some(true) {
                 "SOLID"
             } else {
@@ -809,14 +812,14 @@ pub fn spring_lines(out: &mut String, s: &SpringVerdict) {
         ),
         None => format!(
             "free length not given ({}): at least {} {lu}",
-            key_hint("design.spring.free_length", u::LENGTH),
-            u::q(u::LENGTH, s.least_free_length_in, 3)
+            key_hint("design.spring.free_length", u::LENGTH, units),
+            units.show(s.least_free_length_in, 3)
         ),
     };
     let _ = writeln!(
         out,
         "             solid height {} {lu}{}; {solid}",
-        u::q(u::LENGTH, s.solid_height_in, 3),
+        units.show(s.solid_height_in, 3),
         if s.given { "" } else { " (the assumed wire's)" }
     );
 }
@@ -828,6 +831,7 @@ pub fn warnings(
     loads: &LoadsVerdict,
     spring: &SpringVerdict,
     margin: Option<&MarginVerdict>,
+    units: Units,
 ) -> Vec<String> {
     use crate::units as u;
     let mut w = Vec::new();
@@ -848,22 +852,22 @@ pub fn warnings(
             geometry.pressure_angle_limit_deg
         ));
     }
-    if geometry.undercut_margin_in <= 0.0 {
+    if geometry.undercut_margin_in.in_inch() <= 0.0 {
         w.push(format!(
             "undercut: the pitch curve's radius {} {} at {:.1} deg is below the roller radius",
-            u::q(u::LENGTH, geometry.min_pitch_radius_in, 4),
-            u::symbol(u::LENGTH),
+            units.show(geometry.min_pitch_radius_in, 4),
+            units.symbol(u::LENGTH),
             geometry.min_pitch_radius_at_deg
         ));
     }
     if loads.stress_ratio > 1.0 {
         w.push(format!(
             "contact stress {} {su} exceeds the allowable {} {su} by {:.1} % (limits.allowable_contact_stress_{}, --allowable-stress)",
-            u::q(u::STRESS, loads.peak_contact_stress_psi, 0),
-            u::q(u::STRESS, loads.allowable_contact_stress_psi, 0),
+            units.show(loads.peak_contact_stress_psi, 0),
+            units.show(loads.allowable_contact_stress_psi, 0),
             100.0 * (loads.stress_ratio - 1.0),
-            u::key_suffix(u::STRESS),
-            su = u::symbol(u::STRESS)
+            units.key_suffix(u::STRESS),
+            su = units.symbol(u::STRESS)
         ));
     }
     if spring.surge_harmonic < spring.least_harmonic {
@@ -876,7 +880,7 @@ pub fn warnings(
             spring.least_harmonic
         ));
     }
-    w.extend(spring_part_warnings(spring));
+    w.extend(spring_part_warnings(spring, units));
     if let Some(m) = margin {
         if let Some(p) = m.margin_percent {
             if p <= 0.0 {
@@ -899,15 +903,15 @@ pub fn at_text(a: &At) -> String {
 }
 
 /// The verdict block as text.
-pub fn text(v: &Verdict) -> String {
+pub fn text(v: &Verdict, units: Units) -> String {
     use std::fmt::Write;
     let mut out = String::new();
     let c = &v.contact;
-    contact_lines(&mut out, c);
-    let _ = writeln!(out, "{}", geometry_text(&v.geometry));
-    loads_lines(&mut out, &v.loads);
-    spring_lines(&mut out, &v.spring);
-    let _ = writeln!(out, "{}", mass_text(&v.mass));
+    contact_lines(&mut out, c, units);
+    let _ = writeln!(out, "{}", geometry_text(&v.geometry, units));
+    loads_lines(&mut out, &v.loads, units);
+    spring_lines(&mut out, &v.spring, units);
+    let _ = writeln!(out, "{}", mass_text(&v.mass, units));
     let _ = writeln!(out, "{}", drive_text(&v.drive, c.revolutions));
     let _ = writeln!(out, "{}", margin_text(v.jump_margin.as_ref()));
     if let Some(st) = &v.steady {
@@ -925,7 +929,7 @@ pub fn text(v: &Verdict) -> String {
 
 /// The verdict's heading and contact lines: whether contact holds and its smallest force,
 /// or where the follower leaves the cam; the start transient's separations, not judged.
-fn contact_lines(out: &mut String, c: &ContactVerdict) {
+fn contact_lines(out: &mut String, c: &ContactVerdict, units: Units) {
     use crate::units as u;
     use std::fmt::Write;
     let _ = writeln!(
@@ -937,8 +941,8 @@ fn contact_lines(out: &mut String, c: &ContactVerdict) {
         let _ = writeln!(
             out,
             "  contact:   HOLDS; smallest contact force {} {} at {} ({})",
-            u::q(u::FORCE, c.min_contact_force_lb, 2),
-            u::symbol(u::FORCE),
+            units.show(c.min_contact_force_lb, 2),
+            units.symbol(u::FORCE),
             at_text(&c.min_contact_force_at),
             c.min_contact_force_period
         );
@@ -947,8 +951,8 @@ fn contact_lines(out: &mut String, c: &ContactVerdict) {
             out,
             "  contact:   the follower LEAVES the cam ({:.2} deg of cam angle off it); smallest force in contact {} {} at {}",
             c.off_cam_deg,
-            u::q(u::FORCE, c.min_contact_force_lb, 2),
-            u::symbol(u::FORCE),
+            units.show(c.min_contact_force_lb, 2),
+            units.symbol(u::FORCE),
             at_text(&c.min_contact_force_at)
         );
         for s in &c.separations {
@@ -970,35 +974,36 @@ fn contact_lines(out: &mut String, c: &ContactVerdict) {
 
 /// The verdict's geometry line: the largest pressure angle and the pitch curve's smallest
 /// radius with its undercut margin.
-fn geometry_text(g: &GeometryVerdict) -> String {
+fn geometry_text(g: &GeometryVerdict, units: Units) -> String {
     use crate::units as u;
     format!(
         "  geometry:  largest pressure angle {:.2} deg at cam angle {:.1} deg (limit {:.0} deg); smallest pitch-curve radius {} {lu} at {:.1} deg, undercut margin {} {lu}",
         g.max_pressure_angle_deg,
         g.max_pressure_angle_at_deg,
         g.pressure_angle_limit_deg,
-        u::q(u::LENGTH, g.min_pitch_radius_in, 4),
+        units.show(g.min_pitch_radius_in, 4),
         g.min_pitch_radius_at_deg,
-        u::q(u::LENGTH, g.undercut_margin_in, 4),
-        lu = u::symbol(u::LENGTH)
+        units.show(g.undercut_margin_in, 4),
+        lu = units.symbol(u::LENGTH)
     )
 }
 
 /// The verdict's loads lines: the peak cam torque and motor power, and the peak contact
 /// stress against the allowable.
-fn loads_lines(out: &mut String, l: &LoadsVerdict) {
+fn loads_lines(out: &mut String, l: &LoadsVerdict, units: Units) {
     use crate::units as u;
     use std::fmt::Write;
     let _ = writeln!(
         out,
         "  loads:     peak cam torque {} {} at {}; peak motor power {} at {}",
-        u::q(u::TORQUE, l.peak_cam_torque_lb_in, 1),
-        u::symbol(u::TORQUE),
+        units.show(l.peak_cam_torque_lb_in, 1),
+        units.symbol(u::TORQUE),
         at_text(&l.peak_cam_torque_at),
-        match u::current() {
+        match units {
             u::Units::Inch => format!(
                 "{:.3} hp ({:.0} W)",
-                l.peak_motor_power_hp, l.peak_motor_power_w
+                l.peak_motor_power_hp.in_inch(),
+                l.peak_motor_power_w
             ),
             u::Units::Si => format!("{:.3} kW", l.peak_motor_power_w / 1000.0),
         },
@@ -1007,12 +1012,12 @@ fn loads_lines(out: &mut String, l: &LoadsVerdict) {
     let _ = writeln!(
         out,
         "             peak contact stress {} {su} at {}: {:.0} % of the allowable {} {su} ({})",
-        u::q(u::STRESS, l.peak_contact_stress_psi, 0),
+        units.show(l.peak_contact_stress_psi, 0),
         at_text(&l.peak_contact_stress_at),
         100.0 * l.stress_ratio,
-        u::q(u::STRESS, l.allowable_contact_stress_psi, 0),
+        units.show(l.allowable_contact_stress_psi, 0),
         l.allowable_source,
-        su = u::symbol(u::STRESS)
+        su = units.symbol(u::STRESS)
     );
 }
 
@@ -1036,9 +1041,9 @@ fn margin_text(m: Option<&MarginVerdict>) -> String {
 }
 
 /// The verdict's mass line.
-fn mass_text(m: &MassVerdict) -> String {
+fn mass_text(m: &MassVerdict, units: Units) -> String {
     use crate::units as u;
-    let q = |x: f64| u::q(u::WEIGHT, x, 4);
+    let q = |x: Weight| units.show(x, 4);
     format!(
         "  mass:      moving {} {w} = load {} + rod rho*A*(e1+e2) {} + roller {} + a third of the spring {}",
         q(m.moving_mass_lb),
@@ -1046,7 +1051,7 @@ fn mass_text(m: &MassVerdict) -> String {
         q(m.rod_mass_lb),
         q(m.roller_mass_lb),
         q(m.spring_share_mass_lb),
-        w = u::symbol(u::WEIGHT)
+        w = units.symbol(u::WEIGHT)
     )
 }
 
@@ -1136,7 +1141,7 @@ pub fn contact(
         separations,
         off_cam_deg: off,
         start_transient_separations: transient,
-        min_contact_force_lb: f,
+        min_contact_force_lb: Force::inch(f),
         min_contact_force_at: at,
         min_contact_force_period: periods.get(seg).copied().unwrap_or("?").to_string(),
     })
@@ -1149,14 +1154,14 @@ pub fn loads(watch: &Watch, limits: &Limits) -> Result<LoadsVerdict> {
     let (p, p_at) = watch.peak_power.ok_or_else(missing)?;
     let (s, s_at) = watch.peak_stress.ok_or_else(missing)?;
     Ok(LoadsVerdict {
-        peak_cam_torque_lb_in: t,
+        peak_cam_torque_lb_in: Torque::inch(t),
         peak_cam_torque_at: t_at,
-        peak_motor_power_hp: p / HP_LB_IN_PER_S,
+        peak_motor_power_hp: Power::inch(p / HP_LB_IN_PER_S),
         peak_motor_power_w: p * W_PER_LB_IN_PER_S,
         peak_motor_power_at: p_at,
-        peak_contact_stress_psi: s,
+        peak_contact_stress_psi: Stress::inch(s),
         peak_contact_stress_at: s_at,
-        allowable_contact_stress_psi: limits.allowable_contact_stress_psi,
+        allowable_contact_stress_psi: Stress::inch(limits.allowable_contact_stress_psi),
         allowable_source: limits.allowable_source,
         stress_ratio: s / limits.allowable_contact_stress_psi,
     })

@@ -199,7 +199,7 @@ fn run_cli(args: &[&str]) -> Result<run::RunReport, String> {
         },
         Err(e) => return Err(cli::usage_line(&e)),
     };
-    run::report(&a).map_err(|e| format!("{e:#}"))
+    run::report(&a, camsim::units::Units::Inch).map_err(|e| format!("{e:#}"))
 }
 
 /// A quick run: 500 rpm from static equilibrium, 2 revolutions.

@@ -128,8 +128,9 @@ fn run_scene(mut spec: RunSpec) -> Result<Outcome, String> {
 fn plausible(spec: &RunSpec, r: &RunReport) -> Result<(), String> {
     let e2 = spec.design.e2;
     let fail = |why: String| Err(format!("implausible result: {why}"));
-    if !(r.preload_lb >= 0.0 && r.preload_lb < 1e6) {
-        return fail(format!("preload {}", r.preload_lb));
+    let preload = r.preload_lb.in_inch();
+    if !(preload >= 0.0 && preload < 1e6) {
+        return fail(format!("preload {}", preload));
     }
     if r.per_period.is_empty() {
         return fail("no per-period rows".into());
@@ -212,7 +213,7 @@ fn run_cli(command: Command, option: &str) -> Result<Outcome, String> {
     match command {
         Command::Run(mut a) => {
             a.revolutions = Some(1);
-            match camsim::cmd::run::report(&a) {
+            match camsim::cmd::run::report(&a, camsim::units::Units::Inch) {
                 Ok(r) => {
                     ensure_finite(&r).map_err(|e| format!("{e:#}"))?;
                     Ok(Outcome::Finite)

@@ -28,7 +28,7 @@ fn spring_args(actual: bool, threads: u32) -> SpringArgs {
 /// table's, and the pressure angle is the closed form tan φ = y' / (R_a + y) at its angle.
 #[test]
 fn verdict_agrees_with_the_table_and_the_geometry() {
-    let r = report(&RunArgs::default()).unwrap();
+    let r = report(&RunArgs::default(), camsim::units::Units::Inch).unwrap();
     let v = r.verdict.as_ref().unwrap();
     let judged = r.per_period.iter().filter(|p| p.revolution >= 2);
     let fmin = judged
@@ -36,8 +36,8 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
         .map(|p| p.contact_force_min)
         .fold(f64::INFINITY, f64::min);
     let smax = judged.map(|p| p.contact_stress_max).fold(0.0, f64::max);
-    assert_eq!(v.contact.min_contact_force_lb, fmin);
-    assert_eq!(v.loads.peak_contact_stress_psi, smax);
+    assert_eq!(v.contact.min_contact_force_lb.in_inch(), fmin);
+    assert_eq!(v.loads.peak_contact_stress_psi.in_inch(), smax);
     // Contact holds and nothing warns: the thesis drive's cam-speed swing (3.4 % at 800
     // rpm, past the 2 % limit) is the reference's given drive, stated on the drive line.
     assert!(v.contact.holds, "{:?}", v.warnings);
@@ -56,7 +56,7 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
         ..Default::default()
     };
     a.verdict.pressure_angle_limit = Some(phi - 1.0);
-    let r = report(&a).unwrap();
+    let r = report(&a, camsim::units::Units::Inch).unwrap();
     let w = &r.verdict.unwrap().warnings;
     assert!(
         w.iter().any(|w| w.contains("--pressure-angle-limit")),
@@ -97,9 +97,9 @@ fn design_spring_theoretical_brackets_the_criterion() {
     assert!(built.design.k_rs >= r.spring_rate_lb_per_in);
     let v = camsim::verdict::spring(&built.design, built.spring.as_ref()).unwrap();
     assert!(v.surge_hz >= 13.0 * 800.0 / 60.0, "{}", v.surge_hz);
-    assert!(v.shear_stress_psi <= v.allowable_shear_psi);
+    assert!(v.shear_stress_psi.in_inch() <= v.allowable_shear_psi.in_inch());
     assert_eq!(v.solid(), Some(false));
-    assert!(camsim::verdict::spring_part_warnings(&v).is_empty());
+    assert!(camsim::verdict::spring_part_warnings(&v, camsim::units::Units::Inch).is_empty());
     let mut s = spec.clone();
     s.design = built.design.clone();
     assert!(!camsim::sim::jumps_at(&s, 920.0).unwrap());
@@ -244,7 +244,10 @@ fn run_scene(path: &std::path::Path) -> camsim::verdict::Verdict {
         ..Default::default()
     };
     a.scene.scene = Some(path.to_path_buf());
-    report(&a).unwrap().verdict.unwrap()
+    report(&a, camsim::units::Units::Inch)
+        .unwrap()
+        .verdict
+        .unwrap()
 }
 
 /// Issue 30: the verdict's mass line is the model's translating mass by its parts (the
@@ -254,10 +257,13 @@ fn run_scene(path: &std::path::Path) -> camsim::verdict::Verdict {
 /// thesis's machine): its swing past 2 % is stated on the drive line, not warned.
 #[test]
 fn verdict_prints_the_moving_mass_and_the_drive_swing() {
-    let r = report(&RunArgs {
-        revolutions: Some(2),
-        ..Default::default()
-    })
+    let r = report(
+        &RunArgs {
+            revolutions: Some(2),
+            ..Default::default()
+        },
+        camsim::units::Units::Inch,
+    )
     .unwrap();
     let v = r.verdict.unwrap();
     let d = camsim_core::Design::<f64>::reference();
@@ -265,15 +271,15 @@ fn verdict_prints_the_moving_mass_and_the_drive_swing() {
     let rod = 0.007764 * (1.0 + 2.0 / d.e1);
     let hand = (3.428e-3 + rod + 0.00013 + camsim_core::SPRING_MASS / 3.0) * g;
     assert!(
-        (v.mass.moving_mass_lb / hand - 1.0).abs() < 1e-9,
+        (v.mass.moving_mass_lb.in_inch() / hand - 1.0).abs() < 1e-9,
         "{}",
-        v.mass.moving_mass_lb
+        v.mass.moving_mass_lb.in_inch()
     );
-    let parts = v.mass.load_mass_lb
-        + v.mass.rod_mass_lb
-        + v.mass.roller_mass_lb
-        + v.mass.spring_share_mass_lb;
-    assert!((parts / v.mass.moving_mass_lb - 1.0).abs() < 1e-12);
+    let parts = v.mass.load_mass_lb.in_inch()
+        + v.mass.rod_mass_lb.in_inch()
+        + v.mass.roller_mass_lb.in_inch()
+        + v.mass.spring_share_mass_lb.in_inch();
+    assert!((parts / v.mass.moving_mass_lb.in_inch() - 1.0).abs() < 1e-12);
     let dr = &v.drive;
     assert_eq!(dr.drive, "regulated");
     assert!(
@@ -285,7 +291,7 @@ fn verdict_prints_the_moving_mass_and_the_drive_swing() {
     assert_eq!(dr.swing_limit_percent, 2.0);
     assert!(swing > 2.0 && dr.given, "{dr:?}");
     assert!(v.warnings.is_empty(), "{:?}", v.warnings);
-    let text = camsim::verdict::text(&v);
+    let text = camsim::verdict::text(&v, camsim::units::Units::Inch);
     let line = text.lines().find(|l| l.contains("drive:")).unwrap();
     assert!(
         line.contains(&format!("{:.2} % from the nominal 800.0 rpm", swing))
@@ -306,7 +312,7 @@ fn verdict_prints_the_moving_mass_and_the_drive_swing() {
         "{:?}",
         v.warnings
     );
-    let text = camsim::verdict::text(&v);
+    let text = camsim::verdict::text(&v, camsim::units::Units::Inch);
     assert!(
         text.contains("0.00 % from the nominal 800.0 rpm (limit 2 %)"),
         "{text}"
@@ -342,9 +348,9 @@ fn an_inherited_drive_warns_on_its_swing_and_a_named_one_does_not() {
         "{w}"
     );
     assert!(n.warnings.is_empty(), "{:?}", n.warnings);
-    let text = camsim::verdict::text(&n);
+    let text = camsim::verdict::text(&n, camsim::units::Units::Inch);
     assert!(text.contains("the drive is given"), "{text}");
-    let text = camsim::verdict::text(&i);
+    let text = camsim::verdict::text(&i, camsim::units::Units::Inch);
     assert!(
         text.contains("inherited: the scene names no drive"),
         "{text}"
@@ -357,7 +363,7 @@ fn a_moving_mass_is_the_models_translating_mass() {
     let p = scene_file("moving", "[design]\nmoving_mass_kg = 2.5\n");
     let v = run_scene(&p);
     std::fs::remove_file(&p).unwrap();
-    let kg = v.mass.moving_mass_lb * 0.453_592_37;
+    let kg = v.mass.moving_mass_lb.in_inch() * 0.453_592_37;
     assert!((kg - 2.5).abs() < 1e-9, "{kg}");
 }
 
@@ -541,20 +547,20 @@ fn the_issues_task_runs_from_the_si_template() {
     std::fs::remove_file(&p).unwrap();
     let kg = 0.453_592_37;
     let rod = 7849.99 * 201.06e-9 * 230.0;
-    assert!((v.mass.moving_mass_lb * kg - 1.2).abs() < 1e-9);
+    assert!((v.mass.moving_mass_lb.in_inch() * kg - 1.2).abs() < 1e-9);
     assert!(
-        (v.mass.rod_mass_lb * kg / rod - 1.0).abs() < 1e-5,
+        (v.mass.rod_mass_lb.in_inch() * kg / rod - 1.0).abs() < 1e-5,
         "{:?}",
         v.mass
     );
-    assert!(v.mass.load_mass_lb * kg > 0.7, "{:?}", v.mass);
+    assert!(v.mass.load_mass_lb.in_inch() * kg > 0.7, "{:?}", v.mass);
     assert!(v.contact.holds, "{:?}", v.contact);
     let inertia = 1.2
         * 5.528
         * 0.040
         * (10.0 * std::f64::consts::PI / (2.0 * std::f64::consts::PI / 3.0)).powi(2);
     assert!((inertia - 59.7).abs() < 0.1, "{inertia}");
-    assert!(v.contact.min_contact_force_lb * 4.448_221_615_260_5 > 300.0 - inertia);
+    assert!(v.contact.min_contact_force_lb.in_inch() * 4.448_221_615_260_5 > 300.0 - inertia);
 }
 
 /// Issue 30: the drive's texts name scene forms the reader accepts. A scene without a
@@ -618,48 +624,51 @@ fn the_spring_part_is_judged_on_stress_and_solid_height() {
     assert_eq!(h, 1.5, "the reference program's lift");
     let k = 11.2e6 * 0.2f64.powi(4) / (8.0 * 1.2f64.powi(3) * 6.0);
     let f = k * (0.5 + h);
-    assert!((v.full_compression_force_lb / f - 1.0).abs() < 1e-12);
+    assert!((v.full_compression_force_lb.in_inch() / f - 1.0).abs() < 1e-12);
     let c = 6.0;
     let kw = (4.0 * c - 1.0) / (4.0 * c - 4.0) + 0.615 / c;
     let tau = kw * 8.0 * f * 1.2 / (std::f64::consts::PI * 0.008);
     assert!(
-        (v.shear_stress_psi / tau - 1.0).abs() < 1e-12,
+        (v.shear_stress_psi.in_inch() / tau - 1.0).abs() < 1e-12,
         "{}",
-        v.shear_stress_psi
+        v.shear_stress_psi.in_inch()
     );
-    assert!((v.solid_height_in - 0.2 * 8.0).abs() < 1e-12);
+    assert!((v.solid_height_in.in_inch() - 0.2 * 8.0).abs() < 1e-12);
     // 4 in free, 2 in of compression: 2.0 in at full lift, above the solid 1.6 in; the
     // stress (about 197 kpsi) is over chrome-silicon's 0.5 * 202 / 0.2^0.108 = 119 kpsi.
     assert_eq!(v.solid(), Some(false));
-    let w = spring_part_warnings(&v);
+    let w = spring_part_warnings(&v, camsim::units::Units::Inch);
     assert_eq!(w.len(), 1, "{w:?}");
     assert!(w[0].starts_with("spring shear stress"), "{w:?}");
     // 3.5 in free: 1.5 in at full lift, below the solid 1.6 in.
     let spec = scene(3.5, 0.2);
     let v = spring_verdict(&spec.design, spec.spring.as_ref()).unwrap();
     assert_eq!(v.solid(), Some(true));
-    assert_eq!(spring_part_warnings(&v).len(), 2);
+    assert_eq!(
+        spring_part_warnings(&v, camsim::units::Units::Inch).len(),
+        2
+    );
     // A thicker wire at the same coil: k grows as d^4, the stress as K_W F / d^3; with
     // 0.3 in wire (C = 4) the 6-coil spring is solid at 2.4 in, so 5 in free passes that.
     let spec = scene(5.0, 0.3);
     let v = spring_verdict(&spec.design, spec.spring.as_ref()).unwrap();
     assert_eq!(v.solid(), Some(false));
     assert!(
-        v.shear_stress_psi > v.allowable_shear_psi,
+        v.shear_stress_psi.in_inch() > v.allowable_shear_psi.in_inch(),
         "k grows faster than d^3"
     );
     // An assumed spring (the rate alone) is shown, not judged.
     let reference = camsim::sim::RunSpec::reference();
     let v = spring_verdict(&reference.design, None).unwrap();
     assert!(!v.given);
-    assert!(spring_part_warnings(&v).is_empty());
+    assert!(spring_part_warnings(&v, camsim::units::Units::Inch).is_empty());
     assert_eq!(v.free_length_in, None);
-    assert!((v.least_free_length_in - (1.05 + 2.0)).abs() < 1e-12);
+    assert!((v.least_free_length_in.in_inch() - (1.05 + 2.0)).abs() < 1e-12);
     // Its text says so on the lines that hold the stress and the solid height, and a
     // given part's text does not.
     let text = |v: &camsim::verdict::SpringVerdict| {
         let mut out = String::new();
-        camsim::verdict::spring_lines(&mut out, v);
+        camsim::verdict::spring_lines(&mut out, v, camsim::units::Units::Inch);
         out
     };
     let assumed = text(&v);

@@ -202,7 +202,7 @@ fn csv_rows_and_period_table_cover_the_run() {
         .unwrap()
         .open()
         .unwrap();
-    let mut w = camsim::csv::CsvOut::new(file);
+    let mut w = camsim::csv::CsvOut::new(file, camsim::units::Units::Inch);
     let mut n = 0usize;
     let mut obs = |s: &camsim_core::Sample<f64>| {
         n += 1;
@@ -352,7 +352,7 @@ fn the_verdict_limits_come_from_the_scene_and_the_options_override() {
     let spec =
         parse("[limits]\nallowable_contact_stress_mpa = 1000\npressure_angle_limit_deg = 25\n")
             .unwrap();
-    let l = VerdictArgs::default().limits(&spec.limits);
+    let l = VerdictArgs::default().limits(&spec.limits, camsim::units::Units::Inch);
     // 1000 MPa = 1e9 Pa / 6894.757293168 Pa/psi.
     assert!((l.allowable_contact_stress_psi - 1e9 / 6_894.757_293_168).abs() < 1e-6);
     assert_eq!(l.pressure_angle_limit_deg, 25.0);
@@ -362,13 +362,13 @@ fn the_verdict_limits_come_from_the_scene_and_the_options_override() {
         pressure_angle_limit: Some(35.0),
         ..VerdictArgs::default()
     };
-    let l = args.limits(&spec.limits);
+    let l = args.limits(&spec.limits, camsim::units::Units::Inch);
     assert_eq!(
         (l.allowable_contact_stress_psi, l.pressure_angle_limit_deg),
         (120_000.0, 35.0)
     );
     assert_eq!(l.allowable_source, "--allowable-stress");
-    let l = VerdictArgs::default().limits(&RunSpec::reference().limits);
+    let l = VerdictArgs::default().limits(&RunSpec::reference().limits, camsim::units::Units::Inch);
     assert_eq!(
         (l.allowable_contact_stress_psi, l.pressure_angle_limit_deg),
         (

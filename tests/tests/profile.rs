@@ -75,7 +75,7 @@ fn the_read_back_run_is_the_theoretical_run_within_the_chordal_error() {
         let Command::Run(a) = parse_from(argv).unwrap().command else {
             panic!("not run")
         };
-        camsim::cmd::run::report(&a).unwrap()
+        camsim::cmd::run::report(&a, camsim::units::Units::Inch).unwrap()
     };
     let theory = run(&[]);
     let file = out.join(profile::SURFACE_RADIUS_FILE);

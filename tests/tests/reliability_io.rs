@@ -307,7 +307,7 @@ fn a_forced_run_plot_leaves_no_profile_plot_of_the_earlier_cam() {
     let cli::Command::Run(args) = cli::parse_from(argv).unwrap().command else {
         unreachable!()
     };
-    let report = camsim::cmd::run::report(&args).unwrap();
+    let report = camsim::cmd::run::report(&args, camsim::units::Units::Inch).unwrap();
     let left = listing(&plots);
     assert!(
         !left.contains(&"profile_deviation.png".to_owned()),

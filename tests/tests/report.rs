@@ -33,7 +33,7 @@ fn parse_run(args: &[&str]) -> Result<Args, String> {
 /// Runs `camsim run ARGS` without printing: the report, or the error on one line.
 fn run_cli(args: &[&str]) -> Result<run::RunReport, String> {
     let a = parse_run(args)?;
-    run::report(&a).map_err(|e| format!("{e:#}"))
+    run::report(&a, camsim::units::Units::Inch).map_err(|e| format!("{e:#}"))
 }
 
 /// A quick run: 500 rpm from static equilibrium (the reference holds contact there).

@@ -116,7 +116,7 @@ fn quick_run(extra: &[&str]) -> run::RunReport {
     let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
         panic!("not run")
     };
-    run::report(&a).unwrap()
+    run::report(&a, camsim::units::Units::Inch).unwrap()
 }
 
 #[test]
@@ -201,7 +201,7 @@ fn the_echoed_scene_reproduces_the_run() {
     let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
         panic!("not run")
     };
-    let again = run::report(&a).unwrap();
+    let again = run::report(&a, camsim::units::Units::Inch).unwrap();
     assert_eq!(again.scene_file.as_deref(), Some(file.to_str().unwrap()));
     assert_eq!(again.scene.as_deref(), Some(text.as_str()));
     let rows = |r: &run::RunReport| serde_json::to_value(&r.per_period).unwrap();

@@ -220,7 +220,7 @@ fn run_outputs(args: &[&str]) -> (String, String) {
     let Command::Run(a) = c.command else {
         panic!("not run")
     };
-    let r = run::report(&a).unwrap();
+    let r = run::report(&a, camsim::units::current()).unwrap();
     let json = units::json(&r.json().unwrap(), units::current()).unwrap();
     let text = r.text(camsim::units::current());
     units::set(Units::Inch);

@@ -49,7 +49,9 @@ fn run_text(units: Units) -> String {
     let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
         panic!("not run")
     };
-    let text = run::report(&a).unwrap().text(camsim::units::current());
+    let text = run::report(&a, camsim::units::current())
+        .unwrap()
+        .text(camsim::units::current());
     units::set(Units::Inch);
     text
 }
@@ -507,7 +509,9 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
         let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
             panic!("not run")
         };
-        let text = run::report(&a).unwrap().text(camsim::units::current());
+        let text = run::report(&a, camsim::units::current())
+            .unwrap()
+            .text(camsim::units::current());
         units::set(Units::Inch);
         text.lines()
             .find(|l| l.contains("of the allowable"))

@@ -684,7 +684,7 @@ fn write_outputs(
     }
     if let Some(t) = plot_target {
         let mut out = t.open()?;
-        crate::plot::draw_svaj(&mut out, cam.design, SVAJ_FILE)?;
+        crate::plot::draw_svaj(&mut out, cam.design, SVAJ_FILE, crate::units::current())?;
         let dir = out.dir().to_path_buf();
         out.commit()?;
         files.push(dir.join(SVAJ_FILE).display().to_string());

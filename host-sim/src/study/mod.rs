@@ -9,6 +9,7 @@ pub mod jump_speed;
 pub mod jump_speed_actual;
 pub mod montecarlo;
 pub mod predict;
+pub mod run;
 pub mod sensitivity;
 pub mod sweep;
 
