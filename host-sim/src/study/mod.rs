@@ -6,6 +6,7 @@ pub mod contact;
 pub mod design;
 pub mod jump_speed;
 pub mod jump_speed_actual;
+pub mod models;
 pub mod montecarlo;
 pub mod sensitivity;
 pub mod sweep;
