@@ -8,6 +8,7 @@ pub mod jump_speed;
 pub mod jump_speed_actual;
 pub mod models;
 pub mod montecarlo;
+pub mod profile;
 pub mod sensitivity;
 pub mod sweep;
 
