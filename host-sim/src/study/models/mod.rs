@@ -6,7 +6,7 @@
 //! firmware's lift points, the smallest contact force and the load's acceleration.
 //!
 //! The study takes a [`Spec`] and returns a [`ScenesReport`] (its rows measured in
-//! [`rows`], its text in [`text`]); `camsim models` (crate::cmd::models) builds the spec
+//! `rows.rs`, its text in `text.rs`); `camsim models` (crate::cmd::models) builds the spec
 //! from its arguments and prints the report.
 
 use std::time::Instant;
@@ -19,7 +19,7 @@ mod rows;
 mod text;
 
 pub use report::{SceneReference, SceneRow, ScenesReport};
-use rows::{follower_row, reference_truth, row, Full, NF};
+use rows::{follower_row, reference_truth, row, Full, Row, NF};
 
 /// What the study measures: the cam speed of the work, time and error columns, and the
 /// quick mode (fewer timed repetitions, a coarser jump-onset bisection).
@@ -89,16 +89,17 @@ pub fn report(spec: &Spec) -> Result<ScenesReport> {
     bar.inc(1);
     let mut rows = Vec::new();
     for rtol in ROW_RTOLS {
-        rows.push(row::<Full, NF>(
-            FollowerModel::Full,
+        let at = |follower| Row {
+            follower,
             rtol,
-            &truth,
+            truth: &truth,
             rpm,
             repeat,
-        )?);
+        };
+        rows.push(row::<Full, NF>(at(FollowerModel::Full))?);
         bar.inc(1);
         for follower in FollowerModel::ALL {
-            rows.push(follower_row(follower, rtol, &truth, rpm, repeat)?);
+            rows.push(follower_row(at(follower))?);
             bar.inc(1);
         }
     }

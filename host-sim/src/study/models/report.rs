@@ -45,7 +45,7 @@ pub struct SceneRow {
     pub onset_rpm: f64,
     /// Its error against the reference's, %.
     pub onset_err_pct: f64,
-    /// The scene's own onset, converged (rtol [`CONVERGED_RTOL`]): the model's error
+    /// The scene's own onset, converged (rtol [`super::CONVERGED_RTOL`]): the model's error
     /// without the solver's, rpm.
     pub model_onset_rpm: f64,
     /// Its error against the reference's, %.
@@ -60,17 +60,17 @@ pub struct SceneRow {
     pub acc_rms_err: Acceleration,
     /// ... over the signal's RMS.
     pub acc_rms_rel: f64,
-    /// Accurate enough for the jump-onset speed ([`enough::ONSET_REL`]).
+    /// Accurate enough for the jump-onset speed ([`super::enough::ONSET_REL`]).
     pub ok_onset: bool,
-    /// ... for the smallest contact force ([`enough::FMIN_LB`]).
+    /// ... for the smallest contact force ([`super::enough::FMIN_LB`]).
     pub ok_fmin: bool,
-    /// ... for the timing at the lift points ([`enough::TIMING_DEG`]).
+    /// ... for the timing at the lift points ([`super::enough::TIMING_DEG`]).
     pub ok_timing: bool,
-    /// ... for the acceleration waveform ([`enough::ACC_REL`]).
+    /// ... for the acceleration waveform ([`super::enough::ACC_REL`]).
     pub ok_acc: bool,
 }
 
-/// The reference (the full model at [`REFERENCE_RTOL`]).
+/// The reference (the full model at [`super::REFERENCE_RTOL`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct SceneReference {
     /// Relative tolerance.

@@ -94,14 +94,33 @@ fn timed_steady_state<S: Scene, const N: usize>(
     Ok((steady.context("no timed run")?, times))
 }
 
-/// One row of the table: scene `S` with `follower` at `rtol`, against `truth`.
-pub(super) fn row<S: Scene, const N: usize>(
-    follower: FollowerModel,
-    rtol: f64,
-    truth: &Truth,
-    rpm: f64,
-    repeat: usize,
-) -> Result<SceneRow> {
+/// One row of the table to measure: `follower`'s scene at `rtol`, against `truth`, at
+/// `rpm`, timed `repeat` times.
+#[derive(Clone, Copy)]
+pub(super) struct Row<'a> {
+    pub(super) follower: FollowerModel,
+    pub(super) rtol: f64,
+    pub(super) truth: &'a Truth,
+    pub(super) rpm: f64,
+    pub(super) repeat: usize,
+}
+
+impl SceneVisitor for Row<'_> {
+    type Output = Result<SceneRow>;
+    fn visit<S: Scene, const N: usize>(self) -> Self::Output {
+        row::<S, N>(self)
+    }
+}
+
+/// The row of scene `S` (`N` states).
+pub(super) fn row<S: Scene, const N: usize>(at: Row) -> Result<SceneRow> {
+    let Row {
+        follower,
+        rtol,
+        truth,
+        rpm,
+        repeat,
+    } = at;
     let name = scene_name::<S>(follower);
     let settings = scene_settings(rtol);
     let design = design_at(rpm)?;
@@ -182,39 +201,14 @@ pub(super) fn reference_truth(rpm: f64, resolution: f64) -> Result<Truth> {
     })
 }
 
-/// The row of the vertical regulated scene with `follower`'s model (camsim-core's
+/// The row of the vertical regulated scene with `at.follower`'s model (camsim-core's
 /// SceneId).
-pub(super) fn follower_row(
-    follower: FollowerModel,
-    rtol: f64,
-    truth: &Truth,
-    rpm: f64,
-    repeat: usize,
-) -> Result<SceneRow> {
-    struct Row<'a> {
-        follower: FollowerModel,
-        rtol: f64,
-        truth: &'a Truth,
-        rpm: f64,
-        repeat: usize,
-    }
-    impl SceneVisitor for Row<'_> {
-        type Output = Result<SceneRow>;
-        fn visit<S: Scene, const N: usize>(self) -> Self::Output {
-            row::<S, N>(self.follower, self.rtol, self.truth, self.rpm, self.repeat)
-        }
-    }
+pub(super) fn follower_row(at: Row) -> Result<SceneRow> {
     let id = SceneId::find(
         DriveKind::Regulated,
         DofSet::VERTICAL,
-        follower.quasi_static(),
+        at.follower.quasi_static(),
     )
-    .with_context(|| format!("no vertical regulated scene for {}", follower.name()))?;
-    id.visit(Row {
-        follower,
-        rtol,
-        truth,
-        rpm,
-        repeat,
-    })
+    .with_context(|| format!("no vertical regulated scene for {}", at.follower.name()))?;
+    id.visit(at)
 }

@@ -15,7 +15,7 @@
 //! sample 0 of the seed), to compare against a CMM measurement.
 //!
 //! The study takes a [`Spec`] and the output's unit family (the drawing's length unit)
-//! and returns a [`Drawing`]: its [`ProfileReport`] (text in [`report`]) and the files'
+//! and returns a [`Drawing`]: its [`ProfileReport`] (its text in `report.rs`) and the files'
 //! contents; `camsim profile` (crate::cmd::profile) builds the spec from its arguments,
 //! writes the files and prints the report.
 
