@@ -202,11 +202,7 @@ pub fn execute(cli: Cli) -> Result<()> {
         Command::Predict(a) => cmd::predict::run(a, units),
         Command::FirmwareCheck(a) => cmd::firmware_check::run(a, units),
         Command::Montecarlo(a) => cmd::montecarlo::run(a, units),
-        Command::Profile(mut a) => {
-            // The drawing's length unit is the output's.
-            a.units = units.into();
-            cmd::profile::run(a, units)
-        }
+        Command::Profile(a) => cmd::profile::run(a, units),
         Command::Compare(a) => cmd::compare::run(a, units),
         Command::ToleranceStudy(a) => cmd::tolerance_study::run(a, units),
         Command::Sensitivity(a) => cmd::sensitivity::run(a, units),

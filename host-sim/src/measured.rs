@@ -112,16 +112,16 @@ impl MeasuredWaviness {
         }
     }
 
-    /// The one line both commands print.
-    pub fn line(&self) -> String {
-        use crate::units::{q, symbol, LENGTH};
-        let unit = symbol(LENGTH);
+    /// The one line both commands print, its lengths in `units`.
+    pub fn line(&self, units: crate::units::Units) -> String {
+        use crate::units::LENGTH;
+        let unit = units.symbol(LENGTH);
         format!(
             "measured waviness: FPR {}, RMS deviation {:.3e} {unit}, equivalent cam tolerance \
              ±{:.3e} {unit} (3 sigma); study cams like it with --waviness-fpr {}",
             self.fpr,
-            q(LENGTH, self.rms_deviation_in, 0).value,
-            q(LENGTH, self.equivalent_tolerance_in, 0).value,
+            units.value(LENGTH, self.rms_deviation_in),
+            units.value(LENGTH, self.equivalent_tolerance_in),
             self.waviness_fpr
         )
     }

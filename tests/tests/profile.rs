@@ -28,12 +28,11 @@ fn export(args: &[&str]) -> ProfileReport {
     argv.extend_from_slice(args);
     let cli = parse_from(argv).unwrap();
     let units = cli.units;
-    let Command::Profile(mut a) = cli.command else {
+    let Command::Profile(a) = cli.command else {
         panic!("not profile")
     };
     // As the binary does: the drawing's length unit is the global --units.
-    a.units = units.into();
-    profile::report(&a).unwrap()
+    profile::report(&a, units).unwrap()
 }
 
 /// The largest |lift deviation| of the exported surface read back on the reference.
@@ -149,7 +148,9 @@ fn a_too_fine_chord_error_is_refused_by_name() {
     else {
         panic!()
     };
-    let e = profile::report(&a).unwrap_err().to_string();
+    let e = profile::report(&a, camsim::units::Units::Inch)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.starts_with("--chord-error 1e-12: needs more than 3600 points"),
         "{e}"

@@ -622,6 +622,7 @@ fn predict_agrees(inch: &str, si: &str) -> usize {
 fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     let _units = units_lock();
     use camsim::cmd::{models, predict, waviness};
+    use camsim::units::{Acceleration, Force};
 
     // --- predict, f64 and f32 (the chip's): one computation, printed in both families.
     let p = predict::compute::<f64>(None, None).unwrap();
@@ -690,10 +691,10 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         onset_err_pct: 0.0,
         model_onset_rpm: 901.76,
         model_onset_err_pct: 0.0,
-        fmin_lb: 36.891,
-        fmin_err_lb,
+        fmin_lb: Force::inch(36.891),
+        fmin_err_lb: Force::inch(fmin_err_lb),
         timing_err_deg: 1.86e-5,
-        acc_rms_err,
+        acc_rms_err: Acceleration::inch(acc_rms_err),
         acc_rms_rel: acc_rms_err / 6543.6,
         ok_onset: true,
         ok_fmin: true,
@@ -706,9 +707,9 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         reference: models::SceneReference {
             rtol: 1e-9,
             onset_rpm: 901.76,
-            fmin_lb: 36.891,
+            fmin_lb: Force::inch(36.891),
             timing_deg: [0.0; camsim_core::TIMING_POINTS],
-            acc_rms: 6543.6,
+            acc_rms: Acceleration::inch(6543.6),
         },
         // A force error that rounds to zero (either sign), and one that does not.
         rows: vec![

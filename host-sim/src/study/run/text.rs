@@ -62,7 +62,7 @@ impl ProfileReport {
         let _ = writeln!(out, "{}", self.deviation_line(units));
         if let ProfileReport::Measured(p) = self {
             let w = crate::measured::MeasuredWaviness::of(p);
-            let _ = writeln!(out, "{}", w.line());
+            let _ = writeln!(out, "{}", w.line(units));
         }
     }
 
