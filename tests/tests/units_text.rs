@@ -162,7 +162,7 @@ fn study_text(argv: &[&str], units: Units) -> String {
             montecarlo::Outcome::Shard(r) => r.text(camsim::units::current()),
         },
         Command::Compare(a) => compare::report(&a).unwrap().text(camsim::units::current()),
-        Command::ToleranceStudy(a) => tolerance_study::report(&a)
+        Command::ToleranceStudy(a) => tolerance_study::report(&a, units)
             .unwrap()
             .text(camsim::units::current()),
         Command::Sensitivity(a) => sensitivity::report(&a)
