@@ -157,7 +157,7 @@ fn study_text(argv: &[&str], units: Units) -> String {
         .chain(argv.iter().copied())
         .collect();
     let text = match cli::parse_from(all).unwrap().command {
-        Command::Montecarlo(a) => match montecarlo::execute(&a).unwrap() {
+        Command::Montecarlo(a) => match montecarlo::execute(&a, units).unwrap() {
             montecarlo::Outcome::Study(r) => r.text(camsim::units::current()),
             montecarlo::Outcome::Shard(r) => r.text(camsim::units::current()),
         },
