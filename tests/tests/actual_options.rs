@@ -83,10 +83,12 @@ fn json_of(argv: &[&str]) -> anyhow::Result<Value> {
     let cli = parse_from(std::iter::once("camsim").chain(argv.iter().copied()))
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     let text = match cli.command {
-        Command::Montecarlo(a) => match camsim::cmd::montecarlo::execute(&a)? {
-            camsim::cmd::montecarlo::Outcome::Study(r) => r.json()?,
-            camsim::cmd::montecarlo::Outcome::Shard(_) => panic!("a shard"),
-        },
+        Command::Montecarlo(a) => {
+            match camsim::cmd::montecarlo::execute(&a, camsim::units::Units::Inch)? {
+                camsim::cmd::montecarlo::Outcome::Study(r) => r.json()?,
+                camsim::cmd::montecarlo::Outcome::Shard(_) => panic!("a shard"),
+            }
+        }
         Command::Design(d) => match d.what {
             What::Spring(a) => camsim::cmd::design::spring(&a)?.json()?,
             What::Speed(a) => camsim::cmd::design::mc_search(&a, true)?.json()?,

@@ -93,21 +93,22 @@ fn shard(k: usize, n: usize, samples: u64, file: &Path, seed: &str) -> Outcome {
     ];
     argv.extend_from_slice(&CHEAP[..4]);
     argv.extend_from_slice(&["--seed", seed, "--threads", "2"]);
-    execute(&montecarlo_args(&argv)).unwrap()
+    execute(&montecarlo_args(&argv), camsim::units::Units::Inch).unwrap()
 }
 
 fn merge_err(files: &[&Path]) -> String {
     let files: Vec<PathBuf> = files.iter().map(|p| p.to_path_buf()).collect();
-    let e = merge(&files, &OutputArgs::default()).unwrap_err();
+    let e = merge(&files, &OutputArgs::default(), camsim::units::Units::Inch).unwrap_err();
     let line = format!("{e:#}");
     assert!(!line.contains('\n'), "one line: {line}");
     line
 }
 
 fn single(samples: &str, threads: &str) -> montecarlo::MonteCarloReport {
-    match execute(&montecarlo_args(
-        &[&["--samples", samples, "--threads", threads], &CHEAP[..]].concat(),
-    ))
+    match execute(
+        &montecarlo_args(&[&["--samples", samples, "--threads", threads], &CHEAP[..]].concat()),
+        camsim::units::Units::Inch,
+    )
     .unwrap()
     {
         Outcome::Study(r) => *r,
@@ -153,7 +154,7 @@ fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
         }
         let mut order = files.clone();
         order.reverse();
-        let merged = merge(&order, &OutputArgs::default()).unwrap();
+        let merged = merge(&order, &OutputArgs::default(), camsim::units::Units::Inch).unwrap();
         assert_eq!(merged.study, single.study);
         assert_eq!(
             serde_json::to_string(&merged.summary).unwrap(),
@@ -220,7 +221,7 @@ fn three_way_shard_and_merge_equals_the_single_run_bit_for_bit() {
 const TWO_LEVEL: [&str; 5] = ["--vertical", "--interval-deg", "10", "--seed", "7"];
 
 fn study_report(argv: &[&str]) -> montecarlo::MonteCarloReport {
-    match execute(&montecarlo_args(argv)).unwrap() {
+    match execute(&montecarlo_args(argv), camsim::units::Units::Inch).unwrap() {
         Outcome::Study(r) => *r,
         Outcome::Shard(_) => panic!("not a shard run"),
     }
@@ -271,13 +272,13 @@ fn two_level_is_the_same_for_any_threads_and_shards() {
                 &["--shard", &shard, "--out", f.to_str().unwrap(), "--force"],
             ]
             .concat();
-            execute(&montecarlo_args(&argv)).unwrap();
+            execute(&montecarlo_args(&argv), camsim::units::Units::Inch).unwrap();
             let file = montecarlo::read_shard(f).unwrap();
             // The subsample is samples 0-2: shard K holds those of them ≡ K − 1.
             let pairs = (k as u64..3).step_by(ways).count() as u64;
             assert_eq!(file.two_level.as_ref().unwrap().full.samples, pairs);
         }
-        let merged = merge(&files, &OutputArgs::default()).unwrap();
+        let merged = merge(&files, &OutputArgs::default(), camsim::units::Units::Inch).unwrap();
         assert_eq!(json(&merged), json(&one), "{ways}-way");
         assert_eq!(header(&merged), header(&one), "{ways}-way");
     }
@@ -298,7 +299,7 @@ fn two_level_is_the_same_for_any_threads_and_shards() {
         &TWO_LEVEL[..],
     ]
     .concat();
-    execute(&montecarlo_args(&argv)).unwrap();
+    execute(&montecarlo_args(&argv), camsim::units::Units::Inch).unwrap();
     let e = merge_err(&[&plain, &tmp("two-level-2of2.json")]);
     assert!(e.contains("--two-level 3 vs one model"), "{e}");
 }
@@ -328,14 +329,16 @@ fn two_level_over_every_cam_is_the_full_models_study() {
     assert_ne!(acc(&two), acc(&full));
     // Refusals: more full-model cams than cams; a drive the reduced followers lack; a
     // forced follower.
-    let e = execute(&montecarlo_args(
-        &[&["--samples", "4", "--two-level", "2"], &CHEAP[..]].concat(),
-    ))
+    let e = execute(
+        &montecarlo_args(&[&["--samples", "4", "--two-level", "2"], &CHEAP[..]].concat()),
+        camsim::units::Units::Inch,
+    )
     .unwrap_err();
     assert!(format!("{e:#}").contains("regulated drive only"), "{e:#}");
-    let e = execute(&montecarlo_args(
-        &[&["--samples", "4", "--two-level", "5"], &TWO_LEVEL[..]].concat(),
-    ))
+    let e = execute(
+        &montecarlo_args(&[&["--samples", "4", "--two-level", "5"], &TWO_LEVEL[..]].concat()),
+        camsim::units::Units::Inch,
+    )
     .unwrap_err();
     assert!(format!("{e:#}").contains("at most --samples (4)"), "{e:#}");
     let e = parse_from([
@@ -640,7 +643,7 @@ fn a_study_whose_cams_jump_out_of_range_reports_p_jump_1_and_exits_0() {
     };
     for (rpm, n, left, with_stats) in [("1300", 4u64, 4u64, 0u64), ("1200", 6, 5, 1)] {
         let a = montecarlo_args(&argv(rpm, if n == 4 { "4" } else { "6" }));
-        let Outcome::Study(r) = execute(&a).unwrap() else {
+        let Outcome::Study(r) = execute(&a, camsim::units::Units::Inch).unwrap() else {
             panic!("not a study")
         };
         let sm = &r.summary;
@@ -678,7 +681,7 @@ fn a_study_whose_cams_jump_out_of_range_reports_p_jump_1_and_exits_0() {
 fn a_two_level_study_whose_cams_jump_out_of_range_reports_p_jump_1() {
     for rpm in ["1300", "1200"] {
         let a = montecarlo_args(&["--samples", "6", "--rpm", rpm]);
-        let Outcome::Study(r) = execute(&a).unwrap() else {
+        let Outcome::Study(r) = execute(&a, camsim::units::Units::Inch).unwrap() else {
             panic!("not a study")
         };
         let (sm, t) = (&r.summary, r.two_level.as_ref().expect("two-level"));

@@ -440,7 +440,8 @@ fn a_bad_out_name_fails_before_the_first_sample() {
     let mut argv = vec!["--samples", "2000", "--threads", "1", "--out", s(&long)];
     argv.extend_from_slice(&CHEAP);
     let t0 = Instant::now();
-    let e = camsim::cmd::montecarlo::execute(&montecarlo(&argv)).unwrap_err();
+    let e = camsim::cmd::montecarlo::execute(&montecarlo(&argv), camsim::units::Units::Inch)
+        .unwrap_err();
     let e = format!("{e:#}");
     assert!(
         e.contains("the file name is 257 bytes, over the 255 a file system allows"),
@@ -458,7 +459,8 @@ fn a_study_past_the_time_limit_is_refused_after_one_sample() {
     let mut argv = vec!["--samples", "100000000", "--threads", "1"];
     argv.extend_from_slice(&CHEAP);
     let t0 = Instant::now();
-    let e = camsim::cmd::montecarlo::execute(&montecarlo(&argv)).unwrap_err();
+    let e = camsim::cmd::montecarlo::execute(&montecarlo(&argv), camsim::units::Units::Inch)
+        .unwrap_err();
     let e = format!("{e:#}");
     // At least 1 ms a sample on one thread: 1e8 samples are over a day.
     assert!(
@@ -480,9 +482,9 @@ fn edited_or_insane_shards_are_refused_at_merge() {
         let mut argv = vec!["--samples", "7", "--threads", "1", "--shard", &shard];
         argv.extend_from_slice(&["--out", s(f)]);
         argv.extend_from_slice(&CHEAP);
-        camsim::cmd::montecarlo::execute(&montecarlo(&argv)).unwrap();
+        camsim::cmd::montecarlo::execute(&montecarlo(&argv), camsim::units::Units::Inch).unwrap();
     }
-    assert!(merge(&files, &OutputArgs::default()).is_ok());
+    assert!(merge(&files, &OutputArgs::default(), camsim::units::Units::Inch).is_ok());
     let merge_err = |edited: &ShardEdit| -> String {
         let target = d.join("edited.json");
         let mut file = read_shard(&files[1]).unwrap();
@@ -494,6 +496,7 @@ fn edited_or_insane_shards_are_refused_at_merge() {
         let e = merge(
             &[files[0].clone(), target.clone(), files[2].clone()],
             &OutputArgs::default(),
+            camsim::units::Units::Inch,
         )
         .unwrap_err();
         format!("{e:#}")

@@ -160,7 +160,7 @@ fn montecarlo_json_columns_carry_their_unit() {
         panic!("not montecarlo")
     };
     let a: Args = a;
-    let Outcome::Study(r) = execute(&a).unwrap() else {
+    let Outcome::Study(r) = execute(&a, camsim::units::Units::Inch).unwrap() else {
         panic!("not a study")
     };
     let text = r.json().unwrap();

@@ -159,12 +159,12 @@ fn study_text(argv: &[&str], units: Units) -> String {
         .chain(argv.iter().copied())
         .collect();
     let text = match cli::parse_from(all).unwrap().command {
-        Command::Montecarlo(a) => match montecarlo::execute(&a).unwrap() {
+        Command::Montecarlo(a) => match montecarlo::execute(&a, units).unwrap() {
             montecarlo::Outcome::Study(r) => r.text(camsim::units::current()),
             montecarlo::Outcome::Shard(r) => r.text(camsim::units::current()),
         },
         Command::Compare(a) => compare::report(&a).unwrap().text(camsim::units::current()),
-        Command::ToleranceStudy(a) => tolerance_study::report(&a)
+        Command::ToleranceStudy(a) => tolerance_study::report(&a, units)
             .unwrap()
             .text(camsim::units::current()),
         Command::Sensitivity(a) => sensitivity::report(&a)

@@ -157,7 +157,7 @@ fn tolerance_study_cells_that_jump_out_of_range_report_p_jump_1() {
     else {
         panic!("not tolerance-study")
     };
-    let r = tolerance_study::report(&a).unwrap();
+    let r = tolerance_study::report(&a, camsim::units::Units::Inch).unwrap();
     assert_eq!(r.cells.len(), 9);
     for c in std::iter::once(&r.theoretical).chain(&r.cells) {
         let s = &c.summary;
@@ -340,7 +340,7 @@ fn tolerance_study_with_no_workable_cell_exits_1_and_writes_nothing() {
     };
     let msg = format!(
         "{:#}",
-        camsim::cmd::tolerance_study::report(&a).unwrap_err()
+        camsim::cmd::tolerance_study::report(&a, camsim::units::Units::Inch).unwrap_err()
     );
     assert!(
         msg.starts_with("no cell is workable")

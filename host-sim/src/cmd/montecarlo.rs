@@ -1,22 +1,18 @@
 //! `camsim montecarlo`: many actual cams, in parallel, reproducible bit for bit. The
-//! command line and its outputs; the study is [`crate::study::montecarlo`], its
-//! histograms [`crate::plot::montecarlo`].
+//! command line and its outputs; the study is [`crate::study::montecarlo`] (measured by
+//! [`crate::study::montecarlo::measure()`]), its histograms [`crate::plot::montecarlo`].
 
 use std::io::Write;
 use std::path::PathBuf;
-use std::time::Instant;
 
 use anyhow::{bail, Result};
 
 pub use crate::args::{OutputArgs, StudyArgs};
-use crate::output::{AtomicFile, DirTarget, Plan};
-use crate::plot::montecarlo::{draw, PLOT_FILES};
-pub use crate::study::montecarlo::{
-    default_full_samples, measured_revolution, parse_shard, read_shard, summarize, threads,
-    Columns, Moments, MonteCarloReport, PeriodSummary, PeriodValues, Probability, ProfileSettings,
-    SampleRecord, Shard, ShardFile, ShardReport, Study, StudySettings, StudyStats, Summary, Timing,
-    COLUMNS, REVOLUTION, REVOLUTION_COLUMNS, SHARD_FORMAT, SHARD_VERSION,
-};
+use crate::output::{AtomicDir, AtomicFile, DirTarget, Plan};
+use crate::plot::montecarlo::PLOT_FILES;
+pub use crate::study::montecarlo::MonteCarloOutcome as Outcome;
+pub use crate::study::montecarlo::*;
+use crate::units::Units;
 
 /// Command-line options of `camsim montecarlo`.
 #[derive(clap::Args, Debug, Clone)]
@@ -80,73 +76,36 @@ pub struct MergeArgs {
     pub output: OutputArgs,
 }
 
-/// The outcome of `camsim montecarlo`.
-#[derive(Clone, Debug)]
-pub enum Outcome {
-    /// A whole study (or a merge).
-    Study(Box<MonteCarloReport>),
-    /// One shard written.
-    Shard(ShardReport),
-}
-
-/// Runs what `args` ask for (a study, a shard or a merge) and writes its files.
-pub fn execute(args: &Args) -> Result<Outcome> {
+/// Runs what `args` ask for (a study, a shard or a merge) and writes its files (the
+/// figures in `units`).
+pub fn execute(args: &Args, units: Units) -> Result<Outcome> {
     if let Some(Sub::Merge(m)) = &args.merge {
-        return merge(&m.files, &m.output).map(|r| Outcome::Study(Box::new(r)));
+        return merge(&m.files, &m.output, units).map(|r| Outcome::Study(Box::new(r)));
     }
     args.study.actual.refuse_actual_flag("montecarlo")?;
-    let study = levels(Study::new(&args.study)?, args)?;
-    let shard = args.shard.unwrap_or(Shard::WHOLE);
-    let (mut out_file, plot_target) = outputs(args)?;
-    let threads = threads(args.threads);
-    first_sample_time(&study, shard, threads, args.allow_long)?;
-    let t0 = Instant::now();
-    let tally = study.run_tally(shard, threads, true)?;
-    let stats = tally.stats;
-    let two_level = study
-        .settings
-        .two_level
-        .is_some()
-        .then_some(tally.two_level);
-    let timing = timing(threads, t0.elapsed().as_secs_f64(), stats.accounted());
-    let (summary, two_level_summary) = if args.shard.is_none() {
-        let t = match &two_level {
-            Some(t) => t.summary(&stats)?,
-            None => None,
-        };
-        (Some(stats.summary(study.revolution())?), t)
-    } else {
-        (None, None)
+    let study = Study::new(&args.study)?
+        .with_levels(args.two_level, args.study.scene.follower.is_some())?;
+    let (out_file, plot_target) = outputs(args)?;
+    let spec = Spec {
+        study,
+        shard: args.shard,
+        threads: threads(args.threads),
+        allow_long: args.allow_long,
     };
-    let mut plots = match (plot_target, &summary) {
-        (Some(t), Some(_)) => {
-            let mut dir = t.open()?;
-            draw(&mut dir, &stats, study.revolution())?;
-            Some(dir)
-        }
+    let measured = crate::study::montecarlo::measure(&spec)?;
+    let plots = match (plot_target, &measured.summary) {
+        (Some(t), Some(_)) => Some(figures(t, &measured, units)?),
         _ => None,
     };
-    let n = stats.accounted();
-    if let Some(f) = out_file.take() {
-        write_shard(f, &study.settings, shard, stats, two_level)?;
+    if let Some(mut f) = out_file {
+        serde_json::to_writer(&mut f, &measured.shard_file()?)?;
+        f.write_all(b"\n")?;
+        f.commit()?;
     }
-    if let Some(p) = plots.take() {
+    if let Some(p) = plots {
         p.commit()?;
     }
-    match summary {
-        Some(summary) => Ok(Outcome::Study(Box::new(MonteCarloReport {
-            study: study.settings,
-            summary,
-            two_level: two_level_summary,
-            timing: Some(timing),
-        }))),
-        None => Ok(Outcome::Shard(ShardReport {
-            shard,
-            samples: n,
-            out: args.out.clone().unwrap_or_default(),
-            timing,
-        })),
-    }
+    Ok(measured.report(args.out.clone().unwrap_or_default()))
 }
 
 /// Every output checked before any sample runs: the `--out` file, its temporary already
@@ -178,72 +137,19 @@ fn outputs(args: &Args) -> Result<(Option<AtomicFile>, Option<DirTarget>)> {
     Ok((out_file, plot_target))
 }
 
-/// The study's speed: `samples` accounted in `wall_s` seconds on `threads` threads.
-fn timing(threads: usize, wall_s: f64, samples: u64) -> Timing {
-    Timing {
-        threads,
-        wall_s,
-        samples_per_s: samples as f64 / wall_s,
-        samples_per_s_per_thread: samples as f64 / wall_s / threads as f64,
+/// Draws the study's histograms into `target`'s temporary directory, in `units` (the
+/// caller commits it).
+fn figures(target: DirTarget, m: &Measured, units: Units) -> Result<AtomicDir> {
+    let mut dir = target.open()?;
+    for (file, fig) in crate::plot::montecarlo::figures(&m.stats, m.revolution, units) {
+        crate::figure::draw(&mut dir, file, &fig, units)?;
     }
+    Ok(dir)
 }
 
-/// Refuses a shard whose estimated time is too long (unless `allow_long`), before it runs.
-fn first_sample_time(study: &Study, shard: Shard, threads: usize, allow_long: bool) -> Result<()> {
-    let count = shard.len(study.settings.samples);
-    // Memory does not grow with the samples (streamed statistics); time is estimated
-    // from the first sample run alone (once more than the study needs: a sample depends
-    // on its index only).
-    // (A two-level study's first sample runs on both models: its time counts the
-    // shard's full-model cams once more for each of its cams, an overestimate.)
-    if let Some(first) = shard.indices(study.settings.samples).next() {
-        let t = Instant::now();
-        let _ = study.pair(first)?;
-        crate::study_limits::check_time(t.elapsed().as_secs_f64(), count, threads, allow_long)?;
-    }
-    Ok(())
-}
-
-/// Writes the shard's statistics (with their digest) to its output file and commits it.
-fn write_shard(
-    mut f: crate::output::AtomicFile,
-    settings: &StudySettings,
-    shard: Shard,
-    stats: StudyStats,
-    two_level: Option<crate::stats::two_level::TwoLevelStats>,
-) -> Result<()> {
-    let mut file = ShardFile {
-        format: SHARD_FORMAT.into(),
-        version: SHARD_VERSION,
-        study: settings.clone(),
-        shard,
-        samples: stats.accounted(),
-        stats,
-        two_level,
-        digest: String::new(),
-    };
-    file.digest = crate::shard::digest(&file)?;
-    serde_json::to_writer(&mut f, &file)?;
-    f.write_all(b"\n")?;
-    f.commit()
-}
-
-/// The study's models: `--two-level N` (0: the full model alone), `--follower` one
-/// model, neither the default two-level estimate ([`Study::default_levels`]).
-fn levels(mut study: Study, args: &Args) -> Result<Study> {
-    match args.two_level {
-        Some(0) => {
-            study.settings.one_model = Some("the full model alone (--two-level 0)".into());
-            Ok(study)
-        }
-        Some(n) => study.two_level(n),
-        None if args.study.scene.follower.is_some() => Ok(study),
-        None => study.default_levels(),
-    }
-}
-
-/// Merges shard files into the result of their study (every sample exactly once).
-pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
+/// Merges shard files into the result of their study (every sample exactly once),
+/// drawing its histograms (`--plot`, in `units`).
+pub fn merge(files: &[PathBuf], out: &OutputArgs, units: Units) -> Result<MonteCarloReport> {
     let mut plan = Plan::new(out.force);
     for f in files {
         plan.input("shard file", f);
@@ -252,34 +158,23 @@ pub fn merge(files: &[PathBuf], out: &OutputArgs) -> Result<MonteCarloReport> {
         Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
         None => None,
     };
-    let (study, tally) = crate::study::montecarlo::shard::collect(files)?;
-    let stats = tally.stats;
-    let revolution = measured_revolution(study.revolutions);
-    let summary = stats.summary(revolution)?;
-    let two_level = match &study.two_level {
-        Some(_) => tally.two_level.summary(&stats)?,
-        None => None,
-    };
+    let measured = crate::study::montecarlo::merge(files)?;
     if let Some(t) = plot_target {
-        let mut dir = t.open()?;
-        draw(&mut dir, &stats, revolution)?;
-        dir.commit()?;
+        figures(t, &measured, units)?.commit()?;
     }
-    Ok(MonteCarloReport {
-        study,
-        summary,
-        two_level,
-        timing: None,
-    })
+    match measured.report(PathBuf::new()) {
+        Outcome::Study(r) => Ok(*r),
+        Outcome::Shard(_) => bail!("a merge gave a shard, not a study"),
+    }
 }
 
 /// Runs the command.
-pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
+pub fn run(args: Args, units: Units) -> Result<()> {
     let json = match &args.merge {
         Some(Sub::Merge(m)) => m.output.json,
         None => args.output.json,
     };
-    match execute(&args)? {
+    match execute(&args, units)? {
         Outcome::Study(r) => crate::report::print(r.as_ref(), json, units),
         Outcome::Shard(r) => crate::report::print(&r, json, units),
     }

@@ -2,14 +2,12 @@
 //! streamed statistics' histograms: the cams that kept contact and those that jumped
 //! stacked in two colours, and P(jump) with its 95 % Wilson interval.
 
-use anyhow::Result;
-
 use super::charts::{histograms, probabilities, HistPanel, ProbBar, ALL, HELD, JUMPED};
-use crate::output::AtomicDir;
+use crate::figure::Figure;
 use crate::stats::stream::Stream;
 use crate::stats::Probability;
 use crate::study::montecarlo::{StudyStats, COLUMNS, REVOLUTION_COLUMNS};
-use crate::units::{ACCELERATION, FORCE};
+use crate::units::{Units, ACCELERATION, FORCE};
 use camsim_scene_file::units::Unit;
 
 /// The plots `--plot DIR` writes.
@@ -41,24 +39,32 @@ fn quantity(col: &str) -> (&'static str, &'static str, Option<Unit>) {
     }
 }
 
-/// A column's factor on its inch-family values and its unit (for a panel's note), in the
-/// output's family (`--units`).
-fn axis_unit(col: &str) -> (f64, String) {
+/// A column's factor on its inch-family values and its unit (for a panel's note), in
+/// `units`.
+fn axis_unit(col: &str, units: Units) -> (f64, String) {
     quantity(col)
         .2
-        .map_or((1.0, String::new()), crate::units::axis)
+        .map_or((1.0, String::new()), |u| units.axis(u))
 }
 
-/// A panel of `all` (every sample) with `jumped` (the samples that jumped) stacked on
-/// the held ones, over `bins` bins of `all`'s range; `n` samples.
-fn panel(
-    caption: String,
-    col: &str,
-    all: &Stream,
-    jumped: Option<&Stream>,
+/// A histogram's data: every sample (`all`) and the samples that jumped (`jumped`,
+/// none: no split), over `bins` bins; `n` samples.
+struct Histogram<'a> {
+    all: &'a Stream,
+    jumped: Option<&'a Stream>,
     bins: usize,
     n: u64,
-) -> HistPanel {
+}
+
+/// A panel of `h.all` (every sample) with `h.jumped` (the samples that jumped) stacked
+/// on the held ones, over `h.bins` bins of `all`'s range; its note in `units`.
+fn panel(caption: String, col: &str, h: Histogram, units: Units) -> HistPanel {
+    let Histogram {
+        all,
+        jumped,
+        bins,
+        n,
+    } = h;
     let split = jumped.is_some();
     let (lo, hi, counts) = all.display_bins(bins);
     let jumped = jumped.map_or_else(|| vec![0; counts.len()], |j| j.counts_over(lo, hi, bins));
@@ -68,7 +74,7 @@ fn panel(
         .map(|(a, j)| a.saturating_sub(*j))
         .collect();
     let (_, q, quantity_unit) = quantity(col);
-    let (factor, unit) = axis_unit(col);
+    let (factor, unit) = axis_unit(col, units);
     let note = all.range().filter(|(a, b)| a == b).map(|(v, _)| {
         let v = v * factor;
         let lost = if col.starts_with("contact_force_min") && v <= 0.0 {
@@ -113,8 +119,8 @@ pub fn jump_bars(stats: &StudyStats) -> Vec<ProbBar> {
 }
 
 /// The by-period histograms: each period's acceleration RMS, smallest contact force,
-/// largest torque and largest stress, over `bins` bins.
-fn period_panels(stats: &StudyStats, bins: usize) -> Vec<HistPanel> {
+/// largest torque and largest stress, over `bins` bins, in `units`.
+fn period_panels(stats: &StudyStats, bins: usize, units: Units) -> Vec<HistPanel> {
     let mut panels = Vec::new();
     for col in [
         "rms_acceleration",
@@ -126,17 +132,23 @@ fn period_panels(stats: &StudyStats, bins: usize) -> Vec<HistPanel> {
         for p in &stats.periods {
             if let Some(s) = c.and_then(|c| p.columns.get(c)) {
                 let (q, _, _) = quantity(col);
-                let jumped = c.and_then(|c| p.jumped_columns.get(c));
+                let h = Histogram {
+                    all: s,
+                    jumped: c.and_then(|c| p.jumped_columns.get(c)),
+                    bins,
+                    n: stats.samples,
+                };
                 let caption = format!("{}: {q}", p.period);
-                panels.push(panel(caption, col, s, jumped, bins, stats.samples));
+                panels.push(panel(caption, col, h, units));
             }
         }
     }
     panels
 }
 
-/// Draws the plots of a study's statistics into `dir`.
-pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<()> {
+/// The figures of a study's statistics, in `units`, each with its file name
+/// ([`PLOT_FILES`]).
+pub fn figures(stats: &StudyStats, revolution: u32, units: Units) -> [(&'static str, Figure); 3] {
     let n = stats.samples;
     let bins = ((n as f64).sqrt().ceil() as usize).clamp(5, 50);
     let legend = [
@@ -157,46 +169,43 @@ pub fn draw(dir: &mut AtomicDir, stats: &StudyStats, revolution: u32) -> Result<
         .filter_map(|(i, c)| {
             let all = stats.whole_revolution.get(i)?;
             let (q, _, _) = quantity(c);
-            Some(panel(
-                format!("revolution {revolution}: {q}"),
-                c,
+            let h = Histogram {
                 all,
-                stats.jumped_revolution.get(i),
+                jumped: stats.jumped_revolution.get(i),
                 bins,
                 n,
-            ))
+            };
+            Some(panel(format!("revolution {revolution}: {q}"), c, h, units))
         })
         .collect();
     // The profiles are drawn before the run: no jumped/held split.
-    panels.push(panel(
-        "profile: waviness FPR".into(),
-        "fpr",
-        &stats.fpr,
-        None,
-        bins,
-        n,
-    ));
-    panels.push(panel(
-        "profile: RMS lift deviation".into(),
-        "rms_deviation_in",
-        &stats.rms_deviation_in,
-        None,
-        bins,
-        n,
-    ));
-    let units = crate::units::current();
+    for (caption, col, all) in [
+        ("profile: waviness FPR", "fpr", &stats.fpr),
+        (
+            "profile: RMS lift deviation",
+            "rms_deviation_in",
+            &stats.rms_deviation_in,
+        ),
+    ] {
+        let h = Histogram {
+            all,
+            jumped: None,
+            bins,
+            n,
+        };
+        panels.push(panel(caption.into(), col, h, units));
+    }
     let title = format!("{n} actual cams, revolution {revolution}: histograms");
-    let fig = histograms(&title, &legend_profiles, "cams", &panels, 4);
-    crate::figure::draw(dir, PLOT_FILES[0], &fig, units)?;
-    let panels = period_panels(stats, bins);
+    let whole = histograms(&title, &legend_profiles, "cams", &panels, 4);
+    let panels = period_panels(stats, bins, units);
     let title = format!("{n} actual cams, revolution {revolution}, by period: histograms");
-    let fig = histograms(&title, &legend, "cams", &panels, stats.periods.len().max(1));
-    crate::figure::draw(dir, PLOT_FILES[1], &fig, units)?;
+    let periods = histograms(&title, &legend, "cams", &panels, stats.periods.len().max(1));
     let title = format!(
         "Probability of a jump in revolution {revolution} over {n} actual cams, by period and over the revolution"
     );
-    let fig = probabilities(&title, "P(jump)", n, &jump_bars(stats));
-    crate::figure::draw(dir, PLOT_FILES[2], &fig, units)
+    let jumps = probabilities(&title, "P(jump)", n, &jump_bars(stats));
+    let [a, b, c] = PLOT_FILES;
+    [(a, whole), (b, periods), (c, jumps)]
 }
 
 #[cfg(test)]

@@ -6,13 +6,13 @@
 
 use camsim_scene_file::units::{Unit, STRESS};
 
-use crate::cmd::tolerance_study::{column_label, Cell};
 use crate::figure::palette::{BLACK, BLUE, BROWN, GREEN, MID_GREY, ORANGE, PURPLE, RED, WHITE};
 use crate::figure::{
     At, Axis, Band, Bar, Colour, Entry, Figure, HAlign, Mark, Marker, Note, Panel, Series, Shape,
     Strip, Stroke, Style, Swatch, Ticks, VAlign,
 };
-use crate::units::FORCE;
+use crate::study::tolerance::{column_label, Cell, ToleranceReport};
+use crate::units::{Units, FORCE};
 
 /// The waviness columns' colours, in order.
 const COLUMN_COLOURS: [Colour; 6] = [BLUE, RED, GREEN, ORANGE, PURPLE, BROWN];
@@ -53,7 +53,11 @@ fn heat(t: f64) -> Colour {
 /// acceleration RMS sum (`t_acc` its colour, `fa` its unit's factor).
 fn grid_cell(c: &Cell, jump: bool, t_acc: f64, fa: f64) -> (f64, String) {
     let p = &c.summary.jump;
-    match (&c.not_workable, jump, c.acc_rms_sum_in_per_s2) {
+    match (
+        &c.not_workable,
+        jump,
+        c.acc_rms_sum_in_per_s2.map(|a| a.in_inch()),
+    ) {
         (Some(_), _, _) => (f64::NAN, "not workable".into()),
         (None, true, _) => (p.p, format!("{:.2} [{:.2}, {:.2}]", p.p, p.lo95, p.hi95)),
         (None, false, None) => (f64::NAN, "no statistics".into()),
@@ -62,30 +66,37 @@ fn grid_cell(c: &Cell, jump: bool, t_acc: f64, fa: f64) -> (f64, String) {
 }
 
 /// The heat maps: P(jump) (colour, with its interval written in the cell) and the
-/// acceleration RMS (colour on a log scale, value written), tolerance by waviness.
-pub fn grid(theoretical: &Cell, cells: &[Cell], cols: usize, samples: u64) -> Figure {
-    let cols = cols.max(1);
+/// acceleration RMS (colour on a log scale, value written), tolerance by waviness, in
+/// `units`.
+pub fn grid(r: &ToleranceReport, units: Units) -> Figure {
+    let (theoretical, cells, samples) = (&r.theoretical, &r.cells, r.samples_per_cell);
+    let cols = r.columns.max(1);
     let rows = cells.len().div_ceil(cols);
-    let (fa, ua) = crate::units::axis(crate::units::ACCELERATION);
+    let (fa, ua) = units.axis(crate::units::ACCELERATION);
     let title = format!(
         "camsim tolerance-study: revolution 2, {samples} actual {} a cell (theoretical cam: sum of acceleration RMS {}, {})",
         cams(samples),
         theoretical
             .acc_rms_sum_in_per_s2
-            .map_or("none (no statistics)".into(), |a| format!("{:.0} {ua}", fa * a)),
+            .map_or("none (no statistics)".into(), |a| {
+                format!("{:.0} {ua}", fa * a.in_inch())
+            }),
         if theoretical.summary.jump.count > 0 { "jumps" } else { "no jump" }
     );
     let captions = [
         "P(jump) in revolution 2 [95 % Wilson interval]".to_string(),
         format!("sum over the periods of the acceleration RMS deviation, {ua} (colour: log scale)"),
     ];
-    let acc: Vec<Option<f64>> = cells.iter().map(|c| c.acc_rms_sum_in_per_s2).collect();
+    let acc: Vec<Option<f64>> = cells
+        .iter()
+        .map(|c| c.acc_rms_sum_in_per_s2.map(|a| a.in_inch()))
+        .collect();
     let t_acc = acc_colours(&acc);
     let panels = captions
         .into_iter()
         .enumerate()
         .map(|(k, caption)| {
-            let mut p = heat_panel(cells, cols, rows);
+            let mut p = heat_panel(cells, cols, rows, units);
             p.caption = Some(caption);
             for (i, c) in cells.iter().enumerate() {
                 let (col, row) = ((i % cols) as f64, (rows - 1 - i / cols) as f64);
@@ -134,14 +145,17 @@ fn acc_colours(acc: &[Option<f64>]) -> Vec<f64> {
 }
 
 /// A heat map's empty panel: a column a waviness, a row a tolerance (the first on top).
-fn heat_panel(cells: &[Cell], cols: usize, rows: usize) -> Panel {
+fn heat_panel(cells: &[Cell], cols: usize, rows: usize, units: Units) -> Panel {
     let xlabels = (0..cols.min(cells.len()))
         .map(|j| column_label(cells, cols, j))
         .collect();
     let ylabels = cells
         .chunks(cols)
         .rev()
-        .map(|r| r.first().map_or(String::new(), tolerance_label))
+        .map(|r| {
+            r.first()
+                .map_or(String::new(), |c| tolerance_label(c, units))
+        })
         .collect();
     let x = Axis::plain("waviness asked: FPR (achieved: mean of the cams)", "")
         .range(-0.5, cols as f64 - 0.5)
@@ -152,9 +166,9 @@ fn heat_panel(cells: &[Cell], cols: usize, rows: usize) -> Panel {
     Panel::new(x, y)
 }
 
-/// A length in the output's unit (`--units`), to four significant digits.
-fn length_text(inch: f64) -> String {
-    let (f, unit) = crate::units::axis(camsim_scene_file::units::LENGTH);
+/// A length in `units`, to four significant digits.
+fn length_text(inch: f64, units: Units) -> String {
+    let (f, unit) = units.axis(camsim_scene_file::units::LENGTH);
     let v = inch * f;
     let digits = (3 - v.abs().max(1e-300).log10().floor() as i32).clamp(0, 9) as usize;
     let t = format!("{v:.digits$}");
@@ -166,10 +180,10 @@ fn length_text(inch: f64) -> String {
     format!("{t} {unit}")
 }
 
-/// A grid row's tolerances: "±cam / ±roller" in the output's length unit.
-fn tolerance_label(c: &Cell) -> String {
-    let cam = length_text(c.cam_tolerance_in);
-    let roller = length_text(c.roller_tolerance_in);
+/// A grid row's tolerances: "±cam / ±roller" in the length unit of `units`.
+fn tolerance_label(c: &Cell, units: Units) -> String {
+    let cam = length_text(c.cam_tolerance_in.in_inch(), units);
+    let roller = length_text(c.roller_tolerance_in.in_inch(), units);
     format!("±{} / ±{roller}", cam.split(' ').next().unwrap_or(&cam))
 }
 
@@ -239,16 +253,17 @@ fn responses(samples: u64) -> [Response; 3] {
 /// P(jump) with its 95 % Wilson interval, and the 5th, 50th and 95th percentiles of the
 /// smallest contact force and of the largest contact stress in revolution 2, against the
 /// cam / roller tolerance (the grid's rows, smallest first), one colour per waviness
-/// column; the theoretical cam as a grey dashed line.
-pub fn response(theoretical: &Cell, cells: &[Cell], cols: usize, samples: u64) -> Figure {
-    let cols = cols.max(1);
+/// column; the theoretical cam as a grey dashed line; in `units`.
+pub fn response(r: &ToleranceReport, units: Units) -> Figure {
+    let (theoretical, cells, samples) = (&r.theoretical, &r.cells, r.samples_per_cell);
+    let cols = r.columns.max(1);
     // Rows of the grid, smallest tolerance first (the grid lists the largest first).
     let rows: Vec<&[Cell]> = cells.chunks(cols).rev().collect();
     let names: Vec<String> = rows
         .iter()
         .map(|r| {
             r.first().map_or(String::new(), |c| {
-                format!("±{}", length_text(c.cam_tolerance_in))
+                format!("±{}", length_text(c.cam_tolerance_in.in_inch(), units))
             })
         })
         .collect();

@@ -14,6 +14,7 @@ pub mod profile;
 pub mod run;
 pub mod sensitivity;
 pub mod sweep;
+pub mod tolerance;
 
 /// A local pool of `threads` worker threads (at least one) for a study's independent runs,
 /// each with a 16 MB stack (a sample's profile, three arrays of 3601 f64, is built on the

@@ -37,7 +37,8 @@
 //! any threads or shards.
 //!
 //! The parts: the study and its samples (here), the statistics (`crate::stats`), the
-//! shard files and their merge ([`shard`]) and the printed report ([`report`]); the
+//! study measured from its [`Spec`] or merged from its shards ([`measure()`], [`merge()`]), the shard
+//! files and their merge ([`shard`]) and the printed report ([`report`]); the
 //! histograms are [`crate::plot::montecarlo`], the command line `crate::cmd::montecarlo`.
 
 use std::ops::ControlFlow;
@@ -54,6 +55,7 @@ use crate::args::spec_from;
 use crate::args::StudyArgs;
 use crate::sim::{self, PeriodRow, RunSpec};
 
+pub mod measure;
 pub mod report;
 pub mod shard;
 
@@ -63,6 +65,7 @@ pub use crate::stats::study::{
 };
 pub use crate::stats::two_level::{TwoLevelStats, TwoLevelSummary};
 pub use crate::stats::Probability;
+pub use measure::{measure, merge, Measured, MonteCarloOutcome, Spec};
 pub use report::{MonteCarloReport, ShardReport, Timing};
 pub use shard::{read_shard, ShardFile};
 

@@ -8,6 +8,7 @@ use serde::Serialize;
 use super::{Columns, Probability, Shard, StudySettings, Summary, TwoLevelSummary};
 use crate::report::Report;
 use crate::stats::two_level::Estimate;
+use crate::units::{Units, LENGTH};
 
 /// Run time of a study on this machine (not part of the result).
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -51,7 +52,7 @@ pub struct ShardReport {
 }
 
 impl Report for ShardReport {
-    fn text(&self, _units: crate::units::Units) -> String {
+    fn text(&self, _units: Units) -> String {
         format!(
             "camsim montecarlo: shard {} ({} samples) written to {} in {:.1} s on {} threads\n",
             self.shard,
@@ -63,10 +64,9 @@ impl Report for ShardReport {
     }
 }
 
-/// Short column labels of the text table: the name and the unit, in the output's
-/// family (`--units`).
-pub fn label(col: &str) -> String {
-    use crate::units::{self as u, ACCELERATION, FORCE, LENGTH, SPEED, STRESS, TORQUE};
+/// Short column labels of the text table: the name and the unit, in `units`.
+pub fn label(col: &str, units: Units) -> String {
+    use crate::units::{ACCELERATION, FORCE, SPEED, STRESS, TORQUE};
     let (name, unit) = match col {
         "rms_displacement" => ("rms_y", Some((LENGTH, "in"))),
         "rms_velocity" => ("rms_v", Some((SPEED, "in/s"))),
@@ -87,7 +87,7 @@ pub fn label(col: &str) -> String {
         other => (other, None),
     };
     match unit {
-        Some((unit, inch)) => format!("{name}, {}", u::label(unit, inch)),
+        Some((unit, inch)) => format!("{name}, {}", units.label(unit, inch)),
         None => name.to_string(),
     }
 }
@@ -106,7 +106,8 @@ fn column_unit(col: &str) -> Option<camsim_scene_file::units::Unit> {
     }
 }
 
-fn moments_table(out: &mut String, columns: &Columns) {
+/// A table of columns' moments and percentiles, in `units`.
+fn moments_table(out: &mut String, columns: &Columns, units: Units) {
     use std::fmt::Write;
     let _ = writeln!(
         out,
@@ -114,11 +115,11 @@ fn moments_table(out: &mut String, columns: &Columns) {
         "", "mean", "sd", "p5", "p50", "p95"
     );
     for (name, m) in &columns.0 {
-        let v = |x: f64| column_unit(name).map_or(x, |unit| crate::units::value(unit, x));
+        let v = |x: f64| column_unit(name).map_or(x, |unit| units.value(unit, x));
         let _ = writeln!(
             out,
             "  {:<17} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}",
-            label(name),
+            label(name, units),
             v(m.mean),
             v(m.sd),
             v(m.p5),
@@ -167,8 +168,8 @@ pub fn two_level_header(estimator: &str, subsample: u64, pairs: u64) -> String {
 }
 
 /// The full model's estimate of a two-level study, in words; `subsample` the cams
-/// asked to run on the full model too.
-fn two_level_text(out: &mut String, t: &TwoLevelSummary, subsample: u64) {
+/// asked to run on the full model too; in `units`.
+fn two_level_text(out: &mut String, t: &TwoLevelSummary, subsample: u64, units: Units) {
     use std::fmt::Write;
     let _ = writeln!(
         out,
@@ -196,12 +197,12 @@ fn two_level_text(out: &mut String, t: &TwoLevelSummary, subsample: u64) {
         );
     }
     for c in &t.whole_revolution {
-        let v = |x: f64| column_unit(&c.column).map_or(x, |unit| crate::units::value(unit, x));
+        let v = |x: f64| column_unit(&c.column).map_or(x, |unit| units.value(unit, x));
         let m = &c.mean;
         let _ = writeln!(
             out,
             "  {:<17} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}",
-            label(&c.column),
+            label(&c.column, units),
             v(m.value),
             v(m.lo95),
             v(m.hi95),
@@ -217,13 +218,13 @@ fn two_level_text(out: &mut String, t: &TwoLevelSummary, subsample: u64) {
 }
 
 /// A two-level study's full-model estimate, or why it has none.
-fn full_model_text(out: &mut String, r: &MonteCarloReport) {
+fn full_model_text(out: &mut String, r: &MonteCarloReport, units: Units) {
     use std::fmt::Write;
     match (&r.two_level, &r.study.two_level) {
         (Some(t), Some(s)) => {
-            two_level_text(out, t, s.full_samples.min(r.study.samples));
+            two_level_text(out, t, s.full_samples.min(r.study.samples), units);
         }
-        (Some(t), None) => two_level_text(out, t, t.full_samples),
+        (Some(t), None) => two_level_text(out, t, t.full_samples, units),
         (None, Some(_)) => {
             let _ = writeln!(
                 out,
@@ -254,7 +255,7 @@ fn two_level_left_range_text(out: &mut String, t: &TwoLevelSummary) {
 }
 
 /// The whole revolution's and the profiles' statistics, or why there are none.
-fn revolution_text(out: &mut String, sm: &Summary) {
+fn revolution_text(out: &mut String, sm: &Summary, units: Units) {
     use std::fmt::Write;
     if sm.samples == 0 {
         let _ = writeln!(
@@ -264,13 +265,13 @@ fn revolution_text(out: &mut String, sm: &Summary) {
         return;
     }
     let _ = writeln!(out, "\nwhole revolution {}:", sm.revolution);
-    moments_table(out, &sm.whole_revolution);
+    moments_table(out, &sm.whole_revolution, units);
     let _ = writeln!(out, "profiles:");
-    moments_table(out, &sm.profile);
+    moments_table(out, &sm.profile, units);
 }
 
 impl Report for MonteCarloReport {
-    fn text(&self, _units: crate::units::Units) -> String {
+    fn text(&self, units: Units) -> String {
         use std::fmt::Write;
         let s = &self.study;
         let sm = &self.summary;
@@ -286,10 +287,10 @@ impl Report for MonteCarloReport {
             "profile: {} ({} normal deviates), tolerances cam {} / roller {} / eccentricity {} {}, {} intervals ({:.4} deg, {})",
             p.method,
             p.normal,
-            crate::units::given(crate::units::LENGTH, p.cam_tolerance_in),
-            crate::units::given(crate::units::LENGTH, p.roller_tolerance_in),
-            crate::units::given(crate::units::LENGTH, p.eccentricity_tolerance_in),
-            crate::units::symbol(crate::units::LENGTH),
+            units.given(LENGTH, p.cam_tolerance_in),
+            units.given(LENGTH, p.roller_tolerance_in),
+            units.given(LENGTH, p.eccentricity_tolerance_in),
+            units.symbol(LENGTH),
             p.intervals,
             360.0 / p.intervals as f64,
             p.interval_source
@@ -315,9 +316,9 @@ impl Report for MonteCarloReport {
                 period.period,
                 probability_text(&period.jump, sm.samples)
             );
-            moments_table(&mut out, &period.columns);
+            moments_table(&mut out, &period.columns, units);
         }
-        revolution_text(&mut out, sm);
+        revolution_text(&mut out, sm, units);
         let _ = writeln!(
             out,
             "\njump anywhere in revolution {}: {}",
@@ -325,7 +326,7 @@ impl Report for MonteCarloReport {
             probability_text(&sm.jump, sm.samples + sm.left_range_jumps)
         );
         left_range_text(&mut out, sm);
-        full_model_text(&mut out, self);
+        full_model_text(&mut out, self, units);
         if let Some(steps) = &sm.steps {
             let _ = writeln!(
                 out,
