@@ -4,6 +4,7 @@
 pub mod coil_spring;
 pub mod contact;
 pub mod design;
+pub mod firmware_check;
 pub mod jump_speed;
 pub mod jump_speed_actual;
 pub mod montecarlo;
