@@ -387,7 +387,10 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
         ),
         (
             "modal",
-            camsim::cmd::modal::render_table(&camsim::cmd::modal::analyse().unwrap()),
+            camsim::cmd::modal::render_table(
+                &camsim::cmd::modal::analyse().unwrap(),
+                camsim::units::current(),
+            ),
         ),
         (
             "contact",
