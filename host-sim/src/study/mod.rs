@@ -11,6 +11,7 @@ pub mod modal;
 pub mod montecarlo;
 pub mod sensitivity;
 pub mod sweep;
+pub mod waviness;
 
 /// A local pool of `threads` worker threads (at least one) for a study's independent runs,
 /// each with a 16 MB stack (a sample's profile, three arrays of 3601 f64, is built on the
