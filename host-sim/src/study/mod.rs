@@ -7,6 +7,7 @@ pub mod design;
 pub mod firmware_check;
 pub mod jump_speed;
 pub mod jump_speed_actual;
+pub mod laws;
 pub mod modal;
 pub mod montecarlo;
 pub mod sensitivity;
