@@ -147,7 +147,7 @@ fn json_keys_are_the_documented_ones() {
         ]
     );
     assert_eq!(v["force_lb"], 100.0);
-    let table = contact::render_table(&compute(100.0).unwrap());
+    let table = contact::render_table(&compute(100.0).unwrap(), camsim::units::Units::Inch);
     assert!(table.contains("6.451968e6"), "{table}");
 }
 

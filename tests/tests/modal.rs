@@ -91,8 +91,8 @@ fn translational_frequencies_match_the_characteristic_cubic() {
     // The reference design's values (VI.1 and docs/MODEL.md §5.1, §5.2): M_f and K_f at the nominal
     // follower position, K_rs = 100 lb/in of the modal analysis.
     let p = modal::reference_parameters().unwrap();
-    let (mr, mf, ml) = (p.m_r, p.m_f, p.m_l);
-    let (krb, kf, krs) = (p.k_rb, p.k_f, p.k_rs);
+    let (mr, mf, ml) = (p.m_r.in_inch(), p.m_f.in_inch(), p.m_l.in_inch());
+    let (krb, kf, krs) = (p.k_rb.in_inch(), p.k_f.in_inch(), p.k_rs.in_inch());
     assert_eq!((mr, ml, krb, krs), (0.00013, 3.428e-3, 1.5e6, 100.0));
     assert!((mf / 0.007764 - 1.0).abs() < 1e-12, "M_f = {mf}");
     assert!((kf / 1.265e6 - 1.0).abs() < 1e-12, "K_f = {kf}");
@@ -137,7 +137,11 @@ fn translational_frequencies_match_the_characteristic_cubic() {
 
 #[test]
 fn json_has_the_documented_keys_and_ascending_arrays() {
-    let v = serde_json::to_value(analyse().unwrap()).unwrap();
+    // The keys as printed: the parameters' measures named by their unit (units::convert).
+    let v = camsim::units::convert(
+        serde_json::to_value(analyse().unwrap()).unwrap(),
+        camsim::units::Units::Inch,
+    );
     for key in [
         "rotational_rad_s",
         "translational_rad_s",
@@ -162,7 +166,7 @@ fn json_has_the_documented_keys_and_ascending_arrays() {
     }
     assert_eq!(v["parameters"]["k_rs_lb_per_in"].as_f64(), Some(100.0));
     // The table renders every mode.
-    let table = modal::render_table(&analyse().unwrap());
+    let table = modal::render_table(&analyse().unwrap(), camsim::units::Units::Inch);
     assert_eq!(table.matches("rigid body").count(), 1);
     assert!(table.contains("Eq. VI.6") && table.contains("Eq. VI.7"));
 }

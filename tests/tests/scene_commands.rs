@@ -78,7 +78,7 @@ fn modal_takes_the_scenes_masses_and_springs() {
     };
     assert_eq!(analyse(&reference), camsim::cmd::modal::analyse().unwrap());
     let s = analyse(&stiff);
-    assert_eq!(s.parameters.k_rs, 400.0);
+    assert_eq!(s.parameters.k_rs.in_inch(), 400.0);
     // A stiffer return spring raises every translational frequency; the rotational
     // system does not see it.
     let r = analyse(&reference);

@@ -389,11 +389,17 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
         ),
         (
             "modal",
-            camsim::cmd::modal::render_table(&camsim::cmd::modal::analyse().unwrap()),
+            camsim::cmd::modal::render_table(
+                &camsim::cmd::modal::analyse().unwrap(),
+                camsim::units::current(),
+            ),
         ),
         (
             "contact",
-            camsim::cmd::contact::render_table(&camsim::study::contact::compute(100.0).unwrap()),
+            camsim::cmd::contact::render_table(
+                &camsim::study::contact::compute(100.0).unwrap(),
+                camsim::units::current(),
+            ),
         ),
     ];
     units::set(Units::Inch);
@@ -639,11 +645,11 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     assert!(!si.contains("-0.000 "), "{si}");
 
     // --- waviness: the radii of curvature and the stated lengths.
-    let w = waviness::report(&waviness::Args {
+    let w = waviness::report(&waviness::spec(&waviness::Args {
         seeds: vec![1],
         measured: None,
         json: false,
-    })
+    }))
     .unwrap();
     let (inch, si) = both(|| camsim::report::Report::text(&w, camsim::units::current()));
     // VI.1's tolerances, 0.0005, 0.0001 and 0.001 in, in mm.

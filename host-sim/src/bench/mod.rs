@@ -20,6 +20,7 @@ pub mod plot;
 pub mod rosenbrock;
 pub mod sample;
 pub mod stability;
+pub mod text;
 
 use std::time::Instant;
 
@@ -1287,7 +1288,14 @@ mod tests {
             .unwrap()
             .open()
             .unwrap();
-        plot::draw_runs(&mut out, &runs, 500.0, (1e-9, 1e-16)).unwrap();
+        plot::draw_runs(
+            &mut out,
+            &runs,
+            500.0,
+            (1e-9, 1e-16),
+            crate::units::Units::Inch,
+        )
+        .unwrap();
         out.commit().unwrap();
         for f in plot::FILES {
             let b = std::fs::read(dir.join(f)).unwrap();

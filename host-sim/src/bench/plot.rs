@@ -13,6 +13,7 @@ use crate::figure::{
 };
 use crate::output::AtomicDir;
 use crate::plot::log_key_points;
+use crate::units::Units;
 
 /// Every integer mantissa of a decade: a log axis's light grid lines.
 const ALL_MANTISSAS: [f64; 9] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0];
@@ -232,19 +233,26 @@ fn figure(
 }
 
 /// Draws [`FILES`] of `report` into the directory output `out` (the caller commits it).
-pub fn draw_all(out: &mut AtomicDir, report: &BenchReport) -> Result<()> {
+pub fn draw_all(out: &mut AtomicDir, report: &BenchReport, units: Units) -> Result<()> {
     let r = &report.reference;
     draw_runs(
         out,
         &report.runs,
         report.rpm,
         (r.agree_acc_rms, r.agree_disp_rms),
+        units,
     )
 }
 
 /// Draws [`FILES`] for `runs` at `rpm`; `floor`: the references' (acceleration,
-/// displacement) disagreement.
-pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f64)) -> Result<()> {
+/// displacement) disagreement, in `units`.
+pub fn draw_runs(
+    out: &mut AtomicDir,
+    runs: &[RunRow],
+    rpm: f64,
+    floor: (f64, f64),
+    units: Units,
+) -> Result<()> {
     let title = |what: &str| {
         format!("Error of revolution 2 against {what}: reference design, {rpm} rpm, full 11-DOF")
     };
@@ -272,7 +280,7 @@ pub fn draw_runs(out: &mut AtomicDir, runs: &[RunRow], rpm: f64, floor: (f64, f6
         ),
     ] {
         let fig = figure(title(what), x_title, x, runs, floor);
-        crate::figure::draw(out, file, &fig, crate::units::current())?;
+        crate::figure::draw(out, file, &fig, units)?;
     }
     Ok(())
 }

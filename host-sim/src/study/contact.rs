@@ -5,6 +5,9 @@ use anyhow::{bail, Context};
 use camsim_core::HertzContact;
 use serde::Serialize;
 
+use crate::report::Report;
+use crate::units::Units;
+
 /// Reference roller diameter d1 (in, VI.1).
 pub const ROLLER_DIAMETER_IN: f64 = 0.75;
 /// Reference base-circle diameter d2 (in, VI.1).
@@ -86,4 +89,42 @@ pub fn compute_for(
         contact_width_in: hertz.width(force, 2.0 * r1, 2.0 * r2),
         max_stress_psi: hertz.max_stress(force, 2.0 * r1, 2.0 * r2),
     })
+}
+
+/// Renders the report as the human-readable table.
+pub fn render_table(r: &ContactReport, units: Units) -> String {
+    use crate::units as u;
+    let (l, f, k, st) = (
+        units.symbol(u::LENGTH),
+        units.symbol(u::FORCE),
+        units.symbol(u::STIFFNESS),
+        units.symbol(u::STRESS),
+    );
+    // V.11's K_h is the stiffness at a unit force: 1 lb (4.448 N in SI).
+    let unit_force = match units {
+        Units::Inch => "K_h (V.11, unit force)",
+        Units::Si => "K_h (V.11, F = 1 lbf)",
+    };
+    format!(
+        "Hertz contact, roller d1 = {} {l} on base circle d2 = {} {l}, t = {} {l}\n\
+         force                      {:>14.6} {f}\n\
+         {unit_force:<27}{:>14.6e} {k}\n\
+         K_h at force (F/H)         {:>14.6e} {k}\n\
+         contact width w (V.9)      {:>14.6e} {l}\n\
+         max Hertz stress 2F/(pi b t) {:>12.6e} {st}",
+        units.given(u::LENGTH, 2.0 * r.roller_radius_in),
+        units.given(u::LENGTH, 2.0 * r.base_radius_in),
+        units.given(u::LENGTH, r.thickness_in),
+        units.value(u::FORCE, r.force_lb),
+        units.value(u::STIFFNESS, r.k_h_lb_per_in),
+        units.value(u::STIFFNESS, r.k_h_at_force_lb_per_in),
+        units.value(u::LENGTH, r.contact_width_in),
+        units.value(u::STRESS, r.max_stress_psi)
+    )
+}
+
+impl Report for ContactReport {
+    fn text(&self, units: Units) -> String {
+        render_table(self, units) + "\n"
+    }
 }

@@ -5,8 +5,11 @@ pub mod coil_spring;
 pub mod compare;
 pub mod contact;
 pub mod design;
+pub mod firmware_check;
 pub mod jump_speed;
 pub mod jump_speed_actual;
+pub mod laws;
+pub mod modal;
 pub mod models;
 pub mod montecarlo;
 pub mod predict;
@@ -15,6 +18,7 @@ pub mod run;
 pub mod sensitivity;
 pub mod sweep;
 pub mod tolerance;
+pub mod waviness;
 
 /// A local pool of `threads` worker threads (at least one) for a study's independent runs,
 /// each with a 16 MB stack (a sample's profile, three arrays of 3601 f64, is built on the
