@@ -810,7 +810,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     use camsim::scene;
     units::set(Units::Si);
     let default_si = scene::default_text_si().unwrap();
-    let check_si = scene::in_si(&scene::spec_text(&camsim::sim::RunSpec::reference()).unwrap());
+    let check_si = scene::spec_text_si(&camsim::sim::RunSpec::reference()).unwrap();
     units::set(Units::Inch);
     let value_of = |t: &str, key: &str| -> f64 {
         let l = t

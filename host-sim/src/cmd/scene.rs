@@ -46,7 +46,7 @@ pub fn output(args: &Args, units: Units) -> Result<String> {
     }
     let mut listing = String::new();
     let mut units = units;
-    let text = if let Some(p) = &args.check {
+    let spec = if let Some(p) = &args.check {
         let spec = crate::scene::load(p)?;
         let file =
             camsim_scene_file::read_text(p, camsim_scene_file::MAX_SCENE_BYTES, "the scene file")?;
@@ -56,24 +56,26 @@ pub fn output(args: &Args, units: Units) -> Result<String> {
             units = Units::Si;
         }
         listing = crate::scene::listing(&file, &spec, units)?;
-        crate::scene::spec_text(&spec)?
+        spec
     } else if args.default {
-        crate::scene::default_text()?
+        crate::sim::RunSpec::reference()
     } else {
         anyhow::bail!("camsim scene: give --default (print the reference scene) or --check FILE");
     };
     if args.json {
+        let text = crate::scene::spec_text(&spec)?;
         return Ok(format!("{}\n", json_in(&text, units)?));
     }
     if !listing.is_empty() {
         listing.push('\n');
     }
+    // In SI, the same scene with its keys in SI (`base_radius_mm`, ...): it reads back
+    // to the same design.
     let scene = match units {
-        Units::Inch => text,
-        // The same scene with its keys in SI (`base_radius_mm`, ...): it reads back to
-        // the same design.
+        Units::Inch if args.default => crate::scene::default_text()?,
+        Units::Inch => crate::scene::spec_text(&spec)?,
         Units::Si if args.default => crate::scene::default_text_si()?,
-        Units::Si => crate::scene::in_si(&text),
+        Units::Si => crate::scene::spec_text_si(&spec)?,
     };
     Ok(listing + &scene)
 }
