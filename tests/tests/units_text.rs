@@ -165,7 +165,7 @@ fn study_text(argv: &[&str], units: Units) -> String {
         Command::ToleranceStudy(a) => tolerance_study::report(&a)
             .unwrap()
             .text(camsim::units::current()),
-        Command::Sensitivity(a) => sensitivity::report(&a)
+        Command::Sensitivity(a) => sensitivity::report(&a, units)
             .unwrap()
             .text(camsim::units::current()),
         Command::Design(a) => match a.what {
