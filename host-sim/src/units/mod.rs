@@ -425,6 +425,35 @@ pub fn convert(value: serde_json::Value, units: Units) -> serde_json::Value {
     }
 }
 
+/// The keys of `value` (a report's JSON as it serializes, before [`convert`]) that
+/// [`convert`] names and scales by their NAME, not by a [`Measure`]'s type: a plain value
+/// under a key with an inch-family suffix (`min_contact_force_lb`) or under one of the
+/// shared bare keys (`rms_velocity`), at any depth; each once, sorted. A field named
+/// without its unit's suffix would stay in inch here unnoticed; a [`Measure`] field
+/// cannot. tests/tests/json_units.rs keeps this list from growing.
+pub fn by_name(value: &serde_json::Value) -> Vec<String> {
+    fn walk(v: &serde_json::Value, keys: &mut std::collections::BTreeSet<String>) {
+        match v {
+            serde_json::Value::Object(o) => {
+                for (k, x) in o {
+                    if measure::measured(x).is_some() {
+                        continue;
+                    }
+                    if unit_of(k).is_some() {
+                        keys.insert(k.clone());
+                    }
+                    walk(x, keys);
+                }
+            }
+            serde_json::Value::Array(a) => a.iter().for_each(|x| walk(x, keys)),
+            _ => {}
+        }
+    }
+    let mut keys = std::collections::BTreeSet::new();
+    walk(value, &mut keys);
+    keys.into_iter().collect()
+}
+
 /// A report's JSON text (`text`, pretty or compact) rewritten with every key in `units`:
 /// the same layout, the keys of every object in sorted order.
 pub fn json(text: &str, units: Units) -> serde_json::Result<String> {
@@ -562,6 +591,21 @@ mod tests {
             // An SI key is its own SI name: nothing converts twice.
             assert_eq!(key_in(&name, Units::Si), (name.clone(), 1.0));
         }
+    }
+
+    #[test]
+    fn by_name_lists_the_keys_named_by_their_suffix_or_bare_not_the_measures() {
+        let v = serde_json::json!({
+            "base_radius_in": 1.5,
+            "rms_velocity": {"mean": 1.0},
+            "force": serde_json::to_value(Force::inch(1.0)).unwrap_or_default(),
+            "rows": [{"lift_in": 0.5, "count": 2}],
+            "max_pressure_angle_deg": 30.0
+        });
+        assert_eq!(
+            by_name(&v),
+            ["base_radius_in", "lift_in", "rms_velocity"].map(String::from)
+        );
     }
 
     #[test]
