@@ -152,7 +152,7 @@ pub fn spec_text(spec: &RunSpec) -> Result<String> {
 
 /// [`spec_text`] with its keys in SI (`base_radius_mm`, ...): the same scene, reading
 /// back to the same design. The tree is the scene's, in the order the inch file writes
-/// it; each key of the unit table is named and converted by the table ([`in_si`]).
+/// it; each key of the unit table is named and converted by the table (`in_si`).
 pub fn spec_text_si(spec: &RunSpec) -> Result<String> {
     let file = scene_file(spec);
     let inch = toml::to_string_pretty(&file)?;
