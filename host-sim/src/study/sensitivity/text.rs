@@ -66,6 +66,15 @@ pub(crate) fn fmt_value(i: usize, v: f64, units: Units) -> String {
     format!("{v:.digits$}")
 }
 
+/// Output `i`'s cell: its value `v` in `units`, and its change from the baseline's `bv`
+/// when there is one (`bv` not NaN, the baseline row none) and it is not zero.
+fn cell(i: usize, v: f64, bv: f64, units: Units) -> String {
+    match pct(v, bv).filter(|_| !bv.is_nan()) {
+        Some(d) => format!("{} {:>6}%", fmt_value(i, v, units), signed_pct_1(d)),
+        None => fmt_value(i, v, units),
+    }
+}
+
 /// A cam's table rows of the cases that left the model's valid range, and a note when its
 /// baseline did (`has_baseline` false).
 fn left_range_rows(out: &mut String, cases: &[NotWorkableCase], cam: &str, has_baseline: bool) {
@@ -151,17 +160,8 @@ impl Report for SensitivityReport {
                 );
                 let base = b.map_or([f64::NAN; 5], |b| b.outputs.values());
                 for (i, (v, bv)) in c.outputs.values().into_iter().zip(base).enumerate() {
-                    let cell = if c.group == "baseline" || bv.is_nan() {
-                        fmt_value(i, v, units)
-                    } else {
-                        match pct(v, bv) {
-                            Some(d) => {
-                                format!("{} {:>6}%", fmt_value(i, v, units), signed_pct_1(d))
-                            }
-                            None => fmt_value(i, v, units),
-                        }
-                    };
-                    let _ = write!(out, " {cell:>19}");
+                    let bv = if c.group == "baseline" { f64::NAN } else { bv };
+                    let _ = write!(out, " {:>19}", cell(i, v, bv, units));
                 }
                 let _ = writeln!(out, "  {}", if c.outputs.jump { "yes" } else { "no" });
             };
