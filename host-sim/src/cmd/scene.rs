@@ -64,7 +64,7 @@ pub fn output(args: &Args, units: Units) -> Result<String> {
     };
     if args.json {
         let text = crate::scene::spec_text(&spec)?;
-        return Ok(format!("{}\n", json_in(&text, units)?));
+        return Ok(format!("{}\n", json(&text, units)?));
     }
     if !listing.is_empty() {
         listing.push('\n');
@@ -81,13 +81,8 @@ pub fn output(args: &Args, units: Units) -> Result<String> {
 }
 
 /// A scene file's text as JSON: its tables as objects, its arrays of tables as arrays,
-/// every key in the unit family of `--units` ([`crate::units`]).
-pub fn json(text: &str) -> Result<String> {
-    json_in(text, crate::units::current())
-}
-
-/// [`json`] in the unit family `units`.
-fn json_in(text: &str, units: Units) -> Result<String> {
+/// every key in the unit family `units` ([`crate::units`]).
+pub fn json(text: &str, units: Units) -> Result<String> {
     let doc: toml::Table = toml::from_str(text)
         .map_err(|e| anyhow::anyhow!("the scene as written does not read back: {e}"))?;
     let value = crate::units::convert(serde_json::to_value(&doc)?, units);
