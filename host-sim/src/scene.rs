@@ -112,6 +112,7 @@ fn table_header(line: &str) -> Option<&str> {
 
 /// `text` with a comment after every known key saying what it is.
 fn annotate(text: &str) -> String {
+    use camsim_scene_file::units::lookup;
     let mut header = String::new();
     let mut out = String::with_capacity(text.len() * 2);
     for line in text.lines() {
@@ -120,6 +121,8 @@ fn annotate(text: &str) -> String {
             header = name.to_string();
         }
         let doc = t.split_once(" = ").and_then(|(k, _)| {
+            // A key in SI is described by its inch-family name's description.
+            let k = lookup(&header, k).map_or(k, |(unit_key, _)| unit_key.inch());
             let path = if header.is_empty() {
                 k.to_string()
             } else {
@@ -147,6 +150,76 @@ pub fn spec_text(spec: &RunSpec) -> Result<String> {
     Ok(annotate(&toml::to_string_pretty(&scene_file(spec))?))
 }
 
+/// [`spec_text`] with its keys in SI (`base_radius_mm`, ...): the same scene, reading
+/// back to the same design. The tree is the scene's, in the order the inch file writes
+/// it; each key of the unit table is named and converted by the table (`in_si`).
+pub fn spec_text_si(spec: &RunSpec) -> Result<String> {
+    let file = scene_file(spec);
+    let inch = toml::to_string_pretty(&file)?;
+    let order = toml::de::DeTable::parse(&inch)?;
+    let mut tree = Node::of(toml::Value::try_from(&file)?, order.get_ref());
+    in_si(&mut tree, "");
+    Ok(annotate(&toml::to_string_pretty(&tree)?))
+}
+
+/// A scene's TOML tree whose tables keep their keys' order (`toml`'s own table sorts
+/// them): the order the scene's types give, as the inch file writes it.
+enum Node {
+    /// A value that is not a table or an array.
+    Leaf(toml::Value),
+    /// A table's entries in order.
+    Table(Vec<(String, Node)>),
+    /// An array (of tables: `[[design.program.segment]]`).
+    Array(Vec<Node>),
+}
+
+impl Node {
+    /// `value` with its tables' keys in the order of `written`, its document as read.
+    fn of(value: toml::Value, written: &toml::de::DeTable) -> Node {
+        Self::ordered(value, &toml::de::DeValue::Table(written.clone()))
+    }
+
+    fn ordered(value: toml::Value, written: &toml::de::DeValue) -> Node {
+        use toml::de::DeValue;
+        match (value, written) {
+            (toml::Value::Table(mut t), DeValue::Table(w)) => {
+                let mut keys: Vec<_> = w.iter().collect();
+                keys.sort_by_key(|(k, _)| k.span().start);
+                let entries = keys.into_iter().filter_map(|(k, wv)| {
+                    let k: &str = k.get_ref();
+                    let v = t.remove(k)?;
+                    Some((k.to_string(), Self::ordered(v, wv.get_ref())))
+                });
+                Node::Table(entries.collect())
+            }
+            (toml::Value::Array(a), DeValue::Array(w)) => Node::Array(
+                a.into_iter()
+                    .zip(w.iter())
+                    .map(|(v, wv)| Self::ordered(v, wv.get_ref()))
+                    .collect(),
+            ),
+            (v, _) => Node::Leaf(v),
+        }
+    }
+}
+
+impl serde::Serialize for Node {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        match self {
+            Node::Leaf(v) => v.serialize(s),
+            Node::Table(entries) => {
+                let mut m = s.serialize_map(Some(entries.len()))?;
+                for (k, v) in entries {
+                    m.serialize_entry(k, v)?;
+                }
+                m.end()
+            }
+            Node::Array(items) => s.collect_seq(items),
+        }
+    }
+}
+
 /// The reference design as TOML text.
 pub fn default_text() -> Result<String> {
     let body = spec_text(&RunSpec::reference())?;
@@ -168,7 +241,7 @@ pub fn default_text() -> Result<String> {
 
 /// The reference design as TOML text in SI keys (`camsim scene --default --units si`).
 pub fn default_text_si() -> Result<String> {
-    let body = in_si(&spec_text(&RunSpec::reference())?);
+    let body = spec_text_si(&RunSpec::reference())?;
     Ok(format!(
         "# camsim scene: the reference design of Kim (1982), VI.1, with the documented choices\n\
          # for what the thesis leaves out (core/src/model/design.rs). Units are in the key names\n\
@@ -192,51 +265,38 @@ pub fn default_text_si() -> Result<String> {
 /// results; a value exact in SI (1.5 in = 38.1 mm) prints exactly.
 const SI_DIGITS: usize = 10;
 
-/// A value of a scene written in SI: [`SI_DIGITS`] significant digits, trailing zeros
-/// dropped, always with a decimal point (a TOML float).
-fn si_number(v: f64) -> String {
-    let rounded: f64 = format!("{v:.*e}", SI_DIGITS - 1).parse().unwrap_or(v);
-    let s = format!("{rounded}");
-    if s.contains('.') || s.contains("inf") || s.contains("NaN") {
-        s
-    } else {
-        format!("{s}.0")
-    }
+/// A value of a scene written in SI, rounded to [`SI_DIGITS`] significant digits (TOML
+/// writes it without trailing zeros, always with a decimal point).
+fn si_number(v: f64) -> f64 {
+    format!("{v:.*e}", SI_DIGITS - 1).parse().unwrap_or(v)
 }
 
-/// Scene text (as [`spec_text`] writes it, inch keys) with every key of the scene files'
-/// unit table ([`camsim_scene_file::units::UNIT_KEYS`]) in its SI name
-/// ([`crate::units::key_in`]) and its value converted; the comments and the keys without
-/// a unit are kept.
-pub fn in_si(text: &str) -> String {
+/// `node` (a scene's table at dotted path `path` from the file's root, or an array of
+/// such tables) with every key of the scene files' unit table
+/// ([`camsim_scene_file::units::UNIT_KEYS`]) under its SI name and its value converted
+/// by its unit's factor ([`si_number`]); the keys without a unit keep their names and
+/// values, every key its place.
+fn in_si(node: &mut Node, path: &str) {
     use camsim_scene_file::units::lookup;
-    let mut table = String::new();
-    let mut out = String::with_capacity(text.len());
-    for line in text.lines() {
-        let t = line.trim();
-        if let Some(name) = table_header(t) {
-            table = name.to_string();
-        }
-        let converted = line.split_once(" = ").and_then(|(key, rest)| {
-            let (value, comment) = match rest.split_once("  #") {
-                Some((v, c)) => (v, Some(c)),
-                None => (rest, None),
-            };
-            // Only a key the reader converts (its table's), with a number.
-            lookup(&table, key.trim())?;
-            let x: f64 = value.trim().parse().ok()?;
-            let (si_key, factor) = crate::units::key_in(key.trim(), crate::units::Units::Si);
-            let mut l = format!("{si_key} = {}", si_number(x * factor));
-            if let Some(c) = comment {
-                l.push_str("  #");
-                l.push_str(c);
+    match node {
+        Node::Table(entries) => {
+            for (k, v) in entries.iter_mut() {
+                if let Node::Leaf(toml::Value::Float(x)) = v {
+                    if let Some((unit_key, false)) = lookup(path, k) {
+                        *k = unit_key.si();
+                        *x = si_number(*x * unit_key.unit.si_per_inch);
+                    }
+                } else if path.is_empty() {
+                    in_si(v, k);
+                } else {
+                    in_si(v, &format!("{path}.{k}"));
+                }
             }
-            Some(l)
-        });
-        out.push_str(converted.as_deref().unwrap_or(line));
-        out.push('\n');
+        }
+        // An array of tables: every one is the same section (`design.program.segment`).
+        Node::Array(items) => items.iter_mut().for_each(|t| in_si(t, path)),
+        Node::Leaf(_) => {}
     }
-    out
 }
 
 /// The groups of `scene --check`'s listing of inherited values, in order.

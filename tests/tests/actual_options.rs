@@ -95,7 +95,7 @@ fn json_of(argv: &[&str]) -> anyhow::Result<Value> {
             What::Tolerance(a) => camsim::cmd::design::tolerance_table(&a)?.json()?,
         },
         Command::Sweep(a) => {
-            camsim::study::sweep::run(&camsim::cmd::sweep::sweep_of(&a)?)?.json()?
+            camsim::study::sweep::run(&camsim::cmd::sweep::sweep_of(&a)?, cli.units)?.json()?
         }
         Command::JumpSpeed(a) => {
             let mut scene = a.scene.clone();

@@ -34,8 +34,8 @@ fn json(r: &sensitivity::SensitivityReport) -> serde_json::Value {
 
 #[test]
 fn the_quick_study_has_every_case_once_and_the_same_numbers_on_any_thread_count() {
-    let one = sensitivity::report(&args(&["--threads", "1"])).unwrap();
-    let two = sensitivity::report(&args(&["--threads", "2"])).unwrap();
+    let one = sensitivity::report(&args(&["--threads", "1"]), camsim::units::Units::Inch).unwrap();
+    let two = sensitivity::report(&args(&["--threads", "2"]), camsim::units::Units::Inch).unwrap();
     assert_eq!(json(&one), json(&two));
     assert_eq!(non_finite(&one).unwrap(), None);
 

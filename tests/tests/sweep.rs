@@ -18,13 +18,16 @@ fn sweep_of(
     actual: Option<(camsim::actual::ActualArgs, u64)>,
     threads: usize,
 ) -> sweep::SweepReport {
-    sweep::run(&Sweep {
-        spec: reference(),
-        grid,
-        actual,
-        threads,
-        progress: false,
-    })
+    sweep::run(
+        &Sweep {
+            spec: reference(),
+            grid,
+            actual,
+            threads,
+            progress: false,
+        },
+        camsim::units::Units::Inch,
+    )
     .unwrap()
 }
 

@@ -213,7 +213,8 @@ fn the_echoed_scene_reproduces_the_run() {
 #[test]
 fn scene_json_names_every_unit_and_converts_to_si() {
     let text = camsim::scene::default_text().unwrap();
-    let inch: Value = serde_json::from_str(&camsim::cmd::scene::json(&text).unwrap()).unwrap();
+    let inch: Value =
+        serde_json::from_str(&camsim::cmd::scene::json(&text, Units::Inch).unwrap()).unwrap();
     let g = &inch["design"]["geometry"];
     assert_eq!(g["base_radius_in"].as_f64(), Some(1.5));
     assert_eq!(g["roller_radius_in"].as_f64(), Some(0.375));

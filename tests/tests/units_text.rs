@@ -167,7 +167,7 @@ fn study_text(argv: &[&str], units: Units) -> String {
         Command::ToleranceStudy(a) => tolerance_study::report(&a, units)
             .unwrap()
             .text(camsim::units::current()),
-        Command::Sensitivity(a) => sensitivity::report(&a)
+        Command::Sensitivity(a) => sensitivity::report(&a, units)
             .unwrap()
             .text(camsim::units::current()),
         Command::Design(a) => match a.what {
@@ -821,7 +821,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     use camsim::scene;
     units::set(Units::Si);
     let default_si = scene::default_text_si().unwrap();
-    let check_si = scene::in_si(&scene::spec_text(&camsim::sim::RunSpec::reference()).unwrap());
+    let check_si = scene::spec_text_si(&camsim::sim::RunSpec::reference()).unwrap();
     units::set(Units::Inch);
     let value_of = |t: &str, key: &str| -> f64 {
         let l = t

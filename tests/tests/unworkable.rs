@@ -70,8 +70,9 @@ fn sensitivity_report(
     extra: &[&str],
 ) -> anyhow::Result<camsim::cmd::sensitivity::SensitivityReport> {
     let argv = ["camsim", "sensitivity"].iter().chain(extra).copied();
-    match parse_from(argv).unwrap().command {
-        Command::Sensitivity(a) => camsim::cmd::sensitivity::report(&a),
+    let cli = parse_from(argv).unwrap();
+    match cli.command {
+        Command::Sensitivity(a) => camsim::cmd::sensitivity::report(&a, cli.units),
         other => panic!("parsed as {other:?}"),
     }
 }

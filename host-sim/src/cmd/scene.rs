@@ -46,7 +46,7 @@ pub fn output(args: &Args, units: Units) -> Result<String> {
     }
     let mut listing = String::new();
     let mut units = units;
-    let text = if let Some(p) = &args.check {
+    let spec = if let Some(p) = &args.check {
         let spec = crate::scene::load(p)?;
         let file =
             camsim_scene_file::read_text(p, camsim_scene_file::MAX_SCENE_BYTES, "the scene file")?;
@@ -56,36 +56,33 @@ pub fn output(args: &Args, units: Units) -> Result<String> {
             units = Units::Si;
         }
         listing = crate::scene::listing(&file, &spec, units)?;
-        crate::scene::spec_text(&spec)?
+        spec
     } else if args.default {
-        crate::scene::default_text()?
+        crate::sim::RunSpec::reference()
     } else {
         anyhow::bail!("camsim scene: give --default (print the reference scene) or --check FILE");
     };
     if args.json {
-        return Ok(format!("{}\n", json_in(&text, units)?));
+        let text = crate::scene::spec_text(&spec)?;
+        return Ok(format!("{}\n", json(&text, units)?));
     }
     if !listing.is_empty() {
         listing.push('\n');
     }
+    // In SI, the same scene with its keys in SI (`base_radius_mm`, ...): it reads back
+    // to the same design.
     let scene = match units {
-        Units::Inch => text,
-        // The same scene with its keys in SI (`base_radius_mm`, ...): it reads back to
-        // the same design.
+        Units::Inch if args.default => crate::scene::default_text()?,
+        Units::Inch => crate::scene::spec_text(&spec)?,
         Units::Si if args.default => crate::scene::default_text_si()?,
-        Units::Si => crate::scene::in_si(&text),
+        Units::Si => crate::scene::spec_text_si(&spec)?,
     };
     Ok(listing + &scene)
 }
 
 /// A scene file's text as JSON: its tables as objects, its arrays of tables as arrays,
-/// every key in the unit family of `--units` ([`crate::units`]).
-pub fn json(text: &str) -> Result<String> {
-    json_in(text, crate::units::current())
-}
-
-/// [`json`] in the unit family `units`.
-fn json_in(text: &str, units: Units) -> Result<String> {
+/// every key in the unit family `units` ([`crate::units`]).
+pub fn json(text: &str, units: Units) -> Result<String> {
     let doc: toml::Table = toml::from_str(text)
         .map_err(|e| anyhow::anyhow!("the scene as written does not read back: {e}"))?;
     let value = crate::units::convert(serde_json::to_value(&doc)?, units);

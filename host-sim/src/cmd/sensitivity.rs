@@ -67,8 +67,8 @@ fn base_spec(args: &Args) -> Result<RunSpec> {
     Ok(spec)
 }
 
-/// Runs the study.
-pub fn report(args: &Args) -> Result<SensitivityReport> {
+/// Runs the study (its figure drawn in `units`).
+pub fn report(args: &Args, units: crate::units::Units) -> Result<SensitivityReport> {
     args.actual.refuse_actual_flag("sensitivity")?;
     let t0 = std::time::Instant::now();
     let run = base_spec(args)?;
@@ -92,8 +92,8 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
     if let Some(t) = plot_target {
         crate::report::ensure_finite(&report)?;
         let mut dir = t.open()?;
-        let fig = crate::plot::sensitivity::figure(&report);
-        crate::figure::draw(&mut dir, PLOT_FILES[0], &fig, crate::units::current())?;
+        let fig = crate::plot::sensitivity::figure(&report, units);
+        crate::figure::draw(&mut dir, PLOT_FILES[0], &fig, units)?;
         dir.commit()?;
     }
     Ok(report)
@@ -101,5 +101,5 @@ pub fn report(args: &Args) -> Result<SensitivityReport> {
 
 /// Runs the command.
 pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
-    crate::report::print(&report(&args)?, args.output.json, units)
+    crate::report::print(&report(&args, units)?, args.output.json, units)
 }

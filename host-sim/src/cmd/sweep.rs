@@ -114,12 +114,12 @@ pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
         Some(d) => Some(plan.dir("--plot", d, &PLOT_FILES)?),
         None => None,
     };
-    let report = sweep::run(&sw)?;
+    let report = sweep::run(&sw, units)?;
     let mut plot = match plot_target {
         Some(t) => {
             let mut dir = t.open()?;
             let fig = crate::plot::sweep::figure(&report);
-            crate::figure::draw(&mut dir, PLOT_FILES[0], &fig, crate::units::current())?;
+            crate::figure::draw(&mut dir, PLOT_FILES[0], &fig, units)?;
             Some(dir)
         }
         None => None,
@@ -128,8 +128,8 @@ pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
         let mut f = t.open()?;
         {
             let mut w = csv::Writer::from_writer(&mut f);
-            w.write_record(sweep::csv_header(report.actual.is_some()))?;
-            for row in sweep::csv_rows(&report) {
+            w.write_record(sweep::csv_header(report.actual.is_some(), units))?;
+            for row in sweep::csv_rows(&report, units) {
                 w.write_record(row)?;
             }
             w.flush()?;

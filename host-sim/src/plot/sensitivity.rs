@@ -12,6 +12,7 @@ use crate::figure::{
 use crate::study::sensitivity::{
     fmt_value, output_unit, pct, Case, Group, SensitivityReport, OUTPUTS,
 };
+use crate::units::Units;
 
 /// Size of the plot, pixels.
 const PLOT_SIZE: (u32, u32) = (2000, 1000);
@@ -43,7 +44,7 @@ fn colour(change: i32) -> Colour {
 }
 
 /// The figure.
-pub fn figure(r: &SensitivityReport) -> Figure {
+pub fn figure(r: &SensitivityReport, units: Units) -> Figure {
     let changes = changes_of(r);
     let title = format!(
         "camsim sensitivity (VI.4.3): change of each revolution-{} output from the baseline, %, when a group changes (at {:.0} rpm)",
@@ -55,7 +56,7 @@ pub fn figure(r: &SensitivityReport) -> Figure {
         let base = r.baseline.iter().find(|c| c.cam == cam);
         row_titles.push(row_title(r, cam, base));
         for oi in 0..OUTPUTS.len() {
-            panels.push(panel(r, cam, base, oi, &changes));
+            panels.push(panel(r, cam, base, oi, &changes, units));
         }
     }
     let mut fig = Figure::new(title, PLOT_SIZE, panels);
@@ -164,6 +165,7 @@ fn panel(
     base: Option<&Case>,
     oi: usize,
     changes: &[i32],
+    units: Units,
 ) -> Panel {
     let bars = bars(r, cam, base, oi);
     let m = bars.iter().map(|b| b.2.abs()).fold(1.0f64, f64::max) * ROOM;
@@ -172,7 +174,7 @@ fn panel(
     let y = Axis::plain("", "")
         .range(-0.5, groups as f64 - 0.5)
         .ticks(Ticks::Named(names));
-    let mut x = Axis::plain(&x_title(base, oi), "").range(-m, m);
+    let mut x = Axis::plain(&x_title(base, oi, units), "").range(-m, m);
     x.signed = true;
     let mut p = Panel::new(x, y);
     p.caption = PLOT_TITLES.get(oi).map(|t| t.to_string());
@@ -220,15 +222,18 @@ fn panel(
     p
 }
 
-/// The x axis's title: the change, %, of the baseline's value in its unit (as the run
-/// plots' axes write it: mm/s², N·m).
-fn x_title(base: Option<&Case>, oi: usize) -> String {
+/// The x axis's title: the change, %, of the baseline's value in its unit in `units` (as
+/// the run plots' axes write it: mm/s², N·m).
+fn x_title(base: Option<&Case>, oi: usize, units: Units) -> String {
     let unit = output_unit(oi).map_or_else(
         || OUTPUTS.get(oi).map_or("", |o| o.2).to_string(),
-        |u| crate::units::axis(u).1,
+        |u| units.axis(u).1,
     );
     match base.and_then(|b| b.outputs.values().get(oi).copied()) {
-        Some(v) => format!("change, % of the baseline {} {unit}", fmt_value(oi, v)),
+        Some(v) => format!(
+            "change, % of the baseline {} {unit}",
+            fmt_value(oi, v, units)
+        ),
         None => "change from the baseline, %".to_string(),
     }
 }

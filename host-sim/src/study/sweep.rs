@@ -27,7 +27,7 @@ use crate::actual::ActualArgs;
 use crate::report::Report;
 use crate::sim::{self, HostDeviation, RunSpec};
 use crate::stats::Probability;
-use crate::units;
+use crate::units::{self, Units};
 
 /// The most speeds a grid may have.
 pub const MAX_POINTS: u32 = 1000;
@@ -400,15 +400,15 @@ pub struct Sweep {
     pub progress: bool,
 }
 
-/// A model in words.
-pub fn describe(spec: &RunSpec) -> String {
+/// A model in words (its tolerance in `units`).
+pub fn describe(spec: &RunSpec, units: Units) -> String {
     format!(
         "{} follower model, {} DOFs, rtol {:e}, atol {:e} {}, largest step {} rev, {} start, revolution 2 of 2",
         spec.dofs.follower.name(),
         spec.dofs.set().name(),
         spec.solver.rtol,
-        units::given(units::LENGTH, spec.solver.atol),
-        units::symbol(units::LENGTH),
+        units.given(units::LENGTH, spec.solver.atol),
+        units.symbol(units::LENGTH),
         spec.solver.max_step_fraction,
         format!("{:?}", spec.solver.start).to_lowercase()
     )
@@ -424,8 +424,8 @@ struct ActualCams {
     profiles: Vec<Arc<HostDeviation>>,
 }
 
-/// Runs the sweep.
-pub fn run(sw: &Sweep) -> Result<SweepReport> {
+/// Runs the sweep (its model described in `units`).
+pub fn run(sw: &Sweep, units: Units) -> Result<SweepReport> {
     let t0 = Instant::now();
     let speeds = sw.grid.speeds();
     let nspeeds = speeds.len();
@@ -462,10 +462,10 @@ pub fn run(sw: &Sweep) -> Result<SweepReport> {
         grid: sw.grid,
         step_rpm: sw.grid.step_rpm(),
         operating_rpm: op_rpm,
-        model: describe(&spec),
+        model: describe(&spec, units),
         theoretical,
         theoretical_onset,
-        actual: actual.map(|a| actual_sweep(a, &speeds, rest)),
+        actual: actual.map(|a| actual_sweep(a, &speeds, rest, units)),
         model_runs: total as u64,
         threads: sw.threads.max(1),
         wall_s: t0.elapsed().as_secs_f64(),
@@ -571,7 +571,12 @@ fn respond_actual(actual: Option<&ActualCams>, i: usize, rpm: f64) -> Result<Res
 
 /// The actual cams' report: at every speed of `speeds`, the distribution over its cams'
 /// `responses` (the cams' runs of every speed in turn), and the first speed any cam jumps.
-fn actual_sweep(a: ActualCams, speeds: &[f64], responses: &[Response]) -> ActualSweep {
+fn actual_sweep(
+    a: ActualCams,
+    speeds: &[f64],
+    responses: &[Response],
+    units: Units,
+) -> ActualSweep {
     let per_speed = a.profiles.len();
     let points: Vec<ActualPoint> = speeds
         .iter()
@@ -588,34 +593,26 @@ fn actual_sweep(a: ActualCams, speeds: &[f64], responses: &[Response]) -> Actual
         samples: per_speed as u64,
         seed: a.settings.seed,
         profile: a.settings.profile,
-        model: describe(&a.model),
+        model: describe(&a.model, units),
         points,
         first_jump,
     }
 }
 
-/// `v` (in `unit`'s inch member, printed with `prec` decimals in inch) in the output's
-/// family, or `-`.
-fn opt(unit: Unit, v: Option<f64>, prec: usize) -> String {
-    v.map_or_else(|| "-".to_string(), |x| units::q(unit, x, prec).to_string())
+/// `v` (in `unit`'s inch member, printed with `prec` decimals in inch) in `units`, or
+/// `-`.
+fn opt(units: Units, unit: Unit, v: Option<f64>, prec: usize) -> String {
+    v.map_or_else(|| "-".to_string(), |x| units.q(unit, x, prec).to_string())
 }
 
-fn band_text(unit: Unit, b: Option<&Band>, prec: usize) -> String {
+fn band_text(units: Units, unit: Unit, b: Option<&Band>, prec: usize) -> String {
     b.map_or_else(
         || "-".to_string(),
         |b| {
-            let q = |x| units::q(unit, x, prec);
+            let q = |x| units.q(unit, x, prec);
             format!("{} [{}, {}]", q(b.median), q(b.p05), q(b.p95))
         },
     )
-}
-
-/// A column label: the inch table's own in inch (`in/s2`), the unit's symbol in SI.
-fn unit_label(unit: Unit, inch: &'static str) -> &'static str {
-    match units::current() {
-        units::Units::Inch => inch,
-        units::Units::Si => unit.si_symbol,
-    }
 }
 
 fn onset_text(o: &GridOnset, step: f64, narrow: &str) -> String {
@@ -641,7 +638,7 @@ impl Report for SweepReport {
     fn json(&self) -> serde_json::Result<String> {
         crate::report::sorted_pretty_json(self)
     }
-    fn text(&self, _units: crate::units::Units) -> String {
+    fn text(&self, units: Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         let _ = writeln!(
@@ -650,9 +647,9 @@ impl Report for SweepReport {
             self.grid.points, self.grid.from_rpm, self.grid.to_rpm, self.step_rpm, self.operating_rpm
         );
         let _ = writeln!(out, "\ntheoretical cam ({}):", self.model);
-        theory_lines(&mut out, self);
+        theory_lines(&mut out, self, units);
         if let Some(a) = &self.actual {
-            actual_lines(&mut out, a, self.step_rpm);
+            actual_lines(&mut out, a, self.step_rpm, units);
         }
         let _ = writeln!(
             out,
@@ -663,20 +660,21 @@ impl Report for SweepReport {
     }
 }
 
-/// The text's force, acceleration and torque column units.
-fn column_units() -> (&'static str, &'static str, &'static str) {
+/// The text's force, acceleration and torque column units in `units` (the
+/// acceleration's inch label is the inch table's own, `in/s2`).
+fn column_units(units: Units) -> (&'static str, &'static str, &'static str) {
     (
-        units::symbol(units::FORCE),
-        unit_label(units::ACCELERATION, "in/s2"),
-        units::symbol(units::TORQUE),
+        units.symbol(units::FORCE),
+        units.label(units::ACCELERATION, "in/s2"),
+        units.symbol(units::TORQUE),
     )
 }
 
 /// The theoretical cam's table: a row per speed (contact, forces, vibration, torque, stress,
 /// power) and its jump onset on the grid.
-fn theory_lines(out: &mut String, r: &SweepReport) {
+fn theory_lines(out: &mut String, r: &SweepReport, units: Units) {
     use std::fmt::Write;
-    let (f, acc, t) = column_units();
+    let (f, acc, t) = column_units(units);
     let _ = writeln!(
         out,
         "  {:>8}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
@@ -686,11 +684,11 @@ fn theory_lines(out: &mut String, r: &SweepReport) {
         format!("Fc max {f}"),
         format!("a rms {acc}"),
         format!("T peak {t}"),
-        format!("stress {}", units::symbol(units::STRESS)),
-        format!("power {}", units::symbol(units::POWER))
+        format!("stress {}", units.symbol(units::STRESS)),
+        format!("power {}", units.symbol(units::POWER))
     );
     for p in &r.theoretical {
-        let _ = writeln!(out, "{}", theory_row(p));
+        let _ = writeln!(out, "{}", theory_row(p, units));
     }
     match &r.theoretical_onset {
         Some(o) => {
@@ -713,44 +711,45 @@ fn theory_lines(out: &mut String, r: &SweepReport) {
 }
 
 /// The theoretical cam's row of one speed.
-fn theory_row(p: &TheoryPoint) -> String {
+fn theory_row(p: &TheoryPoint, units: Units) -> String {
     let r = &p.response;
     format!(
         "  {:>8.1}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
         p.rpm,
         if r.jump { "JUMPS" } else { "holds" },
-        units::q(units::FORCE, r.min_contact_force_lb, 2),
-        opt(units::FORCE, r.peak_contact_force_lb, 2),
+        units.q(units::FORCE, r.min_contact_force_lb, 2),
+        opt(units, units::FORCE, r.peak_contact_force_lb, 2),
         opt(
+            units,
             units::ACCELERATION,
             r.rms_acceleration_deviation_in_per_s2,
             1
         ),
-        opt(units::TORQUE, r.peak_cam_torque_lb_in, 2),
-        opt(units::STRESS, r.peak_contact_stress_psi, 0),
-        opt(units::POWER, r.peak_drive_power_hp, 3)
+        opt(units, units::TORQUE, r.peak_cam_torque_lb_in, 2),
+        opt(units, units::STRESS, r.peak_contact_stress_psi, 0),
+        opt(units, units::POWER, r.peak_drive_power_hp, 3)
     )
 }
 
 /// The actual cams' table: how they are made, a row per speed (P(jump) and the bands of
 /// force, vibration and torque), the first speed any cam jumps (on a grid of `step` rpm)
 /// and the runs that left the model's valid range.
-fn actual_lines(out: &mut String, a: &ActualSweep, step: f64) {
+fn actual_lines(out: &mut String, a: &ActualSweep, step: f64, units: Units) {
     use std::fmt::Write;
-    let (f, acc, t) = column_units();
+    let (f, acc, t) = column_units(units);
     let pr = &a.profile;
     let _ = writeln!(
         out,
         "\n{} actual cams a speed, the same at every speed (seed {}; cam ±{} {lu}, roller ±{} {lu}, eccentricity ±{} {lu}; {} profile, {}) on the {}:",
         a.samples,
         a.seed,
-        units::given(units::LENGTH, pr.cam_tolerance_in),
-        units::given(units::LENGTH, pr.roller_tolerance_in),
-        units::given(units::LENGTH, pr.eccentricity_tolerance_in),
+        units.given(units::LENGTH, pr.cam_tolerance_in),
+        units.given(units::LENGTH, pr.roller_tolerance_in),
+        units.given(units::LENGTH, pr.eccentricity_tolerance_in),
         pr.method,
         pr.interval_source,
         a.model,
-        lu = units::symbol(units::LENGTH)
+        lu = units.symbol(units::LENGTH)
     );
     let _ = writeln!(
         out,
@@ -770,13 +769,14 @@ fn actual_lines(out: &mut String, a: &ActualSweep, step: f64) {
             "  {:>8.1}  {:<24} {:<26} {:<26} {}",
             p.rpm,
             p.p_jump.text(3),
-            band_text(units::FORCE, p.min_contact_force_lb.as_ref(), 2),
+            band_text(units, units::FORCE, p.min_contact_force_lb.as_ref(), 2),
             band_text(
+                units,
                 units::ACCELERATION,
                 p.rms_acceleration_deviation_in_per_s2.as_ref(),
                 0
             ),
-            band_text(units::TORQUE, p.peak_cam_torque_lb_in.as_ref(), 1)
+            band_text(units, units::TORQUE, p.peak_cam_torque_lb_in.as_ref(), 1)
         );
     }
     match &a.first_jump {
@@ -800,8 +800,8 @@ fn actual_lines(out: &mut String, a: &ActualSweep, step: f64) {
     }
 }
 
-/// The CSV header of [`csv_rows`].
-pub fn csv_header(actual: bool) -> Vec<String> {
+/// The CSV header of [`csv_rows`] in `units`.
+pub fn csv_header(actual: bool, units: Units) -> Vec<String> {
     let mut h: Vec<String> = [
         "rpm",
         "jump",
@@ -828,13 +828,12 @@ pub fn csv_header(actual: bool) -> Vec<String> {
         }
     }
     // In the output's family: `min_contact_force_n`, `actual_peak_cam_torque_n_m_p95`.
-    h.into_iter().map(|k| csv_key(&k).0).collect()
+    h.into_iter().map(|k| csv_key(&k, units).0).collect()
 }
 
-/// A CSV column's name and factor in the output's family (a banded column's statistic,
-/// `_p05`, `_median` or `_p95`, after its unit).
-fn csv_key(k: &str) -> (String, f64) {
-    let u = units::current();
+/// A CSV column's name and factor in `u` (a banded column's statistic, `_p05`,
+/// `_median` or `_p95`, after its unit).
+fn csv_key(k: &str, u: Units) -> (String, f64) {
     for s in ["_p05", "_median", "_p95"] {
         if let Some(stem) = k.strip_suffix(s) {
             let (key, factor) = units::key_in(stem, u);
@@ -854,11 +853,11 @@ const BANDED: [&str; 6] = [
     "peak_drive_power_hp",
 ];
 
-/// One CSV row per speed (empty fields for values a run did not give).
-pub fn csv_rows(r: &SweepReport) -> Vec<Vec<String>> {
-    // In the output's family (times 1 in inch: the same digits). The factors by column
-    // name, as the header's.
-    let factor = |name: &str| csv_key(name).1;
+/// One CSV row per speed (empty fields for values a run did not give), in `units`.
+pub fn csv_rows(r: &SweepReport, units: Units) -> Vec<Vec<String>> {
+    // In `units` (times 1 in inch: the same digits). The factors by column name, as the
+    // header's.
+    let factor = |name: &str| csv_key(name, units).1;
     let (kf, ka, kt, ks, kp) = (
         factor("min_contact_force_lb"),
         factor("rms_acceleration_deviation_in_per_s2"),

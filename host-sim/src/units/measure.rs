@@ -54,7 +54,14 @@ fn marked(v: &serde_json::Value) -> Option<(Unit, f64)> {
     let o = v.as_object().filter(|o| o.len() == 2)?;
     let name = o.get(MARKER)?.as_str()?;
     let unit = UNITS.into_iter().find(|u| marker(*u) == name)?;
-    Some((unit, o.get("value")?.as_f64()?))
+    // A value that is not finite serializes as null: it stays null, not a marker.
+    let value = o.get("value")?;
+    let inch = if value.is_null() {
+        f64::NAN
+    } else {
+        value.as_f64()?
+    };
+    Some((unit, inch))
 }
 
 /// The unit of `v` if it is a measure, or a non-empty array of measures of one unit.
@@ -231,6 +238,16 @@ mod tests {
         assert_eq!(
             v,
             serde_json::json!({"$unit": "psi|mpa", "value": 150_000.0})
+        );
+    }
+
+    #[test]
+    fn a_measure_that_is_not_finite_prints_null_not_a_marker() {
+        let v = serde_json::json!({"f": Force::inch(f64::NAN)});
+        let text = serde_json::to_string(&v).unwrap();
+        assert_eq!(
+            crate::units::json(&text, Units::Si).unwrap(),
+            r#"{"f_n":null}"#
         );
     }
 

@@ -6,21 +6,36 @@
 //! otherwise the family of the scene file the command reads, SI when every key with a
 //! unit in it is an SI one (`base_radius_mm`, `spring_rate_n_per_mm`), inch for an inch
 //! scene, for one that mixes the two families or has no key with a unit, and without a
-//! scene. `cli::execute` then [`set`]s it; the formatting helpers below read it
-//! ([`current`]). Under SI, whichever decided it, a bare number on an option whose
-//! bare number is inch (`--cutter-radius 10`) is refused (`cli::bare_inch_number`).
+//! scene. Under SI, whichever decided it, a bare number on an option whose bare number is
+//! inch (`--cutter-radius 10`) is refused (`cli::bare_inch_number`).
 //!
-//! Every numeric JSON key carries its unit. The reports are structs whose fields are in
-//! the inch family; [`json`] rewrites a report's JSON once, by one table: a key that
-//! already ends in an inch-family unit (`_lb_per_in`, `_psi`, `_in`, ...) keeps it in
-//! inch output and gets the SI suffix (`_n_per_mm`, `_mpa`, `_mm`) and the converted value
-//! in SI; a key the reports share without a unit (the per-period columns `rms_velocity`,
-//! `contact_force_min`, `torque_max`, ...) gets its unit appended, and in SI its value
-//! converted. The value under such a key may be a number, or an object or array of
-//! numbers in that unit (a column's mean, spread and percentiles): every number in it is
-//! converted. Dimensionless keys (`aord_*`, ratios, probabilities, counts), angles
-//! (`_deg`), speeds of the cam (`_rpm`), frequencies (`_hz`) and times (`_s`, `_ms`) are
-//! the same in both families and pass unchanged.
+//! The family is an explicit value: `cli::execute` passes the [`Units`] it decided to
+//! every command's `run(args, units)`, and from there to the report's text
+//! (`Report::text(&self, units)`), to `report::print` (the JSON) and to the figures
+//! (`figure::draw(.., units)`). Its methods format: [`Units::q`] and [`Units::show`]
+//! print a value with the inch format's resolution, [`Units::symbol`] and
+//! [`Units::label`] name the unit, [`Units::axis`] scales a plot axis.
+//!
+//! A report's dimensional field is a [`Measure`] ([`Length`], [`Force`], [`Stress`],
+//! ...): its value in the inch family, its unit in its type. Its JSON is a marker that
+//! [`convert`] (the one conversion, [`json`], used by `report::print`) turns into the
+//! number in the output's family, the key named by the type's unit (`base_radius_in` or
+//! `base_radius_mm`). A field still a plain number is converted by its key's NAME (the
+//! legacy path): a key that ends in an inch-family unit (`_lb_per_in`, `_psi`, `_in`,
+//! ...) keeps it in inch output and gets the SI suffix (`_n_per_mm`, `_mpa`, `_mm`) and
+//! the converted value in SI; a key the reports share without a unit (the per-period
+//! columns `rms_velocity`, `contact_force_min`, `torque_max`, ...) gets its unit
+//! appended, and in SI its value converted. The value under such a key may be a number,
+//! or an object or array of numbers in that unit (a column's mean, spread and
+//! percentiles): every number in it is converted. [`by_name`] lists the keys a report
+//! still converts by name; tests/tests/json_units.rs holds that list to a checked-in one
+//! that may only shrink. Dimensionless keys (`aord_*`, ratios, probabilities, counts),
+//! angles (`_deg`), speeds of the cam (`_rpm`), frequencies (`_hz`) and times (`_s`,
+//! `_ms`) are the same in both families and pass unchanged.
+//!
+//! The free functions [`q`], [`value`], [`label`], ... and [`current`] read a
+//! process-wide copy of the family ([`set`] by `cli::execute`): they are shims for the
+//! commands not yet given the explicit value, and go once every command takes it.
 //!
 //! The factors are the scene files' exact ones ([`camsim_scene_file::units`]: 1 in =
 //! 25.4 mm, 1 lbf = 4.4482216152605 N), so a scene written in SI and the same scene in
@@ -255,8 +270,9 @@ impl Units {
     }
 }
 
-// The free functions below read the process-wide family ([`current`]); they remain
-// while the commands move to an explicit `Units` value (the methods above).
+// SHIMS, TO BE DELETED: the free functions below read the process-wide family
+// ([`current`], [`set`]); they remain only while the last commands move to the explicit
+// `Units` value (the methods above). Call the methods in new code.
 
 /// [`Units::q`] in the process-wide family.
 pub fn q(unit: Unit, inch_value: f64, inch_decimals: usize) -> Quantity {
@@ -332,6 +348,7 @@ pub fn decide(option: Option<Units>, scene: Option<&std::path::Path>) -> (Units,
     }
 }
 
+// SHIM, TO BE DELETED with the free functions above: the process-wide family.
 static CURRENT: AtomicU8 = AtomicU8::new(0);
 
 /// Sets the output's unit family for this process (`--units`, once, as the command
@@ -425,6 +442,35 @@ pub fn convert(value: serde_json::Value, units: Units) -> serde_json::Value {
     }
 }
 
+/// The keys of `value` (a report's JSON as it serializes, before [`convert`]) that
+/// [`convert`] names and scales by their NAME, not by a [`Measure`]'s type: a plain value
+/// under a key with an inch-family suffix (`min_contact_force_lb`) or under one of the
+/// shared bare keys (`rms_velocity`), at any depth; each once, sorted. A field named
+/// without its unit's suffix would stay in inch here unnoticed; a [`Measure`] field
+/// cannot. tests/tests/json_units.rs keeps this list from growing.
+pub fn by_name(value: &serde_json::Value) -> Vec<String> {
+    fn walk(v: &serde_json::Value, keys: &mut std::collections::BTreeSet<String>) {
+        match v {
+            serde_json::Value::Object(o) => {
+                for (k, x) in o {
+                    if measure::measured(x).is_some() {
+                        continue;
+                    }
+                    if unit_of(k).is_some() {
+                        keys.insert(k.clone());
+                    }
+                    walk(x, keys);
+                }
+            }
+            serde_json::Value::Array(a) => a.iter().for_each(|x| walk(x, keys)),
+            _ => {}
+        }
+    }
+    let mut keys = std::collections::BTreeSet::new();
+    walk(value, &mut keys);
+    keys.into_iter().collect()
+}
+
 /// A report's JSON text (`text`, pretty or compact) rewritten with every key in `units`:
 /// the same layout, the keys of every object in sorted order.
 pub fn json(text: &str, units: Units) -> serde_json::Result<String> {
@@ -469,7 +515,7 @@ pub fn axis_in(u: Unit, units: Units) -> (f64, String) {
     (factor, pretty)
 }
 
-/// [`axis_in`] in the output's unit family (`--units`).
+/// [`axis_in`] in the process-wide family (a shim, to be deleted: call [`Units::axis`]).
 pub fn axis(u: Unit) -> (f64, String) {
     axis_in(u, current())
 }
@@ -562,6 +608,21 @@ mod tests {
             // An SI key is its own SI name: nothing converts twice.
             assert_eq!(key_in(&name, Units::Si), (name.clone(), 1.0));
         }
+    }
+
+    #[test]
+    fn by_name_lists_the_keys_named_by_their_suffix_or_bare_not_the_measures() {
+        let v = serde_json::json!({
+            "base_radius_in": 1.5,
+            "rms_velocity": {"mean": 1.0},
+            "force": serde_json::to_value(Force::inch(1.0)).unwrap_or_default(),
+            "rows": [{"lift_in": 0.5, "count": 2}],
+            "max_pressure_angle_deg": 30.0
+        });
+        assert_eq!(
+            by_name(&v),
+            ["base_radius_in", "lift_in", "rms_velocity"].map(String::from)
+        );
     }
 
     #[test]

@@ -17,7 +17,7 @@ use crate::args::spec_from;
 use crate::report::Report;
 use crate::stats::Probability;
 use crate::study::montecarlo::{threads, ProfileSettings};
-use crate::units;
+use crate::units::{self, Units};
 
 /// What a Monte Carlo design search found.
 #[derive(Clone, Debug, Serialize)]
@@ -297,7 +297,7 @@ fn search_labels(speed: bool, waviness: bool) -> (&'static str, String) {
 }
 
 /// The first lines of a search's text: its answer in the user's words.
-fn search_headline(r: &McSearchReport, out: &mut String) {
+fn search_headline(r: &McSearchReport, out: &mut String, units: Units) {
     use std::fmt::Write;
     if r.search == "speed" {
         let _ = writeln!(
@@ -317,9 +317,9 @@ fn search_headline(r: &McSearchReport, out: &mut String) {
             "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
             r.answer,
             r.tolerance_factor.unwrap_or(1.0),
-            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
-            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
-            lu = units::symbol(units::LENGTH)
+            units.q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            units.q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            lu = units.symbol(units::LENGTH)
         );
         let _ = writeln!(
             out,
@@ -329,12 +329,12 @@ fn search_headline(r: &McSearchReport, out: &mut String) {
         let _ = writeln!(
             out,
             "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
-            units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            units.q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
             r.answer,
             r.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
-            units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
-            units::q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
-            lu = units::symbol(units::LENGTH)
+            units.q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            units.q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+            lu = units.symbol(units::LENGTH)
         );
     }
 }
@@ -366,10 +366,10 @@ impl Report for McSearchReport {
     fn json(&self) -> serde_json::Result<String> {
         crate::report::sorted_pretty_json(&self.json_value()?)
     }
-    fn text(&self, _units: crate::units::Units) -> String {
+    fn text(&self, units: Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        search_headline(self, &mut out);
+        search_headline(self, &mut out, units);
         let d = if self.search == "waviness" { 0 } else { 4 };
         match self.failing {
             Some(f) => {

@@ -23,7 +23,7 @@ use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
 use crate::study::coil_spring::{candidates, CoilChoice, CoilQuery, Rejections};
 use crate::study::montecarlo::{threads, ProfileSettings};
-use crate::units;
+use crate::units::{self, Units};
 
 /// What `design spring` is asked.
 #[derive(Clone, Debug)]
@@ -682,10 +682,10 @@ impl Report for SpringReport {
         }
         crate::report::sorted_pretty_json(&v)
     }
-    fn text(&self, _units: crate::units::Units) -> String {
+    fn text(&self, units: Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
-        spring_headline(self, &mut out);
+        spring_headline(self, &mut out, units);
         let _ = writeln!(out, "  criterion: {}", self.criterion);
         if let (Some(j), Some(b)) = (self.jump_onset_rpm, self.jump_onset_bracket_rpm) {
             let _ = writeln!(
@@ -704,13 +704,13 @@ impl Report for SpringReport {
             );
         }
         if let Some(p) = &self.part {
-            part_lines(&mut out, p);
+            part_lines(&mut out, p, units);
             if self.searched == Searched::PreloadLength {
                 let _ = writeln!(
                     out,
                     "    and in [design]: spring_preload_length_{} = {}",
-                    units::key_suffix(units::LENGTH),
-                    units::q(units::LENGTH, p.preload_length_in, 4)
+                    units.key_suffix(units::LENGTH),
+                    units.q(units::LENGTH, p.preload_length_in, 4)
                 );
             }
         }
@@ -722,13 +722,13 @@ impl Report for SpringReport {
                 if self.searched == Searched::PreloadLength {
                     format!(
                         "{}{}",
-                        units::q(units::LENGTH, *k, 3),
+                        units.q(units::LENGTH, *k, 3),
                         if *ok { "+" } else { "-" }
                     )
                 } else {
                     format!(
                         "{}{}",
-                        units::q(units::STIFFNESS, *k, 1),
+                        units.q(units::STIFFNESS, *k, 1),
                         if *ok { "+" } else { "-" }
                     )
                 }
@@ -738,14 +738,14 @@ impl Report for SpringReport {
             let _ = writeln!(
                 out,
                 "  preload lengths tried ({}, + passes): {}",
-                units::symbol(units::LENGTH),
+                units.symbol(units::LENGTH),
                 tried.join(" ")
             );
         } else {
             let _ = writeln!(
                 out,
                 "  rates tried ({}, + passes): {}",
-                units::symbol(units::STIFFNESS),
+                units.symbol(units::STIFFNESS),
                 tried.join(" ")
             );
         }
@@ -761,9 +761,9 @@ impl Report for SpringReport {
 /// The first lines of the spring search's text: the answer and its bracket. The rate it
 /// gives is the built spring's own (its wire, coil and coils: the `[design.spring]` lines
 /// below), beside the least rate the search found.
-fn spring_headline(r: &SpringReport, out: &mut String) {
+fn spring_headline(r: &SpringReport, out: &mut String, units: Units) {
     use std::fmt::Write;
-    let ku = units::symbol(units::STIFFNESS);
+    let ku = units.symbol(units::STIFFNESS);
     let rate = r
         .part
         .as_ref()
@@ -772,36 +772,36 @@ fn spring_headline(r: &SpringReport, out: &mut String) {
         let _ = writeln!(
             out,
             "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} {}",
-            units::q(units::LENGTH, r.preload_length_in, 3),
-            units::q(units::STIFFNESS, rate, 1),
-            spring_summary(r),
-            lu = units::symbol(units::LENGTH),
+            units.q(units::LENGTH, r.preload_length_in, 3),
+            units.q(units::STIFFNESS, rate, 1),
+            spring_summary(r, units),
+            lu = units.symbol(units::LENGTH),
         );
-        preload_bracket_line(r, out);
+        preload_bracket_line(r, out, units);
         return;
     }
     let found = match &r.part {
         Some(_) => format!(
             "; the least rate the search found: {} {ku}",
-            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1)
+            units.q(units::STIFFNESS, r.spring_rate_lb_per_in, 1)
         ),
         None => String::new(),
     };
     let _ = writeln!(
         out,
         "camsim design spring: {} {ku} at preload length {} {} {}{found}",
-        units::q(units::STIFFNESS, rate, 1),
-        units::given(units::LENGTH, r.preload_length_in),
-        units::symbol(units::LENGTH),
-        spring_summary(r),
+        units.q(units::STIFFNESS, rate, 1),
+        units.given(units::LENGTH, r.preload_length_in),
+        units.symbol(units::LENGTH),
+        spring_summary(r, units),
     );
     let _ = match r.failing_rate_lb_per_in {
         Some(b) => writeln!(
             out,
             "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
-            units::q(units::STIFFNESS, b, 1),
-            units::q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
-            units::q(units::STIFFNESS, r.bracket_lb_per_in, 2),
+            units.q(units::STIFFNESS, b, 1),
+            units.q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
+            units.q(units::STIFFNESS, r.bracket_lb_per_in, 2),
         ),
         None => writeln!(
             out,
@@ -811,29 +811,29 @@ fn spring_headline(r: &SpringReport, out: &mut String) {
 }
 
 /// The answer's spring in brackets: its preload, coils, mass and surge.
-fn spring_summary(r: &SpringReport) -> String {
+fn spring_summary(r: &SpringReport, units: Units) -> String {
     format!(
         "(preload {} {}; {:.2} active coils, {} {}, surge {:.0} Hz)",
-        units::q(units::FORCE, r.preload_lb, 2),
-        units::symbol(units::FORCE),
+        units.q(units::FORCE, r.preload_lb, 2),
+        units.symbol(units::FORCE),
         r.active_coils,
-        units::q(units::WEIGHT, r.spring_mass_lb, 4),
-        units::symbol(units::WEIGHT),
+        units.q(units::WEIGHT, r.spring_mass_lb, 4),
+        units.symbol(units::WEIGHT),
         r.surge_hz,
     )
 }
 
 /// The preload search's bracket line.
-fn preload_bracket_line(r: &SpringReport, out: &mut String) {
+fn preload_bracket_line(r: &SpringReport, out: &mut String, units: Units) {
     use std::fmt::Write;
-    let lu = units::symbol(units::LENGTH);
+    let lu = units.symbol(units::LENGTH);
     let _ = match (r.failing_preload_length_in, r.preload_bracket_in) {
         (Some(b), Some(w)) => writeln!(
             out,
             "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
-            units::q(units::LENGTH, b, 3),
-            units::q(units::LENGTH, b + w, 3),
-            units::q(units::LENGTH, w, 3),
+            units.q(units::LENGTH, b, 3),
+            units.q(units::LENGTH, b + w, 3),
+            units.q(units::LENGTH, w, 3),
         ),
         _ => writeln!(
             out,
@@ -861,37 +861,37 @@ fn binding_text(p: &PartReport) -> String {
 
 /// The spring to build: the part, its checks, the rule that binds, and the
 /// `[design.spring]` lines that describe it in the output's family.
-fn part_lines(out: &mut String, p: &PartReport) {
+fn part_lines(out: &mut String, p: &PartReport, units: Units) {
     use std::fmt::Write;
     let c = &p.spring;
-    let (lu, su) = (units::symbol(units::LENGTH), units::symbol(units::STRESS));
+    let (lu, su) = (units.symbol(units::LENGTH), units.symbol(units::STRESS));
     let _ = writeln!(
         out,
         "  spring to build: {}, wire {} {lu}, mean coil {} {lu} (index {:.1}), {:.2} active / {:.2} total coils, {} ends; rate {} {}, {} {}",
         p.wire,
-        units::q(units::LENGTH, c.wire_diameter_in, 3),
-        units::q(units::LENGTH, c.mean_diameter_in, 3),
+        units.q(units::LENGTH, c.wire_diameter_in, 3),
+        units.q(units::LENGTH, c.mean_diameter_in, 3),
         c.index,
         c.active_coils,
         c.total_coils,
         p.ends,
-        units::q(units::STIFFNESS, c.rate_lb_per_in, 1),
-        units::symbol(units::STIFFNESS),
-        units::q(units::WEIGHT, c.mass_lb, 4),
-        units::symbol(units::WEIGHT)
+        units.q(units::STIFFNESS, c.rate_lb_per_in, 1),
+        units.symbol(units::STIFFNESS),
+        units.q(units::WEIGHT, c.mass_lb, 4),
+        units.symbol(units::WEIGHT)
     );
     let _ = writeln!(
         out,
         "    checks: stress {} {su} at full compression, {:.0} % of the allowable {} {su}; surge {:.0} Hz = {:.1} x the cam (least {:.0}); free length {} {lu}, {} {lu} at full compression above the solid {} {lu}; contact {}",
-        units::q(units::STRESS, c.shear_stress_psi, 0),
+        units.q(units::STRESS, c.shear_stress_psi, 0),
         100.0 * c.shear_stress_psi / c.allowable_shear_psi,
-        units::q(units::STRESS, c.allowable_shear_psi, 0),
+        units.q(units::STRESS, c.allowable_shear_psi, 0),
         c.surge_hz,
         c.surge_harmonic,
         camsim_core::SURGE_HARMONIC_MARGIN,
-        units::q(units::LENGTH, c.free_length_in, 3),
-        units::q(units::LENGTH, c.full_compression_length_in, 3),
-        units::q(units::LENGTH, c.solid_height_in, 3),
+        units.q(units::LENGTH, c.free_length_in, 3),
+        units.q(units::LENGTH, c.full_compression_length_in, 3),
+        units.q(units::LENGTH, c.solid_height_in, 3),
         if p.contact_checked {
             "checked with its own rate and mass"
         } else {
@@ -907,7 +907,7 @@ fn part_lines(out: &mut String, p: &PartReport) {
         p.rejected.stress,
         p.rejected.surge
     );
-    let k = units::key_suffix(units::LENGTH);
+    let k = units.key_suffix(units::LENGTH);
     let _ = writeln!(
         out,
         "    as a scene (these lines in place of the spring rate):\n      [design.spring]\n      wire_diameter_{k} = {}\n      mean_diameter_{k} = {}\n      active_coils = {}\n      ends = \"{}\"\n      material = \"{}\"\n      free_length_{k} = {}",
@@ -916,7 +916,7 @@ fn part_lines(out: &mut String, p: &PartReport) {
         c.active_coils,
         p.ends,
         p.material,
-        units::q(units::LENGTH, c.free_length_in, 4)
+        units.q(units::LENGTH, c.free_length_in, 4)
     );
 }
 

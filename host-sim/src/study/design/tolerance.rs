@@ -219,7 +219,7 @@ impl Report for ToleranceTable {
         if self.0.len() == 1 || answers.iter().any(|r| r.search != "tolerance") {
             return answers.iter().map(|r| r.text(units)).collect();
         }
-        let lu = units::symbol(units::LENGTH);
+        let lu = units.symbol(units::LENGTH);
         let mut out = String::new();
         let _ = writeln!(
             out,
@@ -251,7 +251,9 @@ impl Report for ToleranceTable {
                 "  {:>5}  {:>12.3}  {:>14}  {:>22}  {:>9}",
                 r.waviness_fpr.unwrap_or(0),
                 r.answer,
-                units::q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5).to_string(),
+                units
+                    .q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5)
+                    .to_string(),
                 p,
                 fails
             );
@@ -260,8 +262,8 @@ impl Report for ToleranceTable {
             let _ = writeln!(
                 out,
                 "  held: roller ±{} {lu}, eccentricity ±{} {lu}",
-                units::q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
-                units::q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+                units.q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+                units.q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
             );
             let fpr = format!("waviness FPR {}", r.waviness_fpr.unwrap_or(0));
             let criterion = r.criterion.replace(&fpr, "waviness the row's FPR");

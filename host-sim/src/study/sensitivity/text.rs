@@ -5,6 +5,7 @@ use super::outputs::OUTPUTS;
 use super::per_key::PerKey;
 use super::{Case, NotWorkableCase, SensitivityReport};
 use crate::report::Report;
+use crate::units::Units;
 
 /// A change in % to one decimal with its sign, `0.0` without one when it rounds to zero
 /// (`-0.0%` read as a decrease where there is none to the printed digit).
@@ -37,20 +38,19 @@ pub(crate) fn output_unit(i: usize) -> Option<camsim_scene_file::units::Unit> {
     }
 }
 
-/// The unit label of output `i` in the output's family (`--units`): the table's own
-/// (`in/s2`) in inch.
-fn output_label(i: usize) -> &'static str {
+/// The unit label of output `i` in `units`: the table's own (`in/s2`) in inch.
+fn output_label(i: usize, units: Units) -> &'static str {
     let inch = OUTPUTS.get(i).map_or("", |o| o.2);
-    output_unit(i).map_or(inch, |u| crate::units::label(u, inch))
+    output_unit(i).map_or(inch, |u| units.label(u, inch))
 }
 
-/// Output `i`'s value `v` (inch family) in the output's family: four significant
-/// digits; the stress to the psi in inch (to 0.01 MPa in SI).
-pub(crate) fn fmt_value(i: usize, v: f64) -> String {
+/// Output `i`'s value `v` (inch family) in `units`: four significant digits; the
+/// stress to the psi in inch (to 0.01 MPa in SI).
+pub(crate) fn fmt_value(i: usize, v: f64, units: Units) -> String {
     let unit = output_unit(i);
-    let v = unit.map_or(v, |u| crate::units::value(u, v));
+    let v = unit.map_or(v, |u| units.value(u, v));
     if i == 4 {
-        let d = unit.map_or(0, |u| crate::units::decimals(u, 0));
+        let d = unit.map_or(0, |u| units.decimals(u, 0));
         return format!("{v:.d$}");
     }
     if v.abs() >= 1e4 {
@@ -64,6 +64,15 @@ pub(crate) fn fmt_value(i: usize, v: f64) -> String {
     }
     let digits = (3 - v.abs().log10().floor() as i32).max(0) as usize;
     format!("{v:.digits$}")
+}
+
+/// Output `i`'s cell: its value `v` in `units`, and its change from the baseline's `bv`
+/// when there is one (`bv` not NaN, the baseline row none) and it is not zero.
+fn cell(i: usize, v: f64, bv: f64, units: Units) -> String {
+    match pct(v, bv).filter(|_| !bv.is_nan()) {
+        Some(d) => format!("{} {:>6}%", fmt_value(i, v, units), signed_pct_1(d)),
+        None => fmt_value(i, v, units),
+    }
 }
 
 /// A cam's table rows of the cases that left the model's valid range, and a note when its
@@ -98,7 +107,7 @@ fn left_range_text(out: &mut String, cases: &[NotWorkableCase]) {
 }
 
 impl Report for SensitivityReport {
-    fn text(&self, _units: crate::units::Units) -> String {
+    fn text(&self, units: Units) -> String {
         use std::fmt::Write;
         let mut out = String::new();
         let p = &self.actual_profile;
@@ -115,10 +124,10 @@ impl Report for SensitivityReport {
             "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} {}, {} intervals \
              ({:.2} deg, {}), FPR {}; the same cam in every case",
             p.seed,
-            crate::units::given(crate::units::LENGTH, p.cam_tolerance_in),
-            crate::units::given(crate::units::LENGTH, p.roller_tolerance_in),
-            crate::units::given(crate::units::LENGTH, p.eccentricity_tolerance_in),
-            crate::units::symbol(crate::units::LENGTH),
+            units.given(crate::units::LENGTH, p.cam_tolerance_in),
+            units.given(crate::units::LENGTH, p.roller_tolerance_in),
+            units.given(crate::units::LENGTH, p.eccentricity_tolerance_in),
+            units.symbol(crate::units::LENGTH),
             p.intervals,
             p.interval_deg,
             p.interval_source.name(),
@@ -129,17 +138,17 @@ impl Report for SensitivityReport {
             "outputs: RMS deviations of the load from the theoretical response (displacement {}, velocity {}, \
              acceleration {}), RMS deviation of the cam speed from its nominal (rad/s), time-averaged Hertz \
              stress ({}); each case's value, then its change from the baseline",
-            output_label(0),
-            output_label(1),
-            output_label(2),
-            output_label(4)
+            output_label(0, units),
+            output_label(1, units),
+            output_label(2, units),
+            output_label(4, units)
         );
         for cam in ["theoretical", "actual"] {
             let b = self.baseline.iter().find(|c| c.cam == cam);
             let _ = writeln!(out, "\n{cam} cam");
             let _ = write!(out, "  {:<10} {:>6}", "group", "change");
             for (i, (_, h, _)) in OUTPUTS.iter().enumerate() {
-                let _ = write!(out, " {:>19}", format!("{h} ({})", output_label(i)));
+                let _ = write!(out, " {:>19}", format!("{h} ({})", output_label(i, units)));
             }
             let _ = writeln!(out, "  jump");
             let row = |out: &mut String, c: &Case| {
@@ -151,15 +160,8 @@ impl Report for SensitivityReport {
                 );
                 let base = b.map_or([f64::NAN; 5], |b| b.outputs.values());
                 for (i, (v, bv)) in c.outputs.values().into_iter().zip(base).enumerate() {
-                    let cell = if c.group == "baseline" || bv.is_nan() {
-                        fmt_value(i, v)
-                    } else {
-                        match pct(v, bv) {
-                            Some(d) => format!("{} {:>6}%", fmt_value(i, v), signed_pct_1(d)),
-                            None => fmt_value(i, v),
-                        }
-                    };
-                    let _ = write!(out, " {cell:>19}");
+                    let bv = if c.group == "baseline" { f64::NAN } else { bv };
+                    let _ = write!(out, " {:>19}", cell(i, v, bv, units));
                 }
                 let _ = writeln!(out, "  {}", if c.outputs.jump { "yes" } else { "no" });
             };
@@ -173,7 +175,7 @@ impl Report for SensitivityReport {
         }
         left_range_text(&mut out, &self.not_workable);
         if let Some(pk) = &self.per_key {
-            per_key_table(&mut out, pk);
+            per_key_table(&mut out, pk, units);
         }
         let _ = writeln!(out, "\nrun time: {:.1} s", self.wall_s);
         out
@@ -182,7 +184,7 @@ impl Report for SensitivityReport {
 
 /// `--per-key`'s table: each key's elasticities, ranked, a not-workable key on a line of
 /// its own.
-fn per_key_table(out: &mut String, pk: &PerKey) {
+fn per_key_table(out: &mut String, pk: &PerKey, units: Units) {
     use std::fmt::Write;
     let _ = writeln!(
             out,
@@ -199,9 +201,8 @@ fn per_key_table(out: &mut String, pk: &PerKey) {
     }
     let _ = writeln!(out, " {:>10}", "onset");
     for (i, k) in pk.keys.iter().enumerate() {
-        // The key under its name in the output's family (an elasticity is the
-        // same in either).
-        let key = crate::units::key_in(k.key, crate::units::current()).0;
+        // The key under its name in `units` (an elasticity is the same in either).
+        let key = crate::units::key_in(k.key, units).0;
         if let Some(n) = &k.not_workable {
             let _ = writeln!(out, "  {:>4} {key:<42} {}", "-", n.text());
             continue;
