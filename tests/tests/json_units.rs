@@ -49,7 +49,7 @@ fn reports() -> Vec<(&'static str, String)> {
     let Command::Run(a) = parse(&["run", "--revolutions", "2"]).command else {
         panic!("not run")
     };
-    out.push(("run", run::report(&a).unwrap().json().unwrap()));
+    out.push(("run", run::report(&a, camsim::units::Units::Inch).unwrap().json().unwrap()));
     let Command::Design(d) = parse(&["design", "spring", "--quick"]).command else {
         panic!("not design")
     };
