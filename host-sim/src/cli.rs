@@ -184,7 +184,6 @@ fn negatives_are_values(cmd: clap::Command) -> clap::Command {
 
 /// Runs a parsed command.
 pub fn execute(cli: Cli) -> Result<()> {
-    crate::units::set(cli.units);
     let units = cli.units;
     match cli.command {
         Command::Laws(a) => cmd::laws::run(a, units),

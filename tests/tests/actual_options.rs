@@ -90,9 +90,15 @@ fn json_of(argv: &[&str]) -> anyhow::Result<Value> {
             }
         }
         Command::Design(d) => match d.what {
-            What::Spring(a) => camsim::cmd::design::spring(&a)?.json()?,
-            What::Speed(a) => camsim::cmd::design::mc_search(&a, true)?.json()?,
-            What::Tolerance(a) => camsim::cmd::design::tolerance_table(&a)?.json()?,
+            What::Spring(a) => {
+                camsim::cmd::design::spring(&a, camsim::units::Units::Inch)?.json()?
+            }
+            What::Speed(a) => {
+                camsim::cmd::design::mc_search(&a, true, camsim::units::Units::Inch)?.json()?
+            }
+            What::Tolerance(a) => {
+                camsim::cmd::design::tolerance_table(&a, camsim::units::Units::Inch)?.json()?
+            }
         },
         Command::Sweep(a) => {
             camsim::study::sweep::run(&camsim::cmd::sweep::sweep_of(&a)?, cli.units)?.json()?

@@ -69,7 +69,7 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
 /// 920 rpm.
 #[test]
 fn design_spring_theoretical_brackets_the_criterion() {
-    let r = spring(&spring_args(false, 1)).unwrap();
+    let r = spring(&spring_args(false, 1), camsim::units::Units::Inch).unwrap();
     let below = r.failing_rate_lb_per_in.unwrap();
     assert!(r.bracket_lb_per_in <= 10.0 && r.bracket_lb_per_in > 0.0);
     let mut spec = camsim::cmd::run::spec_from(&SceneArgs::default()).unwrap();
@@ -108,8 +108,8 @@ fn design_spring_theoretical_brackets_the_criterion() {
 /// The actual-cam search gives the same answer, bit for bit, on 1 and 2 threads.
 #[test]
 fn design_spring_actual_is_the_same_on_one_and_two_threads() {
-    let one = spring(&spring_args(true, 1)).unwrap();
-    let two = spring(&spring_args(true, 2)).unwrap();
+    let one = spring(&spring_args(true, 1), camsim::units::Units::Inch).unwrap();
+    let two = spring(&spring_args(true, 2), camsim::units::Units::Inch).unwrap();
     assert_eq!(one.spring_rate_lb_per_in, two.spring_rate_lb_per_in);
     assert_eq!(one.tried, two.tried);
     assert_eq!(one.p_jump, two.p_jump);
@@ -142,8 +142,8 @@ fn design_tolerance_waviness_brackets_the_roughest_fpr() {
         tolerance_factor: Some(factor),
         ..mc_args(threads)
     };
-    let a = mc_search(&args(1, 1.0), false).unwrap();
-    let b = mc_search(&args(2, 1.0), false).unwrap();
+    let a = mc_search(&args(1, 1.0), false, camsim::units::Units::Inch).unwrap();
+    let b = mc_search(&args(2, 1.0), false, camsim::units::Units::Inch).unwrap();
     assert_eq!(
         (a.answer, a.failing, &a.tried),
         (b.answer, b.failing, &b.tried)
@@ -156,7 +156,7 @@ fn design_tolerance_waviness_brackets_the_roughest_fpr() {
         .iter()
         .all(|&(x, ok)| if ok { x <= a.answer } else { x >= failing }));
     assert_eq!(a.cam_tolerance_in, Some(0.0005));
-    let loose = mc_search(&args(2, 4.0), false).unwrap();
+    let loose = mc_search(&args(2, 4.0), false, camsim::units::Units::Inch).unwrap();
     assert!(loose.answer <= a.answer, "{} > {}", loose.answer, a.answer);
 }
 
@@ -168,8 +168,8 @@ fn design_tolerance_waviness_brackets_the_roughest_fpr() {
 fn design_speed_and_tolerance_bracket_their_criterion_on_any_thread_count() {
     use camsim::cmd::design::mc_search;
     for speed in [true, false] {
-        let a = mc_search(&mc_args(1), speed).unwrap();
-        let b = mc_search(&mc_args(2), speed).unwrap();
+        let a = mc_search(&mc_args(1), speed, camsim::units::Units::Inch).unwrap();
+        let b = mc_search(&mc_args(2), speed, camsim::units::Units::Inch).unwrap();
         assert_eq!(
             (a.answer, a.failing, &a.tried),
             (b.answer, b.failing, &b.tried)
@@ -197,7 +197,7 @@ fn design_speed_and_tolerance_bracket_their_criterion_on_any_thread_count() {
 fn design_spring_preload_brackets_the_criterion() {
     let mut a = spring_args(false, 1);
     a.preload = true;
-    let r = spring(&a).unwrap();
+    let r = spring(&a, camsim::units::Units::Inch).unwrap();
     assert_eq!(r.searched, "preload length");
     assert_eq!(r.spring_rate_lb_per_in, 100.0);
     let fail = r.failing_preload_length_in.unwrap();
@@ -734,11 +734,11 @@ fn design_tolerance_table_rows_are_the_single_fpr_answers() {
         samples: Some(10),
         ..mc_args(2)
     };
-    let table = tolerance_table(&args(vec![17, 57])).unwrap();
+    let table = tolerance_table(&args(vec![17, 57]), camsim::units::Units::Inch).unwrap();
     assert_eq!(table.0.len(), 2);
     for (row, f) in table.0.iter().zip([17u32, 57]) {
         let row = row.answer().unwrap();
-        let single = mc_search(&args(vec![f]), false).unwrap();
+        let single = mc_search(&args(vec![f]), false, camsim::units::Units::Inch).unwrap();
         assert_eq!(row.waviness_fpr, Some(f));
         assert_eq!(
             (row.answer, row.failing),
@@ -750,7 +750,7 @@ fn design_tolerance_table_rows_are_the_single_fpr_answers() {
         assert_eq!(row.eccentricity_tolerance_in, Some(0.0));
         assert_eq!(row.cam_tolerance_in, Some(0.0005 * row.answer));
     }
-    let e = mc_search(&args(vec![17, 57]), false)
+    let e = mc_search(&args(vec![17, 57]), false, camsim::units::Units::Inch)
         .unwrap_err()
         .to_string();
     assert!(
@@ -776,7 +776,7 @@ fn design_tolerances_tried_values_name_their_unit() {
         let What::Tolerance(t) = a.what else {
             panic!("not tolerance")
         };
-        let text = camsim::cmd::design::tolerance_table(&t)
+        let text = camsim::cmd::design::tolerance_table(&t, camsim::units::Units::Inch)
             .unwrap()
             .json()
             .unwrap();
@@ -808,9 +808,9 @@ fn design_tolerances_tried_values_name_their_unit() {
 #[test]
 fn design_springs_scene_lines_paste_into_a_scene() {
     use camsim::report::Report;
-    let r = spring(&spring_args(false, 1)).unwrap();
+    let r = spring(&spring_args(false, 1), camsim::units::Units::Inch).unwrap();
     let part = r.part.as_ref().unwrap();
-    let text = r.text(camsim::units::current());
+    let text = r.text(camsim::units::Units::Inch);
     let lines: String = text
         .lines()
         .skip_while(|l| !l.trim_start().starts_with("as a scene"))

@@ -49,14 +49,26 @@ fn reports() -> Vec<(&'static str, String)> {
     let Command::Run(a) = parse(&["run", "--revolutions", "2"]).command else {
         panic!("not run")
     };
-    out.push(("run", run::report(&a, camsim::units::Units::Inch).unwrap().json().unwrap()));
+    out.push((
+        "run",
+        run::report(&a, camsim::units::Units::Inch)
+            .unwrap()
+            .json()
+            .unwrap(),
+    ));
     let Command::Design(d) = parse(&["design", "spring", "--quick"]).command else {
         panic!("not design")
     };
     let design::What::Spring(s) = d.what else {
         panic!("not design spring")
     };
-    out.push(("design spring", design::spring(&s).unwrap().json().unwrap()));
+    out.push((
+        "design spring",
+        design::spring(&s, camsim::units::Units::Inch)
+            .unwrap()
+            .json()
+            .unwrap(),
+    ));
     let Command::Sweep(a) = parse(&["sweep", "--rpm", "700:1000:4"]).command else {
         panic!("not sweep")
     };

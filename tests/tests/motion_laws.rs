@@ -53,7 +53,7 @@ fn json_shape() {
         assert!(pos.windows(2).all(|w| w[0] < w[1]), "key order in {obj}");
     }
     // The text table lists every law.
-    let text = report.text(camsim::units::current());
+    let text = report.text(camsim::units::Units::Inch);
     for law in MotionLaw::ALL {
         assert!(
             text.lines().any(|l| l.starts_with(law.name())),

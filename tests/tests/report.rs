@@ -249,7 +249,7 @@ fn run_json_has_no_null_numbers_and_the_text_shows_the_same_values() {
         ["end_deg", "revolution", "start_deg"]
     );
     // The text renders the same report.
-    let text = r.text(camsim::units::current());
+    let text = r.text(camsim::units::Units::Inch);
     assert!(text.contains(&format!(
         "{} steps, {} rejected, {} rhs evaluations",
         r.steps, r.rejected_steps, r.rhs_evals

@@ -6,9 +6,6 @@
 //!
 //! The SI scene is `camsim scene --new --units si`'s template (mm, kg, N/mm keys); the
 //! inch scene is `camsim scene --default`'s.
-//!
-//! The unit family is one process-wide setting: a test that runs a command holds
-//! [`units_lock`].
 
 use std::path::{Path, PathBuf};
 
@@ -18,11 +15,6 @@ use camsim::report::Report;
 use camsim::units::{self, Units, UnitsFrom};
 
 mod common;
-
-fn units_lock() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    LOCK.lock().unwrap_or_else(|e| e.into_inner())
-}
 
 /// The text `camsim scene --new|--default` prints, in `family`.
 fn scene_text(what: &str, family: Units) -> String {
@@ -205,7 +197,6 @@ fn a_bare_number_beside_an_si_scene_is_refused_naming_the_option_value_and_scene
         "{e}"
     );
     // The binary refuses it as a usage error (exit 2) before anything runs.
-    let _lock = units_lock();
     assert_eq!(
         cli::main_from(argv(&["run", &si, "--spring-rate", "10"])),
         2
@@ -216,14 +207,13 @@ fn a_bare_number_beside_an_si_scene_is_refused_naming_the_option_value_and_scene
 /// it): its text and its JSON as printed.
 fn run_outputs(args: &[&str]) -> (String, String) {
     let c = cli::parse_from(argv(args)).unwrap();
-    units::set(c.units);
+    let units = c.units;
     let Command::Run(a) = c.command else {
         panic!("not run")
     };
-    let r = run::report(&a, camsim::units::current()).unwrap();
-    let json = units::json(&r.json().unwrap(), units::current()).unwrap();
-    let text = r.text(camsim::units::current());
-    units::set(Units::Inch);
+    let r = run::report(&a, units).unwrap();
+    let json = units::json(&r.json().unwrap(), units).unwrap();
+    let text = r.text(units);
     // The run time is the clock's, not the model's.
     let timeless = |s: String| -> String {
         s.lines()
@@ -236,7 +226,6 @@ fn run_outputs(args: &[&str]) -> (String, String) {
 
 #[test]
 fn an_si_scene_runs_in_si_and_an_inch_scene_is_unchanged() {
-    let _lock = units_lock();
     let dir = scenes("units-scene-run");
     let si = dir.join("si.toml").display().to_string();
     let inch = dir.join("inch.toml").display().to_string();
@@ -273,15 +262,10 @@ fn header(file: &Path) -> String {
 
 #[test]
 fn an_si_scene_writes_si_csv_headers_and_drawings() {
-    let _lock = units_lock();
     let dir = scenes("units-scene-files");
     let si = dir.join("si.toml").display().to_string();
     let out = |name: &str| dir.join(name).display().to_string();
-    let main = |args: &[&str]| {
-        let code = cli::main_from(argv(args));
-        units::set(Units::Inch);
-        code
-    };
+    let main = |args: &[&str]| cli::main_from(argv(args));
     // run --csv: every dimensional column named in SI; under --units inch in inch.
     assert_eq!(
         main(&["run", &si, "--revolutions", "1", "--csv", &out("si.csv")]),
@@ -332,7 +316,6 @@ fn an_si_scene_writes_si_csv_headers_and_drawings() {
 
 #[test]
 fn an_si_scene_sweeps_and_designs_in_si() {
-    let _lock = units_lock();
     let dir = scenes("units-scene-study");
     let si = dir.join("si.toml").display().to_string();
     let out = |name: &str| dir.join(name).display().to_string();
@@ -340,9 +323,7 @@ fn an_si_scene_sweeps_and_designs_in_si() {
     let sweep = |csv: &str, extra: &[&str]| {
         let mut a = argv(&["sweep", &si, "--rpm", "100:300:2", "--csv", csv]);
         a.extend_from_slice(extra);
-        let code = cli::main_from(a);
-        units::set(Units::Inch);
-        assert_eq!(code, 0);
+        assert_eq!(cli::main_from(a), 0);
         header(Path::new(csv))
     };
     let h = sweep(&out("sweep-si.csv"), &[]);
@@ -351,17 +332,14 @@ fn an_si_scene_sweeps_and_designs_in_si() {
     assert!(h.starts_with("rpm,jump,min_contact_force_lb,"), "{h}");
     // design spring: the answer in N/mm and the scene's preload length in mm.
     let c = cli::parse_from(argv(&["design", "spring", &si, "--quick"])).unwrap();
-    units::set(c.units);
+    let units = c.units;
     let Command::Design(a) = c.command else {
         panic!("not design")
     };
     let camsim::cmd::design::What::Spring(s) = a.what else {
         panic!("not design spring")
     };
-    let text = camsim::cmd::design::spring(&s)
-        .unwrap()
-        .text(camsim::units::current());
-    units::set(Units::Inch);
+    let text = camsim::cmd::design::spring(&s, units).unwrap().text(units);
     let first = text.lines().next().unwrap_or("");
     assert!(
         first.starts_with("camsim design spring: ")

@@ -5,8 +5,7 @@
 //! two printed values: run, sweep, montecarlo's statistics, design spring's answer, and
 //! `--allowable-stress` read in MPa under `--units si`.
 //!
-//! The unit family is one process-wide setting (`--units`): each test holds
-//! [`units_lock`] while it runs, so they run one after the other.
+//! The unit family is an explicit value: each report's text is asked for in a family.
 
 use camsim::cli::{self, Command};
 use camsim::cmd::run;
@@ -18,24 +17,12 @@ const LBF_N: f64 = 0.453_592_37 * 9.806_65;
 const PSI_MPA: f64 = LBF_N / (IN_MM * IN_MM);
 const LBIN_NM: f64 = LBF_N * IN_MM / 1000.0;
 
-/// The process's unit family is shared: a test that sets it holds this.
-fn units_lock() -> std::sync::MutexGuard<'static, ()> {
-    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    LOCK.lock().unwrap_or_else(|e| e.into_inner())
-}
-
 /// `f`'s text in inch and in SI.
-fn both(f: impl Fn() -> String) -> (String, String) {
-    units::set(Units::Inch);
-    let inch = f();
-    units::set(Units::Si);
-    let si = f();
-    units::set(Units::Inch);
-    (inch, si)
+fn both(f: impl Fn(Units) -> String) -> (String, String) {
+    (f(Units::Inch), f(Units::Si))
 }
 
 fn run_text(units: Units) -> String {
-    units::set(units);
     let argv = [
         "camsim",
         "run",
@@ -49,11 +36,7 @@ fn run_text(units: Units) -> String {
     let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
         panic!("not run")
     };
-    let text = run::report(&a, camsim::units::current())
-        .unwrap()
-        .text(camsim::units::current());
-    units::set(Units::Inch);
-    text
+    run::report(&a, units).unwrap().text(units)
 }
 
 /// The half-unit of the last printed digit of `s` (`8.672` -> 0.0005; `1.995e-3` ->
@@ -130,9 +113,7 @@ fn inch_label(text: &str) -> Option<String> {
 
 /// Runs `argv` as the binary does (its stdout goes to the test's).
 fn main(argv: &[&str]) -> u8 {
-    let code = cli::main_from(argv.iter().copied());
-    units::set(Units::Inch);
-    code
+    cli::main_from(argv.iter().copied())
 }
 
 fn csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -154,34 +135,24 @@ fn csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
 /// `units`.
 fn study_text(argv: &[&str], units: Units) -> String {
     use camsim::cmd::{compare, design, montecarlo, sensitivity, tolerance_study};
-    units::set(units);
     let all: Vec<&str> = std::iter::once("camsim")
         .chain(argv.iter().copied())
         .collect();
     let text = match cli::parse_from(all).unwrap().command {
         Command::Montecarlo(a) => match montecarlo::execute(&a, units).unwrap() {
-            montecarlo::Outcome::Study(r) => r.text(camsim::units::current()),
-            montecarlo::Outcome::Shard(r) => r.text(camsim::units::current()),
+            montecarlo::Outcome::Study(r) => r.text(units),
+            montecarlo::Outcome::Shard(r) => r.text(units),
         },
-        Command::Compare(a) => compare::report(&a).unwrap().text(camsim::units::current()),
-        Command::ToleranceStudy(a) => tolerance_study::report(&a, units)
-            .unwrap()
-            .text(camsim::units::current()),
-        Command::Sensitivity(a) => sensitivity::report(&a, units)
-            .unwrap()
-            .text(camsim::units::current()),
+        Command::Compare(a) => compare::report(&a).unwrap().text(units),
+        Command::ToleranceStudy(a) => tolerance_study::report(&a, units).unwrap().text(units),
+        Command::Sensitivity(a) => sensitivity::report(&a, units).unwrap().text(units),
         Command::Design(a) => match a.what {
-            design::What::Spring(s) => design::spring(&s).unwrap().text(camsim::units::current()),
-            design::What::Speed(m) => design::mc_search(&m, true)
-                .unwrap()
-                .text(camsim::units::current()),
-            design::What::Tolerance(m) => design::mc_search(&m, false)
-                .unwrap()
-                .text(camsim::units::current()),
+            design::What::Spring(s) => design::spring(&s, units).unwrap().text(units),
+            design::What::Speed(m) => design::mc_search(&m, true, units).unwrap().text(units),
+            design::What::Tolerance(m) => design::mc_search(&m, false, units).unwrap().text(units),
         },
         _ => panic!("not a study: {argv:?}"),
     };
-    units::set(Units::Inch);
     text
 }
 
@@ -219,7 +190,6 @@ fn moments_rows(text: &str) -> Vec<((String, String), Vec<String>)> {
 
 #[test]
 fn si_text_and_csv_are_the_inch_numbers_converted() {
-    let _units = units_lock();
     // --- run: the per-period table, column by column.
     let (inch, si) = (run_text(Units::Inch), run_text(Units::Si));
     assert!(
@@ -381,33 +351,25 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     std::fs::remove_dir_all(&d).unwrap();
 
     // --- every other converted text: no inch unit left.
-    units::set(Units::Si);
     let texts = [
-        (
-            "laws",
-            camsim::cmd::laws::report().text(camsim::units::current()),
-        ),
+        ("laws", camsim::cmd::laws::report().text(Units::Si)),
         (
             "modal",
-            camsim::cmd::modal::render_table(
-                &camsim::cmd::modal::analyse().unwrap(),
-                camsim::units::current(),
-            ),
+            camsim::cmd::modal::render_table(&camsim::cmd::modal::analyse().unwrap(), Units::Si),
         ),
         (
             "contact",
             camsim::cmd::contact::render_table(
                 &camsim::study::contact::compute(100.0).unwrap(),
-                camsim::units::current(),
+                Units::Si,
             ),
         ),
     ];
-    units::set(Units::Inch);
     for (name, text) in texts {
         assert_eq!(inch_label(&text), None, "{name}");
     }
     // ... which in inch do name inch units.
-    assert!(inch_label(&camsim::cmd::laws::report().text(camsim::units::current())).is_some());
+    assert!(inch_label(&camsim::cmd::laws::report().text(Units::Inch)).is_some());
 
     // --- montecarlo: every statistic of every table, 4 cams.
     let mc = [
@@ -509,16 +471,12 @@ fn si_text_and_csv_are_the_inch_numbers_converted() {
     // --- --allowable-stress reads a value with its unit (MPa or psi) in either family;
     // the note speaks the family's units.
     let verdict = |units: Units, extra: &[&str]| -> String {
-        units::set(units);
         let mut argv = vec!["camsim", "run", "--revolutions", "1"];
         argv.extend_from_slice(extra);
         let Command::Run(a) = cli::parse_from(argv).unwrap().command else {
             panic!("not run")
         };
-        let text = run::report(&a, camsim::units::current())
-            .unwrap()
-            .text(camsim::units::current());
-        units::set(Units::Inch);
+        let text = run::report(&a, units).unwrap().text(units);
         text.lines()
             .find(|l| l.contains("of the allowable"))
             .unwrap()
@@ -626,7 +584,6 @@ fn predict_agrees(inch: &str, si: &str) -> usize {
 
 #[test]
 fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
-    let _units = units_lock();
     use camsim::cmd::{models, predict, waviness};
     use camsim::units::{Acceleration, Force};
 
@@ -651,7 +608,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         json: false,
     }))
     .unwrap();
-    let (inch, si) = both(|| camsim::report::Report::text(&w, camsim::units::current()));
+    let (inch, si) = both(|u| camsim::report::Report::text(&w, u));
     // VI.1's tolerances, 0.0005, 0.0001 and 0.001 in, in mm.
     assert!(
         si.contains("(cam ±0.0127, roller ±0.00254, eccentricity ±0.0254 mm)"),
@@ -725,7 +682,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         ],
         seconds: 5.0,
     };
-    let (inch, si) = both(|| camsim::report::Report::text(&m, camsim::units::current()));
+    let (inch, si) = both(|u| camsim::report::Report::text(&m, u));
     // 36.891 lb, 1 lb, 6543.6 in/s², 1e-8 in.
     assert!(si.contains("smallest contact force 164.10 N"), "{si}");
     assert!(si.contains("Fmin within 4.45 N"), "{si}");
@@ -766,7 +723,7 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
         progress: false,
     })
     .unwrap();
-    let (inch, si) = both(|| camsim::report::Report::text(&b, camsim::units::current()));
+    let (inch, si) = both(|u| camsim::report::Report::text(&b, u));
     let line = |t: &str, key: &str| -> Vec<String> {
         t.lines()
             .find(|l| l.contains(key))
@@ -819,10 +776,8 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
 
     // --- scene --units si: every key in SI, read back to the same design.
     use camsim::scene;
-    units::set(Units::Si);
     let default_si = scene::default_text_si().unwrap();
     let check_si = scene::spec_text_si(&camsim::sim::RunSpec::reference()).unwrap();
-    units::set(Units::Inch);
     let value_of = |t: &str, key: &str| -> f64 {
         let l = t
             .lines()
@@ -893,11 +848,8 @@ fn si_text_of_predict_waviness_models_and_bench_and_the_scene_in_si_keys() {
     let Command::FirmwareCheck(a) = cli::parse_from(fw).unwrap().command else {
         panic!("not firmware-check")
     };
-    let (inch, si) = both(|| {
-        camsim::report::Report::text(
-            &camsim::cmd::firmware_check::report(&a).unwrap(),
-            camsim::units::current(),
-        )
+    let (inch, si) = both(|u| {
+        camsim::report::Report::text(&camsim::cmd::firmware_check::report(&a).unwrap(), u)
     });
     assert_eq!(inch, si);
     assert!(si.contains("flash 262144 B, RAM 65536 B"), "{si}");
@@ -1029,7 +981,6 @@ fn si_command_lines_give_the_unit_of_a_dimensional_option() {
 /// under SI puts an inch key first.
 #[test]
 fn verdict_hints_give_the_output_familys_key_first() {
-    let _lock = units_lock();
     let (inch, si) = (run_text(Units::Inch), run_text(Units::Si));
     for (text, keys, not) in [
         (

@@ -275,8 +275,11 @@ fn tolerance_args(extra: &[&str]) -> camsim::cmd::design::McArgs {
 #[test]
 fn design_tolerance_reports_an_fpr_where_nothing_passes_and_goes_on() {
     use camsim::report::Report;
-    let table = camsim::cmd::design::tolerance_table(&tolerance_args(&["--waviness-fpr", "17,57"]))
-        .unwrap();
+    let table = camsim::cmd::design::tolerance_table(
+        &tolerance_args(&["--waviness-fpr", "17,57"]),
+        camsim::units::Units::Inch,
+    )
+    .unwrap();
     assert_eq!(table.0.len(), 2);
     let ok = table.0[0].answer().unwrap();
     assert_eq!(ok.waviness_fpr, Some(17));
@@ -286,7 +289,7 @@ fn design_tolerance_reports_an_fpr_where_nothing_passes_and_goes_on() {
     assert_eq!(n.smallest_cam_tolerance_in, 0.0005 * 0.1);
     assert!(n.p_jump.unwrap().hi95 > 0.5);
     assert_eq!(n.tolerance_factors_tried, vec![(0.1, false)]);
-    let text = table.text(camsim::units::current());
+    let text = table.text(camsim::units::Units::Inch);
     let row = text
         .lines()
         .find(|l| l.trim_start().starts_with("57"))
@@ -306,8 +309,11 @@ fn design_tolerance_reports_an_fpr_where_nothing_passes_and_goes_on() {
     assert!(rows[0]["answer"].is_number());
     assert!(rows[1].get("answer").is_none() && rows[1]["nothing_passes"].is_string());
     assert_eq!(rows[1]["waviness_fpr"], 57);
-    let e = camsim::cmd::design::tolerance_table(&tolerance_args(&["--waviness-fpr", "57"]))
-        .unwrap_err();
+    let e = camsim::cmd::design::tolerance_table(
+        &tolerance_args(&["--waviness-fpr", "57"]),
+        camsim::units::Units::Inch,
+    )
+    .unwrap_err();
     let msg = format!("{e:#}");
     assert!(
         msg.starts_with("FPR 57: nothing passes down to ±0.00005 in") && !msg.contains('\n'),

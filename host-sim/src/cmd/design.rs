@@ -150,15 +150,15 @@ fn margin_percent(s: &str) -> Result<f64, String> {
 pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
     match args.what {
         What::Spring(a) => {
-            let r = spring(&a)?;
+            let r = spring(&a, units)?;
             crate::report::print(&r, a.json, units)
         }
         What::Speed(a) => {
-            let r = mc_search(&a, true)?;
+            let r = mc_search(&a, true, units)?;
             crate::report::print(&r, a.json, units)
         }
         What::Tolerance(a) => {
-            let r = tolerance_table(&a)?;
+            let r = tolerance_table(&a, units)?;
             crate::report::print(&r, a.json, units)
         }
     }
@@ -166,7 +166,7 @@ pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
 
 impl McArgs {
     /// The search's spec.
-    pub fn spec(&self) -> McSpec {
+    pub fn spec(&self, units: crate::units::Units) -> McSpec {
         McSpec {
             scene: self.scene.clone(),
             p_max: self.p_max,
@@ -176,13 +176,14 @@ impl McArgs {
             waviness: self.waviness,
             tolerance_factor: self.tolerance_factor,
             quick: self.quick,
+            units,
         }
     }
 }
 
 impl SpringArgs {
     /// The search's spec.
-    pub fn spec(&self) -> SpringSpec {
+    pub fn spec(&self, units: crate::units::Units) -> SpringSpec {
         SpringSpec {
             scene: self.scene.clone(),
             margin: self.margin,
@@ -195,22 +196,23 @@ impl SpringArgs {
             preload: self.preload,
             max_preload_length: self.max_preload_length,
             quick: self.quick,
+            units,
         }
     }
 }
 
 /// `design spring` ([`crate::study::design::spring()`]).
-pub fn spring(args: &SpringArgs) -> Result<SpringReport> {
-    crate::study::design::spring(&args.spec())
+pub fn spring(args: &SpringArgs, units: crate::units::Units) -> Result<SpringReport> {
+    crate::study::design::spring(&args.spec(units))
 }
 
 /// `design speed` (`speed`) or a `design tolerance` search
 /// ([`crate::study::design::mc_search`]).
-pub fn mc_search(args: &McArgs, speed: bool) -> Result<McSearchReport> {
-    crate::study::design::mc_search(&args.spec(), speed)
+pub fn mc_search(args: &McArgs, speed: bool, units: crate::units::Units) -> Result<McSearchReport> {
+    crate::study::design::mc_search(&args.spec(units), speed)
 }
 
 /// `design tolerance` ([`crate::study::design::tolerance_table`]).
-pub fn tolerance_table(args: &McArgs) -> Result<ToleranceTable> {
-    crate::study::design::tolerance_table(&args.spec())
+pub fn tolerance_table(args: &McArgs, units: crate::units::Units) -> Result<ToleranceTable> {
+    crate::study::design::tolerance_table(&args.spec(units))
 }

@@ -33,15 +33,11 @@
 //! angles (`_deg`), speeds of the cam (`_rpm`), frequencies (`_hz`) and times (`_s`,
 //! `_ms`) are the same in both families and pass unchanged.
 //!
-//! The free functions [`q`], [`value`], [`label`], ... and [`current`] read a
-//! process-wide copy of the family ([`set`] by `cli::execute`): they are shims for the
-//! commands not yet given the explicit value, and go once every command takes it.
+//! There is no process-wide family: a function that formats takes the [`Units`] value.
 //!
 //! The factors are the scene files' exact ones ([`camsim_scene_file::units`]: 1 in =
 //! 25.4 mm, 1 lbf = 4.4482216152605 N), so a scene written in SI and the same scene in
 //! inch give the same results in either output.
-
-use std::sync::atomic::{AtomicU8, Ordering};
 
 pub mod measure;
 
@@ -159,9 +155,10 @@ pub use su::{
     Unit as UnitKind, INERTIA, LENGTH, MASS, SPEED, STIFFNESS, STRESS, TORQUE, TORSIONAL_STIFFNESS,
 };
 
-/// A printed quantity in the output's family ([`current`]): an inch-family value and the
-/// number of decimals it prints with in inch; the text reports print every dimensional
-/// number through this (the tables' and CSV's labels through [`symbol`]).
+/// A printed quantity in the output's family ([`Units::q`]): an inch-family value and
+/// the number of decimals it prints with in inch; the text reports print every
+/// dimensional number through this (the tables' and CSV's labels through
+/// [`Units::symbol`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Quantity {
     /// The value in the output's family.
@@ -270,50 +267,6 @@ impl Units {
     }
 }
 
-// SHIMS, TO BE DELETED: the free functions below read the process-wide family
-// ([`current`], [`set`]); they remain only while the last commands move to the explicit
-// `Units` value (the methods above). Call the methods in new code.
-
-/// [`Units::q`] in the process-wide family.
-pub fn q(unit: Unit, inch_value: f64, inch_decimals: usize) -> Quantity {
-    current().q(unit, inch_value, inch_decimals)
-}
-
-/// [`Units::given`] in the process-wide family.
-pub fn given(unit: Unit, inch_value: f64) -> f64 {
-    current().given(unit, inch_value)
-}
-
-/// [`Units::value`] in the process-wide family.
-pub fn value(unit: Unit, inch_value: f64) -> f64 {
-    current().value(unit, inch_value)
-}
-
-/// [`Units::label`] in the process-wide family.
-pub fn label(unit: Unit, inch: &'static str) -> &'static str {
-    current().label(unit, inch)
-}
-
-/// [`Units::inch_value`] in the process-wide family.
-pub fn inch_value(unit: Unit, value: f64) -> f64 {
-    current().inch_value(unit, value)
-}
-
-/// [`Units::key_suffix`] in the process-wide family.
-pub fn key_suffix(unit: Unit) -> &'static str {
-    current().key_suffix(unit)
-}
-
-/// [`Units::symbol`] in the process-wide family.
-pub fn symbol(unit: Unit) -> &'static str {
-    current().symbol(unit)
-}
-
-/// [`Units::decimals`] in the process-wide family.
-pub fn decimals(unit: Unit, inch_decimals: usize) -> usize {
-    current().decimals(unit, inch_decimals)
-}
-
 /// What decided the output's unit family ([`decide`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub enum UnitsFrom {
@@ -345,23 +298,6 @@ pub fn decide(option: Option<Units>, scene: Option<&std::path::Path>) -> (Units,
     match (si, scene) {
         (true, Some(p)) => (Units::Si, UnitsFrom::Scene(p.to_path_buf())),
         _ => (Units::Inch, UnitsFrom::Default),
-    }
-}
-
-// SHIM, TO BE DELETED with the free functions above: the process-wide family.
-static CURRENT: AtomicU8 = AtomicU8::new(0);
-
-/// Sets the output's unit family for this process (`--units`, once, as the command
-/// starts).
-pub fn set(units: Units) {
-    CURRENT.store(units as u8, Ordering::Relaxed);
-}
-
-/// The output's unit family (`--units`; inch unless set).
-pub fn current() -> Units {
-    match CURRENT.load(Ordering::Relaxed) {
-        1 => Units::Si,
-        _ => Units::Inch,
     }
 }
 
@@ -513,11 +449,6 @@ pub fn axis_in(u: Unit, units: Units) -> (f64, String) {
         .replace("^4", "⁴")
         .replace(' ', "·");
     (factor, pretty)
-}
-
-/// [`axis_in`] in the process-wide family (a shim, to be deleted: call [`Units::axis`]).
-pub fn axis(u: Unit) -> (f64, String) {
-    axis_in(u, current())
 }
 
 #[cfg(test)]

@@ -48,6 +48,8 @@ pub struct McSpec {
     pub tolerance_factor: Option<f64>,
     /// CI's quick mode: a coarse bracket and a P(jump) limit at least [`QUICK_P_MAX`].
     pub quick: bool,
+    /// The unit family of the report's lines.
+    pub units: units::Units,
 }
 
 /// The P(jump) limit of a Monte Carlo search (at least [`QUICK_P_MAX`] in the quick mode)
@@ -137,14 +139,14 @@ pub fn samples_for(p: f64) -> u64 {
     n
 }
 
-pub(crate) fn describe(spec: &RunSpec) -> String {
+pub(crate) fn describe(spec: &RunSpec, units: units::Units) -> String {
     format!(
         "{} follower, {} DOFs, rtol {:e}, atol {:e} {}, largest step {} rev, static start, 2 revolutions",
         spec.dofs.follower.name(),
         spec.dofs.set().name(),
         spec.solver.rtol,
-        units::given(units::LENGTH, spec.solver.atol),
-        units::symbol(units::LENGTH),
+        units.given(units::LENGTH, spec.solver.atol),
+        units.symbol(units::LENGTH),
         spec.solver.max_step_fraction
     )
 }

@@ -230,7 +230,7 @@ pub(crate) fn mc_search_at(
         let log = SearchLog {
             profile: ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?,
             criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
-            model: describe(&mc),
+            model: describe(&mc, args.units),
             tried,
             model_runs: runs,
             wall_s: t0.elapsed().as_secs_f64(),
@@ -248,7 +248,7 @@ pub(crate) fn mc_search_at(
     } else {
         None
     };
-    let (search, unit) = search_labels(speed, waviness);
+    let (search, unit) = search_labels(speed, waviness, args.units);
     let report = McSearchReport {
         search: search.into(),
         answer,
@@ -271,7 +271,7 @@ pub(crate) fn mc_search_at(
         samples: n,
         seed: args.actual.seed(),
         profile,
-        model: describe(&mc),
+        model: describe(&mc, args.units),
         tried,
         model_runs: runs,
         wall_s: t0.elapsed().as_secs_f64(),
@@ -281,7 +281,7 @@ pub(crate) fn mc_search_at(
 }
 
 /// A search's name and its answer's unit.
-fn search_labels(speed: bool, waviness: bool) -> (&'static str, String) {
+fn search_labels(speed: bool, waviness: bool, units: Units) -> (&'static str, String) {
     if speed {
         ("speed", "rpm".into())
     } else if waviness {
@@ -289,8 +289,8 @@ fn search_labels(speed: bool, waviness: bool) -> (&'static str, String) {
     } else {
         let unit = format!(
             "factor on VI.1's cam tolerance ({} {})",
-            units::given(units::LENGTH, 0.0005),
-            units::symbol(units::LENGTH)
+            units.given(units::LENGTH, 0.0005),
+            units.symbol(units::LENGTH)
         );
         ("tolerance", unit)
     }

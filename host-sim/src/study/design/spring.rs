@@ -40,6 +40,8 @@ pub struct SpringSpec {
     pub samples: Option<u64>,
     /// Worker threads (None: every core). The answer does not depend on it.
     pub threads: Option<u32>,
+    /// The unit family of the report's lines.
+    pub units: Units,
     /// Bracket width the rate search stops at, lb/in.
     pub resolution: f64,
     /// Largest rate searched, lb/in.
@@ -179,6 +181,7 @@ fn choose_part(
     spec: &RunSpec,
     at_rpm: Option<f64>,
     runs: &mut u64,
+    units: Units,
 ) -> Result<(PartReport, RunSpec)> {
     let part = spec.spring.as_ref();
     let wire = part
@@ -193,17 +196,17 @@ fn choose_part(
         fixed: part.map(|p| (p.coil.wire_diameter, p.coil.mean_diameter)),
     };
     let (found, rejected) = candidates(&q);
-    let lu = units::symbol(units::LENGTH);
+    let lu = units.symbol(units::LENGTH);
     if found.is_empty() {
         bail!(
             "no {} spring of {} {} passes: of the wire and coil sizes tried, {} need fewer than {} active coils, {} exceed the allowable stress at full compression ({} {lu}), {} surge below {} x the cam's {:.2} Hz: a longer preload length with a softer spring, a gentler program or a lower speed",
             wire.title,
-            units::q(units::STIFFNESS, q.rate, 1),
-            units::symbol(units::STIFFNESS),
+            units.q(units::STIFFNESS, q.rate, 1),
+            units.symbol(units::STIFFNESS),
             rejected.too_stiff,
             crate::study::coil_spring::MIN_ACTIVE_COILS,
             rejected.stress,
-            units::q(units::LENGTH, q.full_compression, 3),
+            units.q(units::LENGTH, q.full_compression, 3),
             rejected.surge,
             camsim_core::SURGE_HARMONIC_MARGIN,
             q.cam_hz
@@ -303,10 +306,11 @@ fn choose_part_holding_contact(
     what: &str,
     at_rpm: f64,
     runs: &mut u64,
+    units: Units,
 ) -> Result<(PartReport, RunSpec)> {
     let (mut asked, mut raises) = (rate, 0);
     loop {
-        match choose_part(&spec_at(asked)?, Some(at_rpm), runs) {
+        match choose_part(&spec_at(asked)?, Some(at_rpm), runs, units) {
             Ok((mut part, chosen)) => {
                 if raises > 0 {
                     part.binding = format!(
@@ -535,7 +539,12 @@ fn spring_on_actual_cams(
         Ok(ok)
     })?;
     let ans = answer(onset, max, args.preload, "P(jump) above --p-max")?;
-    let (part, _) = choose_part(&with_value(spec, ans.value, args.preload)?, None, &mut runs)?;
+    let (part, _) = choose_part(
+        &with_value(spec, ans.value, args.preload)?,
+        None,
+        &mut runs,
+        args.units,
+    )?;
     let criterion = format!(
         "upper 95 % Wilson bound of P(jump) in revolution 2 at {:.1} rpm over {n} actual cams (seed {}) at most {p_max}",
         camsim_core::rad_per_s_to_rpm(spec.design.omega0),
@@ -553,7 +562,7 @@ fn spring_on_actual_cams(
             Found {
                 answer: ans,
                 criterion,
-                model: describe(&mc),
+                model: describe(&mc, args.units),
                 tried,
                 part,
                 model_runs: runs,
@@ -589,7 +598,8 @@ fn spring_on_theoretical_cam(
     let ans = answer(onset, max, args.preload, "separates")?;
     let at = |x: f64| with_value(spec, x, args.preload); // contact with its own mass
     let what = ans.searched.words().0;
-    let (part, chosen) = choose_part_holding_contact(&at, ans.value, what, at_rpm, &mut runs)?;
+    let (part, chosen) =
+        choose_part_holding_contact(&at, ans.value, what, at_rpm, &mut runs, args.units)?;
     let js = crate::study::jump_speed::find(&chosen, 1.0, crate::study::jump_speed::MAX_RPM)?;
     runs += u64::from(js.simulations);
     let criterion = format!(
@@ -604,7 +614,7 @@ fn spring_on_theoretical_cam(
             Found {
                 answer: ans,
                 criterion,
-                model: describe(spec),
+                model: describe(spec, args.units),
                 tried,
                 part,
                 model_runs: runs,
@@ -911,8 +921,8 @@ fn part_lines(out: &mut String, p: &PartReport, units: Units) {
     let _ = writeln!(
         out,
         "    as a scene (these lines in place of the spring rate):\n      [design.spring]\n      wire_diameter_{k} = {}\n      mean_diameter_{k} = {}\n      active_coils = {}\n      ends = \"{}\"\n      material = \"{}\"\n      free_length_{k} = {}",
-        scene_length(c.wire_diameter_in),
-        scene_length(c.mean_diameter_in),
+        scene_length(c.wire_diameter_in, units),
+        scene_length(c.mean_diameter_in, units),
         c.active_coils,
         p.ends,
         p.material,
@@ -924,8 +934,8 @@ fn part_lines(out: &mut String, p: &PartReport, units: Units) {
 /// family: the standard wires are millimetre sizes, so an inch scene needs more than 4
 /// decimals for the part it reads back to be the part printed (5.6 mm is 0.220472 in;
 /// 0.2205 in would read back as a 0.221 in wire).
-fn scene_length(inch: f64) -> f64 {
-    let v = units::value(units::LENGTH, inch);
+fn scene_length(inch: f64, units: Units) -> f64 {
+    let v = units.value(units::LENGTH, inch);
     format!("{v:.5e}").parse().unwrap_or(v)
 }
 

@@ -113,8 +113,8 @@ impl NothingPasses {
         n: u64,
         log: SearchLog,
     ) -> Self {
-        let lu = units::symbol(units::LENGTH);
-        let cam = units::q(units::LENGTH, log.profile.cam_tolerance_in, 5);
+        let lu = args.units.symbol(units::LENGTH);
+        let cam = args.units.q(units::LENGTH, log.profile.cam_tolerance_in, 5);
         let why = match p {
             Some(p) => format!(
                 "P(jump) there {} of {n}, upper 95 % bound {:.3} above --p-max {}",

@@ -198,7 +198,9 @@ mod measured_tests {
             let rms = a / 2f64.sqrt();
             assert!((w.rms_deviation_in - rms).abs() < 1e-3 * rms, "{w:?}");
             assert_eq!(w.equivalent_tolerance_in, 3.0 * w.rms_deviation_in);
-            assert!(w.line().contains(&format!("--waviness-fpr {}", 2 * n)));
+            assert!(w
+                .line(crate::units::Units::Inch)
+                .contains(&format!("--waviness-fpr {}", 2 * n)));
         }
         let _ = std::fs::remove_dir_all(&dir);
     }
