@@ -129,7 +129,7 @@ fn plausible(spec: &RunSpec, r: &RunReport) -> Result<(), String> {
     let e2 = spec.design.e2;
     let fail = |why: String| Err(format!("implausible result: {why}"));
     let preload = r.preload_lb.in_inch();
-    if !(preload >= 0.0 && preload < 1e6) {
+    if !(0.0..1e6).contains(&preload) {
         return fail(format!("preload {}", preload));
     }
     if r.per_period.is_empty() {
