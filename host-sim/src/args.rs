@@ -16,11 +16,13 @@ use clap::ValueEnum;
 mod output;
 mod scene;
 mod study;
+mod verdict;
 
 pub use crate::actual::ActualArgs;
 pub use output::OutputArgs;
 pub use scene::{spec_from, SceneArgs};
 pub use study::StudyArgs;
+pub use verdict::VerdictArgs;
 
 /// A usage error found after clap parsed the command line (an option that needs another,
 /// a flag a command does not take): the binary prints it on one line and exits 2, as it

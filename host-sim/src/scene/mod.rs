@@ -8,6 +8,8 @@
 //! [`camsim_core::key`]). Every key is optional and defaults to the reference; unknown
 //! keys are refused; errors name the line, the key and the rule.
 
+pub mod template;
+
 use std::path::Path;
 
 use anyhow::Result;
