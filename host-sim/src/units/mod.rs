@@ -163,7 +163,7 @@ pub use su::{
 pub struct Quantity {
     /// The value in the output's family.
     pub value: f64,
-    /// Decimals that keep the inch format's resolution (see [`decimals`]).
+    /// Decimals that keep the inch format's resolution (see [`Units::decimals`]).
     pub decimals: usize,
 }
 

@@ -1,7 +1,7 @@
 //! The comparison's runs: every law on the theoretical and on the actual cam, in
-//! parallel ([`run_every_law`]), each measured over its revolutions 1 and 2
-//! ([`cam_study`]), then grouped by law into the workable laws' studies and the laws not
-//! workable ([`law_studies`]).
+//! parallel (`run_every_law`), each measured over its revolutions 1 and 2
+//! (`cam_study`), then grouped by law into the workable laws' studies and the laws not
+//! workable (`law_studies`).
 
 use std::sync::Arc;
 

@@ -51,7 +51,7 @@ fn picks(laws: &[LawStudy]) -> Vec<usize> {
     picks
 }
 
-/// The responses of the laws [`picks`] chooses from the ranked `laws` of the study
+/// The responses of the laws `picks` chooses from the ranked `laws` of the study
 /// `spec`, each on the theoretical cam and on its actual cam.
 pub fn response_traces(laws: &[LawStudy], spec: &Spec) -> Result<Vec<LawTraces>> {
     let mut traces = Vec::new();

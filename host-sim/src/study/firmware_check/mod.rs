@@ -2,7 +2,7 @@
 //! [`crate::firmware_log`]'s): the memory budget of memory.x, each ELF's sections by
 //! `llvm-size -A` ([`llvm_size`]), the demonstration image's and the budget probes' lines,
 //! the boot failure. The study takes a [`Spec`] and returns a [`CheckReport`] (its text
-//! in [`report`]); `camsim firmware-check` (crate::cmd::firmware_check) builds the spec
+//! in [`mod@report`]); `camsim firmware-check` (crate::cmd::firmware_check) builds the spec
 //! from its arguments and prints the report.
 
 use std::path::{Path, PathBuf};

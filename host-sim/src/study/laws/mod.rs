@@ -1,8 +1,8 @@
 //! The peak dimensionless coefficients of every Appendix A motion law for a unit rise
 //! over a unit angle, and the largest pressure angle each gives on the reference cam
 //! (VI.1 geometry and timing, the law used for both rise and return). The study has no
-//! inputs: [`report`] returns the [`LawsReport`] (its text in [`text`], its figure in
-//! [`figure`]); `camsim laws` (crate::cmd::laws) prints it and draws the figure.
+//! inputs: [`report()`] returns the [`LawsReport`] (its text in [`mod@text`], its figure in
+//! [`mod@figure`]); `camsim laws` (crate::cmd::laws) prints it and draws the figure.
 
 use camsim_core::{CamGeometry, CamProgram, LawValue, MotionLaw, PeakScan, ScanEnds};
 use serde::Serialize;

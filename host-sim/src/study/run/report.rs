@@ -40,11 +40,11 @@ pub struct RunReport {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scene_file: Option<String>,
     /// The scene that ran, as a scene file (TOML; the options that override it applied):
-    /// `camsim run` on this text reproduces the run (set by [`report`]).
+    /// `camsim run` on this text reproduces the run (set by [`report()`](super::report())).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub scene: Option<String>,
     /// The verdict: contact, geometry, loads, spring, margin, steady state, warnings
-    /// (set by [`report`]; absent from a bare [`RunReport::new`]).
+    /// (set by [`report()`](super::report()); absent from a bare [`RunReport::new`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub verdict: Option<crate::verdict::Verdict>,
     /// Waviness frequency per revolution of the profile (VI.4.1; actual and measured

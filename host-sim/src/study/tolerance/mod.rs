@@ -9,7 +9,7 @@
 //! (no tolerance) comes first.
 //!
 //! The study takes a typed [`Spec`] and returns a [`ToleranceReport`] (its types in
-//! [`report`], its text in [`text`], its figures in [`crate::plot::tolerance`]);
+//! [`mod@report`], its text in [`text`], its figures in [`crate::plot::tolerance`]);
 //! `camsim tolerance-study` (crate::cmd::tolerance_study) builds the spec from its
 //! arguments, prints the report and draws its figures.
 
