@@ -80,6 +80,10 @@ fn reports() -> Vec<(&'static str, String)> {
     };
     let report = sensitivity::report(&a, Units::Inch).unwrap();
     out.push(("sensitivity", report.json().unwrap()));
+    use camsim::cmd::predict;
+    let p = predict::compute::<f64>(None, None).unwrap();
+    let r = predict::PredictReport::of(&p, false, predict::REFERENCE_SCENE, None);
+    out.push(("predict", r.json().unwrap()));
     out
 }
 
