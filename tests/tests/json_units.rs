@@ -84,6 +84,23 @@ fn reports() -> Vec<(&'static str, String)> {
     let p = predict::compute::<f64>(None, None).unwrap();
     let r = predict::PredictReport::of(&p, false, predict::REFERENCE_SCENE, None);
     out.push(("predict", r.json().unwrap()));
+    use camsim::cmd::{compare, tolerance_study, waviness};
+    let Command::Compare(a) = parse(&["compare", "--quick"]).command else {
+        panic!("not compare")
+    };
+    out.push(("compare", compare::report(&a).unwrap().json().unwrap()));
+    let Command::ToleranceStudy(a) = parse(&["tolerance-study", "--quick"]).command else {
+        panic!("not tolerance-study")
+    };
+    let r = tolerance_study::report(&a, Units::Inch).unwrap();
+    out.push(("tolerance-study", r.json().unwrap()));
+    let w = waviness::report(&waviness::spec(&waviness::Args {
+        seeds: vec![1],
+        measured: None,
+        json: false,
+    }))
+    .unwrap();
+    out.push(("waviness", w.json().unwrap()));
     out
 }
 
