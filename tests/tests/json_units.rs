@@ -101,6 +101,20 @@ fn reports() -> Vec<(&'static str, String)> {
     }))
     .unwrap();
     out.push(("waviness", w.json().unwrap()));
+    use camsim::cmd::{montecarlo, profile};
+    let Command::Profile(a) = parse(&["profile"]).command else {
+        panic!("not profile")
+    };
+    let r = profile::report(&a, Units::Inch).unwrap();
+    out.push(("profile", r.json().unwrap()));
+    let Command::Montecarlo(a) = parse(&["montecarlo", "--samples", "8"]).command else {
+        panic!("not montecarlo")
+    };
+    let json = match montecarlo::execute(&a, Units::Inch).unwrap() {
+        montecarlo::Outcome::Study(r) => r.json().unwrap(),
+        montecarlo::Outcome::Shard(r) => r.json().unwrap(),
+    };
+    out.push(("montecarlo", json));
     out
 }
 
