@@ -115,6 +115,16 @@ fn reports() -> Vec<(&'static str, String)> {
         montecarlo::Outcome::Shard(r) => r.json().unwrap(),
     };
     out.push(("montecarlo", json));
+    let Command::Models(a) = parse(&["models", "--quick"]).command else {
+        panic!("not models")
+    };
+    let spec = camsim::study::models::Spec {
+        rpm: a.rpm,
+        quick: a.quick,
+        progress: false,
+    };
+    let r = camsim::study::models::report(&spec).unwrap();
+    out.push(("models", r.json().unwrap()));
     out
 }
 
