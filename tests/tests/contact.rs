@@ -44,19 +44,22 @@ fn hand(force: f64, r1: f64, r2: f64) -> Hand {
 #[test]
 fn report_matches_hand_calculation_at_100_lb() {
     let r = compute(100.0).unwrap();
-    assert_eq!(r.force_lb, 100.0);
+    assert_eq!(r.force_lb.in_inch(), 100.0);
     let unit = hand(1.0, 0.375, 1.5);
     let at = hand(100.0, 0.375, 1.5);
     // Numbers: C = 6.0865e-8 1/psi, 1/d1 + 1/d2 = 5/3 1/in, w(1 lb) = 6.09901e-4 in,
     // b = 3.04951e-4 in, h1 = 1.23995e-7 in, h2 = 3.09987e-8 in, K_h = 6.45197e6 lb/in.
     assert!(rel(unit.w, 6.099_012e-4) < 1e-6);
     assert!(rel(unit.k, 6.451_968e6) < 1e-6);
-    assert!(rel(r.k_h_lb_per_in, unit.k) < 1e-8, "{r:?}");
-    assert!(rel(r.k_h_at_force_lb_per_in, at.k) < 1e-8, "{r:?}");
-    assert!(rel(r.contact_width_in, at.w) < 1e-13, "{r:?}");
+    assert!(rel(r.k_h_lb_per_in.in_inch(), unit.k) < 1e-8, "{r:?}");
+    assert!(
+        rel(r.k_h_at_force_lb_per_in.in_inch(), at.k) < 1e-8,
+        "{r:?}"
+    );
+    assert!(rel(r.contact_width_in.in_inch(), at.w) < 1e-13, "{r:?}");
     // 2F / (pi b t) with b = w/2.
     let p = 2.0 * 100.0 / (PI * (at.w / 2.0) * 0.25);
-    assert!(rel(r.max_stress_psi, p) < 1e-13, "{r:?}");
+    assert!(rel(r.max_stress_psi.in_inch(), p) < 1e-13, "{r:?}");
 }
 
 #[test]
@@ -68,7 +71,7 @@ fn max_stress_equals_textbook_line_contact_formula() {
     for f in [1.0, 37.0, 100.0, 1000.0] {
         let r = compute(f).unwrap();
         let textbook = (f * e_star / (PI * 0.25 * r_star)).sqrt();
-        assert!(rel(r.max_stress_psi, textbook) < 1e-13, "F = {f}");
+        assert!(rel(r.max_stress_psi.in_inch(), textbook) < 1e-13, "F = {f}");
     }
 }
 
@@ -76,14 +79,23 @@ fn max_stress_equals_textbook_line_contact_formula() {
 fn width_scales_as_sqrt_force_and_stiffness_is_nearly_constant() {
     let r1 = compute(1.0).unwrap();
     let r1000 = compute(1000.0).unwrap();
-    assert!(rel(r1000.contact_width_in, r1.contact_width_in * 1000f64.sqrt()) < 1e-13);
-    assert_eq!(r1.k_h_at_force_lb_per_in, r1.k_h_lb_per_in);
+    assert!(
+        rel(
+            r1000.contact_width_in.in_inch(),
+            r1.contact_width_in.in_inch() * 1000f64.sqrt()
+        ) < 1e-13
+    );
+    assert_eq!(
+        r1.k_h_at_force_lb_per_in.in_inch(),
+        r1.k_h_lb_per_in.in_inch()
+    );
     // h = (w^2/(8r))(1 + w^2/(16 r^2) + O(w^4/r^4)): H/F = a (1 + delta(F)) with
     // delta = (w^2/16) (r1^-3 + r2^-3) / (r1^-1 + r2^-1), so K drops by
     // delta(1000) - delta(1) ~ 1.34e-4 between 1 and 1000 lb.
-    let w2 = r1000.contact_width_in.powi(2);
+    let w2 = r1000.contact_width_in.in_inch().powi(2);
     let delta = w2 / 16.0 * (0.375f64.powi(-3) + 1.5f64.powi(-3)) / (1.0 / 0.375 + 1.0 / 1.5);
-    let change = (r1.k_h_lb_per_in - r1000.k_h_at_force_lb_per_in) / r1.k_h_lb_per_in;
+    let change = (r1.k_h_lb_per_in.in_inch() - r1000.k_h_at_force_lb_per_in.in_inch())
+        / r1.k_h_lb_per_in.in_inch();
     assert!(delta < 1.4e-4, "{delta}");
     assert!(
         change > 0.0 && change < 1.01 * delta && change > 0.99 * delta,
@@ -92,7 +104,7 @@ fn width_scales_as_sqrt_force_and_stiffness_is_nearly_constant() {
     // Monotone softening in between.
     let mut last = f64::INFINITY;
     for f in [1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0] {
-        let k = compute(f).unwrap().k_h_at_force_lb_per_in;
+        let k = compute(f).unwrap().k_h_at_force_lb_per_in.in_inch();
         assert!(k < last);
         last = k;
     }
@@ -130,7 +142,9 @@ fn concave_vs_convex() {
 
 #[test]
 fn json_keys_are_the_documented_ones() {
-    let v = serde_json::to_value(compute(100.0).unwrap()).unwrap();
+    let text = serde_json::to_string(&compute(100.0).unwrap()).unwrap();
+    let inch = camsim::units::json(&text, camsim::units::Units::Inch).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&inch).unwrap();
     let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
     keys.sort_unstable();
     assert_eq!(
@@ -205,7 +219,7 @@ fn bad_force_is_refused_with_one_line_naming_the_flag() {
 /// VI.1 preload: K_t of K_rb, K_h(unit force, base circle), K_vs; Eq. V.18.
 #[test]
 fn reference_preload_and_static_equilibrium() {
-    let kh = compute(1.0).unwrap().k_h_lb_per_in;
+    let kh = compute(1.0).unwrap().k_h_lb_per_in.in_inch();
     let (krb, kvs) = (1.5e6, 1.48e6);
     let kt = series_stiffness(&[krb, kh, kvs]);
     assert!(rel(kt, krb * kh * kvs / (kh * kvs + krb * kvs + krb * kh)) < 1e-14);
@@ -235,13 +249,13 @@ fn f32_chain_agrees_with_f64() {
     let kh32 = h32.stiffness(0.375, 1.5).unwrap();
     let kt32 = series_stiffness(&[1.5e6f32, kh32, 1.48e6]);
     let p32 = return_spring_preload(kt32, 60.0f32, 0.5).unwrap();
-    let kh64 = compute(1.0).unwrap().k_h_lb_per_in;
+    let kh64 = compute(1.0).unwrap().k_h_lb_per_in.in_inch();
     assert!(rel(f64::from(kh32), kh64) < 2e-6, "{kh32} vs {kh64}");
     assert!(rel(f64::from(p32.force), 29.997_305_04) < 1e-6);
     assert!(
         rel(
             f64::from(h32.max_stress(100.0, 0.75, 3.0)),
-            compute(100.0).unwrap().max_stress_psi
+            compute(100.0).unwrap().max_stress_psi.in_inch()
         ) < 1e-6
     );
 }

@@ -80,6 +80,51 @@ fn reports() -> Vec<(&'static str, String)> {
     };
     let report = sensitivity::report(&a, Units::Inch).unwrap();
     out.push(("sensitivity", report.json().unwrap()));
+    use camsim::cmd::predict;
+    let p = predict::compute::<f64>(None, None).unwrap();
+    let r = predict::PredictReport::of(&p, false, predict::REFERENCE_SCENE, None);
+    out.push(("predict", r.json().unwrap()));
+    use camsim::cmd::{compare, tolerance_study, waviness};
+    let Command::Compare(a) = parse(&["compare", "--quick"]).command else {
+        panic!("not compare")
+    };
+    out.push(("compare", compare::report(&a).unwrap().json().unwrap()));
+    let Command::ToleranceStudy(a) = parse(&["tolerance-study", "--quick"]).command else {
+        panic!("not tolerance-study")
+    };
+    let r = tolerance_study::report(&a, Units::Inch).unwrap();
+    out.push(("tolerance-study", r.json().unwrap()));
+    let w = waviness::report(&waviness::spec(&waviness::Args {
+        seeds: vec![1],
+        measured: None,
+        json: false,
+    }))
+    .unwrap();
+    out.push(("waviness", w.json().unwrap()));
+    use camsim::cmd::{montecarlo, profile};
+    let Command::Profile(a) = parse(&["profile"]).command else {
+        panic!("not profile")
+    };
+    let r = profile::report(&a, Units::Inch).unwrap();
+    out.push(("profile", r.json().unwrap()));
+    let Command::Montecarlo(a) = parse(&["montecarlo", "--samples", "8"]).command else {
+        panic!("not montecarlo")
+    };
+    let json = match montecarlo::execute(&a, Units::Inch).unwrap() {
+        montecarlo::Outcome::Study(r) => r.json().unwrap(),
+        montecarlo::Outcome::Shard(r) => r.json().unwrap(),
+    };
+    out.push(("montecarlo", json));
+    let Command::Models(a) = parse(&["models", "--quick"]).command else {
+        panic!("not models")
+    };
+    let spec = camsim::study::models::Spec {
+        rpm: a.rpm,
+        quick: a.quick,
+        progress: false,
+    };
+    let r = camsim::study::models::report(&spec).unwrap();
+    out.push(("models", r.json().unwrap()));
     out
 }
 

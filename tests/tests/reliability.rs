@@ -296,7 +296,7 @@ fn usage_errors_exit_2_and_name_the_option() {
     // Independent: the Hertz width grows as sqrt(F), and at the bound it is at most
     // the roller's 0.75 in diameter, within 1 % of it.
     assert!(
-        r.contact_width_in <= 0.75 && r.contact_width_in > 0.75 * 0.99,
+        r.contact_width_in.in_inch() <= 0.75 && r.contact_width_in.in_inch() > 0.75 * 0.99,
         "{r:?}"
     );
 }

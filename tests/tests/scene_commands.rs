@@ -39,11 +39,11 @@ fn contact_takes_the_scenes_pair() {
     // Hertz's line contact: the width goes as the square root of the effective radius
     // r1 r2 / (r1 + r2) at the same force, materials and length.
     let b = report(&bigger);
-    assert_eq!(b.roller_radius_in, 0.45);
+    assert_eq!(b.roller_radius_in.in_inch(), 0.45);
     let reff = |r1: f64, r2: f64| r1 * r2 / (r1 + r2);
     let expect = (reff(0.45, 1.5) / reff(0.375, 1.5)).sqrt();
     assert!(
-        (b.contact_width_in / r.contact_width_in - expect).abs() < 1e-12,
+        (b.contact_width_in.in_inch() / r.contact_width_in.in_inch() - expect).abs() < 1e-12,
         "{b:?}"
     );
     // The binary takes it (it refused the argument before).

@@ -6,7 +6,7 @@ use camsim_core::HertzContact;
 use serde::Serialize;
 
 use crate::report::Report;
-use crate::units::Units;
+use crate::units::{Force, Length, Stiffness, Stress, Units};
 
 /// Reference roller diameter d1 (in, VI.1).
 pub const ROLLER_DIAMETER_IN: f64 = 0.75;
@@ -19,21 +19,21 @@ pub const CAM_THICKNESS_IN: f64 = 0.25;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ContactReport {
     /// Roller radius r1, in.
-    pub roller_radius_in: f64,
+    pub roller_radius_in: Length,
     /// Base-circle radius r2, in.
-    pub base_radius_in: f64,
+    pub base_radius_in: Length,
     /// Contact length (cam thickness) t, in.
-    pub thickness_in: f64,
+    pub thickness_in: Length,
     /// The force F (lb).
-    pub force_lb: f64,
+    pub force_lb: Force,
     /// K_h of Eq. V.11 (band width at 1 lb), lb/in.
-    pub k_h_lb_per_in: f64,
+    pub k_h_lb_per_in: Stiffness,
     /// Secant stiffness F / H with the band at F, lb/in.
-    pub k_h_at_force_lb_per_in: f64,
+    pub k_h_at_force_lb_per_in: Stiffness,
     /// Contact width w at F (Eq. V.9), in.
-    pub contact_width_in: f64,
+    pub contact_width_in: Length,
     /// Maximum Hertz pressure 2F/(pi b t) at F, psi.
-    pub max_stress_psi: f64,
+    pub max_stress_psi: Stress,
 }
 
 /// The rule a force must satisfy, as printed in the error.
@@ -80,14 +80,14 @@ pub fn compute_for(
             other => anyhow::anyhow!("--force {force:e}: {other}"),
         })?;
     Ok(ContactReport {
-        roller_radius_in: r1,
-        base_radius_in: r2,
-        thickness_in: hertz.thickness,
-        force_lb: force,
-        k_h_lb_per_in: k_h,
-        k_h_at_force_lb_per_in: k_at,
-        contact_width_in: hertz.width(force, 2.0 * r1, 2.0 * r2),
-        max_stress_psi: hertz.max_stress(force, 2.0 * r1, 2.0 * r2),
+        roller_radius_in: Length::inch(r1),
+        base_radius_in: Length::inch(r2),
+        thickness_in: Length::inch(hertz.thickness),
+        force_lb: Force::inch(force),
+        k_h_lb_per_in: Stiffness::inch(k_h),
+        k_h_at_force_lb_per_in: Stiffness::inch(k_at),
+        contact_width_in: Length::inch(hertz.width(force, 2.0 * r1, 2.0 * r2)),
+        max_stress_psi: Stress::inch(hertz.max_stress(force, 2.0 * r1, 2.0 * r2)),
     })
 }
 
@@ -112,14 +112,14 @@ pub fn render_table(r: &ContactReport, units: Units) -> String {
          K_h at force (F/H)         {:>14.6e} {k}\n\
          contact width w (V.9)      {:>14.6e} {l}\n\
          max Hertz stress 2F/(pi b t) {:>12.6e} {st}",
-        units.given(u::LENGTH, 2.0 * r.roller_radius_in),
-        units.given(u::LENGTH, 2.0 * r.base_radius_in),
-        units.given(u::LENGTH, r.thickness_in),
-        units.value(u::FORCE, r.force_lb),
-        units.value(u::STIFFNESS, r.k_h_lb_per_in),
-        units.value(u::STIFFNESS, r.k_h_at_force_lb_per_in),
-        units.value(u::LENGTH, r.contact_width_in),
-        units.value(u::STRESS, r.max_stress_psi)
+        units.given(u::LENGTH, 2.0 * r.roller_radius_in.in_inch()),
+        units.given(u::LENGTH, 2.0 * r.base_radius_in.in_inch()),
+        units.given(u::LENGTH, r.thickness_in.in_inch()),
+        units.of(r.force_lb),
+        units.of(r.k_h_lb_per_in),
+        units.of(r.k_h_at_force_lb_per_in),
+        units.of(r.contact_width_in),
+        units.of(r.max_stress_psi)
     )
 }
 

@@ -33,7 +33,7 @@ fn marker(unit: Unit) -> String {
 }
 
 /// Every unit a measure may have (the kinds below).
-const UNITS: [Unit; 13] = [
+const UNITS: [Unit; 15] = [
     super::LENGTH,
     super::SPEED,
     super::ACCELERATION,
@@ -47,6 +47,8 @@ const UNITS: [Unit; 13] = [
     super::POWER,
     super::LENGTH_PER_RAD,
     super::LENGTH_PER_RAD2,
+    super::INERTIA,
+    super::TORSIONAL_STIFFNESS,
 ];
 
 /// The unit and inch value of a marker object, if `v` is one.
@@ -216,6 +218,10 @@ kinds! {
     LengthPerRad, LengthPerRad = crate::units::LENGTH_PER_RAD;
     /// A profile's second derivative in cam angle: in/rad², mm/rad².
     LengthPerRad2, LengthPerRad2 = crate::units::LENGTH_PER_RAD2;
+    /// A rotational inertia: lb in s², kg m².
+    Inertia, Inertia = crate::units::INERTIA;
+    /// A torsional stiffness (a shaft's): lb in/rad, N m/rad.
+    TorsionalStiffness, TorsionalStiffness = crate::units::TORSIONAL_STIFFNESS;
 }
 
 #[cfg(test)]

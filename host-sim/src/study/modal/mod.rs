@@ -13,7 +13,7 @@ use anyhow::Context;
 use camsim_core::{modal_analysis, rotational_system, translational_system, Design, ModalAnalysis};
 use serde::Serialize;
 
-use crate::units::{Mass, Stiffness, UnitKind as Unit, Units};
+use crate::units::{Inertia, Mass, Stiffness, TorsionalStiffness, UnitKind as Unit, Units};
 
 pub mod text;
 
@@ -94,19 +94,19 @@ pub struct ModalReport {
 pub struct ModalParameters {
     /// Motor inertia, lb·in·s².
     #[serde(rename = "i_m_lb_in_s2")]
-    pub i_m: f64,
+    pub i_m: Inertia,
     /// Coupling inertia, lb·in·s².
     #[serde(rename = "i_cp_lb_in_s2")]
-    pub i_cp: f64,
+    pub i_cp: Inertia,
     /// Cam inertia, lb·in·s².
     #[serde(rename = "i_c_lb_in_s2")]
-    pub i_c: f64,
+    pub i_c: Inertia,
     /// Shaft stiffness motor-coupling, lb·in/rad.
     #[serde(rename = "k_s1_lb_in_per_rad")]
-    pub k_s1: f64,
+    pub k_s1: TorsionalStiffness,
     /// Shaft stiffness coupling-cam, lb·in/rad.
     #[serde(rename = "k_s2_lb_in_per_rad")]
-    pub k_s2: f64,
+    pub k_s2: TorsionalStiffness,
     /// Roller mass, lb·s²/in.
     #[serde(rename = "m_r_lb_s2_per_in")]
     pub m_r: Mass,
@@ -165,11 +165,11 @@ pub fn reference_parameters() -> anyhow::Result<ModalParameters> {
 /// analysis's return-spring rate `k_rs_modal`).
 pub fn parameters(d: &Design<f64>) -> ModalParameters {
     ModalParameters {
-        i_m: d.i_m,
-        i_cp: d.i_cp,
-        i_c: d.i_c,
-        k_s1: d.k_s1,
-        k_s2: d.k_s2,
+        i_m: Inertia::inch(d.i_m),
+        i_cp: Inertia::inch(d.i_cp),
+        i_c: Inertia::inch(d.i_c),
+        k_s1: TorsionalStiffness::inch(d.k_s1),
+        k_s2: TorsionalStiffness::inch(d.k_s2),
         m_r: Mass::inch(d.m_r),
         m_f: Mass::inch(d.m_f(0.0)),
         m_l: Mass::inch(d.m_l),
@@ -186,7 +186,13 @@ pub fn analyse() -> anyhow::Result<ModalReport> {
 
 /// Runs the modal analysis of both systems for the given parameters (Section VI.2).
 pub fn analyse_with(p: ModalParameters) -> anyhow::Result<ModalReport> {
-    let (k, m) = rotational_system(p.i_m, p.i_cp, p.i_c, p.k_s1, p.k_s2);
+    let (k, m) = rotational_system(
+        p.i_m.in_inch(),
+        p.i_cp.in_inch(),
+        p.i_c.in_inch(),
+        p.k_s1.in_inch(),
+        p.k_s2.in_inch(),
+    );
     let rot =
         modal_analysis(&k, &m).context("modal analysis of the rotational system (Eq. VI.7)")?;
     let (k, m) = translational_system(

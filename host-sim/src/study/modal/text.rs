@@ -3,7 +3,8 @@
 
 use super::{ModalReport, SystemModes};
 use crate::report::Report;
-use crate::units::{UnitKind as Unit, Units};
+use crate::units::measure::kind;
+use crate::units::{Kind, Measure, UnitKind as Unit, Units};
 
 fn render_system(out: &mut String, title: &str, s: &SystemModes, units: Units) {
     use std::fmt::Write;
@@ -70,12 +71,12 @@ pub fn render_table(r: &ModalReport, units: Units) -> String {
         &mut out,
         &format!(
             "Rotational system (Eq. VI.7): I_m = {}, I_cp = {}, I_c = {} {}; K_s1 = {}, K_s2 = {} {}",
-            i(p.i_m),
-            i(p.i_cp),
-            i(p.i_c),
+            i(p.i_m.in_inch()),
+            i(p.i_cp.in_inch()),
+            i(p.i_c.in_inch()),
             units.label(crate::units::INERTIA, "lb*in*s^2"),
-            sci(p.k_s1, &k),
-            sci(p.k_s2, &k),
+            sci(p.k_s1.in_inch(), &k),
+            sci(p.k_s2.in_inch(), &k),
             units.label(crate::units::TORSIONAL_STIFFNESS, "lb*in/rad")
         ),
         &r.rotational,
@@ -109,22 +110,34 @@ impl Report for ModalReport {
         render_table(self, units)
     }
     /// The struct's JSON with the modal stiffness and mass under keys that carry their
-    /// system's unit (`modal_stiffness_lb_in_per_rad`, `modal_mass_lb_s2_per_in`), which
-    /// `--units` converts as every other key; the unit strings in the output's family.
+    /// system's unit (`modal_stiffness_lb_in_per_rad`, `modal_mass_lb_s2_per_in`), as
+    /// measures of the system's kinds, which `--units` converts by their type; the unit
+    /// strings in the output's family.
     fn json(&self) -> serde_json::Result<String> {
         let mut v = serde_json::to_value(self)?;
-        for (name, s) in [
-            ("rotational", &self.rotational),
-            ("translational", &self.translational),
-        ] {
+        let (r, t) = (&self.rotational, &self.translational);
+        let systems = [
+            (
+                "rotational",
+                r,
+                measures::<kind::TorsionalStiffness>(&r.modal_stiffness)?,
+                measures::<kind::Inertia>(&r.modal_mass)?,
+            ),
+            (
+                "translational",
+                t,
+                measures::<kind::Stiffness>(&t.modal_stiffness)?,
+                measures::<kind::Mass>(&t.modal_mass)?,
+            ),
+        ];
+        for (name, s, stiffness, mass) in systems {
             if let Some(o) = v.get_mut(name).and_then(|x| x.as_object_mut()) {
-                for (key, unit, label) in [
-                    ("modal_stiffness", s.stiffness, s.stiffness_unit),
-                    ("modal_mass", s.mass, s.mass_unit),
+                for (key, unit, label, x) in [
+                    ("modal_stiffness", s.stiffness, s.stiffness_unit, stiffness),
+                    ("modal_mass", s.mass, s.mass_unit, mass),
                 ] {
-                    if let Some(x) = o.remove(key) {
-                        o.insert(format!("{key}_{}", unit.inch), x);
-                    }
+                    o.remove(key);
+                    o.insert(format!("{key}_{}", unit.inch), x);
                     o.insert(
                         format!("{}_unit", key.trim_start_matches("modal_")),
                         serde_json::Value::from(self.json_units.label(unit, label)),
@@ -134,4 +147,13 @@ impl Report for ModalReport {
         }
         serde_json::to_string_pretty(&v)
     }
+}
+
+/// `xs` (inch-family values) as the JSON of measures of kind `K`.
+fn measures<K: Kind>(xs: &[f64]) -> serde_json::Result<serde_json::Value> {
+    serde_json::to_value(
+        xs.iter()
+            .map(|&x| Measure::<K>::inch(x))
+            .collect::<Vec<_>>(),
+    )
 }
