@@ -64,14 +64,14 @@ fn jump_flags_agree_with_the_jump_speed_onset() {
                 "{} rpm jumps below the onset {hold}",
                 p.rpm
             );
-            assert!(p.response.min_contact_force_lb > 0.0);
+            assert!(p.response.min_contact_force_lb.in_inch() > 0.0);
         } else if p.rpm >= jump {
             assert!(
                 p.response.jump,
                 "{} rpm holds above the onset {jump}",
                 p.rpm
             );
-            assert_eq!(p.response.min_contact_force_lb, 0.0);
+            assert_eq!(p.response.min_contact_force_lb.in_inch(), 0.0);
         }
     }
     // The grid's onset brackets jump-speed's: 900 holds, 925 jumps.
@@ -80,7 +80,13 @@ fn jump_flags_agree_with_the_jump_speed_onset() {
     assert_eq!(o.jumps_at_rpm - o.holds_at_rpm.unwrap(), r.step_rpm);
     // The operating speed's smallest contact force is the verdict's quantity on the same
     // run: below the 50 lb preload-level minimum of the slow speeds, above 0.
-    let slow = r.theoretical.first().unwrap().response.min_contact_force_lb;
+    let slow = r
+        .theoretical
+        .first()
+        .unwrap()
+        .response
+        .min_contact_force_lb
+        .in_inch();
     assert!(slow > 0.0 && slow < 50.0);
 }
 

@@ -12,7 +12,7 @@ use crate::figure::{
     Swatch, Ticks,
 };
 use crate::study::sweep::{ActualPoint, Band as Spread, Response, SweepReport};
-use crate::units::{ACCELERATION, FORCE};
+use crate::units::{Acceleration, Force, Stress, Torque, ACCELERATION, FORCE};
 
 /// Size of the sweep plot, pixels.
 pub const PLOT_SIZE: (u32, u32) = (1200, 1800);
@@ -47,31 +47,34 @@ const QUANTITIES: [(&str, Unit, Theory, Actual); 5] = [
     (
         "smallest contact force",
         FORCE,
-        |t| Some(t.min_contact_force_lb),
+        |t| Some(t.min_contact_force_lb.in_inch()),
         |a| a.min_contact_force_lb,
     ),
     (
         "largest contact force",
         FORCE,
-        |t| t.peak_contact_force_lb,
+        |t| t.peak_contact_force_lb.map(Force::in_inch),
         |a| a.peak_contact_force_lb,
     ),
     (
         "RMS accel. deviation",
         ACCELERATION,
-        |t| t.rms_acceleration_deviation_in_per_s2,
+        |t| {
+            t.rms_acceleration_deviation_in_per_s2
+                .map(Acceleration::in_inch)
+        },
         |a| a.rms_acceleration_deviation_in_per_s2,
     ),
     (
         "peak cam torque",
         TORQUE,
-        |t| t.peak_cam_torque_lb_in,
+        |t| t.peak_cam_torque_lb_in.map(Torque::in_inch),
         |a| a.peak_cam_torque_lb_in,
     ),
     (
         "peak contact stress",
         STRESS,
-        |t| t.peak_contact_stress_psi,
+        |t| t.peak_contact_stress_psi.map(Stress::in_inch),
         |a| a.peak_contact_stress_psi,
     ),
 ];

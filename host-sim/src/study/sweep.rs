@@ -27,7 +27,7 @@ use crate::actual::ActualArgs;
 use crate::report::Report;
 use crate::sim::{self, HostDeviation, RunSpec};
 use crate::stats::Probability;
-use crate::units::{self, Units};
+use crate::units::{self, Acceleration, Force, Kind, Measure, Power, Stress, Torque, Units};
 
 /// The most speeds a grid may have.
 pub const MAX_POINTS: u32 = 1000;
@@ -105,23 +105,23 @@ pub struct Response {
     /// the cam: only the contact force (0) is known.
     pub left_model_range: bool,
     /// Smallest contact force in revolution 2, lb (0 when the follower leaves the cam).
-    pub min_contact_force_lb: f64,
+    pub min_contact_force_lb: Force,
     /// Largest contact force in revolution 2, lb.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub peak_contact_force_lb: Option<f64>,
+    pub peak_contact_force_lb: Option<Force>,
     /// RMS of the load acceleration's deviation from the program over revolution 2
     /// (time-weighted over its periods), in/s².
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub rms_acceleration_deviation_in_per_s2: Option<f64>,
+    pub rms_acceleration_deviation_in_per_s2: Option<Acceleration>,
     /// Largest |output torque on the cam| in revolution 2, lb·in.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub peak_cam_torque_lb_in: Option<f64>,
+    pub peak_cam_torque_lb_in: Option<Torque>,
     /// Largest Hertz contact stress in revolution 2, psi.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub peak_contact_stress_psi: Option<f64>,
+    pub peak_contact_stress_psi: Option<Stress>,
     /// Largest drive power (drive torque × motor speed) in revolution 2, hp.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub peak_drive_power_hp: Option<f64>,
+    pub peak_drive_power_hp: Option<Power>,
 }
 
 /// The extremes of revolution 2 and whether the follower left the cam, sample by sample
@@ -215,16 +215,19 @@ pub fn respond(spec: &RunSpec, rpm: f64, out_of_range_jumps: bool) -> Result<Res
     Ok(Response {
         jump,
         left_model_range: false,
-        min_contact_force_lb: if jump {
+        min_contact_force_lb: Force::inch(if jump {
             0.0
         } else {
             w.force_min.unwrap_or(0.0)
-        },
-        peak_contact_force_lb: w.force_max,
-        rms_acceleration_deviation_in_per_s2: (t > 0.0).then(|| (sum / t).sqrt()),
-        peak_cam_torque_lb_in: w.torque,
-        peak_contact_stress_psi: w.stress,
-        peak_drive_power_hp: w.power.map(|p| p / crate::verdict::HP_LB_IN_PER_S),
+        }),
+        peak_contact_force_lb: w.force_max.map(Force::inch),
+        rms_acceleration_deviation_in_per_s2: (t > 0.0)
+            .then(|| Acceleration::inch((sum / t).sqrt())),
+        peak_cam_torque_lb_in: w.torque.map(Torque::inch),
+        peak_contact_stress_psi: w.stress.map(Stress::inch),
+        peak_drive_power_hp: w
+            .power
+            .map(|p| Power::inch(p / crate::verdict::HP_LB_IN_PER_S)),
     })
 }
 
@@ -305,12 +308,15 @@ impl ActualPoint {
             rpm,
             p_jump: Probability::of(rs.iter().filter(|r| r.jump).count() as u64, n),
             left_model_range: rs.iter().filter(|r| r.left_model_range).count() as u64,
-            min_contact_force_lb: band(|r| Some(r.min_contact_force_lb)),
-            peak_contact_force_lb: band(|r| r.peak_contact_force_lb),
-            rms_acceleration_deviation_in_per_s2: band(|r| r.rms_acceleration_deviation_in_per_s2),
-            peak_cam_torque_lb_in: band(|r| r.peak_cam_torque_lb_in),
-            peak_contact_stress_psi: band(|r| r.peak_contact_stress_psi),
-            peak_drive_power_hp: band(|r| r.peak_drive_power_hp),
+            min_contact_force_lb: band(|r| Some(r.min_contact_force_lb.in_inch())),
+            peak_contact_force_lb: band(|r| r.peak_contact_force_lb.map(Force::in_inch)),
+            rms_acceleration_deviation_in_per_s2: band(|r| {
+                r.rms_acceleration_deviation_in_per_s2
+                    .map(Acceleration::in_inch)
+            }),
+            peak_cam_torque_lb_in: band(|r| r.peak_cam_torque_lb_in.map(Torque::in_inch)),
+            peak_contact_stress_psi: band(|r| r.peak_contact_stress_psi.map(Stress::in_inch)),
+            peak_drive_power_hp: band(|r| r.peak_drive_power_hp.map(Power::in_inch)),
         }
     }
 }
@@ -601,8 +607,9 @@ fn actual_sweep(
 
 /// `v` (in `unit`'s inch member, printed with `prec` decimals in inch) in `units`, or
 /// `-`.
-fn opt(units: Units, unit: Unit, v: Option<f64>, prec: usize) -> String {
-    v.map_or_else(|| "-".to_string(), |x| units.q(unit, x, prec).to_string())
+/// `m` for the text ([`Units::show`]), `-` if the run did not give it.
+fn shown<K: Kind>(units: Units, m: Option<Measure<K>>, prec: usize) -> String {
+    m.map_or_else(|| "-".to_string(), |m| units.show(m, prec).to_string())
 }
 
 fn band_text(units: Units, unit: Unit, b: Option<&Band>, prec: usize) -> String {
@@ -717,17 +724,12 @@ fn theory_row(p: &TheoryPoint, units: Units) -> String {
         "  {:>8.1}  {:<7} {:>10} {:>10} {:>13} {:>13} {:>11} {:>9}",
         p.rpm,
         if r.jump { "JUMPS" } else { "holds" },
-        units.q(units::FORCE, r.min_contact_force_lb, 2),
-        opt(units, units::FORCE, r.peak_contact_force_lb, 2),
-        opt(
-            units,
-            units::ACCELERATION,
-            r.rms_acceleration_deviation_in_per_s2,
-            1
-        ),
-        opt(units, units::TORQUE, r.peak_cam_torque_lb_in, 2),
-        opt(units, units::STRESS, r.peak_contact_stress_psi, 0),
-        opt(units, units::POWER, r.peak_drive_power_hp, 3)
+        units.show(r.min_contact_force_lb, 2),
+        shown(units, r.peak_contact_force_lb, 2),
+        shown(units, r.rms_acceleration_deviation_in_per_s2, 1),
+        shown(units, r.peak_cam_torque_lb_in, 2),
+        shown(units, r.peak_contact_stress_psi, 0),
+        shown(units, r.peak_drive_power_hp, 3)
     )
 }
 
@@ -874,12 +876,16 @@ pub fn csv_rows(r: &SweepReport, units: Units) -> Vec<Vec<String>> {
             let mut row = vec![
                 format!("{}", p.rpm),
                 u8::from(t.jump).to_string(),
-                format!("{}", t.min_contact_force_lb * kf),
-                g(t.peak_contact_force_lb, kf),
-                g(t.rms_acceleration_deviation_in_per_s2, ka),
-                g(t.peak_cam_torque_lb_in, kt),
-                g(t.peak_contact_stress_psi, ks),
-                g(t.peak_drive_power_hp, kp),
+                format!("{}", t.min_contact_force_lb.in_inch() * kf),
+                g(t.peak_contact_force_lb.map(Force::in_inch), kf),
+                g(
+                    t.rms_acceleration_deviation_in_per_s2
+                        .map(Acceleration::in_inch),
+                    ka,
+                ),
+                g(t.peak_cam_torque_lb_in.map(Torque::in_inch), kt),
+                g(t.peak_contact_stress_psi.map(Stress::in_inch), ks),
+                g(t.peak_drive_power_hp.map(Power::in_inch), kp),
             ];
             if let Some(a) = r.actual.as_ref().and_then(|a| a.points.get(k)) {
                 row.push(format!("{}", a.p_jump.p));

@@ -10,20 +10,21 @@ use serde::Serialize;
 use super::REVOLUTION;
 use crate::sim::{self, RunSpec};
 use crate::study::montecarlo::LeftRange;
+use crate::units::{Acceleration, Length, Speed, Stress};
 
 /// The study's outputs over the whole of one revolution.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Outputs {
     /// RMS of the load's displacement deviation from the theoretical response, in.
-    pub rms_displacement_in: f64,
+    pub rms_displacement_in: Length,
     /// RMS of the load's velocity deviation, in/s.
-    pub rms_velocity_in_per_s: f64,
+    pub rms_velocity_in_per_s: Speed,
     /// RMS of the load's acceleration deviation, in/s².
-    pub rms_acceleration_in_per_s2: f64,
+    pub rms_acceleration_in_per_s2: Acceleration,
     /// RMS of the cam's angular-velocity deviation from ω0, rad/s.
     pub rms_angular_velocity_rad_per_s: f64,
     /// Time average of the largest Hertz contact stress, psi (0 while separated).
-    pub contact_stress_avg_psi: f64,
+    pub contact_stress_avg_psi: Stress,
     /// Whether the follower left the cam in the revolution.
     pub jump: bool,
 }
@@ -42,11 +43,11 @@ impl Outputs {
     /// The five numbers, in [`OUTPUTS`]' order.
     pub fn values(&self) -> [f64; 5] {
         [
-            self.rms_displacement_in,
-            self.rms_velocity_in_per_s,
-            self.rms_acceleration_in_per_s2,
+            self.rms_displacement_in.in_inch(),
+            self.rms_velocity_in_per_s.in_inch(),
+            self.rms_acceleration_in_per_s2.in_inch(),
             self.rms_angular_velocity_rad_per_s,
-            self.contact_stress_avg_psi,
+            self.contact_stress_avg_psi.in_inch(),
         ]
     }
 }
@@ -180,11 +181,11 @@ pub fn outputs_or_left_range(spec: &RunSpec) -> Result<std::result::Result<Outpu
     };
     let m = integrals.means();
     let out = Outputs {
-        rms_displacement_in: combine(|p| p.rms_displacement()),
-        rms_velocity_in_per_s: combine(|p| p.rms_velocity()),
-        rms_acceleration_in_per_s2: combine(|p| p.rms_acceleration()),
+        rms_displacement_in: Length::inch(combine(|p| p.rms_displacement())),
+        rms_velocity_in_per_s: Speed::inch(combine(|p| p.rms_velocity())),
+        rms_acceleration_in_per_s2: Acceleration::inch(combine(|p| p.rms_acceleration())),
         rms_angular_velocity_rad_per_s: m[3],
-        contact_stress_avg_psi: m[4],
+        contact_stress_avg_psi: Stress::inch(m[4]),
         jump: periods.iter().any(|p| p.jump),
     };
     for ((name, _, _), v) in OUTPUTS.iter().zip(out.values()) {

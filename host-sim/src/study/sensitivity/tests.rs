@@ -31,11 +31,11 @@ fn a_study_fails_only_when_every_case_failed_without_a_separation() {
         change_pct: 0,
         cam: "theoretical",
         outputs: Outputs {
-            rms_displacement_in: 0.0,
-            rms_velocity_in_per_s: 0.0,
-            rms_acceleration_in_per_s2: 0.0,
+            rms_displacement_in: 0.0.into(),
+            rms_velocity_in_per_s: 0.0.into(),
+            rms_acceleration_in_per_s2: 0.0.into(),
             rms_angular_velocity_rad_per_s: 0.0,
-            contact_stress_avg_psi: 0.0,
+            contact_stress_avg_psi: 0.0.into(),
             jump: false,
         },
     };
@@ -260,10 +260,11 @@ fn combined_rms_matches_the_direct_integral_of_the_revolution() {
     }
     // The cam's speed deviation and stress come from the direct integrals.
     assert_eq!(out.rms_angular_velocity_rad_per_s, m[3]);
-    assert_eq!(out.contact_stress_avg_psi, m[4]);
+    assert_eq!(out.contact_stress_avg_psi.in_inch(), m[4]);
     // On the base circle the stress is tens of thousands of psi: a positive average
     // below the largest per-period stress.
-    assert!(out.contact_stress_avg_psi > 1e4 && out.contact_stress_avg_psi < 3e5);
+    let stress = out.contact_stress_avg_psi.in_inch();
+    assert!(stress > 1e4 && stress < 3e5);
     // The same run again: the same numbers (the baseline is a change of 0).
     assert_eq!(outputs(&spec).unwrap(), out);
 }
@@ -275,11 +276,11 @@ fn combined_rms_matches_the_direct_integral_of_the_revolution() {
 fn per_key_recovers_the_exponents_of_a_power_law_model_and_ranks_by_the_onset() {
     let eval = |d: &Design<f64>| -> Result<KeyOutcome> {
         let out = Outputs {
-            rms_displacement_in: d.k_rs.powf(0.5) * d.m_l.powf(-2.0),
-            rms_velocity_in_per_s: d.rho.powf(1.5),
-            rms_acceleration_in_per_s2: 3.0,
+            rms_displacement_in: (d.k_rs.powf(0.5) * d.m_l.powf(-2.0)).into(),
+            rms_velocity_in_per_s: d.rho.powf(1.5).into(),
+            rms_acceleration_in_per_s2: 3.0.into(),
             rms_angular_velocity_rad_per_s: d.k_s1.powf(-0.25),
-            contact_stress_avg_psi: d.hertz.youngs_1.powf(0.5),
+            contact_stress_avg_psi: d.hertz.youngs_1.powf(0.5).into(),
             jump: false,
         };
         // No onset when the roller is light (a key without one ranks last).
@@ -350,11 +351,11 @@ fn stand_in(base: &Design<f64>, d: &Design<f64>) -> Result<KeyOutcome> {
             }));
         }
         let out = Outputs {
-            rms_displacement_in: d.k_rs.powf(0.5),
-            rms_velocity_in_per_s: 1.0,
-            rms_acceleration_in_per_s2: 1.0,
+            rms_displacement_in: d.k_rs.powf(0.5).into(),
+            rms_velocity_in_per_s: 1.0.into(),
+            rms_acceleration_in_per_s2: 1.0.into(),
             rms_angular_velocity_rad_per_s: 1.0,
-            contact_stress_avg_psi: 1.0,
+            contact_stress_avg_psi: 1.0.into(),
             jump: false,
         };
         Ok(Ok((out, Some(900.0 * d.rho.powf(-0.5)))))
