@@ -70,8 +70,8 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
 #[test]
 fn design_spring_theoretical_brackets_the_criterion() {
     let r = spring(&spring_args(false, 1), camsim::units::Units::Inch).unwrap();
-    let below = r.failing_rate_lb_per_in.unwrap();
-    assert!(r.bracket_lb_per_in <= 10.0 && r.bracket_lb_per_in > 0.0);
+    let below = r.failing_rate_lb_per_in.unwrap().in_inch();
+    assert!(r.bracket_lb_per_in.in_inch() <= 10.0 && r.bracket_lb_per_in.in_inch() > 0.0);
     let mut spec = camsim::cmd::run::spec_from(&SceneArgs::default()).unwrap();
     spec.solver.start = camsim_core::Start::Static;
     spec.revolutions = 2;
@@ -80,7 +80,7 @@ fn design_spring_theoretical_brackets_the_criterion() {
         s.design.set_spring_rate(k).unwrap();
         camsim::sim::jumps_at(&s, 920.0).unwrap()
     };
-    assert!(!at(r.spring_rate_lb_per_in));
+    assert!(!at(r.spring_rate_lb_per_in.in_inch()));
     assert!(at(below));
     assert!(r.jump_onset_rpm.unwrap() > 920.0);
     // Issue 30: the spring to build passes every check the verdict makes, re-read as a
@@ -91,10 +91,10 @@ fn design_spring_theoretical_brackets_the_criterion() {
     let c = &p.spring;
     let scene = format!(
         "[design.spring]\nwire_diameter_in = {}\nmean_diameter_in = {}\nactive_coils = {}\nends = \"{}\"\nmaterial = \"{}\"\nfree_length_in = {}\n",
-        c.wire_diameter_in, c.mean_diameter_in, c.active_coils, p.ends, p.material, c.free_length_in
+        c.wire_diameter_in.in_inch(), c.mean_diameter_in.in_inch(), c.active_coils, p.ends, p.material, c.free_length_in.in_inch()
     );
     let built = camsim::scene::parse(&scene).unwrap();
-    assert!(built.design.k_rs >= r.spring_rate_lb_per_in);
+    assert!(built.design.k_rs >= r.spring_rate_lb_per_in.in_inch());
     let v = camsim::verdict::spring(&built.design, built.spring.as_ref()).unwrap();
     assert!(v.surge_hz >= 13.0 * 800.0 / 60.0, "{}", v.surge_hz);
     assert!(v.shear_stress_psi.in_inch() <= v.allowable_shear_psi.in_inch());
@@ -155,7 +155,7 @@ fn design_tolerance_waviness_brackets_the_roughest_fpr() {
         .tried
         .iter()
         .all(|&(x, ok)| if ok { x <= a.answer } else { x >= failing }));
-    assert_eq!(a.cam_tolerance_in, Some(0.0005));
+    assert_eq!(a.cam_tolerance_in, Some(0.0005.into()));
     let loose = mc_search(&args(2, 4.0), false, camsim::units::Units::Inch).unwrap();
     assert!(loose.answer <= a.answer, "{} > {}", loose.answer, a.answer);
 }
@@ -185,7 +185,7 @@ fn design_speed_and_tolerance_bracket_their_criterion_on_any_thread_count() {
         if speed {
             assert!(a.answer < a.theoretical_onset_rpm.unwrap());
         } else {
-            assert_eq!(a.cam_tolerance_in.unwrap(), 0.0005 * a.answer);
+            assert_eq!(a.cam_tolerance_in.unwrap().in_inch(), 0.0005 * a.answer);
         }
     }
 }
@@ -199,19 +199,19 @@ fn design_spring_preload_brackets_the_criterion() {
     a.preload = true;
     let r = spring(&a, camsim::units::Units::Inch).unwrap();
     assert_eq!(r.searched, "preload length");
-    assert_eq!(r.spring_rate_lb_per_in, 100.0);
-    let fail = r.failing_preload_length_in.unwrap();
-    let pass = fail + r.preload_bracket_in.unwrap();
+    assert_eq!(r.spring_rate_lb_per_in.in_inch(), 100.0);
+    let fail = r.failing_preload_length_in.unwrap().in_inch();
+    let pass = fail + r.preload_bracket_in.unwrap().in_inch();
     assert!(fail < pass && pass - fail <= 0.1 + 1e-12, "{fail} {pass}");
     // The part is built at the length reported (raised from the length found only when
     // its own mass asked for more), and its scene lines carry that length.
     let part = r.part.as_ref().unwrap();
     assert_eq!(r.preload_length_in, part.preload_length_in);
-    assert!(part.preload_length_in >= pass, "{part:?}");
+    assert!(part.preload_length_in.in_inch() >= pass, "{part:?}");
     assert!(
         camsim::report::Report::text(&r, camsim::units::Units::Inch).contains(&format!(
             "and in [design]: spring_preload_length_in = {:.4}",
-            part.preload_length_in
+            part.preload_length_in.in_inch()
         )),
         "{}",
         camsim::report::Report::text(&r, camsim::units::Units::Inch)
@@ -746,9 +746,9 @@ fn design_tolerance_table_rows_are_the_single_fpr_answers() {
             "FPR {f}"
         );
         assert_eq!(row.tried, single.tried, "FPR {f}");
-        assert_eq!(row.roller_tolerance_in, Some(0.00005));
-        assert_eq!(row.eccentricity_tolerance_in, Some(0.0));
-        assert_eq!(row.cam_tolerance_in, Some(0.0005 * row.answer));
+        assert_eq!(row.roller_tolerance_in, Some(0.00005.into()));
+        assert_eq!(row.eccentricity_tolerance_in, Some(0.0.into()));
+        assert_eq!(row.cam_tolerance_in, Some((0.0005 * row.answer).into()));
     }
     let e = mc_search(&args(vec![17, 57]), false, camsim::units::Units::Inch)
         .unwrap_err()
@@ -822,15 +822,18 @@ fn design_springs_scene_lines_paste_into_a_scene() {
     let head = text.lines().next().unwrap();
     let want = format!(
         "camsim design spring: {:.1} lb/in at preload length",
-        part.spring.rate_lb_per_in
+        part.spring.rate_lb_per_in.in_inch()
     );
     let found = format!(
         "; the least rate the search found: {:.1} lb/in",
-        r.spring_rate_lb_per_in
+        r.spring_rate_lb_per_in.in_inch()
     );
     assert!(head.starts_with(&want) && head.ends_with(&found), "{head}");
     assert!(
-        text.contains(&format!("; rate {:.1} lb/in,", part.spring.rate_lb_per_in)),
+        text.contains(&format!(
+            "; rate {:.1} lb/in,",
+            part.spring.rate_lb_per_in.in_inch()
+        )),
         "{text}"
     );
     let spec = camsim::scene::parse(&lines).unwrap();
@@ -840,13 +843,13 @@ fn design_springs_scene_lines_paste_into_a_scene() {
     // each), so the part read back is the part printed: each diameter within 5e-6 and
     // the rate (d^4/D^3) within 4*5e-6 + 3*5e-6 = 3.5e-5.
     for (got, want) in [
-        (read.wire_diameter, part.spring.wire_diameter_in),
-        (read.mean_diameter, part.spring.mean_diameter_in),
+        (read.wire_diameter, part.spring.wire_diameter_in.in_inch()),
+        (read.mean_diameter, part.spring.mean_diameter_in.in_inch()),
     ] {
         assert!((got / want - 1.0).abs() <= 5e-6, "{got} {want}");
     }
     assert!(
-        (rate / part.spring.rate_lb_per_in - 1.0).abs() < 3.5e-5,
+        (rate / part.spring.rate_lb_per_in.in_inch() - 1.0).abs() < 3.5e-5,
         "{rate} {:?}",
         part.spring
     );

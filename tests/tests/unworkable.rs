@@ -286,7 +286,7 @@ fn design_tolerance_reports_an_fpr_where_nothing_passes_and_goes_on() {
     assert!(ok.answer >= 0.1 && ok.p_jump.unwrap().hi95 <= 0.5);
     let n = table.0[1].nothing_passes().unwrap();
     assert_eq!((n.waviness_fpr, n.smallest_factor_tried), (57, 0.1));
-    assert_eq!(n.smallest_cam_tolerance_in, 0.0005 * 0.1);
+    assert_eq!(n.smallest_cam_tolerance_in.in_inch(), 0.0005 * 0.1);
     assert!(n.p_jump.unwrap().hi95 > 0.5);
     assert_eq!(n.tolerance_factors_tried, vec![(0.1, false)]);
     let text = table.text(camsim::units::Units::Inch);

@@ -17,7 +17,7 @@ use crate::args::spec_from;
 use crate::report::Report;
 use crate::stats::Probability;
 use crate::study::montecarlo::{threads, ProfileSettings};
-use crate::units::{self, Units};
+use crate::units::{self, Length, Units};
 
 /// What a Monte Carlo design search found.
 #[derive(Clone, Debug, Serialize)]
@@ -38,13 +38,13 @@ pub struct McSearchReport {
     pub bracket: f64,
     /// With `design tolerance`: the cam profile tolerance at the answer, ± in.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub cam_tolerance_in: Option<f64>,
+    pub cam_tolerance_in: Option<Length>,
     /// With `design tolerance`: the roller tolerance (held), ± in.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub roller_tolerance_in: Option<f64>,
+    pub roller_tolerance_in: Option<Length>,
     /// With `design tolerance`: the eccentricity tolerance (held), ± in.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub eccentricity_tolerance_in: Option<f64>,
+    pub eccentricity_tolerance_in: Option<Length>,
     /// With `design tolerance` (not --waviness): the cams' waviness, FPR.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub waviness_fpr: Option<u32>,
@@ -256,9 +256,10 @@ pub(crate) fn mc_search_at(
         tolerance_factor: waviness.then_some(factor),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed).then_some(profile.cam_tolerance_in),
-        roller_tolerance_in: (!speed).then_some(profile.roller_tolerance_in),
-        eccentricity_tolerance_in: (!speed).then_some(profile.eccentricity_tolerance_in),
+        cam_tolerance_in: (!speed).then_some(Length::inch(profile.cam_tolerance_in)),
+        roller_tolerance_in: (!speed).then_some(Length::inch(profile.roller_tolerance_in)),
+        eccentricity_tolerance_in: (!speed)
+            .then_some(Length::inch(profile.eccentricity_tolerance_in)),
         waviness_fpr: if waviness {
             None
         } else {
@@ -317,8 +318,8 @@ fn search_headline(r: &McSearchReport, out: &mut String, units: Units) {
             "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
             r.answer,
             r.tolerance_factor.unwrap_or(1.0),
-            units.q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
-            units.q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
+            units.q(units::LENGTH, r.cam_tolerance_in.map_or(0.0, Length::in_inch), 5),
+            units.q(units::LENGTH, r.roller_tolerance_in.map_or(0.0, Length::in_inch), 6),
             lu = units.symbol(units::LENGTH)
         );
         let _ = writeln!(
@@ -329,11 +330,11 @@ fn search_headline(r: &McSearchReport, out: &mut String, units: Units) {
         let _ = writeln!(
             out,
             "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
-            units.q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5),
+            units.q(units::LENGTH, r.cam_tolerance_in.map_or(0.0, Length::in_inch), 5),
             r.answer,
             r.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
-            units.q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
-            units.q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+            units.q(units::LENGTH, r.roller_tolerance_in.map_or(0.0, Length::in_inch), 6),
+            units.q(units::LENGTH, r.eccentricity_tolerance_in.map_or(0.0, Length::in_inch), 5),
             lu = units.symbol(units::LENGTH)
         );
     }

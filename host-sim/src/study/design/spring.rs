@@ -23,7 +23,7 @@ use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
 use crate::study::coil_spring::{candidates, CoilChoice, CoilQuery, Rejections};
 use crate::study::montecarlo::{threads, ProfileSettings};
-use crate::units::{self, Units};
+use crate::units::{self, Force, Length, Stiffness, Stress, Units, Weight};
 
 /// What `design spring` is asked.
 #[derive(Clone, Debug)]
@@ -79,25 +79,25 @@ pub struct SpringReport {
     /// (at the rate, with --preload).
     pub searched: Searched,
     /// The smallest rate found that passes, lb/in (with --preload: the rate held).
-    pub spring_rate_lb_per_in: f64,
+    pub spring_rate_lb_per_in: Stiffness,
     /// The largest rate tried that fails, lb/in (absent: the first rate tried passed).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub failing_rate_lb_per_in: Option<f64>,
+    pub failing_rate_lb_per_in: Option<Stiffness>,
     /// Bracket width, lb/in (the answer is within it of the true smallest rate; 0 with
     /// --preload, where the rate is held).
-    pub bracket_lb_per_in: f64,
+    pub bracket_lb_per_in: Stiffness,
     /// With --preload: the longest preload length tried that fails, in.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub failing_preload_length_in: Option<f64>,
+    pub failing_preload_length_in: Option<Length>,
     /// With --preload: the bracket width, in.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub preload_bracket_in: Option<f64>,
+    pub preload_bracket_in: Option<Length>,
     /// The spring's preload at assembly, lb.
-    pub preload_lb: f64,
+    pub preload_lb: Force,
     /// Preload length, in.
-    pub preload_length_in: f64,
+    pub preload_length_in: Length,
     /// Its mass by the wire-and-coil model, lb.
-    pub spring_mass_lb: f64,
+    pub spring_mass_lb: Weight,
     /// Its active coils.
     pub active_coils: f64,
     /// Its surge frequency, Hz.
@@ -147,7 +147,7 @@ pub struct SpringReport {
 #[derive(Clone, Debug, Serialize)]
 pub struct PartReport {
     /// The spring.
-    pub spring: CoilChoice,
+    pub spring: CoilReport,
     /// The wire (`chrome-silicon wire, ASTM A401`).
     pub wire: String,
     /// The wire's scene name.
@@ -168,7 +168,62 @@ pub struct PartReport {
     pub contact_checked: bool,
     /// The preload length the part is built and judged at, in: the scene's, or with
     /// --preload the length found (raised with the part when its own mass asked for more).
-    pub preload_length_in: f64,
+    pub preload_length_in: Length,
+}
+
+/// A candidate spring and its checks ([`CoilChoice`]) as the report gives them, each
+/// dimensional value a measure.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct CoilReport {
+    /// Wire diameter.
+    pub wire_diameter_in: Length,
+    /// Mean coil diameter.
+    pub mean_diameter_in: Length,
+    /// Spring index D/d.
+    pub index: f64,
+    /// Active coils.
+    pub active_coils: f64,
+    /// Total coils.
+    pub total_coils: f64,
+    /// Rate.
+    pub rate_lb_per_in: Stiffness,
+    /// Mass (a weight).
+    pub mass_lb: Weight,
+    /// Surge, Hz.
+    pub surge_hz: f64,
+    /// Surge over the cam frequency.
+    pub surge_harmonic: f64,
+    /// Wahl stress at full compression.
+    pub shear_stress_psi: Stress,
+    /// The wire's allowable.
+    pub allowable_shear_psi: Stress,
+    /// Solid height.
+    pub solid_height_in: Length,
+    /// Free length.
+    pub free_length_in: Length,
+    /// Length at full compression.
+    pub full_compression_length_in: Length,
+}
+
+impl From<CoilChoice> for CoilReport {
+    fn from(c: CoilChoice) -> Self {
+        Self {
+            wire_diameter_in: c.wire_diameter_in.into(),
+            mean_diameter_in: c.mean_diameter_in.into(),
+            index: c.index,
+            active_coils: c.active_coils,
+            total_coils: c.total_coils,
+            rate_lb_per_in: c.rate_lb_per_in.into(),
+            mass_lb: c.mass_lb.into(),
+            surge_hz: c.surge_hz,
+            surge_harmonic: c.surge_harmonic,
+            shear_stress_psi: c.shear_stress_psi.into(),
+            allowable_shear_psi: c.allowable_shear_psi.into(),
+            solid_height_in: c.solid_height_in.into(),
+            free_length_in: c.free_length_in.into(),
+            full_compression_length_in: c.full_compression_length_in.into(),
+        }
+    }
 }
 
 /// The candidates' contact checks a search runs at most before it gives up.
@@ -222,7 +277,7 @@ fn choose_part(
     });
     Ok((
         PartReport {
-            spring: c,
+            spring: c.into(),
             wire: wire.title.to_string(),
             material: wire.name,
             ends: q.ends.name(),
@@ -231,7 +286,7 @@ fn choose_part(
             binding_percent: 100.0 * use_,
             rejected,
             contact_checked: at_rpm.is_some(),
-            preload_length_in: s.design.delta_rs,
+            preload_length_in: Length::inch(s.design.delta_rs),
         },
         s,
     ))
@@ -467,25 +522,31 @@ fn answered(found: Found, spec: &RunSpec, t0: Instant) -> Result<SpringReport> {
     } = found;
     let spring = spring_of_answer(spec, answer, &part)?;
     let (rate, failing_rate, bracket, failing_length, length_bracket) = match answer.searched {
-        Searched::Rate => (answer.value, answer.failing, answer.bracket(), None, None),
+        Searched::Rate => (
+            answer.value,
+            answer.failing.map(Stiffness::inch),
+            answer.bracket(),
+            None,
+            None,
+        ),
         Searched::PreloadLength => (
             spec.design.k_rs,
             None,
             0.0,
-            answer.failing,
-            Some(answer.bracket()),
+            answer.failing.map(Length::inch),
+            Some(Length::inch(answer.bracket())),
         ),
     };
     Ok(SpringReport {
         searched: answer.searched,
-        spring_rate_lb_per_in: rate,
+        spring_rate_lb_per_in: Stiffness::inch(rate),
         failing_rate_lb_per_in: failing_rate,
-        bracket_lb_per_in: bracket,
+        bracket_lb_per_in: Stiffness::inch(bracket),
         failing_preload_length_in: failing_length,
         preload_bracket_in: length_bracket,
-        preload_lb: spring.preload_lb,
-        preload_length_in: spring.preload_length_in,
-        spring_mass_lb: spring.mass_lb,
+        preload_lb: Force::inch(spring.preload_lb),
+        preload_length_in: Length::inch(spring.preload_length_in),
+        spring_mass_lb: Weight::inch(spring.mass_lb),
         active_coils: spring.active_coils,
         surge_hz: spring.surge_hz,
         operating_rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
@@ -643,12 +704,12 @@ fn spring_of_answer(spec: &RunSpec, answer: Answer, part: &PartReport) -> Result
         answer.value,
         answer.searched == Searched::PreloadLength,
     )?;
-    chosen.design.k_rs = part.spring.rate_lb_per_in;
-    chosen.design.delta_rs = part.preload_length_in;
+    chosen.design.k_rs = part.spring.rate_lb_per_in.in_inch();
+    chosen.design.delta_rs = part.preload_length_in.in_inch();
     Ok(AnswerSpring {
         preload_lb: chosen.design.preload()?,
-        preload_length_in: part.preload_length_in,
-        mass_lb: part.spring.mass_lb,
+        preload_length_in: part.preload_length_in.in_inch(),
+        mass_lb: part.spring.mass_lb.in_inch(),
         active_coils: part.spring.active_coils,
         surge_hz: part.spring.surge_hz,
     })
@@ -720,7 +781,7 @@ impl Report for SpringReport {
                     out,
                     "    and in [design]: spring_preload_length_{} = {}",
                     units.key_suffix(units::LENGTH),
-                    units.q(units::LENGTH, p.preload_length_in, 4)
+                    units.show(p.preload_length_in, 4)
                 );
             }
         }
@@ -782,8 +843,8 @@ fn spring_headline(r: &SpringReport, out: &mut String, units: Units) {
         let _ = writeln!(
             out,
             "camsim design spring --preload: preload length {} {lu} at the rate held, {} {ku} {}",
-            units.q(units::LENGTH, r.preload_length_in, 3),
-            units.q(units::STIFFNESS, rate, 1),
+            units.show(r.preload_length_in, 3),
+            units.show(rate, 1),
             spring_summary(r, units),
             lu = units.symbol(units::LENGTH),
         );
@@ -793,15 +854,15 @@ fn spring_headline(r: &SpringReport, out: &mut String, units: Units) {
     let found = match &r.part {
         Some(_) => format!(
             "; the least rate the search found: {} {ku}",
-            units.q(units::STIFFNESS, r.spring_rate_lb_per_in, 1)
+            units.show(r.spring_rate_lb_per_in, 1)
         ),
         None => String::new(),
     };
     let _ = writeln!(
         out,
         "camsim design spring: {} {ku} at preload length {} {} {}{found}",
-        units.q(units::STIFFNESS, rate, 1),
-        units.given(units::LENGTH, r.preload_length_in),
+        units.show(rate, 1),
+        units.given(units::LENGTH, r.preload_length_in.in_inch()),
         units.symbol(units::LENGTH),
         spring_summary(r, units),
     );
@@ -809,9 +870,9 @@ fn spring_headline(r: &SpringReport, out: &mut String, units: Units) {
         Some(b) => writeln!(
             out,
             "  bracket: fails at {} {ku}, passes at {} {ku} (width {} {ku})",
-            units.q(units::STIFFNESS, b, 1),
-            units.q(units::STIFFNESS, r.spring_rate_lb_per_in, 1),
-            units.q(units::STIFFNESS, r.bracket_lb_per_in, 2),
+            units.show(b, 1),
+            units.show(r.spring_rate_lb_per_in, 1),
+            units.show(r.bracket_lb_per_in, 2),
         ),
         None => writeln!(
             out,
@@ -824,10 +885,10 @@ fn spring_headline(r: &SpringReport, out: &mut String, units: Units) {
 fn spring_summary(r: &SpringReport, units: Units) -> String {
     format!(
         "(preload {} {}; {:.2} active coils, {} {}, surge {:.0} Hz)",
-        units.q(units::FORCE, r.preload_lb, 2),
+        units.show(r.preload_lb, 2),
         units.symbol(units::FORCE),
         r.active_coils,
-        units.q(units::WEIGHT, r.spring_mass_lb, 4),
+        units.show(r.spring_mass_lb, 4),
         units.symbol(units::WEIGHT),
         r.surge_hz,
     )
@@ -841,9 +902,9 @@ fn preload_bracket_line(r: &SpringReport, out: &mut String, units: Units) {
         (Some(b), Some(w)) => writeln!(
             out,
             "  searched: the preload length; bracket: fails at {} {lu}, passes at {} {lu} (width {} {lu})",
-            units.q(units::LENGTH, b, 3),
-            units.q(units::LENGTH, b + w, 3),
-            units.q(units::LENGTH, w, 3),
+            units.show(b, 3),
+            units.show(Length::inch(b.in_inch() + w.in_inch()), 3),
+            units.show(w, 3),
         ),
         _ => writeln!(
             out,
@@ -864,7 +925,7 @@ fn binding_text(p: &PartReport) -> String {
     format!(
         "{}; the part's stress at {:.0} % and surge at {:.0} % of their limits",
         p.binding,
-        100.0 * c.shear_stress_psi / c.allowable_shear_psi,
+        100.0 * c.shear_stress_psi.in_inch() / c.allowable_shear_psi.in_inch(),
         100.0 * camsim_core::SURGE_HARMONIC_MARGIN / c.surge_harmonic
     )
 }
@@ -879,29 +940,29 @@ fn part_lines(out: &mut String, p: &PartReport, units: Units) {
         out,
         "  spring to build: {}, wire {} {lu}, mean coil {} {lu} (index {:.1}), {:.2} active / {:.2} total coils, {} ends; rate {} {}, {} {}",
         p.wire,
-        units.q(units::LENGTH, c.wire_diameter_in, 3),
-        units.q(units::LENGTH, c.mean_diameter_in, 3),
+        units.show(c.wire_diameter_in, 3),
+        units.show(c.mean_diameter_in, 3),
         c.index,
         c.active_coils,
         c.total_coils,
         p.ends,
-        units.q(units::STIFFNESS, c.rate_lb_per_in, 1),
+        units.show(c.rate_lb_per_in, 1),
         units.symbol(units::STIFFNESS),
-        units.q(units::WEIGHT, c.mass_lb, 4),
+        units.show(c.mass_lb, 4),
         units.symbol(units::WEIGHT)
     );
     let _ = writeln!(
         out,
         "    checks: stress {} {su} at full compression, {:.0} % of the allowable {} {su}; surge {:.0} Hz = {:.1} x the cam (least {:.0}); free length {} {lu}, {} {lu} at full compression above the solid {} {lu}; contact {}",
-        units.q(units::STRESS, c.shear_stress_psi, 0),
-        100.0 * c.shear_stress_psi / c.allowable_shear_psi,
-        units.q(units::STRESS, c.allowable_shear_psi, 0),
+        units.show(c.shear_stress_psi, 0),
+        100.0 * c.shear_stress_psi.in_inch() / c.allowable_shear_psi.in_inch(),
+        units.show(c.allowable_shear_psi, 0),
         c.surge_hz,
         c.surge_harmonic,
         camsim_core::SURGE_HARMONIC_MARGIN,
-        units.q(units::LENGTH, c.free_length_in, 3),
-        units.q(units::LENGTH, c.full_compression_length_in, 3),
-        units.q(units::LENGTH, c.solid_height_in, 3),
+        units.show(c.free_length_in, 3),
+        units.show(c.full_compression_length_in, 3),
+        units.show(c.solid_height_in, 3),
         if p.contact_checked {
             "checked with its own rate and mass"
         } else {
@@ -921,12 +982,12 @@ fn part_lines(out: &mut String, p: &PartReport, units: Units) {
     let _ = writeln!(
         out,
         "    as a scene (these lines in place of the spring rate):\n      [design.spring]\n      wire_diameter_{k} = {}\n      mean_diameter_{k} = {}\n      active_coils = {}\n      ends = \"{}\"\n      material = \"{}\"\n      free_length_{k} = {}",
-        scene_length(c.wire_diameter_in, units),
-        scene_length(c.mean_diameter_in, units),
+        scene_length(c.wire_diameter_in.in_inch(), units),
+        scene_length(c.mean_diameter_in.in_inch(), units),
         c.active_coils,
         p.ends,
         p.material,
-        units.q(units::LENGTH, c.free_length_in, 4)
+        units.show(c.free_length_in, 4)
     );
 }
 
@@ -949,7 +1010,7 @@ mod tests {
     /// rule's.
     #[test]
     fn a_raised_rates_binding_text_gives_the_parts_own_figures() {
-        let c = crate::study::coil_spring::CoilChoice {
+        let c: CoilReport = crate::study::coil_spring::CoilChoice {
             wire_diameter_in: 0.1,
             mean_diameter_in: 1.0,
             index: 10.0,
@@ -964,7 +1025,8 @@ mod tests {
             solid_height_in: 1.0,
             free_length_in: 3.0,
             full_compression_length_in: 2.0,
-        };
+        }
+        .into();
         let mut p = PartReport {
             spring: c,
             wire: "music wire".into(),
@@ -975,7 +1037,7 @@ mod tests {
             binding_percent: 99.0,
             rejected: Rejections::default(),
             contact_checked: true,
-            preload_length_in: 0.5,
+            preload_length_in: Length::inch(0.5),
         };
         let t = binding_text(&p);
         assert!(

@@ -10,7 +10,7 @@ use super::McSpec;
 use crate::report::Report;
 use crate::stats::Probability;
 use crate::study::montecarlo::ProfileSettings;
-use crate::units;
+use crate::units::{self, Length};
 
 /// `design tolerance`: the loosest cam tolerance for each FPR of --waviness-fpr (the
 /// default FPR when none is given), one search each; --waviness searches the FPR.
@@ -81,11 +81,11 @@ pub struct NothingPasses {
     /// The smallest factor on VI.1's cam tolerance tried (the search's first).
     pub smallest_factor_tried: f64,
     /// The cam profile tolerance there, ± in.
-    pub smallest_cam_tolerance_in: f64,
+    pub smallest_cam_tolerance_in: Length,
     /// The roller tolerance (held), ± in.
-    pub roller_tolerance_in: f64,
+    pub roller_tolerance_in: Length,
     /// The eccentricity tolerance (held), ± in.
-    pub eccentricity_tolerance_in: f64,
+    pub eccentricity_tolerance_in: Length,
     /// P(jump) at the smallest tolerance with its 95 % Wilson interval.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub p_jump: Option<Probability>,
@@ -129,9 +129,9 @@ impl NothingPasses {
                 "nothing passes down to ±{cam} {lu} ({x} x VI.1's cam tolerance): {why}"
             ),
             smallest_factor_tried: x,
-            smallest_cam_tolerance_in: log.profile.cam_tolerance_in,
-            roller_tolerance_in: log.profile.roller_tolerance_in,
-            eccentricity_tolerance_in: log.profile.eccentricity_tolerance_in,
+            smallest_cam_tolerance_in: Length::inch(log.profile.cam_tolerance_in),
+            roller_tolerance_in: Length::inch(log.profile.roller_tolerance_in),
+            eccentricity_tolerance_in: Length::inch(log.profile.eccentricity_tolerance_in),
             p_jump: p,
             criterion: log.criterion,
             samples: n,
@@ -252,7 +252,11 @@ impl Report for ToleranceTable {
                 r.waviness_fpr.unwrap_or(0),
                 r.answer,
                 units
-                    .q(units::LENGTH, r.cam_tolerance_in.unwrap_or(0.0), 5)
+                    .q(
+                        units::LENGTH,
+                        r.cam_tolerance_in.map_or(0.0, Length::in_inch),
+                        5
+                    )
                     .to_string(),
                 p,
                 fails
@@ -262,8 +266,16 @@ impl Report for ToleranceTable {
             let _ = writeln!(
                 out,
                 "  held: roller ±{} {lu}, eccentricity ±{} {lu}",
-                units.q(units::LENGTH, r.roller_tolerance_in.unwrap_or(0.0), 6),
-                units.q(units::LENGTH, r.eccentricity_tolerance_in.unwrap_or(0.0), 5),
+                units.q(
+                    units::LENGTH,
+                    r.roller_tolerance_in.map_or(0.0, Length::in_inch),
+                    6
+                ),
+                units.q(
+                    units::LENGTH,
+                    r.eccentricity_tolerance_in.map_or(0.0, Length::in_inch),
+                    5
+                ),
             );
             let fpr = format!("waviness FPR {}", r.waviness_fpr.unwrap_or(0));
             let criterion = r.criterion.replace(&fpr, "waviness the row's FPR");
