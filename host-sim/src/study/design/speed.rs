@@ -242,9 +242,7 @@ pub(crate) fn mc_search_at(
     let cams = at(answer);
     let profile = ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?;
     let theoretical_onset_rpm = if speed {
-        let js = crate::study::jump_speed::find(&spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
-        runs += u64::from(js.simulations);
-        js.jump_rpm
+        theoretical_onset(&spec, &mut runs)?
     } else {
         None
     };
@@ -279,6 +277,13 @@ pub(crate) fn mc_search_at(
     };
     crate::report::ensure_finite(&report)?;
     Ok(Ok(report))
+}
+
+/// The theoretical cam's jump onset (`design speed`'s check), its runs added to `runs`.
+fn theoretical_onset(spec: &crate::sim::RunSpec, runs: &mut u64) -> Result<Option<f64>> {
+    let js = crate::study::jump_speed::find(spec, 1.0, crate::study::jump_speed::MAX_RPM)?;
+    *runs += u64::from(js.simulations);
+    Ok(js.jump_rpm)
 }
 
 /// A search's name and its answer's unit.
