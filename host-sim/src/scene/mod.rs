@@ -222,6 +222,16 @@ impl serde::Serialize for Node {
     }
 }
 
+/// The part of the scene file's header that both unit families share.
+const KEYS_NOTE: &str = "# Every key is optional: absent keys take these\n\
+         # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
+         # (and moves the regulated drive's reference with it, like --rpm).\n\
+         # drive: \"constant-cam-speed\" (or \"constant-speed\"), \"constant-motor-speed\", \"thesis\" (the\n\
+         # default below), a [design.drive.regulated] table, or a [design.drive.motor] table (inertia,\n\
+         # shaft_stiffness, gain, torque_limit, each with its unit; see docs/MODEL.md 5.17).\n\
+         # program: [[design.program.segment]] with kind \"dwell\", \"rise\" or \"return\",\n\
+         # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, ";
+
 /// The reference design as TOML text.
 pub fn default_text() -> Result<String> {
     let body = spec_text(&RunSpec::reference())?;
@@ -230,14 +240,7 @@ pub fn default_text() -> Result<String> {
          # for what the thesis leaves out (core/src/model/design.rs). Units are in the key names\n\
          # (inch, pound-force, second, radian); every key with a unit also reads in SI, the\n\
          # same name with the SI unit (base_radius_mm, spring_rate_n_per_mm, youngs_mpa, _kg).\n\
-         # Every key is optional: absent keys take these\n\
-         # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
-         # (and moves the regulated drive's reference with it, like --rpm).\n\
-         # drive: \"constant-cam-speed\" (or \"constant-speed\"), \"constant-motor-speed\", \"thesis\" (the\n\
-         # default below), a [design.drive.regulated] table, or a [design.drive.motor] table (inertia,\n\
-         # shaft_stiffness, gain, torque_limit, each with its unit; see docs/MODEL.md 5.17).\n\
-         # program: [[design.program.segment]] with kind \"dwell\", \"rise\" or \"return\",\n\
-         # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, lift_in.\n\n{body}"
+         {KEYS_NOTE}lift_in.\n\n{body}"
     ))
 }
 
@@ -251,14 +254,7 @@ pub fn default_text_si() -> Result<String> {
          # exact factors (25.4 mm to the inch, 4.4482216152605 N to the pound-force) to 10\n\
          # significant digits;\n\
          # every key with a unit also reads in the inch family (base_radius_in, spring_rate_lb_per_in).\n\
-         # Every key is optional: absent keys take these\n\
-         # values. [run] rpm = N sets the cam speed in rpm instead of design.omega0_rad_per_s\n\
-         # (and moves the regulated drive's reference with it, like --rpm).\n\
-         # drive: \"constant-cam-speed\" (or \"constant-speed\"), \"constant-motor-speed\", \"thesis\" (the\n\
-         # default below), a [design.drive.regulated] table, or a [design.drive.motor] table (inertia,\n\
-         # shaft_stiffness, gain, torque_limit, each with its unit; see docs/MODEL.md 5.17).\n\
-         # program: [[design.program.segment]] with kind \"dwell\", \"rise\" or \"return\",\n\
-         # law (names as in `camsim laws`) for a rise or return, start_deg, end_deg, lift_mm.\n\n{body}"
+         {KEYS_NOTE}lift_mm.\n\n{body}"
     ))
 }
 

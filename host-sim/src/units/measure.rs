@@ -131,11 +131,6 @@ impl<K: Kind> Measure<K> {
     pub const fn in_inch(self) -> f64 {
         self.inch
     }
-
-    /// The quantity's unit.
-    pub const fn unit(self) -> Unit {
-        K::UNIT
-    }
 }
 
 impl<K: Kind> From<f64> for Measure<K> {

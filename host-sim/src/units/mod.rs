@@ -222,15 +222,6 @@ impl Units {
         }
     }
 
-    /// A value given in this family (an option read in the units of `--units`, as
-    /// `--allowable-stress`), in `unit`'s inch member: the inverse of [`Units::value`].
-    pub fn inch_value(self, unit: Unit, value: f64) -> f64 {
-        match self {
-            Units::Inch => value,
-            Units::Si => value / unit.si_per_inch,
-        }
-    }
-
     /// `unit`'s key suffix in this family (`psi` or `mpa`).
     pub fn key_suffix(self, unit: Unit) -> &'static str {
         match self {
