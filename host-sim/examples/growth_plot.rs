@@ -13,9 +13,14 @@
 use std::path::Path;
 
 use anyhow::{bail, Context, Result};
+use camsim::figure::render::render;
+use camsim::figure::{
+    palette, Axis, Colour, Figure, Legend, Mark, Panel, Scale, Series, Stroke, Style, Ticks,
+};
 use camsim::plot::log_key_points;
-use plotters::coord::combinators::BindKeyPoints;
-use plotters::prelude::*;
+
+/// The figure's size, pixels: three panels side by side.
+const SIZE: (u32, u32) = (1800, 640);
 
 /// One measurement.
 struct Row {
@@ -83,7 +88,7 @@ fn series(rows: &[Row], table: &str, threads: Option<u32>) -> Vec<(f64, f64)> {
     v
 }
 
-/// A plain tick: no exponent, no trailing zeros.
+/// A plain tick: no exponent, no trailing zeros (the refused speeds' note).
 fn tick(v: f64) -> String {
     if v >= 1.0 {
         format!("{}", v.round() as i64)
@@ -102,70 +107,63 @@ fn bounds(points: &[(f64, f64)]) -> ((f64, f64), (f64, f64)) {
     (fold(|p| p.0), fold(|p| p.1))
 }
 
-type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 /// One series of a panel: its label, colour and points.
-type Line<'a> = (&'a str, RGBColor, Vec<(f64, f64)>);
+type Line<'a> = (&'a str, Colour, Vec<(f64, f64)>);
 
-/// A log-log panel of `lines` (label, colour, points), each with its slope-1 guide.
-fn loglog(
-    area: &Area<'_>,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    lines: &[Line<'_>],
-) -> Result<()> {
+/// A log axis over `lo..hi`, labelled at 1, 2 and 5 times each power of ten.
+fn log_axis(title: &str, unit: &str, (lo, hi): (f64, f64)) -> Axis {
+    let mut a = Axis::plain(title, unit).range(lo, hi).ticks(Ticks::At {
+        major: log_key_points(lo, hi, &[1.0, 2.0, 5.0]),
+        minor: Vec::new(),
+    });
+    a.scale = Scale::Log;
+    a
+}
+
+/// A log-log panel of `lines`, each its measured points on its own dashed slope-1 line
+/// through the first one (a point off the line shows; a solid line through the points
+/// hid it).
+fn loglog(caption: &str, x: (&str, &str), y: (&str, &str), lines: &[Line<'_>]) -> Panel {
     let all: Vec<(f64, f64)> = lines.iter().flat_map(|l| l.2.iter().copied()).collect();
     let ((x0, x1), (y0, y1)) = bounds(&all);
-    let (xr, yr) = ((x0 / 1.5, x1 * 1.5), (y0 / 2.0, y1 * 2.0));
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 22))
-        .margin(20)
-        .x_label_area_size(50)
-        .y_label_area_size(70)
-        .build_cartesian_2d(
-            (xr.0..xr.1)
-                .log_scale()
-                .with_key_points(log_key_points(xr.0, xr.1, &[1.0, 2.0, 5.0])),
-            (yr.0..yr.1)
-                .log_scale()
-                .with_key_points(log_key_points(yr.0, yr.1, &[1.0, 2.0, 5.0])),
-        )?;
-    chart
-        .configure_mesh()
-        .x_desc(x_label)
-        .y_desc(y_label)
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .light_line_style(TRANSPARENT)
-        .bold_line_style(BLACK.mix(0.12))
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
-        .draw()?;
-    // Each series as its measured points on its own slope-1 line through the first one
-    // (dashed, so a point off the line shows; a solid line through the points hid it).
-    for (label, color, pts) in lines {
+    let mut p = Panel::new(
+        log_axis(x.0, x.1, (x0 / 1.5, x1 * 1.5)),
+        // Room above the points for the legend, upper right.
+        log_axis(y.0, y.1, (y0 / 2.0, y1 * 8.0)),
+    );
+    p.caption = Some(caption.to_string());
+    p.legend = Legend::Inside { rows: lines.len() };
+    for (label, colour, pts) in lines {
         if let Some(&(xa, ya)) = pts.first() {
-            let xb = pts.last().map_or(xa, |p| p.0);
-            chart.draw_series(DashedLineSeries::new(
-                [(xa, ya), (xb, ya * xb / xa)],
-                8,
-                5,
-                color.mix(0.8).stroke_width(2),
-            ))?;
+            let xb = pts.last().map_or(xa, |q| q.0);
+            let guide = vec![(xa, ya), (xb, ya * xb / xa)];
+            p.series
+                .push(Series::line(None, guide, Stroke::dashed(*colour, 2)));
         }
-        chart
-            .draw_series(pts.iter().map(|&p| Circle::new(p, 5, color.filled())))?
-            .label(*label)
-            .legend(move |(x, y)| Circle::new((x + 10, y), 5, color.filled()));
+        p.series.push(Series {
+            label: Some(label.to_string()),
+            points: pts.clone(),
+            style: Style::Points(Mark::Dot, *colour),
+        });
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .label_font(("sans-serif", 15))
-        .background_style(WHITE.mix(0.9))
-        .border_style(BLACK.mix(0.3))
-        .draw()?;
-    Ok(())
+    p
+}
+
+/// The linear panel of run time against cam speed.
+fn against_speed(rpm: &[(f64, f64)], remark: Option<String>) -> Panel {
+    let ((x0, x1), (_, y1)) = bounds(rpm);
+    let mut p = Panel::new(
+        Axis::plain("cam speed", "rpm").range(x0 - 100.0, x1 + 100.0),
+        Axis::plain("run time", "ms").range(0.0, y1 * 1.2),
+    );
+    p.caption = Some("Full model, 2 revolutions: cam speed".to_string());
+    p.remark = remark;
+    p.series.push(Series {
+        label: None,
+        points: rpm.to_vec(),
+        style: Style::Line(Stroke::solid(palette::BLUE, 2), Some(Mark::Dot)),
+    });
+    p
 }
 
 fn main() {
@@ -181,9 +179,7 @@ fn run() -> Result<()> {
         bail!("usage: growth_plot GROWTH.csv OUT.png");
     };
     let rows = read(Path::new(csv))?;
-    camsim::figure::render::ensure_font()?;
-    let blue = RGBColor(31, 119, 180);
-    let orange = RGBColor(255, 127, 14);
+    let (blue, orange) = (palette::BLUE, palette::ORANGE);
     let revs = series(&rows, "revolutions", None);
     let rpm = series(&rows, "rpm", None);
     let one = series(&rows, "samples", Some(1));
@@ -191,75 +187,53 @@ fn run() -> Result<()> {
         .iter()
         .map(|p| tick(p.0))
         .collect();
-    let refused_note = if refused.is_empty() {
-        "cam speed (rpm)".to_string()
-    } else {
+    let refused_note = (!refused.is_empty()).then(|| {
         format!(
-            "cam speed (rpm); no result at {} rpm (refused: docs/BENCHMARKS.md says why)",
+            "no result at {} rpm (refused: docs/BENCHMARKS.md says why)",
             refused.join(", ")
         )
-    };
+    });
     let two = series(&rows, "samples", Some(2));
     anyhow::ensure!(
         !revs.is_empty() && !rpm.is_empty() && !two.is_empty(),
         "{csv}: needs revolutions, rpm and samples rows"
     );
-    let tmp = format!("{png}.tmp.png");
-    {
-        let root = BitMapBackend::new(&tmp, (1800, 640)).into_drawing_area();
-        root.fill(&WHITE)?;
-        let (top, body) = root.split_vertically(50);
-        top.draw(&Text::new(
-            "How camsim's run time grows (scripts/growth.sh): points measured; dashed, time proportional to x through the first point",
-            (20, 15),
-            ("sans-serif", 24),
-        ))?;
-        let panels = body.split_evenly((1, 3));
-        let [a, b, c] = &panels[..] else {
-            bail!("three panels")
-        };
-        loglog(
-            a,
-            "Full model, 800 rpm: revolutions",
-            "revolutions simulated",
-            "run time (ms)",
-            &[("camsim run --revolutions R", blue, revs)],
-        )?;
-        {
-            let ((x0, x1), (_, y1)) = bounds(&rpm);
-            let mut chart = ChartBuilder::on(b)
-                .caption("Full model, 2 revolutions: cam speed", ("sans-serif", 22))
-                .margin(20)
-                .x_label_area_size(50)
-                .y_label_area_size(70)
-                .build_cartesian_2d(x0 - 100.0..x1 + 100.0, 0.0..y1 * 1.2)?;
-            chart
-                .configure_mesh()
-                .x_desc(refused_note.as_str())
-                .y_desc("run time (ms)")
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
-                .light_line_style(TRANSPARENT)
-                .bold_line_style(BLACK.mix(0.12))
-                .label_style(("sans-serif", 15))
-                .axis_desc_style(("sans-serif", 17))
-                .draw()?;
-            chart.draw_series(LineSeries::new(rpm.iter().copied(), blue.stroke_width(2)))?;
-            chart.draw_series(rpm.iter().map(|&p| Circle::new(p, 4, blue.filled())))?;
-        }
-        let mut mc = vec![("2 threads", blue, two)];
-        if !one.is_empty() {
-            mc.push(("1 thread", orange, one));
-        }
-        loglog(
-            c,
-            "Monte Carlo, quasi-static cantilever: samples",
-            "actual cams (samples)",
-            "wall time (s)",
-            &mc,
-        )?;
-        root.present()?;
+    let mut mc = vec![("2 threads", blue, two)];
+    if !one.is_empty() {
+        mc.push(("1 thread", orange, one));
     }
+    let panels = vec![
+        loglog(
+            "Full model, 800 rpm: revolutions",
+            ("revolutions simulated", ""),
+            ("run time", "ms"),
+            &[("camsim run --revolutions R", blue, revs)],
+        ),
+        against_speed(&rpm, refused_note),
+        loglog(
+            "Monte Carlo, quasi-static cantilever: samples",
+            ("actual cams (samples)", ""),
+            ("wall time", "s"),
+            &mc,
+        ),
+    ];
+    let mut fig = Figure::new(
+        "How camsim's run time grows (scripts/growth.sh): points measured; dashed, time proportional to x through the first point",
+        SIZE,
+        panels,
+    );
+    fig.columns = 3;
+    let (rgb, _) = render(&fig)?;
+    let tmp = format!("{png}.tmp.png");
+    image::save_buffer_with_format(
+        &tmp,
+        &rgb,
+        SIZE.0,
+        SIZE.1,
+        image::ColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .with_context(|| format!("writing {tmp}"))?;
     std::fs::rename(&tmp, png).with_context(|| format!("writing {png}"))?;
     Ok(())
 }
