@@ -13,7 +13,6 @@ use super::{
     check_search_time, describe, p_jump_on_actual_cams, p_max_and_samples, search_steps, McSpec,
 };
 use crate::actual::{intervals_for, ActualArgs};
-use crate::args::spec_from;
 use crate::report::Report;
 use crate::stats::Probability;
 use crate::study::montecarlo::{threads, ProfileSettings};
@@ -194,7 +193,7 @@ pub(crate) fn mc_search_at(
     );
     let waviness = args.waviness;
     let factor = args.tolerance_factor.unwrap_or(1.0);
-    let mut spec = spec_from(&args.scene)?;
+    let mut spec = args.run.clone();
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
     let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);

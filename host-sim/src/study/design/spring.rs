@@ -17,7 +17,6 @@ use serde::Serialize;
 
 use super::{check_search_time, describe, p_jump_on_actual_cams, p_max_and_samples, search_steps};
 use crate::actual::{intervals_for, ActualArgs};
-use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
@@ -28,8 +27,8 @@ use crate::units::{self, Force, Length, Stiffness, Stress, Units, Weight};
 /// What `design spring` is asked.
 #[derive(Clone, Debug)]
 pub struct SpringSpec {
-    /// The scene and its overrides (the operating speed is its rpm).
-    pub scene: SceneArgs,
+    /// The scene with its overrides, resolved (the operating speed is its rpm).
+    pub run: RunSpec,
     /// Speed margin on the theoretical cam, percent.
     pub margin: f64,
     /// The actual cams (judged on them when `actual.actual`).
@@ -417,7 +416,7 @@ fn spring_search_range(args: &SpringSpec) -> Result<(f64, f64, f64)> {
 /// The spring search.
 pub fn spring(args: &SpringSpec) -> Result<SpringReport> {
     let t0 = Instant::now();
-    let mut spec = spec_from(&args.scene)?;
+    let mut spec = args.run.clone();
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
     let range = spring_search_range(args)?;
