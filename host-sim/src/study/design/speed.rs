@@ -14,6 +14,7 @@ use super::{
 };
 use crate::actual::{intervals_for, ActualArgs};
 use crate::report::Report;
+use crate::sim::RunSpec;
 use crate::stats::Probability;
 use crate::study::montecarlo::{threads, ProfileSettings};
 use crate::units::{self, Length, Units};
@@ -191,91 +192,171 @@ pub(crate) fn mc_search_at(
         !(speed && args.waviness),
         "--waviness: only `design tolerance` searches the waviness"
     );
-    let waviness = args.waviness;
-    let factor = args.tolerance_factor.unwrap_or(1.0);
     let mut spec = args.run.clone();
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
-    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let mc = crate::study::montecarlo::monte_carlo_model(&spec);
     let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
-    let nthreads = threads(args.threads);
-    let mut runs = 0u64;
-    let mut tried: Vec<(f64, bool)> = Vec::new();
-    let mut probs: Vec<(f64, Probability)> = Vec::new();
-    let (start, max, resolution) = search_range(speed, waviness, args.quick);
-    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
-    let steps = search_steps(start, max, resolution);
-    let at = |x: f64| step_cams(args, speed, fpr, x);
-    check_search_time(&mc, &at(start), n, steps, nthreads)?;
-    let onset = search.find(|x| -> Result<bool> {
-        let mut s = mc.clone();
-        // A waviness is a whole number of waves.
-        let x = if waviness { x.round() } else { x };
-        if speed {
-            s.design.set_speed_rpm(x)?;
-        }
-        let actual = at(x);
-        let p = p_jump_on_actual_cams(&s, &actual, n, nthreads, &mut runs)
-            .map_err(|e| e.context(format!("at {x}")))?;
-        let ok = p.hi95 <= p_max;
-        tried.push((x, ok));
-        probs.push((x, p));
-        Ok(!ok)
-    })?;
-    let p_at = |v: f64| probs.iter().find(|(x, _)| *x == v).map(|(_, p)| *p);
-    if let (Onset::AtStart(x), false, false) = (onset, speed, waviness) {
-        let cams = at(x);
-        let log = SearchLog {
-            profile: ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?,
-            criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
-            model: describe(&mc, args.units),
-            tried,
-            model_runs: runs,
-            wall_s: t0.elapsed().as_secs_f64(),
-        };
-        return Ok(Err(NothingPasses::new(args, fpr, (x, p_at(x)), n, log)));
+    let setup = Setup {
+        op_rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
+        mc: crate::study::montecarlo::monte_carlo_model(&spec),
+        p_max,
+        n,
+        nthreads: threads(args.threads),
+    };
+    let (onset, mut steps) = walk(args, speed, fpr, &setup)?;
+    if let (Onset::AtStart(x), false, false) = (onset, speed, args.waviness) {
+        return nothing_passes(args, fpr, x, &setup, steps, t0).map(Err);
     }
-    let (answer, failing) = answer_of(onset, speed, waviness, p_max)?;
-    let p_jump = p_at(answer);
-    let cams = at(answer);
-    let profile = ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?;
+    let (answer, failing) = answer_of(onset, speed, args.waviness, p_max)?;
+    let cams = step_cams(args, speed, fpr, answer);
+    let profile = ProfileSettings::of(&cams, intervals_for(&setup.mc.design, &cams)?)?;
     let theoretical_onset_rpm = if speed {
-        theoretical_onset(&spec, &mut runs)?
+        theoretical_onset(&spec, &mut steps.runs)?
     } else {
         None
     };
-    let (search, unit) = search_labels(speed, waviness, args.units);
-    let report = McSearchReport {
+    let found = Found {
+        answer,
+        failing,
+        profile,
+        theoretical_onset_rpm,
+    };
+    let report = report_of(args, (speed, fpr), &setup, found, steps, t0);
+    crate::report::ensure_finite(&report)?;
+    Ok(Ok(report))
+}
+
+/// What every step of a Monte Carlo search shares: the operating speed (rpm), the Monte
+/// Carlo model, the P(jump) limit, the actual cams a step and the worker threads.
+struct Setup {
+    op_rpm: f64,
+    mc: RunSpec,
+    p_max: f64,
+    n: u64,
+    nthreads: usize,
+}
+
+/// What a search's steps ran: each value tried with whether it passed, its P(jump), and
+/// the model runs.
+#[derive(Default)]
+struct Steps {
+    tried: Vec<(f64, bool)>,
+    probs: Vec<(f64, Probability)>,
+    runs: u64,
+}
+
+impl Steps {
+    /// P(jump) at the value `v` tried.
+    fn p_at(&self, v: f64) -> Option<Probability> {
+        self.probs.iter().find(|(x, _)| *x == v).map(|(_, p)| *p)
+    }
+}
+
+/// The search itself: core's [`OnsetSearch`] from the search's range (refused first if it
+/// would take too long), each step P(jump) over the actual cams at its value.
+fn walk(
+    args: &McSpec,
+    speed: bool,
+    fpr: Option<u32>,
+    setup: &Setup,
+) -> Result<(Onset<f64>, Steps)> {
+    let (start, max, resolution) = search_range(speed, args.waviness, args.quick);
+    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
+    let most = search_steps(start, max, resolution);
+    let at = |x: f64| step_cams(args, speed, fpr, x);
+    check_search_time(&setup.mc, &at(start), setup.n, most, setup.nthreads)?;
+    let mut steps = Steps::default();
+    let onset = search.find(|x| -> Result<bool> {
+        let mut s = setup.mc.clone();
+        // A waviness is a whole number of waves.
+        let x = if args.waviness { x.round() } else { x };
+        if speed {
+            s.design.set_speed_rpm(x)?;
+        }
+        let p = p_jump_on_actual_cams(&s, &at(x), setup.n, setup.nthreads, &mut steps.runs)
+            .map_err(|e| e.context(format!("at {x}")))?;
+        let ok = p.hi95 <= setup.p_max;
+        steps.tried.push((x, ok));
+        steps.probs.push((x, p));
+        Ok(!ok)
+    })?;
+    Ok((onset, steps))
+}
+
+/// A tolerance search that fails already at its first factor `x`: the row that says so.
+fn nothing_passes(
+    args: &McSpec,
+    fpr: Option<u32>,
+    x: f64,
+    setup: &Setup,
+    steps: Steps,
+    t0: Instant,
+) -> Result<NothingPasses> {
+    let cams = step_cams(args, false, fpr, x);
+    let p = steps.p_at(x);
+    let log = SearchLog {
+        profile: ProfileSettings::of(&cams, intervals_for(&setup.mc.design, &cams)?)?,
+        criterion: criterion(args, false, fpr, setup.n, setup.p_max, setup.op_rpm),
+        model: describe(&setup.mc, args.units),
+        tried: steps.tried,
+        model_runs: steps.runs,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    Ok(NothingPasses::new(args, fpr, (x, p), setup.n, log))
+}
+
+/// A search's answer with what was worked out at it: the failing value above it, how its
+/// actual cams are made, and with `design speed` the theoretical cam's onset.
+struct Found {
+    answer: f64,
+    failing: Option<f64>,
+    profile: ProfileSettings,
+    theoretical_onset_rpm: Option<f64>,
+}
+
+/// The report of a search (`design speed` when `speed`, at the waviness `fpr`) that found
+/// `found`.
+fn report_of(
+    args: &McSpec,
+    (speed, fpr): (bool, Option<u32>),
+    setup: &Setup,
+    found: Found,
+    steps: Steps,
+    t0: Instant,
+) -> McSearchReport {
+    let Found {
+        answer,
+        failing,
+        profile,
+        theoretical_onset_rpm,
+    } = found;
+    let (search, unit) = search_labels(speed, args.waviness, args.units);
+    let held = |t: f64| (!speed).then_some(Length::inch(t));
+    McSearchReport {
         search: search.into(),
         answer,
         unit,
-        tolerance_factor: waviness.then_some(factor),
+        tolerance_factor: args
+            .waviness
+            .then_some(args.tolerance_factor.unwrap_or(1.0)),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed).then_some(Length::inch(profile.cam_tolerance_in)),
-        roller_tolerance_in: (!speed).then_some(Length::inch(profile.roller_tolerance_in)),
-        eccentricity_tolerance_in: (!speed)
-            .then_some(Length::inch(profile.eccentricity_tolerance_in)),
-        waviness_fpr: if waviness {
-            None
-        } else {
-            Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR))
-        },
+        cam_tolerance_in: held(profile.cam_tolerance_in),
+        roller_tolerance_in: held(profile.roller_tolerance_in),
+        eccentricity_tolerance_in: held(profile.eccentricity_tolerance_in),
+        waviness_fpr: (!args.waviness).then(|| fpr.unwrap_or(crate::actual::DEFAULT_FPR)),
         theoretical_onset_rpm,
-        operating_rpm: op_rpm,
-        p_jump,
-        criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
-        samples: n,
+        operating_rpm: setup.op_rpm,
+        p_jump: steps.p_at(answer),
+        criterion: criterion(args, speed, fpr, setup.n, setup.p_max, setup.op_rpm),
+        samples: setup.n,
         seed: args.actual.seed(),
         profile,
-        model: describe(&mc, args.units),
-        tried,
-        model_runs: runs,
+        model: describe(&setup.mc, args.units),
+        tried: steps.tried,
+        model_runs: steps.runs,
         wall_s: t0.elapsed().as_secs_f64(),
-    };
-    crate::report::ensure_finite(&report)?;
-    Ok(Ok(report))
+    }
 }
 
 /// The theoretical cam's jump onset (`design speed`'s check), its runs added to `runs`.
