@@ -11,7 +11,7 @@ use super::Searched;
 use crate::sim::RunSpec;
 use crate::stats::Probability;
 use crate::study::montecarlo::ProfileSettings;
-use crate::units::{Force, Length, Stiffness, Weight};
+use crate::units::{Force, Kind, Length, Measure, Stiffness, Weight};
 
 /// What was checked at the chosen rate.
 #[derive(Clone, Debug, Serialize)]
@@ -70,11 +70,12 @@ pub struct SpringReport {
     pub profile: Option<ProfileSettings>,
     /// Which model produced the answer.
     pub model: String,
-    /// Rates tried (lb/in; with --preload lengths, in) in order, each with whether it
-    /// passed. Its JSON key names the unit (`rates_tried_lb_per_in`,
-    /// `preload_lengths_tried_in`, or their SI names).
-    #[serde(skip)]
-    pub tried: Vec<(f64, bool)>,
+    /// The rates tried in order, each with whether it passed (absent with --preload).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rates_tried_lb_per_in: Option<Vec<(Stiffness, bool)>>,
+    /// With --preload: the preload lengths tried in order, each with whether it passed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preload_lengths_tried_in: Option<Vec<(Length, bool)>>,
     /// The spring to build: wire, coil and coils that pass every check of the verdict.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub part: Option<PartReport>,
@@ -105,6 +106,10 @@ pub(super) fn answered(found: Found, spec: &RunSpec, t0: Instant) -> Result<Spri
         model_runs,
     } = found;
     let spring = spring_of_answer(spec, answer, &part)?;
+    let (rates_tried, lengths_tried) = match answer.searched {
+        Searched::Rate => (Some(measured(&tried)), None),
+        Searched::PreloadLength => (None, Some(measured(&tried))),
+    };
     let (rate, failing_rate, bracket, failing_length, length_bracket) = match answer.searched {
         Searched::Rate => (
             answer.value,
@@ -143,7 +148,8 @@ pub(super) fn answered(found: Found, spec: &RunSpec, t0: Instant) -> Result<Spri
         seed: None,
         profile: None,
         model,
-        tried,
+        rates_tried_lb_per_in: rates_tried,
+        preload_lengths_tried_in: lengths_tried,
         part: Some(part),
         model_runs,
         wall_s: t0.elapsed().as_secs_f64(),
@@ -176,4 +182,12 @@ fn spring_of_answer(spec: &RunSpec, answer: Answer, part: &PartReport) -> Result
         active_coils: part.spring.active_coils,
         surge_hz: part.spring.surge_hz,
     })
+}
+
+/// The values a search tried (inch family), each with whether it passed, as measures.
+fn measured<K: Kind>(tried: &[(f64, bool)]) -> Vec<(Measure<K>, bool)> {
+    tried
+        .iter()
+        .map(|&(x, ok)| (Measure::inch(x), ok))
+        .collect()
 }

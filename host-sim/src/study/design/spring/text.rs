@@ -4,21 +4,11 @@
 use super::part::PartReport;
 use super::{Searched, SpringReport};
 use crate::report::Report;
-use crate::units::{self, Length, Units};
+use crate::units::{self, Kind, Length, Measure, Units};
 
 impl Report for SpringReport {
     fn json(&self) -> serde_json::Result<String> {
-        // The tried values under a key that names their unit (`--units` converts it).
-        let mut v = serde_json::to_value(self)?;
-        let key = if self.searched == Searched::PreloadLength {
-            "preload_lengths_tried_in"
-        } else {
-            "rates_tried_lb_per_in"
-        };
-        if let Some(o) = v.as_object_mut() {
-            o.insert(key.into(), serde_json::to_value(&self.tried)?);
-        }
-        crate::report::sorted_pretty_json(&v)
+        crate::report::sorted_pretty_json(self)
     }
     fn text(&self, units: Units) -> String {
         use std::fmt::Write;
@@ -53,40 +43,20 @@ impl Report for SpringReport {
             }
         }
         let _ = writeln!(out, "  model: {}", self.model);
-        let tried: Vec<String> = self
-            .tried
-            .iter()
-            .map(|(k, ok)| {
-                if self.searched == Searched::PreloadLength {
-                    format!(
-                        "{}{}",
-                        units.q(units::LENGTH, *k, 3),
-                        if *ok { "+" } else { "-" }
-                    )
-                } else {
-                    format!(
-                        "{}{}",
-                        units.q(units::STIFFNESS, *k, 1),
-                        if *ok { "+" } else { "-" }
-                    )
-                }
-            })
-            .collect();
-        if self.searched == Searched::PreloadLength {
-            let _ = writeln!(
+        let _ = match (&self.rates_tried_lb_per_in, &self.preload_lengths_tried_in) {
+            (_, Some(t)) => writeln!(
                 out,
                 "  preload lengths tried ({}, + passes): {}",
                 units.symbol(units::LENGTH),
-                tried.join(" ")
-            );
-        } else {
-            let _ = writeln!(
+                tried_text(t, 3, units)
+            ),
+            (t, None) => writeln!(
                 out,
                 "  rates tried ({}, + passes): {}",
                 units.symbol(units::STIFFNESS),
-                tried.join(" ")
-            );
-        }
+                tried_text(t.as_deref().unwrap_or_default(), 1, units)
+            ),
+        };
         let _ = writeln!(
             out,
             "  {} model runs of 2 revolutions, {:.1} s",
@@ -94,6 +64,21 @@ impl Report for SpringReport {
         );
         out
     }
+}
+
+/// The values a search tried with their sign: `+` passes, `-` fails.
+fn tried_text<K: Kind>(tried: &[(Measure<K>, bool)], decimals: usize, units: Units) -> String {
+    let signed: Vec<String> = tried
+        .iter()
+        .map(|(x, ok)| {
+            format!(
+                "{}{}",
+                units.show(*x, decimals),
+                if *ok { "+" } else { "-" }
+            )
+        })
+        .collect();
+    signed.join(" ")
 }
 
 /// The first lines of the spring search's text: the answer and its bracket. The rate it
