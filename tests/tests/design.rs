@@ -111,7 +111,7 @@ fn design_spring_actual_is_the_same_on_one_and_two_threads() {
     let one = spring(&spring_args(true, 1), camsim::units::Units::Inch).unwrap();
     let two = spring(&spring_args(true, 2), camsim::units::Units::Inch).unwrap();
     assert_eq!(one.spring_rate_lb_per_in, two.spring_rate_lb_per_in);
-    assert_eq!(one.tried, two.tried);
+    assert_eq!(one.rates_tried_lb_per_in, two.rates_tried_lb_per_in);
     assert_eq!(one.p_jump, two.p_jump);
     assert!(one.p_jump.unwrap().hi95 <= 0.1);
 }

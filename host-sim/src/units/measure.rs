@@ -66,14 +66,18 @@ fn marked(v: &serde_json::Value) -> Option<(Unit, f64)> {
     Some((unit, inch))
 }
 
-/// The unit of `v` if it is a measure, or a non-empty array of measures of one unit.
+/// The unit of `v` if it is a measure, or a non-empty array of measures of one unit; an
+/// array's flags and words beside its measures (the `[rate, passed]` rows of a search)
+/// are not numbers and leave it measured.
 pub fn measured(v: &serde_json::Value) -> Option<Unit> {
     match v {
         serde_json::Value::Array(a) => {
-            let first = measured(a.first()?)?;
-            a.iter()
-                .all(|x| measured(x) == Some(first))
-                .then_some(first)
+            let mut units = a
+                .iter()
+                .filter(|x| !(x.is_boolean() || x.is_string()))
+                .map(measured);
+            let first = units.next()??;
+            units.all(|u| u == Some(first)).then_some(first)
         }
         v => marked(v).map(|(u, _)| u),
     }
@@ -286,5 +290,26 @@ mod tests {
         assert_eq!(si["mass_kg"], 0.453_592_37);
         assert_eq!(si["lifts_mm"][1], 12.7);
         assert_eq!(si["plain_mm"], 25.4);
+    }
+
+    /// A search's `[value, passed]` rows convert by their measure's type, the flags kept;
+    /// an array of flags alone is not a measure.
+    #[test]
+    fn rows_of_a_measure_and_a_flag_convert_by_the_measure() {
+        let v = serde_json::json!({
+            "tried": [(Stiffness::inch(10.0), false), (Stiffness::inch(20.0), true)],
+            "flags": [true, false],
+        });
+        let si = crate::units::convert(v.clone(), Units::Si);
+        let n_per_mm = crate::units::STIFFNESS.si_per_inch;
+        assert_eq!(
+            si,
+            serde_json::json!({
+                "tried_n_per_mm": [[10.0 * n_per_mm, false], [20.0 * n_per_mm, true]],
+                "flags": [true, false],
+            })
+        );
+        assert_eq!(measured(&v["flags"]), None);
+        assert_eq!(measured(&serde_json::json!([])), None);
     }
 }

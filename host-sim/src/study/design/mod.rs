@@ -18,22 +18,24 @@ use std::time::Instant;
 use anyhow::Result;
 
 use crate::actual::ActualArgs;
-use crate::args::SceneArgs;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
 use crate::study::montecarlo::Study;
 use crate::units;
 
 pub use speed::{mc_search, McSearchReport};
-pub use spring::{spring, PartReport, Searched, SpringReport, SpringSpec};
+pub use spring::{
+    spring, PartReport, Searched, SpringReport, SpringSpec, MAX_PRELOAD_LENGTH, MAX_RATE,
+    PRELOAD_RESOLUTION, START_PRELOAD_LENGTH, START_RATE,
+};
 pub use tolerance::{tolerance_table, NothingPasses, ToleranceRow, ToleranceTable};
 
 /// What a Monte Carlo search (`design speed`, `design tolerance`) is asked: the scene, the
 /// actual cams and the pass limit.
 #[derive(Clone, Debug)]
 pub struct McSpec {
-    /// The scene and its overrides (the operating speed is its rpm).
-    pub scene: SceneArgs,
+    /// The scene with its overrides, resolved (the operating speed is its rpm).
+    pub run: RunSpec,
     /// Largest acceptable P(jump) (its upper 95 % Wilson bound).
     pub p_max: f64,
     /// Actual cams a step (None: the fewest that can pass, [`samples_for`]).

@@ -1,6 +1,9 @@
 //! `design speed` (and each search of `design tolerance`): core's [`OnsetSearch`] over a
 //! speed, a cam-tolerance factor or a waviness for the first value whose upper Wilson
-//! bound of P(jump) on actual cams exceeds the limit.
+//! bound of P(jump) on actual cams exceeds the limit. The report's text and JSON are in
+//! text.rs.
+
+mod text;
 
 use std::time::Instant;
 
@@ -13,8 +16,7 @@ use super::{
     check_search_time, describe, p_jump_on_actual_cams, p_max_and_samples, search_steps, McSpec,
 };
 use crate::actual::{intervals_for, ActualArgs};
-use crate::args::spec_from;
-use crate::report::Report;
+use crate::sim::RunSpec;
 use crate::stats::Probability;
 use crate::study::montecarlo::{threads, ProfileSettings};
 use crate::units::{self, Length, Units};
@@ -192,91 +194,171 @@ pub(crate) fn mc_search_at(
         !(speed && args.waviness),
         "--waviness: only `design tolerance` searches the waviness"
     );
-    let waviness = args.waviness;
-    let factor = args.tolerance_factor.unwrap_or(1.0);
-    let mut spec = spec_from(&args.scene)?;
+    let mut spec = args.run.clone();
     spec.solver.start = Start::Static;
     spec.revolutions = 2;
-    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let mc = crate::study::montecarlo::monte_carlo_model(&spec);
     let (p_max, n) = p_max_and_samples(args.p_max, args.quick, args.samples)?;
-    let nthreads = threads(args.threads);
-    let mut runs = 0u64;
-    let mut tried: Vec<(f64, bool)> = Vec::new();
-    let mut probs: Vec<(f64, Probability)> = Vec::new();
-    let (start, max, resolution) = search_range(speed, waviness, args.quick);
-    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
-    let steps = search_steps(start, max, resolution);
-    let at = |x: f64| step_cams(args, speed, fpr, x);
-    check_search_time(&mc, &at(start), n, steps, nthreads)?;
-    let onset = search.find(|x| -> Result<bool> {
-        let mut s = mc.clone();
-        // A waviness is a whole number of waves.
-        let x = if waviness { x.round() } else { x };
-        if speed {
-            s.design.set_speed_rpm(x)?;
-        }
-        let actual = at(x);
-        let p = p_jump_on_actual_cams(&s, &actual, n, nthreads, &mut runs)
-            .map_err(|e| e.context(format!("at {x}")))?;
-        let ok = p.hi95 <= p_max;
-        tried.push((x, ok));
-        probs.push((x, p));
-        Ok(!ok)
-    })?;
-    let p_at = |v: f64| probs.iter().find(|(x, _)| *x == v).map(|(_, p)| *p);
-    if let (Onset::AtStart(x), false, false) = (onset, speed, waviness) {
-        let cams = at(x);
-        let log = SearchLog {
-            profile: ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?,
-            criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
-            model: describe(&mc, args.units),
-            tried,
-            model_runs: runs,
-            wall_s: t0.elapsed().as_secs_f64(),
-        };
-        return Ok(Err(NothingPasses::new(args, fpr, (x, p_at(x)), n, log)));
+    let setup = Setup {
+        op_rpm: camsim_core::rad_per_s_to_rpm(spec.design.omega0),
+        mc: crate::study::montecarlo::monte_carlo_model(&spec),
+        p_max,
+        n,
+        nthreads: threads(args.threads),
+    };
+    let (onset, mut steps) = walk(args, speed, fpr, &setup)?;
+    if let (Onset::AtStart(x), false, false) = (onset, speed, args.waviness) {
+        return nothing_passes(args, fpr, x, &setup, steps, t0).map(Err);
     }
-    let (answer, failing) = answer_of(onset, speed, waviness, p_max)?;
-    let p_jump = p_at(answer);
-    let cams = at(answer);
-    let profile = ProfileSettings::of(&cams, intervals_for(&mc.design, &cams)?)?;
+    let (answer, failing) = answer_of(onset, speed, args.waviness, p_max)?;
+    let cams = step_cams(args, speed, fpr, answer);
+    let profile = ProfileSettings::of(&cams, intervals_for(&setup.mc.design, &cams)?)?;
     let theoretical_onset_rpm = if speed {
-        theoretical_onset(&spec, &mut runs)?
+        theoretical_onset(&spec, &mut steps.runs)?
     } else {
         None
     };
-    let (search, unit) = search_labels(speed, waviness, args.units);
-    let report = McSearchReport {
+    let found = Found {
+        answer,
+        failing,
+        profile,
+        theoretical_onset_rpm,
+    };
+    let report = report_of(args, (speed, fpr), &setup, found, steps, t0);
+    crate::report::ensure_finite(&report)?;
+    Ok(Ok(report))
+}
+
+/// What every step of a Monte Carlo search shares: the operating speed (rpm), the Monte
+/// Carlo model, the P(jump) limit, the actual cams a step and the worker threads.
+struct Setup {
+    op_rpm: f64,
+    mc: RunSpec,
+    p_max: f64,
+    n: u64,
+    nthreads: usize,
+}
+
+/// What a search's steps ran: each value tried with whether it passed, its P(jump), and
+/// the model runs.
+#[derive(Default)]
+struct Steps {
+    tried: Vec<(f64, bool)>,
+    probs: Vec<(f64, Probability)>,
+    runs: u64,
+}
+
+impl Steps {
+    /// P(jump) at the value `v` tried.
+    fn p_at(&self, v: f64) -> Option<Probability> {
+        self.probs.iter().find(|(x, _)| *x == v).map(|(_, p)| *p)
+    }
+}
+
+/// The search itself: core's [`OnsetSearch`] from the search's range (refused first if it
+/// would take too long), each step P(jump) over the actual cams at its value.
+fn walk(
+    args: &McSpec,
+    speed: bool,
+    fpr: Option<u32>,
+    setup: &Setup,
+) -> Result<(Onset<f64>, Steps)> {
+    let (start, max, resolution) = search_range(speed, args.waviness, args.quick);
+    let search = OnsetSearch::new(start, Some(2.0), max, resolution)?;
+    let most = search_steps(start, max, resolution);
+    let at = |x: f64| step_cams(args, speed, fpr, x);
+    check_search_time(&setup.mc, &at(start), setup.n, most, setup.nthreads)?;
+    let mut steps = Steps::default();
+    let onset = search.find(|x| -> Result<bool> {
+        let mut s = setup.mc.clone();
+        // A waviness is a whole number of waves.
+        let x = if args.waviness { x.round() } else { x };
+        if speed {
+            s.design.set_speed_rpm(x)?;
+        }
+        let p = p_jump_on_actual_cams(&s, &at(x), setup.n, setup.nthreads, &mut steps.runs)
+            .map_err(|e| e.context(format!("at {x}")))?;
+        let ok = p.hi95 <= setup.p_max;
+        steps.tried.push((x, ok));
+        steps.probs.push((x, p));
+        Ok(!ok)
+    })?;
+    Ok((onset, steps))
+}
+
+/// A tolerance search that fails already at its first factor `x`: the row that says so.
+fn nothing_passes(
+    args: &McSpec,
+    fpr: Option<u32>,
+    x: f64,
+    setup: &Setup,
+    steps: Steps,
+    t0: Instant,
+) -> Result<NothingPasses> {
+    let cams = step_cams(args, false, fpr, x);
+    let p = steps.p_at(x);
+    let log = SearchLog {
+        profile: ProfileSettings::of(&cams, intervals_for(&setup.mc.design, &cams)?)?,
+        criterion: criterion(args, false, fpr, setup.n, setup.p_max, setup.op_rpm),
+        model: describe(&setup.mc, args.units),
+        tried: steps.tried,
+        model_runs: steps.runs,
+        wall_s: t0.elapsed().as_secs_f64(),
+    };
+    Ok(NothingPasses::new(args, fpr, (x, p), setup.n, log))
+}
+
+/// A search's answer with what was worked out at it: the failing value above it, how its
+/// actual cams are made, and with `design speed` the theoretical cam's onset.
+struct Found {
+    answer: f64,
+    failing: Option<f64>,
+    profile: ProfileSettings,
+    theoretical_onset_rpm: Option<f64>,
+}
+
+/// The report of a search (`design speed` when `speed`, at the waviness `fpr`) that found
+/// `found`.
+fn report_of(
+    args: &McSpec,
+    (speed, fpr): (bool, Option<u32>),
+    setup: &Setup,
+    found: Found,
+    steps: Steps,
+    t0: Instant,
+) -> McSearchReport {
+    let Found {
+        answer,
+        failing,
+        profile,
+        theoretical_onset_rpm,
+    } = found;
+    let (search, unit) = search_labels(speed, args.waviness, args.units);
+    let held = |t: f64| (!speed).then_some(Length::inch(t));
+    McSearchReport {
         search: search.into(),
         answer,
         unit,
-        tolerance_factor: waviness.then_some(factor),
+        tolerance_factor: args
+            .waviness
+            .then_some(args.tolerance_factor.unwrap_or(1.0)),
         failing,
         bracket: failing.map_or(0.0, |f| f - answer),
-        cam_tolerance_in: (!speed).then_some(Length::inch(profile.cam_tolerance_in)),
-        roller_tolerance_in: (!speed).then_some(Length::inch(profile.roller_tolerance_in)),
-        eccentricity_tolerance_in: (!speed)
-            .then_some(Length::inch(profile.eccentricity_tolerance_in)),
-        waviness_fpr: if waviness {
-            None
-        } else {
-            Some(fpr.unwrap_or(crate::actual::DEFAULT_FPR))
-        },
+        cam_tolerance_in: held(profile.cam_tolerance_in),
+        roller_tolerance_in: held(profile.roller_tolerance_in),
+        eccentricity_tolerance_in: held(profile.eccentricity_tolerance_in),
+        waviness_fpr: (!args.waviness).then(|| fpr.unwrap_or(crate::actual::DEFAULT_FPR)),
         theoretical_onset_rpm,
-        operating_rpm: op_rpm,
-        p_jump,
-        criterion: criterion(args, speed, fpr, n, p_max, op_rpm),
-        samples: n,
+        operating_rpm: setup.op_rpm,
+        p_jump: steps.p_at(answer),
+        criterion: criterion(args, speed, fpr, setup.n, setup.p_max, setup.op_rpm),
+        samples: setup.n,
         seed: args.actual.seed(),
         profile,
-        model: describe(&mc, args.units),
-        tried,
-        model_runs: runs,
+        model: describe(&setup.mc, args.units),
+        tried: steps.tried,
+        model_runs: steps.runs,
         wall_s: t0.elapsed().as_secs_f64(),
-    };
-    crate::report::ensure_finite(&report)?;
-    Ok(Ok(report))
+    }
 }
 
 /// The theoretical cam's jump onset (`design speed`'s check), its runs added to `runs`.
@@ -299,125 +381,5 @@ fn search_labels(speed: bool, waviness: bool, units: Units) -> (&'static str, St
             units.symbol(units::LENGTH)
         );
         ("tolerance", unit)
-    }
-}
-
-/// The first lines of a search's text: its answer in the user's words.
-fn search_headline(r: &McSearchReport, out: &mut String, units: Units) {
-    use std::fmt::Write;
-    if r.search == "speed" {
-        let _ = writeln!(
-            out,
-            "camsim design speed: {:.1} rpm on actual cams",
-            r.answer
-        );
-        if let Some(t) = r.theoretical_onset_rpm {
-            let _ = writeln!(
-                out,
-                "  theoretical cam's jump onset: {t:.1} rpm (full model)"
-            );
-        }
-    } else if r.search == "waviness" {
-        let _ = writeln!(
-            out,
-            "camsim design tolerance --waviness: FPR {:.0} is the roughest waviness that passes at {} x VI.1's tolerances (cam ±{} {lu}, roller ±{} {lu})",
-            r.answer,
-            r.tolerance_factor.unwrap_or(1.0),
-            units.q(units::LENGTH, r.cam_tolerance_in.map_or(0.0, Length::in_inch), 5),
-            units.q(units::LENGTH, r.roller_tolerance_in.map_or(0.0, Length::in_inch), 6),
-            lu = units.symbol(units::LENGTH)
-        );
-        let _ = writeln!(
-            out,
-            "  roughest = the highest FPR, the shortest waves (the acceleration a wave imposes grows as FPR², docs/MODEL.md §9.6)"
-        );
-    } else {
-        let _ = writeln!(
-            out,
-            "camsim design tolerance: cam ±{} {lu} ({:.3} x VI.1's) at FPR {}; held: roller ±{} {lu}, eccentricity ±{} {lu}",
-            units.q(units::LENGTH, r.cam_tolerance_in.map_or(0.0, Length::in_inch), 5),
-            r.answer,
-            r.waviness_fpr.unwrap_or(crate::actual::DEFAULT_FPR),
-            units.q(units::LENGTH, r.roller_tolerance_in.map_or(0.0, Length::in_inch), 6),
-            units.q(units::LENGTH, r.eccentricity_tolerance_in.map_or(0.0, Length::in_inch), 5),
-            lu = units.symbol(units::LENGTH)
-        );
-    }
-}
-
-impl McSearchReport {
-    /// The JSON key of the values tried, naming their unit: `speeds_tried_rpm`,
-    /// `tolerance_factors_tried` (factors on VI.1's tolerances) or `waviness_fprs_tried`.
-    pub fn tried_key(&self) -> &'static str {
-        match self.search.as_str() {
-            "speed" => "speeds_tried_rpm",
-            "waviness" => "waviness_fprs_tried",
-            _ => "tolerance_factors_tried",
-        }
-    }
-
-    /// The report as JSON, the values tried under [`Self::tried_key`].
-    pub(crate) fn json_value(&self) -> serde_json::Result<serde_json::Value> {
-        let mut v = serde_json::to_value(self)?;
-        if let Some(o) = v.as_object_mut() {
-            if let Some(t) = o.remove("tried") {
-                o.insert(self.tried_key().into(), t);
-            }
-        }
-        Ok(v)
-    }
-}
-
-impl Report for McSearchReport {
-    fn json(&self) -> serde_json::Result<String> {
-        crate::report::sorted_pretty_json(&self.json_value()?)
-    }
-    fn text(&self, units: Units) -> String {
-        use std::fmt::Write;
-        let mut out = String::new();
-        search_headline(self, &mut out, units);
-        let d = if self.search == "waviness" { 0 } else { 4 };
-        match self.failing {
-            Some(f) => {
-                let _ = writeln!(
-                    out,
-                    "  bracket: passes at {:.d$}, fails at {f:.d$} (width {:.d$} {})",
-                    self.answer, self.bracket, self.unit
-                );
-            }
-            None => {
-                let _ = writeln!(
-                    out,
-                    "  nothing failed up to the search's limit {:.4}",
-                    self.answer
-                );
-            }
-        }
-        if let Some(p) = &self.p_jump {
-            let _ = writeln!(
-                out,
-                "  P(jump) at the answer: {} of {}: {} (95 % Wilson)",
-                p.count,
-                self.samples,
-                p.text(4)
-            );
-        }
-        let _ = writeln!(out, "  criterion: {}", self.criterion);
-        let _ = writeln!(out, "  model: {}", self.model);
-        let tried: Vec<String> = self
-            .tried
-            .iter()
-            .map(|(x, ok)| {
-                let d = if self.search == "waviness" { 0 } else { 3 };
-                format!("{x:.d$}{}", if *ok { "+" } else { "-" })
-            })
-            .collect();
-        let _ = writeln!(out, "  values tried (+ passes): {}", tried.join(" "));
-        let _ = writeln!(
-            out,
-            "  {} model runs of 2 revolutions, {:.1} s",
-            self.model_runs, self.wall_s
-        );
-        out
     }
 }
