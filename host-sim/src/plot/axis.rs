@@ -1,4 +1,4 @@
-//! The cam angle axis every run, profile and SVAJ plot shares ([`AngleAxis`]: its
+//! The cam angle axis every run, profile and SVAJ plot shares (`AngleAxis`: its
 //! range, ticks, revolutions, jumps and period starts), the panel against it, and the
 //! renderer's helpers: decimation of long series, log axes' key points, tick labels.
 
