@@ -7,7 +7,8 @@ pub mod contact;
 pub mod design;
 pub mod firmware_check;
 pub mod jump_speed;
-pub mod jump_speed_actual;
+/// `jump-speed --actual` (now [`jump_speed::actual`]), at its former path.
+pub use jump_speed::actual as jump_speed_actual;
 pub mod laws;
 pub mod modal;
 pub mod models;

@@ -1,11 +1,46 @@
 //! The jump-onset search of `camsim jump-speed` (and of `run --margin`, `design` and
 //! `sensitivity`): the lowest cam speed at which the follower separates in steady state,
-//! by bisection on the dynamic model.
+//! by bisection on the dynamic model. [`report()`] is `jump-speed` on the theoretical
+//! cam (its report in [`mod@report`], its text in [`text`]); [`actual`] is
+//! `jump-speed --actual`, the onset of machined cams as a distribution over samples.
 
 use anyhow::{bail, Result};
 use camsim_core::{Onset, OnsetSearch};
 
 use crate::sim;
+
+pub mod actual;
+pub mod report;
+pub mod text;
+
+pub use report::JumpSpeedReport;
+pub use text::render_text;
+
+/// What `camsim jump-speed` computes on the theoretical cam.
+#[derive(Clone, Debug)]
+pub struct Spec {
+    /// The scene's run (its start static unless given).
+    pub run: sim::RunSpec,
+    /// Bisection resolution, rpm.
+    pub resolution_rpm: f64,
+    /// Highest speed searched, rpm.
+    pub max_rpm: f64,
+}
+
+/// The jump speed of `spec`'s theoretical cam ([`find`]) and the margin of the scene's
+/// operating speed to it.
+pub fn report(spec: &Spec) -> Result<JumpSpeedReport> {
+    let op_rpm = camsim_core::rad_per_s_to_rpm(spec.run.design.omega0);
+    let t0 = std::time::Instant::now();
+    let r = find(&spec.run, spec.resolution_rpm, spec.max_rpm)?;
+    let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    Ok(JumpSpeedReport::new(
+        &r,
+        op_rpm,
+        spec.resolution_rpm,
+        wall_ms,
+    ))
+}
 
 /// Result of the search.
 #[derive(Debug, Clone, Copy)]

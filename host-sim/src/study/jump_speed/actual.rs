@@ -3,7 +3,7 @@
 //!
 //! Sample i is the actual cam [`crate::actual::build_profile`]`(design, args, i)` (its
 //! random numbers from the master seed and i alone); its onset is found by the same
-//! search as the theoretical cam's ([`super::jump_speed::find`]). The samples run in
+//! search as the theoretical cam's ([`super::find`]). The samples run in
 //! parallel on a local pool and are collected by index, so the result is the same for
 //! any `--threads`. The theoretical cam's onset is searched too, beside the
 //! distribution.
@@ -14,9 +14,8 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::jump_speed::{find, JumpSpeed};
+use super::{find, JumpSpeed};
 use crate::actual::ActualArgs;
-use crate::report::Report;
 use crate::sim::RunSpec;
 
 /// The default `--samples` of `jump-speed --actual`: 20 (about 20 searches of 16 runs
@@ -92,50 +91,6 @@ pub struct ActualOnsetReport {
     pub wall_ms: f64,
 }
 
-impl Report for ActualOnsetReport {
-    fn text(&self, _units: crate::units::Units) -> String {
-        use std::fmt::Write;
-        let mut s = String::new();
-        let f = |x: Option<f64>| x.map_or("none".to_string(), |v| format!("{v:.1}"));
-        let _ = writeln!(
-            s,
-            "jump onset of {} machined cams (seed {}), rpm, to {} rpm:",
-            self.samples, self.seed, self.resolution_rpm
-        );
-        let _ = writeln!(
-            s,
-            "  min {}  5% {}  25% {}  median {}  75% {}  max {}",
-            f(self.min_rpm),
-            f(self.q05_rpm),
-            f(self.q25_rpm),
-            f(self.median_rpm),
-            f(self.q75_rpm),
-            f(self.max_onset_rpm)
-        );
-        let _ =
-            writeln!(
-            s,
-            "  theoretical cam: {} rpm; operating point {:.1} rpm: {} of {} samples jump at it, P(jump) {} (95 % Wilson){}",
-            f(self.theoretical_jump_rpm),
-            self.operating_rpm,
-            self.jump_at_operating,
-            self.samples,
-            self.p_jump_at_operating.text(3),
-            if self.beyond_max > 0 {
-                format!("; {} without onset up to {} rpm", self.beyond_max, self.max_rpm)
-            } else {
-                String::new()
-            }
-        );
-        let _ = writeln!(
-            s,
-            "{} simulations of 2 revolutions on {} threads, {:.0} ms",
-            self.simulations, self.threads, self.wall_ms
-        );
-        s
-    }
-}
-
 /// The onset distribution of `samples` actual cams of `spec` drawn with `actual`.
 pub fn study(
     spec: &RunSpec,
@@ -151,7 +106,7 @@ pub fn study(
     let interval = crate::actual::intervals_for(&spec.design, actual)?;
     let profile = crate::study::montecarlo::ProfileSettings::of(actual, interval)?;
     let op = camsim_core::rad_per_s_to_rpm(spec.design.omega0);
-    let pool = super::pool(threads)?;
+    let pool = crate::study::pool(threads)?;
     // A progress bar on a terminal: the theoretical search and every sample's.
     let bar = crate::study_limits::progress_bar(
         u64::from(samples) + 1,
