@@ -105,11 +105,11 @@ fn label(stat: &str) -> (&'static str, Option<camsim_scene_file::units::Unit>) {
 
 fn value_of(r: &PeriodRow, stat: &str) -> Option<f64> {
     Some(match stat {
-        "rms_displacement" => r.rms_displacement,
-        "rms_velocity" => r.rms_velocity,
-        "rms_acceleration" => r.rms_acceleration,
-        "torque_avg" => r.torque_avg,
-        "contact_force_avg" => r.contact_force_avg,
+        "rms_displacement" => r.rms_displacement.in_inch(),
+        "rms_velocity" => r.rms_velocity.in_inch(),
+        "rms_acceleration" => r.rms_acceleration.in_inch(),
+        "torque_avg" => r.torque_avg.in_inch(),
+        "contact_force_avg" => r.contact_force_avg.in_inch(),
         _ => return None,
     })
 }
