@@ -9,7 +9,7 @@ use anyhow::{anyhow, Result};
 use camsim_core::{Sample, TransDof};
 use serde::{Serialize, Serializer};
 
-use crate::output::AtomicFile;
+use crate::output::{AtomicFile, FileTarget};
 use crate::sim::RunSpec;
 use crate::units::Units;
 
@@ -378,6 +378,24 @@ pub struct CsvRows {
     pub csv: Option<CsvOut>,
     /// One row per solver sample instead of one per grid point.
     pub every_step: bool,
+}
+
+impl CsvRows {
+    /// `--csv`'s rows into `target`, opened now (None: no `--csv`), one a solver sample
+    /// with `every_step`, in `units`.
+    pub fn open(target: Option<FileTarget>, every_step: bool, units: Units) -> Result<Self> {
+        Ok(CsvRows {
+            csv: target
+                .map(|t| t.open().map(|f| CsvOut::new(f, units)))
+                .transpose()?,
+            every_step,
+        })
+    }
+
+    /// The file written, to commit (None: no `--csv`).
+    pub fn finish(self) -> Result<Option<AtomicFile>> {
+        self.csv.map(CsvOut::into_file).transpose()
+    }
 }
 
 impl camsim_core::Observer<f64> for CsvRows {

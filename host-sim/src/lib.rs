@@ -21,4 +21,6 @@ pub mod stats;
 pub mod study;
 pub mod study_limits;
 pub mod units;
-pub mod verdict;
+
+/// `camsim run`'s verdict ([`study::run::verdict`]), at the path its callers use.
+pub use study::run::verdict;

@@ -13,6 +13,8 @@ use camsim_core::{
 };
 use std::sync::Arc;
 
+use crate::units::{Acceleration, Force, Length, Speed, Stress, Torque};
+
 /// Knots of the host's actual-cam deviation spline: one revolution at down to 0.1°.
 pub const PROFILE_KNOTS: usize = 3601;
 
@@ -318,7 +320,8 @@ pub fn period_names(design: &Design<f64>) -> Vec<&'static str> {
         .collect()
 }
 
-/// One row of the per-period table (the JSON `per_period` entries).
+/// One row of the per-period table (the JSON `per_period` entries; each measure's key
+/// names its unit, `rms_displacement_in`, `contact_force_min_lb`).
 #[derive(Clone, Debug, Serialize)]
 pub struct PeriodRow {
     /// Revolution from 1.
@@ -326,25 +329,25 @@ pub struct PeriodRow {
     /// Period name.
     pub period: &'static str,
     /// RMS displacement deviation, in.
-    pub rms_displacement: f64,
+    pub rms_displacement: Length,
     /// RMS velocity deviation, in/s.
-    pub rms_velocity: f64,
+    pub rms_velocity: Speed,
     /// RMS acceleration deviation, in/s².
-    pub rms_acceleration: f64,
+    pub rms_acceleration: Acceleration,
     /// Average output torque, lb·in.
-    pub torque_avg: f64,
+    pub torque_avg: Torque,
     /// Largest output torque, lb·in.
-    pub torque_max: f64,
+    pub torque_max: Torque,
     /// Smallest output torque, lb·in.
-    pub torque_min: f64,
+    pub torque_min: Torque,
     /// Smallest contact force, lb.
-    pub contact_force_min: f64,
+    pub contact_force_min: Force,
     /// Largest contact force, lb.
-    pub contact_force_max: f64,
+    pub contact_force_max: Force,
     /// Average contact force, lb.
-    pub contact_force_avg: f64,
+    pub contact_force_avg: Force,
     /// Largest Hertz stress, psi.
-    pub contact_stress_max: f64,
+    pub contact_stress_max: Stress,
     /// AORD of the motor speed.
     pub aord_motor: f64,
     /// AORD of the coupling speed.
@@ -365,16 +368,16 @@ pub fn period_rows(design: &Design<f64>, stats: &Stats) -> Vec<PeriodRow> {
                 rows.push(PeriodRow {
                     revolution: rev,
                     period: name,
-                    rms_displacement: p.rms_displacement(),
-                    rms_velocity: p.rms_velocity(),
-                    rms_acceleration: p.rms_acceleration(),
-                    torque_avg: p.torque_avg(),
-                    torque_max: p.torque_max,
-                    torque_min: p.torque_min,
-                    contact_force_min: p.force_min,
-                    contact_force_max: p.force_max,
-                    contact_force_avg: p.force_avg(),
-                    contact_stress_max: p.stress_max,
+                    rms_displacement: Length::inch(p.rms_displacement()),
+                    rms_velocity: Speed::inch(p.rms_velocity()),
+                    rms_acceleration: Acceleration::inch(p.rms_acceleration()),
+                    torque_avg: Torque::inch(p.torque_avg()),
+                    torque_max: Torque::inch(p.torque_max),
+                    torque_min: Torque::inch(p.torque_min),
+                    contact_force_min: Force::inch(p.force_min),
+                    contact_force_max: Force::inch(p.force_max),
+                    contact_force_avg: Force::inch(p.force_avg()),
+                    contact_stress_max: Stress::inch(p.stress_max),
                     aord_motor: p.aord_motor(),
                     aord_coupling: p.aord_coupling(),
                     aord_cam: p.aord_cam(),
@@ -453,11 +456,11 @@ pub fn steady_checks(rows: &[PeriodRow]) -> Vec<SteadyCheck> {
 /// The statistics the steady-state check compares, each with the floor of its scale.
 type Stat = fn(&PeriodRow) -> f64;
 const STEADY_STATS: [(&str, Stat, f64); 5] = [
-    ("rms_displacement", |r| r.rms_displacement, 1e-6),
-    ("rms_velocity", |r| r.rms_velocity, 1e-3),
-    ("rms_acceleration", |r| r.rms_acceleration, 1.0),
-    ("torque_avg", |r| r.torque_avg, 1e-2),
-    ("contact_force_avg", |r| r.contact_force_avg, 1e-2),
+    ("rms_displacement", |r| r.rms_displacement.in_inch(), 1e-6),
+    ("rms_velocity", |r| r.rms_velocity.in_inch(), 1e-3),
+    ("rms_acceleration", |r| r.rms_acceleration.in_inch(), 1.0),
+    ("torque_avg", |r| r.torque_avg.in_inch(), 1e-2),
+    ("contact_force_avg", |r| r.contact_force_avg.in_inch(), 1e-2),
 ];
 
 /// The floor of the scale of a statistic the steady-state check compares (its name as in
@@ -511,16 +514,16 @@ mod tests {
         PeriodRow {
             revolution,
             period,
-            rms_displacement: 0.0,
-            rms_velocity,
-            rms_acceleration: 0.0,
-            torque_avg: 0.0,
-            torque_max: 0.0,
-            torque_min: 0.0,
-            contact_force_min: 0.0,
-            contact_force_max: 0.0,
-            contact_force_avg: 0.0,
-            contact_stress_max: 0.0,
+            rms_displacement: Length::default(),
+            rms_velocity: Speed::inch(rms_velocity),
+            rms_acceleration: Acceleration::default(),
+            torque_avg: Torque::default(),
+            torque_max: Torque::default(),
+            torque_min: Torque::default(),
+            contact_force_min: Force::default(),
+            contact_force_max: Force::default(),
+            contact_force_avg: Force::default(),
+            contact_stress_max: Stress::default(),
             aord_motor: 0.0,
             aord_coupling: 0.0,
             aord_cam: 0.0,

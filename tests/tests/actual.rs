@@ -278,22 +278,22 @@ fn a_measured_theoretical_cam_gives_back_the_theoretical_run() {
             .fold(0.0, f64::max)
     };
     let (sa, sf) = (
-        scale(|r| r.rms_acceleration),
-        scale(|r| r.contact_force_max),
+        scale(|r| r.rms_acceleration.in_inch()),
+        scale(|r| r.contact_force_max.in_inch()),
     );
     assert_eq!(r.per_period.len(), theory.per_period.len());
     for (a, b) in r.per_period.iter().zip(&theory.per_period) {
         let at = format!("{} {}", a.revolution, a.period);
         assert!(
-            (a.rms_displacement - b.rms_displacement).abs() < 1e-6,
+            (a.rms_displacement.in_inch() - b.rms_displacement.in_inch()).abs() < 1e-6,
             "{at}"
         );
         assert!(
-            (a.rms_acceleration - b.rms_acceleration).abs() < 1e-3 * sa,
+            (a.rms_acceleration.in_inch() - b.rms_acceleration.in_inch()).abs() < 1e-3 * sa,
             "{at}"
         );
         assert!(
-            (a.contact_force_max - b.contact_force_max).abs() < 1e-3 * sf,
+            (a.contact_force_max.in_inch() - b.contact_force_max.in_inch()).abs() < 1e-3 * sf,
             "{at}"
         );
         assert_eq!(a.jump, b.jump, "{at}");

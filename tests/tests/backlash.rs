@@ -42,10 +42,10 @@ fn a_vanishing_free_play_gives_the_rigid_coupling() {
     assert_eq!(a.len(), b.len());
     let scale = |f: Stat| a.iter().map(|r| f(r).abs()).fold(0.0, f64::max);
     let checks: [(&str, Stat); 5] = [
-        ("rms_acceleration", |r| r.rms_acceleration),
-        ("torque_avg", |r| r.torque_avg),
-        ("torque_max", |r| r.torque_max),
-        ("contact_force_max", |r| r.contact_force_max),
+        ("rms_acceleration", |r| r.rms_acceleration.in_inch()),
+        ("torque_avg", |r| r.torque_avg.in_inch()),
+        ("torque_max", |r| r.torque_max.in_inch()),
+        ("contact_force_max", |r| r.contact_force_max.in_inch()),
         ("aord_cam", |r| r.aord_cam),
     ];
     // Tolerance: 1e-3 of the statistic's largest value over the periods. The solver's own
@@ -69,11 +69,11 @@ fn a_vanishing_free_play_gives_the_rigid_coupling() {
     spec.design.coupling_backlash = 0.01;
     let loose = sim::run(&spec, &mut sim::Nothing).unwrap();
     let c = sim::period_rows(&spec.design, &loose.stats);
-    let s = scale(|r| r.rms_acceleration);
+    let s = scale(|r| r.rms_acceleration.in_inch());
     let diff = a
         .iter()
         .zip(&c)
-        .map(|(x, y)| (x.rms_acceleration - y.rms_acceleration).abs() / s)
+        .map(|(x, y)| (x.rms_acceleration.in_inch() - y.rms_acceleration.in_inch()).abs() / s)
         .fold(0.0, f64::max);
     assert!(diff > 1e-2, "{diff}");
 }

@@ -136,14 +136,18 @@ fn plausible(spec: &RunSpec, r: &RunReport) -> Result<(), String> {
         return fail("no per-period rows".into());
     }
     for row in &r.per_period {
-        if row.contact_force_min < 0.0 || row.contact_force_max > 1e7 {
+        if row.contact_force_min.in_inch() < 0.0 || row.contact_force_max.in_inch() > 1e7 {
             return fail(format!(
                 "contact force {}..{} lb",
-                row.contact_force_min, row.contact_force_max
+                row.contact_force_min.in_inch(),
+                row.contact_force_max.in_inch()
             ));
         }
-        if row.rms_displacement > e2 {
-            return fail(format!("rms displacement {} in", row.rms_displacement));
+        if row.rms_displacement.in_inch() > e2 {
+            return fail(format!(
+                "rms displacement {} in",
+                row.rms_displacement.in_inch()
+            ));
         }
     }
     Ok(())

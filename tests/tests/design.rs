@@ -33,9 +33,11 @@ fn verdict_agrees_with_the_table_and_the_geometry() {
     let judged = r.per_period.iter().filter(|p| p.revolution >= 2);
     let fmin = judged
         .clone()
-        .map(|p| p.contact_force_min)
+        .map(|p| p.contact_force_min.in_inch())
         .fold(f64::INFINITY, f64::min);
-    let smax = judged.map(|p| p.contact_stress_max).fold(0.0, f64::max);
+    let smax = judged
+        .map(|p| p.contact_stress_max.in_inch())
+        .fold(0.0, f64::max);
     assert_eq!(v.contact.min_contact_force_lb.in_inch(), fmin);
     assert_eq!(v.loads.peak_contact_stress_psi.in_inch(), smax);
     // Contact holds and nothing warns: the thesis drive's cam-speed swing (3.4 % at 800

@@ -243,9 +243,11 @@ fn csv_rows_and_period_table_cover_the_run() {
         ]
     );
     // At 400 rpm the reference holds contact: no jump, minimum force above zero.
-    assert!(rows.iter().all(|r| !r.jump && r.contact_force_min > 0.0));
+    assert!(rows
+        .iter()
+        .all(|r| !r.jump && r.contact_force_min.in_inch() > 0.0));
     // In the dwells the cam does no work: zero output torque (dy/dθ = 0).
-    assert_eq!(rows[0].torque_avg, 0.0);
+    assert_eq!(rows[0].torque_avg.in_inch(), 0.0);
     // The default method (Merson's pair): one evaluation at the start, five per accepted
     // step (four stages and the end point's derivative, which the continuous extension
     // and the next step share), four per rejected one; the default step control (the

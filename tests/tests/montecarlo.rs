@@ -485,6 +485,7 @@ fn the_statistics_measure_the_deviation_from_the_perfect_cam() {
             .find(|p| p.revolution == 2 && p.period == "dwell_low")
             .unwrap()
             .rms_displacement
+            .in_inch()
     };
     let perfect = dwell(&spec);
     assert!(perfect > 0.0 && perfect < 2e-4, "{perfect}");

@@ -81,7 +81,7 @@ fn the_read_back_run_is_the_theoretical_run_within_the_chordal_error() {
     let measured = run(&["--measured", file.to_str().unwrap()]);
     assert_eq!(theory.per_period.len(), measured.per_period.len());
     for (t, m) in theory.per_period.iter().zip(&measured.per_period) {
-        let d = (t.rms_displacement - m.rms_displacement).abs();
+        let d = (t.rms_displacement.in_inch() - m.rms_displacement.in_inch()).abs();
         assert!(d <= bound, "{} {}: {d}", t.revolution, t.period);
     }
     let _ = std::fs::remove_dir_all(&out);

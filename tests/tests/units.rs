@@ -245,7 +245,7 @@ fn a_return_s_largest_torque_is_zero_not_a_denormal() {
         .per_period
         .iter()
         .filter(|p| p.period == "return")
-        .map(|p| p.torque_max)
+        .map(|p| p.torque_max.in_inch())
         .collect();
     assert_eq!(returns.len(), 2);
     for t in returns {

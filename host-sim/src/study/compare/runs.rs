@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use super::{segment_kinds, CamStudy, LawPeriod, LawStudy, NotWorkable, Ranks};
 use crate::actual::{self, ActualArgs, ProfileStats};
 use crate::sim::{self, PeriodRow, RunSpec};
-use crate::units::{Acceleration, Force, Stress, Torque};
+use crate::units::{Force, Stress, Torque};
 
 /// One run's study, and the actual cam's profile.
 type Run = (CamStudy, Option<ProfileStats>);
@@ -23,14 +23,14 @@ pub(super) type Job = Result<Run>;
 fn law_period(name: &str, one: &PeriodRow, two: &PeriodRow) -> LawPeriod {
     LawPeriod {
         period: name.to_string(),
-        acc_rms_cycle1: Acceleration::inch(one.rms_acceleration),
-        acc_rms_cycle2: Acceleration::inch(two.rms_acceleration),
-        torque_avg: Torque::inch(two.torque_avg),
-        torque_max: Torque::inch(two.torque_max),
-        torque_min: Torque::inch(two.torque_min),
-        contact_force_min: Force::inch(two.contact_force_min),
-        contact_force_max: Force::inch(two.contact_force_max),
-        contact_stress_max: Stress::inch(two.contact_stress_max),
+        acc_rms_cycle1: one.rms_acceleration,
+        acc_rms_cycle2: two.rms_acceleration,
+        torque_avg: two.torque_avg,
+        torque_max: two.torque_max,
+        torque_min: two.torque_min,
+        contact_force_min: two.contact_force_min,
+        contact_force_max: two.contact_force_max,
+        contact_stress_max: two.contact_stress_max,
         jump: two.jump,
     }
 }
@@ -54,22 +54,26 @@ fn cam_study(spec: &RunSpec, rows: &[PeriodRow], steps: u32) -> Result<CamStudy>
     let mut jump = false;
     for (k, name) in names.iter().enumerate() {
         let (one, two) = (row(1, k)?, row(2, k)?);
-        sens += two.rms_acceleration;
+        sens += two.rms_acceleration.in_inch();
         match kinds[k] {
             SegmentKind::Rise(_) => {
-                shock += (one.rms_acceleration - two.rms_acceleration) / one.rms_acceleration;
-                t_rise = t_rise.max(two.torque_avg);
+                shock += (one.rms_acceleration.in_inch() - two.rms_acceleration.in_inch())
+                    / one.rms_acceleration.in_inch();
+                t_rise = t_rise.max(two.torque_avg.in_inch());
             }
             SegmentKind::Return(_) => {
-                shock += (one.rms_acceleration - two.rms_acceleration) / one.rms_acceleration;
-                t_return = t_return.min(two.torque_avg);
+                shock += (one.rms_acceleration.in_inch() - two.rms_acceleration.in_inch())
+                    / one.rms_acceleration.in_inch();
+                t_return = t_return.min(two.torque_avg.in_inch());
             }
             SegmentKind::Dwell => {}
         }
-        t_max = t_max.max(two.torque_max.abs()).max(two.torque_min.abs());
-        f_min = f_min.min(two.contact_force_min);
-        f_max = f_max.max(two.contact_force_max);
-        s_max = s_max.max(two.contact_stress_max);
+        t_max = t_max
+            .max(two.torque_max.in_inch().abs())
+            .max(two.torque_min.in_inch().abs());
+        f_min = f_min.min(two.contact_force_min.in_inch());
+        f_max = f_max.max(two.contact_force_max.in_inch());
+        s_max = s_max.max(two.contact_stress_max.in_inch());
         jump |= two.jump;
         per_period.push(law_period(name, one, two));
     }

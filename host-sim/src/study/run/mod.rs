@@ -1,5 +1,5 @@
 //! `camsim run` as a study: one simulation of a scene (the theoretical cam, an actual
-//! cam drawn from tolerances or a measured one) with its verdict ([`crate::verdict`]),
+//! cam drawn from tolerances or a measured one) with its verdict ([`verdict`]),
 //! per-period table, jumps and solver statistics.
 //!
 //! The study takes a typed [`Spec`] and the output's unit family and returns a
@@ -12,17 +12,18 @@ use std::ops::ControlFlow;
 use std::sync::Arc;
 
 use anyhow::Result;
-use camsim_core::{AngleGrid, GridPointKind, JumpInterval, Observer, Sample, Start};
+use camsim_core::{AngleGrid, GridPointKind, JumpInterval, Observer, Sample};
 
 use crate::actual::ActualArgs;
 use crate::measured::MeasuredProfile;
 use crate::plot::PlotData;
 use crate::sim::{self, HostDeviation, RunSpec};
 use crate::units::Units;
-use crate::verdict::{self as v, Watch};
+use verdict::{self as v, Watch};
 
 pub mod report;
 pub mod text;
+pub mod verdict;
 
 pub use report::*;
 
@@ -98,7 +99,14 @@ pub fn report_observed<O: Observer<f64>>(
     let mut report = RunReport::new(&run, &result);
     report.fpr = profile_report.as_ref().map(ProfileReport::fpr);
     report.profile = profile_report;
-    report.verdict = Some(verdict(spec, &run, &report, &watch, units)?);
+    report.verdict = Some(v::judge(
+        &run,
+        &report,
+        &watch,
+        &spec.limits,
+        spec.margin,
+        units,
+    )?);
     report.scene_file = spec.scene_file.clone();
     report.scene = Some(crate::scene::spec_text(&run)?);
     crate::report::ensure_finite(&report)?;
@@ -160,72 +168,4 @@ impl<O: Observer<f64>> Observer<f64> for RunObserver<'_, O> {
     fn observe_grid(&mut self, s: &Sample<f64>, kind: GridPointKind) -> ControlFlow<()> {
         self.rows.observe_grid(s, kind)
     }
-}
-
-/// The verdict of a finished run of `run` (`--margin`: the jump-onset search on the
-/// scene as it is, theoretical cam, static start).
-fn verdict(
-    spec: &Spec,
-    run: &RunSpec,
-    report: &RunReport,
-    watch: &Watch,
-    units: Units,
-) -> Result<v::Verdict> {
-    let limits = &spec.limits;
-    let contact = v::contact(
-        &run.design,
-        &report.jumps,
-        &report.periods,
-        watch,
-        run.revolutions,
-    )?;
-    let geometry = v::geometry(&run.design, limits)?;
-    let loads = v::loads(watch, limits)?;
-    let spring = v::spring(&run.design, run.spring.as_ref())?;
-    let jump_margin = match spec.margin {
-        true => Some(margin(run, report.rpm)?),
-        false => None,
-    };
-    let steady = v::steady(
-        &report.per_period,
-        &sim::steady_checks(&report.per_period),
-        units,
-    );
-    let mut warnings = v::warnings(
-        &contact,
-        &geometry,
-        &loads,
-        &spring,
-        jump_margin.as_ref(),
-        units,
-    );
-    let mass = v::mass(&run.design);
-    let drive = v::drive(run, watch, units);
-    warnings.extend(v::swing_warning(&drive));
-    Ok(v::Verdict {
-        contact,
-        geometry,
-        loads,
-        spring,
-        mass,
-        drive,
-        jump_margin,
-        steady,
-        warnings,
-    })
-}
-
-/// The jump margin of `run` at `rpm`: the onset search from the static start.
-fn margin(run: &RunSpec, rpm: f64) -> Result<v::MarginVerdict> {
-    use crate::study::jump_speed;
-    let mut s = run.clone();
-    s.solver.start = Start::Static;
-    let r = jump_speed::find(&s, 1.0, jump_speed::MAX_RPM)?;
-    Ok(v::MarginVerdict {
-        jump_onset_rpm: r.jump_rpm,
-        holds_at_rpm: r.no_jump_rpm,
-        margin_percent: r.jump_rpm.map(|j| 100.0 * (j / rpm - 1.0)),
-        bracket_rpm: r.jump_rpm.map_or(0.0, |j| j - r.no_jump_rpm),
-        simulations: r.simulations,
-    })
 }

@@ -136,7 +136,6 @@ impl RunReport {
     /// The units line, then each revolution's per-period table, then a blank line.
     fn write_periods(&self, out: &mut String, units: Units) {
         use crate::units as u;
-        let q = |unit, x, d| units.q(unit, x, d);
         use std::fmt::Write;
         let _ = writeln!(
             out,
@@ -164,14 +163,14 @@ impl RunReport {
                 );
             }
             // Torques and forces print as 0.00, not -0.00, where they round to zero.
-            let (t, f) = (|x| q(u::TORQUE, x, 2), |x| q(u::FORCE, x, 2));
+            let (t, f) = (|x| units.show(x, 2), |x| units.show(x, 2));
             let _ = writeln!(
                 out,
                 "{:<11} {:>10.3e} {:>10.3e} {:>10.3e} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>9} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}",
-                r.period, units.value(u::LENGTH, r.rms_displacement), units.value(u::SPEED, r.rms_velocity),
-                units.value(u::ACCELERATION, r.rms_acceleration), t(r.torque_avg), t(r.torque_max),
+                r.period, units.of(r.rms_displacement), units.of(r.rms_velocity),
+                units.of(r.rms_acceleration), t(r.torque_avg), t(r.torque_max),
                 t(r.torque_min), f(r.contact_force_min), f(r.contact_force_max), f(r.contact_force_avg),
-                q(u::STRESS, r.contact_stress_max, 0),
+                units.show(r.contact_stress_max, 0),
                 r.aord_motor, r.aord_coupling, r.aord_cam, if r.jump { "yes" } else { "no" }
             );
         }
