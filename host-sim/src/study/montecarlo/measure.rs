@@ -125,7 +125,7 @@ impl Measured {
     pub fn report(self, out: PathBuf) -> MonteCarloOutcome {
         match self.summary {
             Some(summary) => MonteCarloOutcome::Study(Box::new(MonteCarloReport {
-                study: self.settings,
+                study: self.settings.measured(),
                 summary,
                 two_level: self.two_level_summary,
                 timing: self.timing,

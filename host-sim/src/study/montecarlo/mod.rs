@@ -54,6 +54,7 @@ use crate::actual::{self, value_name, ActualArgs};
 use crate::args::spec_from;
 use crate::args::StudyArgs;
 use crate::sim::{self, PeriodRow, RunSpec};
+use crate::units::Length;
 
 pub mod measure;
 pub mod report;
@@ -237,10 +238,12 @@ impl Observer<f64> for Separation {
 }
 
 /// The settings that make two runs the same study (a shard file carries them; the
-/// merge refuses files whose settings differ in anything).
+/// merge refuses files whose settings differ in anything). Its tolerances are plain
+/// inch numbers in the shard file (`L = f64`), [`Length`]s in the report
+/// ([`StudySettings::measured`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StudySettings {
+pub struct StudySettings<L = f64> {
     /// The camsim version that ran it.
     pub camsim_version: String,
     /// Number of samples of the whole study.
@@ -252,7 +255,7 @@ pub struct StudySettings {
     /// The scene as a complete scene file (design, solver, DOFs).
     pub scene: String,
     /// How the actual cams are made.
-    pub profile: ProfileSettings,
+    pub profile: ProfileSettings<L>,
     /// The two-level estimate's levels (absent: every cam on the one model of `scene`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub two_level: Option<TwoLevelSettings>,
@@ -273,20 +276,21 @@ pub struct TwoLevelSettings {
     pub reduced_scene: String,
 }
 
-/// How a study's actual cams are made.
+/// How a study's actual cams are made (its tolerances plain inch numbers, `L = f64`, or
+/// the report's [`Length`]s).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ProfileSettings {
+pub struct ProfileSettings<L = f64> {
     /// `thesis` or `envelope`.
     pub method: String,
     /// `sum12` or `polar`.
     pub normal: String,
     /// Cam profile tolerance, ± in.
-    pub cam_tolerance_in: f64,
+    pub cam_tolerance_in: L,
     /// Roller radius tolerance, ± in.
-    pub roller_tolerance_in: f64,
+    pub roller_tolerance_in: L,
     /// Eccentricity tolerance, ± in.
-    pub eccentricity_tolerance_in: f64,
+    pub eccentricity_tolerance_in: L,
     /// Profile points per revolution.
     pub intervals: usize,
     /// `given` (--interval-deg), `criteria` (IV.2.3's three, on the master seed) or
@@ -308,6 +312,35 @@ impl ProfileSettings {
             intervals: interval.0,
             interval_source: interval.1.label(),
         })
+    }
+
+    /// These settings with their tolerances as [`Length`]s (the report's).
+    pub fn measured(&self) -> ProfileSettings<Length> {
+        ProfileSettings {
+            method: self.method.clone(),
+            normal: self.normal.clone(),
+            cam_tolerance_in: Length::inch(self.cam_tolerance_in),
+            roller_tolerance_in: Length::inch(self.roller_tolerance_in),
+            eccentricity_tolerance_in: Length::inch(self.eccentricity_tolerance_in),
+            intervals: self.intervals,
+            interval_source: self.interval_source.clone(),
+        }
+    }
+}
+
+impl StudySettings {
+    /// These settings with their tolerances as [`Length`]s (the report's).
+    pub fn measured(&self) -> StudySettings<Length> {
+        StudySettings {
+            camsim_version: self.camsim_version.clone(),
+            samples: self.samples,
+            seed: self.seed,
+            revolutions: self.revolutions,
+            scene: self.scene.clone(),
+            profile: self.profile.measured(),
+            two_level: self.two_level.clone(),
+            one_model: self.one_model.clone(),
+        }
     }
 }
 
