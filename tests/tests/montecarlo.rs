@@ -50,7 +50,7 @@ fn bits(records: &[SampleRecord]) -> Vec<u64> {
 
 fn study(samples: u64) -> Study {
     let a = montecarlo_args(&[&["--samples", &samples.to_string()], &CHEAP[..]].concat());
-    Study::new(&a.study).unwrap()
+    a.study.study().unwrap()
 }
 
 #[test]

@@ -26,3 +26,21 @@ pub struct StudyArgs {
     #[command(flatten)]
     pub actual: ActualArgs,
 }
+
+impl StudyArgs {
+    /// The study these arguments describe (scene loaded and checked, interval chosen).
+    pub fn study(&self) -> anyhow::Result<crate::study::montecarlo::Study> {
+        let samples = self
+            .samples
+            .ok_or_else(|| anyhow::anyhow!("--samples N is required"))?;
+        let mut spec = super::spec_from(&self.scene)?;
+        spec.revolutions = self
+            .revolutions
+            .unwrap_or(crate::study::montecarlo::REVOLUTION);
+        spec.dofs.horizontal &= !self.vertical;
+        if self.constant_cam_speed {
+            spec.design.drive = camsim_core::DriveLaw::ConstantCamSpeed;
+        }
+        crate::study::montecarlo::Study::from_spec(spec, &self.actual, samples)
+    }
+}

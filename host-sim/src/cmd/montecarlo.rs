@@ -83,9 +83,17 @@ pub fn execute(args: &Args, units: Units) -> Result<Outcome> {
         return merge(&m.files, &m.output, units).map(|r| Outcome::Study(Box::new(r)));
     }
     args.study.actual.refuse_actual_flag("montecarlo")?;
-    let study = Study::new(&args.study)?
+    let study = args
+        .study
+        .study()?
         .with_levels(args.two_level, args.study.scene.follower.is_some())?;
-    let (out_file, plot_target) = outputs(args)?;
+    let scene: Vec<PathBuf> = args.study.scene.scene.iter().cloned().collect();
+    let (out_file, plot_target) = outputs(
+        &args.output,
+        ("scene file", &scene),
+        args.out.as_ref(),
+        args.shard,
+    )?;
     let spec = Spec {
         study,
         shard: args.shard,
@@ -108,33 +116,28 @@ pub fn execute(args: &Args, units: Units) -> Result<Outcome> {
     Ok(measured.report(args.out.clone().unwrap_or_default()))
 }
 
-/// Every output checked before any sample runs: the `--out` file, its temporary already
-/// open (a name the file system refuses fails now, not after the whole study), and the
-/// `--plot` directory.
-fn outputs(args: &Args) -> Result<(Option<AtomicFile>, Option<DirTarget>)> {
-    let out = &args.output;
+/// Every output checked before any sample runs: the inputs (`what`, `files`), the `--out`
+/// file, its temporary already open (a name the file system refuses fails now, not after
+/// the whole study), and the `--plot` directory.
+fn outputs(
+    out: &OutputArgs,
+    (what, files): (&str, &[PathBuf]),
+    file: Option<&PathBuf>,
+    shard: Option<Shard>,
+) -> Result<(Option<AtomicFile>, Option<DirTarget>)> {
     let mut plan = Plan::new(out.force);
-    if let Some(p) = &args.study.scene.scene {
-        plan.input("scene file", p);
+    for f in files {
+        plan.input(what, f);
     }
-    let out_target = match &args.out {
-        Some(p) => Some(plan.file("--out", p)?),
-        None => None,
-    };
-    let plot_target = match (&out.plot, args.shard) {
-        (Some(_), Some(_)) => {
-            bail!("--plot draws a whole study: give it to `merge`, not to a shard")
-        }
-        (Some(dir), None) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
-        (None, _) => None,
-    };
-    // The output's temporary exists before the first sample: a name the file system
-    // refuses fails now, not after the whole study.
-    let out_file = match out_target {
-        Some(t) => Some(t.open()?),
-        None => None,
-    };
-    Ok((out_file, plot_target))
+    let out_target = file.map(|p| plan.file("--out", p)).transpose()?;
+    if out.plot.is_some() && shard.is_some() {
+        bail!("--plot draws a whole study: give it to `merge`, not to a shard")
+    }
+    let plot = out.plot.as_ref();
+    let plot_target = plot
+        .map(|d| plan.dir("--plot", d, &PLOT_FILES))
+        .transpose()?;
+    Ok((out_target.map(|t| t.open()).transpose()?, plot_target))
 }
 
 /// Draws the study's histograms into `target`'s temporary directory, in `units` (the
@@ -150,22 +153,12 @@ fn figures(target: DirTarget, m: &Measured, units: Units) -> Result<AtomicDir> {
 /// Merges shard files into the result of their study (every sample exactly once),
 /// drawing its histograms (`--plot`, in `units`).
 pub fn merge(files: &[PathBuf], out: &OutputArgs, units: Units) -> Result<MonteCarloReport> {
-    let mut plan = Plan::new(out.force);
-    for f in files {
-        plan.input("shard file", f);
-    }
-    let plot_target = match &out.plot {
-        Some(dir) => Some(plan.dir("--plot", dir, &PLOT_FILES)?),
-        None => None,
-    };
+    let (_, plot_target) = outputs(out, ("shard file", files), None, None)?;
     let measured = crate::study::montecarlo::merge(files)?;
     if let Some(t) = plot_target {
         figures(t, &measured, units)?.commit()?;
     }
-    match measured.report(PathBuf::new()) {
-        Outcome::Study(r) => Ok(*r),
-        Outcome::Shard(_) => bail!("a merge gave a shard, not a study"),
-    }
+    measured.study_report()
 }
 
 /// Runs the command.

@@ -1,10 +1,11 @@
 //! Statistics shared by the studies: the one 95 % confidence interval of a
 //! probability (`montecarlo`, `compare`, `tolerance-study`), and the streaming
-//! statistics of a Monte Carlo study ([`stream`], [`study`]) and its two-level estimate
-//! ([`two_level`]).
+//! statistics of a Monte Carlo study ([`stream`], [`study`], [`columns`]) and its
+//! two-level estimate ([`two_level`]).
 
 use serde::Serialize;
 
+pub mod columns;
 pub mod stream;
 pub mod study;
 pub mod two_level;

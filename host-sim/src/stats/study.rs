@@ -6,33 +6,12 @@
 //! [`crate::stats::stream`]).
 
 use anyhow::{anyhow, ensure, Result};
-use serde::{Deserialize, Serialize, Serializer};
+use serde::{Deserialize, Serialize};
 
+pub use crate::stats::columns::Columns;
 use crate::stats::stream::{Moments, Stream};
 use crate::stats::Probability;
 use crate::study::montecarlo::{SampleRecord, COLUMNS};
-
-/// Named statistics in a fixed order (a JSON object in that order).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Columns(pub Vec<(String, Moments)>);
-
-impl Serialize for Columns {
-    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        use serde::ser::SerializeMap;
-        let mut m = s.serialize_map(Some(self.0.len()))?;
-        for (k, v) in &self.0 {
-            m.serialize_entry(k, v)?;
-        }
-        m.end()
-    }
-}
-
-impl Columns {
-    /// The statistics of `name`, if present.
-    pub fn get(&self, name: &str) -> Option<&Moments> {
-        self.0.iter().find(|(k, _)| k == name).map(|(_, m)| m)
-    }
-}
 
 /// One period of revolution 2 over the samples.
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -9,6 +9,9 @@
 //! which [`super::convert`] replaces by the number in the output's family, naming the
 //! key with the family's suffix (`base_radius` or `base_radius_in` becomes
 //! `base_radius_in` or `base_radius_mm`). A report is never printed with a marker in it.
+//! Several numbers of one quantity under one key (a column's mean, spread and
+//! percentiles) are one [`Measures`]: a marker whose value is their object, converted
+//! whole, its key named by the unit, the object's own keys unchanged.
 //!
 //! ```
 //! use camsim::units::{Length, Units};
@@ -66,9 +69,17 @@ fn marked(v: &serde_json::Value) -> Option<(Unit, f64)> {
     Some((unit, inch))
 }
 
-/// The unit of `v` if it is a measure, or a non-empty array of measures of one unit; an
-/// array's flags and words beside its measures (the `[rate, passed]` rows of a search)
-/// are not numbers and leave it measured.
+/// The unit and the object of numbers of a [`Measures`] marker, if `v` is one.
+fn grouped(v: &serde_json::Value) -> Option<(Unit, &serde_json::Map<String, serde_json::Value>)> {
+    let o = v.as_object().filter(|o| o.len() == 2)?;
+    let name = o.get(MARKER)?.as_str()?;
+    let unit = UNITS.into_iter().find(|u| marker(*u) == name)?;
+    Some((unit, o.get("value")?.as_object()?))
+}
+
+/// The unit of `v` if it is a measure, a [`Measures`], or a non-empty array of measures
+/// of one unit; an array's flags and words beside its measures (the `[rate, passed]`
+/// rows of a search) are not numbers and leave it measured.
 pub fn measured(v: &serde_json::Value) -> Option<Unit> {
     match v {
         serde_json::Value::Array(a) => {
@@ -79,21 +90,31 @@ pub fn measured(v: &serde_json::Value) -> Option<Unit> {
             let first = units.next()??;
             units.all(|u| u == Some(first)).then_some(first)
         }
-        v => marked(v).map(|(u, _)| u),
+        v => marked(v)
+            .map(|(u, _)| u)
+            .or_else(|| grouped(v).map(|(u, _)| u)),
     }
 }
 
-/// `v` (a measure or an array of them, [`measured`]) with every marker replaced by its
-/// number in `units`.
+/// `v` (a measure, a [`Measures`] or an array of measures, [`measured`]) with every
+/// marker replaced by its number (or its object of numbers) in `units`.
 pub fn unmark(v: serde_json::Value, units: Units) -> serde_json::Value {
+    let number = |unit, inch| {
+        serde_json::Number::from_f64(units.value(unit, inch))
+            .map_or(serde_json::Value::Null, serde_json::Value::Number)
+    };
     match v {
         serde_json::Value::Array(a) => {
             serde_json::Value::Array(a.into_iter().map(|x| unmark(x, units)).collect())
         }
-        v => match marked(&v) {
-            Some((unit, inch)) => serde_json::Number::from_f64(units.value(unit, inch))
-                .map_or(serde_json::Value::Null, serde_json::Value::Number),
-            None => v,
+        v => match (marked(&v), grouped(&v)) {
+            (Some((unit, inch)), _) => number(unit, inch),
+            (None, Some((unit, o))) => serde_json::Value::Object(
+                o.iter()
+                    .map(|(k, x)| (k.clone(), x.as_f64().map_or(x.clone(), |i| number(unit, i))))
+                    .collect(),
+            ),
+            (None, None) => v,
         },
     }
 }
@@ -144,6 +165,35 @@ impl<K: Kind> From<f64> for Measure<K> {
 }
 
 impl<K: Kind> Serialize for Measure<K> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_struct("Measure", 2)?;
+        m.serialize_field(MARKER, &marker(K::UNIT))?;
+        m.serialize_field("value", &self.inch)?;
+        m.end()
+    }
+}
+
+/// Several numbers of quantity `K` under one key: `T` (a struct of `f64` fields in the
+/// inch family, such as a column's mean, spread and percentiles). In JSON one marker
+/// whose value is `T`'s object: [`super::convert`] converts every number in it and
+/// names its key by `K`'s unit, the object's own keys unchanged.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Measures<K: Kind, T> {
+    inch: T,
+    kind: PhantomData<K>,
+}
+
+impl<K: Kind, T> Measures<K, T> {
+    /// The numbers `inch`, in the inch family.
+    pub const fn inch(inch: T) -> Self {
+        Self {
+            inch,
+            kind: PhantomData,
+        }
+    }
+}
+
+impl<K: Kind, T: Serialize> Serialize for Measures<K, T> {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         let mut m = s.serialize_struct("Measure", 2)?;
         m.serialize_field(MARKER, &marker(K::UNIT))?;
@@ -254,6 +304,29 @@ mod tests {
             crate::units::json(&text, Units::Si).unwrap(),
             r#"{"f_n":null}"#
         );
+    }
+
+    #[test]
+    fn measures_convert_whole_and_keep_their_keys() {
+        #[derive(serde::Serialize)]
+        struct Two {
+            mean: f64,
+            sd: f64,
+        }
+        let v = serde_json::json!({
+            "force": Measures::<kind::Force, _>::inch(Two { mean: 10.0, sd: f64::NAN }),
+            "plain": {"f": Force::inch(1.0), "l": Length::inch(1.0)},
+        });
+        let text = serde_json::to_string(&v).unwrap();
+        let si: serde_json::Value =
+            serde_json::from_str(&crate::units::json(&text, Units::Si).unwrap()).unwrap();
+        let n = crate::units::FORCE.si_per_inch;
+        assert_eq!(
+            si["force_n"],
+            serde_json::json!({"mean": 10.0 * n, "sd": null})
+        );
+        // An object of measures is not one: its keys take their units.
+        assert_eq!(si["plain"], serde_json::json!({"f_n": n, "l_mm": 25.4}));
     }
 
     #[derive(serde::Serialize)]

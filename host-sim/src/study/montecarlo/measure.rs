@@ -125,7 +125,7 @@ impl Measured {
     pub fn report(self, out: PathBuf) -> MonteCarloOutcome {
         match self.summary {
             Some(summary) => MonteCarloOutcome::Study(Box::new(MonteCarloReport {
-                study: self.settings,
+                study: self.settings.measured(),
                 summary,
                 two_level: self.two_level_summary,
                 timing: self.timing,
@@ -142,6 +142,16 @@ impl Measured {
                     samples_per_s_per_thread: 0.0,
                 }),
             }),
+        }
+    }
+}
+
+impl Measured {
+    /// The whole study's report (a merge's); an error for a shard's statistics.
+    pub fn study_report(self) -> Result<MonteCarloReport> {
+        match self.report(PathBuf::new()) {
+            MonteCarloOutcome::Study(r) => Ok(*r),
+            MonteCarloOutcome::Shard(_) => anyhow::bail!("a merge gave a shard, not a study"),
         }
     }
 }
@@ -179,21 +189,4 @@ fn first_sample_time(study: &Study, shard: Shard, threads: usize, allow_long: bo
         crate::study_limits::check_time(t.elapsed().as_secs_f64(), count, threads, allow_long)?;
     }
     Ok(())
-}
-
-impl Study {
-    /// The study's models: `two_level` N cams on the full model too (`Some(0)`: the full
-    /// model alone), else one model if `one_model` (the follower given), else the
-    /// default two-level estimate ([`Study::default_levels`]).
-    pub fn with_levels(mut self, two_level: Option<u64>, one_model: bool) -> Result<Study> {
-        match two_level {
-            Some(0) => {
-                self.settings.one_model = Some("the full model alone (--two-level 0)".into());
-                Ok(self)
-            }
-            Some(n) => self.two_level(n),
-            None if one_model => Ok(self),
-            None => self.default_levels(),
-        }
-    }
 }

@@ -8,7 +8,7 @@ use serde::Serialize;
 use super::{Columns, Probability, Shard, StudySettings, Summary, TwoLevelSummary};
 use crate::report::Report;
 use crate::stats::two_level::Estimate;
-use crate::units::{Units, LENGTH};
+use crate::units::{Length, Units, LENGTH};
 
 /// Run time of a study on this machine (not part of the result).
 #[derive(Clone, Copy, Debug, Serialize)]
@@ -27,7 +27,7 @@ pub struct Timing {
 #[derive(Clone, Debug, Serialize)]
 pub struct MonteCarloReport {
     /// The study.
-    pub study: StudySettings,
+    pub study: StudySettings<Length>,
     /// The result (of the reduced model, on every cam, in a two-level study).
     pub summary: Summary,
     /// A two-level study's estimate of the full model.
@@ -94,16 +94,7 @@ pub fn label(col: &str, units: Units) -> String {
 
 /// A column's unit (`None`: dimensionless or a count).
 fn column_unit(col: &str) -> Option<camsim_scene_file::units::Unit> {
-    use crate::units::{ACCELERATION, FORCE, LENGTH, SPEED, STRESS, TORQUE};
-    match col {
-        "rms_displacement" | "rms_deviation_in" => Some(LENGTH),
-        "rms_velocity" => Some(SPEED),
-        "rms_acceleration" | "acc_rms_sum" => Some(ACCELERATION),
-        "torque_avg" | "torque_max" | "torque_min" => Some(TORQUE),
-        "contact_force_min" | "contact_force_max" | "contact_force_avg" => Some(FORCE),
-        "contact_stress_max" => Some(STRESS),
-        _ => None,
-    }
+    crate::stats::columns::column_dimension(col).map(|d| d.unit())
 }
 
 /// A table of columns' moments and percentiles, in `units`.
@@ -287,9 +278,9 @@ impl Report for MonteCarloReport {
             "profile: {} ({} normal deviates), tolerances cam {} / roller {} / eccentricity {} {}, {} intervals ({:.4} deg, {})",
             p.method,
             p.normal,
-            units.given(LENGTH, p.cam_tolerance_in),
-            units.given(LENGTH, p.roller_tolerance_in),
-            units.given(LENGTH, p.eccentricity_tolerance_in),
+            units.given(LENGTH, p.cam_tolerance_in.in_inch()),
+            units.given(LENGTH, p.roller_tolerance_in.in_inch()),
+            units.given(LENGTH, p.eccentricity_tolerance_in.in_inch()),
             units.symbol(LENGTH),
             p.intervals,
             360.0 / p.intervals as f64,

@@ -8,7 +8,57 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, bail, Result};
 use serde::{Deserialize, Serialize};
 
-use super::{Shard, StudySettings, StudyStats, Tally, TwoLevelStats, SHARD_FORMAT, SHARD_VERSION};
+use super::{StudySettings, StudyStats, Tally, TwoLevelStats};
+
+/// The shard file's `format` tag.
+pub const SHARD_FORMAT: &str = "camsim-montecarlo-shard";
+/// The shard file's format version.
+pub const SHARD_VERSION: u32 = 5;
+
+/// Shard `index` (from 1) of `count`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// K, from 1.
+    pub index: u64,
+    /// N.
+    pub count: u64,
+}
+
+impl Shard {
+    /// The whole study as one shard.
+    pub const WHOLE: Shard = Shard { index: 1, count: 1 };
+
+    /// The sample indices of this shard among `samples`: K − 1, K − 1 + N, ...
+    pub fn indices(self, samples: u64) -> impl Iterator<Item = u64> {
+        (self.index - 1..samples).step_by(self.count as usize)
+    }
+
+    /// How many of `samples` this shard holds.
+    pub fn len(self, samples: u64) -> u64 {
+        samples
+            .saturating_sub(self.index - 1)
+            .div_ceil(self.count.max(1))
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+/// `--shard K/N`: 1 ≤ K ≤ N.
+pub fn parse_shard(s: &str) -> Result<Shard, String> {
+    let (k, n) = s
+        .split_once('/')
+        .ok_or_else(|| "must be K/N (shard K of N, K from 1)".to_string())?;
+    let k: u64 = k.trim().parse().map_err(|_| "K must be a whole number")?;
+    let n: u64 = n.trim().parse().map_err(|_| "N must be a whole number")?;
+    if n == 0 || k == 0 || k > n || n > 1_000_000 {
+        return Err("must be K/N with 1 <= K <= N <= 1000000".into());
+    }
+    Ok(Shard { index: k, count: n })
+}
 
 /// A shard file: the study and the statistics of one shard.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
