@@ -13,12 +13,13 @@ use camsim_core::{MotionLaw, Start};
 use clap::builder::PossibleValue;
 use clap::ValueEnum;
 
+mod actual;
 mod output;
 mod scene;
 mod study;
 mod verdict;
 
-pub use crate::actual::ActualArgs;
+pub use actual::{value_name, ActualArgs};
 pub use output::OutputArgs;
 pub use scene::{spec_from, SceneArgs};
 pub use study::StudyArgs;

@@ -4,7 +4,7 @@
 
 use anyhow::Result;
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::SceneArgs;
 pub use crate::study::design::spring::{
     MAX_PRELOAD_LENGTH, MAX_RATE, PRELOAD_RESOLUTION, START_PRELOAD_LENGTH, START_RATE,
@@ -172,7 +172,7 @@ impl McArgs {
             p_max: self.p_max,
             samples: self.samples,
             threads: self.threads,
-            actual: self.actual.clone(),
+            actual: self.actual.cams(),
             waviness: self.waviness,
             tolerance_factor: self.tolerance_factor,
             quick: self.quick,
@@ -187,7 +187,7 @@ impl SpringArgs {
         SpringSpec {
             scene: self.scene.clone(),
             margin: self.margin,
-            actual: self.actual.clone(),
+            actual: self.actual.cams(),
             p_max: self.p_max,
             samples: self.samples,
             threads: self.threads,

@@ -29,7 +29,7 @@ pub struct Args {
     /// Machined cams instead of the theoretical (`--actual` and its options): the onset
     /// as a distribution over samples (`jump_speed_actual`).
     #[command(flatten)]
-    pub actual: crate::actual::ActualArgs,
+    pub actual: crate::args::ActualArgs,
     /// With --actual: machined cams drawn, samples 0 to N-1 of --seed (default 20).
     #[arg(long, value_parser = crate::args::whole_u32::<1, 10000>)]
     pub samples: Option<u32>,
@@ -142,7 +142,7 @@ pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
         let samples = args.samples.unwrap_or(jump_speed_actual::DEFAULT_SAMPLES);
         let report = jump_speed_actual::study(
             &spec,
-            &args.actual,
+            &args.actual.cams(),
             samples,
             threads,
             args.resolution,

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use camsim_core::AngleGrid;
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 pub use crate::args::VerdictArgs;
 use crate::args::{self, megabytes, OutputArgs};
 pub use crate::args::{spec_from, SceneArgs};
@@ -111,7 +111,7 @@ pub fn spec(args: &Args, units: Units) -> Result<Spec> {
             name: format!("--measured {}", path.display()),
         }
     } else if args.actual.actual {
-        Cam::Actual(args.actual.clone())
+        Cam::Actual(args.actual.cams())
     } else {
         Cam::Theoretical
     };

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::jump_speed::{find, JumpSpeed};
-use crate::actual::ActualArgs;
+use crate::actual::Cams;
 use crate::report::Report;
 use crate::sim::RunSpec;
 
@@ -139,7 +139,7 @@ impl Report for ActualOnsetReport {
 /// The onset distribution of `samples` actual cams of `spec` drawn with `actual`.
 pub fn study(
     spec: &RunSpec,
-    actual: &ActualArgs,
+    actual: &Cams,
     samples: u32,
     threads: usize,
     resolution: f64,

@@ -16,7 +16,7 @@ use camsim_core::{Onset, OnsetSearch, Start};
 use serde::Serialize;
 
 use super::{check_search_time, describe, p_jump_on_actual_cams, p_max_and_samples, search_steps};
-use crate::actual::{intervals_for, ActualArgs};
+use crate::actual::{intervals_for, Cams};
 use crate::args::{spec_from, SceneArgs};
 use crate::report::Report;
 use crate::sim::{self, RunSpec};
@@ -33,7 +33,7 @@ pub struct SpringSpec {
     /// Speed margin on the theoretical cam, percent.
     pub margin: f64,
     /// The actual cams (judged on them when `actual.actual`).
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// Largest acceptable P(jump) (its upper 95 % Wilson bound), on actual cams.
     pub p_max: f64,
     /// Actual cams per rate (None: the fewest that can pass).

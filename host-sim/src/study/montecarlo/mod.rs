@@ -50,7 +50,7 @@ use camsim_core::{jump_verdict, DriveLaw, FollowerModel, JumpWatch, Observer, Sa
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::actual::{self, value_name, ActualArgs};
+use crate::actual::{self, Cams};
 use crate::args::spec_from;
 use crate::args::StudyArgs;
 use crate::sim::{self, PeriodRow, RunSpec};
@@ -297,11 +297,11 @@ pub struct ProfileSettings {
 impl ProfileSettings {
     /// How `actual`'s cams are made, with the interval chosen for them
     /// ([`actual::intervals_for`]).
-    pub fn of(actual: &ActualArgs, interval: (usize, actual::IntervalSource)) -> Result<Self> {
+    pub fn of(actual: &Cams, interval: (usize, actual::IntervalSource)) -> Result<Self> {
         let tol = actual.tolerances()?;
         Ok(ProfileSettings {
-            method: value_name(&actual.profile_method),
-            normal: value_name(&actual.normal),
+            method: actual.profile_method.name().into(),
+            normal: actual.normal.name().into(),
             cam_tolerance_in: tol.cam,
             roller_tolerance_in: tol.roller,
             eccentricity_tolerance_in: tol.eccentricity,
@@ -327,7 +327,7 @@ pub struct Study {
     /// The scene (its `profile` is set per sample).
     pub spec: RunSpec,
     /// The actual-cam options, the interval resolved (`resolved` set).
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// What identifies the study.
     pub settings: StudySettings,
     /// The reduced scene of a two-level study (`spec` is then its full one).
@@ -380,11 +380,11 @@ impl Study {
         if args.constant_cam_speed {
             spec.design.drive = DriveLaw::ConstantCamSpeed;
         }
-        Self::from_spec(spec, &args.actual, samples)
+        Self::from_spec(spec, &args.actual.cams(), samples)
     }
 
     /// A study of `samples` actual cams made by `actual` on the scene `spec`.
-    pub fn from_spec(spec: RunSpec, actual: &ActualArgs, samples: u64) -> Result<Self> {
+    pub fn from_spec(spec: RunSpec, actual: &Cams, samples: u64) -> Result<Self> {
         anyhow::ensure!(
             spec.revolutions >= 1,
             "a study needs at least one revolution"
