@@ -1,5 +1,5 @@
-//! Actual (machined) cams on the host: the command-line options every command that
-//! simulates an actual cam shares ([`ActualArgs`], to be `#[command(flatten)]`ed), and
+//! Actual (machined) cams on the host: the options every study that simulates an actual
+//! cam holds ([`Cams`]; their command-line group is [`crate::args::ActualArgs`]), and
 //! the one function that turns them into a profile ([`build_profile`]).
 //!
 //! Sample `i` of a study with `--seed S` draws its profile from
@@ -95,58 +95,35 @@ impl From<NormalArg> for NormalMethod {
 /// The default `--seed`.
 pub const DEFAULT_SEED: u64 = 1;
 
-/// Command-line options of an actual cam (`#[command(flatten)]` them).
-#[derive(clap::Args, Debug, Clone, Default, PartialEq)]
-pub struct ActualArgs {
+/// An actual cam's options, resolved from the command line (the clap group is
+/// [`crate::args::ActualArgs`], whose [`cams`](crate::args::ActualArgs::cams) makes one):
+/// what every study that simulates an actual cam holds. `None` and an empty list are the
+/// defaults (the thesis's VI.1 tolerances, [`DEFAULT_FPR`], [`DEFAULT_SEED`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Cams {
     /// Simulate an actual (machined) cam drawn from the tolerances below instead of the
-    /// theoretical cam.
-    #[arg(long)]
+    /// theoretical cam (`--actual`).
     pub actual: bool,
-    /// Cam profile tolerance, ± in (3σ of each coordinate of a cutter setting point;
-    /// default 0.0005, the thesis's VI.1), or with its unit (0.0127mm).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
+    /// Cam profile tolerance, ± in (3σ of each coordinate of a cutter setting point).
     pub cam_tolerance: Option<f64>,
-    /// Roller radius tolerance, ± in (default 0.0001), or with its unit (mm).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
+    /// Roller radius tolerance, ± in.
     pub roller_tolerance: Option<f64>,
-    /// Camshaft-bearing non-roundness and base-circle eccentricity together, ± in
-    /// (default 0.001), or with its unit (mm).
-    #[arg(long, value_name = "IN", allow_negative_numbers = true, value_parser = crate::args::tolerance_in)]
+    /// Camshaft-bearing non-roundness and base-circle eccentricity together, ± in.
     pub eccentricity_tolerance: Option<f64>,
-    /// Profile point interval, degrees (360/interval a whole number, at most 3600
-    /// points); overrides --waviness-fpr and --interval.
-    #[arg(long, value_name = "DEG", allow_negative_numbers = true, value_parser = interval_deg)]
+    /// Profile point interval, degrees (overrides the waviness and the rule).
     pub interval_deg: Option<f64>,
-    /// The cam's waviness, in the thesis's FPR (VI.4.1: curve portions between
-    /// inflection points of the displacement a revolution, Fig. VI.14; a single
-    /// harmonic of n undulations per revolution, UPR in roundness metrology (ISO
-    /// 12181), has FPR 2n). The interval is the whole number of points a revolution
-    /// whose profile, drawn from the master seed, has the FPR nearest N. Default 17,
-    /// the thesis's study cams at VI.1's tolerances (Table VI.2); 39 its rougher cam,
-    /// 57 its cams at ±0.0025/±0.0005 in. `design tolerance` takes a comma list
-    /// (17,39,57) and answers for each; every other command takes one.
-    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = crate::args::whole_u32::<2, 2000>)]
+    /// The waviness FPRs asked (`design tolerance` takes a list, every other study one).
     pub waviness_fpr: Vec<u32>,
-    /// How the interval is set when --interval-deg is not given: `waviness` (the FPR of
-    /// --waviness-fpr, default 17) or `criteria` (the smallest whole-degree interval
-    /// passing the three criteria of IV.2.3 on the master seed's profile: 2 deg, FPR
-    /// about 140, for the reference design; docs/MODEL.md §9.6).
-    #[arg(long, value_enum, default_value_t = IntervalRule::Waviness)]
+    /// How the interval is set when `interval_deg` is not given.
     pub interval: IntervalRule,
-    /// Master seed: sample i's profile comes from (seed, i) alone (default 1).
-    #[arg(long, value_parser = crate::args::seed)]
+    /// Master seed: sample i's profile comes from (seed, i) alone.
     pub seed: Option<u64>,
-    /// How the lift is made from the tolerances: per-cam (roller radius and axis offset
-    /// one value a cam, exact geometry), thesis (IV.2.3: every error drawn at every
-    /// point) or envelope (the roller on the random contour).
-    #[arg(long, value_enum, default_value_t = ProfileMethod::PerCam)]
+    /// How the lift is made from the tolerances.
     pub profile_method: ProfileMethod,
-    /// Normal deviates: sum12 (Appendix B) or polar (exact; alias "exact").
-    #[arg(long, value_enum, default_value_t = NormalArg::Sum12)]
+    /// How the normal deviates are made.
     pub normal: NormalArg,
-    /// The interval once chosen ([`ActualArgs::resolve`]): a study's samples do not
-    /// repeat the choice.
-    #[arg(skip)]
+    /// The interval once chosen ([`Cams::resolve`]): a study's samples do not repeat
+    /// the choice.
     pub resolved: Option<(usize, IntervalSource)>,
 }
 
@@ -165,7 +142,7 @@ pub enum IntervalRule {
 /// (VI.4.1, Table VI.2, Figs. VI.15-VI.16).
 pub const DEFAULT_FPR: u32 = 17;
 
-impl ActualArgs {
+impl Cams {
     /// The tolerances (the thesis's VI.1 values where not given).
     pub fn tolerances(&self) -> Result<Tolerances<f64>> {
         let r = Tolerances::<f64>::reference();
@@ -190,8 +167,8 @@ impl ActualArgs {
     }
 
     /// The same options at the one waviness `fpr` (None: the default).
-    pub fn at_fpr(&self, fpr: Option<u32>) -> ActualArgs {
-        ActualArgs {
+    pub fn at_fpr(&self, fpr: Option<u32>) -> Cams {
+        Cams {
             waviness_fpr: fpr.into_iter().collect(),
             resolved: None,
             ..self.clone()
@@ -203,75 +180,9 @@ impl ActualArgs {
         self.seed.unwrap_or(DEFAULT_SEED)
     }
 
-    /// Whether any option other than `--actual` was given (a caller that simulates
-    /// the theoretical cam refuses them).
-    pub fn any_profile_option(&self) -> bool {
-        !self.given_profile_options().is_empty()
-    }
-
-    /// The profile options given (`--cam-tolerance 0.0005`, `--seed 3`, ...), as the
-    /// user wrote them.
-    pub fn given_profile_options(&self) -> Vec<String> {
-        let d = ActualArgs::default();
-        let mut given = Vec::new();
-        let mut num = |name: &str, v: Option<f64>| {
-            if let Some(v) = v {
-                given.push(format!("--{name} {v}"));
-            }
-        };
-        num("cam-tolerance", self.cam_tolerance);
-        num("roller-tolerance", self.roller_tolerance);
-        num("eccentricity-tolerance", self.eccentricity_tolerance);
-        num("interval-deg", self.interval_deg);
-        if !self.waviness_fpr.is_empty() {
-            given.push(format!("--waviness-fpr {}", fpr_list(&self.waviness_fpr)));
-        }
-        if let Some(s) = self.seed {
-            given.push(format!("--seed {s}"));
-        }
-        if self.interval != d.interval {
-            given.push(format!("--interval {}", value_name(&self.interval)));
-        }
-        if self.profile_method != d.profile_method {
-            given.push(format!(
-                "--profile-method {}",
-                value_name(&self.profile_method)
-            ));
-        }
-        if self.normal != d.normal {
-            given.push(format!("--normal {}", value_name(&self.normal)));
-        }
-        given
-    }
-
-    /// A command that simulates the theoretical cam unless `--actual` is given refuses
-    /// the profile options without it: a usage error naming them.
-    pub fn ensure_actual_if_options(&self) -> Result<()> {
-        let given = self.given_profile_options();
-        if self.actual || given.is_empty() {
-            return Ok(());
-        }
-        let verb = if given.len() == 1 { "shapes" } else { "shape" };
-        Err(crate::args::usage(format!(
-            "{} {verb} an actual cam: add --actual (without it the theoretical cam runs)",
-            given.join(", ")
-        )))
-    }
-
-    /// A command whose study always runs actual cams refuses `--actual` (a usage error:
-    /// the flag would change nothing; it is hidden from the command's help).
-    pub fn refuse_actual_flag(&self, command: &str) -> Result<()> {
-        if self.actual {
-            return Err(crate::args::usage(format!(
-                "{command} always runs actual cams: drop --actual"
-            )));
-        }
-        Ok(())
-    }
-
     /// The options with the interval chosen once ([`intervals_for`]), so that the
     /// samples built from them do not repeat the choice.
-    pub fn resolve(&self, design: &Design<f64>) -> Result<ActualArgs> {
+    pub fn resolve(&self, design: &Design<f64>) -> Result<Cams> {
         let mut a = self.clone();
         a.resolved = Some(intervals_for(design, self)?);
         Ok(a)
@@ -480,9 +391,9 @@ pub fn deviation_stats(dev: &HostDeviation) -> Result<DeviationStats> {
 /// of IV.2.3 on a profile drawn from the master seed's own stream
 /// (`RandomStream::new(seed, method)`, the same for every sample); else the interval
 /// of the waviness `--waviness-fpr` asks ([`interval_for_fpr`], default
-/// [`DEFAULT_FPR`]). Options already resolved ([`ActualArgs::resolve`]) keep their
+/// [`DEFAULT_FPR`]). Options already resolved ([`Cams::resolve`]) keep their
 /// choice.
-pub fn intervals_for(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, IntervalSource)> {
+pub fn intervals_for(design: &Design<f64>, args: &Cams) -> Result<(usize, IntervalSource)> {
     if let Some(r) = args.resolved {
         return Ok(r);
     }
@@ -508,7 +419,7 @@ pub fn intervals_for(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, 
     ))
 }
 
-fn criteria_intervals(design: &Design<f64>, args: &ActualArgs) -> Result<(usize, IntervalSource)> {
+fn criteria_intervals(design: &Design<f64>, args: &Cams) -> Result<(usize, IntervalSource)> {
     let tol = args.tolerances()?;
     let choice = choose_interval::<f64, 361, 8>(
         &design.program,
@@ -534,7 +445,7 @@ fn criteria_intervals(design: &Design<f64>, args: &ActualArgs) -> Result<(usize,
 
 /// The FPR of the profile `args` make with `intervals` points a revolution from the
 /// master seed's own stream (`RandomStream::new(seed, method)`, as the criteria use).
-pub fn master_fpr(design: &Design<f64>, args: &ActualArgs, intervals: usize) -> Result<usize> {
+pub fn master_fpr(design: &Design<f64>, args: &Cams, intervals: usize) -> Result<usize> {
     Ok(deviation_stats(&master_profile(design, args, intervals)?)?.fpr)
 }
 
@@ -543,7 +454,7 @@ pub fn master_fpr(design: &Design<f64>, args: &ActualArgs, intervals: usize) -> 
 pub const FPR_PROBE_SAMPLES: u64 = 8;
 
 /// The mean FPR of samples 0 to [`FPR_PROBE_SAMPLES`] − 1 with `intervals` points.
-pub fn probe_fpr(design: &Design<f64>, args: &ActualArgs, intervals: usize) -> Result<f64> {
+pub fn probe_fpr(design: &Design<f64>, args: &Cams, intervals: usize) -> Result<f64> {
     let mut sum = 0.0;
     for i in 0..FPR_PROBE_SAMPLES {
         let mut rng = RandomStream::<f64>::for_sample(args.seed(), i, args.normal.into());
@@ -557,7 +468,7 @@ pub fn probe_fpr(design: &Design<f64>, args: &ActualArgs, intervals: usize) -> R
 /// seed's own stream (`RandomStream::new(seed, method)`).
 pub fn master_profile(
     design: &Design<f64>,
-    args: &ActualArgs,
+    args: &Cams,
     intervals: usize,
 ) -> Result<HostDeviation> {
     let mut rng = RandomStream::<f64>::new(args.seed(), args.normal.into());
@@ -577,11 +488,7 @@ pub fn master_profile(
 /// perfect contour the spline follows within [`ENVELOPE_FIT`] of σ_c are tried (n up to
 /// 360): at VI.1's tolerances 8° and finer, FPR 36 and more, so a smoother envelope cam
 /// than that is not made (the nearest is, and the reports give its FPR).
-pub fn interval_for_fpr(
-    design: &Design<f64>,
-    args: &ActualArgs,
-    target: u32,
-) -> Result<(usize, f64)> {
+pub fn interval_for_fpr(design: &Design<f64>, args: &Cams, target: u32) -> Result<(usize, f64)> {
     let t = target as usize;
     let lo = (t / 2).max(3);
     let hi = (2 * t + 8).min(720).max(lo);
@@ -594,7 +501,7 @@ pub fn interval_for_fpr(
         if args.profile_method != ProfileMethod::Envelope {
             return Ok(true);
         }
-        let perfect = ActualArgs {
+        let perfect = Cams {
             cam_tolerance: Some(0.0),
             roller_tolerance: Some(0.0),
             eccentricity_tolerance: Some(0.0),
@@ -647,7 +554,7 @@ pub const ENVELOPE_FIT: f64 = 0.1;
 /// the envelope's roller radius and centre offset.
 fn profile_from(
     design: &Design<f64>,
-    args: &ActualArgs,
+    args: &Cams,
     intervals: usize,
     rng: &mut RandomStream<f64>,
 ) -> Result<(HostDeviation, CamParts)> {
@@ -702,7 +609,7 @@ fn per_cam_profile(
 /// `args.actual` is not looked at (the caller decided to build a profile).
 pub fn build_profile(
     design: &Design<f64>,
-    args: &ActualArgs,
+    args: &Cams,
     sample: u64,
 ) -> Result<(HostDeviation, ProfileStats)> {
     let tol = args.tolerances()?;
@@ -735,13 +642,6 @@ pub fn build_profile(
     Ok((dev, stats))
 }
 
-/// The command-line name of a [`ValueEnum`] value.
-pub fn value_name<V: ValueEnum>(v: &V) -> String {
-    v.to_possible_value()
-        .map(|p| p.get_name().to_string())
-        .unwrap_or_default()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -759,7 +659,7 @@ mod tests {
     #[test]
     fn a_sample_depends_on_its_seed_and_index_alone() {
         let d = Design::<f64>::reference();
-        let a = ActualArgs {
+        let a = Cams {
             actual: true,
             interval_deg: Some(2.0),
             ..Default::default()
@@ -786,7 +686,7 @@ mod tests {
         assert!(s3.max_abs_deviation_in >= s3.rms_deviation_in);
         assert!(s3.fpr > 100 && s3.fpr < 200 && s3.fpr % 2 == 0, "{s3:?}");
         // Zero tolerances: zero deviation, FPR 0.
-        let z = ActualArgs {
+        let z = Cams {
             cam_tolerance: Some(0.0),
             roller_tolerance: Some(0.0),
             eccentricity_tolerance: Some(0.0),
@@ -805,7 +705,7 @@ mod tests {
         // 0.5 of 17 or the nearest of every n from 3 to 60 (a wider range than the
         // search's), and every smaller n is farther (the smoothest of equals).
         let d = Design::<f64>::reference();
-        let a = ActualArgs::default();
+        let a = Cams::default();
         let (n, src) = intervals_for(&d, &a).unwrap();
         let IntervalSource::Waviness {
             target_fpr,
@@ -832,16 +732,16 @@ mod tests {
         assert_eq!(intervals_for(&d, &r).unwrap(), (n, src));
         let (_, s0) = build_profile(&d, &r, 0).unwrap();
         assert_eq!((s0.intervals, s0.interval_source), (n, src));
-        let g = ActualArgs {
+        let g = Cams {
             interval_deg: Some(5.0),
             waviness_fpr: vec![57],
-            ..ActualArgs::default()
+            ..Cams::default()
         };
         assert_eq!(intervals_for(&d, &g).unwrap(), (72, IntervalSource::Given));
-        let bad = ActualArgs {
+        let bad = Cams {
             interval: IntervalRule::Criteria,
             waviness_fpr: vec![39],
-            ..ActualArgs::default()
+            ..Cams::default()
         };
         let e = intervals_for(&d, &bad).unwrap_err().to_string();
         assert!(
@@ -855,9 +755,9 @@ mod tests {
         // Criterion 2 is decided by the sample (camsim-core's profile docs): the
         // choice depends on the master seed, the same for every sample of a study.
         let d = Design::<f64>::reference();
-        let a = ActualArgs {
+        let a = Cams {
             interval: IntervalRule::Criteria,
-            ..ActualArgs::default()
+            ..Cams::default()
         };
         let (n, src) = intervals_for(&d, &a).unwrap();
         assert_eq!(src, IntervalSource::Criteria);

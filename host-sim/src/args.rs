@@ -13,13 +13,14 @@ use camsim_core::{MotionLaw, Start};
 use clap::builder::PossibleValue;
 use clap::ValueEnum;
 
+mod actual;
 mod csv;
 mod output;
 mod scene;
 mod study;
 mod verdict;
 
-pub use crate::actual::ActualArgs;
+pub use actual::{value_name, ActualArgs};
 pub use csv::CsvArgs;
 pub use output::OutputArgs;
 pub use scene::{spec_from, SceneArgs};

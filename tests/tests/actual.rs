@@ -372,7 +372,7 @@ fn run_actual_reports_the_profile_and_is_reproducible() {
     let Cmd::Run(parsed) = cli::parse_from(argv).unwrap().command else {
         unreachable!()
     };
-    let (_, stats) = camsim::actual::build_profile(&design, &parsed.actual, 0).unwrap();
+    let (_, stats) = camsim::actual::build_profile(&design, &parsed.actual.cams(), 0).unwrap();
     assert_eq!(&stats, p);
     // Another seed, another cam.
     let c = run_cli(&strs(&quick(&[

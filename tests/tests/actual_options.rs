@@ -109,7 +109,7 @@ fn json_of(argv: &[&str]) -> anyhow::Result<Value> {
             let spec = camsim::args::spec_from(&scene)?;
             camsim::study::jump_speed_actual::study(
                 &spec,
-                &a.actual,
+                &a.actual.cams(),
                 a.samples.unwrap_or(1),
                 1,
                 a.resolution,

@@ -7,7 +7,7 @@ fn spring_args(actual: bool, threads: u32) -> SpringArgs {
     SpringArgs {
         scene: SceneArgs::default(),
         margin: 15.0,
-        actual: camsim::actual::ActualArgs {
+        actual: camsim::args::ActualArgs {
             actual,
             ..Default::default()
         },
@@ -124,7 +124,7 @@ fn mc_args(threads: u32) -> camsim::cmd::design::McArgs {
         p_max: 0.01,
         samples: None,
         threads: Some(threads),
-        actual: camsim::actual::ActualArgs::default(),
+        actual: camsim::args::ActualArgs::default(),
         waviness: false,
         tolerance_factor: None,
         quick: true,
@@ -726,7 +726,7 @@ fn a_stiffer_regulator_gives_a_smaller_cam_speed_swing() {
 fn design_tolerance_table_rows_are_the_single_fpr_answers() {
     use camsim::cmd::design::{mc_search, tolerance_table};
     let args = |fprs: Vec<u32>| camsim::cmd::design::McArgs {
-        actual: camsim::actual::ActualArgs {
+        actual: camsim::args::ActualArgs {
             waviness_fpr: fprs,
             roller_tolerance: Some(0.00005),
             eccentricity_tolerance: Some(0.0),

@@ -1,7 +1,7 @@
 //! `camsim jump-speed --actual`: the onset of machined cams as a distribution, the same
 //! on any number of threads, each sample's onset its own search's.
 
-use camsim::actual::ActualArgs;
+use camsim::actual::Cams;
 use camsim::cmd::jump_speed::find;
 use camsim::cmd::run::{spec_from, SceneArgs};
 use camsim::study::jump_speed_actual::study;
@@ -19,7 +19,7 @@ fn spec() -> camsim::sim::RunSpec {
 #[test]
 fn the_distribution_is_the_samples_own_searches_on_any_thread_count() {
     let spec = spec();
-    let actual = ActualArgs {
+    let actual = Cams {
         actual: true,
         seed: Some(5),
         ..Default::default()

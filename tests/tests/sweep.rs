@@ -15,7 +15,7 @@ fn reference() -> RunSpec {
 
 fn sweep_of(
     grid: RpmGrid,
-    actual: Option<(camsim::actual::ActualArgs, u64)>,
+    actual: Option<(camsim::actual::Cams, u64)>,
     threads: usize,
 ) -> sweep::SweepReport {
     sweep::run(
@@ -117,7 +117,7 @@ fn bad_rpm_grids_exit_2_naming_the_option() {
 /// the jumping cams, and every band is ordered.
 #[test]
 fn actual_sweep_is_the_same_on_1_and_2_threads() {
-    let actual = camsim::actual::ActualArgs {
+    let actual = camsim::actual::Cams {
         actual: true,
         ..Default::default()
     };

@@ -41,6 +41,6 @@ impl StudyArgs {
         if self.constant_cam_speed {
             spec.design.drive = camsim_core::DriveLaw::ConstantCamSpeed;
         }
-        crate::study::montecarlo::Study::from_spec(spec, &self.actual, samples)
+        crate::study::montecarlo::Study::from_spec(spec, &self.actual.cams(), samples)
     }
 }

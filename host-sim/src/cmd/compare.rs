@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::Result;
 use camsim_core::Start;
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::OutputArgs;
 use crate::output::{AtomicDir, Plan};
 use crate::sim::RunSpec;
@@ -69,7 +69,7 @@ pub fn spec(args: &Args) -> Result<Spec> {
     args.actual.refuse_actual_flag("compare")?;
     let base = base_spec(args)?;
     // One interval for every law: the one the scene's own program gets.
-    let mut actual = args.actual.resolve(&base.design)?;
+    let mut actual = args.actual.cams().resolve(&base.design)?;
     actual.actual = true;
     Ok(Spec {
         base,

@@ -69,7 +69,7 @@ fn mc_spec(a: &McArgs, units: Units) -> Result<McSpec> {
         p_max: a.p_max,
         samples: a.samples,
         threads: a.threads,
-        actual: a.actual.clone(),
+        actual: a.actual.cams(),
         waviness: a.waviness,
         tolerance_factor: a.tolerance_factor,
         quick: a.quick,
@@ -82,7 +82,7 @@ fn spring_spec(a: &SpringArgs, units: Units) -> Result<SpringSpec> {
     Ok(SpringSpec {
         run: spec_from(&a.scene)?,
         margin: a.margin,
-        actual: a.actual.clone(),
+        actual: a.actual.cams(),
         p_max: a.p_max,
         samples: a.samples,
         threads: a.threads,

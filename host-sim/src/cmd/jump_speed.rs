@@ -31,7 +31,7 @@ pub struct Args {
     /// Machined cams instead of the theoretical (`--actual` and its options): the onset
     /// as a distribution over samples (`jump_speed_actual`).
     #[command(flatten)]
-    pub actual: crate::actual::ActualArgs,
+    pub actual: crate::args::ActualArgs,
     /// With --actual: machined cams drawn, samples 0 to N-1 of --seed (default 20).
     #[arg(long, value_parser = crate::args::whole_u32::<1, 10000>)]
     pub samples: Option<u32>,
@@ -48,7 +48,7 @@ pub fn run(args: Args, units: Units) -> Result<()> {
         let samples = args.samples.unwrap_or(actual::DEFAULT_SAMPLES);
         let report = actual::study(
             &spec.run,
-            &args.actual,
+            &args.actual.cams(),
             samples,
             threads,
             spec.resolution_rpm,

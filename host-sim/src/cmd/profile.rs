@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::{positive_length, spec_from, OutputArgs, SceneArgs};
 use crate::output::Plan;
 pub use crate::study::profile::*;
@@ -89,7 +89,7 @@ pub fn report(args: &Args, units: crate::units::Units) -> Result<ProfileReport> 
     args.actual.ensure_actual_if_options()?;
     let spec = Spec {
         design: run.design,
-        actual: args.actual.clone(),
+        actual: args.actual.cams(),
         cutter_radius_in: args.cutter_radius,
         // The options are read in inch (their parser converts a value given in mm).
         chord_error_in: args.chord_error.unwrap_or(DEFAULT_CHORD_ERROR_IN),

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::OutputArgs;
 pub use crate::args::{spec_from, CsvArgs, SceneArgs, VerdictArgs};
 use crate::csv::CsvRows;
@@ -61,7 +61,7 @@ pub fn spec(args: &Args, units: Units) -> Result<Spec> {
             name: format!("--measured {}", path.display()),
         }
     } else if args.actual.actual {
-        Cam::Actual(args.actual.clone())
+        Cam::Actual(args.actual.cams())
     } else {
         Cam::Theoretical
     };

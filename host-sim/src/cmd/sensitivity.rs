@@ -7,7 +7,7 @@ use std::path::PathBuf;
 
 use anyhow::{anyhow, Result};
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::OutputArgs;
 use crate::output::Plan;
 use crate::sim::RunSpec;
@@ -82,7 +82,7 @@ pub fn report(args: &Args, units: crate::units::Units) -> Result<SensitivityRepo
     };
     let spec = Spec {
         run,
-        actual: args.actual.clone(),
+        actual: args.actual.cams(),
         quick: args.quick,
         per_key: args.per_key,
         threads: crate::study::montecarlo::threads(args.threads),

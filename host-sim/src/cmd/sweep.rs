@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::SceneArgs;
 use crate::args::{self, Law};
 use crate::output::Plan;
@@ -92,7 +92,7 @@ pub fn sweep_of(args: &Args) -> Result<Sweep> {
         grid: args.rpm,
         actual: args.actual.actual.then(|| {
             (
-                args.actual.clone(),
+                args.actual.cams(),
                 args.samples.unwrap_or(sweep::DEFAULT_SAMPLES),
             )
         }),

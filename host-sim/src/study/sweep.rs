@@ -23,7 +23,7 @@ use camsim_scene_file::units::Unit;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::actual::ActualArgs;
+use crate::actual::Cams;
 use crate::report::Report;
 use crate::sim::{self, HostDeviation, RunSpec};
 use crate::stats::Probability;
@@ -399,7 +399,7 @@ pub struct Sweep {
     /// The speeds.
     pub grid: RpmGrid,
     /// Actual cams: their options and their number a speed.
-    pub actual: Option<(ActualArgs, u64)>,
+    pub actual: Option<(Cams, u64)>,
     /// Worker threads.
     pub threads: usize,
     /// A progress bar on a terminal.
@@ -484,7 +484,7 @@ pub fn run(sw: &Sweep, units: Units) -> Result<SweepReport> {
 /// once, every one of the `n` cams built once (on `pool`) to be ridden at every speed.
 fn actual_cams(
     spec: &RunSpec,
-    args: &ActualArgs,
+    args: &Cams,
     n: u64,
     pool: &rayon::ThreadPool,
 ) -> Result<ActualCams> {

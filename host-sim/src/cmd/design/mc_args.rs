@@ -1,7 +1,7 @@
 //! The options of `camsim design`'s Monte Carlo searches (`design speed`, `design
 //! tolerance`).
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::SceneArgs;
 
 /// Command-line options of the Monte Carlo searches (`design speed`, `design tolerance`).

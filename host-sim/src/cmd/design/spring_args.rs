@@ -1,6 +1,6 @@
 //! The options of `camsim design spring`.
 
-use crate::actual::ActualArgs;
+use crate::args::ActualArgs;
 use crate::args::SceneArgs;
 use crate::study::design::{MAX_PRELOAD_LENGTH, MAX_RATE};
 

@@ -16,7 +16,7 @@
 use anyhow::Result;
 use camsim_core::{MotionLaw, SegmentKind};
 
-use crate::actual::{self, ActualArgs};
+use crate::actual::{self, Cams};
 use crate::sim::RunSpec;
 
 pub mod report;
@@ -36,7 +36,7 @@ pub struct Spec {
     pub base: RunSpec,
     /// The actual cam's tolerances, with the interval resolved once from the scene's own
     /// program (the same for every law); sample 0 of their seed is each law's actual cam.
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// `--quick`: the vertical scene ran (reported).
     pub quick: bool,
     /// Worker threads (the result does not depend on them).

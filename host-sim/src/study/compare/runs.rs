@@ -10,7 +10,7 @@ use camsim_core::{MotionLaw, SegmentKind};
 use rayon::prelude::*;
 
 use super::{segment_kinds, CamStudy, LawPeriod, LawStudy, NotWorkable, Ranks};
-use crate::actual::{self, ActualArgs, ProfileStats};
+use crate::actual::{self, Cams, ProfileStats};
 use crate::sim::{self, PeriodRow, RunSpec};
 use crate::units::{Force, Stress, Torque};
 
@@ -116,7 +116,7 @@ fn simulate(spec: &RunSpec) -> Result<CamStudy> {
 
 /// One law's run on the theoretical cam, or (`is_actual`) on the actual cam (sample 0
 /// of `actual_args`) with that cam's profile.
-fn run_one(spec: &RunSpec, actual_args: &ActualArgs, is_actual: bool) -> Job {
+fn run_one(spec: &RunSpec, actual_args: &Cams, is_actual: bool) -> Job {
     if !is_actual {
         return Ok((simulate(spec)?, None));
     }
@@ -130,7 +130,7 @@ fn run_one(spec: &RunSpec, actual_args: &ActualArgs, is_actual: bool) -> Job {
 /// in parallel on `threads`, in order: law 0 theoretical, law 0 actual, law 1 ...
 pub(super) fn run_every_law(
     specs: &[(MotionLaw, RunSpec)],
-    actual_args: &ActualArgs,
+    actual_args: &Cams,
     threads: usize,
 ) -> Result<Vec<Job>> {
     // Every (law, cam) pair, in order: law 0 theoretical, law 0 actual, law 1 ...

@@ -17,7 +17,7 @@ use std::time::Instant;
 
 use anyhow::Result;
 
-use crate::actual::ActualArgs;
+use crate::actual::Cams;
 use crate::sim::{self, RunSpec};
 use crate::stats::Probability;
 use crate::study::montecarlo::Study;
@@ -43,7 +43,7 @@ pub struct McSpec {
     /// Worker threads (None: every core). The answer does not depend on it.
     pub threads: Option<u32>,
     /// The actual cams (the same at every step).
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// `design tolerance` only: search the roughest waviness instead of the tolerance.
     pub waviness: bool,
     /// With `waviness`: the tolerances held, a factor on VI.1's (None: 1).
@@ -76,7 +76,7 @@ pub(crate) fn p_max_and_samples(
 /// past the study time limit ([`crate::study_limits::check_search`]), before it starts.
 pub(crate) fn check_search_time(
     mc: &RunSpec,
-    actual: &ActualArgs,
+    actual: &Cams,
     n: u64,
     steps: u64,
     nthreads: usize,
@@ -102,7 +102,7 @@ pub(crate) fn search_steps(start: f64, max: f64, resolution: f64) -> u64 {
 /// runs to `runs`.
 pub(crate) fn p_jump_on_actual_cams(
     mc: &RunSpec,
-    actual: &ActualArgs,
+    actual: &Cams,
     n: u64,
     nthreads: usize,
     runs: &mut u64,

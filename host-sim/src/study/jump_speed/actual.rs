@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::{find, JumpSpeed};
-use crate::actual::ActualArgs;
+use crate::actual::Cams;
 use crate::sim::RunSpec;
 
 /// The default `--samples` of `jump-speed --actual`: 20 (about 20 searches of 16 runs
@@ -94,7 +94,7 @@ pub struct ActualOnsetReport {
 /// The onset distribution of `samples` actual cams of `spec` drawn with `actual`.
 pub fn study(
     spec: &RunSpec,
-    actual: &ActualArgs,
+    actual: &Cams,
     samples: u32,
     threads: usize,
     resolution: f64,

@@ -7,7 +7,7 @@ use anyhow::Result;
 use camsim_core::{DriveLaw, FollowerModel};
 
 use super::{measured_revolution, ProfileSettings, StudySettings, TwoLevelSettings};
-use crate::actual::{self, ActualArgs};
+use crate::actual::{self, Cams};
 use crate::sim::RunSpec;
 
 /// The fewest full-model cams of a default two-level study.
@@ -26,7 +26,7 @@ pub struct Study {
     /// The scene (its `profile` is set per sample).
     pub spec: RunSpec,
     /// The actual-cam options, the interval resolved (`resolved` set).
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// What identifies the study.
     pub settings: StudySettings,
     /// The reduced scene of a two-level study (`spec` is then its full one).
@@ -35,7 +35,7 @@ pub struct Study {
 
 impl Study {
     /// A study of `samples` actual cams made by `actual` on the scene `spec`.
-    pub fn from_spec(spec: RunSpec, actual: &ActualArgs, samples: u64) -> Result<Self> {
+    pub fn from_spec(spec: RunSpec, actual: &Cams, samples: u64) -> Result<Self> {
         anyhow::ensure!(
             spec.revolutions >= 1,
             "a study needs at least one revolution"

@@ -4,7 +4,7 @@
 use anyhow::Result;
 use serde::{Deserialize, Serialize};
 
-use crate::actual::{self, value_name, ActualArgs};
+use crate::actual::{self, Cams};
 use crate::units::Length;
 
 /// The settings that make two runs the same study (a shard file carries them; the
@@ -71,11 +71,11 @@ pub struct ProfileSettings<L = f64> {
 impl ProfileSettings {
     /// How `actual`'s cams are made, with the interval chosen for them
     /// ([`actual::intervals_for`]).
-    pub fn of(actual: &ActualArgs, interval: (usize, actual::IntervalSource)) -> Result<Self> {
+    pub fn of(actual: &Cams, interval: (usize, actual::IntervalSource)) -> Result<Self> {
         let tol = actual.tolerances()?;
         Ok(ProfileSettings {
-            method: value_name(&actual.profile_method),
-            normal: value_name(&actual.normal),
+            method: actual.profile_method.name().into(),
+            normal: actual.normal.name().into(),
             cam_tolerance_in: tol.cam,
             roller_tolerance_in: tol.roller,
             eccentricity_tolerance_in: tol.eccentricity,

@@ -22,7 +22,7 @@
 use anyhow::Result;
 use camsim_core::Design;
 
-use crate::actual::ActualArgs;
+use crate::actual::Cams;
 use crate::export;
 use crate::units::{Length, Units};
 
@@ -52,7 +52,7 @@ pub struct Spec {
     pub design: Design<f64>,
     /// The actual cam's options (`actual.actual`: draw sample 0 of its seed instead of
     /// the theoretical cam).
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// Radius of the cutter whose centre path is also drawn, in.
     pub cutter_radius_in: Option<f64>,
     /// The largest distance of a chord from its curve, in.

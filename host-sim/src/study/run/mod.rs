@@ -14,7 +14,7 @@ use std::sync::Arc;
 use anyhow::Result;
 use camsim_core::{AngleGrid, GridPointKind, JumpInterval, Observer, Sample};
 
-use crate::actual::ActualArgs;
+use crate::actual::Cams;
 use crate::measured::MeasuredProfile;
 use crate::plot::PlotData;
 use crate::sim::{self, HostDeviation, RunSpec};
@@ -32,7 +32,7 @@ pub enum Cam {
     /// The theoretical profile.
     Theoretical,
     /// An actual cam, sample 0 of the tolerances' seed (`--actual`).
-    Actual(ActualArgs),
+    Actual(Cams),
     /// A measured profile (`--measured FILE`), named as its errors name it.
     Measured {
         /// The profile as read.

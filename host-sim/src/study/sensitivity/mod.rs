@@ -25,7 +25,7 @@ use std::sync::Arc;
 use anyhow::Result;
 use serde::Serialize;
 
-use crate::actual::{self, ActualArgs, ProfileStats};
+use crate::actual::{self, Cams, ProfileStats};
 use crate::sim::RunSpec;
 
 pub mod cases;
@@ -62,7 +62,7 @@ pub struct Spec {
     pub run: RunSpec,
     /// The actual cam's tolerances and interval (sample 0 of their seed is the study's
     /// actual cam).
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// `--quick`: changes of ±30 % only ([`QUICK_CHANGES_PCT`]) and a 1 rpm onset resolution.
     pub quick: bool,
     /// Also every design key's elasticity ([`per_key()`]).

@@ -16,7 +16,7 @@
 use anyhow::Result;
 use camsim_core::SegmentKind;
 
-use crate::actual::{ActualArgs, NormalArg};
+use crate::actual::{Cams, NormalArg};
 use crate::sim::RunSpec;
 use crate::study::montecarlo::{self, Columns, Probability, Study, StudyStats, Summary};
 use crate::units::{Acceleration, Length};
@@ -138,7 +138,7 @@ pub fn report(spec: &Spec) -> Result<ToleranceReport> {
 
 /// One cell's Monte Carlo study (one cam for the theoretical one).
 fn cell(spec: &Spec, c: CellSpec) -> Result<Cell> {
-    let actual = ActualArgs {
+    let actual = Cams {
         actual: true,
         cam_tolerance: Some(c.cam),
         roller_tolerance: Some(c.roller),
@@ -147,7 +147,7 @@ fn cell(spec: &Spec, c: CellSpec) -> Result<Cell> {
         waviness_fpr: c.fpr.into_iter().collect(),
         seed: spec.seed,
         normal: spec.normal,
-        ..ActualArgs::default()
+        ..Cams::default()
     };
     let theoretical = c.theoretical();
     let n = if theoretical { 1 } else { spec.samples };

@@ -19,7 +19,7 @@ use anyhow::Result;
 use camsim_core::{check_interval, Design, ProfileSpec, RandomStream};
 use serde::Serialize;
 
-use crate::actual::{self, ActualArgs, ProfileMethod};
+use crate::actual::{self, Cams, ProfileMethod};
 use crate::measured::{MeasuredProfile, MeasuredWaviness};
 use crate::units::Length;
 
@@ -112,20 +112,20 @@ pub fn report(spec: &Spec) -> Result<WavinessReport> {
                 .into_iter()
                 .enumerate()
             {
-                let a = ActualArgs {
+                let a = Cams {
                     seed: Some(seed),
                     profile_method: method,
-                    ..ActualArgs::default()
+                    ..Cams::default()
                 };
                 if let Some(v) = fpr.get_mut(k) {
                     v.push(actual::master_fpr(&design, &a, n)?);
                 }
             }
         }
-        let first = ActualArgs {
+        let first = Cams {
             seed: seeds.first().copied(),
             profile_method: ProfileMethod::Thesis,
-            ..ActualArgs::default()
+            ..Cams::default()
         };
         let mut rng = RandomStream::<f64>::new(first.seed(), first.normal.into());
         let check = check_interval::<f64, 361, 8>(

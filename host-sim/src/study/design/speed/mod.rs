@@ -15,7 +15,7 @@ use super::tolerance::{NothingPasses, SearchLog};
 use super::{
     check_search_time, describe, p_jump_on_actual_cams, p_max_and_samples, search_steps, McSpec,
 };
-use crate::actual::{intervals_for, ActualArgs};
+use crate::actual::{intervals_for, Cams};
 use crate::sim::RunSpec;
 use crate::stats::Probability;
 use crate::study::montecarlo::{threads, ProfileSettings};
@@ -166,7 +166,7 @@ fn criterion(
 
 /// The actual cams of a search's step at `x` (its speed, cam-tolerance factor or FPR):
 /// the options given, at the waviness `fpr`, the searched tolerance or FPR set.
-fn step_cams(args: &McSpec, speed: bool, fpr: Option<u32>, x: f64) -> ActualArgs {
+fn step_cams(args: &McSpec, speed: bool, fpr: Option<u32>, x: f64) -> Cams {
     let reference = camsim_core::Tolerances::<f64>::reference();
     let mut actual = args.actual.at_fpr(fpr);
     actual.actual = true;

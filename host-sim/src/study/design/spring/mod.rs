@@ -25,7 +25,7 @@ use anyhow::{bail, Result};
 use camsim_core::Start;
 use serde::Serialize;
 
-use crate::actual::ActualArgs;
+use crate::actual::Cams;
 use crate::sim::RunSpec;
 use crate::units::Units;
 
@@ -41,7 +41,7 @@ pub struct SpringSpec {
     /// Speed margin on the theoretical cam, percent.
     pub margin: f64,
     /// The actual cams (judged on them when `actual.actual`).
-    pub actual: ActualArgs,
+    pub actual: Cams,
     /// Largest acceptable P(jump) (its upper 95 % Wilson bound), on actual cams.
     pub p_max: f64,
     /// Actual cams per rate (None: the fewest that can pass).
