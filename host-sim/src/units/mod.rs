@@ -42,8 +42,8 @@
 pub mod measure;
 
 pub use measure::{
-    Acceleration, Force, Inertia, Jerk, Kind, Length, LengthPerRad, LengthPerRad2, Mass, Measure,
-    Power, Speed, Stiffness, Stress, Torque, TorsionalStiffness, Weight,
+    Acceleration, Bits, Force, Inertia, Jerk, Kind, Length, LengthPerRad, LengthPerRad2, Mass,
+    Measure, MeasureIn, Power, Speed, Stiffness, Stress, Torque, TorsionalStiffness, Weight,
 };
 
 use camsim_scene_file::units::{self as su, Unit, MM_PER_IN, N_PER_LBF};

@@ -9,7 +9,8 @@ use serde::Serialize;
 use camsim_chip::CHIP_GRID;
 use camsim_core::Real;
 
-use crate::units::{Force, Length};
+use crate::units::measure::kind;
+use crate::units::{Bits, Force, Length};
 
 /// A number of the report, the `f64` it is. A report is printed only when every number in
 /// it is finite (`ensure_reached`, `report::ensure_finite`), so no `null` reaches the output;
@@ -80,7 +81,7 @@ pub struct TableBits {
     /// Grid speed.
     pub rpm: String,
     /// Smallest contact force.
-    pub min_force_lb: String,
+    pub min_force_lb: Bits<kind::Force>,
     /// Timing errors.
     pub timing_deg: [String; 6],
 }
@@ -106,7 +107,7 @@ pub struct TableRow {
 #[derive(Clone, Debug, Serialize)]
 pub struct CheckBits {
     /// Direct smallest contact force.
-    pub direct_force_lb: String,
+    pub direct_force_lb: Bits<kind::Force>,
     /// Direct timing errors.
     pub direct_timing_deg: [String; 6],
 }
@@ -136,7 +137,7 @@ pub struct CheckRow {
 #[derive(Clone, Debug, Serialize)]
 pub struct SampleBits {
     /// Force margin.
-    pub force_margin_lb: String,
+    pub force_margin_lb: Bits<kind::Force>,
     /// Speed margin.
     pub speed_margin_rpm: String,
     /// Timing errors.
