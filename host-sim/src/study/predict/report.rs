@@ -10,7 +10,7 @@ use camsim_chip::CHIP_GRID;
 use camsim_core::Real;
 
 use crate::units::measure::kind;
-use crate::units::{Bits, Force, Length};
+use crate::units::{Bits, Force, Length, Units};
 
 /// A number of the report, the `f64` it is. A report is printed only when every number in
 /// it is finite (`ensure_reached`, `report::ensure_finite`), so no `null` reaches the output;
@@ -239,16 +239,18 @@ const TIMING_POINTS: [&str; 6] = [
 ];
 
 /// Refuses a table with a timing point the follower never crossed (its timing error is
-/// not a number): the first such row and point, with the row's contact, as the error.
-pub(super) fn ensure_reached(r: &PredictReport) -> Result<()> {
+/// not a number): the first such row and point, with the row's contact (its force in
+/// `units`), as the error.
+pub(super) fn ensure_reached(r: &PredictReport, units: Units) -> Result<()> {
     for row in &r.table {
         let missing = row.timing_deg.iter().zip(TIMING_POINTS);
         if let Some((_, point)) = missing.into_iter().find(|(v, _)| !v.0.is_finite()) {
             bail!(
-                "not reached: at {:.1} rpm the follower never crosses the {point} lift point ({}, smallest contact force {:.4} lb), so the timing table has no value there; nothing was reported (a stiffer spring or a lower speed range keeps the follower on the cam)",
+                "not reached: at {:.1} rpm the follower never crosses the {point} lift point ({}, smallest contact force {} {}), so the timing table has no value there; nothing was reported (a stiffer spring or a lower speed range keeps the follower on the cam)",
                 row.rpm.0,
                 if row.jumped { "it left the cam" } else { "it stayed on the cam" },
-                row.min_force_lb.in_inch()
+                units.show(row.min_force_lb, 4),
+                units.unit_of(row.min_force_lb)
             );
         }
     }
