@@ -101,11 +101,11 @@ impl Report for ProfileReport {
         if let Some(a) = &self.actual {
             let _ = writeln!(
                 s,
-                "  actual cam: seed {}, sample {}, method {}, RMS lift deviation {:.3e} in",
+                "  actual cam: seed {}, sample {}, method {}, RMS lift deviation {:.3e} {u}",
                 a.seed,
                 a.sample,
                 a.method.name(),
-                a.rms_deviation_in
+                units.value(LENGTH, a.rms_deviation_in)
             );
         }
         let _ = writeln!(
