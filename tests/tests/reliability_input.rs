@@ -210,11 +210,15 @@ fn predict_refuses_a_timing_point_never_crossed() {
     let scene = std::env::temp_dir().join(format!("camsim-weak-{}.toml", std::process::id()));
     std::fs::write(&scene, "[design]\nspring_rate_lb_per_in = 5\n").unwrap();
     let e = outcome(&["predict", "--json", "--scene", scene.to_str().unwrap()]);
+    // Its force speaks the output's family: 4 decimals of a pound, 3 of a newton.
+    let si = outcome(&["predict", "--units", "si", scene.to_str().unwrap()]);
     let _ = std::fs::remove_file(&scene);
     assert!(
         e.starts_with("not reached: at 300.0 rpm") && e.contains("rise 10 % lift point"),
         "{e}"
     );
+    assert!(e.contains("smallest contact force 0.0000 lb)"), "{e}");
+    assert!(si.contains("smallest contact force 0.000 N)"), "{si}");
 }
 
 // Defect 11: an absurd --tolerance-factor is refused naming that option and its limit

@@ -100,5 +100,5 @@ pub fn run(args: Args, units: crate::units::Units) -> Result<()> {
         let n = check_parity(&log, &host)?;
         return crate::report::out(&format!("parity OK: {n} lines (table, jump onset, interpolation checks, every reading of the scripted machine) bit-identical\n"));
     }
-    crate::report::print(&report(&spec)?, args.json, units)
+    crate::report::print(&report(&spec, units)?, args.json, units)
 }

@@ -12,6 +12,9 @@
 //! Several numbers of one quantity under one key (a column's mean, spread and
 //! percentiles) are one [`Measures`]: a marker whose value is their object, converted
 //! whole, its key named by the unit, the object's own keys unchanged.
+//! Two markers more: a [`MeasureIn`] holds a value in the family it was measured in (a
+//! drawing's lengths), a [`Bits`] a computed value's raw bits, never converted, under the
+//! key its value would have.
 //!
 //! ```
 //! use camsim::units::{Length, Units};
@@ -54,19 +57,50 @@ const UNITS: [Unit; 15] = [
     super::TORSIONAL_STIFFNESS,
 ];
 
-/// The unit and inch value of a marker object, if `v` is one.
-fn marked(v: &serde_json::Value) -> Option<(Unit, f64)> {
-    let o = v.as_object().filter(|o| o.len() == 2)?;
+/// The key of a marker object's family, for a value held in the family it was measured
+/// in ([`MeasureIn`]): `"inch"` or `"si"`.
+const FAMILY: &str = "family";
+
+/// The key of a marker object's raw bits ([`Bits`]).
+const BITS: &str = "bits";
+
+/// What a marker object holds.
+enum Held<'a> {
+    /// A value in the inch family ([`Measure`]); not finite: NaN.
+    Inch(f64),
+    /// A value in the family it was measured in ([`MeasureIn`]).
+    In(Units, f64),
+    /// A value's raw bits ([`Bits`]), never converted.
+    Bits(&'a str),
+}
+
+/// The unit and content of a marker object, if `v` is one.
+fn marked(v: &serde_json::Value) -> Option<(Unit, Held<'_>)> {
+    let o = v.as_object()?;
     let name = o.get(MARKER)?.as_str()?;
     let unit = UNITS.into_iter().find(|u| marker(*u) == name)?;
     // A value that is not finite serializes as null: it stays null, not a marker.
-    let value = o.get("value")?;
-    let inch = if value.is_null() {
-        f64::NAN
-    } else {
-        value.as_f64()?
+    let number = |value: &serde_json::Value| {
+        if value.is_null() {
+            Some(f64::NAN)
+        } else {
+            value.as_f64()
+        }
     };
-    Some((unit, inch))
+    let held = match (o.len(), o.get("value"), o.get(FAMILY), o.get(BITS)) {
+        (2, Some(value), None, None) => Held::Inch(number(value)?),
+        (3, Some(value), Some(family), None) => {
+            let family = match family.as_str()? {
+                "inch" => Units::Inch,
+                "si" => Units::Si,
+                _ => return None,
+            };
+            Held::In(family, number(value)?)
+        }
+        (2, None, None, Some(bits)) => Held::Bits(bits.as_str()?),
+        _ => return None,
+    };
+    Some((unit, held))
 }
 
 /// The unit and the object of numbers of a [`Measures`] marker, if `v` is one.
@@ -96,25 +130,41 @@ pub fn measured(v: &serde_json::Value) -> Option<Unit> {
     }
 }
 
+/// A number of `unit` held in `family`, in `units`.
+fn held_in(unit: Unit, family: Units, value: f64, units: Units) -> f64 {
+    match (family, units) {
+        (Units::Inch, u) => u.value(unit, value),
+        (Units::Si, Units::Si) => value,
+        (Units::Si, Units::Inch) => value / unit.si_per_inch,
+    }
+}
+
 /// `v` (a measure, a [`Measures`] or an array of measures, [`measured`]) with every
-/// marker replaced by its number (or its object of numbers) in `units`.
+/// marker replaced by its number (or its object of numbers) in `units` (a [`Bits`]
+/// marker by its bits).
 pub fn unmark(v: serde_json::Value, units: Units) -> serde_json::Value {
-    let number = |unit, inch| {
-        serde_json::Number::from_f64(units.value(unit, inch))
-            .map_or(serde_json::Value::Null, serde_json::Value::Number)
+    let number = |x: f64| {
+        serde_json::Number::from_f64(x).map_or(serde_json::Value::Null, serde_json::Value::Number)
     };
     match v {
         serde_json::Value::Array(a) => {
             serde_json::Value::Array(a.into_iter().map(|x| unmark(x, units)).collect())
         }
-        v => match (marked(&v), grouped(&v)) {
-            (Some((unit, inch)), _) => number(unit, inch),
-            (None, Some((unit, o))) => serde_json::Value::Object(
-                o.iter()
-                    .map(|(k, x)| (k.clone(), x.as_f64().map_or(x.clone(), |i| number(unit, i))))
-                    .collect(),
-            ),
-            (None, None) => v,
+        v => match marked(&v) {
+            Some((unit, Held::Inch(inch))) => number(units.value(unit, inch)),
+            Some((unit, Held::In(family, x))) => number(held_in(unit, family, x, units)),
+            Some((_, Held::Bits(bits))) => serde_json::Value::String(bits.to_string()),
+            None => match grouped(&v) {
+                Some((unit, o)) => serde_json::Value::Object(
+                    o.iter()
+                        .map(|(k, x)| {
+                            let y = x.as_f64().map(|i| number(units.value(unit, i)));
+                            (k.clone(), y.unwrap_or_else(|| x.clone()))
+                        })
+                        .collect(),
+                ),
+                None => v,
+            },
         },
     }
 }
@@ -198,6 +248,77 @@ impl<K: Kind, T: Serialize> Serialize for Measures<K, T> {
         let mut m = s.serialize_struct("Measure", 2)?;
         m.serialize_field(MARKER, &marker(K::UNIT))?;
         m.serialize_field("value", &self.inch)?;
+        m.end()
+    }
+}
+
+/// A report's dimensional value held in the family it was measured in, of quantity `K`: a
+/// drawing's lengths measured on its own points, in its own unit. Printed as is in that
+/// family, converted in the other; in JSON a marker with its family,
+/// `{"$unit": "in|mm", "family": "si", "value": 12.7}`, its key named as a
+/// [`Measure`]'s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeasureIn<K: Kind> {
+    value: f64,
+    family: Units,
+    kind: PhantomData<K>,
+}
+
+impl<K: Kind> MeasureIn<K> {
+    /// The measure whose value in `family` is `value`.
+    pub const fn new(value: f64, family: Units) -> Self {
+        Self {
+            value,
+            family,
+            kind: PhantomData,
+        }
+    }
+}
+
+impl<K: Kind> Serialize for MeasureIn<K> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_struct("MeasureIn", 3)?;
+        m.serialize_field(MARKER, &marker(K::UNIT))?;
+        let family = match self.family {
+            Units::Inch => "inch",
+            Units::Si => "si",
+        };
+        m.serialize_field(FAMILY, family)?;
+        m.serialize_field("value", &self.value)?;
+        m.end()
+    }
+}
+
+/// The raw bits of a computed value of quantity `K` (`0x...`, written by the caller),
+/// the value as the model computes it, in the inch family. The bits are never converted;
+/// their key is named as the value's would be, by its type, so a row's bits sit under
+/// the same name as its number in either output (`min_force_lb`, `min_force_n`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bits<K: Kind> {
+    bits: String,
+    kind: PhantomData<K>,
+}
+
+impl<K: Kind> Bits<K> {
+    /// The bits `bits`, as written.
+    pub fn new(bits: String) -> Self {
+        Self {
+            bits,
+            kind: PhantomData,
+        }
+    }
+
+    /// The bits as written.
+    pub fn as_str(&self) -> &str {
+        &self.bits
+    }
+}
+
+impl<K: Kind> Serialize for Bits<K> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_struct("Bits", 2)?;
+        m.serialize_field(MARKER, &marker(K::UNIT))?;
+        m.serialize_field(BITS, &self.bits)?;
         m.end()
     }
 }
@@ -307,26 +428,34 @@ mod tests {
     }
 
     #[test]
-    fn measures_convert_whole_and_keep_their_keys() {
-        #[derive(serde::Serialize)]
-        struct Two {
-            mean: f64,
-            sd: f64,
-        }
-        let v = serde_json::json!({
-            "force": Measures::<kind::Force, _>::inch(Two { mean: 10.0, sd: f64::NAN }),
-            "plain": {"f": Force::inch(1.0), "l": Length::inch(1.0)},
-        });
+    fn a_measure_in_a_family_prints_as_is_there_and_converts_in_the_other() {
+        let v = serde_json::json!({"perimeter": MeasureIn::<kind::Length>::new(12.7, Units::Si)});
         let text = serde_json::to_string(&v).unwrap();
-        let si: serde_json::Value =
-            serde_json::from_str(&crate::units::json(&text, Units::Si).unwrap()).unwrap();
-        let n = crate::units::FORCE.si_per_inch;
+        let si = crate::units::json(&text, Units::Si).unwrap();
+        assert_eq!(si, r#"{"perimeter_mm":12.7}"#);
+        let inch = crate::units::json(&text, Units::Inch).unwrap();
+        assert_eq!(inch, r#"{"perimeter_in":0.5}"#);
+        let v = serde_json::json!({"e_in": MeasureIn::<kind::Length>::new(0.5, Units::Inch)});
+        let text = serde_json::to_string(&v).unwrap();
         assert_eq!(
-            si["force_n"],
-            serde_json::json!({"mean": 10.0 * n, "sd": null})
+            crate::units::json(&text, Units::Inch).unwrap(),
+            r#"{"e_in":0.5}"#
         );
-        // An object of measures is not one: its keys take their units.
-        assert_eq!(si["plain"], serde_json::json!({"f_n": n, "l_mm": 25.4}));
+        assert_eq!(
+            crate::units::json(&text, Units::Si).unwrap(),
+            r#"{"e_mm":12.7}"#
+        );
+    }
+
+    #[test]
+    fn bits_keep_their_string_under_their_values_key() {
+        let v = serde_json::json!({"f_lb": Bits::<kind::Force>::new("0x3f800000".into())});
+        let text = serde_json::to_string(&v).unwrap();
+        let inch = crate::units::json(&text, Units::Inch).unwrap();
+        assert_eq!(inch, r#"{"f_lb":"0x3f800000"}"#);
+        let si = crate::units::json(&text, Units::Si).unwrap();
+        assert_eq!(si, r#"{"f_n":"0x3f800000"}"#);
+        assert!(crate::units::by_name(&v).is_empty());
     }
 
     #[derive(serde::Serialize)]
@@ -363,6 +492,29 @@ mod tests {
         assert_eq!(si["mass_kg"], 0.453_592_37);
         assert_eq!(si["lifts_mm"][1], 12.7);
         assert_eq!(si["plain_mm"], 25.4);
+    }
+
+    #[test]
+    fn measures_convert_whole_and_keep_their_keys() {
+        #[derive(serde::Serialize)]
+        struct Two {
+            mean: f64,
+            sd: f64,
+        }
+        let v = serde_json::json!({
+            "force": Measures::<kind::Force, _>::inch(Two { mean: 10.0, sd: f64::NAN }),
+            "plain": {"f": Force::inch(1.0), "l": Length::inch(1.0)},
+        });
+        let text = serde_json::to_string(&v).unwrap();
+        let si: serde_json::Value =
+            serde_json::from_str(&crate::units::json(&text, Units::Si).unwrap()).unwrap();
+        let n = crate::units::FORCE.si_per_inch;
+        assert_eq!(
+            si["force_n"],
+            serde_json::json!({"mean": 10.0 * n, "sd": null})
+        );
+        // An object of measures is not one: its keys take their units.
+        assert_eq!(si["plain"], serde_json::json!({"f_n": n, "l_mm": 25.4}));
     }
 
     /// A search's `[value, passed]` rows convert by their measure's type, the flags kept;

@@ -42,8 +42,8 @@
 pub mod measure;
 
 pub use measure::{
-    Acceleration, Force, Inertia, Jerk, Kind, Length, LengthPerRad, LengthPerRad2, Mass, Measure,
-    Power, Speed, Stiffness, Stress, Torque, TorsionalStiffness, Weight,
+    Acceleration, Bits, Force, Inertia, Jerk, Kind, Length, LengthPerRad, LengthPerRad2, Mass,
+    Measure, MeasureIn, Power, Speed, Stiffness, Stress, Torque, TorsionalStiffness, Weight,
 };
 
 use camsim_scene_file::units::{self as su, Unit, MM_PER_IN, N_PER_LBF};
@@ -328,7 +328,7 @@ fn scale(v: &mut serde_json::Value, factor: f64) {
     use serde_json::Value;
     match v {
         Value::Number(n) => {
-            // Integers (counts) never sit under a dimensional key; a float is scaled.
+            // An integer (a count) is not scaled, nor is its key renamed (`is_count`).
             if let Some(x) = n.as_f64() {
                 if factor != 1.0 {
                     if let Some(m) = serde_json::Number::from_f64(x * factor) {
@@ -343,6 +343,13 @@ fn scale(v: &mut serde_json::Value, factor: f64) {
     }
 }
 
+/// Whether `v` is an integer: a count or a rank (`ranks.torque_avg`, a law's place in
+/// that column), never a dimensional value (the reports' dimensional numbers are `f64`,
+/// which serialize with a decimal point or an exponent): its key and value pass unchanged.
+fn is_count(v: &serde_json::Value) -> bool {
+    v.as_number().is_some_and(|n| n.is_u64() || n.is_i64())
+}
+
 /// `value` with every key in `units` (see the module's account): a [`Measure`]'s marker
 /// object becomes its number in `units` and its key takes the unit's suffix
 /// ([`measure::key`]); a plain number is converted by its key's name ([`key_in`]).
@@ -354,6 +361,9 @@ pub fn convert(value: serde_json::Value, units: Units) -> serde_json::Value {
                 .map(|(k, v)| {
                     if let Some(unit) = measure::measured(&v) {
                         return (measure::key(&k, unit, units), measure::unmark(v, units));
+                    }
+                    if is_count(&v) {
+                        return (k, v);
                     }
                     let (key, factor) = key_in(&k, units);
                     let mut v = convert(v, units);
@@ -380,7 +390,7 @@ pub fn by_name(value: &serde_json::Value) -> Vec<String> {
         match v {
             serde_json::Value::Object(o) => {
                 for (k, x) in o {
-                    if measure::measured(x).is_some() {
+                    if measure::measured(x).is_some() || is_count(x) {
                         continue;
                     }
                     if unit_of(k).is_some() {
@@ -507,6 +517,9 @@ mod tests {
             serde_json::json!(10.0 * N_PER_LBF)
         );
         assert_eq!(si["count"], serde_json::json!(3));
+        // A rank under a column's name is a count: neither renamed nor scaled.
+        let ranks = convert(serde_json::json!({"torque_avg": 3}), Units::Si);
+        assert_eq!(ranks, serde_json::json!({"torque_avg": 3}));
         assert_eq!(
             si["nested"][0]["rms_displacement_mm"],
             serde_json::json!(50.8)

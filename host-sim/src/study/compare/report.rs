@@ -3,10 +3,46 @@
 //! ranked column ([`Ranks`]), the laws not workable, and the study's settings
 //! ([`CompareReport`]). Its text is in [`super::text`].
 
-use serde::Serialize;
+use serde::{Serialize, Serializer};
 
 use crate::actual::{self, ProfileStats};
 use crate::units::{Acceleration, Force, Stress, Torque};
+
+/// An inch-family acceleration sum (in/s²) serialized as an [`Acceleration`]: its key
+/// names its unit and converts (`sensitivity_in_per_s2`, `sensitivity_mm_per_s2`).
+fn acceleration<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    Acceleration::inch(*v).serialize(s)
+}
+
+/// The ranked columns' values ([`LawStudy::values`]) as JSON, each with its quantity.
+#[derive(Serialize)]
+struct RankValues {
+    sensitivity_to_flexibility: Acceleration,
+    sensitivity_to_tolerance: Acceleration,
+    shock_index: f64,
+    torque_avg: Torque,
+    torque_max: Torque,
+    contact_force_min: Force,
+    contact_force_max: Force,
+    contact_stress_max: Stress,
+    overall: f64,
+}
+
+/// [`LawStudy::values`] serialized as [`RankValues`].
+fn rank_values<S: Serializer>(v: &Ranks<f64>, s: S) -> Result<S::Ok, S::Error> {
+    RankValues {
+        sensitivity_to_flexibility: v.sensitivity_to_flexibility.into(),
+        sensitivity_to_tolerance: v.sensitivity_to_tolerance.into(),
+        shock_index: v.shock_index,
+        torque_avg: v.torque_avg.into(),
+        torque_max: v.torque_max.into(),
+        contact_force_min: v.contact_force_min.into(),
+        contact_force_max: v.contact_force_max.into(),
+        contact_stress_max: v.contact_stress_max.into(),
+        overall: v.overall,
+    }
+    .serialize(s)
+}
 
 /// One period of one cam: cycle I and cycle II acceleration RMS, cycle II's inertial
 /// responses and jump.
@@ -42,6 +78,7 @@ pub struct CamStudy {
     pub per_period: Vec<LawPeriod>,
     /// Σ over the periods of the cycle-II acceleration RMS, in/s² (on the theoretical
     /// cam: the sensitivity to flexibility).
+    #[serde(serialize_with = "acceleration")]
     pub sensitivity: f64,
     /// Σ over the rises and returns of (RMS_I − RMS_II)/RMS_I (VI.4.2).
     pub shock_index: f64,
@@ -72,6 +109,7 @@ pub struct ActualStudy {
     pub cam: CamStudy,
     /// Sensitivity to tolerance: the actual cam's Σ cycle-II acceleration RMS minus the
     /// theoretical cam's, in/s².
+    #[serde(serialize_with = "acceleration")]
     pub sensitivity_to_tolerance: f64,
     /// The actual cam's profile.
     pub profile: ProfileStats,
@@ -90,7 +128,9 @@ pub struct LawStudy {
     pub jump_rise: bool,
     /// The actual cam separates during a return of cycle II.
     pub jump_return: bool,
-    /// The value of every ranked column ([`super::RANKED`]), in the inch family.
+    /// The value of every ranked column ([`super::RANKED`]), in the inch family (in JSON
+    /// each with its quantity: `sensitivity_to_flexibility_in_per_s2`, `torque_avg_lb_in`).
+    #[serde(serialize_with = "rank_values")]
     pub values: Ranks<f64>,
     /// The law's rank (1 best) in every ranked column, and overall (the laws that hold
     /// contact on the theoretical cam first, then by the sum of the ranks).

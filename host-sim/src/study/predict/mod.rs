@@ -24,6 +24,8 @@ use anyhow::Result;
 
 use camsim_core::Design;
 
+use crate::units::Units;
+
 pub mod parity;
 pub mod prediction;
 pub mod report;
@@ -74,8 +76,8 @@ impl Spec {
 }
 
 /// Runs the predictor in the spec's precision and reports it. A table with a timing point
-/// the follower never crossed is refused (nothing reported).
-pub fn report(spec: &Spec) -> Result<PredictReport> {
+/// the follower never crossed is refused (nothing reported), its force in `units`.
+pub fn report(spec: &Spec, units: Units) -> Result<PredictReport> {
     let measured = spec
         .measured
         .as_ref()
@@ -86,7 +88,7 @@ pub fn report(spec: &Spec) -> Result<PredictReport> {
     } else {
         PredictReport::of(&spec.compute::<f64>()?, false, name, measured)
     };
-    report::ensure_reached(&report)?;
+    report::ensure_reached(&report, units)?;
     Ok(report)
 }
 

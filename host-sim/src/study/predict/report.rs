@@ -9,7 +9,8 @@ use serde::Serialize;
 use camsim_chip::CHIP_GRID;
 use camsim_core::Real;
 
-use crate::units::{Force, Length};
+use crate::units::measure::kind;
+use crate::units::{Bits, Force, Length, Units};
 
 /// A number of the report, the `f64` it is. A report is printed only when every number in
 /// it is finite (`ensure_reached`, `report::ensure_finite`), so no `null` reaches the output;
@@ -80,7 +81,7 @@ pub struct TableBits {
     /// Grid speed.
     pub rpm: String,
     /// Smallest contact force.
-    pub min_force_lb: String,
+    pub min_force_lb: Bits<kind::Force>,
     /// Timing errors.
     pub timing_deg: [String; 6],
 }
@@ -106,7 +107,7 @@ pub struct TableRow {
 #[derive(Clone, Debug, Serialize)]
 pub struct CheckBits {
     /// Direct smallest contact force.
-    pub direct_force_lb: String,
+    pub direct_force_lb: Bits<kind::Force>,
     /// Direct timing errors.
     pub direct_timing_deg: [String; 6],
 }
@@ -136,7 +137,7 @@ pub struct CheckRow {
 #[derive(Clone, Debug, Serialize)]
 pub struct SampleBits {
     /// Force margin.
-    pub force_margin_lb: String,
+    pub force_margin_lb: Bits<kind::Force>,
     /// Speed margin.
     pub speed_margin_rpm: String,
     /// Timing errors.
@@ -238,16 +239,18 @@ const TIMING_POINTS: [&str; 6] = [
 ];
 
 /// Refuses a table with a timing point the follower never crossed (its timing error is
-/// not a number): the first such row and point, with the row's contact, as the error.
-pub(super) fn ensure_reached(r: &PredictReport) -> Result<()> {
+/// not a number): the first such row and point, with the row's contact (its force in
+/// `units`), as the error.
+pub(super) fn ensure_reached(r: &PredictReport, units: Units) -> Result<()> {
     for row in &r.table {
         let missing = row.timing_deg.iter().zip(TIMING_POINTS);
         if let Some((_, point)) = missing.into_iter().find(|(v, _)| !v.0.is_finite()) {
             bail!(
-                "not reached: at {:.1} rpm the follower never crosses the {point} lift point ({}, smallest contact force {:.4} lb), so the timing table has no value there; nothing was reported (a stiffer spring or a lower speed range keeps the follower on the cam)",
+                "not reached: at {:.1} rpm the follower never crosses the {point} lift point ({}, smallest contact force {} {}), so the timing table has no value there; nothing was reported (a stiffer spring or a lower speed range keeps the follower on the cam)",
                 row.rpm.0,
                 if row.jumped { "it left the cam" } else { "it stayed on the cam" },
-                row.min_force_lb.in_inch()
+                units.show(row.min_force_lb, 4),
+                units.unit_of(row.min_force_lb)
             );
         }
     }

@@ -10,7 +10,8 @@ use camsim_core::{Real, Scene, SpeedPrediction, SpeedReading};
 use super::report::{bits_of, AlarmTransition, CheckBits, CheckRow, FaultRow, Num, PredictReport};
 use super::report::{SampleBits, SampleRow, SceneReport, TableBits, TableRow};
 use super::{InterpCheck, Prediction};
-use crate::units::{Force, Length};
+use crate::units::measure::kind;
+use crate::units::{Bits, Force, Length};
 
 /// The six timing errors of a row and their bits.
 fn timing<T: Real>(t: &[T; 6], single: bool) -> ([Num; 6], [String; 6]) {
@@ -20,6 +21,11 @@ fn timing<T: Real>(t: &[T; 6], single: bool) -> ([Num; 6], [String; 6]) {
 /// A force computed in `T`, in lb.
 fn force<T: Real>(x: T) -> Force {
     Force::inch(x.to_f64())
+}
+
+/// The bits of a force computed in `T`.
+fn force_bits<T: Real>(x: T, single: bool) -> Bits<kind::Force> {
+    Bits::new(bits_of(x, single))
 }
 
 impl PredictReport {
@@ -87,7 +93,7 @@ fn table_rows<T: Real>(
                 timing_deg,
                 bits: TableBits {
                     rpm: bits_of(*r, single),
-                    min_force_lb: bits_of(s.min_contact_force, single),
+                    min_force_lb: force_bits(s.min_contact_force, single),
                     timing_deg: timing_bits,
                 },
             }
@@ -119,7 +125,7 @@ fn check_row<T: Real>(c: &InterpCheck<T>, single: bool) -> CheckRow {
         max_abs_err_timing_deg: dt,
         direct_timing_deg,
         bits: CheckBits {
-            direct_force_lb: bits_of(c.direct.min_contact_force, single),
+            direct_force_lb: force_bits(c.direct.min_contact_force, single),
             direct_timing_deg: timing_bits,
         },
     }
@@ -195,7 +201,7 @@ fn sample_row<T: Real>(
         alarm,
         timing_deg,
         bits: SampleBits {
-            force_margin_lb: bits_of(q.force_margin_lb, single),
+            force_margin_lb: force_bits(q.force_margin_lb, single),
             speed_margin_rpm: bits_of(q.speed_margin_rpm, single),
             timing_deg: timing_bits,
         },

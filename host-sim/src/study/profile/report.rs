@@ -7,11 +7,12 @@ use serde::ser::{Serialize, SerializeStruct, Serializer};
 use crate::actual::ProfileStats;
 use crate::export::Units as DrawingUnit;
 use crate::report::Report;
-use crate::units::{Length, Units, LENGTH};
+use crate::units::measure::kind;
+use crate::units::{Length, MeasureIn, Units, LENGTH};
 
 /// One sampled curve (the JSON `curves` entries). Its chordal error and perimeter are
 /// measured on the drawing's own points, so they are numbers in the drawing's `unit`,
-/// named with it in JSON (`perimeter_mm`).
+/// held in it in JSON ([`MeasureIn`]: `perimeter_mm`).
 #[derive(Clone, Debug)]
 pub struct CurveReport {
     /// "surface", "pitch" or "cutter".
@@ -28,17 +29,19 @@ pub struct CurveReport {
 }
 
 impl Serialize for CurveReport {
-    /// The lengths' keys with the drawing's unit: `max_chord_error_in`, `perimeter_mm`.
+    /// The lengths as measured, in the drawing's unit, keyed by it (`max_chord_error_in`,
+    /// `perimeter_mm`).
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let (error, perimeter) = match self.unit {
-            DrawingUnit::In => ("max_chord_error_in", "perimeter_in"),
-            DrawingUnit::Mm => ("max_chord_error_mm", "perimeter_mm"),
+        let family = match self.unit {
+            DrawingUnit::In => Units::Inch,
+            DrawingUnit::Mm => Units::Si,
         };
+        let length = |v: f64| MeasureIn::<kind::Length>::new(v, family);
         let mut m = s.serialize_struct("CurveReport", 4)?;
         m.serialize_field("name", self.name)?;
         m.serialize_field("points", &self.points)?;
-        m.serialize_field(error, &self.max_chord_error)?;
-        m.serialize_field(perimeter, &self.perimeter)?;
+        m.serialize_field("max_chord_error", &length(self.max_chord_error))?;
+        m.serialize_field("perimeter", &length(self.perimeter))?;
         m.end()
     }
 }
@@ -98,11 +101,11 @@ impl Report for ProfileReport {
         if let Some(a) = &self.actual {
             let _ = writeln!(
                 s,
-                "  actual cam: seed {}, sample {}, method {}, RMS lift deviation {:.3e} in",
+                "  actual cam: seed {}, sample {}, method {}, RMS lift deviation {:.3e} {u}",
                 a.seed,
                 a.sample,
                 a.method.name(),
-                a.rms_deviation_in
+                units.value(LENGTH, a.rms_deviation_in)
             );
         }
         let _ = writeln!(
