@@ -28,6 +28,7 @@ use clap::ValueEnum;
 use serde::Serialize;
 
 use crate::sim::{HostDeviation, PROFILE_KNOTS};
+use crate::units::{Length, LengthPerRad2};
 
 /// How an actual cam's lift is made from its tolerances.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum, Serialize)]
@@ -281,11 +282,11 @@ pub struct ProfileStats {
     /// The sample index (its stream is `RandomStream::for_sample(seed, sample, ..)`).
     pub sample: u64,
     /// Cam profile tolerance, ± in.
-    pub cam_tolerance_in: f64,
+    pub cam_tolerance_in: Length,
     /// Roller radius tolerance, ± in.
-    pub roller_tolerance_in: f64,
+    pub roller_tolerance_in: Length,
     /// Eccentricity tolerance, ± in.
-    pub eccentricity_tolerance_in: f64,
+    pub eccentricity_tolerance_in: Length,
     /// Profile points per revolution.
     pub intervals: usize,
     /// The interval, degrees.
@@ -293,13 +294,13 @@ pub struct ProfileStats {
     /// How the interval was set.
     pub interval_source: IntervalSource,
     /// RMS of the lift deviation over one revolution, in.
-    pub rms_deviation_in: f64,
+    pub rms_deviation_in: Length,
     /// Mean of the lift deviation, in.
-    pub mean_deviation_in: f64,
+    pub mean_deviation_in: Length,
     /// Largest |lift deviation|, in.
-    pub max_abs_deviation_in: f64,
+    pub max_abs_deviation_in: Length,
     /// RMS of the deviation's second derivative d²e/dθ², in/rad².
-    pub rms_curvature_in_per_rad2: f64,
+    pub rms_curvature_in_per_rad2: LengthPerRad2,
     /// Waviness frequency per revolution (VI.4.1): local extrema of the velocity
     /// deviation `de/dθ` over one revolution (see [`FPR_SAMPLES`], [`FPR_THRESHOLD`]).
     pub fpr: usize,
@@ -310,10 +311,10 @@ pub struct ProfileStats {
     /// The actual roller radius drawn once, in (the per-cam method and the envelope;
     /// None for the thesis's method).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub roller_radius_in: Option<f64>,
+    pub roller_radius_in: Option<Length>,
     /// The per-cam method's follower-axis offset, in (None for the other methods).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub axis_offset_in: Option<f64>,
+    pub axis_offset_in: Option<Length>,
     /// The envelope's rotation-centre offset (x, y) in the cam frame, in (None for the
     /// thesis's method).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -623,20 +624,20 @@ pub fn build_profile(
         normal: args.normal,
         seed,
         sample,
-        cam_tolerance_in: tol.cam,
-        roller_tolerance_in: tol.roller,
-        eccentricity_tolerance_in: tol.eccentricity,
+        cam_tolerance_in: Length::inch(tol.cam),
+        roller_tolerance_in: Length::inch(tol.roller),
+        eccentricity_tolerance_in: Length::inch(tol.eccentricity),
         intervals,
         interval_deg: 360.0 / intervals as f64,
         interval_source: source,
-        rms_deviation_in: ds.rms_deviation_in,
-        mean_deviation_in: ds.mean_deviation_in,
-        max_abs_deviation_in: ds.max_abs_deviation_in,
-        rms_curvature_in_per_rad2: ds.rms_curvature_in_per_rad2,
+        rms_deviation_in: Length::inch(ds.rms_deviation_in),
+        mean_deviation_in: Length::inch(ds.mean_deviation_in),
+        max_abs_deviation_in: Length::inch(ds.max_abs_deviation_in),
+        rms_curvature_in_per_rad2: LengthPerRad2::inch(ds.rms_curvature_in_per_rad2),
         fpr: ds.fpr,
         deviation_knots: dev.spline().len().saturating_sub(1),
-        roller_radius_in: cam_parts.roller_radius,
-        axis_offset_in: cam_parts.axis_offset,
+        roller_radius_in: cam_parts.roller_radius.map(Length::inch),
+        axis_offset_in: cam_parts.axis_offset.map(Length::inch),
         centre_offset_in: cam_parts.centre,
     };
     Ok((dev, stats))
@@ -680,10 +681,10 @@ mod tests {
         // dwell, more on the flanks), and FPR ≈ 0.8 per interval (see camsim-core's
         // profile tests): a loose sanity range here.
         assert!(
-            s3.rms_deviation_in > 0.5e-4 && s3.rms_deviation_in < 4e-4,
+            (0.5e-4..4e-4).contains(&s3.rms_deviation_in.in_inch()),
             "{s3:?}"
         );
-        assert!(s3.max_abs_deviation_in >= s3.rms_deviation_in);
+        assert!(s3.max_abs_deviation_in.in_inch() >= s3.rms_deviation_in.in_inch());
         assert!(s3.fpr > 100 && s3.fpr < 200 && s3.fpr % 2 == 0, "{s3:?}");
         // Zero tolerances: zero deviation, FPR 0.
         let z = Cams {
@@ -694,7 +695,11 @@ mod tests {
         };
         let (_, s) = build_profile(&d, &z, 0).unwrap();
         assert_eq!(
-            (s.rms_deviation_in, s.max_abs_deviation_in, s.fpr),
+            (
+                s.rms_deviation_in.in_inch(),
+                s.max_abs_deviation_in.in_inch(),
+                s.fpr
+            ),
             (0.0, 0.0, 0)
         );
     }

@@ -95,9 +95,9 @@ fn an_exported_actual_cam_reads_back_as_that_cam() {
     let a = r.actual.unwrap();
     let (max_dev, rms) = read_back(&out);
     // The machined cam's own deviation (tenths of a thou), read back within the bound.
-    assert!(a.max_abs_deviation_in > 2.0 * bound, "{a:?}");
-    assert!((max_dev - a.max_abs_deviation_in).abs() <= bound);
-    assert!((rms - a.rms_deviation_in).abs() <= bound);
+    assert!(a.max_abs_deviation_in.in_inch() > 2.0 * bound, "{a:?}");
+    assert!((max_dev - a.max_abs_deviation_in.in_inch()).abs() <= bound);
+    assert!((rms - a.rms_deviation_in.in_inch()).abs() <= bound);
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -194,13 +194,13 @@ impl Study {
             }
         }
         anyhow::ensure!(
-            stats.rms_deviation_in.is_finite(),
+            stats.rms_deviation_in.in_inch().is_finite(),
             "profile RMS deviation is not finite"
         );
         Ok(Ok(SampleRecord {
             index,
             fpr: stats.fpr,
-            rms_deviation_in: stats.rms_deviation_in,
+            rms_deviation_in: stats.rms_deviation_in.in_inch(),
             periods,
             steps: r.solver.accepted,
         }))

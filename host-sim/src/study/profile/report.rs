@@ -105,7 +105,7 @@ impl Report for ProfileReport {
                 a.seed,
                 a.sample,
                 a.method.name(),
-                units.value(LENGTH, a.rms_deviation_in)
+                units.value(LENGTH, a.rms_deviation_in.in_inch())
             );
         }
         let _ = writeln!(

@@ -71,10 +71,10 @@ impl ProfileReport {
         use crate::units::{LENGTH, LENGTH_PER_RAD2};
         let (rms, mean, max, curv, fpr) = match self {
             ProfileReport::Actual(p) => (
-                p.rms_deviation_in,
-                p.mean_deviation_in,
-                p.max_abs_deviation_in,
-                p.rms_curvature_in_per_rad2,
+                p.rms_deviation_in.in_inch(),
+                p.mean_deviation_in.in_inch(),
+                p.max_abs_deviation_in.in_inch(),
+                p.rms_curvature_in_per_rad2.in_inch(),
                 p.fpr,
             ),
             ProfileReport::Measured(p) => (
@@ -102,15 +102,15 @@ fn write_actual_cam(p: &ProfileStats, out: &mut String, units: Units) {
     let _ = writeln!(
         out,
         "actual cam: {} method, seed {}, sample {}, {} normals; tolerances cam {} {lu}, roller {} {lu}, eccentricity {} {lu}; {} points every {:.4} deg ({})",
-        p.method.name(), p.seed, p.sample, p.normal.name(), units.given(LENGTH, p.cam_tolerance_in),
-        units.given(LENGTH, p.roller_tolerance_in), units.given(LENGTH, p.eccentricity_tolerance_in),
+        p.method.name(), p.seed, p.sample, p.normal.name(), units.given(LENGTH, p.cam_tolerance_in.in_inch()),
+        units.given(LENGTH, p.roller_tolerance_in.in_inch()), units.given(LENGTH, p.eccentricity_tolerance_in.in_inch()),
         p.intervals, p.interval_deg, p.interval_source.label(),
     );
     if let (Some(r), Some(c)) = (p.roller_radius_in, p.centre_offset_in) {
         let _ = writeln!(
             out,
             "  envelope: roller radius {} {lu}, rotation centre offset ({:.2e}, {:.2e}) {lu}, {} deviation knots",
-            units.q(LENGTH, r, 6), units.value(LENGTH, c[0]), units.value(LENGTH, c[1]), p.deviation_knots
+            units.q(LENGTH, r.in_inch(), 6), units.value(LENGTH, c[0]), units.value(LENGTH, c[1]), p.deviation_knots
         );
     }
 }

@@ -124,9 +124,9 @@ impl Report for SensitivityReport {
             "actual cam: sample 0 of seed {}, tolerances cam {} / roller {} / eccentricity {} {}, {} intervals \
              ({:.2} deg, {}), FPR {}; the same cam in every case",
             p.seed,
-            units.given(crate::units::LENGTH, p.cam_tolerance_in),
-            units.given(crate::units::LENGTH, p.roller_tolerance_in),
-            units.given(crate::units::LENGTH, p.eccentricity_tolerance_in),
+            units.given(crate::units::LENGTH, p.cam_tolerance_in.in_inch()),
+            units.given(crate::units::LENGTH, p.roller_tolerance_in.in_inch()),
+            units.given(crate::units::LENGTH, p.eccentricity_tolerance_in.in_inch()),
             units.symbol(crate::units::LENGTH),
             p.intervals,
             p.interval_deg,
