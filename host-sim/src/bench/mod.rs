@@ -704,6 +704,21 @@ fn row(
     }
 }
 
+/// The explicit stability limit of `method`'s steps a revolution (none for the A-stable
+/// Rosenbrock method).
+fn stability_limit(method: Method, limits: &StabilityLimit) -> Option<f64> {
+    match method {
+        Method::England | Method::EnglandScaledCap | Method::EnglandPiCapped => {
+            Some(limits.england_double_steps_per_rev)
+        }
+        Method::Rk4 { .. } => Some(limits.rk4_fixed_steps_per_rev),
+        Method::Dopri5 => Some(limits.dopri5_steps_per_rev),
+        Method::Merson { .. } => Some(limits.merson_steps_per_rev),
+        // A-stable: no explicit stability limit.
+        Method::Rosenbrock { .. } => None,
+    }
+}
+
 /// The runs of one precision on scene `S` (`scene` its name in the report): every method
 /// over its ladder.
 #[allow(clippy::too_many_arguments)]
@@ -759,16 +774,7 @@ where
         ));
     }
     for (method, rtol) in cases {
-        let limit = match method {
-            Method::England | Method::EnglandScaledCap | Method::EnglandPiCapped => {
-                Some(limits.england_double_steps_per_rev)
-            }
-            Method::Rk4 { .. } => Some(limits.rk4_fixed_steps_per_rev),
-            Method::Dopri5 => Some(limits.dopri5_steps_per_rev),
-            Method::Merson { .. } => Some(limits.merson_steps_per_rev),
-            // A-stable: no explicit stability limit.
-            Method::Rosenbrock { .. } => None,
-        };
+        let limit = stability_limit(method, limits);
         let s = settings::<T>(rtol.max(1e-16));
         match measure_run(method, &model, &s, opts.repeat, false) {
             Ok(mut m) => runs.push(row(
