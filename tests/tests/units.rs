@@ -184,6 +184,26 @@ fn montecarlo_json_columns_carry_their_unit() {
         inch_col["mean"].as_f64().unwrap(),
     );
     assert!((m_si - m_in * LBF_N).abs() <= 1e-12 * m_si.abs());
+    // The two-level estimate of a column's mean is in the column's unit: its interval
+    // converts with it (it stayed in lb under SI before).
+    let two_level = |v: &Value, key: &str| {
+        let rows = v["two_level"]["whole_revolution"]
+            .as_array()
+            .unwrap()
+            .clone();
+        let row = rows
+            .into_iter()
+            .find(|r| r["column"] == "contact_force_min")
+            .unwrap();
+        (
+            row[key]["value"].as_f64().unwrap(),
+            row[key]["hi95"].as_f64().unwrap(),
+        )
+    };
+    let (v_si, hi_si) = two_level(&si, "mean_n");
+    let (v_in, hi_in) = two_level(&inch, "mean_lb");
+    assert!((v_si - v_in * LBF_N).abs() <= 1e-12 * v_si.abs());
+    assert!((hi_si - hi_in * LBF_N).abs() <= 1e-12 * hi_si.abs());
 }
 
 #[test]

@@ -17,26 +17,37 @@ pub struct Columns(pub Vec<(String, Moments)>);
 impl Serialize for Columns {
     /// Each column's moments, as measures of its quantity where it has one.
     fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        use Dimension as D;
         let mut m = s.serialize_map(Some(self.0.len()))?;
         for (k, v) in &self.0 {
-            match column_dimension(k) {
-                Some(D::Length) => m.serialize_entry(k, &measures::<kind::Length>(v)),
-                Some(D::Speed) => m.serialize_entry(k, &measures::<kind::Speed>(v)),
-                Some(D::Acceleration) => m.serialize_entry(k, &measures::<kind::Acceleration>(v)),
-                Some(D::Torque) => m.serialize_entry(k, &measures::<kind::Torque>(v)),
-                Some(D::Force) => m.serialize_entry(k, &measures::<kind::Force>(v)),
-                Some(D::Stress) => m.serialize_entry(k, &measures::<kind::Stress>(v)),
-                None => m.serialize_entry(k, v),
-            }?;
+            entry(&mut m, k, v, column_dimension(k))?;
         }
         m.end()
     }
 }
 
-/// `m` (inch-family values) as measures of quantity `K`.
-fn measures<K: Kind>(m: &Moments) -> Measures<K, Moments> {
-    Measures::inch(*m)
+/// The map entry `key: v`, `v`'s numbers (inch-family values) one `Measures` of
+/// `dimension` where it has one: its key named by the unit, SI converting them.
+pub fn entry<M: SerializeMap, T: Serialize + Copy>(
+    m: &mut M,
+    key: &str,
+    v: &T,
+    dimension: Option<Dimension>,
+) -> std::result::Result<(), M::Error> {
+    use Dimension as D;
+    match dimension {
+        Some(D::Length) => m.serialize_entry(key, &measures::<kind::Length, T>(v)),
+        Some(D::Speed) => m.serialize_entry(key, &measures::<kind::Speed, T>(v)),
+        Some(D::Acceleration) => m.serialize_entry(key, &measures::<kind::Acceleration, T>(v)),
+        Some(D::Torque) => m.serialize_entry(key, &measures::<kind::Torque, T>(v)),
+        Some(D::Force) => m.serialize_entry(key, &measures::<kind::Force, T>(v)),
+        Some(D::Stress) => m.serialize_entry(key, &measures::<kind::Stress, T>(v)),
+        None => m.serialize_entry(key, v),
+    }
+}
+
+/// `v` (inch-family values) as measures of quantity `K`.
+fn measures<K: Kind, T: Copy>(v: &T) -> Measures<K, T> {
+    Measures::inch(*v)
 }
 
 impl Columns {

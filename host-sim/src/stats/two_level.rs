@@ -434,12 +434,26 @@ pub struct PeriodEstimate {
 }
 
 /// One whole-revolution column's mean on the full model.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ColumnEstimate {
     /// The column (one of [`REVOLUTION_COLUMNS`]).
     pub column: String,
-    /// Its mean over the cams.
+    /// Its mean over the cams, in the column's unit (inch family).
     pub mean: Estimate,
+}
+
+impl Serialize for ColumnEstimate {
+    /// The column's name, and its mean as a measure of the column's quantity
+    /// ([`crate::stats::columns::column_dimension`]): `mean_lb` / `mean_n` for a force,
+    /// plain `mean` for a dimensionless column.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(2))?;
+        m.serialize_entry("column", &self.column)?;
+        let dimension = crate::stats::columns::column_dimension(&self.column);
+        crate::stats::columns::entry(&mut m, "mean", &self.mean, dimension)?;
+        m.end()
+    }
 }
 
 /// The full model's statistics of a two-level study.
