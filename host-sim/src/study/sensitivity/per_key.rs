@@ -77,26 +77,42 @@ impl KeyNotWorkable {
     }
 }
 
-/// d ln(output) / d ln(key) for each output (absent where not defined).
+/// d ln(output) / d ln(key) for each output (absent where not defined). Elasticities have
+/// no unit: their JSON keys name the output without one, so no unit family converts them.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Elasticities {
     /// Of the RMS displacement deviation.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "rms_displacement_deviation",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub rms_displacement_in: Option<f64>,
     /// Of the RMS velocity deviation.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "rms_velocity_deviation",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub rms_velocity_in_per_s: Option<f64>,
     /// Of the RMS acceleration deviation.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "rms_acceleration_deviation",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub rms_acceleration_in_per_s2: Option<f64>,
     /// Of the RMS cam-speed deviation.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "rms_cam_speed_deviation",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub rms_angular_velocity_rad_per_s: Option<f64>,
     /// Of the average contact stress.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(
+        rename = "contact_stress_average",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub contact_stress_avg_psi: Option<f64>,
     /// Of the jump-onset speed (absent when either side has no onset up to 10 000 rpm).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(rename = "jump_onset_speed", skip_serializing_if = "Option::is_none")]
     pub jump_onset_rpm: Option<f64>,
 }
 

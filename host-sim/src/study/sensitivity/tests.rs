@@ -425,3 +425,23 @@ fn per_key_with_no_workable_key_fails_naming_why() {
         "{msg}"
     );
 }
+
+/// Elasticities have no unit: an SI report gives the same numbers under the same keys.
+#[test]
+fn elasticities_are_not_converted_under_si() {
+    let e = super::per_key::Elasticities {
+        rms_displacement_in: Some(0.5),
+        rms_velocity_in_per_s: Some(-1.0),
+        rms_acceleration_in_per_s2: Some(2.0),
+        rms_angular_velocity_rad_per_s: Some(0.25),
+        contact_stress_avg_psi: Some(0.75),
+        jump_onset_rpm: Some(-0.125),
+    };
+    let text = serde_json::to_string(&serde_json::json!({ "elasticity": e })).unwrap();
+    let inch = crate::units::json(&text, crate::units::Units::Inch).unwrap();
+    let si = crate::units::json(&text, crate::units::Units::Si).unwrap();
+    assert_eq!(inch, si);
+    let v: serde_json::Value = serde_json::from_str(&si).unwrap();
+    assert_eq!(v["elasticity"]["rms_displacement_deviation"], 0.5);
+    assert_eq!(v["elasticity"]["contact_stress_average"], 0.75);
+}
