@@ -103,6 +103,8 @@ mod finite {
         path: &'a mut String,
         index: usize,
         key: String,
+        /// A measure's marker (`units::Measure`): its number is at the field's own path.
+        measure: bool,
     }
 
     impl<'a> Compound<'a> {
@@ -111,6 +113,7 @@ mod finite {
                 path,
                 index: 0,
                 key: String::new(),
+                measure: false,
             }
         }
         fn element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Error> {
@@ -151,6 +154,10 @@ mod finite {
                     key: &'static str,
                     v: &T,
                 ) -> Result<(), Error> {
+                    if self.measure {
+                        // `per_period[1].contact_stress_max`, not `...max.value`.
+                        return v.serialize(Check { path: self.path });
+                    }
                     at(self.path, key, v)
                 }
                 fn end(self) -> Result<(), Error> {
@@ -291,8 +298,10 @@ mod finite {
         fn serialize_map(self, _: Option<usize>) -> Result<Compound<'a>, Error> {
             Ok(Compound::new(self.path))
         }
-        fn serialize_struct(self, _: &'static str, _: usize) -> Result<Compound<'a>, Error> {
-            Ok(Compound::new(self.path))
+        fn serialize_struct(self, name: &'static str, _: usize) -> Result<Compound<'a>, Error> {
+            let mut c = Compound::new(self.path);
+            c.measure = matches!(name, "Measure" | "MeasureIn");
+            Ok(c)
         }
         fn serialize_struct_variant(
             self,
@@ -442,6 +451,21 @@ mod tests {
         r.rows[1].x = 1.0;
         r.absent = Some(f64::INFINITY);
         assert_eq!(non_finite(&r).unwrap().as_deref(), Some("absent"));
+    }
+
+    #[test]
+    fn a_measure_is_named_by_its_field_not_its_marker() {
+        #[derive(Serialize)]
+        struct M {
+            rows: Vec<crate::units::Force>,
+        }
+        let r = M {
+            rows: vec![
+                crate::units::Force::inch(1.0),
+                crate::units::Force::inch(f64::NAN),
+            ],
+        };
+        assert_eq!(non_finite(&r).unwrap().as_deref(), Some("rows[1]"));
     }
 
     #[test]
