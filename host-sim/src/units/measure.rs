@@ -72,6 +72,8 @@ enum Held<'a> {
     In(Units, f64),
     /// A value's raw bits ([`Bits`]), never converted.
     Bits(&'a str),
+    /// Several values in the inch family, an object of numbers ([`Measures`]).
+    Group(&'a serde_json::Map<String, serde_json::Value>),
 }
 
 /// The unit and content of a marker object, if `v` is one.
@@ -88,6 +90,7 @@ fn marked(v: &serde_json::Value) -> Option<(Unit, Held<'_>)> {
         }
     };
     let held = match (o.len(), o.get("value"), o.get(FAMILY), o.get(BITS)) {
+        (2, Some(serde_json::Value::Object(group)), None, None) => Held::Group(group),
         (2, Some(value), None, None) => Held::Inch(number(value)?),
         (3, Some(value), Some(family), None) => {
             let family = match family.as_str()? {
@@ -103,14 +106,6 @@ fn marked(v: &serde_json::Value) -> Option<(Unit, Held<'_>)> {
     Some((unit, held))
 }
 
-/// The unit and the object of numbers of a [`Measures`] marker, if `v` is one.
-fn grouped(v: &serde_json::Value) -> Option<(Unit, &serde_json::Map<String, serde_json::Value>)> {
-    let o = v.as_object().filter(|o| o.len() == 2)?;
-    let name = o.get(MARKER)?.as_str()?;
-    let unit = UNITS.into_iter().find(|u| marker(*u) == name)?;
-    Some((unit, o.get("value")?.as_object()?))
-}
-
 /// The unit of `v` if it is a measure, a [`Measures`], or a non-empty array of measures
 /// of one unit; an array's flags and words beside its measures (the `[rate, passed]`
 /// rows of a search) are not numbers and leave it measured.
@@ -124,9 +119,7 @@ pub fn measured(v: &serde_json::Value) -> Option<Unit> {
             let first = units.next()??;
             units.all(|u| u == Some(first)).then_some(first)
         }
-        v => marked(v)
-            .map(|(u, _)| u)
-            .or_else(|| grouped(v).map(|(u, _)| u)),
+        v => marked(v).map(|(u, _)| u),
     }
 }
 
@@ -154,17 +147,15 @@ pub fn unmark(v: serde_json::Value, units: Units) -> serde_json::Value {
             Some((unit, Held::Inch(inch))) => number(units.value(unit, inch)),
             Some((unit, Held::In(family, x))) => number(held_in(unit, family, x, units)),
             Some((_, Held::Bits(bits))) => serde_json::Value::String(bits.to_string()),
-            None => match grouped(&v) {
-                Some((unit, o)) => serde_json::Value::Object(
-                    o.iter()
-                        .map(|(k, x)| {
-                            let y = x.as_f64().map(|i| number(units.value(unit, i)));
-                            (k.clone(), y.unwrap_or_else(|| x.clone()))
-                        })
-                        .collect(),
-                ),
-                None => v,
-            },
+            Some((unit, Held::Group(o))) => serde_json::Value::Object(
+                o.iter()
+                    .map(|(k, x)| {
+                        let y = x.as_f64().map(|i| number(units.value(unit, i)));
+                        (k.clone(), y.unwrap_or_else(|| x.clone()))
+                    })
+                    .collect(),
+            ),
+            None => v,
         },
     }
 }
